@@ -1,0 +1,202 @@
+"""Run every derivation and write generated/: heyoka-building modules and the derivation report."""
+from __future__ import annotations
+
+import json
+import random
+import time
+from pathlib import Path
+
+import mpmath
+import sympy as sp
+
+from . import numeric_scale as ns
+from . import poisson, reduction
+from .codegen import HeyokaPrinter, function_source, module_source
+from .model import X, phi, psi, theta
+from .paper import delta, gamma, lambar, m, mu, pps, pth
+from .results import CONDITIONAL, DISAGREES, HOLDS, Result
+
+PAR_NAMES = {m: "m", mu: "mu", gamma: "gamma", delta: "delta", lambar: "lam"}
+PAR_ARGS = ["m", "mu", "gamma", "delta", "lam"]
+RED_NAMES = {theta: "theta", psi: "psi", pth: "ptheta", pps: "ppsi", **PAR_NAMES}
+RED_ARGS = ["theta", "psi", "ptheta", "ppsi"]
+BODY_ARGS = ["m1", "m2", "m3", "n1", "n2", "n3", "e31", "e32", "e33"]
+BODY_NAMES = {**dict(zip(X, BODY_ARGS)), **PAR_NAMES}
+
+
+def _pars_src():
+    return ('def pars():\n    """The runtime parameters (m, mu, gamma, delta, lambdabar) as heyoka parameters '
+            'hy.par[0..4]."""\n    return [hy.par[i] for i in range(5)]\n')
+
+
+def _system_src(state_args, rhs_name):
+    return (f'def system():\n    """[(variable, rhs)] for hy.taylor_adaptive, parameters hy.par[0..4] = {PAR_ARGS}."""\n'
+            f'    xs = hy.make_vars({", ".join(repr(a) for a in state_args)})\n'
+            f'    return list(zip(xs, {rhs_name}(*xs, *pars())))\n')
+
+
+def compact(expr, groups):
+    """Regroup an expanded expression (collect on `groups`, factor each coefficient) so that the generated
+    code evaluates (pbar_psi - cos theta)^2 / sin^2 theta instead of cancelling 1/sin^2 terms; the regrouped
+    form is checked to equal the input."""
+    c = sp.collect(sp.expand(expr), groups, func=sp.factor)
+    assert sp.simplify(c - expr) == 0
+    return c
+
+
+def reduced_module():
+    _, _, Hbar, _ = reduction.reduced_hamiltonians()
+    _, I2bar = reduction.i2_canonical()
+    r = sp.sqrt(mu - 2 * lambar * pps)
+    Hbar = compact(Hbar, [1 / sp.sin(theta) ** 2, sp.cos(psi) ** 2, r])
+    I2bar = compact(I2bar, [r])
+    rhs = [sp.diff(Hbar, pth), sp.diff(Hbar, pps), -sp.diff(Hbar, theta), -sp.diff(Hbar, psi)]
+    pr = HeyokaPrinter(RED_NAMES)
+    args = RED_ARGS + PAR_ARGS
+    parts = [
+        function_source("hamiltonian", args, Hbar, pr, "Hbar(theta, psi, pbar_theta, pbar_psi), eq:full_ham_nondim (derived)."),
+        function_source("rhs", args, rhs, pr, "Hamilton's equations of Hbar: (theta', psi', pbar_theta', pbar_psi')."),
+        function_source("i2bar", args, I2bar, pr, "I2bar, eq:constraint_nonsim (derived)."),
+        function_source("radicand", args, reduction.RHO2_BAR, pr,
+                        "mu - 2 lambdabar pbar_psi: must stay > 0 (eq:alignment_condition)."),
+        _pars_src(), _system_src(RED_ARGS, "rhs"),
+    ]
+    return module_source("Reduced canonical 4-D system in (theta, psi, pbar_theta, pbar_psi) (paper sec. 4).",
+                         "reduction.py", parts,
+                         {"STATE": tuple(RED_ARGS), "PARAMS": tuple(PAR_ARGS)}), {"Hbar": Hbar, "rhs": rhs, "I2bar": I2bar}
+
+
+def body_module():
+    H = ns.body_hamiltonian()
+    rhs = ns.body_rhs()
+    pr = HeyokaPrinter(BODY_NAMES)
+    args = BODY_ARGS + PAR_ARGS
+    red_pr = HeyokaPrinter({**RED_NAMES, phi: "phi"})
+    parts = [
+        function_source("hamiltonian", args, H, pr, "H(m, n) of eq:magnetic_ham at the numeric scale (numeric_scale.py)."),
+        function_source("rhs", args, rhs, pr, "x' = J(x; lambda) grad H, lambda = lambdabar/m^4."),
+        function_source("casimirs", args, ns.casimirs_body(), pr, "C1, C2, C3 of eq:magnetic_casimirs1-3."),
+        function_source("casimir_values", PAR_ARGS, ns.casimir_values(), HeyokaPrinter(PAR_NAMES),
+                        "Values of (C1, C2, C3) on the Euler-angle chart: ((mu+1)/(2 m^4), 1/m^2, 1)."),
+        function_source("hamiltonian_offset", PAR_ARGS, ns.hamiltonian_offset(), HeyokaPrinter(PAR_NAMES),
+                        "H_body - Hbar on the chart (the constants dropped in eq:full_ham_nondim)."),
+        function_source("euler_to_body", ["theta", "psi", "phi", "ptheta", "ppsi"] + PAR_ARGS, ns.euler_to_body(),
+                        red_pr, "(m, n, e3) from (theta, psi, phi, pbar_theta, pbar_psi), p_phi = 1 (eq:canonical_moment, eq:canonical_force)."),
+        function_source("body_to_euler", args, [ns.body_to_euler()[k] for k in ("theta", "psi", "phi", "pbar_theta", "pbar_psi")],
+                        pr, "(theta, psi, phi, pbar_theta, pbar_psi) from (m, n, e3); valid for sin(theta) > 0."),
+        _pars_src(), _system_src(BODY_ARGS, "rhs"),
+    ]
+    return module_source("Singularity-free 9-D body-frame system in (m, n, e3) (paper sec. 2), at the numeric scale "
+                         "B = C = m3 = 1 of derive/numeric_scale.py.", "numeric_scale.py", parts,
+                         {"STATE": tuple(BODY_ARGS), "PARAMS": tuple(PAR_ARGS)}), {"H": H, "rhs": rhs}
+
+
+def check_chart_numerically(n=200, seed=7) -> Result:
+    """Round trip body_to_euler(euler_to_body(q, p)) = (q, p), H_body = Hbar + offset, Casimir values, at n
+    seeded random points with 50-digit mpmath."""
+    _, _, Hbar, _ = reduction.reduced_hamiltonians()
+    fwd = ns.euler_to_body()
+    inv = ns.body_to_euler()
+    Hb = ns.body_hamiltonian()
+    off = ns.hamiltonian_offset()
+    cas = ns.casimirs_body()
+    vals = ns.casimir_values()
+    red = [theta, psi, phi, pth, pps, m, mu, gamma, delta, lambar]
+    f_fwd = sp.lambdify(red, fwd, "mpmath")
+    f_inv = sp.lambdify(X, [inv[k] for k in ("theta", "psi", "phi", "pbar_theta", "pbar_psi")], "mpmath")
+    f_H = sp.lambdify(X + [m, mu, gamma, delta, lambar], Hb - off, "mpmath")
+    f_Hbar = sp.lambdify(red, Hbar, "mpmath")
+    f_cas = sp.lambdify(X + [m, mu, gamma, delta, lambar], [c - v for c, v in zip(cas, vals)], "mpmath")
+    rng = random.Random(seed)
+    worst = {"round trip": 0.0, "H_body - offset - Hbar": 0.0, "Casimirs": 0.0}
+    with mpmath.workdps(50):
+        for _ in range(n):
+            q = [mpmath.mpf(rng.uniform(0.05, 3.09)), mpmath.mpf(rng.uniform(-3.1, 3.1)),
+                 mpmath.mpf(rng.uniform(-3.1, 3.1)), mpmath.mpf(rng.uniform(-2, 2)), mpmath.mpf(rng.uniform(-2, 2))]
+            prm = [mpmath.mpf(rng.uniform(0.5, 3)), mpmath.mpf(rng.uniform(0, 5)), mpmath.mpf(rng.uniform(0, 3)),
+                   mpmath.mpf(rng.uniform(0, 3)), mpmath.mpf(rng.uniform(-1, 1))]
+            if prm[1] - 2 * prm[4] * q[4] <= 0.01:
+                prm[1] = 2 * prm[4] * q[4] + mpmath.mpf(rng.uniform(0.1, 2))
+            x = f_fwd(*q, *prm)
+            back = f_inv(*x)
+            dq = [back[0] - q[0], mpmath.sin((back[1] - q[1]) / 2), mpmath.sin((back[2] - q[2]) / 2),
+                  back[3] - q[3], back[4] - q[4]]
+            worst["round trip"] = max(worst["round trip"], float(max(abs(d) for d in dq)))
+            worst["H_body - offset - Hbar"] = max(worst["H_body - offset - Hbar"],
+                                                  float(abs(f_H(*x, *prm) - f_Hbar(q[0], q[1], q[2], q[3], q[4], *prm))))
+            worst["Casimirs"] = max(worst["Casimirs"], float(max(abs(c) for c in f_cas(*x, *prm))))
+    ok = all(v < 1e-40 for v in worst.values())
+    return Result("chart_numeric", "eq:canonical_moment, eq:canonical_force, eq:full_ham_nondim",
+                  "Numeric scale: euler_to_body and body_to_euler are inverse, H_body = Hbar + offset, Casimirs "
+                  "take their chart values", CONDITIONAL if ok else DISAGREES,
+                  f"numeric: {n} seeded points, 50 digits, max residuals "
+                  + ", ".join(f"{k} {v:.1e}" for k, v in worst.items()),
+                  {"domain": "0 < theta < pi, mu - 2 lambdabar pbar_psi > 0", "max_residual": worst})
+
+
+def all_results():
+    results = []
+    results += poisson.derive_all()
+    results += reduction.derive_all()
+    results.append(check_chart_numerically())
+    try:
+        from . import homoclinic, melnikov
+    except ImportError:
+        return results, {}
+    results += homoclinic.derive_all()
+    mel = melnikov.derive_all()
+    results += mel
+    return results, {}
+
+
+def report_markdown(results) -> str:
+    lines = ["# magrod derivation report", "",
+             "Written by `python -m derive` (derive/build.py) -- do not edit.  Every row is a result derived with "
+             "SymPy from the model of sec. 2 (derive/model.py) and compared with the printed formula "
+             "(derive/paper.py).", "",
+             "| key | paper label | result | status | how shown |", "|---|---|---|---|---|"]
+    for r in results:
+        lines.append(f"| {r.key} | {r.label} | {r.title} | **{r.status}** | {r.method} |")
+    lines.append("")
+    for r in results:
+        if not r.details:
+            continue
+        lines.append(f"## {r.key} ({r.label})")
+        lines.append("")
+        lines.append("```json")
+        lines.append(json.dumps(r.details, indent=2, sort_keys=True, default=str))
+        lines.append("```")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def build(out_dir: Path, verbose=True) -> dict:
+    """Write every generated file into out_dir; returns {filename: text}."""
+    t0 = time.perf_counter()
+    files = {}
+    src, _ = reduced_module()
+    files["reduced.py"] = src
+    src, _ = body_module()
+    files["body.py"] = src
+    try:
+        from . import homoclinic, melnikov
+
+        files["homoclinic.py"] = homoclinic.module()
+        files["melnikov.py"] = melnikov.module()
+    except ImportError:
+        pass
+    results, _ = all_results()
+    files["report.json"] = json.dumps({"results": [r.as_dict() for r in results]}, indent=1, sort_keys=True,
+                                      default=str) + "\n"
+    files["report.md"] = report_markdown(results)
+    files["__init__.py"] = ('"""Machine-written by derive/ (python -m derive) -- DO NOT EDIT BY HAND.\n\n'
+                            'Modules: ' + ", ".join(sorted(k[:-3] for k in files if k.endswith(".py"))) +
+                            '; report.json / report.md: the derivation report."""\n')
+    out_dir.mkdir(parents=True, exist_ok=True)
+    for name, text in sorted(files.items()):
+        (out_dir / name).write_text(text)
+    if verbose:
+        bad = [r.key for r in results if r.status == DISAGREES]
+        print(f"derive: wrote {len(files)} files to {out_dir} in {time.perf_counter() - t0:.1f} s; "
+              f"{len(results)} results, disagreements with the paper: {bad or 'none'}")
+    return files

@@ -1,0 +1,75 @@
+"""The dimensional scale used by the numerics: B = 1, C = 1, m3 = p_phi = 1, hence (eq:nondim_1)
+C2 = 1/m^2, 2 C1 = (mu + 1)/m^4, lambda = lambdabar/m^4, 1/H = 1/J = delta m^2, 1/K = (gamma + delta) m^2,
+and t = s (arclength).  With this scale Hbar = H exactly up to the dropped constant, and the 9-D body-frame
+system and the 4-D reduced system are two formulations of one orbit."""
+from __future__ import annotations
+
+from functools import lru_cache
+
+import sympy as sp
+
+from . import reduction
+from .model import B, B1, B2, C, X, bracket, cH, cJ, cK, gradient, lam, p_phi, p_psi, p_theta, structure_matrix
+from .paper import C1, C2, delta, gamma, lambar, m, mu, pps, pth
+from .poisson import hamiltonian_compliance
+
+BODY_SCALE = {B1: 1, B2: 1, B: 1, C: 1, cH: delta * m**2, cJ: delta * m**2, cK: (gamma + delta) * m**2,
+              lam: lambar / m**4, C2: 1 / m**2, C1: (mu + 1) / (2 * m**4), p_phi: 1, p_theta: pth, p_psi: pps}
+LAMBDA_BODY = lambar / m**4
+
+
+def to_body_scale(expr):
+    """Substitute BODY_SCALE, with sqrt(2 C1 - C2^2 - 2 lambda p_psi) -> sqrt(mu - 2 lambdabar pbar_psi)/m^2."""
+    rad = sp.expand(reduction.RHO2)
+    e = expr.replace(lambda x: x.is_Pow and x.exp.is_Rational and x.exp.q == 2 and sp.expand(x.base - rad) == 0,
+                     lambda x: (reduction.RHO2_BAR ** sp.Rational(1, 2) / m**2) ** (2 * x.exp))
+    return e.subs(BODY_SCALE)
+
+
+@lru_cache(maxsize=None)
+def body_hamiltonian():
+    return sp.expand(hamiltonian_compliance().subs(BODY_SCALE))
+
+
+@lru_cache(maxsize=None)
+def body_rhs():
+    return list(sp.expand(structure_matrix(LAMBDA_BODY) * gradient(body_hamiltonian())))
+
+
+def casimirs_body():
+    from . import paper
+
+    return [sp.expand(c.subs(lam, LAMBDA_BODY)) for c in paper.eq_magnetic_casimirs()]
+
+
+def casimir_values():
+    """Values of C1, C2, C3 on every orbit of the chart at this scale."""
+    return [(mu + 1) / (2 * m**4), 1 / m**2, sp.Integer(1)]
+
+
+@lru_cache(maxsize=None)
+def euler_to_body():
+    """X(theta, psi, phi, pbar_theta, pbar_psi) at this scale (p_phi = 1)."""
+    return [sp.expand(to_body_scale(x)) for x in reduction.canonical_map()]
+
+
+def body_to_euler():
+    """Inverse chart on sin(theta) > 0, written in body variables:
+    theta = acos(e33), phi = atan2(e32, -e31), p_theta = (e32 m1 - e31 m2)/sin(theta), p_psi = m.e3 (m3 = 1
+    is p_phi), psi = atan2(n.b, n.a), where R e_1 = cos(psi) a + sin(psi) b splits the first column of R(q)
+    into the body vectors a = (cos t cos f, -cos t sin f, sin t), b = (-sin f, -cos f, 0), written with
+    cos f = -e31/sin t, sin f = e32/sin t; since n = C2 e3 + rho R e_1 and a, b are orthonormal and normal
+    to e3, n.a = rho cos(psi), n.b = rho sin(psi).  Verified as an inverse in derive/build.py."""
+    m1, m2, m3, n1, n2, n3, e1, e2, e3 = X
+    st = sp.sqrt(e1**2 + e2**2)
+    a = sp.Matrix([-e3 * e1 / st, -e3 * e2 / st, st])
+    b = sp.Matrix([-e2 / st, e1 / st, 0])
+    nv = sp.Matrix([n1, n2, n3])
+    return {"theta": sp.acos(e3), "psi": sp.atan2(nv.dot(b), nv.dot(a)), "phi": sp.atan2(e2, -e1),
+            "pbar_theta": (e2 * m1 - e1 * m2) / st, "pbar_psi": m1 * e1 + m2 * e2 + m3 * e3}
+
+
+def hamiltonian_offset():
+    """H_body(X(q, p)) - Hbar(q, p) at this scale (a constant: the terms dropped in eq:full_ham_nondim)."""
+    _, _, _, const = reduction.reduced_hamiltonians()
+    return sp.simplify(const.subs({reduction.m3p: 1, C: 1, reduction.C2p: 1 / m**2}))

@@ -1,0 +1,59 @@
+"""`magrod check`: the integrability report (Casimirs found, involution tables per regime, reduction
+verified, I2bar conservation cases), read from the checked-in derivation report generated/report.json.
+`--rederive` re-runs the SymPy derivation live (needs the `derive` extra: sympy, mpmath)."""
+from __future__ import annotations
+
+import json
+from importlib import resources
+
+SECTIONS = ("casimirs", "involution", "jacobi", "poisson_map", "I2bar_conservation")
+
+
+def add_arguments(p):
+    p.add_argument("--rederive", action="store_true",
+                   help="re-run the SymPy derivation instead of reading generated/report.json (slower)")
+    p.add_argument("--all", action="store_true", help="include every derived result, not only the integrability ones")
+
+
+def load_report(rederive: bool = False) -> dict:
+    if rederive:
+        from .derive.build import all_results
+
+        results, _ = all_results()
+        return {"results": [r.as_dict() for r in results], "source": "re-derived now"}
+    text = resources.files("magrod.generated").joinpath("report.json").read_text()
+    rep = json.loads(text)
+    rep["source"] = "generated/report.json"
+    return rep
+
+
+def run(args) -> dict:
+    rep = load_report(args.rederive)
+    res = rep["results"]
+    chosen = res if args.all else [r for r in res if r["key"] in SECTIONS]
+    disagreements = [r["key"] for r in res if r["status"] == "disagrees"]
+    return {"ok": True, "source": rep["source"], "results": chosen,
+            "statuses": {r["key"]: r["status"] for r in res}, "disagreements_with_paper": disagreements}
+
+
+def format_text(out: dict) -> str:
+    lines = [f"magrod integrability report ({out['source']})", ""]
+    for r in out["results"]:
+        lines.append(f"[{r['status']}] {r['label']}: {r['title']}")
+        lines.append(f"    shown by: {r['method']}")
+        d = r["details"]
+        if r["key"] == "casimirs":
+            lines.append("    basis found (lambda generic): " + "; ".join(d["basis_found"]))
+            lines.append("    basis found (lambda = 0):     " + "; ".join(d["basis_found (lambda = 0)"]))
+        elif r["key"] == "involution":
+            for reg, table in d["tables"].items():
+                nz = {k: v for k, v in table.items() if v != "0"}
+                lines.append(f"    {reg}: " + ("all brackets vanish" if not nz else
+                                                 "non-zero: " + "; ".join(f"{k} = {v}" for k, v in nz.items())))
+        elif r["key"] == "I2bar_conservation":
+            for case, v in d["cases"].items():
+                lines.append(f"    {{I2bar, Hbar}} at {case}: {'0 (conserved)' if v == '0' else 'non-zero'}")
+        lines.append("")
+    lines.append("disagreements with the printed paper (see docs/errata.md): "
+                 + (", ".join(out["disagreements_with_paper"]) or "none"))
+    return "\n".join(lines)
