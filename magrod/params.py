@@ -1,0 +1,42 @@
+"""Non-dimensional parameters of the reduced system (eq:nondim_1), validated on construction."""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from .errors import ParameterError, require_finite
+
+
+@dataclass(frozen=True)
+class RodParams:
+    """m = m3/sqrt(B C2), mu = (2 C1 - C2^2)/C2^2, gamma = C2 (1/K - 1/J), delta = C2/J,
+    lam = lambdabar = lambda m3 / C2^2   (eq:nondim_1).
+
+    Physical ranges: m > 0 (m3 > 0, C2 > 0); delta >= 0 (J > 0); gamma + delta >= 0 (K > 0); mu is
+    constrained only through the radicand mu - 2 lam pbar_psi > 0 along an orbit (eq:alignment_condition),
+    which the integrators check."""
+
+    m: float
+    mu: float
+    gamma: float
+    delta: float
+    lam: float
+
+    def __post_init__(self):
+        for f in ("m", "mu", "gamma", "delta", "lam"):
+            object.__setattr__(self, f, require_finite(f, getattr(self, f)))
+        if self.m <= 0:
+            raise ParameterError("m", f"must be > 0 (m = m3/sqrt(B C2)), got {self.m}")
+        if self.delta < 0:
+            raise ParameterError("delta", f"must be >= 0 (delta = C2/J with shear stiffness J > 0), got {self.delta}")
+        if self.gamma + self.delta < 0:
+            raise ParameterError("gamma", f"must satisfy gamma + delta >= 0 (axial stiffness K > 0), got "
+                                          f"gamma = {self.gamma}, delta = {self.delta}")
+
+    def array(self) -> np.ndarray:
+        """heyoka runtime parameters hy.par[0..4] in the order of generated.reduced.PARAMS."""
+        return np.array([self.m, self.mu, self.gamma, self.delta, self.lam], dtype=float)
+
+    def as_dict(self) -> dict:
+        return asdict(self)
