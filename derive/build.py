@@ -10,7 +10,7 @@ import mpmath
 import sympy as sp
 
 from . import numeric_scale as ns
-from . import poisson, reduction
+from . import homoclinic, melnikov, poisson, reduction
 from .codegen import HeyokaPrinter, function_source, module_source
 from .model import X, phi, psi, theta
 from .paper import delta, gamma, lambar, m, mu, pps, pth
@@ -139,13 +139,8 @@ def all_results():
     results += poisson.derive_all()
     results += reduction.derive_all()
     results.append(check_chart_numerically())
-    try:
-        from . import homoclinic, melnikov
-    except ImportError:
-        return results, {}
     results += homoclinic.derive_all()
-    mel = melnikov.derive_all()
-    results += mel
+    results += melnikov.derive_all()
     return results, {}
 
 
@@ -178,13 +173,8 @@ def build(out_dir: Path, verbose=True) -> dict:
     files["reduced.py"] = src
     src, _ = body_module()
     files["body.py"] = src
-    try:
-        from . import homoclinic, melnikov
-
-        files["homoclinic.py"] = homoclinic.module()
-        files["melnikov.py"] = melnikov.module()
-    except ImportError:
-        pass
+    files["homoclinic.py"] = homoclinic.module()
+    files["melnikov.py"] = melnikov.module()
     results, _ = all_results()
     files["report.json"] = json.dumps({"results": [r.as_dict() for r in results]}, indent=1, sort_keys=True,
                                       default=str) + "\n"

@@ -62,6 +62,24 @@ EXPECTED = {
     "constraint_nonsim": "holds",
     "I2bar_conservation": "holds under stated assumptions",
     "chart_numeric": "holds under stated assumptions",
+    # sec. 6
+    "extensible_ham": "holds",
+    "equivalent": "holds",
+    "fixed_points": "holds",
+    "oscillator": "holds",
+    "u_bounds": "disagrees",                  # printed lower bound -(3 + 1/(2 gamma)); derived -(3 + 2/gamma)
+    "k_range": "disagrees",                   # printed k > 1; derived 0 < k < 1
+    "integral_identity": "disagrees",         # printed antiderivative is that of 1/(1 - k cosh z)
+    "theta_homoclinic_derived": "holds",
+    "theta_homoclinic_printed": "disagrees",  # printed eq:theta_homoclinic gives cos(theta) > 1
+    "kirchhoff_limit": "holds",
+    "psi_condition": "holds",
+    # sec. 7
+    "melnikov_expansion": "holds",
+    "omega0": "holds",
+    "melnikov_partials": "holds",
+    "melnikov_integrand": "disagrees",        # sign of the sin^2(theta)(1 + gamma cos theta) term
+    "melnikov_vanishes": "disagrees",         # first-order Mel'nikov function is identically zero
 }
 
 
@@ -176,3 +194,17 @@ def test_chart_round_trip_float64():
         d = back - q
         d[1:3] = np.angle(np.exp(1j * d[1:3]))
         assert np.all(np.abs(d) <= 1e3 * EPS * (1 + np.abs(q)) / np.sin(q[0])), (q, d)
+
+
+def test_printed_closed_form_leaves_the_unit_interval(report):
+    """eq:theta_homoclinic as printed gives cos(theta) > 1 at t = 4 (m = 1.7, gamma = 1): not a solution."""
+    rows = report["theta_homoclinic_printed"]["details"]["values"]
+    late = [r for r in rows if r["t"] == 4.0][0]
+    assert complex(late["printed cos(theta)"].strip("()").replace(" ", "")).real > 1
+    assert -1 <= late["derived cos(theta)"] <= 1
+
+
+def test_melnikov_primitive(report):
+    d = report["melnikov_vanishes"]["details"]
+    assert d["F - dPhi/dt == 0"] is True
+    assert d["lim Phi (theta -> 0, pbar_theta = 0)"] == "0"
