@@ -3,8 +3,8 @@
 Public API
 ----------
 solve_p_psi(params, h, theta0, ptheta0, psi0=0)  -> every real root pbar_psi of Hbar(theta0, psi0, ptheta0, .) = h
-poincare_map(params, h, theta0, ptheta0, psi0=0, *, iterates=10_000, root="largest", direction="positive",
-             branch="any", formulation="body", tol=None, t_max=None, ...) -> PoincareResult
+poincare_map(params, h, theta0, ptheta0, psi0=0, *, iterates=10_000, root="smallest", direction="positive",
+             branch="any", formulation="body", ...) -> PoincareResult
 run_panels(keys, ...), figure_4(out_dir, quick=False), figure_5(out_dir, quick=False), save_result(...)
 
 What is integrated
@@ -31,14 +31,15 @@ threads (heyoka's propagate releases the GIL).
 
 The section direction is the sign of d/dt sin(psi) = cos(psi) psi' at the crossing ("positive",
 "negative", "any"); branch selects psi = 0 (cos psi > 0) or psi = pi crossings ("0", "pi", "any").
-Defaults: direction="positive", branch="any", root="largest".  Evidence for these defaults (the paper does not
-state them): the paper reports 10 000 iterates for runs up to t = 84 000 (Fig 4) and t = 81 000 (Fig 5);
-counting every crossing gives ~4-5 time units per iterate, a one-directional section ~8, and on the Fig 4
-start only the larger pbar_psi root reproduces t ~ 8.4e4 (the smaller one needs ~1e5); see
-benchmarks/README.md.
+Defaults: direction="positive", branch="any", root="smallest".  The paper states none of them; the evidence
+(benchmarks/README.md): it reports 10 000 iterates for runs "up to t = 84 000" (fig:poincare1).  Counting every
+crossing gives ~4 time units per iterate, a one-directional section ~6-9.  On the Fig 4 start Hbar = h has two
+roots pbar_psi; the smaller one gives final times 69.9k, 72.0k, 85.9k, 81.5k for panels (a)-(d) (max ~84k as
+printed) and a monotone break-up of a closed curve (d) into a chaotic sea (a) as lam decreases, which is what
+the text describes; the larger root gives 57.7k-76.4k and regular islands in (b)-(d).
 
-Cost: ~0.1 ms per iterate on one core (float64, tol = eps); the 8 paper panels (80 000 iterates) take a few
-seconds on 2 cores with a warm JIT cache.  The first process compiles each integrator (~1 s), later
+Cost (float64, tol = eps, one core): ~0.2 ms per iterate in the body frame, ~0.5 ms with formulation="reduced";
+the 8 paper panels (80 000 iterates) take ~8-12 s wall on 2 cores with a warm JIT cache (benchmarks/).  The first process compiles each integrator (~1 s), later
 processes load it from heyoka's on-disk cache.
 """
 from __future__ import annotations
@@ -66,6 +67,7 @@ FRAME_REDUCED, FRAME_BODY = 0, 1
 # Hbar conserved to ~1e-13 on every paper panel; "reduced" (the paper's 4-D system, body-frame patches near the
 # chart singularities) agrees with it to ~1e-11 over the first 50 crossings and conserves Hbar to < 1e-12.
 DEFAULT_FORMULATION = "body"
+DEFAULT_ROOT = "smallest"  # see the module docstring for the evidence
 
 # The paper's panels (sec. 8).  fig:poincare1: one orbit per panel from theta = 0.1, pbar_theta = 0.5, psi = 0 at
 # h = 0.9; fig:poincare2: from theta = 0.1, pbar_theta = 1, psi = 0 at h = 0.8.
@@ -173,12 +175,12 @@ def solve_p_psi(params: RodParams, h, theta0, ptheta0, psi0=0.0) -> np.ndarray:
     return roots
 
 
-def choose_root(roots, root="largest") -> int:
+def choose_root(roots, root="smallest") -> int:
     """Index into `roots` for root = "largest" | "smallest" | int (negative ints count from the end)."""
     n = len(roots)
-    if root in ("largest", None):
+    if root == "largest":
         return n - 1
-    if root == "smallest":
+    if root in ("smallest", None):
         return 0
     try:
         i = int(root)
@@ -201,15 +203,17 @@ def _integrators(formulation, direction, pole_switch, radicand_switch, fp_type, 
     if key in cache:
         return cache[key]
     d = DIRECTIONS[direction]
+    ev = (lambda g, dr: hy.t_event(g, direction=dr)) if fp_type is float else \
+        (lambda g, dr: hy.t_event(g, direction=dr, fp_type=fp_type))
     m1, m2, m3, n1, n2, n3, e31, e32, e33 = systems.body_vars()
     p = [hy.par[i] for i in range(5)]
     # chart (euler_to_body): e3 = (-sin th cos phi, sin th sin phi, cos th), pbar_psi = m.e3
-    body_events = [hy.t_event(e31 * n2 - e32 * n1, direction=d)]
+    body_events = [ev(e31 * n2 - e32 * n1, d)]
     if formulation == "reduced":
         sin2 = e31 ** 2 + e32 ** 2
         rad = p[1] - 2.0 * p[4] * (m1 * e31 + m2 * e32 + m3 * e33)
-        body_events += [hy.t_event(sin2 - pole_switch[1] ** 2, direction=hy.event_direction.positive),
-                        hy.t_event(rad - radicand_switch[1], direction=hy.event_direction.positive)]
+        body_events += [ev(sin2 - pole_switch[1] ** 2, hy.event_direction.positive),
+                        ev(rad - radicand_switch[1], hy.event_direction.positive)]
     x9 = np.zeros(9)
     x9[2] = x9[8] = 1.0
     ta_b = systems.body_integrator(x9, np.ones(5), tol=tol, t_events=body_events, fp_type=fp_type)
@@ -226,8 +230,9 @@ def _integrators(formulation, direction, pole_switch, radicand_switch, fp_type, 
 
 
 def _set(ta, state, t, pars):
+    ftype = type(ta.state[0])
     ta.state[:] = state
-    ta.time = t
+    ta.time = ftype(t) if ftype is not np.float64 else float(t)
     ta.pars[:] = pars
     ta.reset_cooldowns()
 
@@ -248,7 +253,8 @@ class PoincareResult:
     psi_dot_sign: (N,) sign of psi' at the crossing; frame: (N,) 0 = computed by the 4-D system,
     1 = by the body-frame system; dH: (N,) Hbar - h at each point (Hbar evaluated in the frame of the point:
     eq:full_ham_nondim for 4-D points, H_body - offset for body points, which is well conditioned at the poles);
-    body_points: (N, 9) body state of body-frame points (NaN for 4-D points)."""
+    body_points: (N, 9) body state of body-frame points (NaN for 4-D points); section_residual: (N,) the event
+    function at the point in its frame (sin(psi) for 4-D points, e31 n2 - e32 n1 for body points)."""
 
     success: bool
     message: str
@@ -273,6 +279,7 @@ class PoincareResult:
     frame: np.ndarray
     dH: np.ndarray
     body_points: np.ndarray
+    section_residual: np.ndarray
     max_abs_dH: float
     casimir_drift: float | None
     final_time: float
@@ -295,13 +302,13 @@ class PoincareResult:
                 "t_max": self.t_max, "final_time": self.final_time, "max_abs_dH": self.max_abs_dH,
                 "casimir_drift": self.casimir_drift, "n_frame_switches": self.n_frame_switches,
                 "fraction_body_frame_points": float(np.mean(self.frame == FRAME_BODY)) if self.n_points else 0.0,
-                "max_abs_sin_psi": float(np.max(np.abs(np.sin(self.points[:, 1])))) if self.n_points else 0.0,
+                "max_abs_section_residual": float(np.max(np.abs(self.section_residual))) if self.n_points else 0.0,
                 "wall_s": self.wall_s, "fp_type": self.fp_type, **self.extra}
 
     def arrays(self) -> dict:
         return {"points": self.points, "times": self.times, "branch": self.branch,
                 "psi_dot_sign": self.psi_dot_sign, "frame": self.frame, "dH": self.dH,
-                "body_points": self.body_points, "roots": self.roots}
+                "body_points": self.body_points, "section_residual": self.section_residual, "roots": self.roots}
 
 
 def _validate_options(iterates, root, direction, branch, formulation, pole_switch, radicand_switch):
@@ -320,13 +327,14 @@ def _validate_options(iterates, root, direction, branch, formulation, pole_switc
 
 
 def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *, p_psi0=None, iterates=10_000,
-                 root="largest", direction="positive", branch="any", formulation=DEFAULT_FORMULATION, tol=None,
+                 root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION, tol=None,
                  t_max=None, pole_switch=(0.05, 0.1), radicand_switch=(1e-3, 2e-3), fp_type=float,
                  progress=None) -> PoincareResult:
     """Iterate the Poincare map of sin(psi) = 0 for the orbit through (theta0, psi0, pbar_theta0, pbar_psi0).
 
-    Either h (then pbar_psi0 solves Hbar = h, all roots reported, `root` picks one: "largest" (default),
-    "smallest" or an index) or p_psi0 directly (then h = Hbar at the start).  Stops after `iterates` recorded
+    Either h (then pbar_psi0 solves Hbar = h, all roots reported, `root` picks one: "smallest" (default, see
+    the module docstring), "largest" or an index) or p_psi0 directly (then h = Hbar at the start).
+    Stops after `iterates` recorded
     crossings or at t_max (default 100 * iterates, about 12x the paper's time per iterate), whichever first;
     success is False (with a message) if t_max or a non-finite state stopped it.  tol defaults to machine
     epsilon of fp_type.  fp_type=np.longdouble is supported for formulation="body" (verification runs).
@@ -382,10 +390,11 @@ def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *
     n = switches = 0
     success, message = True, "ok"
     t_limit = hy.taylor_outcome.time_limit
+    t_stop = t_max if fp_type is float else fp_type(t_max)
     last_report = 0
     while n < iterates:
         ta = ta_r if mode == FRAME_REDUCED else ta_b
-        oc = ta.propagate_until(t_max)[0]
+        oc = ta.propagate_until(t_stop)[0]
         if oc == t_limit:
             success, message = False, (f"t_max = {t_max:g} reached after {n} of {iterates} iterates (max-time guard; "
                                        f"raise t_max or check that the orbit crosses sin(psi) = 0)")
@@ -448,6 +457,8 @@ def _assemble(params, pars, h, theta0, ptheta0, psi0, p_psi0, roots, ridx, formu
     body_points = np.full((n, 9), np.nan)
     casimir = None
     r = frame == FRAME_REDUCED
+    # value of the section's event function in the frame that landed the point (how well it is on the section)
+    section_residual = np.where(r, np.sin(raw[:, 1]), raw[:, 6] * raw[:, 4] - raw[:, 7] * raw[:, 3])
     if r.any():
         x = np.ascontiguousarray(raw[r, :4].T)
         points[r] = x.T
@@ -469,7 +480,7 @@ def _assemble(params, pars, h, theta0, ptheta0, psi0, p_psi0, roots, ridx, formu
         psi0=float(psi0), p_psi0=float(p_psi0), roots=np.asarray(roots, dtype=float), root_index=int(ridx),
         formulation=formulation, direction=direction, branch_filter=branch, tol=float(tol), iterates=iterates,
         t_max=t_max, points=points, times=times, branch=branch_flag, psi_dot_sign=np.sign(psi_dot).astype(np.int8),
-        frame=frame, dH=dH, body_points=body_points, max_abs_dH=float(np.max(np.abs(dH))) if n else 0.0,
+        frame=frame, dH=dH, body_points=body_points, section_residual=section_residual, max_abs_dH=float(np.max(np.abs(dH))) if n else 0.0,
         casimir_drift=casimir, final_time=final_time, n_frame_switches=int(switches), wall_s=0.0,
         fp_type=np.dtype(fp_type).name)
 

@@ -1,0 +1,132 @@
+"""`magrod poincare`: one orbit's Poincare section sin(psi) = 0, either a paper panel (--figure 4a .. 5d) or free
+parameters (--m --mu --gamma --delta --lam --h --theta0 --ptheta0 [--psi0]).  Options given explicitly override
+the panel's values.  With --out DIR the section is written as DIR/<stem>.npz, .json and .png (atomically)."""
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import ParameterError, require_finite, require_positive_int
+from .params import RodParams
+
+_FREE = ("m", "mu", "gamma", "delta", "lam", "h", "theta0", "ptheta0", "psi0")
+
+
+def add_arguments(p):
+    from .poincare import BRANCHES, DEFAULT_FORMULATION, DIRECTIONS, FORMULATIONS, PANELS
+
+    p.add_argument("--figure", metavar="PANEL", help=f"a panel of the paper: {', '.join(PANELS)}")
+    g = p.add_argument_group("free parameters (eq:nondim_1) and start (needed without --figure)")
+    for name in _FREE:
+        g.add_argument(f"--{name}", type=str, default=None, help="psi0 defaults to 0" if name == "psi0" else None)
+    g.add_argument("--ppsi0", type=str, default=None, help="give pbar_psi0 instead of --h (then h = Hbar(start))")
+    p.add_argument("--iterates", type=str, default="10000", help="number of section points")
+    p.add_argument("--root", default="smallest",
+                   help="which root pbar_psi of Hbar = h: largest, smallest or an index into the ascending roots")
+    p.add_argument("--direction", default="positive", choices=sorted(DIRECTIONS),
+                   help="sign of d/dt sin(psi) at recorded crossings")
+    p.add_argument("--branch", default="any", choices=list(BRANCHES), help="psi = 0, psi = pi or both")
+    p.add_argument("--formulation", default=DEFAULT_FORMULATION, choices=list(FORMULATIONS),
+                   help="body: 9-D body frame; reduced: the paper's 4-D system (body frame near chart singularities)")
+    p.add_argument("--t-max", type=str, default=None, help="max-time guard (default 100 x iterates)")
+    p.add_argument("--out", default=None, help="write <stem>.npz/.json/.png into this directory")
+    p.add_argument("--stem", default=None, help="file name stem (default: fig<PANEL> or poincare)")
+
+
+def _inputs(args) -> tuple[dict, str | None]:
+    from .poincare import PANELS, panel_kwargs
+
+    vals = {}
+    key = None
+    if args.figure is not None:
+        key = str(args.figure).lower()
+        kw = panel_kwargs(key)
+        vals = dict(kw["params"].as_dict(), h=kw["h"], theta0=kw["theta0"], ptheta0=kw["ptheta0"], psi0=kw["psi0"])
+    for name in _FREE:
+        v = getattr(args, name)
+        if v is not None:
+            vals[name] = require_finite(name, v)
+    if args.ppsi0 is not None:
+        if args.h is not None:
+            raise ParameterError("ppsi0", "give either --h or --ppsi0, not both")
+        vals["p_psi0"] = require_finite("ppsi0", args.ppsi0)
+        vals.pop("h", None)  # a panel's h is replaced by Hbar at the given start
+    vals.setdefault("psi0", 0.0)
+    for name in ("m", "mu", "gamma", "delta", "lam", "theta0", "ptheta0"):
+        if name not in vals:
+            raise ParameterError(name, f"missing: give --{name} (or --figure one of {', '.join(PANELS)})")
+    if "h" not in vals and "p_psi0" not in vals:
+        raise ParameterError("h", "missing: give --h (or --ppsi0, or --figure)")
+    return vals, key
+
+
+def run(args) -> dict:
+    from .io import ensure_writable_dir
+    from .poincare import PANELS, poincare_map, save_result, solve_p_psi
+
+    vals, key = _inputs(args)
+    params = RodParams(*(vals[k] for k in ("m", "mu", "gamma", "delta", "lam")))
+    iterates = require_positive_int("iterates", _int(args.iterates))
+    t_max = None if args.t_max is None else require_finite("t_max", args.t_max)
+    if t_max is not None and t_max <= 0:
+        raise ParameterError("t_max", f"must be > 0, got {t_max}")
+    start = dict(theta0=vals["theta0"], ptheta0=vals["ptheta0"], psi0=vals["psi0"])
+    root = args.root if args.root in ("largest", "smallest") else _int(args.root, "root")
+    # every input error is raised before anything is computed or written
+    if "p_psi0" not in vals:
+        from .poincare import choose_root
+
+        choose_root(solve_p_psi(params, vals["h"], **start), root)
+    else:
+        from .poincare import _admissible_interval
+
+        lo, hi = _admissible_interval(params)
+        if not lo < vals["p_psi0"] < hi:
+            raise ParameterError("ppsi0", f"the square root sqrt(mu - 2 lam pbar_psi) of Hbar is imaginary or zero at "
+                                          f"the start: mu - 2 lam ppsi0 = {params.mu - 2 * params.lam * vals['p_psi0']:.6g}")
+    out = ensure_writable_dir(args.out) if args.out is not None else None
+
+    bar = None
+    if not args.quiet:
+        from tqdm import tqdm
+
+        bar = tqdm(total=iterates, desc="poincare", unit="it", leave=False)
+    try:
+        res = poincare_map(params, vals.get("h"), **start, p_psi0=vals.get("p_psi0"), iterates=iterates, root=root,
+                           direction=args.direction, branch=args.branch, formulation=args.formulation, t_max=t_max,
+                           progress=bar.update if bar is not None else None)
+    finally:
+        if bar is not None:
+            bar.close()
+    paths = {}
+    if out is not None:
+        stem = args.stem or (f"fig{key}" if key else "poincare")
+        paths = save_result(res, out, stem, key=key, label=PANELS[key]["label"] if key else None)
+    return {"ok": bool(res.success), "panel": key, **res.summary(), "output": paths}
+
+
+def _int(v, name="iterates"):
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        raise ParameterError(name, f"must be an integer, got {v!r}") from None
+    if not np.isfinite(f) or f != int(f):
+        raise ParameterError(name, f"must be an integer, got {v!r}")
+    return int(f)
+
+
+def format_text(r: dict) -> str:
+    p = r["parameters"]
+    lines = [f"Poincare section sin(psi) = 0{' (Fig. ' + r['panel'] + ')' if r.get('panel') else ''}: "
+             + ", ".join(f"{k} = {v:g}" for k, v in p.items()) + f", h = {r['h']:.12g}",
+             f"  start theta0 = {r['theta0']:g}, pbar_theta0 = {r['ptheta0']:g}, psi0 = {r['psi0']:g}; "
+             f"roots pbar_psi = {', '.join(f'{x:.15g}' for x in r['roots'])}; using {r['p_psi0']:.15g}",
+             f"  {r['n_points']} of {r['iterates_requested']} iterates ({r['formulation']} formulation, direction "
+             f"{r['direction']}, branch {r['branch']}), final t = {r['final_time']:.6g}, wall {r['wall_s']:.2f} s",
+             f"  max |Hbar - h| = {r['max_abs_dH']:.2e}"
+             + (f", Casimir drift {r['casimir_drift']:.2e}" if r.get("casimir_drift") is not None else "")
+             + f", max section residual {r['max_abs_section_residual']:.1e}"]
+    if not r["success"]:
+        lines.append(f"  FAILED: {r['message']}")
+    for kind, path in (r.get("output") or {}).items():
+        lines.append(f"  wrote {kind}: {path}")
+    return "\n".join(lines)
