@@ -220,13 +220,14 @@ def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", eps: fl
     along the field and psi is a gauge): unknown T, condition pbar_theta = 0.  Cost: one variational
     integration (135 equations) per iteration, ~10-50 ms each (x10 in extended precision).
 
-    precision "auto": double for odd crossings (symmetric point at a theta maximum, well conditioned);
-    extended (np.longdouble) and eps = 1e-9 for even crossings, whose symmetric point lies near the saddle
-    where sin(psi) = n.b/rho is computed from a transverse force rho ~ sqrt(lam) theta of order 1e-6: in double
-    precision the O(eps^2) launch error and rounding put a ~1e-8 floor on the residual there (measured)."""
+    precision "auto": double for the first crossing (no passage near the saddle before it); extended
+    (np.longdouble) and eps = 1e-9 for later crossings.  Near the saddle psi is the angle of the transverse
+    force rho ~ sqrt(lam) theta (~1e-6 there), so psi after (or at) a near-saddle passage inherits the O(eps^2)
+    error of the linear launch and the rounding of n divided by rho: in double precision this puts a floor of
+    ~1e-8..1e-7 on the residual (measured), in extended precision with eps = 1e-9 it is ~1e-11."""
     if precision not in ("auto", "double", "extended"):
         raise ParameterError("precision", f"must be auto, double or extended, got {precision!r}")
-    ext = precision == "extended" or (precision == "auto" and crossing % 2 == 0)
+    ext = precision == "extended" or (precision == "auto" and crossing >= 2)
     fp = np.longdouble if ext else float
     if eps is None:
         eps = EXTENDED_EPS if ext else DEFAULT_EPS
@@ -367,7 +368,7 @@ def scan(params: RodParams, free: str, values, crossings: int, eps: float = DEFA
 
 
 def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, span: float = 0.5,
-                samples: int = 81, eps: float = DEFAULT_EPS, tol: float = DEFAULT_TOL, progress=None) -> list[dict]:
+                samples: int = 81, eps: float | None = None, tol: float = DEFAULT_TOL, progress=None) -> list[dict]:
     """For N = 1..max_pulses: scan the free parameter over value * [1 - span, 1 + span] (linearly, `samples`
     points), bracket sign changes of sin(psi) at the N-th crossing, Newton from the bracket nearest to the
     nominal value, and keep converged orbits whose counted pulses equal N.  Returns one entry per N (the
@@ -380,7 +381,7 @@ def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, sp
         raise ParameterError(free, "the free parameter must be non-zero to scan around it")
     straight_rod(params)  # ParameterError early if there is no saddle
     vals = np.linspace(v0 * (1 - span), v0 * (1 + span), samples)
-    table = scan(params, free, vals, max_pulses, eps, progress)
+    table = scan(params, free, vals, max_pulses, eps or DEFAULT_EPS, progress)
     found = []
     for N in range(1, max_pulses + 1):
         col = table[:, N - 1]
