@@ -100,10 +100,11 @@ REGIMES = {
 
 
 def first_integrals(regime):
-    """H, I1 (eq:magnetic_lagrange), I2 (eq:int2) and the Casimirs, in the given regime.
+    """H, I1 (eq:magnetic_lagrange), I2 (eq:int2) and the Casimirs, in the given regime (a name from REGIMES
+    or a substitution dict on the model symbols, e.g. {lam: 0, cK: 0}).
 
     In the anisotropic regime B is read as B1 (the printed integrals assume B1 = B2 =: B)."""
-    sub = REGIMES[regime]
+    sub = REGIMES[regime] if isinstance(regime, str) else dict(regime)
     Bv = sub.get(B1, B1)
     Ham = hamiltonian_compliance().subs(sub)
     I1 = Bv * m3
@@ -113,13 +114,31 @@ def first_integrals(regime):
 
 
 def involution_table(regime):
+    """{f, g} for every pair of H, I1, I2, C1, C2, C3; "0" or the factored remainder."""
     fs = first_integrals(regime)
-    lam_ = REGIMES[regime].get(lam, lam)
+    sub = REGIMES[regime] if isinstance(regime, str) else dict(regime)
+    lam_ = sub.get(lam, lam)
     table = {}
     for (na, fa), (nb, fb) in itertools.combinations(fs.items(), 2):
         r = sp.factor(sp.expand(bracket(fa, fb, lam_)))
         table[f"{{{na},{nb}}}"] = "0" if r == 0 else fmt(r)
     return table
+
+
+MODEL_SYMBOLS = {str(s): s for s in (B, B1, B2, C, lam, cH, cJ, cK)}
+
+
+def parse_substitution(text: str) -> dict:
+    """'B2=B1, c_J=c_H, lambda=0' -> {B2: B1, cJ: cH, lam: 0} over the model symbols (for `magrod check --subs`)."""
+    out = {}
+    for item in filter(None, (x.strip() for x in text.split(","))):
+        if "=" not in item:
+            raise ValueError(f"expected NAME=VALUE, got {item!r}")
+        k, v = (x.strip() for x in item.split("=", 1))
+        if k not in MODEL_SYMBOLS:
+            raise ValueError(f"unknown model symbol {k!r}; known: {', '.join(sorted(MODEL_SYMBOLS))}")
+        out[MODEL_SYMBOLS[k]] = sp.sympify(v, locals=MODEL_SYMBOLS)
+    return out
 
 
 def derive_all():
