@@ -26,6 +26,7 @@ import math
 import time
 from dataclasses import dataclass, field
 from functools import lru_cache
+from pathlib import Path
 
 import heyoka as hy
 import numpy as np
@@ -376,10 +377,19 @@ def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, sp
     if free not in FREE_PARAMETERS:
         raise ParameterError("free", f"must be one of {FREE_PARAMETERS}, got {free!r}")
     max_pulses = require_positive_int("max_pulses", max_pulses)
+    straight_rod(params)  # ParameterError early if there is no saddle
+    if params.lam == 0:
+        # integrable case (psi is a gauge): only the primary orbit, unknown T alone
+        r = shoot(params, 1, free=None, eps=eps, tol=tol)
+        if not r.success:
+            return [{"pulses_target": 1, "success": False, "message": r.message, "iterations": r.iterations,
+                     "residual": r.residual}]
+        orb = orbit(r)
+        return [{"pulses_target": 1, "success": True, "message": r.message, **summarize(r, orb),
+                 "free_value": None, "result": r, "orbit": orb}]
     v0 = getattr(params, free)
     if v0 == 0:
         raise ParameterError(free, "the free parameter must be non-zero to scan around it")
-    straight_rod(params)  # ParameterError early if there is no saddle
     vals = np.linspace(v0 * (1 - span), v0 * (1 + span), samples)
     table = scan(params, free, vals, max_pulses, eps or DEFAULT_EPS, progress)
     found = []
@@ -416,3 +426,118 @@ def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, sp
             break
         found.append(entry)
     return found
+
+
+# --- Figures 6 and 7 -----------------------------------------------------------------------------------------
+FIGURES = {
+    6: {"params": RodParams(m=1.7, mu=0.002, gamma=1.0, delta=1.0, lam=0.001), "show": (2, 4),
+        "label": "fig:multimodal1", "caption": "two-pulse (solid) and four-pulse (dashed)"},
+    7: {"params": RodParams(m=1.7, mu=1.0, gamma=0.01, delta=0.01, lam=0.5), "show": (2, 3),
+        "label": "fig:multimodal2", "caption": "two-pulse (solid) and three-pulse (dashed)"},
+}
+THETA_CUT = 1e-3  # the plotted window: where theta first exceeds this (tails are straight rod to O(THETA_CUT))
+
+
+def scaled_arclength(orb: dict, theta_cut: float = THETA_CUT):
+    """Scaled arclength (s - s_sym)/L in [-1, 1], s_sym = T the symmetric point and L = T - s_cut with s_cut the
+    first s where theta >= theta_cut; returns (tau, mask of the window)."""
+    t, th = orb["t"], orb["theta"]
+    T = 0.5 * (t[0] + t[-1])
+    s_cut = t[np.argmax(th >= theta_cut)]
+    L = T - s_cut
+    tau = (t - T) / L
+    return tau, np.abs(tau) <= 1.0
+
+
+def write_orbit(entry: dict, out_dir, stem: str, extra: dict | None = None):
+    """Orbit data as .npz (t, body states, reduced coordinates, launch point, pars) + JSON sidecar."""
+    from .io import atomic_savez, atomic_write_json, versions
+
+    orb, r = entry["orbit"], entry["result"]
+    tau, _ = scaled_arclength(orb)
+    npz = atomic_savez(Path(out_dir) / f"{stem}.npz", t=orb["t"], x=orb["x"], theta=orb["theta"], psi=orb["psi"],
+                       ptheta=orb["ptheta"], ppsi=orb["ppsi"], H=orb["H"], tau=tau, x0=r.x0, T=r.T, eps=r.eps,
+                       pars=r.params.array(), reversor=orb["reversor"])
+    meta = {k: v for k, v in entry.items() if k not in ("result", "orbit")}
+    meta.update({"shooting": r.as_dict(), "history": r.history, "versions": versions(),
+                 "scale": "B = C = m3 = 1 (derive/numeric_scale.py): t = s, lengths in units of B/m3",
+                 "tau": f"(s - T)/L, L = T - s(theta first >= {THETA_CUT})", **(extra or {})})
+    js = atomic_write_json(Path(out_dir) / f"{stem}.json", meta)
+    return [str(npz), str(js)]
+
+
+def multipulse(params: RodParams, out_dir=None, *, free: str = "lam", max_pulses: int = 6, span: float = 0.5,
+               samples: int = 81, stem: str = "multipulse", quiet: bool = True) -> dict:
+    """find_orbits + files: one .npz/.json per orbit found and a table (JSON) of all N <= max_pulses."""
+    from tqdm import tqdm
+
+    from .io import atomic_write_json, ensure_writable_dir, versions
+
+    straight_rod(params)  # bad input fails before any file is written
+    if out_dir is not None:
+        ensure_writable_dir(out_dir)
+    t0 = time.perf_counter()
+    with tqdm(total=samples, desc=f"scan {free}", disable=quiet, file=__import__("sys").stderr) as bar:
+        found = find_orbits(params, free=free, max_pulses=max_pulses, span=span, samples=samples, progress=bar)
+    rows = []
+    for e in found:
+        row = {k: v for k, v in e.items() if k not in ("result", "orbit")}
+        if e["success"] and out_dir is not None:
+            row["paths"] = write_orbit(e, out_dir, f"{stem}_N{e['pulses']}",
+                                       {"nominal_params": params.as_dict(), "free": free})
+        rows.append(row)
+    out = {"ok": True, "params": params.as_dict(), "free": free, "span": span, "samples": samples,
+           "orbits": rows, "wall_time_s": time.perf_counter() - t0,
+           "note": "symmetric homoclinic orbits of the straight rod are of codimension one (the launch phase is a "
+                   f"symmetry): each orbit exists at its own value of {free}, found by Newton on (T, {free})"}
+    if out_dir is not None:
+        out["table"] = str(atomic_write_json(Path(out_dir) / f"{stem}_table.json", {**out, "versions": versions()}))
+    return out, found
+
+
+def _figure(number: int, out_dir, quick: bool = False, quiet: bool = True) -> list[str]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .io import atomic_savefig, ensure_writable_dir
+
+    spec = FIGURES[number]
+    out_dir = ensure_writable_dir(out_dir)
+    max_pulses = max(spec["show"]) if quick else 6
+    summary, found = multipulse(spec["params"], out_dir, max_pulses=max_pulses, samples=41 if quick else 81,
+                                stem=f"figure{number}", quiet=quiet)
+    paths = [summary["table"]]
+    for row in summary["orbits"]:
+        paths += row.get("paths", [])
+    fig, ax = plt.subplots(figsize=(7, 3.2))
+    for N, style in zip(spec["show"], ("-", "--")):
+        e = found[N - 1]
+        if not e["success"]:
+            continue
+        tau, win = scaled_arclength(e["orbit"])
+        ax.plot(tau[win], e["orbit"]["theta"][win], style, color="k", lw=1.2,
+                label=f"{N}-pulse, lam = {e['free_value']:.6g}, residual {e['residual']:.1e}")
+    p = spec["params"]
+    ax.set_xlim(-1, 1)
+    ax.set_ylim(bottom=0)
+    ax.set_xlabel(r"$(s - s_{sym})/L$")
+    ax.set_ylabel(r"$\theta$")
+    ax.set_title(f"Fig. {number} ({spec['label']}): m={p.m}, gamma={p.gamma}, delta={p.delta}, mu = 2 lam "
+                 f"(paper lam={p.lam})", fontsize=9)
+    ax.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    paths.append(str(atomic_savefig(fig, Path(out_dir) / f"figure{number}.png", dpi=150)))
+    plt.close(fig)
+    return paths
+
+
+def figure_6(out_dir, quick: bool = False, quiet: bool = True) -> list[str]:
+    """fig:multimodal1: two- and four-pulse orbits near lam = 0.001 (mu = 2 lam), plus N <= 6 table."""
+    return _figure(6, out_dir, quick, quiet)
+
+
+def figure_7(out_dir, quick: bool = False, quiet: bool = True) -> list[str]:
+    """fig:multimodal2: two- and three-pulse orbits near lam = 0.5 (mu = 2 lam), plus N <= 6 table."""
+    return _figure(7, out_dir, quick, quiet)
