@@ -6,7 +6,11 @@ class ParameterError(ValueError):
 
     def __init__(self, name: str, message: str):
         self.name = name
+        self.message = message
         super().__init__(f"{name}: {message}")
+
+    def __reduce__(self):  # picklable, so worker processes can report it
+        return (ParameterError, (self.name, self.message))
 
 
 def require_finite(name: str, value) -> float:
