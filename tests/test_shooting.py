@@ -1,0 +1,96 @@
+"""Shooting of symmetric homoclinic orbits (fig:multimodal1, fig:multimodal2)."""
+import numpy as np
+import pytest
+
+from magrod import shooting
+from magrod.errors import ParameterError
+from magrod.params import RodParams
+from magrod.saddle import straight_rod
+
+EPS = np.finfo(float).eps
+FIG6 = RodParams(1.7, 0.002, 1.0, 1.0, 0.001)
+
+
+def test_primary_orbit_equals_closed_form():
+    """lam = mu = 0: shooting (unknown T, condition pbar_theta = 0) vs the closed form of derive/homoclinic.py."""
+    import heyoka as hy
+
+    from magrod.generated import homoclinic
+
+    p = RodParams(1.7, 0.0, 1.0, 1.0, 0.0)
+    r = shooting.shoot(p, 1, free=None)
+    assert r.success and r.residual <= shooting.DEFAULT_TOL
+    orb = shooting.orbit(r)
+    t, m, g = hy.make_vars("t", "m", "gamma")
+    cf = hy.cfunc(homoclinic.closed_form(t, m, g), vars=[t, m, g])
+    tt = orb["t"] - r.T
+    win = orb["theta"] > 1e-3
+    n = int(np.count_nonzero(win))
+    vals = cf(np.vstack([tt[win], np.full(n, p.m), np.full(n, p.gamma)]))
+    # the launch error O(eps^2) shifts the orbit transversally by O(eps); the time offset is fitted by T itself
+    np.testing.assert_allclose(np.cos(orb["theta"][win]), vals[0], atol=1e3 * r.eps)
+    np.testing.assert_allclose(orb["ptheta"][win], vals[1], atol=1e3 * r.eps)
+    assert np.max(np.abs(orb["H"] - r.saddle_H)) <= 64 * EPS
+
+
+def test_phase_is_a_symmetry():
+    # different launch phases on the unstable circle give the same reduced orbit (first crossing: double precision)
+    assert shooting.phase_independence(FIG6, crossings=1) <= 1e-9
+
+
+def test_two_pulse_orbit_reversible_and_on_level():
+    res = shooting.shoot(RodParams(1.7, 0.0025, 1.0, 1.0, 0.00125), 2)
+    assert res.success and res.residual <= shooting.DEFAULT_TOL
+    orb = shooting.orbit(res)
+    assert shooting.count_pulses(orb["theta"]) == 2
+    assert abs(res.params.mu - 2 * res.params.lam) <= 4 * EPS * res.params.mu
+    assert np.max(np.abs(orb["H"] - res.saddle_H)) <= 1e-13
+    # reversibility: integrate the ODE past the symmetric point and compare with R applied to the first half
+    from magrod.systems import body_integrator
+
+    ta = body_integrator(res.x0, res.params.array())
+    s = np.linspace(res.T, res.T + 0.5 * res.T, 201)
+    fwd = ta.propagate_grid(np.concatenate([[0.0], s]))[5][1:]
+    back = shooting.orbit(res, n=4001)
+    mirrored = np.array([np.interp(s, back["t"], back["x"][:, i]) for i in range(9)]).T
+    assert np.max(np.abs(fwd - mirrored)) <= 1e-6  # interpolation of the 4001-point orbit dominates (h^2 ~ 1e-4^2)
+
+
+def test_eps_insensitivity():
+    p = RodParams(1.7, 0.0025, 1.0, 1.0, 0.00125)
+    a = shooting.shoot(p, 2, eps=1e-9)
+    b = shooting.shoot(p, 2, eps=1e-8)
+    assert a.success and b.success
+    assert abs(a.params.lam - b.params.lam) <= 1e-9 * a.params.lam
+
+
+def test_non_converged_returns_no_orbit():
+    r = shooting.shoot(RodParams(1.7, 0.0025, 1.0, 1.0, 0.00125), 2, max_iter=1, precision="double")
+    assert not r.success and "not converged" in r.message and r.residual > shooting.DEFAULT_TOL
+    with pytest.raises(ValueError):
+        shooting.orbit(r)
+
+
+def test_bad_parameters():
+    with pytest.raises(ParameterError) as e:
+        straight_rod(RodParams(1.7, 0.5, 1.0, 1.0, 0.001))
+    assert e.value.name == "mu"
+    with pytest.raises(ParameterError) as e:
+        straight_rod(RodParams(3.0, 0.0, 1.0, 1.0, 0.0))  # m >= m_c = 2 sqrt(2)
+    assert e.value.name == "m"
+    with pytest.raises(ParameterError):
+        shooting.shoot(FIG6, 2, free=None)
+
+
+def test_cli_exit_codes(tmp_path):
+    from magrod.cli import main
+
+    assert main(["multipulse", "--figure", "6", "--mu", "0.5", "--out", str(tmp_path / "x"), "--quiet"]) == 2
+    assert not (tmp_path / "x").exists()
+
+
+@pytest.mark.slow
+def test_figures_full(tmp_path):
+    paths6 = shooting.figure_6(tmp_path)
+    paths7 = shooting.figure_7(tmp_path)
+    assert any(p.endswith("figure6.png") for p in paths6) and any(p.endswith("figure7.png") for p in paths7)
