@@ -77,7 +77,9 @@ class HeyokaPrinter:
         if e.is_Pow:
             b, x = e.base, e.exp
             if x == sp.Rational(1, 2):
-                return f"hy.sqrt({self.p(b)})"
+                # hy.sqrt takes expressions only (a bare float raises TypeError); keep the constant exact so
+                # that it is rounded at the working precision (hy.real, real128)
+                return f"hy.sqrt(_E({self.p(b)}))" if b.is_Number else f"hy.sqrt({self.p(b)})"
             if x == -1:
                 return f"(1.0 / {self.p(b)})"
             if x.is_Rational and x.q == 2:
