@@ -10,7 +10,7 @@ import mpmath
 import sympy as sp
 
 from . import numeric_scale as ns
-from . import homoclinic, melnikov, poisson, reduction
+from . import homoclinic, melnikov, poisson, reduction, symmetry
 from .codegen import HeyokaPrinter, function_source, module_source
 from .model import X, phi, psi, theta
 from .paper import delta, gamma, lambar, m, mu, pps, pth
@@ -141,6 +141,7 @@ def all_results():
     results.append(check_chart_numerically())
     results += homoclinic.derive_all()
     results += melnikov.derive_all()
+    results += symmetry.derive_all()
     return results, {}
 
 
@@ -175,6 +176,7 @@ def build(out_dir: Path, verbose=True) -> dict:
     files["body.py"] = src
     files["homoclinic.py"] = homoclinic.module()
     files["melnikov.py"] = melnikov.module()
+    files["symmetry.py"] = symmetry.module()
     results, _ = all_results()
     files["report.json"] = json.dumps({"results": [r.as_dict() for r in results]}, indent=1, sort_keys=True,
                                       default=str) + "\n"

@@ -27,9 +27,10 @@ def test_primary_orbit_equals_closed_form():
     win = orb["theta"] > 1e-3
     n = int(np.count_nonzero(win))
     vals = cf(np.vstack([tt[win], np.full(n, p.m), np.full(n, p.gamma)]))
-    # the launch error O(eps^2) shifts the orbit transversally by O(eps); the time offset is fitted by T itself
-    np.testing.assert_allclose(np.cos(orb["theta"][win]), vals[0], atol=1e3 * r.eps)
-    np.testing.assert_allclose(orb["ptheta"][win], vals[1], atol=1e3 * r.eps)
+    # the linear launch is off the manifold by O(eps^2); measured 3e-15 (cos) and 1.3e-13 (pbar_theta) at eps=1e-7
+    tol = 1e2 * r.eps**2 + 1e3 * EPS
+    np.testing.assert_allclose(np.cos(orb["theta"][win]), vals[0], atol=tol)
+    np.testing.assert_allclose(orb["ptheta"][win], vals[1], atol=tol)
     assert np.max(np.abs(orb["H"] - r.saddle_H)) <= 64 * EPS
 
 
