@@ -384,9 +384,10 @@ def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *
         x0 = systems.euler_to_body(theta0, psi0, ptheta0, p_psi0, pars)
         _set(ta_b, [fp_type(v) for v in x0] if fp_type is not float else x0, 0.0, pars)
 
-    raw = np.full((iterates, 9), np.nan)
-    times = np.zeros(iterates)
-    frame = np.zeros(iterates, dtype=np.int8)
+    cap = min(iterates, 4096)  # grown by doubling: iterates may be huge when t_max is the real limit
+    raw = np.full((cap, 9), np.nan)
+    times = np.zeros(cap)
+    frame = np.zeros(cap, dtype=np.int8)
     n = switches = 0
     success, message = True, "ok"
     t_limit = hy.taylor_outcome.time_limit
@@ -416,6 +417,11 @@ def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *
                 c = np.cos(systems.body_to_euler(np.ascontiguousarray(st), pars)[1])
                 keep = (c > 0) == (branch == "0")
             if keep:
+                if n == raw.shape[0]:
+                    cap = min(iterates, 2 * cap)
+                    raw = np.vstack([raw, np.full((cap - n, 9), np.nan)])
+                    times = np.concatenate([times, np.zeros(cap - n)])
+                    frame = np.concatenate([frame, np.zeros(cap - n, dtype=np.int8)])
                 raw[n, : st.size] = st
                 times[n] = float(ta.time)
                 frame[n] = mode
