@@ -1,0 +1,321 @@
+"""Homoclinic orbit of the extensible rod at lambdabar = 0 (paper sec. 6, eq:extensible_ham, fig:angles).
+
+Public API
+----------
+validate(m, gamma)                      -> (m, gamma) as floats, or ParameterError naming the parameter
+homoclinic(m, gamma)                    -> HomoclinicOrbit (roots u_pm, k, kappa, h, m_c, theta_max ...)
+HomoclinicOrbit.evaluate(t)             -> dict of arrays theta, ptheta, cos_theta, psidot at times t
+HomoclinicOrbit.psibar(t)               -> psibar(t) = psi(t) - psi(0) (heyoka quadrature of psi' = 1/(1 + cos))
+HomoclinicOrbit.time_at_theta(theta)    -> t > 0 at which the orbit reaches theta (closed form)
+verify(orbit, theta_stop=1e-8, ...)     -> closed form vs an independent heyoka integration of generated.field
+phase_portrait_energy(theta, ptheta, m, gamma) -> (1/2) ptheta^2 + V(theta) (eq:eq_oscillator)
+figure_3(out_dir, quick=False)          -> fig:angles (five panels), PNG + .npz + JSON sidecar
+
+The closed form
+---------------
+derive/homoclinic.py derives (generated/homoclinic.py: closed_form; report entry theta_homoclinic_derived)
+    cos theta = u_- + (u_+ - u_-)/D,   D = 1 - (1 - k) tanh^2(kappa t),
+and (1 - k)(1 - u_-) = 1 - u_+ turns 1 - cos theta into (1 - u_+) sech^2(kappa t)/D, i.e.
+    sin(theta/2) = A sech(kappa t)/sqrt(D),   A = sqrt((1 - u_+)/2),
+    pbar_theta   = theta' = -2 k A kappa sech(kappa t) tanh(kappa t)/(D^(3/2) cos(theta/2)).
+This is the same function, rewritten so that it keeps full relative accuracy in the tails: the generated
+form goes through u = cos theta -> 1 and 1 - tanh^2, so in float64 theta = acos(u) loses all digits below
+theta ~ 1e-8 and pbar_theta = -u'/sin(theta) becomes 0/0 (NaN).  The rewrite is built from the generated
+roots (u_+, k, kappa) as heyoka expressions, and tests/test_homoclinic.py checks it against the generated
+closed_form evaluated in 256-bit arithmetic.  gamma = 0 (inextensible rod) uses the limit k = 1,
+u_+ = u_0 = m^2/2 - 1, kappa = sqrt(1 - u_0)/(sqrt(2) m), checked against generated.closed_form_kirchhoff
+(eq:Kirchhoff_homoclinic).
+
+Independent check (verify)
+--------------------------
+generated.field (Hamilton's equations eq:equivalent plus psi' = eq:psi_condition) is integrated with heyoka
+from the turning point (theta = acos(u_+), pbar_theta = 0, psi = 0) forwards and backwards in time.  theta = 0
+is a saddle with rate lambda = sqrt(-V''(0)) = kappa, so any error at the turning point grows like
+exp(kappa t) while theta decays like exp(-kappa t): reaching theta = 1e-8 with an absolute error 1e-12 needs
+an initial/round-off error below ~1e-20.  Moreover the generated field is a sum of terms ~1/sin^3(theta) that
+cancel to O(theta): at theta = 1e-8 each term is ~1e24, so IEEE quad (real128, eps 1e-34) already loses the
+1e-12 target (measured: 2e-11).  The check therefore runs in heyoka's multiprecision type hy.real with 256
+bits (eps ~ 1e-77, ~0.3 s per direction) and compares with the generated closed form evaluated at the same
+precision, and with the float64 stable form.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import heyoka as hy
+import numpy as np
+
+from .errors import ParameterError, require_finite
+from .generated import homoclinic as gen
+
+_PREC = 256  # bits of the multiprecision verification run (see module docstring)
+
+
+def validate(m, gamma) -> tuple[float, float]:
+    """(m, gamma) as floats; a homoclinic orbit of theta = 0 exists iff m > 0, gamma >= 0 and
+    m^2 < 4 (1 + gamma) (eq:buckling_load_2: V''(0) = 1/4 - (1 + gamma)/m^2 < 0)."""
+    m = require_finite("m", m)
+    gamma = require_finite("gamma", gamma)
+    if m <= 0:
+        raise ParameterError("m", f"must be > 0, got {m}")
+    if gamma < 0:
+        raise ParameterError("gamma", f"must be >= 0 (gamma = 0 is the inextensible Kirchhoff rod), got {gamma}")
+    if m * m >= 4.0 * (1.0 + gamma):
+        raise ParameterError("m", f"no homoclinic orbit: need m^2 < 4(1 + gamma) = {4 * (1 + gamma):g} "
+                                  f"(m < m_c = {2 * np.sqrt(1 + gamma):.6g}, eq:buckling_load_2), got m = {m}")
+    return m, gamma
+
+
+def constant_expressions(m, gamma) -> dict:
+    """u_+, 1 - k and kappa as heyoka expressions in a cancellation-free form valid down to gamma = 0.
+
+    With r = sqrt(1 + gamma m^2) and w = gamma (1 - u_-) = 1 + 2 gamma + r, the generated roots give
+    u_+ = (-1 - gamma + r)/gamma = (m^2 - 2 - gamma)/(1 + gamma + r), 1 - k = (1 - u_+)/(1 - u_-)
+    = gamma (1 - u_+)/w and kappa = (1 - u_-) sqrt(gamma (1 - k))/(2 m) = sqrt((1 - u_+) w)/(2 m).  The generated
+    form divides by gamma (relative error ~eps/gamma); this one is exact at gamma = 0 and reproduces
+    eq:Kirchhoff_homoclinic (u_0 = m^2/2 - 1, k = 1).  Checked against generated.roots in tests."""
+    r = hy.sqrt(1.0 + gamma * m**2)
+    up = (m**2 - 2.0 - gamma) / (1.0 + gamma + r)
+    w = 1.0 + 2.0 * gamma + r
+    return {"u_plus": up, "one_minus_k": gamma * (1.0 - up) / w, "kappa": hy.sqrt((1.0 - up) * w) / (2.0 * m)}
+
+
+def stable_expressions(t, m, gamma) -> dict:
+    """heyoka expressions of the homoclinic orbit in the tail-stable form (see module docstring).
+    t, m, gamma: heyoka expressions (e.g. hy.time, hy.par[0], hy.par[1]); gamma = 0 is the Kirchhoff rod."""
+    c0 = constant_expressions(m, gamma)
+    omk, kappa = c0["one_minus_k"], c0["kappa"]
+    amp = hy.sqrt((1.0 - c0["u_plus"]) / 2.0)
+    x = kappa * t
+    sech = 1.0 / hy.cosh(x)
+    th = hy.tanh(x)
+    d = 1.0 - omk * th**2
+    s = amp * sech / hy.sqrt(d)  # sin(theta/2)
+    c = hy.sqrt(1.0 - s**2)  # cos(theta/2) > 0 (theta < pi on the orbit)
+    return {"theta": 2.0 * hy.asin(s),
+            "ptheta": -2.0 * (1.0 - omk) * amp * kappa * sech * th / (d * hy.sqrt(d) * c),
+            "cos_theta": 1.0 - 2.0 * s**2,
+            "sin_theta": 2.0 * s * c,
+            "psidot": 1.0 / (2.0 * c**2)}  # eq:psi_condition: 1/(1 + cos theta)
+
+
+_KEYS = ("theta", "ptheta", "cos_theta", "sin_theta", "psidot")
+
+
+@lru_cache(maxsize=None)
+def _stable_cfunc():
+    t = hy.make_vars("t")
+    e = stable_expressions(t, hy.par[0], hy.par[1])
+    return hy.cfunc([e[k] for k in _KEYS], vars=[t])
+
+
+@lru_cache(maxsize=None)
+def _constants_cfunc():
+    m, g = hy.par[0], hy.par[1]
+    c0 = constant_expressions(m, g)
+    return hy.cfunc([c0["u_plus"], c0["one_minus_k"], c0["kappa"], gen.roots(m, g)[1], gen.energy(m, g),
+                     gen.m_critical(g)], vars=[])
+
+
+@lru_cache(maxsize=None)
+def _potential_cfunc(fp_type=float, prec=0):
+    th = hy.make_vars("theta")
+    kw = {"fp_type": fp_type, "prec": prec} if fp_type is hy.real else ({} if fp_type is float else
+                                                                       {"fp_type": fp_type})
+    return hy.cfunc([gen.potential(th, hy.par[0], hy.par[1])], vars=[th], **kw)
+
+
+def _call(cf, x, m, gamma):
+    """Evaluate a float64 cfunc of hy.par[0] = m (and hy.par[1] = gamma if it uses it) on x of shape
+    (nvars, n) (heyoka wants exactly cf.nparams parameter rows)."""
+    pars = np.array([[m] * x.shape[1], [gamma] * x.shape[1]], dtype=float)[: cf.nparams]
+    return cf(x, pars=pars)
+
+
+@dataclass(frozen=True)
+class HomoclinicOrbit:
+    """The homoclinic orbit of theta = 0 at lambdabar = mu = 0, pbar_psi = 1 (t = 0 at the turning point,
+    pbar_theta < 0 for t > 0).  Constants from generated.homoclinic (u_minus = -inf, k = 1 for gamma = 0)."""
+
+    m: float
+    gamma: float
+    u_plus: float
+    u_minus: float
+    k: float
+    kappa: float  # = sqrt(-V''(0)), the saddle's eigenvalue (checked in tests)
+    h: float  # homoclinic level V(0) = (1 + gamma/2)/m^2
+    m_c: float  # 2 sqrt(1 + gamma), eq:buckling_load_2
+    extra: dict = field(default_factory=dict, compare=False)
+
+    @property
+    def kirchhoff(self) -> bool:
+        return self.gamma == 0.0
+
+    @property
+    def theta_max(self) -> float:
+        return float(2.0 * np.arcsin(np.sqrt((1.0 - self.u_plus) / 2.0)))
+
+    @property
+    def saddle_rate(self) -> float:
+        """sqrt(-V''(0)) with V''(0) = 1/4 - (1 + gamma)/m^2 (report entry fixed_points)."""
+        return float(np.sqrt((1.0 + self.gamma) / self.m**2 - 0.25))
+
+    def evaluate(self, t) -> dict:
+        """theta, pbar_theta, cos theta, sin theta, psi' at times t (float64, full relative accuracy in the
+        tails; symmetric: theta even, pbar_theta odd).  Returns arrays of the shape of t."""
+        t = np.asarray(t, dtype=float)
+        flat = t.reshape(1, -1)
+        out = _call(_stable_cfunc(), flat, self.m, self.gamma)
+        return {k: out[i].reshape(t.shape) for i, k in enumerate(_KEYS)}
+
+    def time_at_theta(self, theta) -> float:
+        """t > 0 with theta(t) = theta (0 < theta <= theta_max): sin^2(theta/2) = A^2 y/(k + (1 - k) y) with
+        y = sech^2(kappa t) solved for y."""
+        s2 = np.sin(0.5 * float(theta)) ** 2
+        a2 = 0.5 * (1.0 - self.u_plus)
+        if not 0.0 < s2 <= a2:
+            raise ParameterError("theta", f"must be in (0, theta_max = {self.theta_max:.6g}], got {theta}")
+        omk = self.extra["one_minus_k"]
+        y = s2 * (1.0 - omk) / (a2 - s2 * omk)
+        return float(np.arccosh(1.0 / np.sqrt(min(y, 1.0))) / self.kappa)
+
+    def psibar(self, t, tol=None) -> np.ndarray:
+        """psibar(t) = int_0^t dt'/(1 + cos theta(t')) (eq:psi_condition; odd in t) by heyoka quadrature
+        (Taylor integration of psibar' = psi'(t) with t = hy.time, tol = eps by default)."""
+        t = np.asarray(t, dtype=float)
+        flat = np.abs(t.ravel())
+        order = np.argsort(flat)
+        ta = _psibar_integrator()
+        ta.time = 0.0
+        ta.state[:] = 0.0
+        ta.pars[:] = [self.m, self.gamma][: len(ta.pars)]
+        res = ta.propagate_grid(np.asarray(flat[order], dtype=float))
+        vals = np.empty_like(flat)
+        vals[order] = res[5][:, 0]
+        return (np.sign(t.ravel()) * vals).reshape(t.shape)
+
+    def summary(self) -> dict:
+        return {"m": self.m, "gamma": self.gamma, "u_plus": self.u_plus, "u_minus": self.u_minus, "k": self.k,
+                "kappa": self.kappa, "saddle_rate": self.saddle_rate, "theta_max": self.theta_max, "h": self.h,
+                "m_c": self.m_c}
+
+
+@lru_cache(maxsize=None)
+def _psibar_integrator():
+    psib = hy.make_vars("psibar")
+    e = stable_expressions(hy.time, hy.par[0], hy.par[1])
+    ta = hy.taylor_adaptive([(psib, e["psidot"])], [0.0])
+    return ta
+
+
+def homoclinic(m, gamma) -> HomoclinicOrbit:
+    """The homoclinic orbit at (m, gamma) (validated, see validate)."""
+    m, gamma = validate(m, gamma)
+    up, omk, kappa, um, h, mc = _constants_cfunc()(np.zeros(0), pars=np.array([m, gamma]))
+    if gamma == 0.0:
+        um = -np.inf  # generated.roots divides by gamma
+    return HomoclinicOrbit(m, gamma, float(up), float(um), float(1.0 - omk), float(kappa), float(h), float(mc),
+                           {"one_minus_k": float(omk)})
+
+
+def phase_portrait_energy(theta, ptheta, m, gamma) -> np.ndarray:
+    """(1/2) pbar_theta^2 + V(theta) (eq:eq_oscillator, generated.potential) on arrays of equal shape.
+    V has a removable 0/0 at theta = 0 (V(0) = h); there the value h is used."""
+    theta = np.asarray(theta, dtype=float)
+    ptheta = np.asarray(ptheta, dtype=float)
+    flat = theta.reshape(1, -1)
+    v = _call(_potential_cfunc(), flat, m, gamma)[0].reshape(theta.shape)
+    v = np.where(theta == 0.0, (1.0 + gamma / 2.0) / m**2, v)
+    return 0.5 * ptheta**2 + v
+
+
+# ----------------------------------------------------------------------------------------------------------
+# independent check: multiprecision integration of generated.field from the turning point
+
+
+def _real(x, prec=_PREC):
+    return hy.real(float(x), prec) if not isinstance(x, hy.real) else x
+
+
+@lru_cache(maxsize=None)
+def _field_integrator(prec: int):
+    th, ps, pt = hy.make_vars("theta", "psi", "ptheta")
+    f = gen.field(th, pt, hy.par[0], hy.par[1])
+    one = hy.real(1, prec)
+    return hy.taylor_adaptive([(th, f[0]), (ps, f[1]), (pt, f[2])], [one, 0 * one, 0 * one],
+                              pars=[one, one], fp_type=hy.real, compact_mode=True)
+
+
+@lru_cache(maxsize=None)
+def _closed_form_hp(prec: int, kirchhoff: bool):
+    """The generated closed form (theta, pbar_theta, psi') in multiprecision (gamma = 0: theta, psi')."""
+    t = hy.make_vars("t")
+    if kirchhoff:
+        c, psid = gen.closed_form_kirchhoff(t, hy.par[0])
+        ex = [hy.acos(c), psid]
+    else:
+        c, pt, psid = gen.closed_form(t, hy.par[0], hy.par[1])
+        ex = [hy.acos(c), pt, psid]
+    return hy.cfunc(ex, vars=[t], fp_type=hy.real, prec=prec)
+
+
+@lru_cache(maxsize=None)
+def _energy_hp(prec: int):
+    th, pt = hy.make_vars("theta", "ptheta")
+    return hy.cfunc([0.5 * pt**2 + gen.potential(th, hy.par[0], hy.par[1]) - gen.energy(hy.par[0], hy.par[1])],
+                    vars=[th, pt], fp_type=hy.real, prec=prec)
+
+
+def _hp_eval(cf, t_list, pars):
+    """Evaluate a multiprecision cfunc point by point (returns an object array of shape (nout, n))."""
+    return np.array([cf(np.array([x]), pars=pars) for x in t_list]).T
+
+
+def verify(orbit: HomoclinicOrbit, theta_stop: float = 1e-8, n: int = 201, prec: int = _PREC) -> dict:
+    """Integrate generated.field from the turning point (theta = acos(u_+), pbar_theta = psi = 0) forwards and
+    backwards in hy.real(prec) to |t| = t_stop where theta(t_stop) = theta_stop, on n grid points per side, and
+    compare with (i) the generated closed form at the same precision, (ii) the float64 stable form of
+    HomoclinicOrbit.evaluate and psibar.  Also: energy H0 - h along the integration, parity residuals
+    theta(-t) - theta(t), pbar_theta(-t) + pbar_theta(t), psi(-t) + psi(t).  Cost ~0.3 s per direction."""
+    t0 = time.perf_counter()
+    t_stop = orbit.time_at_theta(theta_stop)
+    grid = np.linspace(0.0, t_stop, n)
+    pars = np.array([_real(orbit.m, prec), _real(orbit.gamma, prec)])
+    cf = _closed_form_hp(prec, orbit.kirchhoff)
+    cf_pars = pars[: cf.nparams]  # closed_form_kirchhoff does not use gamma (hy.par[1])
+    theta0 = cf(np.array([_real(0.0, prec)]), pars=cf_pars)[0]  # acos(u_+) at the working precision
+    ta = _field_integrator(prec)
+    sides = {}
+    for sgn in (1.0, -1.0):
+        ta.time = _real(0.0, prec)
+        ta.state[:] = np.array([theta0, _real(0.0, prec), _real(0.0, prec)])
+        ta.pars[:] = pars
+        res = ta.propagate_grid([_real(sgn * x, prec) for x in grid])
+        if res[0] != hy.taylor_outcome.time_limit:
+            raise RuntimeError(f"homoclinic verification integration failed: {res[0]}")
+        sides[sgn] = res[-1]  # (n, 3): theta, psi, ptheta
+    fw, bw = sides[1.0], sides[-1.0]
+    ref = _hp_eval(cf, [_real(x, prec) for x in grid], cf_pars)  # theta, (ptheta,) psi'
+    d_theta_hp = float(np.max(np.abs(fw[:, 0] - ref[0])))
+    d_ptheta_hp = None if orbit.kirchhoff else float(np.max(np.abs(fw[:, 2] - ref[1])))
+    fw64 = fw.astype(float)
+    st = orbit.evaluate(grid)
+    psib = orbit.psibar(grid)
+    en = _energy_hp(prec)
+    # V has a removable 0/0 at theta = 0 only; along the orbit theta >= theta_stop > 0
+    dH = max(abs(float(en(np.array([a, b]), pars=pars)[0])) for a, b in zip(fw[:, 0], fw[:, 2]))
+    out = {"theta_stop": theta_stop, "t_stop": t_stop, "n": n, "prec_bits": prec,
+           "max_dev_theta": float(np.max(np.abs(fw64[:, 0] - st["theta"]))),
+           "max_dev_ptheta": float(np.max(np.abs(fw64[:, 2] - st["ptheta"]))),
+           "max_dev_psi": float(np.max(np.abs(fw64[:, 1] - psib))),
+           "max_rel_dev_theta": float(np.max(np.abs(fw64[:, 0] - st["theta"]) / st["theta"])),
+           "max_dev_theta_generated_hp": d_theta_hp, "max_dev_ptheta_generated_hp": d_ptheta_hp,
+           "parity_theta": float(np.max(np.abs(bw[:, 0] - fw[:, 0]))),
+           "parity_ptheta": float(np.max(np.abs(bw[:, 2] + fw[:, 2]))),
+           "parity_psi": float(np.max(np.abs(bw[:, 1] + fw[:, 1]))),
+           "max_abs_H0_minus_h": dH, "wall_time_s": time.perf_counter() - t0}
+    out["arrays"] = {"t": grid, "theta_int": fw64[:, 0], "ptheta_int": fw64[:, 2], "psi_int": fw64[:, 1],
+                     "theta_cf": st["theta"], "ptheta_cf": st["ptheta"], "psibar_cf": psib}
+    return out
