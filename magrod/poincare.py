@@ -345,6 +345,8 @@ def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *
         raise TypeError("params must be a RodParams")
     iterates = _validate_options(iterates, root, direction, branch, formulation, pole_switch, radicand_switch)
     pars = params.array()
+    if p_psi0 is not None and h is not None:
+        raise ParameterError("p_psi0", "give either an energy level h or p_psi0, not both")
     if p_psi0 is not None:
         theta0, ptheta0, psi0, _ = _check_start(theta0, ptheta0, psi0)
         p_psi0 = require_finite("p_psi0", p_psi0)
