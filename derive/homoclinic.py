@@ -63,16 +63,59 @@ def closed_form_u(up_=up, um_=um, gamma_=gamma, m_=m, t_=t):
     return um_ + (up_ - um_) / (1 - (1 - k) * sp.tanh(kappa * t_) ** 2), k, kappa
 
 
-@lru_cache(maxsize=None)
-def closed_form_explicit():
-    """cos theta(t), pbar_theta(t) = theta'(t), psi'(t) with u_pm written out in m, gamma (gamma > 0)."""
+def stable_roots():
+    """u_pm and 1 - k in forms without cancellation for small gamma (checked equal to the roots of g):
+    u_+ = -1 + m^2/(1 + sqrt(1 + gamma m^2)), u_- = -1 - (1 + sqrt(1 + gamma m^2))/gamma,
+    1 - k = (1 - u_+)/(1 - u_-)."""
+    r = sp.sqrt(1 + gamma * m**2)
+    up_ = -1 + m**2 / (1 + r)
+    um_ = -1 - (1 + r) / gamma
+    return up_, um_, (1 - up_) / (1 - um_)
+
+
+UP, UM, OMK, KAP = sp.symbols("U_p U_m OMK KAPPA", real=True)  # u_+, u_-, 1 - k, kappa as plain symbols
+
+
+def closed_form_in_roots():
+    """cos theta(t), pbar_theta(t) = theta'(t), psi'(t), theta(t) in terms of the symbols UP = u_+, UM = u_-,
+    OMK = 1 - k, KAP = kappa (kept symbolic: SymPy's automatic evaluation of the nested radicals is very slow),
+    in a form that keeps full relative accuracy in the tails (u -> 1):
+      1 - cos theta = (1 - u_+) sech^2(kappa t) / D,   D = 1 - (1 - k) tanh^2(kappa t),
+      u' = 2 (u_+ - u_-)(1 - k) kappa tanh(kappa t) sech^2(kappa t) / D^2,
+      theta' = -u'/sin(theta), sin^2 = (1 - u)(2 - (1 - u)),  theta = 2 asin(sqrt((1 - u)/2)).
+    Each piece is checked against the plain closed form in stable_forms_agree()."""
+    x = KAP * t
+    D = 1 - OMK * sp.tanh(x) ** 2
+    om = (1 - UP) / (sp.cosh(x) ** 2 * D)
+    du = 2 * (UP - UM) * OMK * KAP * sp.tanh(x) / (sp.cosh(x) ** 2 * D**2)
+    pth_t = -du / sp.sqrt(om * (2 - om))  # sin(theta) > 0 on the orbit
+    return 1 - om, pth_t, 1 / (2 - om), 2 * sp.asin(sp.sqrt(om / 2))
+
+
+def stable_root_values():
+    """(u_+, u_-, 1 - k, kappa) in m, gamma (stable forms)."""
+    rp, rm, omk = stable_roots()
+    return rp, rm, omk, (1 - rm) * sp.sqrt(gamma * omk) / (2 * m)
+
+
+def stable_forms_agree():
+    """The stable forms equal the plain ones: roots of g (positive gamma, m), and, as rational identities in
+    T = tanh(kappa t) (cosh^-2 = 1 - T^2) with u_pm free, u(t) of closed_form_u and its time derivative."""
     _, _, rp, rm = roots_and_k()
-    cu, k, kappa = closed_form_u(rp, rm)
-    cth = cu
-    du = sp.diff(cth, t)
-    pth_t = -du / sp.sqrt(1 - cth**2)  # theta' = -u'/sin(theta), sin(theta) > 0 on the orbit
-    psidot = 1 / (1 + cth)
-    return cth, pth_t, psidot, rp, rm, k, kappa
+    srp, srm, _ = stable_roots()
+    gp_, mp_ = sp.symbols("gamma_p m_p", positive=True)
+    pos = {gamma: gp_, m: mp_}
+    ok = [sp.simplify((srp - rp).subs(pos)) == 0, sp.simplify((srm - rm).subs(pos)) == 0]
+    kap = sp.symbols("kappa", positive=True)
+    omk = (1 - up) / (1 - um)  # 1 - k
+    D = 1 - omk * T**2
+    u_plain = um + (up - um) / (1 - (1 - (up - um) / (1 - um)) * T**2)
+    u_stable = 1 - (1 - up) * (1 - T**2) / D
+    du_plain = sp.diff(u_plain, T) * kap * (1 - T**2)
+    du_stable = 2 * (up - um) * omk * kap * T * (1 - T**2) / D**2
+    ok.append(sp.cancel(u_plain - u_stable) == 0)
+    ok.append(sp.cancel(du_plain - du_stable) == 0)
+    return all(ok), ok
 
 
 def _numeric_mp(expr, syms, pts):
@@ -178,19 +221,21 @@ def derive_all():
     ode = sp.simplify(sp.together(ode.subs({gamma: g_of_roots}).subs(m, sp.sqrt(m2_of_roots))))
     start = sp.simplify(uT.subs(T, 0) - up)
     end = sp.simplify(uT.subs(T, 1) - 1)
+    om_ok, _ = stable_forms_agree()
     res.append(Result("theta_homoclinic_derived", "eq:theta_homoclinic",
                       "Derived closed form cos(theta) = u_- + (u_+ - u_-)/(1 - (1 - k) tanh^2(kappa t)), "
                       "kappa = (1 - u_-) sqrt(gamma (1 - k))/(2m), solves (1/2) theta'^2 + V = h, starts at the turning "
                       "point u_+ and tends to u = 1 (theta = 0) as t -> +-infinity",
-                      HOLDS if ode == 0 and start == 0 and end == 0 else DISAGREES,
+                      HOLDS if ode == 0 and start == 0 and end == 0 and om_ok else DISAGREES,
                       "symbolic: u'^2 - gamma (1-u)^2 g(u)/m^2 = 0 as a rational function of T = tanh(kappa t) "
                       "with gamma, m^2 written through the roots u_pm",
-                      {"residual": fmt(ode), "u(0) - u_+": fmt(start), "u(t -> inf) - 1": fmt(end)}))
+                      {"residual": fmt(ode), "u(0) - u_+": fmt(start), "u(t -> inf) - 1": fmt(end),
+                       "stable generated forms (1 - u = (1 - u_+) sech^2/D etc.) equal the plain ones": om_ok}))
 
     # printed closed form: evaluated (complex arithmetic, since k < 1) against the derived one
-    cth, pth_t, psidot, rp_, rm_, k_, kappa_ = closed_form_explicit()
-    printed = paper.eq_theta_homoclinic(rp_, rm_, k_)
-    f_der = sp.lambdify([t, m, gamma], cth, "mpmath")
+    _, _, rp_, rm_ = roots_and_k()
+    printed = paper.eq_theta_homoclinic(rp_, rm_, (rp_ - rm_) / (1 - rm_))
+    f_der = sp.lambdify([t, m, gamma], closed_form_u(rp_, rm_)[0], "mpmath")
     f_pr = sp.lambdify([t, m, gamma], printed, "mpmath")
     rows = []
     with mpmath.workdps(50):
@@ -234,10 +279,12 @@ def derive_all():
 
 def module() -> str:
     """generated/homoclinic.py: the lambdabar = mu = 0 vector field, V, h, m_c and the closed form."""
-    cth, pth_t, psidot, rp, rm, k, kappa = closed_form_explicit()
+    cth, pth_t, psidot, th = closed_form_in_roots()
+    rp, rm, omk, kappa = stable_root_values()
     H = extensible_hamiltonian()
     field3 = [sp.diff(H, pth).subs(pps, 1), sp.diff(H, pps).subs(pps, 1), (-sp.diff(H, theta)).subs(pps, 1)]
-    names = {theta: "theta", pth: "ptheta", t: "t", m: "m", gamma: "gamma"}
+    names = {theta: "theta", pth: "ptheta", t: "t", m: "m", gamma: "gamma", UP: "up", UM: "um", OMK: "omk",
+             KAP: "kappa"}
     pr = HeyokaPrinter(names)
     kir = paper.eq_Kirchhoff_homoclinic()
     h, _, _, _ = roots_and_k()
@@ -247,10 +294,20 @@ def module() -> str:
         function_source("potential", ["theta", "m", "gamma"], potential(), pr, "V(theta), eq:eq_oscillator."),
         function_source("energy", ["m", "gamma"], h, pr, "Homoclinic level h = V(0) = (1 + gamma/2)/m^2."),
         function_source("m_critical", ["gamma"], 2 * sp.sqrt(1 + gamma), pr, "m_c = 2 sqrt(1 + gamma), eq:buckling_load_2."),
-        function_source("roots", ["m", "gamma"], [rp, rm, k, kappa], pr,
+        function_source("roots", ["m", "gamma"], [rp, rm, 1 - omk, kappa], pr,
                         "(u_+, u_-, k, kappa) of the derived closed form (gamma > 0)."),
-        function_source("closed_form", ["t", "m", "gamma"], [cth, pth_t, psidot], pr,
-                        "(cos theta, pbar_theta, psi') along the homoclinic orbit (derived; gamma > 0, t = 0 at the turning point)."),
+        function_source("_roots_stable", ["m", "gamma"], [rp, rm, omk, kappa], pr,
+                        "(u_+, u_-, 1 - k, kappa) without cancellation for small gamma."),
+        function_source("closed_form_in_roots", ["t", "up", "um", "omk", "kappa"], [cth, pth_t, psidot], pr,
+                        "(cos theta, pbar_theta, psi') along the homoclinic orbit in terms of (u_+, u_-, 1 - k, kappa)."),
+        function_source("theta_in_roots", ["t", "up", "um", "omk", "kappa"], th, pr,
+                        "theta(t) = 2 asin(sqrt((1 - cos theta)/2)) in terms of (u_+, u_-, 1 - k, kappa)."),
+        'def closed_form(t, m, gamma):\n'
+        '    """(cos theta, pbar_theta, psi\') along the homoclinic orbit (derived; gamma > 0, t = 0 at the turning point)."""\n'
+        '    return closed_form_in_roots(t, *_roots_stable(m, gamma))\n',
+        'def theta(t, m, gamma):\n'
+        '    """theta(t) along the homoclinic orbit (accurate in the tails)."""\n'
+        '    return theta_in_roots(t, *_roots_stable(m, gamma))\n',
         function_source("closed_form_kirchhoff", ["t", "m"], [kir, 1 / (1 + kir)], pr,
                         "(cos theta, psi') of eq:Kirchhoff_homoclinic (gamma = 0)."),
     ]

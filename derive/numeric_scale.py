@@ -55,7 +55,7 @@ def euler_to_body():
 
 def body_to_euler():
     """Inverse chart on sin(theta) > 0, written in body variables:
-    theta = acos(e33), phi = atan2(e32, -e31), p_theta = (e32 m1 - e31 m2)/sin(theta), p_psi = m.e3 (m3 = 1
+    theta = atan2(sqrt(e31^2 + e32^2), e33), phi = atan2(e32, -e31), p_theta = (e32 m1 - e31 m2)/sin(theta), p_psi = m.e3 (m3 = 1
     is p_phi), psi = atan2(n.b, n.a), where R e_1 = cos(psi) a + sin(psi) b splits the first column of R(q)
     into the body vectors a = (cos t cos f, -cos t sin f, sin t), b = (-sin f, -cos f, 0), written with
     cos f = -e31/sin t, sin f = e32/sin t; since n = C2 e3 + rho R e_1 and a, b are orthonormal and normal
@@ -65,7 +65,8 @@ def body_to_euler():
     a = sp.Matrix([-e3 * e1 / st, -e3 * e2 / st, st])
     b = sp.Matrix([-e2 / st, e1 / st, 0])
     nv = sp.Matrix([n1, n2, n3])
-    return {"theta": sp.acos(e3), "psi": sp.atan2(nv.dot(b), nv.dot(a)), "phi": sp.atan2(e2, -e1),
+    # theta = atan2(sin, cos) rather than acos(e33): full accuracy near the poles
+    return {"theta": sp.atan2(st, e3), "psi": sp.atan2(nv.dot(b), nv.dot(a)), "phi": sp.atan2(e2, -e1),
             "pbar_theta": (e2 * m1 - e1 * m2) / st, "pbar_psi": m1 * e1 + m2 * e2 + m3 * e3}
 
 

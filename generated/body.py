@@ -75,7 +75,7 @@ def euler_to_body(theta, psi, phi, ptheta, ppsi, m, mu, gamma, delta, lam):
 def body_to_euler(m1, m2, m3, n1, n2, n3, e31, e32, e33, m, mu, gamma, delta, lam):
     """(theta, psi, phi, pbar_theta, pbar_psi) from (m, n, e3); valid for sin(theta) > 0."""
     return [
-        _E(hy.acos(e33)),
+        _E(hy.atan2(hy.sqrt(((e31 ** 2) + (e32 ** 2))), e33)),
         _E(hy.atan2(((e31 * n2 / (hy.sqrt(((e31 ** 2) + (e32 ** 2))))) - (e32 * n1 / (hy.sqrt(((e31 ** 2) + (e32 ** 2)))))), ((n3 * hy.sqrt(((e31 ** 2) + (e32 ** 2)))) - (e31 * e33 * n1 / (hy.sqrt(((e31 ** 2) + (e32 ** 2))))) - (e32 * e33 * n2 / (hy.sqrt(((e31 ** 2) + (e32 ** 2)))))))),
         _E(hy.atan2(e32, (-e31))),
         _E((((-(e31 * m2)) + (e32 * m1)) / (hy.sqrt(((e31 ** 2) + (e32 ** 2)))))),

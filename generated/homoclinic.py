@@ -38,25 +38,45 @@ def m_critical(gamma):
 def roots(m, gamma):
     """(u_+, u_-, k, kappa) of the derived closed form (gamma > 0)."""
     return [
-        _E(((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))),
-        _E(((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))),
-        _E((((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))),
-        _E((hy.sqrt((gamma * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))))) * (1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))),
+        _E((-1.0 + ((m ** 2) / ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2))))))))),
+        _E((-1.0 - ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))),
+        _E((1.0 - ((2.0 - ((m ** 2) / ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2)))))))) / ((2.0 + ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))))))),
+        _E((hy.sqrt((gamma * (2.0 - ((m ** 2) / ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2)))))))) / ((2.0 + ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))) * (2.0 + ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))),
     ]
+
+
+def _roots_stable(m, gamma):
+    """(u_+, u_-, 1 - k, kappa) without cancellation for small gamma."""
+    return [
+        _E((-1.0 + ((m ** 2) / ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2))))))))),
+        _E((-1.0 - ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))),
+        _E(((2.0 - ((m ** 2) / ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2)))))))) / ((2.0 + ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))),
+        _E((hy.sqrt((gamma * (2.0 - ((m ** 2) / ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2)))))))) / ((2.0 + ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))) * (2.0 + ((1.0 + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))),
+    ]
+
+
+def closed_form_in_roots(t, up, um, omk, kappa):
+    """(cos theta, pbar_theta, psi') along the homoclinic orbit in terms of (u_+, u_-, 1 - k, kappa)."""
+    return [
+        _E((1.0 - ((1.0 - up) / ((1.0 - (omk * (hy.tanh((kappa * t)) ** 2))) * (hy.cosh((kappa * t)) ** 2))))),
+        _E((-(kappa * omk * ((-(2.0 * um)) + (2.0 * up)) * hy.tanh((kappa * t)) / (hy.sqrt(((1.0 - up) * (2.0 - ((1.0 - up) / ((1.0 - (omk * (hy.tanh((kappa * t)) ** 2))) * (hy.cosh((kappa * t)) ** 2)))) / ((1.0 - (omk * (hy.tanh((kappa * t)) ** 2)))))) * ((1.0 - (omk * (hy.tanh((kappa * t)) ** 2))) ** 2) * hy.cosh((kappa * t)))))),
+        _E((1.0 / (2.0 - ((1.0 - up) / ((1.0 - (omk * (hy.tanh((kappa * t)) ** 2))) * (hy.cosh((kappa * t)) ** 2)))))),
+    ]
+
+
+def theta_in_roots(t, up, um, omk, kappa):
+    """theta(t) = 2 asin(sqrt((1 - cos theta)/2)) in terms of (u_+, u_-, 1 - k, kappa)."""
+    return _E((2.0 * hy.asin((hy.sqrt(_E(2.0)) * hy.sqrt(((1.0 - up) / ((1.0 - (omk * (hy.tanh((kappa * t)) ** 2)))))) / (2.0 * hy.cosh((kappa * t)))))))
 
 
 def closed_form(t, m, gamma):
     """(cos theta, pbar_theta, psi') along the homoclinic orbit (derived; gamma > 0, t = 0 at the turning point)."""
-    return [
-        _E((((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)) + (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))) * (hy.tanh((t * hy.sqrt((gamma * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))))) * (1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))) ** 2))))))),
-        _E((-(hy.sqrt((gamma * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))))) * (1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))) * (1.0 - (hy.tanh((t * hy.sqrt((gamma * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))))) * (1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))) ** 2)) * ((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) * hy.tanh((t * hy.sqrt((gamma * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))))) * (1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))) / (m * hy.sqrt(((1.0 - ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) * (1.0 - (hy.tanh((t * hy.sqrt((gamma * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))))) * (1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))) ** 2)) * (2.0 - ((1.0 - ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) * (1.0 - (hy.tanh((t * hy.sqrt((gamma * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))))) * (1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))) ** 2)) / ((1.0 - ((1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))) * (hy.tanh((t * hy.sqrt((gamma * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))))) * (1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))) ** 2)))))) / ((1.0 - ((1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))) * (hy.tanh((t * hy.sqrt((gamma * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))))) * (1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))) ** 2)))))) * ((1.0 - ((1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))) * (hy.tanh((t * hy.sqrt((gamma * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))))) * (1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))) ** 2))) ** 2))))),
-        _E((1.0 / (1.0 + ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)) + (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))) * (hy.tanh((t * hy.sqrt((gamma * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))))) * (1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))) ** 2)))))))),
-    ]
+    return closed_form_in_roots(t, *_roots_stable(m, gamma))
 
 
 def theta(t, m, gamma):
-    """theta(t) = 2 asin(sqrt((1 - cos theta)/2)) along the homoclinic orbit (accurate in the tails)."""
-    return _E((2.0 * hy.asin((hy.sqrt(_E(2.0)) * hy.sqrt(((1.0 - ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) * (1.0 - (hy.tanh((t * hy.sqrt((gamma * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))))) * (1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))) ** 2)) / ((1.0 - ((1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))) * (hy.tanh((t * hy.sqrt((gamma * (1.0 - (((-((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) + ((-1.0 - gamma + hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / ((1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma)))))))) * (1.0 - ((-1.0 - gamma - hy.sqrt((1.0 + (gamma * (m ** 2))))) / (gamma))) / (2.0 * m))) ** 2)))))) / (2.0)))))
+    """theta(t) along the homoclinic orbit (accurate in the tails)."""
+    return theta_in_roots(t, *_roots_stable(m, gamma))
 
 
 def closed_form_kirchhoff(t, m):

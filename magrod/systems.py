@@ -22,8 +22,8 @@ class CFunc:
         self._cf = hy.cfunc(list(exprs), vars=list(variables))
 
     def __call__(self, x, pars):
-        x = np.asarray(x, dtype=float)
-        p = np.asarray(pars, dtype=float)[: self._cf.nparams]
+        x = np.ascontiguousarray(x, dtype=float)
+        p = np.ascontiguousarray(np.asarray(pars, dtype=float)[: self._cf.nparams])
         if x.ndim == 1:
             return self._cf(x, pars=p) if self._cf.nparams else self._cf(x)
         # batch mode: x of shape (nvars, N); heyoka wants pars of shape (nparams, N)

@@ -208,3 +208,43 @@ def test_melnikov_primitive(report):
     d = report["melnikov_vanishes"]["details"]
     assert d["F - dPhi/dt == 0"] is True
     assert d["lim Phi (theta -> 0, pbar_theta = 0)"] == "0"
+
+
+def test_homoclinic_and_melnikov_heyoka_match_lambdify():
+    """generated/homoclinic.py and generated/melnikov.py vs lambdify of the derive expressions."""
+    import heyoka as hy
+    import sympy as sp
+
+    from magrod.derive import homoclinic as dh
+    from magrod.derive import melnikov as dm
+    from magrod.derive.model import psi, theta
+    from magrod.derive.paper import gamma, m, psibar, pth, t
+    from magrod.generated import homoclinic, melnikov
+
+    # 1 - cos(theta) is evaluated without cancellation in the generated code: compare at 50 digits
+    roots = sp.lambdify([m, gamma], dh.stable_root_values(), "mpmath")
+    cf_r = sp.lambdify([t, dh.UP, dh.UM, dh.OMK, dh.KAP], list(dh.closed_form_in_roots()[:3]), "mpmath")
+
+    def f_cf(t_, m_, g_):
+        return cf_r(t_, *roots(m_, g_))
+
+    tv, mv, gv = hy.make_vars("t", "m", "g")
+    cf = hy.cfunc(homoclinic.closed_form(tv, mv, gv), vars=[tv, mv, gv])
+    F = dm.derived_bracket_form()
+    f_F = sp.lambdify([theta, pth, psibar, m, gamma], [F, dm.primitive_clean().subs(psi, psibar)], "numpy")
+    a_, b_, c_ = hy.make_vars("th", "pt", "ps")
+    cm = hy.cfunc([melnikov.integrand_derived(a_, b_, c_, mv, gv), melnikov.primitive(a_, b_, c_, mv, gv)],
+                  vars=[a_, b_, c_, mv, gv])
+    rng = np.random.default_rng(9)
+    for _ in range(50):
+        m_, g_ = rng.uniform(0.5, 2.5), rng.uniform(0.1, 3)
+        t_ = rng.uniform(-5, 5)
+        import mpmath
+
+        with mpmath.workdps(50):
+            ref = np.array([float(v) for v in f_cf(mpmath.mpf(t_), mpmath.mpf(m_), mpmath.mpf(g_))])
+        got = cf([t_, m_, g_])
+        assert np.all(np.abs(got - ref) <= 1e3 * EPS * (1 + np.abs(ref))), (got, ref)
+        x = [rng.uniform(0.05, 2.5), rng.uniform(-1, 1), rng.uniform(-3, 3), m_, g_]
+        got, ref = cm(x), np.array(f_F(*x), dtype=float)
+        assert np.all(np.abs(got - ref) <= 64 * EPS * (1 + np.abs(ref)) * (1 + g_)), (got, ref)
