@@ -130,11 +130,16 @@ def plot_rod(rod: dict, out_dir, stem: str, title: str = "") -> list[str]:
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_zlabel("z (field)")
-    for k, (i, j, lab) in enumerate([(0, 2, "x-z"), (1, 2, "y-z"), (0, 1, "x-y (along the field)")]):
+    for k, (i, j, lab) in enumerate([(0, 2, "x-z"), (1, 2, "y-z"), (0, 1, "x-y, looking along the field (zoomed)")]):
         a2 = fig.add_subplot(2, 2, k + 2)
         a2.plot(r[:, i], r[:, j], "k-", lw=1)
-        a2.set_xlim(c[i] - half, c[i] + half)
-        a2.set_ylim(c[j] - half, c[j] + half)
+        if k < 2:
+            a2.set_xlim(c[i] - half, c[i] + half)
+            a2.set_ylim(c[j] - half, c[j] + half)
+        else:  # the transverse excursions are small compared with the length: zoom, still equal scales
+            hz = 0.5 * float(np.max(r[:, :2].max(0) - r[:, :2].min(0))) * 1.1 + 1e-12
+            a2.set_xlim(c[0] - hz, c[0] + hz)
+            a2.set_ylim(c[1] - hz, c[1] + hz)
         a2.set_aspect("equal")
         a2.set_title(lab, fontsize=9)
         a2.set_xlabel("xyz"[i])

@@ -530,6 +530,17 @@ def _figure(number: int, out_dir, quick: bool = False, quiet: bool = True) -> li
     fig.tight_layout()
     paths.append(str(atomic_savefig(fig, Path(out_dir) / f"figure{number}.png", dpi=150)))
     plt.close(fig)
+    # 3-D rod shapes of the orbits shown (directors + extensible centreline, magrod.rod)
+    from . import rod as rodmod
+
+    for N in spec["show"]:
+        e = found[N - 1]
+        if not e["success"]:
+            continue
+        stem = f"figure{number}_N{N}"
+        r = rodmod.from_orbit_file(Path(out_dir) / f"{stem}.npz")
+        paths += rodmod.plot_rod(r, out_dir, stem, title=f"Fig. {number}: {N}-pulse rod, lam = {e['free_value']:.6g}, "
+                                                         f"orthonormality {r['orthonormality']:.1e}")
     return paths
 
 
