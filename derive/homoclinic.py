@@ -222,7 +222,7 @@ def derive_all():
     start = sp.simplify(uT.subs(T, 0) - up)
     end = sp.simplify(uT.subs(T, 1) - 1)
     om_ok, _ = stable_forms_agree()
-    res.append(Result("theta_homoclinic_derived", "eq:theta_homoclinic",
+    res.append(Result("theta_homoclinic_derived", "eq:theta_homoclinic (derived replacement)",
                       "Derived closed form cos(theta) = u_- + (u_+ - u_-)/(1 - (1 - k) tanh^2(kappa t)), "
                       "kappa = (1 - u_-) sqrt(gamma (1 - k))/(2m), solves (1/2) theta'^2 + V = h, starts at the turning "
                       "point u_+ and tends to u = 1 (theta = 0) as t -> +-infinity",

@@ -38,6 +38,17 @@ def resolve(number: str):
     return getattr(mod, func)
 
 
+def figure_kwargs(fn, quick: bool, progress: bool) -> dict:
+    """quick plus the progress switch in whichever spelling the figure function takes."""
+    params = inspect.signature(fn).parameters
+    kw = {"quick": bool(quick)}
+    if "progress" in params or any(p.kind is p.VAR_KEYWORD for p in params.values()):
+        kw["progress"] = progress
+    elif "quiet" in params:
+        kw["quiet"] = not progress
+    return kw
+
+
 def _paths(result) -> list[str]:
     if isinstance(result, dict):
         result = result.get("paths", [])
@@ -47,10 +58,7 @@ def _paths(result) -> list[str]:
 def run(args) -> dict:
     fn = resolve(args.number)
     out = ensure_writable_dir(Path(args.out))
-    kw = {"quick": bool(args.quick)}
-    if "progress" in inspect.signature(fn).parameters:
-        kw["progress"] = not args.quiet
-    res = fn(out, **kw)
+    res = fn(out, **figure_kwargs(fn, args.quick, progress=not args.quiet))
     return {"ok": True, "figure": args.number, "outputs": _paths(res), "quick": bool(args.quick)}
 
 
