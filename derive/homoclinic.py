@@ -41,6 +41,11 @@ def potential():
     return extensible_hamiltonian().subs({pth: 0, pps: 1})
 
 
+def potential_u():
+    """V as a rational function of u = cos(theta) (no removable 0/0 at theta = 0); equals potential()."""
+    return sp.factor(sp.simplify(potential().subs({sp.cos(theta): u, sp.sin(theta): sp.sqrt(1 - u**2)})))
+
+
 def roots_and_k():
     """u_pm: roots of g(u) := m^2 (1 - u^2) 2 (h - V(u)) / (gamma (1 - u)^2), and k = (u_+ - u_-)/(1 - u_-)."""
     Vu = sp.simplify(potential().subs({sp.cos(theta): u, sp.sin(theta): sp.sqrt(1 - u**2)}))
@@ -291,7 +296,8 @@ def module() -> str:
     parts = [
         function_source("field", ["theta", "ptheta", "m", "gamma"], field3, pr,
                         "(theta', psi', pbar_theta') at lambdabar = mu = 0, pbar_psi = 1 (eq:equivalent, eq:psi_condition)."),
-        function_source("potential", ["theta", "m", "gamma"], potential(), pr, "V(theta), eq:eq_oscillator."),
+        function_source("potential", ["theta", "m", "gamma"], potential_u().subs(u, sp.cos(theta)), pr,
+                        "V(theta), eq:eq_oscillator, as a rational function of cos(theta) (regular at theta = 0)."),
         function_source("energy", ["m", "gamma"], h, pr, "Homoclinic level h = V(0) = (1 + gamma/2)/m^2."),
         function_source("m_critical", ["gamma"], 2 * sp.sqrt(1 + gamma), pr, "m_c = 2 sqrt(1 + gamma), eq:buckling_load_2."),
         function_source("roots", ["m", "gamma"], [rp, rm, 1 - omk, kappa], pr,

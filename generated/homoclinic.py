@@ -21,8 +21,8 @@ def field(theta, ptheta, m, gamma):
 
 
 def potential(theta, m, gamma):
-    """V(theta), eq:eq_oscillator."""
-    return _E(((hy.cos(theta) / ((m ** 2))) - (hy.cos(theta) / ((hy.sin(theta) ** 2))) + ((hy.cos(theta) ** 2) / (2.0 * (hy.sin(theta) ** 2))) + (gamma * (hy.cos(theta) ** 2) / (2.0 * (m ** 2))) + (1.0 / (2.0 * (hy.sin(theta) ** 2)))))
+    """V(theta), eq:eq_oscillator, as a rational function of cos(theta) (regular at theta = 0)."""
+    return _E((((m ** 2) + (gamma * (hy.cos(theta) ** 2)) + (gamma * (hy.cos(theta) ** 3)) - ((m ** 2) * hy.cos(theta)) + (2.0 * hy.cos(theta)) + (2.0 * (hy.cos(theta) ** 2))) / (2.0 * (m ** 2) * (1.0 + hy.cos(theta)))))
 
 
 def energy(m, gamma):

@@ -31,6 +31,7 @@ Cost: float64 ~1 ms per amplitude after compilation; the real128 reference ~0.1-
 from __future__ import annotations
 
 import time
+from pathlib import Path
 from dataclasses import asdict, dataclass
 from functools import lru_cache
 
@@ -89,6 +90,7 @@ class Amplitude:
     T: float  # quadrature over [-T, T]
     theta_tail: float
     wall_time_s: float
+    checks: dict  # derived integrand: 2 Phi(T) (exact truncated integral) and the real128 quadrature minus it
     convention: str = "M(psi0) = A * sin(psi0) * sqrt(a - 2b), A = Int F dt over the homoclinic orbit"
 
     def as_dict(self) -> dict:
@@ -115,14 +117,21 @@ def amplitude(m, gamma, integrand="derived", *, reference=True, theta_tail=1e-20
     col = 1 + INTEGRANDS.index(integrand)
     a64 = float(_run(orbit.m, orbit.gamma, [T])[-1, col])
     aref = qerr = err = None
+    extra = {}
     if reference:
-        aref = float(_run(orbit.m, orbit.gamma, [T], hy.real128)[-1, col])
+        yref = _run(orbit.m, orbit.gamma, [T], hy.real128)[-1]
+        aref = float(yref[col])
         qerr = abs(a64 - aref)
+        if integrand == "derived":
+            # exact value of the truncated integral: Int_{-T}^{T} F dt = 2 Phi(T) (psi0 = pi/2)
+            q = hy.real128
+            two_phi = _two_phi_cfunc(q)(np.array([q(T), yref[0]]), pars=np.array([q(orbit.m), q(orbit.gamma)]))[0]
+            extra = {"two_phi_T_real128": float(two_phi), "real128_minus_two_phi_T": float(yref[col] - two_phi)}
     tb = tail_bound(orbit.m, orbit.gamma, theta_tail)
     if reference:
         err = qerr + tb
     return Amplitude(orbit.m, orbit.gamma, integrand, a64, aref, qerr, tb, err, T, theta_tail,
-                     time.perf_counter() - t0)
+                     time.perf_counter() - t0, extra)
 
 
 def amplitudes(m, gammas, *, reference=True, theta_tail=1e-20) -> dict:
@@ -144,6 +153,16 @@ def melnikov_function(psi0, amp) -> np.ndarray:
 def _primitive_cfunc():
     th, pt, ps = hy.make_vars("theta", "ptheta", "psi")
     return hy.cfunc([gen.primitive(th, pt, ps, hy.par[0], hy.par[1])], vars=[th, pt, ps])
+
+
+@lru_cache(maxsize=None)
+def _two_phi_cfunc(fp_type):
+    """2 Phi(t) at psi0 = pi/2 on the closed-form orbit, as a function of (t, psibar(t))."""
+    t, psib = hy.make_vars("t", "psibar")
+    e = stable_expressions(t, hy.par[0], hy.par[1])
+    half_pi = hy.acos(hy.expression(fp_type(0)))  # pi/2 at the working precision
+    phi = gen.primitive(e["theta"], e["ptheta"], psib + half_pi, hy.par[0], hy.par[1])
+    return hy.cfunc([2.0 * phi], vars=[t, psib], fp_type=fp_type)
 
 
 def primitive_check(m, gamma, n=64, theta_tail=1e-20) -> dict:
@@ -173,9 +192,16 @@ def amplitude_zero(m=FIG2_M, integrand="printed", bracket=(1.8, 2.0), xtol=1e-13
     _check_integrand(integrand)
     a, b = bracket
     f = lambda g: amplitude(m, g, integrand, reference=False).A  # noqa: E731
-    fa, fb = f(a), f(b)
+    ends = [amplitude(m, a, integrand), amplitude(m, b, integrand)]
+    fa, fb = ends[0].A, ends[1].A
+    base = {"m": m, "integrand": integrand, "bracket": [a, b], "A_at_ends": [fa, fb],
+            "A_error_at_ends": [e.error for e in ends]}
+    if any(abs(e.A) <= e.error for e in ends):
+        # a sign change of rounding noise is not a zero: A is zero within its bound at an end of the bracket
+        # (the derived amplitude vanishes identically, report entry melnikov_vanishes)
+        return {**base, "found": False, "zero_within_bound_at_ends": True}
     if not np.sign(fa) * np.sign(fb) < 0:
-        return {"found": False, "bracket": [a, b], "A_at_ends": [fa, fb], "m": m, "integrand": integrand}
+        return {**base, "found": False, "zero_within_bound_at_ends": False}
     g0 = brentq(f, a, b, xtol=xtol, rtol=4 * np.finfo(float).eps)
     amp = amplitude(m, g0, integrand)
     dg = 1e-4
@@ -183,7 +209,80 @@ def amplitude_zero(m=FIG2_M, integrand="printed", bracket=(1.8, 2.0), xtol=1e-13
     bound = xtol + amp.error / abs(slope)
     lo = amplitude(m, g0 - 2 * bound, integrand).A_reference
     hi = amplitude(m, g0 + 2 * bound, integrand).A_reference
-    return {"found": True, "m": m, "integrand": integrand, "gamma_zero": g0, "error_bound": bound,
-            "A_at_zero": amp.A, "A_error": amp.error, "dA_dgamma": slope, "bracket": [a, b],
+    return {**base, "found": True, "gamma_zero": g0, "error_bound": bound,
+            "A_at_zero": amp.A, "A_error": amp.error, "dA_dgamma": slope,
             "sign_change_confirmed_real128": bool(np.sign(lo) * np.sign(hi) < 0),
             "A_real128_at_zero_minus_2bound": lo, "A_real128_at_zero_plus_2bound": hi}
+
+
+def figure_2(out_dir, quick=False, progress=True) -> list[str]:
+    """fig:Mel_ext: normalised M(psi0)/sqrt(a - 2b) = A sin(psi0) at m = 1.7 for gamma in FIG2_GAMMAS, for the
+    derived integrand (left; identically zero, report entry melnikov_vanishes) and the printed one (right), plus
+    A(gamma) for both over a wider gamma range with the search for a zero of A_printed in [1.8, 2] (the paper
+    reports one there).  Writes fig2.png, fig2.npz, fig2.json; returns the paths.  quick: fewer gamma samples
+    in the A(gamma) scan."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from tqdm import tqdm
+
+    from .io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+
+    t0 = time.perf_counter()
+    out = ensure_writable_dir(out_dir)
+    amps = amplitudes(FIG2_M, FIG2_GAMMAS)
+    scan_g = np.linspace(0.05, 5.0, 12 if quick else 60)
+    scan = {k: [] for k in INTEGRANDS}
+    for g in tqdm(scan_g, desc="fig 2: A(gamma)", disable=not progress, file=__import__("sys").stderr):
+        for k in INTEGRANDS:
+            scan[k].append(amplitude(FIG2_M, g, k, reference=False).A)
+    zero = {k: amplitude_zero(FIG2_M, k) for k in INTEGRANDS}
+    prim = primitive_check(FIG2_M, FIG2_GAMMAS[0])
+    psi0 = np.linspace(0.0, 2 * np.pi, 401)
+
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), dpi=150)
+    for ax, k in zip(axes[:2], INTEGRANDS):
+        for i, a in enumerate(amps[k]):
+            ax.plot(psi0, melnikov_function(psi0, a), color=plt.cm.viridis(i / (len(FIG2_GAMMAS) - 1)), lw=1.2,
+                    label=f"$\\gamma$={a.gamma:g}: A={a.A:.3g} ± {a.error:.0e}")
+        ax.set_xlim(0, 2 * np.pi)
+        ax.set_ylim(-2, 2)
+        ax.set_xticks([0, np.pi / 2, np.pi, 3 * np.pi / 2, 2 * np.pi], ["0", "π/2", "π", "3π/2", "2π"])
+        ax.set_xlabel(r"$\psi_0$")
+        ax.set_ylabel(r"$\mathcal{M}(\psi_0)/\sqrt{a-2b}$")
+        ax.axhline(0, color="k", lw=0.5)
+        ax.legend(fontsize=7, loc="lower left")
+    axes[0].set_title("derived from eq:melnikov_bracket: identically zero\n(integrand = dPhi/dt, Phi -> 0 at both ends)",
+                      fontsize=9)
+    axes[1].set_title("printed integrand eq:Mel_ext on the same orbit:\nno zero of the amplitude for gamma in [1, 2]",
+                      fontsize=9)
+    for k, style in zip(INTEGRANDS, ("-", "--")):
+        axes[2].plot(scan_g, scan[k], style, label=f"A, {k} integrand")
+    axes[2].axhline(0, color="k", lw=0.5)
+    axes[2].axvspan(1.8, 2.0, color="0.85", label="paper: zero in (1.8, 2)")
+    axes[2].set_xlabel(r"$\gamma$")
+    axes[2].set_ylabel("amplitude A")
+    axes[2].set_title(f"A(gamma) at m = {FIG2_M}", fontsize=9)
+    axes[2].legend(fontsize=7)
+    fig.suptitle("Fig. 2 (fig:Mel_ext): Mel'nikov function at m = 1.7, "
+                 r"$\gamma$ = 1, 1.2, ..., 2; $\mathcal{M}(\psi_0) = A \sin\psi_0 \sqrt{a-2b}$", fontsize=10)
+    fig.tight_layout()
+    paths = [str(atomic_savefig(fig, Path(out) / "fig2.png"))]
+    plt.close(fig)
+    arr = {f"A_{k}": np.array([a.A for a in amps[k]]) for k in INTEGRANDS}
+    arr.update({f"A_err_{k}": np.array([a.error for a in amps[k]]) for k in INTEGRANDS})
+    arr.update({f"scan_A_{k}": np.array(scan[k]) for k in INTEGRANDS})
+    paths.append(str(atomic_savez(Path(out) / "fig2.npz", gammas=np.array(FIG2_GAMMAS), scan_gamma=scan_g, **arr)))
+    meta = {"figure": "fig:Mel_ext", "m": FIG2_M, "gammas": list(FIG2_GAMMAS), "quick": quick,
+            "convention": "M(psi0) = A sin(psi0) sqrt(a - 2b)",
+            "amplitudes": {k: [asdict(a) for a in amps[k]] for k in INTEGRANDS},
+            "max_abs_A_derived": max(abs(a.A) for a in amps["derived"]),
+            "max_error_A_derived": max(a.error for a in amps["derived"]),
+            "scan": {"gamma": scan_g.tolist(), **{k: scan[k] for k in INTEGRANDS}},
+            "sign_change_in_scan": {k: bool(np.any(np.diff(np.sign(scan[k])) != 0)) for k in INTEGRANDS},
+            "zero_search_1.8_2": zero,
+            "primitive_check_gamma_1": {"max_abs_diff": prim["max_abs_diff"], "max_abs_2phi": prim["max_abs_2phi"]},
+            "versions": versions(), "wall_time_s": time.perf_counter() - t0}
+    paths.append(str(atomic_write_json(Path(out) / "fig2.json", meta)))
+    return paths
