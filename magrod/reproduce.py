@@ -152,7 +152,7 @@ def _claim(f):
     return f
 
 
-def _poincare_claims(out: Path, fig: str, label: str, bound: float, t_paper: float) -> list[dict]:
+def _poincare_claims(out: Path, fig: str, label: str, bound: float, t_paper: float, quick: bool) -> list[dict]:
     rows = []
     cars = [c for c in _sidecars(out, f"fig{fig}[a-d].json")]
     if not cars:
@@ -222,12 +222,12 @@ def _fig3(out, quick):
 
 @_claim
 def _fig4(out, quick):
-    return _poincare_claims(out, "4", "fig:poincare1", 3.6e-9, 84000)
+    return _poincare_claims(out, "4", "fig:poincare1", 3.6e-9, 84000, quick)
 
 
 @_claim
 def _fig5(out, quick):
-    return _poincare_claims(out, "5", "fig:poincare2", 3.9e-9, 81000)
+    return _poincare_claims(out, "5", "fig:poincare2", 3.9e-9, 81000, quick)
 
 
 def _multipulse_claims(out: Path, fig: int, label: str, shown: tuple, paper_lam: float) -> list[dict]:
