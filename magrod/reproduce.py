@@ -147,6 +147,10 @@ def _sidecars(out: Path, pattern: str) -> list[dict]:
 CLAIM_EXTRACTORS: list = []  # functions (out_dir, quick) -> list of claim rows, registered below
 
 
+def _not_run(label: str, what: str) -> list[dict]:
+    return [{"label": label, "paper": what, "computed": "not run", "verdict": "not checkable"}]
+
+
 def _claim(f):
     CLAIM_EXTRACTORS.append(f)
     return f
@@ -156,8 +160,7 @@ def _poincare_claims(out: Path, fig: str, label: str, bound: float, t_paper: flo
     rows = []
     cars = [c for c in _sidecars(out, f"fig{fig}[a-d].json")]
     if not cars:
-        return [{"label": label, "paper": f"Poincare sections of Figure {fig}", "computed": "not run",
-                 "verdict": "not checkable"}]
+        return _not_run(label, f"Poincare sections of Figure {fig}")
     worst = max(c["max_abs_dH"] for c in cars)
     n = min(c["n_points"] for c in cars)
     tmax = max(c["final_time"] for c in cars)
@@ -179,7 +182,7 @@ def _poincare_claims(out: Path, fig: str, label: str, bound: float, t_paper: flo
 def _fig2(out, quick):
     p = out / "fig2.json"
     if not p.exists():
-        return [{"label": "fig:Mel_ext", "paper": "Mel'nikov function", "computed": "not run", "verdict": "not checkable"}]
+        return _not_run("fig:Mel_ext", "Mel'nikov function")
     d = json.loads(p.read_text())
     pr = d["amplitudes"]["printed"]
     rows = [{"label": "eq:Mel_ext, fig:Mel_ext",
@@ -202,7 +205,7 @@ def _fig2(out, quick):
 def _fig3(out, quick):
     p = out / "fig3.json"
     if not p.exists():
-        return [{"label": "fig:angles", "paper": "homoclinic orbits", "computed": "not run", "verdict": "not checkable"}]
+        return _not_run("fig:angles", "homoclinic orbits")
     d = json.loads(p.read_text())
     e, k = d["orbits"]["ext"], d["orbits"]["kir"]
     return [{"label": "fig:angles, eq:theta_homoclinic",
@@ -233,8 +236,7 @@ def _fig5(out, quick):
 def _multipulse_claims(out: Path, fig: int, label: str, shown: tuple, paper_lam: float) -> list[dict]:
     p = out / f"figure{fig}_table.json"
     if not p.exists():
-        return [{"label": label, "paper": f"multipulse orbits of Figure {fig}", "computed": "not run",
-                 "verdict": "not checkable"}]
+        return _not_run(label, f"multipulse orbits of Figure {fig}")
     d = json.loads(p.read_text())
     found = [o for o in d["orbits"] if o["success"]]
     desc = "; ".join(f"{o['pulses']}-pulse at lam = {o['free_value']:.9g} (residual {o['residual']:.1e}, "

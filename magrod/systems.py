@@ -63,25 +63,24 @@ def body_functions() -> dict:
             "to_euler": CFunc(body.body_to_euler(*x, *p), x)}
 
 
+def _integrator(sys, state, pars, tol, t_events, nt_events, fp_type, **kw):
+    if fp_type is float:
+        return hy.taylor_adaptive(sys, list(map(float, state)), pars=list(map(float, pars)), tol=tol or 0.0,
+                                  t_events=list(t_events), nt_events=list(nt_events), **kw)
+    return hy.taylor_adaptive(sys, [fp_type(s) for s in state], pars=[fp_type(p) for p in pars],
+                              tol=fp_type(tol or 0.0), t_events=list(t_events), nt_events=list(nt_events),
+                              fp_type=fp_type, **kw)
+
+
 def reduced_integrator(state, pars, *, tol=None, t_events=(), nt_events=(), fp_type=float, **kw):
     """A Taylor integrator of the reduced 4-D system (eq:full_ham_nondim).  tol defaults to machine epsilon
     of fp_type."""
-    if fp_type is float:
-        return hy.taylor_adaptive(reduced.system(), list(map(float, state)), pars=list(map(float, pars)),
-                                  tol=tol or 0.0, t_events=list(t_events), nt_events=list(nt_events), **kw)
-    st = [fp_type(s) for s in state]
-    return hy.taylor_adaptive(reduced.system(), st, pars=[fp_type(p) for p in pars], tol=fp_type(tol or 0.0),
-                              t_events=list(t_events), nt_events=list(nt_events), fp_type=fp_type, **kw)
+    return _integrator(reduced.system(), state, pars, tol, t_events, nt_events, fp_type, **kw)
 
 
 def body_integrator(state, pars, *, tol=None, t_events=(), nt_events=(), fp_type=float, **kw):
     """A Taylor integrator of the 9-D body-frame system x' = J grad H (singularity-free)."""
-    if fp_type is float:
-        return hy.taylor_adaptive(body.system(), list(map(float, state)), pars=list(map(float, pars)),
-                                  tol=tol or 0.0, t_events=list(t_events), nt_events=list(nt_events), **kw)
-    st = [fp_type(s) for s in state]
-    return hy.taylor_adaptive(body.system(), st, pars=[fp_type(p) for p in pars], tol=fp_type(tol or 0.0),
-                              t_events=list(t_events), nt_events=list(nt_events), fp_type=fp_type, **kw)
+    return _integrator(body.system(), state, pars, tol, t_events, nt_events, fp_type, **kw)
 
 
 def euler_to_body(theta, psi, ptheta, ppsi, pars, phi=0.0) -> np.ndarray:
