@@ -1,6 +1,7 @@
 """`magrod check` CLI contract, the custom-model integrability check, and the no-SymPy-in-numerics rule."""
 import json
 import subprocess
+import tempfile
 import sys
 
 import pytest
@@ -9,7 +10,9 @@ from magrod import cli
 
 
 def run_cli(*argv):
-    return subprocess.run([sys.executable, "-m", "magrod.cli", *argv], capture_output=True, text=True, timeout=600)
+    return subprocess.run([sys.executable, "-m", "magrod.cli", *argv], capture_output=True, text=True,
+                          cwd=tempfile.gettempdir(),  # not the repo root: its magrod/ would shadow the install
+                          timeout=600)
 
 
 def test_check_json_is_one_object():
