@@ -403,7 +403,7 @@ def figure_3(out_dir, quick=False, progress=True) -> list[str]:
               ax_p["b"], n)
     _portrait(axes[0, 2], FIG3["m_super"], g, (-1.5, 1.5), (-0.8, 0.8),
               f"(b*) not in the paper: $\\gamma$={g:g}, m={FIG3['m_super']:g} > $m_c$ (theta = 0 a centre;\n"
-              "red: level V(0))", None, n)
+              "no homoclinic orbit)", None, n)
     for ax, key, lab in ((axes[1, 0], "theta", r"$\theta$"), (axes[1, 1], "ptheta", r"$\bar p_\theta$"),
                          (axes[1, 2], "psidot", r"$\dot\psi = 1/(1+\cos\theta)$")):
         for which, style, name in (("ext", "-", f"extensible $\\gamma$={g:g}"), ("kir", "--", "inextensible $\\gamma$=0")):
