@@ -185,16 +185,16 @@ class HomoclinicOrbit:
         """psibar(t) = int_0^t dt'/(1 + cos theta(t')) (eq:psi_condition; odd in t) by heyoka quadrature
         (Taylor integration of psibar' = psi'(t) with t = hy.time, tol = eps by default)."""
         t = np.asarray(t, dtype=float)
-        flat = np.abs(t.ravel())
-        order = np.argsort(flat)
+        grid, inv = np.unique(np.abs(t.ravel()), return_inverse=True)  # strictly increasing, psibar odd
         ta = _psibar_integrator()
         ta.time = 0.0
         ta.state[:] = 0.0
         ta.pars[:] = [self.m, self.gamma][: len(ta.pars)]
-        res = ta.propagate_grid(np.asarray(flat[order], dtype=float))
-        vals = np.empty_like(flat)
-        vals[order] = res[5][:, 0]
-        return (np.sign(t.ravel()) * vals).reshape(t.shape)
+        if grid[0] > 0.0:  # the grid must start at ta.time
+            vals = ta.propagate_grid(np.concatenate([[0.0], grid]))[-1][1:, 0]
+        else:
+            vals = ta.propagate_grid(grid)[-1][:, 0]
+        return (np.sign(t.ravel()) * vals[inv]).reshape(t.shape)
 
     def summary(self) -> dict:
         # u_minus = -inf at gamma = 0 is reported as None (JSON has no infinity)
