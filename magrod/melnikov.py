@@ -40,7 +40,7 @@ import numpy as np
 
 from .errors import ParameterError
 from .generated import melnikov as gen
-from .homoclinic import homoclinic, stable_expressions, validate
+from .homoclinic import homoclinic, stable_expressions
 
 INTEGRANDS = ("derived", "printed")
 FIG2_GAMMAS = (1.0, 1.2, 1.4, 1.6, 1.8, 2.0)  # fig:Mel_ext, m = 1.7
@@ -375,6 +375,12 @@ def figure_2(out_dir, quick=False, progress=True) -> list[str]:
             "amplitudes": {k: [a.as_dict() for a in amps[k]] for k in INTEGRANDS},
             "zero_search_1.8_2.0": zeros,
             "scan_sign_changes": {k: int(np.sum(np.diff(np.sign(scan_a[k])) != 0)) for k in INTEGRANDS},
+            # derived: signs are rounding noise (|A| <= error), so only the printed sign changes are meaningful
+            "sign_change_in_scan": {k: bool(np.any(np.diff(np.sign(scan_a[k])) != 0)) for k in INTEGRANDS},
+            "scan": {"gamma": scan, **{f"A_{k}": scan_a[k] for k in INTEGRANDS}},
+            "max_abs_A_derived": max(abs(a.A) for a in amps["derived"]),
+            "max_error_A_derived": max(a.error for a in amps["derived"]),
+            "max_abs_A_derived_real128": max(abs(a.A_reference) for a in amps["derived"]),
             "primitive_check_gamma_1": {"max_abs_diff": pc["max_abs_diff"], "max_abs_2phi": pc["max_abs_2phi"]},
             "versions": versions(), "wall_time_s": time.perf_counter() - t_start}
     paths.append(str(atomic_write_json(out / "fig2.json", meta)))
