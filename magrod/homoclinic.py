@@ -9,7 +9,7 @@ HomoclinicOrbit.psibar(t)               -> psibar(t) = psi(t) - psi(0) (heyoka q
 HomoclinicOrbit.time_at_theta(theta)    -> t > 0 at which the orbit reaches theta (closed form)
 verify(orbit, theta_stop=1e-8, ...)     -> closed form vs an independent heyoka integration of generated.field
 phase_portrait_energy(theta, ptheta, m, gamma) -> (1/2) ptheta^2 + V(theta) (eq:eq_oscillator)
-figure_3(out_dir, quick=False)          -> fig:angles (five panels), PNG + .npz + JSON sidecar
+figure_3(out_dir, quick=False)          -> fig:angles (five panels + one for m > m_c), PNG + .npz + JSON
 
 The closed form
 ---------------
@@ -20,11 +20,12 @@ and (1 - k)(1 - u_-) = 1 - u_+ turns 1 - cos theta into (1 - u_+) sech^2(kappa t
     pbar_theta   = theta' = -2 k A kappa sech(kappa t) tanh(kappa t)/(D^(3/2) cos(theta/2)).
 This is the same function, rewritten so that it keeps full relative accuracy in the tails: the generated
 form goes through u = cos theta -> 1 and 1 - tanh^2, so in float64 theta = acos(u) loses all digits below
-theta ~ 1e-8 and pbar_theta = -u'/sin(theta) becomes 0/0 (NaN).  The rewrite is built from the generated
-roots (u_+, k, kappa) as heyoka expressions, and tests/test_homoclinic.py checks it against the generated
-closed_form evaluated in 256-bit arithmetic.  gamma = 0 (inextensible rod) uses the limit k = 1,
-u_+ = u_0 = m^2/2 - 1, kappa = sqrt(1 - u_0)/(sqrt(2) m), checked against generated.closed_form_kirchhoff
-(eq:Kirchhoff_homoclinic).
+theta ~ 1e-8 and pbar_theta = -u'/sin(theta) becomes 0/0 (NaN).  The constants u_+, 1 - k, kappa are the
+generated roots rewritten without the division by gamma (constant_expressions), so the same expressions hold
+down to gamma = 0, where they reduce to eq:Kirchhoff_homoclinic (k = 1, u_0 = m^2/2 - 1).  tests/test_homoclinic.py
+checks them against generated.roots, the orbit against generated.closed_form evaluated in 256-bit arithmetic,
+and the gamma = 0 case against generated.closed_form_kirchhoff.  The float64 relative accuracy of theta(t) is a
+few ulp times 1 + kappa |t| (the conditioning of exp(-kappa t) with respect to kappa).
 
 Independent check (verify)
 --------------------------

@@ -171,3 +171,12 @@ def test_figure_3(tmp_path):
     meta = json.loads((tmp_path / "fig3.json").read_text())
     assert meta["orbits"]["ext"]["verify"]["max_dev_theta"] <= 1e-12
     assert not list(tmp_path.glob(".*.tmp"))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("m,gamma", CASES + [(1.7, 1e-6), (0.3, 0.05), (3.9, 3.0)])
+def test_closed_form_equals_integration_full(m, gamma):
+    """Full-size verification (401 points per side) over more parameters, including near-critical m."""
+    v = H.verify(H.homoclinic(m, gamma), theta_stop=1e-8, n=401)
+    assert v["max_dev_theta"] <= 1e-12
+    assert v["max_abs_H0_minus_h"] <= 1e-50
