@@ -18,14 +18,13 @@ derive/homoclinic.py derives (generated/homoclinic.py: closed_form; report entry
 and (1 - k)(1 - u_-) = 1 - u_+ turns 1 - cos theta into (1 - u_+) sech^2(kappa t)/D, i.e.
     sin(theta/2) = A sech(kappa t)/sqrt(D),   A = sqrt((1 - u_+)/2),
     pbar_theta   = theta' = -2 k A kappa sech(kappa t) tanh(kappa t)/(D^(3/2) cos(theta/2)).
-This is the same function, rewritten so that it keeps full relative accuracy in the tails: the generated
-form goes through u = cos theta -> 1 and 1 - tanh^2, so in float64 theta = acos(u) loses all digits below
-theta ~ 1e-8 and pbar_theta = -u'/sin(theta) becomes 0/0 (NaN).  The constants u_+, 1 - k, kappa are the
-generated roots rewritten without the division by gamma (constant_expressions), so the same expressions hold
-down to gamma = 0, where they reduce to eq:Kirchhoff_homoclinic (k = 1, u_0 = m^2/2 - 1).  tests/test_homoclinic.py
-checks them against generated.roots, the orbit against generated.closed_form evaluated in 256-bit arithmetic,
-and the gamma = 0 case against generated.closed_form_kirchhoff.  The float64 relative accuracy of theta(t) is a
-few ulp times 1 + kappa |t| (the conditioning of exp(-kappa t) with respect to kappa).
+This is the same function as generated.closed_form / generated.theta (which derive/ also writes in a
+cancellation-free form for gamma > 0), written here through constant_expressions: u_+, 1 - k and kappa without
+any division by gamma, so that one compiled function also covers gamma = 0, where it reduces to
+eq:Kirchhoff_homoclinic (k = 1, u_0 = m^2/2 - 1; the generated form divides by gamma and is NaN there).
+tests/test_homoclinic.py checks the constants against generated.roots, the orbit against generated.closed_form
+evaluated in 256-bit arithmetic, and gamma = 0 against generated.closed_form_kirchhoff.  The float64 relative
+accuracy of theta(t) is a few ulp times 1 + kappa |t| (the conditioning of exp(-kappa t) with respect to kappa).
 
 Independent check (verify)
 --------------------------
@@ -225,12 +224,11 @@ def homoclinic(m, gamma) -> HomoclinicOrbit:
 
 def phase_portrait_energy(theta, ptheta, m, gamma) -> np.ndarray:
     """(1/2) pbar_theta^2 + V(theta) (eq:eq_oscillator, generated.potential) on arrays of equal shape.
-    V has a removable 0/0 at theta = 0 (V(0) = h); there the value h is used."""
+    generated.potential is a rational function of cos(theta), regular at theta = 0 (V(0) = h)."""
     theta = np.asarray(theta, dtype=float)
     ptheta = np.asarray(ptheta, dtype=float)
     flat = theta.reshape(1, -1)
     v = _call(_potential_cfunc(), flat, m, gamma)[0].reshape(theta.shape)
-    v = np.where(theta == 0.0, (1.0 + gamma / 2.0) / m**2, v)
     return 0.5 * ptheta**2 + v
 
 
@@ -307,7 +305,6 @@ def verify(orbit: HomoclinicOrbit, theta_stop: float = 1e-8, n: int = 201, prec:
     st = orbit.evaluate(grid)
     psib = orbit.psibar(grid)
     en = _energy_hp(prec)
-    # V has a removable 0/0 at theta = 0 only; along the orbit theta >= theta_stop > 0
     dH = max(abs(float(en(np.array([a, b]), pars=pars)[0])) for a, b in zip(fw[:, 0], fw[:, 2]))
     out = {"theta_stop": theta_stop, "t_stop": t_stop, "n": n, "prec_bits": prec,
            "max_dev_theta": float(np.max(np.abs(fw64[:, 0] - st["theta"]))),
@@ -335,7 +332,6 @@ FIG3 = {"m": 1.7, "gamma": 1.0, "m_b": 2.2, "m_super": 3.0,
 
 def _portrait(ax, m, gamma, xr, yr, title, paper_box=None, n=601):
     th = np.linspace(xr[0], xr[1], n)
-    th = th[th != 0.0]  # V has a removable 0/0 at theta = 0
     pt = np.linspace(yr[0], yr[1], n)
     TH, PT = np.meshgrid(th, pt)
     E = phase_portrait_energy(TH, PT, m, gamma)
