@@ -24,14 +24,62 @@ BODY_ARGS = ["m1", "m2", "m3", "n1", "n2", "n3", "e31", "e32", "e33"]
 BODY_NAMES = {**dict(zip(X, BODY_ARGS)), **PAR_NAMES}
 
 
+CHART_ARGS = ["theta", "psi", "phi", "ptheta", "ppsi"]
+NAMES_IMPORT = ("from .names import PARAMS",)
+
+
 def _pars_src():
-    return ('def pars():\n    """The runtime parameters (m, mu, gamma, delta, lambdabar) as heyoka parameters '
-            'hy.par[0..4]."""\n    return [hy.par[i] for i in range(5)]\n')
+    return ('def pars():\n    """The runtime parameters PARAMS = (m, mu, gamma, delta, lambdabar) as heyoka parameters '
+            'hy.par[0..4]."""\n    return [hy.par[i] for i in range(len(PARAMS))]\n')
+
+
+def names_module():
+    """generated/names.py: the model's state and parameter names, importable without heyoka or SymPy."""
+    ev = list(ns.events_body())
+    consts = {"BODY_STATE": tuple(BODY_ARGS), "REDUCED_STATE": tuple(RED_ARGS), "CHART": tuple(CHART_ARGS),
+              "PARAMS": tuple(PAR_ARGS), "BODY_EVENTS": tuple(ev),
+              "CLOSED_FORM_REGULAR": homoclinic.CLOSED_FORM_REGULAR}
+    return module_source("Names and order of the model's state variables, chart coordinates and runtime parameters "
+                         "(hy.par[i] is PARAMS[i]).  The single source of these lists for magrod.", "build.py", [],
+                         consts, lib=None)
+
+
+def scalars_module():
+    """generated/scalars.py: closed-form scalars as plain-float Python (no heyoka, no SymPy), for validation
+    and for constants the runtime needs before any integrator exists."""
+    pm = HeyokaPrinter(PAR_NAMES, lib="math")
+    h, _, _, _ = homoclinic.roots_and_k()
+    Vpp0 = sp.simplify(sp.limit(sp.diff(homoclinic.potential(), theta, 2), theta, 0))
+    _, defect, mu_sol = ns.straight_rod_analysis()
+    parts = [
+        function_source("homoclinic_energy", ["m", "gamma"], h, pm,
+                        "Homoclinic level h = V(0) at lambdabar = 0 (eq:eq_oscillator; report entry oscillator)."),
+        function_source("m_critical", ["gamma"], 2 * sp.sqrt(1 + gamma), pm,
+                        "m_c = 2 sqrt(1 + gamma): theta = 0 is a saddle iff m < m_c (eq:buckling_load_2)."),
+        function_source("potential_dd0", ["m", "gamma"], Vpp0, pm,
+                        "V''(0) = 1/4 - (1 + gamma)/m^2 at lambdabar = 0 (report entry fixed_points); < 0 iff m < m_c."),
+        function_source("saddle_rate", ["m", "gamma"], sp.sqrt(-Vpp0), pm,
+                        "kappa = sqrt(-V''(0)), the saddle's eigenvalue (report entry saddle_rate); m < m_c only."),
+        function_source("straight_rod_state", PAR_ARGS, ns.straight_rod_state(), pm,
+                        "Body state (BODY_STATE order) of the straight rod aligned with the field: an equilibrium for "
+                        "all parameters (report entry straight_rod)."),
+        function_source("straight_rod_level_defect", PAR_ARGS, defect, pm,
+                        "C1(straight rod) - C1 on the chart: zero iff the straight rod lies on the chart's Casimir "
+                        "level (report entry straight_rod)."),
+        function_source("straight_rod_mu", PAR_ARGS, mu_sol[0], pm,
+                        "The mu at which the straight rod lies on the chart's level (solves straight_rod_level_defect = 0)."),
+        function_source("casimir_values", PAR_ARGS, ns.casimir_values(), pm,
+                        "(C1, C2, C3) on the Euler-angle chart at the numeric scale."),
+        function_source("hamiltonian_offset", PAR_ARGS, ns.hamiltonian_offset(), pm,
+                        "H_body - Hbar on the chart (the constants dropped in eq:full_ham_nondim)."),
+    ]
+    return module_source("Closed-form scalars of the model as plain floats (importable without heyoka).",
+                         "build.py", parts, lib="math")
 
 
 def _system_src(state_args, rhs_name):
     return (f'def system():\n    """[(variable, rhs)] for hy.taylor_adaptive, parameters hy.par[0..4] = {PAR_ARGS}."""\n'
-            f'    xs = hy.make_vars({", ".join(repr(a) for a in state_args)})\n'
+            f'    xs = hy.make_vars(*STATE)\n'
             f'    return list(zip(xs, {rhs_name}(*xs, *pars())))\n')
 
 
@@ -59,11 +107,13 @@ def reduced_module():
         function_source("i2bar", args, I2bar, pr, "I2bar, eq:constraint_nonsim (derived)."),
         function_source("radicand", args, reduction.RHO2_BAR, pr,
                         "mu - 2 lambdabar pbar_psi: must stay > 0 (eq:alignment_condition)."),
+        function_source("section", args, sp.sin(psi), pr, "sin(psi): the Poincare section of sec:numerics."),
+        function_source("sin_theta", args, sp.sin(theta), pr, "sin(theta): distance from the chart's poles."),
         _pars_src(), _system_src(RED_ARGS, "rhs"),
     ]
     return module_source("Reduced canonical 4-D system in (theta, psi, pbar_theta, pbar_psi) (paper sec. 4).",
-                         "reduction.py", parts,
-                         {"STATE": tuple(RED_ARGS), "PARAMS": tuple(PAR_ARGS)}), {"Hbar": Hbar, "rhs": rhs, "I2bar": I2bar}
+                         "reduction.py", parts, {"STATE": tuple(RED_ARGS)},
+                         imports=NAMES_IMPORT), {"Hbar": Hbar, "rhs": rhs, "I2bar": I2bar}
 
 
 def body_module():
@@ -84,11 +134,17 @@ def body_module():
                         red_pr, "(m, n, e3) from (theta, psi, phi, pbar_theta, pbar_psi), p_phi = 1 (eq:canonical_moment, eq:canonical_force)."),
         function_source("body_to_euler", args, [ns.body_to_euler()[k] for k in ("theta", "psi", "phi", "pbar_theta", "pbar_psi")],
                         pr, "(theta, psi, phi, pbar_theta, pbar_psi) from (m, n, e3); valid for sin(theta) > 0."),
+        *[function_source(name, args, e, pr, doc) for (name, e), doc in zip(ns.events_body().items(), (
+            "e31 n2 - e32 n1 = sin(theta) rho sin(psi): the section sin(psi) = 0 with its crossing direction.",
+            "e31^2 + e32^2 = sin(theta)^2: distance from the chart's poles.",
+            "mu - 2 lambdabar m.e3 = mu - 2 lambdabar pbar_psi: the radicand of eq:alignment_condition.",
+            "e32 m1 - e31 m2 = sin(theta) pbar_theta: zero at the turning points of theta."))],
         _pars_src(), _system_src(BODY_ARGS, "rhs"),
     ]
     return module_source("Singularity-free 9-D body-frame system in (m, n, e3) (paper sec. 2), at the numeric scale "
-                         "B = C = m3 = 1 of derive/numeric_scale.py.", "numeric_scale.py", parts,
-                         {"STATE": tuple(BODY_ARGS), "PARAMS": tuple(PAR_ARGS)}), {"H": H, "rhs": rhs}
+                         "B = C = m3 = 1 of derive/numeric_scale.py.  Event functions in BODY_EVENTS order.",
+                         "numeric_scale.py", parts, {"STATE": tuple(BODY_ARGS)},
+                         imports=NAMES_IMPORT), {"H": H, "rhs": rhs}
 
 
 def check_chart_numerically(n=200, seed=7) -> Result:
@@ -139,6 +195,7 @@ def all_results():
     results += poisson.derive_all()
     results += reduction.derive_all()
     results.append(check_chart_numerically())
+    results += ns.derive_all()
     results += homoclinic.derive_all()
     results += melnikov.derive_all()
     results += symmetry.derive_all()
@@ -177,6 +234,8 @@ def build(out_dir: Path, verbose=True) -> dict:
     files["homoclinic.py"] = homoclinic.module()
     files["melnikov.py"] = melnikov.module()
     files["symmetry.py"] = symmetry.module()
+    files["names.py"] = names_module()
+    files["scalars.py"] = scalars_module()
     results, _ = all_results()
     files["report.json"] = json.dumps({"results": [r.as_dict() for r in results]}, indent=1, sort_keys=True,
                                       default=str) + "\n"

@@ -24,13 +24,24 @@ _FUNCS = {
 
 class HeyokaPrinter:
     """Prints a SymPy expression as Python source over heyoka expressions.  `names` maps SymPy symbols to
-    the Python identifiers used in the generated function."""
+    the Python identifiers used in the generated function.  lib="math" prints plain-float Python (the
+    `math` module) instead, for generated scalars that must be importable without heyoka."""
 
-    def __init__(self, names: dict):
+    def __init__(self, names: dict, lib: str = "hy"):
+        if lib not in ("hy", "math"):
+            raise ValueError(f"lib must be 'hy' or 'math', got {lib!r}")
         self.names = names
+        self.lib = lib
 
     def __call__(self, e) -> str:
         return self.p(sp.sympify(e))
+
+    def wrap(self, src: str) -> str:
+        """A returned value: a heyoka expression (hy) or a float (math)."""
+        return f"_E({src})" if self.lib == "hy" else f"float({src})"
+
+    def _f(self, name: str) -> str:
+        return f"{self.lib}.{name}"
 
     def num(self, x) -> str:
         v = float(x)
@@ -45,6 +56,8 @@ class HeyokaPrinter:
             return self.num(e)
         if e is sp.pi:
             return repr(float(sp.pi))
+        if e.is_Boolean or isinstance(e, sp.Piecewise):
+            raise TypeError(f"cannot print {type(e).__name__}: {e}")
         if e.is_Add:
             terms = sorted(e.args, key=sp.default_sort_key)
             out = self.p(terms[0])
@@ -79,11 +92,13 @@ class HeyokaPrinter:
             if x == sp.Rational(1, 2):
                 # hy.sqrt takes expressions only (a bare float raises TypeError); keep the constant exact so
                 # that it is rounded at the working precision (hy.real, real128)
+                if self.lib == "math":
+                    return f"math.sqrt({self.p(b)})"
                 return f"hy.sqrt(_E({self.p(b)}))" if b.is_Number else f"hy.sqrt({self.p(b)})"
             if x == -1:
                 return f"(1.0 / {self.p(b)})"
             if x.is_Rational and x.q == 2:
-                inner = f"hy.sqrt({self.p(b)})"
+                inner = f"{self._f('sqrt')}({self.p(b)})"
                 k = int(x.p)
                 if k > 0:
                     return f"({inner} ** {k})"
@@ -95,7 +110,8 @@ class HeyokaPrinter:
                 return f"(1.0 / ({self.p(b)} ** {-k}))"
             return f"({self.p(b)} ** {self.p(x)})"
         if isinstance(e, sp.Function) and type(e) in _FUNCS:
-            return f"{_FUNCS[type(e)]}({', '.join(self.p(a) for a in e.args)})"
+            fn = _FUNCS[type(e)].split(".", 1)[1]
+            return f"{self._f(fn)}({', '.join(self.p(a) for a in e.args)})"
         raise TypeError(f"cannot print {type(e).__name__}: {e}")
 
 
@@ -104,7 +120,7 @@ def function_source(name: str, args: list[str], exprs, printer: HeyokaPrinter, d
     single = not isinstance(exprs, (list, tuple))
     items = [exprs] if single else list(exprs)
     lines = [f"def {name}({', '.join(args)}):", f'    """{doc}"""']
-    body = [f"_E({printer(x)})" for x in items]
+    body = [printer.wrap(printer(x)) for x in items]
     if single:
         lines.append(f"    return {body[0]}")
     else:
@@ -114,8 +130,12 @@ def function_source(name: str, args: list[str], exprs, printer: HeyokaPrinter, d
     return "\n".join(lines) + "\n"
 
 
-def module_source(doc: str, source: str, parts: list[str], constants: dict | None = None) -> str:
-    out = [HEADER.format(doc=doc, source=source), "import heyoka as hy", "", "_E = hy.expression", ""]
+def module_source(doc: str, source: str, parts: list[str], constants: dict | None = None, lib: str = "hy",
+                  imports: tuple = ()) -> str:
+    """A generated module.  lib="hy": builds heyoka expressions; lib="math": plain floats, no heyoka import;
+    lib=None: constants only.  `imports`: extra import lines (e.g. names from generated/names.py)."""
+    head = {"hy": ["import heyoka as hy", "", "_E = hy.expression", ""], "math": ["import math", ""], None: []}[lib]
+    out = [HEADER.format(doc=doc, source=source), *imports, *([""] if imports else []), *head]
     for k, v in (constants or {}).items():
         out.append(f"{k} = {v!r}")
     if constants:

@@ -123,6 +123,79 @@ def stable_forms_agree():
     return all(ok), ok
 
 
+# --- the gamma-regular closed form (used by the float64 numerics) ---------------------------------------------
+CLOSED_FORM_REGULAR = ("theta", "ptheta", "cos_theta", "sin_theta", "psidot")
+
+
+def regular_constants(m_=m, gamma_=gamma):
+    """(u_+, 1 - k, kappa) without any division by gamma, valid down to gamma = 0 (the Kirchhoff rod).
+
+    With r = sqrt(1 + gamma m^2) and w = gamma (1 - u_-) = 1 + 2 gamma + r:
+    u_+ = (m^2 - 2 - gamma)/(1 + gamma + r), 1 - k = gamma (1 - u_+)/w, kappa = sqrt((1 - u_+) w)/(2 m).
+    Equal to stable_root_values() for gamma > 0 and to eq:Kirchhoff_homoclinic's constants at gamma = 0
+    (regular_form_checks)."""
+    r = sp.sqrt(1 + gamma_ * m_**2)
+    up_ = (m_**2 - 2 - gamma_) / (1 + gamma_ + r)
+    w = 1 + 2 * gamma_ + r
+    return up_, gamma_ * (1 - up_) / w, sp.sqrt((1 - up_) * w) / (2 * m_)
+
+
+def regular_closed_form(t_=t, up_=UP, omk_=OMK, kap_=KAP):
+    """(theta, pbar_theta, cos theta, sin theta, psi') along the homoclinic orbit from (u_+, 1 - k, kappa),
+    through s = sin(theta/2) = A sech(kappa t)/sqrt(D), A = sqrt((1 - u_+)/2), D = 1 - (1 - k) tanh^2(kappa t),
+    and c = cos(theta/2) = sqrt(1 - s^2): every piece keeps full relative accuracy in the tails (theta -> 0) and
+    none divides by gamma.  pbar_theta = theta' = -2 k A kappa sech tanh/(D^(3/2) c), psi' = 1/(1 + cos theta)
+    = 1/(2 c^2) (eq:psi_condition)."""
+    x = kap_ * t_
+    sech = 1 / sp.cosh(x)
+    th = sp.tanh(x)
+    d = 1 - omk_ * th**2
+    amp = sp.sqrt((1 - up_) / 2)
+    s_ = amp * sech / sp.sqrt(d)
+    c_ = sp.sqrt(1 - s_**2)
+    return [2 * sp.asin(s_), -2 * (1 - omk_) * amp * kap_ * sech * th / (d * sp.sqrt(d) * c_), 1 - 2 * s_**2,
+            2 * s_ * c_, 1 / (2 * c_**2)]
+
+
+def regular_form_checks(n=100, seed=13):
+    """(i) symbolic: regular_constants = stable_root_values for gamma, m > 0; at gamma = 0 they are
+    (m^2/2 - 1, 0, sqrt(4 - m^2)/(2m)), the constants of eq:Kirchhoff_homoclinic.  (ii) numeric, n seeded points
+    (t, m, gamma) with 0 < m < m_c, 50 digits: regular_closed_form equals closed_form_in_roots (theta, pbar_theta,
+    cos theta, psi') and sin(theta); at gamma = 0 it equals eq:Kirchhoff_homoclinic.  Returns (ok, details)."""
+    gp_, mp_ = sp.symbols("gamma_p m_p", positive=True)
+    pos = {gamma: gp_, m: mp_}
+    reg = regular_constants()
+    st = stable_root_values()
+    sym = [sp.simplify((a - b).subs(pos)) for a, b in zip(reg, (st[0], st[2], st[3]))]
+    kir = [sp.simplify(x.subs(gamma, 0) - y) for x, y in zip(reg, (m**2 / 2 - 1, 0, sp.sqrt(4 - m**2) / (2 * m)))]
+    f_reg = sp.lambdify([t, UP, OMK, KAP], regular_closed_form(), "mpmath")
+    f_old = sp.lambdify([t, UP, UM, OMK, KAP], list(closed_form_in_roots()), "mpmath")
+    f_c = sp.lambdify([m, gamma], list(regular_constants()), "mpmath")
+    f_kir = sp.lambdify([t, m], paper.eq_Kirchhoff_homoclinic(), "mpmath")
+    rng = random.Random(seed)
+    worst = {"vs closed_form_in_roots": 0.0, "sin theta": 0.0, "Kirchhoff (gamma = 0)": 0.0}
+    with mpmath.workdps(50):
+        for i in range(n):
+            g = mpmath.mpf(0) if i % 5 == 0 else mpmath.mpf(rng.uniform(0.01, 4))
+            mv = mpmath.mpf(rng.uniform(0.1, 0.98)) * 2 * mpmath.sqrt(1 + g)
+            tv = mpmath.mpf(rng.uniform(-8, 8))
+            up_, omk_, kap_ = f_c(mv, g)
+            th_, pt_, c_, s_, pd_ = f_reg(tv, up_, omk_, kap_)
+            worst["sin theta"] = max(worst["sin theta"], float(abs(s_ - mpmath.sin(th_))))
+            if g == 0:
+                worst["Kirchhoff (gamma = 0)"] = max(worst["Kirchhoff (gamma = 0)"], float(abs(c_ - f_kir(tv, mv))))
+                continue
+            um_ = 1 - (1 - up_) / omk_
+            c0, pt0, pd0, th0 = f_old(tv, up_, um_, omk_, kap_)
+            worst["vs closed_form_in_roots"] = max(worst["vs closed_form_in_roots"],
+                                                   float(max(abs(th_ - th0), abs(pt_ - pt0), abs(c_ - c0),
+                                                             abs(pd_ - pd0))))
+    ok = all(d == 0 for d in sym + kir) and all(v < 1e-40 for v in worst.values())
+    return ok, {"symbolic differences (gamma > 0)": [fmt(d) for d in sym],
+                "gamma = 0 minus Kirchhoff constants": [fmt(d) for d in kir],
+                "numeric max residuals": worst, "points": n}
+
+
 def _numeric_mp(expr, syms, pts):
     f = sp.lambdify(syms, expr, "mpmath")
     return [f(*p) for p in pts]
@@ -275,6 +348,24 @@ def derive_all():
                       "(O(gamma)); symbolic limit of u_+",
                       {"limit u_+": fmt(u0)}))
 
+    ok_reg, det_reg = regular_form_checks()
+    res.append(Result("theta_homoclinic_regular", "eq:theta_homoclinic, eq:Kirchhoff_homoclinic (regular form)",
+                      "Closed form through sin(theta/2) = A sech(kappa t)/sqrt(D) with u_+, 1 - k, kappa free of 1/gamma: "
+                      "equals the derived closed form for gamma > 0 and eq:Kirchhoff_homoclinic at gamma = 0",
+                      HOLDS if ok_reg else DISAGREES,
+                      "symbolic: constants equal for gamma, m > 0 and at gamma = 0; numeric: "
+                      f"{det_reg['points']} seeded points, 50 digits, max residuals "
+                      + ", ".join(f"{k} {v:.1e}" for k, v in det_reg["numeric max residuals"].items()),
+                      det_reg))
+
+    Vpp0 = sp.simplify(sp.limit(sp.diff(potential(), theta, 2), theta, 0))
+    res.append(Result("saddle_rate", "eq:buckling_load_2",
+                      "The saddle theta = 0 has eigenvalues +-kappa: kappa^2 = -V''(0) = (1 + gamma)/m^2 - 1/4 equals "
+                      "the kappa of the closed form",
+                      HOLDS if sp.simplify((regular_constants()[2] ** 2 + Vpp0).subs({gamma: gp, m: z})) == 0
+                      else DISAGREES, "symbolic: kappa^2 + V''(0) simplifies to 0 for gamma, m > 0",
+                      {"V''(0)": fmt(Vpp0)}))
+
     psid = sp.diff(H, pps).subs(pps, 1)
     dpsi = trig_normal_form(psid - paper.eq_psi_condition())
     res.append(Result("psi_condition", "eq:psi_condition", "psi' = dHbar/dpbar_psi at pbar_psi = 1 equals 1/(1 + cos theta)",
@@ -316,5 +407,14 @@ def module() -> str:
         '    return theta_in_roots(t, *_roots_stable(m, gamma))\n',
         function_source("closed_form_kirchhoff", ["t", "m"], [kir, 1 / (1 + kir)], pr,
                         "(cos theta, psi') of eq:Kirchhoff_homoclinic (gamma = 0)."),
+        function_source("constants_regular", ["m", "gamma"], list(regular_constants()), pr,
+                        "(u_+, 1 - k, kappa) without division by gamma (valid for gamma >= 0; report entry "
+                        "theta_homoclinic_regular)."),
+        function_source("closed_form_regular_in_constants", ["t", "up", "omk", "kappa"], regular_closed_form(), pr,
+                        "CLOSED_FORM_REGULAR = (theta, pbar_theta, cos theta, sin theta, psi') from (u_+, 1 - k, kappa), "
+                        "through sin(theta/2) = A sech(kappa t)/sqrt(D): accurate in the tails, regular at gamma = 0."),
+        'def closed_form_regular(t, m, gamma):\n'
+        '    """CLOSED_FORM_REGULAR along the homoclinic orbit (gamma >= 0; gamma = 0 is eq:Kirchhoff_homoclinic)."""\n'
+        '    return closed_form_regular_in_constants(t, *constants_regular(m, gamma))\n',
     ]
     return module_source("Homoclinic orbit of the extensible rod at lambdabar = 0 (paper sec. 6).", "homoclinic.py", parts)

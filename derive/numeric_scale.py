@@ -74,3 +74,73 @@ def hamiltonian_offset():
     """H_body(X(q, p)) - Hbar(q, p) at this scale (a constant: the terms dropped in eq:full_ham_nondim)."""
     _, _, _, const = reduction.reduced_hamiltonians()
     return sp.simplify(const.subs({reduction.m3p: 1, C: 1, reduction.C2p: 1 / m**2}))
+
+
+# --- event functions and the straight rod, in body variables --------------------------------------------------
+def events_body():
+    """Event functions of the body-frame integrators, written in (m, n, e3) (each checked on the chart in
+    events_on_chart):
+      section    = e31 n2 - e32 n1          = sin(theta) rho sin(psi)   (Poincare section sin(psi) = 0 with
+                                                                         the crossing direction of sin(psi))
+      sin2_theta = e31^2 + e32^2            = sin(theta)^2              (distance from the chart's poles)
+      radicand   = mu - 2 lambdabar m.e3    = mu - 2 lambdabar pbar_psi (eq:alignment_condition)
+      ptheta_sin = e32 m1 - e31 m2          = sin(theta) pbar_theta     (turning points of theta)
+    with rho = sqrt(mu - 2 lambdabar pbar_psi)/m^2 > 0 and sin(theta) > 0 on the chart."""
+    m1, m2, m3, n1, n2, n3, e1, e2, e3 = X
+    return {"section": e1 * n2 - e2 * n1, "sin2_theta": e1**2 + e2**2,
+            "radicand": mu - 2 * lambar * (m1 * e1 + m2 * e2 + m3 * e3), "ptheta_sin": e2 * m1 - e1 * m2}
+
+
+def events_on_chart():
+    """Each body event pulled back through euler_to_body minus its chart expression (zero iff the identity
+    holds), as trig normal forms modulo sin^2 + cos^2 = 1 and rho^2 = mu - 2 lambdabar pbar_psi."""
+    from .model import psi, theta
+
+    sub = dict(zip(X, euler_to_body()))
+    rho = sp.sqrt(reduction.RHO2_BAR) / m**2
+    chart = {"section": sp.sin(theta) * rho * sp.sin(psi), "sin2_theta": sp.sin(theta) ** 2,
+             "radicand": reduction.RHO2_BAR, "ptheta_sin": sp.sin(theta) * pth}
+    return {k: reduction.trig_normal_form(sp.expand(e.subs(sub, simultaneous=True) - chart[k]), reduction.RHO2_BAR)
+            for k, e in events_body().items()}
+
+
+def straight_rod_state():
+    """The straight rod aligned with the field: m, n, e3 all along the body 3-axis, m3 = p_phi = 1 and
+    n3 = C2 = e3.n = 1/m^2 (the chart's Casimir C2).  Returned as the 9-vector of X."""
+    return [sp.Integer(0), sp.Integer(0), sp.Integer(1), sp.Integer(0), sp.Integer(0), 1 / m**2,
+            sp.Integer(0), sp.Integer(0), sp.Integer(1)]
+
+
+def straight_rod_analysis():
+    """(rhs at the straight rod, C1 defect = C1(x_eq) - chart value, mu solving defect = 0).  The rhs vanishes
+    identically (an equilibrium for all parameters); the rod lies on the chart's Casimir level iff the defect
+    vanishes, i.e. iff mu = 2 lambdabar (the radicand then vanishes at pbar_psi = m.e3 = 1: the chart is
+    singular exactly there)."""
+    sub = dict(zip(X, straight_rod_state()))
+    rhs = [sp.simplify(f.subs(sub)) for f in body_rhs()]
+    defect = sp.simplify(casimirs_body()[0].subs(sub) - casimir_values()[0])
+    mu_sol = sp.solve(defect, mu)
+    return rhs, defect, mu_sol
+
+
+def derive_all():
+    """Results of this module for the derivation report."""
+    from .results import DISAGREES, HOLDS, Result, fmt
+
+    res = []
+    ev = events_on_chart()
+    res.append(Result("events_body", "eq:canonical_force, eq:alignment_condition (sec:numerics sections)",
+                      "Body-frame event functions: e31 n2 - e32 n1 = sin(theta) rho sin(psi), e31^2 + e32^2 = "
+                      "sin(theta)^2, mu - 2 lambdabar m.e3 = the radicand, e32 m1 - e31 m2 = sin(theta) pbar_theta",
+                      HOLDS if all(v == 0 for v in ev.values()) else DISAGREES,
+                      "symbolic: pulled back through the chart, trig normal form of each difference is 0",
+                      {k: fmt(v) for k, v in ev.items()}))
+    rhs, defect, mu_sol = straight_rod_analysis()
+    ok = all(r == 0 for r in rhs) and len(mu_sol) == 1 and sp.simplify(mu_sol[0] - 2 * lambar) == 0
+    res.append(Result("straight_rod", "sec:homoclinic (the straight rod), eq:alignment_condition",
+                      "The straight rod m = e3 = (0, 0, 1), n = (0, 0, 1/m^2) is an equilibrium of the body system for "
+                      "all parameters; it lies on the chart's Casimir level iff mu = 2 lambdabar",
+                      HOLDS if ok else DISAGREES,
+                      "symbolic: rhs at the state simplifies to 0; C1(x_eq) - (mu + 1)/(2 m^4) solved for mu",
+                      {"C1 defect": fmt(defect), "mu on the level": [fmt(s) for s in mu_sol]}))
+    return res

@@ -85,3 +85,28 @@ def closed_form_kirchhoff(t, m):
         _E((-1.0 + ((m ** 2) / (2.0)) + ((2.0 - ((m ** 2) / (2.0))) * (hy.tanh((hy.sqrt(_E(2.0)) * t * hy.sqrt((2.0 - ((m ** 2) / (2.0)))) / (2.0 * m))) ** 2)))),
         _E((1.0 / (((m ** 2) / (2.0)) + ((2.0 - ((m ** 2) / (2.0))) * (hy.tanh((hy.sqrt(_E(2.0)) * t * hy.sqrt((2.0 - ((m ** 2) / (2.0)))) / (2.0 * m))) ** 2))))),
     ]
+
+
+def constants_regular(m, gamma):
+    """(u_+, 1 - k, kappa) without division by gamma (valid for gamma >= 0; report entry theta_homoclinic_regular)."""
+    return [
+        _E(((-2.0 - gamma + (m ** 2)) / ((1.0 + gamma + hy.sqrt((1.0 + (gamma * (m ** 2)))))))),
+        _E((gamma * (1.0 - ((-2.0 - gamma + (m ** 2)) / ((1.0 + gamma + hy.sqrt((1.0 + (gamma * (m ** 2)))))))) / ((1.0 + (2.0 * gamma) + hy.sqrt((1.0 + (gamma * (m ** 2)))))))),
+        _E((hy.sqrt(((1.0 - ((-2.0 - gamma + (m ** 2)) / ((1.0 + gamma + hy.sqrt((1.0 + (gamma * (m ** 2)))))))) * (1.0 + (2.0 * gamma) + hy.sqrt((1.0 + (gamma * (m ** 2))))))) / (2.0 * m))),
+    ]
+
+
+def closed_form_regular_in_constants(t, up, omk, kappa):
+    """CLOSED_FORM_REGULAR = (theta, pbar_theta, cos theta, sin theta, psi') from (u_+, 1 - k, kappa), through sin(theta/2) = A sech(kappa t)/sqrt(D): accurate in the tails, regular at gamma = 0."""
+    return [
+        _E((2.0 * hy.asin((hy.sqrt((0.5 - (up / (2.0)))) / (hy.sqrt((1.0 - (omk * (hy.tanh((kappa * t)) ** 2)))) * hy.cosh((kappa * t))))))),
+        _E((kappa * hy.sqrt((0.5 - (up / (2.0)))) * (-2.0 + (2.0 * omk)) * hy.tanh((kappa * t)) / ((hy.sqrt((1.0 - (omk * (hy.tanh((kappa * t)) ** 2)))) ** 3) * hy.sqrt((1.0 - ((0.5 - (up / (2.0))) / ((1.0 - (omk * (hy.tanh((kappa * t)) ** 2))) * (hy.cosh((kappa * t)) ** 2))))) * hy.cosh((kappa * t))))),
+        _E((1.0 - (2.0 * (0.5 - (up / (2.0))) / ((1.0 - (omk * (hy.tanh((kappa * t)) ** 2))) * (hy.cosh((kappa * t)) ** 2))))),
+        _E((2.0 * hy.sqrt((0.5 - (up / (2.0)))) * hy.sqrt((1.0 - ((0.5 - (up / (2.0))) / ((1.0 - (omk * (hy.tanh((kappa * t)) ** 2))) * (hy.cosh((kappa * t)) ** 2))))) / (hy.sqrt((1.0 - (omk * (hy.tanh((kappa * t)) ** 2)))) * hy.cosh((kappa * t))))),
+        _E((1.0 / (2.0 - (2.0 * (0.5 - (up / (2.0))) / ((1.0 - (omk * (hy.tanh((kappa * t)) ** 2))) * (hy.cosh((kappa * t)) ** 2)))))),
+    ]
+
+
+def closed_form_regular(t, m, gamma):
+    """CLOSED_FORM_REGULAR along the homoclinic orbit (gamma >= 0; gamma = 0 is eq:Kirchhoff_homoclinic)."""
+    return closed_form_regular_in_constants(t, *constants_regular(m, gamma))

@@ -6,12 +6,13 @@ Regenerate with `python -m derive`; `python -m derive --check` fails if this fil
 # fmt: off
 # flake8: noqa
 
+from .names import PARAMS
+
 import heyoka as hy
 
 _E = hy.expression
 
 STATE = ('theta', 'psi', 'ptheta', 'ppsi')
-PARAMS = ('m', 'mu', 'gamma', 'delta', 'lam')
 
 
 def hamiltonian(theta, psi, ptheta, ppsi, m, mu, gamma, delta, lam):
@@ -39,12 +40,22 @@ def radicand(theta, psi, ptheta, ppsi, m, mu, gamma, delta, lam):
     return _E((mu - (2.0 * lam * ppsi)))
 
 
+def section(theta, psi, ptheta, ppsi, m, mu, gamma, delta, lam):
+    """sin(psi): the Poincare section of sec:numerics."""
+    return _E(hy.sin(psi))
+
+
+def sin_theta(theta, psi, ptheta, ppsi, m, mu, gamma, delta, lam):
+    """sin(theta): distance from the chart's poles."""
+    return _E(hy.sin(theta))
+
+
 def pars():
-    """The runtime parameters (m, mu, gamma, delta, lambdabar) as heyoka parameters hy.par[0..4]."""
-    return [hy.par[i] for i in range(5)]
+    """The runtime parameters PARAMS = (m, mu, gamma, delta, lambdabar) as heyoka parameters hy.par[0..4]."""
+    return [hy.par[i] for i in range(len(PARAMS))]
 
 
 def system():
     """[(variable, rhs)] for hy.taylor_adaptive, parameters hy.par[0..4] = ['m', 'mu', 'gamma', 'delta', 'lam']."""
-    xs = hy.make_vars('theta', 'psi', 'ptheta', 'ppsi')
+    xs = hy.make_vars(*STATE)
     return list(zip(xs, rhs(*xs, *pars())))
