@@ -1,29 +1,272 @@
-"""heyoka building blocks from generated/: Taylor integrators and compiled functions for the reduced 4-D
-canonical system and the 9-D body-frame system.  One set of runtime parameters hy.par[0..4] =
-(m, mu, gamma, delta, lam) serves every parameter value, so each integrator is compiled once per process
-(and loaded from heyoka's on-disk JIT cache in later processes); callers reset time/state/pars and reuse it."""
+"""The one integrator layer: every heyoka integrator, event and compiled function magrod uses is built here,
+from the expressions that derive/ wrote into generated/, with generated/names.py as the only list of names.
+
+Formulations (paper sec. 2 and 4):
+  "body"     the singularity-free 9-D system x' = J(x) grad H in (m, n, e3)        (generated/body.py)
+  "reduced"  the canonical 4-D system of Hbar in (theta, psi, pbar_theta, pbar_psi) (generated/reduced.py)
+Runtime parameters hy.par[i] = PARAMS[i] = (m, mu, gamma, delta, lam), so one compiled integrator serves every
+parameter value: build once, then reset time/state/pars (`reset`) and reuse.  heyoka's on-disk JIT cache makes
+a second process load instead of compile (~20 ms instead of ~1 s).
+
+Builders (keyword-only options; fp_type is float, np.longdouble, hy.real128 or hy.real with `prec` bits):
+  taylor(sys, state, pars, ...)              any system: the one place hy.taylor_adaptive is called
+  integrator(formulation, events=...)        scalar integrator of a formulation, events by name
+  batch_integrator(formulation, ...)         SIMD batch integrator (batch size: hy.recommended_simd_size())
+  variational_integrator(formulation, ...)   first-order variational equations (hy.var_ode_sys) w.r.t. the
+                                             initial state and the parameters; `variational_blocks` splits them
+  rod_frame_integrator()                     body system + director frame + centreline (magrod.rod)
+Events are named (generated BODY_EVENTS, or "section", "sin_theta", "radicand" in the reduced system) and built
+with a direction and an offset: event = expression - offset.
+
+Cost: each builder compiles on first use per process (or loads from the JIT cache); the `per_thread` cache
+keeps one mutable integrator per thread and configuration.
+"""
 from __future__ import annotations
 
-from functools import lru_cache
+import threading
+from functools import lru_cache, wraps
 
 import heyoka as hy
 import numpy as np
 
-from .generated import body, reduced
+from .generated import body, names, reduced
 
-REDUCED_STATE = reduced.STATE  # ('theta', 'psi', 'ptheta', 'ppsi')
-BODY_STATE = body.STATE  # ('m1', 'm2', 'm3', 'n1', 'n2', 'n3', 'e31', 'e32', 'e33')
+PARAMS = names.PARAMS
+STATE = {"body": names.BODY_STATE, "reduced": names.REDUCED_STATE}
+FORMULATIONS = tuple(STATE)
+_GEN = {"body": body, "reduced": reduced}
+# event name -> generated function, per formulation
+EVENTS = {"body": {k: getattr(body, k) for k in names.BODY_EVENTS},
+          "reduced": {"section": reduced.section, "sin_theta": reduced.sin_theta, "radicand": reduced.radicand}}
+DIRECTIONS = {"positive": hy.event_direction.positive, "negative": hy.event_direction.negative,
+              "any": hy.event_direction.any}
+PRECISIONS = {"double": float, "long double": np.longdouble, "quad": hy.real128, "mp": hy.real}
 
 
+def par_index(name: str) -> int:
+    """Position of a parameter name in PARAMS (= its hy.par index)."""
+    return PARAMS.index(name)
+
+
+def state_index(formulation: str, name: str) -> int:
+    return STATE[formulation].index(name)
+
+
+def dim(formulation: str) -> int:
+    return len(STATE[formulation])
+
+
+def per_thread(fn):
+    """Cache fn(*key) once per thread: integrators are mutable, so threads must not share them."""
+    local = threading.local()
+
+    @wraps(fn)
+    def wrapper(*key):
+        cache = local.__dict__.setdefault("cache", {})
+        if key not in cache:
+            cache[key] = fn(*key)
+        return cache[key]
+
+    wrapper.cache_clear = lambda: local.__dict__.pop("cache", None)
+    return wrapper
+
+
+# --------------------------------------------------------------------------------------------------------------
+# expressions
+# --------------------------------------------------------------------------------------------------------------
+@lru_cache(maxsize=None)
+def variables(formulation: str) -> tuple:
+    return tuple(hy.make_vars(*STATE[formulation]))
+
+
+def pars() -> list:
+    """hy.par[i] for every name in PARAMS."""
+    return body.pars()
+
+
+def system(formulation: str) -> list:
+    """[(variable, rhs)] of a formulation."""
+    return _GEN[formulation].system()
+
+
+def expression(formulation: str, fname: str):
+    """A generated function of a formulation (e.g. "hamiltonian", "section") applied to its variables and pars."""
+    return getattr(_GEN[formulation], fname)(*variables(formulation), *pars())
+
+
+def event_expression(formulation: str, name: str):
+    if name not in EVENTS[formulation]:
+        raise ValueError(f"unknown {formulation} event {name!r}; known: {sorted(EVENTS[formulation])}")
+    return EVENTS[formulation][name](*variables(formulation), *pars())
+
+
+def _fp(fp_type, x, prec=None):
+    """x converted to fp_type (hy.real at `prec` bits)."""
+    if fp_type is hy.real:
+        return x if isinstance(x, hy.real) else hy.real(float(x) if not isinstance(x, str) else x, prec)
+    if fp_type is float:
+        return float(x)
+    return fp_type(x)
+
+
+def t_event(formulation: str, name: str, direction="any", offset=0.0, fp_type=float, batch=False, prec=None):
+    """A stopping terminal event `expression - offset = 0` (no callback: the integrator stops on it and the
+    state lands on the event surface to ~1e-17).  direction: "positive", "negative" or "any" (sign of d/dt of
+    the expression at the crossing)."""
+    e = event_expression(formulation, name)
+    if offset:
+        e = e - hy.expression(_fp(fp_type, offset, prec)) if fp_type is hy.real else e - float(offset)
+    d = DIRECTIONS[direction]
+    if batch:
+        return hy.t_event_batch(e, direction=d)
+    if fp_type is float:
+        return hy.t_event(e, direction=d)
+    return hy.t_event(e, direction=d, fp_type=fp_type)
+
+
+# --------------------------------------------------------------------------------------------------------------
+# builders
+# --------------------------------------------------------------------------------------------------------------
+def taylor(sys, state, pars=(), *, fp_type=float, tol=None, prec=None, t_events=(), nt_events=(),
+           compact_mode=False, **kw):
+    """hy.taylor_adaptive for any system: state and pars converted to fp_type, tol None = machine epsilon of
+    fp_type (hy.real: of `prec` bits)."""
+    if fp_type is float:
+        return hy.taylor_adaptive(sys, [float(s) for s in state], pars=[float(p) for p in pars], tol=float(tol or 0.0),
+                                  t_events=list(t_events), nt_events=list(nt_events), compact_mode=compact_mode, **kw)
+    return hy.taylor_adaptive(sys, [_fp(fp_type, s, prec) for s in state], pars=[_fp(fp_type, p, prec) for p in pars],
+                              tol=_fp(fp_type, tol or 0, prec), t_events=list(t_events), nt_events=list(nt_events),
+                              fp_type=fp_type, compact_mode=compact_mode, **kw)
+
+
+def _events(formulation, events, fp_type, batch=False):
+    return [t_event(formulation, *ev, fp_type=fp_type, batch=batch) if isinstance(ev, tuple)
+            else t_event(formulation, ev, fp_type=fp_type, batch=batch) for ev in events]
+
+
+def _unit_state(formulation):
+    """A harmless placeholder state for construction (the straight rod in the body frame, theta = 1 in 4-D)."""
+    return [0, 0, 1, 0, 0, 1, 0, 0, 1] if formulation == "body" else [1, 0, 0, 0]
+
+
+def integrator(formulation: str = "body", *, events=(), fp_type=float, tol=None, compact_mode=False):
+    """Scalar Taylor integrator of a formulation.  events: names, or tuples (name, direction[, offset]), in the
+    order of the event indices heyoka reports (-1 - index).  State and pars are placeholders: call `reset`."""
+    return taylor(system(formulation), _unit_state(formulation), [1.0] * len(PARAMS), fp_type=fp_type, tol=tol,
+                  t_events=_events(formulation, events, fp_type), compact_mode=compact_mode)
+
+
+def recommended_batch_size() -> int:
+    return int(hy.recommended_simd_size())
+
+
+def batch_integrator(formulation: str = "body", *, batch_size=None, events=(), tol=None, compact_mode=False,
+                     variational=False):
+    """SIMD batch integrator (float64): batch_size lanes advance together (default the recommended SIMD width);
+    state shape (n, batch_size), pars (len(PARAMS), batch_size).  variational=True integrates the first-order
+    variational equations w.r.t. the initial state (not the parameters) as well."""
+    b = int(batch_size or recommended_batch_size())
+    sys_ = (hy.var_ode_sys(system(formulation), hy.var_args.vars, order=1) if variational
+            else system(formulation))
+    n = dim(formulation)
+    st = np.repeat(np.array(_unit_state(formulation), float)[:, None], b, axis=1)
+    if variational:
+        st = np.vstack([st, np.zeros((n * n, b))])  # heyoka initialises the identity block itself
+    return hy.taylor_adaptive_batch(sys_, st, pars=np.ones((len(PARAMS), b)), tol=float(tol or 0.0),
+                                    t_events=_events(formulation, events, float, batch=True),
+                                    compact_mode=compact_mode or variational)
+
+
+def variational_integrator(formulation: str = "body", *, wrt_pars=True, fp_type=float, tol=None, events=()):
+    """Integrator of the state and its first-order sensitivities d x(t)/d x(0) (and d x(t)/d pars if
+    wrt_pars), built with hy.var_ode_sys in compact mode (compiles in ~1 s instead of minutes).  heyoka
+    initialises the sensitivities to the identity (state) and zero (pars) at construction; `reset_variational`
+    does the same after a reset."""
+    sys_ = system(formulation)
+    # explicit list: every parameter gets a column, also those absent from the vector field (mu in the body frame)
+    args = [v for v, _ in sys_] + (pars() if wrt_pars else [])
+    vsys = hy.var_ode_sys(sys_, args, order=1)
+    return taylor(vsys, _unit_state(formulation), [1.0] * len(PARAMS), fp_type=fp_type, tol=tol,
+                  t_events=_events(formulation, events, fp_type), compact_mode=True)
+
+
+def reset(ta, state=None, t=0.0, pars=None):
+    """Set time, (the leading components of) the state and the parameters of an integrator; reset the event
+    cooldowns (needed after editing the state by hand)."""
+    ftype = type(ta.state.flat[0])
+    ta.time = float(t) if ftype is np.float64 else ftype(t)
+    if state is not None:
+        st = np.asarray(state)
+        ta.state[: st.shape[0]] = st
+    if pars is not None:
+        ta.pars[:] = pars
+    if ta.with_events:
+        ta.reset_cooldowns()
+
+
+def reset_variational(ta, state, pars, t=0.0):
+    """Reset a variational integrator to `state` with identity state sensitivities and zero parameter ones."""
+    n = ta.n_orig_sv
+    ftype = type(ta.state.flat[0])
+    st = np.zeros(ta.dim, dtype=ta.state.dtype) if ftype is not hy.real else np.array(
+        [ftype(0, ta.state[0].prec)] * ta.dim)
+    st[:n] = state
+    nv = len(ta.vargs)
+    for i in range(n):
+        st[n + i * nv + i] = 1  # d x_i / d x0_i; the vargs list the state variables first, then the parameters
+    reset(ta, st, t, pars)
+
+
+def variational_blocks(ta) -> tuple:
+    """(x, Phi, Psi) of a variational integrator: the state (n,), d x/d x0 (n, n) and d x/d pars (n, npars)
+    in PARAMS order (empty if built with wrt_pars=False), as float64 arrays."""
+    n = ta.n_orig_sv
+    D = np.asarray(ta.state[ta.get_vslice(order=1)]).reshape(n, len(ta.vargs))
+    return np.array(ta.state[:n]), D[:, :n].astype(float), D[:, n:].astype(float)
+
+
+def rod_frame_system():
+    """The body system plus the director frame D' = D hat(u) and the centreline r' = D v (21 equations), with
+    the strains u = dH/dm, v = dH/dn of the constitutive law (magrod.rod)."""
+    x = variables("body")
+    p = pars()
+    H = body.hamiltonian(*x, *p)
+    u = [hy.diff(H, x[i]) for i in range(3)]
+    v = [hy.diff(H, x[3 + i]) for i in range(3)]
+    D = hy.make_vars(*[f"D{i}{j}" for i in range(3) for j in range(3)])
+    r = hy.make_vars("r1", "r2", "r3")
+    hat = [[None, -u[2], u[1]], [u[2], None, -u[0]], [-u[1], u[0], None]]
+    sys_ = list(system("body"))
+    for i in range(3):
+        for j in range(3):
+            sys_.append((D[3 * i + j], hy.sum([D[3 * i + k] * hat[k][j] for k in range(3) if hat[k][j] is not None])))
+    for i in range(3):
+        sys_.append((r[i], hy.sum([D[3 * i + k] * v[k] for k in range(3)])))
+    return sys_
+
+
+@per_thread
+def rod_frame_integrator():
+    sys_ = rod_frame_system()
+    return taylor(sys_, [0.0] * len(sys_), [1.0] * len(PARAMS))
+
+
+# --------------------------------------------------------------------------------------------------------------
+# compiled functions
+# --------------------------------------------------------------------------------------------------------------
 class CFunc:
-    """A compiled heyoka function of some state variables and (a prefix of) the 5 runtime parameters."""
+    """A compiled heyoka function of some variables and (a prefix of) the runtime parameters PARAMS."""
 
-    def __init__(self, exprs, variables):
-        self._cf = hy.cfunc(list(exprs), vars=list(variables))
+    def __init__(self, exprs, variables_):
+        self._cf = hy.cfunc(list(exprs), vars=list(variables_))
 
-    def __call__(self, x, pars):
+    @property
+    def nparams(self) -> int:
+        return self._cf.nparams
+
+    def __call__(self, x, pars_):
         x = np.ascontiguousarray(x, dtype=float)
-        p = np.ascontiguousarray(np.asarray(pars, dtype=float)[: self._cf.nparams])
+        p = np.ascontiguousarray(np.asarray(pars_, dtype=float)[: self._cf.nparams])
         if x.ndim == 1:
             return self._cf(x, pars=p) if self._cf.nparams else self._cf(x)
         # batch mode: x of shape (nvars, N); heyoka wants pars of shape (nparams, N)
@@ -32,62 +275,62 @@ class CFunc:
 
 
 @lru_cache(maxsize=None)
-def reduced_vars():
-    return hy.make_vars(*REDUCED_STATE)
-
-
-@lru_cache(maxsize=None)
-def body_vars():
-    return hy.make_vars(*BODY_STATE)
-
-
-@lru_cache(maxsize=None)
 def reduced_functions() -> dict:
     """Compiled Hbar, I2bar, radicand and the vector field of the reduced system."""
-    x = reduced_vars()
-    p = reduced.pars()
+    x = variables("reduced")
+    p = pars()
     return {"H": CFunc([reduced.hamiltonian(*x, *p)], x), "I2": CFunc([reduced.i2bar(*x, *p)], x),
             "radicand": CFunc([reduced.radicand(*x, *p)], x), "rhs": CFunc(reduced.rhs(*x, *p), x)}
 
 
 @lru_cache(maxsize=None)
 def body_functions() -> dict:
-    """Compiled body-frame H - offset (= Hbar on the chart), Casimirs, and the two chart maps."""
-    x = body_vars()
-    p = body.pars()
-    q = hy.make_vars("theta", "psi", "phi", "ptheta", "ppsi")
+    """Compiled body-frame H - offset (= Hbar on the chart), Casimirs, the vector field, its Jacobian (hy.diff)
+    and the two chart maps."""
+    x = variables("body")
+    p = pars()
+    q = hy.make_vars(*names.CHART)
+    f = body.rhs(*x, *p)
     return {"H": CFunc([body.hamiltonian(*x, *p) - body.hamiltonian_offset(*p)], x),
             "casimirs": CFunc(body.casimirs(*x, *p), x),
             "casimir_values": CFunc(body.casimir_values(*p), []),
+            "rhs": CFunc(f, x),
+            "jacobian": CFunc([hy.diff(fi, xj) for fi in f for xj in x], x),
             "to_body": CFunc(body.euler_to_body(*q, *p), q),
             "to_euler": CFunc(body.body_to_euler(*x, *p), x)}
 
 
-def _integrator(sys, state, pars, tol, t_events, nt_events, fp_type, **kw):
-    if fp_type is float:
-        return hy.taylor_adaptive(sys, list(map(float, state)), pars=list(map(float, pars)), tol=tol or 0.0,
-                                  t_events=list(t_events), nt_events=list(nt_events), **kw)
-    return hy.taylor_adaptive(sys, [fp_type(s) for s in state], pars=[fp_type(p) for p in pars],
-                              tol=fp_type(tol or 0.0), t_events=list(t_events), nt_events=list(nt_events),
-                              fp_type=fp_type, **kw)
-
-
-def reduced_integrator(state, pars, *, tol=None, t_events=(), nt_events=(), fp_type=float, **kw):
-    """A Taylor integrator of the reduced 4-D system (eq:full_ham_nondim).  tol defaults to machine epsilon
-    of fp_type."""
-    return _integrator(reduced.system(), state, pars, tol, t_events, nt_events, fp_type, **kw)
-
-
-def body_integrator(state, pars, *, tol=None, t_events=(), nt_events=(), fp_type=float, **kw):
-    """A Taylor integrator of the 9-D body-frame system x' = J grad H (singularity-free)."""
-    return _integrator(body.system(), state, pars, tol, t_events, nt_events, fp_type, **kw)
-
-
-def euler_to_body(theta, psi, ptheta, ppsi, pars, phi=0.0) -> np.ndarray:
+def euler_to_body(theta, psi, ptheta, ppsi, pars_, phi=0.0) -> np.ndarray:
     """(m, n, e3) of a reduced state; phi (the cyclic twist angle) is free and defaults to 0."""
-    return body_functions()["to_body"]([theta, psi, phi, ptheta, ppsi], pars)
+    chart = dict(theta=theta, psi=psi, phi=phi, ptheta=ptheta, ppsi=ppsi)
+    return body_functions()["to_body"]([chart[k] for k in names.CHART], pars_)
 
 
-def body_to_euler(x, pars) -> np.ndarray:
-    """(theta, psi, phi, pbar_theta, pbar_psi) of a body state (x of shape (9,) or (9, N)); sin(theta) > 0."""
-    return body_functions()["to_euler"](x, pars)
+def body_to_euler(x, pars_) -> np.ndarray:
+    """CHART coordinates (theta, psi, phi, pbar_theta, pbar_psi) of a body state (x of shape (9,) or (9, N));
+    sin(theta) > 0."""
+    return body_functions()["to_euler"](x, pars_)
+
+
+def chart_index(name: str) -> int:
+    return names.CHART.index(name)
+
+
+# backwards-compatible spellings used by the benchmarks
+def reduced_vars():
+    return variables("reduced")
+
+
+def body_vars():
+    return variables("body")
+
+
+def body_integrator(state, pars_, *, tol=None, t_events=(), nt_events=(), fp_type=float, **kw):
+    """A body-frame integrator with explicit events (hy.t_event objects) and initial data."""
+    return taylor(system("body"), state, pars_, fp_type=fp_type, tol=tol, t_events=t_events, nt_events=nt_events, **kw)
+
+
+def reduced_integrator(state, pars_, *, tol=None, t_events=(), nt_events=(), fp_type=float, **kw):
+    """A reduced-system integrator with explicit events (hy.t_event objects) and initial data."""
+    return taylor(system("reduced"), state, pars_, fp_type=fp_type, tol=tol, t_events=t_events,
+                  nt_events=nt_events, **kw)
