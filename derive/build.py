@@ -68,12 +68,20 @@ def scalars_module():
                         "level (report entry straight_rod)."),
         function_source("straight_rod_mu", PAR_ARGS, mu_sol[0], pm,
                         "The mu at which the straight rod lies on the chart's level (solves straight_rod_level_defect = 0)."),
+        function_source("straight_rod_mu_gradient", PAR_ARGS, [sp.diff(mu_sol[0], q) for q in PAR_NAMES],
+                        pm, "Gradient of straight_rod_mu with respect to PARAMS: how mu moves to keep the straight rod "
+                        "on the level when another parameter moves."),
+        function_source("radicand_root_ppsi", PAR_ARGS, sp.solve(reduction.RHO2_BAR, pps)[0], pm,
+                        "The pbar_psi at which the radicand mu - 2 lambdabar pbar_psi vanishes (lambdabar != 0)."),
+        function_source("radicand_slope_ppsi", PAR_ARGS, sp.diff(reduction.RHO2_BAR, pps), pm,
+                        "d(radicand)/d(pbar_psi): its sign says on which side of radicand_root_ppsi the chart exists."),
         function_source("casimir_values", PAR_ARGS, ns.casimir_values(), pm,
                         "(C1, C2, C3) on the Euler-angle chart at the numeric scale."),
         function_source("hamiltonian_offset", PAR_ARGS, ns.hamiltonian_offset(), pm,
                         "H_body - Hbar on the chart (the constants dropped in eq:full_ham_nondim)."),
     ]
-    return module_source("Closed-form scalars of the model as plain floats (importable without heyoka).",
+    return module_source("Closed-form scalars of the model in plain Python arithmetic (importable without heyoka; "
+                         "np.longdouble inputs give long double results where no math function is involved).",
                          "build.py", parts, lib="math")
 
 

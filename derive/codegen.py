@@ -37,8 +37,9 @@ class HeyokaPrinter:
         return self.p(sp.sympify(e))
 
     def wrap(self, src: str) -> str:
-        """A returned value: a heyoka expression (hy) or a float (math)."""
-        return f"_E({src})" if self.lib == "hy" else f"float({src})"
+        """A returned value: a heyoka expression (hy), or plain arithmetic (math: floats for float inputs, and the
+        input's type, e.g. np.longdouble, where no math function is involved)."""
+        return f"_E({src})" if self.lib == "hy" else src
 
     def _f(self, name: str) -> str:
         return f"{self.lib}.{name}"

@@ -9,7 +9,7 @@ HomoclinicOrbit.psibar(t)               -> psibar(t) = psi(t) - psi(0) (heyoka q
 HomoclinicOrbit.time_at_theta(theta)    -> t > 0 at which the orbit reaches theta (closed form)
 verify(orbit, theta_stop=1e-8, ...)     -> closed form vs an independent heyoka integration of generated.field
 phase_portrait_energy(theta, ptheta, m, gamma) -> (1/2) ptheta^2 + V(theta) (eq:eq_oscillator)
-figure_3(out_dir, quick=False)          -> fig:angles (five panels + one for m > m_c), PNG + .npz + JSON
+(fig:angles is drawn by magrod/figures/homoclinic.py)
 
 The closed form
 ---------------
@@ -18,10 +18,10 @@ derive/homoclinic.py derives (generated/homoclinic.py: closed_form; report entry
 and (1 - k)(1 - u_-) = 1 - u_+ turns 1 - cos theta into (1 - u_+) sech^2(kappa t)/D, i.e.
     sin(theta/2) = A sech(kappa t)/sqrt(D),   A = sqrt((1 - u_+)/2),
     pbar_theta   = theta' = -2 k A kappa sech(kappa t) tanh(kappa t)/(D^(3/2) cos(theta/2)).
-This is the same function as generated.closed_form / generated.theta (which derive/ also writes in a
-cancellation-free form for gamma > 0), written here through constant_expressions: u_+, 1 - k and kappa without
-any division by gamma, so that one compiled function also covers gamma = 0, where it reduces to
-eq:Kirchhoff_homoclinic (k = 1, u_0 = m^2/2 - 1; the generated form divides by gamma and is NaN there).
+This is generated.closed_form_regular (report entry theta_homoclinic_regular): the same function as
+generated.closed_form / generated.theta, with u_+, 1 - k and kappa written without any division by gamma
+(generated.constants_regular), so that one compiled function also covers gamma = 0, where it reduces to
+eq:Kirchhoff_homoclinic (k = 1, u_0 = m^2/2 - 1; generated.closed_form divides by gamma and is NaN there).
 tests/test_homoclinic.py checks the constants against generated.roots, the orbit against generated.closed_form
 evaluated in 256-bit arithmetic, and gamma = 0 against generated.closed_form_kirchhoff.  The float64 relative
 accuracy of theta(t) is a few ulp times 1 + kappa |t| (the conditioning of exp(-kappa t) with respect to kappa).
@@ -47,8 +47,11 @@ from functools import lru_cache
 import heyoka as hy
 import numpy as np
 
+from . import systems
 from .errors import ParameterError, require_finite
 from .generated import homoclinic as gen
+from .generated import scalars
+from .generated.names import CLOSED_FORM_REGULAR
 
 _PREC = 256  # bits of the multiprecision verification run (see module docstring)
 
@@ -62,46 +65,26 @@ def validate(m, gamma) -> tuple[float, float]:
         raise ParameterError("m", f"must be > 0, got {m}")
     if gamma < 0:
         raise ParameterError("gamma", f"must be >= 0 (gamma = 0 is the inextensible Kirchhoff rod), got {gamma}")
-    if m * m >= 4.0 * (1.0 + gamma):
-        raise ParameterError("m", f"no homoclinic orbit: need m^2 < 4(1 + gamma) = {4 * (1 + gamma):g} "
-                                  f"(m < m_c = {2 * np.sqrt(1 + gamma):.6g}, eq:buckling_load_2), got m = {m}")
+    if scalars.potential_dd0(m, gamma) >= 0:
+        raise ParameterError("m", f"no homoclinic orbit: need m < m_c = {scalars.m_critical(gamma):.6g} "
+                                  f"(V''(0) < 0, eq:buckling_load_2), got m = {m}")
     return m, gamma
 
 
 def constant_expressions(m, gamma) -> dict:
-    """u_+, 1 - k and kappa as heyoka expressions in a cancellation-free form valid down to gamma = 0.
-
-    With r = sqrt(1 + gamma m^2) and w = gamma (1 - u_-) = 1 + 2 gamma + r, the generated roots give
-    u_+ = (-1 - gamma + r)/gamma = (m^2 - 2 - gamma)/(1 + gamma + r), 1 - k = (1 - u_+)/(1 - u_-)
-    = gamma (1 - u_+)/w and kappa = (1 - u_-) sqrt(gamma (1 - k))/(2 m) = sqrt((1 - u_+) w)/(2 m).  The generated
-    form divides by gamma (relative error ~eps/gamma); this one is exact at gamma = 0 and reproduces
-    eq:Kirchhoff_homoclinic (u_0 = m^2/2 - 1, k = 1).  Checked against generated.roots in tests."""
-    r = hy.sqrt(1.0 + gamma * m**2)
-    up = (m**2 - 2.0 - gamma) / (1.0 + gamma + r)
-    w = 1.0 + 2.0 * gamma + r
-    return {"u_plus": up, "one_minus_k": gamma * (1.0 - up) / w, "kappa": hy.sqrt((1.0 - up) * w) / (2.0 * m)}
+    """u_+, 1 - k and kappa as heyoka expressions (generated constants_regular: no division by gamma, exact at
+    gamma = 0 where they reduce to eq:Kirchhoff_homoclinic; report entry theta_homoclinic_regular)."""
+    return dict(zip(("u_plus", "one_minus_k", "kappa"), gen.constants_regular(m, gamma)))
 
 
 def stable_expressions(t, m, gamma) -> dict:
-    """heyoka expressions of the homoclinic orbit in the tail-stable form (see module docstring).
+    """heyoka expressions of the homoclinic orbit in the tail-stable, gamma-regular form (generated
+    closed_form_regular), keyed by CLOSED_FORM_REGULAR = (theta, ptheta, cos_theta, sin_theta, psidot).
     t, m, gamma: heyoka expressions (e.g. hy.time, hy.par[0], hy.par[1]); gamma = 0 is the Kirchhoff rod."""
-    c0 = constant_expressions(m, gamma)
-    omk, kappa = c0["one_minus_k"], c0["kappa"]
-    amp = hy.sqrt((1.0 - c0["u_plus"]) / 2.0)
-    x = kappa * t
-    sech = 1.0 / hy.cosh(x)
-    th = hy.tanh(x)
-    d = 1.0 - omk * th**2
-    s = amp * sech / hy.sqrt(d)  # sin(theta/2)
-    c = hy.sqrt(1.0 - s**2)  # cos(theta/2) > 0 (theta < pi on the orbit)
-    return {"theta": 2.0 * hy.asin(s),
-            "ptheta": -2.0 * (1.0 - omk) * amp * kappa * sech * th / (d * hy.sqrt(d) * c),
-            "cos_theta": 1.0 - 2.0 * s**2,
-            "sin_theta": 2.0 * s * c,
-            "psidot": 1.0 / (2.0 * c**2)}  # eq:psi_condition: 1/(1 + cos theta)
+    return dict(zip(_KEYS, gen.closed_form_regular(t, m, gamma)))
 
 
-_KEYS = ("theta", "ptheta", "cos_theta", "sin_theta", "psidot")
+_KEYS = CLOSED_FORM_REGULAR
 
 
 @lru_cache(maxsize=None)
@@ -159,8 +142,8 @@ class HomoclinicOrbit:
 
     @property
     def saddle_rate(self) -> float:
-        """sqrt(-V''(0)) with V''(0) = 1/4 - (1 + gamma)/m^2 (report entry fixed_points)."""
-        return float(np.sqrt((1.0 + self.gamma) / self.m**2 - 0.25))
+        """sqrt(-V''(0)) (generated scalars.saddle_rate; report entries fixed_points, saddle_rate)."""
+        return scalars.saddle_rate(self.m, self.gamma)
 
     def evaluate(self, t) -> dict:
         """theta, pbar_theta, cos theta, sin theta, psi' at times t (float64, full relative accuracy in the
@@ -189,7 +172,7 @@ class HomoclinicOrbit:
         ta = _psibar_integrator()
         ta.time = 0.0
         ta.state[:] = 0.0
-        ta.pars[:] = [self.m, self.gamma][: len(ta.pars)]
+        ta.pars[:] = [self.m, self.gamma]
         if grid[0] > 0.0:  # the grid must start at ta.time
             vals = ta.propagate_grid(np.concatenate([[0.0], grid]))[-1][1:, 0]
         else:
@@ -204,12 +187,11 @@ class HomoclinicOrbit:
                 "m_c": self.m_c}
 
 
-@lru_cache(maxsize=None)
+@systems.per_thread
 def _psibar_integrator():
     psib = hy.make_vars("psibar")
     e = stable_expressions(hy.time, hy.par[0], hy.par[1])
-    ta = hy.taylor_adaptive([(psib, e["psidot"])], [0.0])
-    return ta
+    return systems.taylor([(psib, e["psidot"])], [0.0], [1.0, 1.0])
 
 
 def homoclinic(m, gamma) -> HomoclinicOrbit:
@@ -240,13 +222,12 @@ def _real(x, prec=_PREC):
     return hy.real(float(x), prec) if not isinstance(x, hy.real) else x
 
 
-@lru_cache(maxsize=None)
+@systems.per_thread
 def _field_integrator(prec: int):
     th, ps, pt = hy.make_vars("theta", "psi", "ptheta")
     f = gen.field(th, pt, hy.par[0], hy.par[1])
-    one = hy.real(1, prec)
-    return hy.taylor_adaptive([(th, f[0]), (ps, f[1]), (pt, f[2])], [one, 0 * one, 0 * one],
-                              pars=[one, one], fp_type=hy.real, compact_mode=True)
+    return systems.taylor([(th, f[0]), (ps, f[1]), (pt, f[2])], [1, 0, 0], [1, 1], fp_type=hy.real, prec=prec,
+                          compact_mode=True)
 
 
 @lru_cache(maxsize=None)
@@ -319,113 +300,3 @@ def verify(orbit: HomoclinicOrbit, theta_stop: float = 1e-8, n: int = 201, prec:
     out["arrays"] = {"t": grid, "theta_int": fw64[:, 0], "ptheta_int": fw64[:, 2], "psi_int": fw64[:, 1],
                      "theta_cf": st["theta"], "ptheta_cf": st["ptheta"], "psibar_cf": psib}
     return out
-
-
-# ----------------------------------------------------------------------------------------------------------
-# Figure 3 (fig:angles)
-
-FIG3 = {"m": 1.7, "gamma": 1.0, "m_b": 2.2, "m_super": 3.0,
-        # the paper's axis ranges (read off the LaTeX picture labels of fig:angles)
-        "paper_axes": {"a": ((-1.5, 1.5), (-0.5, 0.5)), "b": ((-1.5, 1.5), (-0.8, 0.8)),
-                       "c": ((-1, 1), (0, 1.2)), "d": ((-1, 1), (-0.3, 0.3)), "e": ((-1, 1), (0.45, 0.75))}}
-
-
-def _portrait(ax, m, gamma, xr, yr, title, paper_box=None, n=601):
-    th = np.linspace(xr[0], xr[1], n)
-    pt = np.linspace(yr[0], yr[1], n)
-    TH, PT = np.meshgrid(th, pt)
-    E = phase_portrait_energy(TH, PT, m, gamma)
-    h = (1.0 + gamma / 2.0) / m**2
-    levels = np.quantile(E, np.linspace(0.0, 0.6, 25))
-    ax.contour(TH, PT, E, levels=np.unique(levels), colors="0.55", linewidths=0.6)
-    ax.contour(TH, PT, E, levels=[h], colors="C3", linewidths=1.6)
-    if paper_box is not None:
-        (x0, x1), (y0, y1) = paper_box
-        ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], "k:", lw=0.8, label="paper's axes")
-    ax.set_xlabel(r"$\theta$")
-    ax.set_ylabel(r"$\bar p_\theta$")
-    ax.set_title(title, fontsize=9)
-    return E
-
-
-def figure_3_data(n_t=1201) -> dict:
-    """Arrays and checks of fig:angles: orbits at m = 1.7 for gamma = 1 and gamma = 0 (t in [-T, T] with
-    theta(T) = 1e-3 theta_max), their verification against the multiprecision integration, and the values at the
-    paper's window edge t = +-1."""
-    out = {}
-    for key, g in (("ext", FIG3["gamma"]), ("kir", 0.0)):
-        o = homoclinic(FIG3["m"], g)
-        T = o.time_at_theta(1e-3 * o.theta_max)
-        t = np.linspace(-T, T, n_t)
-        ev = o.evaluate(t)
-        v = verify(o, theta_stop=1e-8, n=101)
-        v.pop("arrays")
-        at1 = o.evaluate(np.array([1.0]))
-        out[key] = {"orbit": o, "t": t, "theta": ev["theta"], "ptheta": ev["ptheta"], "psidot": ev["psidot"],
-                    "verify": v, "at_t1": {k: float(at1[k][0]) for k in ("theta", "ptheta", "psidot")},
-                    "max_abs_ptheta": float(np.max(np.abs(ev["ptheta"]))), "psidot_max": float(np.max(ev["psidot"])),
-                    "t_half_width_theta_1e-2": o.time_at_theta(1e-2)}
-    return out
-
-
-def figure_3(out_dir, quick=False, progress=True) -> list[str]:
-    """fig:angles: (a) phase portrait gamma = 1, m = 1.7; (b) m = 2.2 (printed as '> m_c', but m_c =
-    2 sqrt(2) at gamma = 1); (b*) m = 3 > m_c for comparison; (c, d, e) theta, pbar_theta, psi' against t for
-    gamma = 1 (solid) and gamma = 0 (dashed) at m = 1.7, on the orbit's full width with the paper's window
-    t in [-1, 1] (and y-range) marked.  Writes fig3.png, fig3.npz, fig3.json; returns the paths.
-    quick: coarser contour grids.  Cost ~5 s (two multiprecision verifications)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from .io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-
-    t_start = time.perf_counter()
-    out = ensure_writable_dir(out_dir)
-    n = 201 if quick else 601
-    d = figure_3_data(401 if quick else 1201)
-    ax_p = FIG3["paper_axes"]
-    fig, axes = plt.subplots(2, 3, figsize=(14, 8), dpi=150)
-    m, g = FIG3["m"], FIG3["gamma"]
-    mc = 2.0 * np.sqrt(1.0 + g)
-    th_max = d["ext"]["orbit"].theta_max
-    _portrait(axes[0, 0], m, g, (-1.8, 1.8), (-0.6, 0.6),
-              f"(a) $\\gamma$={g:g}, m={m:g} < $m_c$={mc:.3f}; homoclinic level h (red),\n"
-              f"$\\theta_{{max}}$={th_max:.3f} exceeds the paper's $|\\theta|\\leq 1.5$", ax_p["a"], n)
-    ob = homoclinic(FIG3["m_b"], g)
-    _portrait(axes[0, 1], FIG3["m_b"], g, (-1.5, 1.5), (-0.8, 0.8),
-              f"(b) $\\gamma$={g:g}, m={FIG3['m_b']:g}: printed as '> $m_c$', but $m_c$={mc:.3f};\n"
-              f"theta = 0 is still a saddle (homoclinic level red, $\\theta_{{max}}$={ob.theta_max:.3f})",
-              ax_p["b"], n)
-    _portrait(axes[0, 2], FIG3["m_super"], g, (-1.5, 1.5), (-0.8, 0.8),
-              f"(b*) not in the paper: $\\gamma$={g:g}, m={FIG3['m_super']:g} > $m_c$ (theta = 0 a centre;\n"
-              "no homoclinic orbit)", None, n)
-    for ax, key, lab in ((axes[1, 0], "theta", r"$\theta$"), (axes[1, 1], "ptheta", r"$\bar p_\theta$"),
-                         (axes[1, 2], "psidot", r"$\dot\psi = 1/(1+\cos\theta)$")):
-        for which, style, name in (("ext", "-", f"extensible $\\gamma$={g:g}"), ("kir", "--", "inextensible $\\gamma$=0")):
-            ax.plot(d[which]["t"], d[which][key], style, color="C0" if which == "ext" else "C1", lw=1.2, label=name)
-        pk = {"theta": "c", "ptheta": "d", "psidot": "e"}[key]
-        (x0, x1), (y0, y1) = ax_p[pk]
-        ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], "k:", lw=0.8, label="paper's axes")
-        ax.set_xlabel("t (scaled arclength, t = s, eq:nondim_1)")
-        ax.set_ylabel(lab)
-        ax.set_title(f"({pk}) m={m:g}", fontsize=9)
-        ax.legend(fontsize=7, loc="best")
-    ver = {k: d[k]["verify"] for k in ("ext", "kir")}
-    fig.suptitle("Fig. 3 (fig:angles): closed-form homoclinic orbits; vs 256-bit integration from the turning point: "
-                 f"max|d$\\theta$| = {ver['ext']['max_dev_theta']:.1e} ($\\gamma$=1), "
-                 f"{ver['kir']['max_dev_theta']:.1e} ($\\gamma$=0) until $\\theta$ = 1e-8", fontsize=10)
-    fig.tight_layout()
-    paths = [str(atomic_savefig(fig, out / "fig3.png"))]
-    plt.close(fig)
-    arrays = {f"{k}_{v}": d[k][v] for k in ("ext", "kir") for v in ("t", "theta", "ptheta", "psidot")}
-    paths.append(str(atomic_savez(out / "fig3.npz", **arrays)))
-    meta = {"figure": "fig:angles", "quick": quick, "params": FIG3,
-            "orbits": {k: {**d[k]["orbit"].summary(), "verify": d[k]["verify"], "at_t=1": d[k]["at_t1"],
-                           "max_abs_ptheta": d[k]["max_abs_ptheta"], "psidot_max": d[k]["psidot_max"],
-                           "t_where_theta=1e-2": d[k]["t_half_width_theta_1e-2"]} for k in ("ext", "kir")},
-            "panel_b_orbit": ob.summary(),
-            "versions": versions(), "wall_time_s": time.perf_counter() - t_start}
-    paths.append(str(atomic_write_json(out / "fig3.json", meta)))
-    return paths

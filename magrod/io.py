@@ -81,6 +81,22 @@ def atomic_savefig(fig, path, **kw) -> Path:
     return atomic_write_bytes(path, buf.getvalue())
 
 
+ORBIT_KEYS = ("x0", "T", "pars", "t", "tau", "x")
+
+
+def load_orbit_file(path) -> dict:
+    """The arrays of an orbit .npz written by `magrod multipulse` (ParameterError naming `from` if the file is
+    missing or is not such a file).  Never unpickles: allow_pickle=False."""
+    path = Path(path)
+    if not path.is_file():
+        raise ParameterError("from", f"no such file: {str(path)!r}")
+    try:
+        with np.load(path, allow_pickle=False) as d:
+            return {k: d[k] for k in ORBIT_KEYS}
+    except (KeyError, ValueError, OSError) as exc:
+        raise ParameterError("from", f"{str(path)!r} is not an orbit file of magrod multipulse ({exc})") from None
+
+
 def _jsonable(o):
     if isinstance(o, (np.floating, np.integer)):
         return o.item()

@@ -6,7 +6,7 @@ amplitude(m, gamma, integrand="derived", *, reference=True, theta_tail=1e-20) ->
 melnikov_function(psi0, amp)           -> M(psi0)/sqrt(a - 2b) = A sin(psi0)
 primitive_check(m, gamma, n=64)        -> running quadrature vs 2 Phi(T) (derived integrand, exact derivative)
 amplitude_zero(m, integrand="printed", bracket=(1.8, 2.0)) -> gamma* with A(gamma*) = 0 and its error bound
-figure_2(out_dir, quick=False)         -> fig:Mel_ext for both integrands, PNG + .npz + JSON sidecar
+(fig:Mel_ext is drawn by magrod/figures/melnikov.py)
 
 Convention
 ----------
@@ -31,23 +31,22 @@ Cost: float64 ~1 ms per amplitude after compilation; the real128 reference ~0.1-
 from __future__ import annotations
 
 import time
-from pathlib import Path
 from dataclasses import asdict, dataclass
 from functools import lru_cache
 
 import heyoka as hy
 import numpy as np
 
+from . import systems
 from .errors import ParameterError
 from .generated import melnikov as gen
 from .homoclinic import homoclinic, stable_expressions
+from .printed import FIG2_M, FIG2_ZERO_BRACKET
 
 INTEGRANDS = ("derived", "printed")
-FIG2_GAMMAS = (1.0, 1.2, 1.4, 1.6, 1.8, 2.0)  # fig:Mel_ext, m = 1.7
-FIG2_M = 1.7
 
 
-@lru_cache(maxsize=None)
+@systems.per_thread
 def _quad_integrator(fp_type=float):
     """Taylor integrator of y = (psibar, A_derived(t), A_printed(t)) along the closed-form orbit; pars (m, gamma)."""
     psib, jd, jp = hy.make_vars("psibar", "A_derived", "A_printed")
@@ -57,10 +56,9 @@ def _quad_integrator(fp_type=float):
     fp = gen.integrand_printed(e["theta"], e["ptheta"], psib, m, g)
     sys = [(psib, e["psidot"]), (jd, 2.0 * fd), (jp, 2.0 * fp)]
     if fp_type is float:
-        return hy.taylor_adaptive(sys, [0.0, 0.0, 0.0], pars=[1.0, 1.0])
-    z = fp_type(0)
-    return hy.taylor_adaptive(sys, [z, z, z], pars=[fp_type(1), fp_type(1)], fp_type=fp_type,
-                              tol=fp_type("1e-32") if fp_type is hy.real128 else fp_type(0), compact_mode=True)
+        return systems.taylor(sys, [0.0, 0.0, 0.0], [1.0, 1.0])
+    return systems.taylor(sys, [0, 0, 0], [1, 1], fp_type=fp_type, compact_mode=True,
+                          tol="1e-32" if fp_type is hy.real128 else 0)
 
 
 def _run(m, gamma, t_grid, fp_type=float) -> np.ndarray:
@@ -182,7 +180,7 @@ def primitive_check(m, gamma, n=64, theta_tail=1e-20) -> dict:
             "t": grid, "running_A": run[:, 1], "two_phi": 2.0 * phi}
 
 
-def amplitude_zero(m=FIG2_M, integrand="printed", bracket=(1.8, 2.0), xtol=1e-13) -> dict:
+def amplitude_zero(m=FIG2_M, integrand="printed", bracket=FIG2_ZERO_BRACKET, xtol=1e-13) -> dict:
     """gamma* in `bracket` with A(gamma*) = 0 by Brent's method on the float64 amplitude.  Error bound:
     |gamma* - gamma_found| <= xtol + eps_A/|dA/dgamma| with eps_A the amplitude error estimate at gamma_found
     (real128 reference + tail bound) and dA/dgamma by a central difference; the sign of the real128 amplitude
@@ -213,175 +211,3 @@ def amplitude_zero(m=FIG2_M, integrand="printed", bracket=(1.8, 2.0), xtol=1e-13
             "A_at_zero": amp.A, "A_error": amp.error, "dA_dgamma": slope,
             "sign_change_confirmed_real128": bool(np.sign(lo) * np.sign(hi) < 0),
             "A_real128_at_zero_minus_2bound": lo, "A_real128_at_zero_plus_2bound": hi}
-
-
-def figure_2(out_dir, quick=False, progress=True) -> list[str]:
-    """fig:Mel_ext: normalised M(psi0)/sqrt(a - 2b) = A sin(psi0) at m = 1.7 for gamma in FIG2_GAMMAS, for the
-    derived integrand (left; identically zero, report entry melnikov_vanishes) and the printed one (right), plus
-    A(gamma) for both over a wider gamma range with the search for a zero of A_printed in [1.8, 2] (the paper
-    reports one there).  Writes fig2.png, fig2.npz, fig2.json; returns the paths.  quick: fewer gamma samples
-    in the A(gamma) scan."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from tqdm import tqdm
-
-    from .io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-
-    t0 = time.perf_counter()
-    out = ensure_writable_dir(out_dir)
-    amps = amplitudes(FIG2_M, FIG2_GAMMAS)
-    scan_g = np.linspace(0.05, 5.0, 12 if quick else 60)
-    scan = {k: [] for k in INTEGRANDS}
-    for g in tqdm(scan_g, desc="fig 2: A(gamma)", disable=not progress, file=__import__("sys").stderr):
-        for k in INTEGRANDS:
-            scan[k].append(amplitude(FIG2_M, g, k, reference=False).A)
-    zero = {k: amplitude_zero(FIG2_M, k) for k in INTEGRANDS}
-    prim = primitive_check(FIG2_M, FIG2_GAMMAS[0])
-    psi0 = np.linspace(0.0, 2 * np.pi, 401)
-
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), dpi=150)
-    for ax, k in zip(axes[:2], ("printed", "derived")):
-        for i, a in enumerate(amps[k]):
-            ax.plot(psi0, melnikov_function(psi0, a), color=plt.cm.viridis(i / (len(FIG2_GAMMAS) - 1)), lw=1.2,
-                    label=f"$\\gamma$={a.gamma:g}: A={a.A:.3g} ± {a.error:.0e}")
-        ax.set_xlim(0, 2 * np.pi)
-        ax.set_ylim(-2, 2)
-        ax.set_xticks([0, np.pi / 2, np.pi, 3 * np.pi / 2, 2 * np.pi], ["0", "π/2", "π", "3π/2", "2π"])
-        ax.set_xlabel(r"$\psi_0$")
-        ax.set_ylabel(r"$\mathcal{M}(\psi_0)/\sqrt{a-2b}$")
-        ax.axhline(0, color="k", lw=0.5)
-        ax.legend(fontsize=7, loc="lower left")
-    axes[0].set_title("derived from eq:melnikov_bracket: identically zero\n(integrand = dPhi/dt, Phi -> 0 at both ends)",
-                      fontsize=9)
-    axes[1].set_title("printed integrand eq:Mel_ext on the same orbit:\nno zero of the amplitude for gamma in [1, 2]",
-                      fontsize=9)
-    for k, style in zip(INTEGRANDS, ("-", "--")):
-        axes[2].plot(scan_g, scan[k], style, label=f"A, {k} integrand")
-    axes[2].axhline(0, color="k", lw=0.5)
-    axes[2].axvspan(1.8, 2.0, color="0.85", label="paper: zero in (1.8, 2)")
-    axes[2].set_xlabel(r"$\gamma$")
-    axes[2].set_ylabel("amplitude A")
-    axes[2].set_title(f"A(gamma) at m = {FIG2_M}", fontsize=9)
-    axes[2].legend(fontsize=7)
-    fig.suptitle("Fig. 2 (fig:Mel_ext): Mel'nikov function at m = 1.7, "
-                 r"$\gamma$ = 1, 1.2, ..., 2; $\mathcal{M}(\psi_0) = A \sin\psi_0 \sqrt{a-2b}$", fontsize=10)
-    fig.tight_layout()
-    paths = [str(atomic_savefig(fig, Path(out) / "fig2.png"))]
-    plt.close(fig)
-    arr = {f"A_{k}": np.array([a.A for a in amps[k]]) for k in INTEGRANDS}
-    arr.update({f"A_err_{k}": np.array([a.error for a in amps[k]]) for k in INTEGRANDS})
-    arr.update({f"scan_A_{k}": np.array(scan[k]) for k in INTEGRANDS})
-    paths.append(str(atomic_savez(Path(out) / "fig2.npz", gammas=np.array(FIG2_GAMMAS), scan_gamma=scan_g, **arr)))
-    meta = {"figure": "fig:Mel_ext", "m": FIG2_M, "gammas": list(FIG2_GAMMAS), "quick": quick,
-            "convention": "M(psi0) = A sin(psi0) sqrt(a - 2b)",
-            "amplitudes": {k: [asdict(a) for a in amps[k]] for k in INTEGRANDS},
-            "max_abs_A_derived": max(abs(a.A) for a in amps["derived"]),
-            "max_error_A_derived": max(a.error for a in amps["derived"]),
-            "scan": {"gamma": scan_g.tolist(), **{k: scan[k] for k in INTEGRANDS}},
-            "sign_change_in_scan": {k: bool(np.any(np.diff(np.sign(scan[k])) != 0)) for k in INTEGRANDS},
-            "zero_search_1.8_2": zero,
-            "primitive_check_gamma_1": {"max_abs_diff": prim["max_abs_diff"], "max_abs_2phi": prim["max_abs_2phi"]},
-            "versions": versions(), "wall_time_s": time.perf_counter() - t0}
-    paths.append(str(atomic_write_json(Path(out) / "fig2.json", meta)))
-    return paths
-
-
-# ----------------------------------------------------------------------------------------------------------
-# Figure 2 (fig:Mel_ext)
-
-
-def figure_2(out_dir, quick=False, progress=True) -> list[str]:
-    """fig:Mel_ext at m = 1.7, gamma in {1, 1.2, 1.4, 1.6, 1.8, 2}: M(psi0)/sqrt(a - 2b) = A sin(psi0) for the
-    printed integrand (left, y-range [-2, 2] as in the paper) and the derived one (middle, shown with its
-    error band), and A(gamma) on gamma in [0, 3] for both (right; the paper's claimed zero interval shaded).
-    Writes fig2.png, fig2.npz, fig2.json; returns the paths.  quick: coarser gamma scan for the right panel.
-    Cost ~3 s (real128 references for the six paper values)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from .io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-
-    t_start = time.perf_counter()
-    out = ensure_writable_dir(out_dir)
-    m = FIG2_M
-    scan = np.linspace(0.0, 3.0, 31 if quick else 121)
-    it = list(FIG2_GAMMAS)
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=len(it) + len(scan) + 2, desc="fig2", unit="amp", leave=False)
-    amps = {k: [] for k in INTEGRANDS}
-    for g in it:
-        for k in INTEGRANDS:
-            amps[k].append(amplitude(m, g, k))
-        bar and bar.update()
-    scan_a = {k: [] for k in INTEGRANDS}
-    for g in scan:
-        for k in INTEGRANDS:
-            scan_a[k].append(amplitude(m, g, k, reference=False).A)
-        bar and bar.update()
-    zeros = {k: amplitude_zero(m, k, (1.8, 2.0)) for k in INTEGRANDS}
-    bar and bar.update(2)
-    bar and bar.close()
-    pc = primitive_check(m, 1.0)
-
-    psi0 = np.linspace(0.0, 2.0 * np.pi, 361)
-    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8), dpi=150)
-    ticks = ([0, np.pi / 2, np.pi, 3 * np.pi / 2, 2 * np.pi], ["0", r"$\pi/2$", r"$\pi$", r"$3\pi/2$", r"$2\pi$"])
-    for ax, k in zip(axes[:2], ("printed", "derived")):
-        for g, a in zip(it, amps[k]):
-            y = melnikov_function(psi0, a)
-            ax.plot(psi0, y, lw=1.2, label=f"$\\gamma$={g:g}: A={a.A:+.3g} $\\pm$ {a.error:.0e}")
-            if k == "derived":
-                ax.fill_between(psi0, y - a.error * np.abs(np.sin(psi0)), y + a.error * np.abs(np.sin(psi0)), alpha=0.15)
-        ax.axhline(0.0, color="k", lw=0.5)
-        ax.set_xticks(*ticks)
-        ax.set_xlabel(r"$\psi_0$")
-        ax.set_ylabel(r"$\mathcal{M}(\psi_0)/\sqrt{a-2b}$")
-        ax.legend(fontsize=7, loc="upper right" if k == "printed" else "lower right")
-    axes[0].set_ylim(-2, 2)
-    axes[0].set_title("printed integrand (eq:Mel_ext): no zero of A for $\\gamma$ in [1.8, 2]", fontsize=9)
-    axes[1].set_title("derived integrand (eq:melnikov_bracket): A = 0 to quadrature accuracy\n"
-                      f"(real128: |A| < {max(abs(a.A_reference) for a in amps['derived']):.0e}; "
-                      f"exact: Int F dt = [2 Phi], max|quad - 2 Phi| = {pc['max_abs_diff']:.0e})", fontsize=9)
-    axes[1].ticklabel_format(axis="y", style="sci", scilimits=(0, 0))
-    ax = axes[2]
-    ax.plot(scan, scan_a["printed"], "C0-", label="printed")
-    ax.plot(scan, scan_a["derived"], "C1-", label="derived")
-    ax.axvspan(1.8, 2.0, color="0.85", label="paper: zero between 1.8 and 2")
-    ax.axhline(0.0, color="k", lw=0.5)
-    ax.set_xlabel(r"$\gamma$")
-    ax.set_ylabel("A (amplitude)")
-    ax.set_title(f"A($\\gamma$) at m = {m:g}", fontsize=9)
-    ax.legend(fontsize=8)
-    fig.suptitle(f"Fig. 2 (fig:Mel_ext): normalised Mel'nikov function M($\\psi_0$)/$\\sqrt{{a-2b}}$ = A sin $\\psi_0$, "
-                 f"m = {m:g}", fontsize=10)
-    fig.tight_layout()
-    paths = [str(atomic_savefig(fig, out / "fig2.png"))]
-    plt.close(fig)
-    arrays = {"psi0": psi0, "gammas": np.array(it), "scan_gamma": scan,
-              **{f"A_{k}": np.array([a.A for a in amps[k]]) for k in INTEGRANDS},
-              **{f"A_error_{k}": np.array([a.error for a in amps[k]]) for k in INTEGRANDS},
-              **{f"scan_A_{k}": np.array(scan_a[k]) for k in INTEGRANDS},
-              "primitive_t": pc["t"], "primitive_running_A": pc["running_A"], "primitive_two_phi": pc["two_phi"]}
-    paths.append(str(atomic_savez(out / "fig2.npz", **arrays)))
-    meta = {"figure": "fig:Mel_ext", "m": m, "quick": quick,
-            "convention": amps["printed"][0].convention,
-            "amplitudes": {k: [a.as_dict() for a in amps[k]] for k in INTEGRANDS},
-            "zero_search_1.8_2.0": zeros,
-            "scan_sign_changes": {k: int(np.sum(np.diff(np.sign(scan_a[k])) != 0)) for k in INTEGRANDS},
-            # derived: signs are rounding noise (|A| <= error), so only the printed sign changes are meaningful
-            "sign_change_in_scan": {k: bool(np.any(np.diff(np.sign(scan_a[k])) != 0)) for k in INTEGRANDS},
-            "scan": {"gamma": scan, **{f"A_{k}": scan_a[k] for k in INTEGRANDS}},
-            "max_abs_A_derived": max(abs(a.A) for a in amps["derived"]),
-            "max_error_A_derived": max(a.error for a in amps["derived"]),
-            "max_abs_A_derived_real128": max(abs(a.A_reference) for a in amps["derived"]),
-            "primitive_check_gamma_1": {"max_abs_diff": pc["max_abs_diff"], "max_abs_2phi": pc["max_abs_2phi"]},
-            "versions": versions(), "wall_time_s": time.perf_counter() - t_start}
-    paths.append(str(atomic_write_json(out / "fig2.json", meta)))
-    return paths

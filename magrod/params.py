@@ -6,6 +6,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from .errors import ParameterError, require_finite
+from .generated.names import PARAMS
 
 
 @dataclass(frozen=True)
@@ -24,7 +25,7 @@ class RodParams:
     lam: float
 
     def __post_init__(self):
-        for f in ("m", "mu", "gamma", "delta", "lam"):
+        for f in PARAMS:
             object.__setattr__(self, f, require_finite(f, getattr(self, f)))
         if self.m <= 0:
             raise ParameterError("m", f"must be > 0 (m = m3/sqrt(B C2)), got {self.m}")
@@ -35,8 +36,16 @@ class RodParams:
                                           f"gamma = {self.gamma}, delta = {self.delta}")
 
     def array(self) -> np.ndarray:
-        """heyoka runtime parameters hy.par[0..4] in the order of generated.reduced.PARAMS."""
-        return np.array([self.m, self.mu, self.gamma, self.delta, self.lam], dtype=float)
+        """heyoka runtime parameters hy.par[i] = PARAMS[i] (generated/names.py)."""
+        return np.array([getattr(self, f) for f in PARAMS], dtype=float)
+
+    def replace(self, **changes) -> "RodParams":
+        """A copy with some fields changed (validated again)."""
+        return RodParams(**{**self.as_dict(), **changes})
+
+    @classmethod
+    def from_array(cls, values) -> "RodParams":
+        return cls(**dict(zip(PARAMS, map(float, values))))
 
     def as_dict(self) -> dict:
         return asdict(self)

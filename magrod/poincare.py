@@ -5,7 +5,8 @@ Public API
 solve_p_psi(params, h, theta0, ptheta0, psi0=0)  -> every real root pbar_psi of Hbar(theta0, psi0, ptheta0, .) = h
 poincare_map(params, h, theta0, ptheta0, psi0=0, *, iterates=10_000, root="smallest", direction="positive",
              branch="any", formulation="body", ...) -> PoincareResult
-run_panels(keys, ...), figure_4(out_dir, quick=False), figure_5(out_dir, quick=False), save_result(...)
+run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.printed.PANELS), threads
+(figures: magrod/figures/poincare.py; files: PoincareResult.arrays()/summary())
 
 What is integrated
 ------------------
@@ -44,11 +45,9 @@ processes load it from heyoka's on-disk cache.
 """
 from __future__ import annotations
 
-import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import heyoka as hy
 import numpy as np
@@ -56,10 +55,11 @@ from scipy.optimize import brentq
 
 from . import systems
 from .errors import ParameterError, require_finite, require_positive_int
+from .generated import scalars
 from .params import RodParams
+from .printed import PANELS, panel_kwargs
 
-DIRECTIONS = {"positive": hy.event_direction.positive, "negative": hy.event_direction.negative,
-              "any": hy.event_direction.any}
+DIRECTIONS = systems.DIRECTIONS
 BRANCHES = ("any", "0", "pi")
 FORMULATIONS = ("reduced", "body")
 FRAME_REDUCED, FRAME_BODY = 0, 1
@@ -69,35 +69,26 @@ FRAME_REDUCED, FRAME_BODY = 0, 1
 DEFAULT_FORMULATION = "body"
 DEFAULT_ROOT = "smallest"  # see the module docstring for the evidence
 
-# The paper's panels (sec. 8).  fig:poincare1: one orbit per panel from theta = 0.1, pbar_theta = 0.5, psi = 0 at
-# h = 0.9; fig:poincare2: from theta = 0.1, pbar_theta = 1, psi = 0 at h = 0.8.
-_F4 = dict(m=1.7, mu=0.4, gamma=3.0, delta=3.0)
-_F5 = dict(m=1.7, mu=4.0, delta=0.25, lam=2.0)
-PANELS = {
-    **{f"4{k}": dict(params=RodParams(**_F4, lam=lam), h=0.9, theta0=0.1, ptheta0=0.5, psi0=0.0,
-                     label=f"fig:poincare1{k}", vary=("lam", lam))
-       for k, lam in zip("abcd", (0.135, 0.1575, 0.175, 0.186))},
-    **{f"5{k}": dict(params=RodParams(**_F5, gamma=g), h=0.8, theta0=0.1, ptheta0=1.0, psi0=0.0,
-                     label=f"fig:poincare2{k}", vary=("gamma", g))
-       for k, g in zip("abcd", (0.15, 0.205, 0.208, 0.24))},
-}
-# paper: "runs up to t = 84000" (fig:poincare1) and "t = 81000" (fig:poincare2), Hbar preserved to 3.6e-9 / 3.9e-9
-PAPER_CLAIMS = {"4": dict(t_final=84000.0, max_abs_dH=3.6e-9), "5": dict(t_final=81000.0, max_abs_dH=3.9e-9)}
-
-
 # ----------------------------------------------------------------------------------------------------------
 # initial data
 # ----------------------------------------------------------------------------------------------------------
 def _admissible_interval(params: RodParams):
     """Open interval of pbar_psi where the radicand mu - 2 lam pbar_psi of Hbar is > 0 (eq:alignment_condition)."""
-    if params.lam > 0:
-        return -np.inf, params.mu / (2 * params.lam)
-    if params.lam < 0:
-        return params.mu / (2 * params.lam), np.inf
+    p = params.as_dict()
+    slope = scalars.radicand_slope_ppsi(**p)
+    if slope < 0:
+        return -np.inf, scalars.radicand_root_ppsi(**p)
+    if slope > 0:
+        return scalars.radicand_root_ppsi(**p), np.inf
     if params.mu <= 0:
         raise ParameterError("mu", f"with lam = 0 the square root sqrt(mu - 2 lam pbar_psi) = sqrt(mu) of Hbar is "
                                    f"imaginary or zero for every pbar_psi (mu = {params.mu}); need mu > 0")
     return -np.inf, np.inf
+
+
+def _radicand(params: RodParams, ppsi) -> float:
+    """mu - 2 lam pbar_psi (generated reduced.radicand, evaluated through the compiled function)."""
+    return float(systems.reduced_functions()["radicand"]([0.0, 0.0, 0.0, ppsi], params.array())[0])
 
 
 def _check_start(theta0, ptheta0, psi0, h=None):
@@ -194,47 +185,29 @@ def choose_root(roots, root="smallest") -> int:
 # ----------------------------------------------------------------------------------------------------------
 # integrators (built once per thread and configuration, reused by resetting time/state/pars)
 # ----------------------------------------------------------------------------------------------------------
-_local = threading.local()
-
-
+@systems.per_thread
 def _integrators(formulation, direction, pole_switch, radicand_switch, fp_type, tol):
-    cache = _local.__dict__.setdefault("cache", {})
-    key = (formulation, direction, pole_switch, radicand_switch, fp_type, tol)
-    if key in cache:
-        return cache[key]
-    d = DIRECTIONS[direction]
-    ev = (lambda g, dr: hy.t_event(g, direction=dr)) if fp_type is float else \
-        (lambda g, dr: hy.t_event(g, direction=dr, fp_type=fp_type))
-    m1, m2, m3, n1, n2, n3, e31, e32, e33 = systems.body_vars()
-    p = [hy.par[i] for i in range(5)]
-    # chart (euler_to_body): e3 = (-sin th cos phi, sin th sin phi, cos th), pbar_psi = m.e3
-    body_events = [ev(e31 * n2 - e32 * n1, d)]
+    """(reduced, body) integrators with their events; the reduced one is None for formulation="body".
+    Event 0 is the section in both; the others switch between the frames near the chart singularities
+    (entering: sin(theta) < pole_switch[0] or radicand < radicand_switch[0]; leaving: both above [1])."""
+    body_events = [("section", direction)]
     if formulation == "reduced":
-        sin2 = e31 ** 2 + e32 ** 2
-        rad = p[1] - 2.0 * p[4] * (m1 * e31 + m2 * e32 + m3 * e33)
-        body_events += [ev(sin2 - pole_switch[1] ** 2, hy.event_direction.positive),
-                        ev(rad - radicand_switch[1], hy.event_direction.positive)]
-    x9 = np.zeros(9)
-    x9[2] = x9[8] = 1.0
-    ta_b = systems.body_integrator(x9, np.ones(5), tol=tol, t_events=body_events, fp_type=fp_type)
+        body_events += [("sin2_theta", "positive", pole_switch[1] ** 2), ("radicand", "positive", radicand_switch[1])]
+    ta_b = systems.integrator("body", events=body_events, fp_type=fp_type, tol=tol)
     ta_r = None
     if formulation == "reduced":
-        th, psi, pth, pps = systems.reduced_vars()
-        red_events = [hy.t_event(hy.sin(psi), direction=d),
-                      hy.t_event(hy.sin(th) - pole_switch[0], direction=hy.event_direction.negative),
-                      hy.t_event(p[1] - 2.0 * p[4] * pps - radicand_switch[0], direction=hy.event_direction.negative)]
-        ta_r = systems.reduced_integrator([1.0, 0.0, 0.0, 0.0], np.ones(5), tol=tol, t_events=red_events,
-                                         fp_type=fp_type)
-    cache[key] = (ta_r, ta_b)
+        ta_r = systems.integrator("reduced", tol=tol, fp_type=fp_type,
+                                  events=[("section", direction), ("sin_theta", "negative", pole_switch[0]),
+                                          ("radicand", "negative", radicand_switch[0])])
     return ta_r, ta_b
 
 
-def _set(ta, state, t, pars):
-    ftype = type(ta.state[0])
-    ta.state[:] = state
-    ta.time = ftype(t) if ftype is not np.float64 else float(t)
-    ta.pars[:] = pars
-    ta.reset_cooldowns()
+_set = systems.reset
+_CHART_PSI = systems.chart_index("psi")
+_SECTION = systems.names.BODY_EVENTS.index("section")
+_PSI = systems.state_index("reduced", "psi")
+_CHART4 = [systems.chart_index(k) for k in systems.STATE["reduced"]]  # chart coordinates of the 4-D state
+NBODY = systems.dim("body")
 
 
 def _wrap(a):
@@ -353,7 +326,7 @@ def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *
         lo, hi = _admissible_interval(params)
         if not lo < p_psi0 < hi:
             raise ParameterError("p_psi0", f"the square root sqrt(mu - 2 lam pbar_psi) of Hbar is imaginary or zero "
-                                           f"at the start: mu - 2 lam pbar_psi0 = {params.mu - 2 * params.lam * p_psi0:.6g}")
+                                           f"at the start: mu - 2 lam pbar_psi0 = {_radicand(params, p_psi0):.6g}")
         roots, ridx = np.array([p_psi0]), 0
         h = float(systems.reduced_functions()["H"]([theta0, psi0, ptheta0, p_psi0], pars)[0])
     else:
@@ -376,7 +349,7 @@ def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *
 
     def chart_ok_4d(th, pps, leave):
         i = 1 if leave else 0
-        return np.sin(th) > pole_switch[i] and params.mu - 2 * params.lam * pps > radicand_switch[i]
+        return np.sin(th) > pole_switch[i] and _radicand(params, pps) > radicand_switch[i]
 
     if formulation == "reduced" and chart_ok_4d(theta0, p_psi0, False):
         mode = FRAME_REDUCED
@@ -387,7 +360,7 @@ def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *
         _set(ta_b, [fp_type(v) for v in x0] if fp_type is not float else x0, 0.0, pars)
 
     cap = min(iterates, 4096)  # grown by doubling: iterates may be huge when t_max is the real limit
-    raw = np.full((cap, 9), np.nan)
+    raw = np.full((cap, NBODY), np.nan)
     times = np.zeros(cap)
     frame = np.zeros(cap, dtype=np.int8)
     n = switches = 0
@@ -410,18 +383,18 @@ def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *
         if ev == 0:  # section crossing; branch filter applied here (the event direction filtered already)
             st = np.array(ta.state, dtype=float)
             if mode == FRAME_REDUCED:
-                c = np.cos(st[1])
-                ta.state[1] = _wrap(st[1])  # keep psi bounded (see module docstring)
+                c = np.cos(st[_PSI])
+                ta.state[_PSI] = _wrap(st[_PSI])  # keep psi bounded (see module docstring)
             else:
                 c = None
             keep = branch == "any" or c is None or (c > 0) == (branch == "0")
             if c is None and branch != "any":
-                c = np.cos(systems.body_to_euler(np.ascontiguousarray(st), pars)[1])
+                c = np.cos(systems.body_to_euler(np.ascontiguousarray(st), pars)[_CHART_PSI])
                 keep = (c > 0) == (branch == "0")
             if keep:
                 if n == raw.shape[0]:
                     cap = min(iterates, 2 * cap)
-                    raw = np.vstack([raw, np.full((cap - n, 9), np.nan)])
+                    raw = np.vstack([raw, np.full((cap - n, NBODY), np.nan)])
                     times = np.concatenate([times, np.zeros(cap - n)])
                     frame = np.concatenate([frame, np.zeros(cap - n, dtype=np.int8)])
                 raw[n, : st.size] = st
@@ -433,16 +406,16 @@ def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *
                     last_report = n
         elif mode == FRAME_REDUCED:  # entering the neighbourhood of a chart singularity
             st = np.array(ta.state, dtype=float)
-            xb = systems.euler_to_body(st[0], st[1], st[2], st[3], pars)
+            xb = systems.euler_to_body(*st, pars)
             _set(ta_b, xb, ta.time, pars)
             mode = FRAME_BODY
             switches += 1
         else:  # leaving it: back to the 4-D chart only if both chart conditions hold with margin
-            e = systems.body_to_euler(np.ascontiguousarray(np.array(ta.state, dtype=float)), pars)
-            if chart_ok_4d(e[0], e[4], True) or (np.sin(e[0]) >= pole_switch[1] * (1 - 1e-9)
-                                                  and params.mu - 2 * params.lam * e[4]
-                                                  >= radicand_switch[1] * (1 - 1e-9)):
-                _set(ta_r, [e[0], e[1], e[3], e[4]], ta.time, pars)
+            e = systems.body_to_euler(np.ascontiguousarray(np.array(ta.state, dtype=float)), pars)[_CHART4]
+            th, pps = e[0], e[-1]
+            if chart_ok_4d(th, pps, True) or (np.sin(th) >= pole_switch[1] * (1 - 1e-9)
+                                              and _radicand(params, pps) >= radicand_switch[1] * (1 - 1e-9)):
+                _set(ta_r, e, ta.time, pars)
                 mode = FRAME_REDUCED
                 switches += 1
     if progress is not None and n > last_report:
@@ -462,27 +435,29 @@ def _assemble(params, pars, h, theta0, ptheta0, psi0, p_psi0, roots, ridx, formu
     n = raw.shape[0]
     points = np.zeros((n, 4))
     dH = np.zeros(n)
-    body_points = np.full((n, 9), np.nan)
+    body_points = np.full((n, NBODY), np.nan)
     casimir = None
     r = frame == FRAME_REDUCED
     # value of the section's event function in the frame that landed the point (how well it is on the section)
-    section_residual = np.where(r, np.sin(raw[:, 1]), raw[:, 6] * raw[:, 4] - raw[:, 7] * raw[:, 3])
+    section_residual = np.zeros(n)
     if r.any():
         x = np.ascontiguousarray(raw[r, :4].T)
+        section_residual[r] = F["section"](x, pars)[0]
         points[r] = x.T
         dH[r] = F["H"](x, pars)[0] - h
     b = ~r
     if b.any():
         x = np.ascontiguousarray(raw[b].T)
         body_points[b] = raw[b]
+        section_residual[b] = B["events"](x, pars)[_SECTION]
         e = B["to_euler"](x, pars)
-        points[b] = e[[0, 1, 3, 4]].T
+        points[b] = e[_CHART4].T
         dH[b] = B["H"](x, pars)[0] - h
         cv = np.asarray(B["casimir_values"](np.zeros(0), pars))
         casimir = float(np.max(np.abs(B["casimirs"](x, pars) - cv[:, None])))
-    points[:, 1] = _wrap(points[:, 1])
-    branch_flag = np.where(np.cos(points[:, 1]) > 0, 1, -1).astype(np.int8)
-    psi_dot = F["rhs"](np.ascontiguousarray(points.T), pars)[1] if n else np.zeros(0)
+    points[:, _PSI] = _wrap(points[:, _PSI])
+    branch_flag = np.where(np.cos(points[:, _PSI]) > 0, 1, -1).astype(np.int8)
+    psi_dot = F["rhs"](np.ascontiguousarray(points.T), pars)[_PSI] if n else np.zeros(0)
     return PoincareResult(
         success=success, message=message, params=params, h=float(h), theta0=float(theta0), ptheta0=float(ptheta0),
         psi0=float(psi0), p_psi0=float(p_psi0), roots=np.asarray(roots, dtype=float), root_index=int(ridx),
@@ -494,132 +469,19 @@ def _assemble(params, pars, h, theta0, ptheta0, psi0, p_psi0, roots, ridx, formu
 
 
 # ----------------------------------------------------------------------------------------------------------
-# panels, files and figures
+# several panels at once
 # ----------------------------------------------------------------------------------------------------------
-def panel_kwargs(key: str) -> dict:
-    """poincare_map keyword arguments of a paper panel '4a'..'4d', '5a'..'5d'."""
-    key = str(key).lower()
-    if key not in PANELS:
-        raise ParameterError("figure", f"unknown panel {key!r}; choose one of {', '.join(PANELS)}")
-    P = PANELS[key]
-    return dict(params=P["params"], h=P["h"], theta0=P["theta0"], ptheta0=P["ptheta0"], psi0=P["psi0"])
-
-
-def panel_title(key: str | None, res: PoincareResult) -> str:
-    p = res.params
-    pars = (f"m={p.m:g}, $\\mu$={p.mu:g}, $\\gamma$={p.gamma:g}, $\\delta$={p.delta:g}, $\\bar\\lambda$={p.lam:g}, "
-            f"h={res.h:g}")
-    head = f"Fig. {key[0]}({key[1]})  " if key else ""
-    return f"{head}{pars}\n{res.n_points} iterates, max|$\\bar H$-h| = {res.max_abs_dH:.1e}"
-
-
-def plot_points(ax, res: PoincareResult, title=None):
-    """theta on the horizontal axis, pbar_theta on the vertical one: the two coordinates of the section
-    sin(psi) = 0 that are free at fixed h (pbar_psi follows from Hbar = h, psi is 0 or pi).  The paper's
-    panels are not labelled in the source; theta-pbar_theta is the natural choice for this section."""
-    ax.plot(res.points[:, 0], res.points[:, 2], ",", color="k", rasterized=True)
-    ax.set_xlim(0.0, np.pi)
-    ax.set_xlabel(r"$\theta$")
-    ax.set_ylabel(r"$\bar p_\theta$")
-    if title:
-        ax.set_title(title, fontsize=8)
-
-
-def save_result(res: PoincareResult, out_dir, stem: str, *, key: str | None = None, label: str | None = None,
-                formats=("png",)) -> dict:
-    """Write <stem>.npz (arrays), <stem>.json (metadata, versions) and <stem>.png atomically; returns the paths."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from .io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-
-    out = ensure_writable_dir(out_dir)
-    paths = {"npz": str(atomic_savez(out / f"{stem}.npz", **res.arrays()))}
-    meta = {"panel": key, "label": label, **res.summary(), "versions": versions(),
-            "axes": "theta (horizontal) vs pbar_theta (vertical)",
-            "section": "sin(psi) = 0, direction = sign of d/dt sin(psi) at the crossing"}
-    for fmt in formats:
-        fig, ax = plt.subplots(figsize=(5.0, 4.2), dpi=150)
-        plot_points(ax, res, panel_title(key, res))
-        fig.tight_layout()
-        paths[fmt] = str(atomic_savefig(fig, out / f"{stem}.{fmt}"))
-        plt.close(fig)
-    meta["files"] = dict(paths)
-    paths["json"] = str(atomic_write_json(out / f"{stem}.json", meta))
-    return paths
-
-
-def run_panels(keys, *, iterates=10_000, workers=2, progress=True, **kw) -> dict:
-    """Run several paper panels concurrently (threads: heyoka's propagate releases the GIL; each thread owns
-    its integrators).  Returns {key: PoincareResult}.  progress: show one tqdm bar (stderr) over all iterates."""
+def run_panels(keys, *, iterates=10_000, workers=2, progress=None, **kw) -> dict:
+    """Run several paper panels (magrod.printed.PANELS) concurrently in threads (heyoka's propagate releases the
+    GIL; each thread owns its integrators).  Returns {key: PoincareResult}.  progress: optional thread-safe
+    callable(n_new_points) (e.g. magrod.progress.bar)."""
     keys = [str(k).lower() for k in keys]
     for k in keys:
         panel_kwargs(k)
     iterates = require_positive_int("iterates", iterates)
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=iterates * len(keys), desc="poincare", unit="it", leave=False, smoothing=0.05)
-    lock = threading.Lock()
-
-    def tick(k):
-        if bar is not None:
-            with lock:
-                bar.update(k)
 
     def one(k):
-        return k, poincare_map(**panel_kwargs(k), iterates=iterates, progress=tick, **kw)
+        return k, poincare_map(**panel_kwargs(k), iterates=iterates, progress=progress, **kw)
 
-    try:
-        with ThreadPoolExecutor(max_workers=max(1, int(workers))) as ex:
-            return dict(ex.map(one, keys))
-    finally:
-        if bar is not None:
-            bar.close()
-
-
-def _figure(fig_no: str, out_dir, quick=False, iterates=None, workers=2, progress=True,
-            formulation=DEFAULT_FORMULATION,
-            **kw) -> list[str]:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from .io import atomic_savefig, ensure_writable_dir
-
-    out = ensure_writable_dir(out_dir)
-    n = iterates or (500 if quick else 10_000)
-    keys = [f"{fig_no}{c}" for c in "abcd"]
-    results = run_panels(keys, iterates=n, workers=workers, progress=progress, formulation=formulation, **kw)
-    written = []
-    for k in keys:
-        written += list(save_result(results[k], out, f"fig{k}", key=k, label=PANELS[k]["label"]).values())
-    fig, axes = plt.subplots(2, 2, figsize=(10, 8.4), dpi=150)
-    for ax, k in zip(axes.flat, keys):
-        var, val = PANELS[k]["vary"]
-        sym = {"lam": r"$\bar\lambda$", "gamma": r"$\gamma$"}[var]
-        plot_points(ax, results[k], f"({k[1]}) {sym} = {val:g}   [max|$\\bar H$-h| = {results[k].max_abs_dH:.1e}]")
-    p = results[keys[0]].params
-    common = (f"m={p.m:g}, $\\mu$={p.mu:g}, $\\gamma$={p.gamma:g}, $\\delta$={p.delta:g}" if fig_no == "4"
-              else f"m={p.m:g}, $\\delta$={p.delta:g}, $\\bar\\lambda$={p.lam:g}, $\\mu$={p.mu:g}")
-    fig.suptitle(f"Fig. {fig_no}: Poincare sections sin$\\psi$ = 0 at h = {results[keys[0]].h:g} ({common}), "
-                 f"{n} iterates each", fontsize=10)
-    fig.tight_layout()
-    written.append(str(atomic_savefig(fig, out / f"fig{fig_no}.png")))
-    plt.close(fig)
-    return written
-
-
-def figure_4(out_dir, quick=False, **kw) -> list[str]:
-    """fig:poincare1: four panels (lam = 0.135, 0.1575, 0.175, 0.186), per-panel .png/.npz/.json and fig4.png.
-    quick=True uses 500 iterates per panel instead of the paper's 10 000."""
-    return _figure("4", out_dir, quick, **kw)
-
-
-def figure_5(out_dir, quick=False, **kw) -> list[str]:
-    """fig:poincare2: four panels (gamma = 0.15, 0.205, 0.208, 0.24), per-panel files and fig5.png."""
-    return _figure("5", out_dir, quick, **kw)
+    with ThreadPoolExecutor(max_workers=max(1, int(workers))) as ex:
+        return dict(ex.map(one, keys))

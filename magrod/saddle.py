@@ -16,15 +16,13 @@ solution in the four-dimensional system"); that case is not implemented and rais
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 
-import heyoka as hy
 import numpy as np
 
 from .errors import ParameterError
-from .generated import body
+from .generated import scalars
 from .params import RodParams
-from .systems import CFunc, body_functions, body_vars
+from .systems import body_functions, state_index
 
 # mu = 2 lam is a condition on the input; accept the rounding of a decimal input, nothing more
 MU_TOL = 64 * np.finfo(float).eps
@@ -33,20 +31,18 @@ MU_TOL = 64 * np.finfo(float).eps
 HYPERBOLIC_TOL = 1e3 * np.sqrt(np.finfo(float).eps)
 
 
-@lru_cache(maxsize=None)
-def _jacobian_cfunc() -> CFunc:
-    x = body_vars()
-    f = body.rhs(*x, *body.pars())
-    return CFunc([hy.diff(fi, xj) for fi in f for xj in x], x)
+_E31 = state_index("body", "e31")
 
 
 def jacobian(x, pars) -> np.ndarray:
-    """9x9 Jacobian of the body-frame vector field at x (symbolic derivatives compiled by heyoka)."""
-    return _jacobian_cfunc()(np.asarray(x, float), pars).reshape(9, 9)
+    """Jacobian (n x n) of the body-frame vector field at x (symbolic derivatives compiled by heyoka)."""
+    x = np.asarray(x, float)
+    return body_functions()["jacobian"](x, pars).reshape(x.size, x.size)
 
 
-def straight_rod_state(m: float) -> np.ndarray:
-    return np.array([0.0, 0.0, 1.0, 0.0, 0.0, 1.0 / m**2, 0.0, 0.0, 1.0])
+def straight_rod_state(params: RodParams, fp_type=float) -> np.ndarray:
+    """The straight rod (generated scalars.straight_rod_state) in fp_type arithmetic."""
+    return np.array(scalars.straight_rod_state(*[fp_type(v) for v in params.array()]), dtype=fp_type)
 
 
 @dataclass(frozen=True)
@@ -69,9 +65,7 @@ class Saddle:
         in extended precision)."""
         d = np.real(np.exp(-1j * phase) * self.unstable_vector)
         d = (d / np.linalg.norm(d)).astype(fp_type)
-        x = straight_rod_state(self.params.m) if fp_type is float else np.array(
-            [0, 0, 1, 0, 0, fp_type(1) / fp_type(self.params.m) ** 2, 0, 0, 1], dtype=fp_type)
-        return x + fp_type(eps) * d
+        return straight_rod_state(self.params, fp_type) + fp_type(eps) * d
 
     def summary(self) -> dict:
         lam_u = self.unstable_eigenvalue
@@ -83,13 +77,14 @@ class Saddle:
 def straight_rod(params: RodParams) -> Saddle:
     """The saddle at `params` (requires mu = 2 lam and a hyperbolic straight rod; ParameterError otherwise)."""
     p = params
-    if abs(p.mu - 2 * p.lam) > MU_TOL * max(1.0, abs(p.mu)):
-        raise ParameterError("mu", f"only mu = 2 lam is supported (got mu = {p.mu}, 2 lam = {2 * p.lam}): for "
+    mu_level = scalars.straight_rod_mu(**p.as_dict())
+    if abs(p.mu - mu_level) > MU_TOL * max(1.0, abs(p.mu)):
+        raise ParameterError("mu", f"only mu = 2 lam is supported (got mu = {p.mu}, 2 lam = {mu_level}): for "
                                    "mu != 2 lam the straight rod aligned with the field is not on the chart's "
                                    "Casimir level and the saddle-type set is a periodic orbit of the reduced system, "
                                    "which is not implemented")
     pars = p.array()
-    x = straight_rod_state(p.m)
+    x = straight_rod_state(p)
     # equilibrium and Casimir level, to rounding
     f = body_functions()
     scale = max(1.0, 1.0 / p.m**4)
@@ -100,15 +95,15 @@ def straight_rod(params: RodParams) -> Saddle:
     w, V = np.linalg.eig(Jm)
     k = int(np.argmax(w.real + 1e-300 * np.sign(w.imag)))
     # prefer the member of the conjugate pair with b >= 0
-    cand = [i for i in range(9) if abs(w[i].real - w[k].real) <= 1e-12 * max(1, abs(w[k])) and w[i].imag >= 0]
+    cand = [i for i in range(w.size) if abs(w[i].real - w[k].real) <= 1e-12 * max(1, abs(w[k])) and w[i].imag >= 0]
     k = cand[0] if cand else k
     if w[k].real <= HYPERBOLIC_TOL:
-        mc = 2 * np.sqrt(1 + p.gamma) if p.gamma > -1 else float("nan")
+        mc = scalars.m_critical(p.gamma) if p.gamma > -1 else float("nan")
         raise ParameterError("m", f"no saddle: the straight rod is not hyperbolic at these parameters (max Re "
                                   f"eigenvalue {w[k].real:.3g}); at lam = 0 this is m >= m_c = 2 sqrt(1 + gamma) = "
                                   f"{mc:.6g} (eq:buckling_load_2)")
     v = V[:, k] / np.linalg.norm(V[:, k])
-    j = 6 if abs(v[6]) > 1e-3 else int(np.argmax(np.abs(v)))
+    j = _E31 if abs(v[_E31]) > 1e-3 else int(np.argmax(np.abs(v)))
     v = v * np.exp(-1j * np.angle(v[j]))
     H = float(f["H"](x, pars)[0])
     return Saddle(p, x, Jm, w, complex(w[k]), v, H)

@@ -23,21 +23,22 @@ An N-pulse symmetric orbit has its symmetric point at the N-th zero of pbar_thet
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass, field
 from functools import lru_cache
-from pathlib import Path
 
 import heyoka as hy
 import numpy as np
 
+from . import systems
 from .errors import ParameterError, require_positive_int
-from .generated import body, symmetry
+from .generated import scalars, symmetry
+from .generated.names import CHART, PARAMS
 from .params import RodParams
 from .saddle import Saddle, straight_rod
-from .systems import CFunc, body_functions, body_integrator, body_to_euler, body_vars
+from .systems import CFunc, body_functions, body_to_euler
 
-FREE_PARAMETERS = ("lam", "gamma", "delta", "m")
+# mu is not free: it follows the free parameter so that the straight rod stays on the chart's level (mu = 2 lam)
+FREE_PARAMETERS = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))
 EXTENDED_EPS = 1e-9  # ... in extended precision (even crossings, see shoot)
 DEFAULT_EPS = 1e-7  # distance of the launch point from the saddle (documented; results checked insensitive)
 DEFAULT_TOL = 1e-10
@@ -48,36 +49,28 @@ R_DIAG = np.array(symmetry.REVERSOR_DIAG)
 # --- compiled pieces (built once per process) --------------------------------------------------------
 @lru_cache(maxsize=None)
 def _fix_functions():
-    x = body_vars()
+    x = systems.variables("body")
     c = symmetry.fix_conditions(*x)
     grads = [hy.diff(ci, xj) for ci in c for xj in x]
     return CFunc(c, x), CFunc(grads, x)
 
 
-@lru_cache(maxsize=None)
-def _rhs_function():
-    x = body_vars()
-    return CFunc(body.rhs(*x, *body.pars()), x)
-
-
-@lru_cache(maxsize=None)
+@systems.per_thread
 def _crossing_integrator():
-    """Body-frame integrator with a stopping event at m1 e32 - m2 e31 = 0 (i.e. pbar_theta sin(theta) = 0)."""
-    m1, m2, _, _, _, _, e1, e2, _ = body_vars()
-    return body_integrator(np.zeros(9), np.ones(5), t_events=[hy.t_event(m1 * e2 - m2 * e1)])
+    """Body-frame integrator stopping at sin(theta) pbar_theta = 0 (generated event ptheta_sin)."""
+    return systems.integrator("body", events=["ptheta_sin"])
 
 
-@lru_cache(maxsize=None)
+@systems.per_thread
 def _variational_integrator(fp_type=float):
-    """Body system + first-order variational equations w.r.t. the 9 initial values and the 5 parameters
-    (fp_type float or np.longdouble)."""
-    sys_ = body.system()
-    xs = [v for v, _ in sys_]
-    vsys = hy.var_ode_sys(sys_, xs + [hy.par[i] for i in range(5)], order=1)
-    if fp_type is float:
-        return hy.taylor_adaptive(vsys, [0.0] * 9, pars=[1.0] * 5, compact_mode=True, tol=0.0)
-    return hy.taylor_adaptive(vsys, [fp_type(0)] * 9, pars=[fp_type(1)] * 5, compact_mode=True,
-                              tol=fp_type(0), fp_type=fp_type)
+    """Body system + first-order variational equations w.r.t. the initial state and all PARAMS (fp_type float or
+    np.longdouble), built once per thread and reset for every Newton step."""
+    return systems.variational_integrator("body", fp_type=fp_type, tol=0)
+
+
+@systems.per_thread
+def _orbit_integrator():
+    return systems.integrator("body")
 
 
 def fix_residual(x) -> np.ndarray:
@@ -85,23 +78,24 @@ def fix_residual(x) -> np.ndarray:
     return _fix_functions()[0](x, [])
 
 
-def _free_direction(free: str) -> np.ndarray:
-    """d(pars)/d(free): lam moves mu = 2 lam along with it (the saddle needs mu = 2 lam)."""
-    d = np.zeros(5)
-    if free == "lam":
-        d[4], d[1] = 1.0, 2.0
-    else:
-        d[("m", "mu", "gamma", "delta", "lam").index(free)] = 1.0
+_MU = systems.par_index("mu")
+
+
+def _free_direction(params: RodParams, free: str) -> np.ndarray:
+    """d(pars)/d(free): mu follows the free parameter along the straight rod's level (generated
+    straight_rod_mu_gradient: d mu/d lam = 2, the saddle needs mu = 2 lam)."""
+    i = systems.par_index(free)
+    d = np.zeros(len(PARAMS))
+    d[i] = 1.0
+    d[_MU] = scalars.straight_rod_mu_gradient(**params.as_dict())[i]
     return d
 
 
 def _with_free(params: RodParams, free: str | None, value: float) -> RodParams:
     if free is None:
         return params
-    kw = params.as_dict()
-    kw[free] = value
-    if free == "lam":
-        kw["mu"] = 2 * value
+    kw = {**params.as_dict(), free: value}
+    kw["mu"] = scalars.straight_rod_mu(**kw)
     return RodParams(**kw)
 
 
@@ -125,19 +119,17 @@ def unstable_branch(params: RodParams, *, crossings: int = 6, eps: float = DEFAU
     s = saddle or straight_rod(params)
     pars = params.array()
     ta = _crossing_integrator()
-    ta.time = 0.0
-    ta.state[:] = s.launch_point(eps, phase)
-    ta.pars[:] = pars
-    ta.reset_cooldowns()
+    systems.reset(ta, s.launch_point(eps, phase), 0.0, pars)
     out = []
     while len(out) < crossings:
         oc, *_ = ta.propagate_until(t_max)
         if int(oc) != -1:
             break
         x = ta.state.copy()
-        th, ps, _, _, pp = body_to_euler(x, pars)
+        e = dict(zip(CHART, body_to_euler(x, pars)))
         c = fix_residual(x)
-        out.append(Crossing(len(out) + 1, float(ta.time), float(th), float(ps), float(pp), float(c[1])))
+        out.append(Crossing(len(out) + 1, float(ta.time), float(e["theta"]), float(e["psi"]), float(e["ppsi"]),
+                            float(c[1])))
     return out
 
 
@@ -185,7 +177,7 @@ def _launch(params: RodParams, eps: float, fp_type=float):
 
 def _launch_derivative(params, free, eps):
     if free is None:
-        return np.zeros(9)
+        return np.zeros(systems.dim("body"))
     v0 = getattr(params, free)
     h = 1e-6 * max(1.0, abs(v0))
     xp = _launch(_with_free(params, free, v0 + h), eps)[1]
@@ -194,22 +186,13 @@ def _launch_derivative(params, free, eps):
 
 
 def _propagate_var(x0, pars, T, fp_type=float):
+    """(x(T), d x(T)/d x0, d x(T)/d pars) from x0 at t = 0."""
     ta = _variational_integrator(fp_type)
-    ta.time = fp_type(0)
-    st = np.zeros(ta.dim, dtype=fp_type)
-    st[:9] = x0
-    # d x_i / d x0_j = delta_ij, d x_i / d par_k = 0: layout x_i block of 14 entries after the 9 states
-    for i in range(9):
-        st[9 + 14 * i + i] = 1.0
-    ta.state[:] = st
-    ta.pars[:] = np.asarray(pars, dtype=fp_type)
+    systems.reset_variational(ta, np.asarray(x0, dtype=fp_type), np.asarray(pars, dtype=fp_type))
     oc, *_ = ta.propagate_until(fp_type(T))
     if oc != hy.taylor_outcome.time_limit:
         raise RuntimeError(f"variational integration stopped with outcome {oc}")
-    s = ta.state
-    x = s[:9].copy()
-    D = s[9:].reshape(9, 14).astype(float)
-    return x, D[:, :9].copy(), D[:, 9:].copy()
+    return systems.variational_blocks(ta)
 
 
 def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", eps: float | None = None,
@@ -270,13 +253,13 @@ def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", eps: fl
         if res <= tol:
             return ShootingResult(True, f"converged in {it - 1} Newton steps", it - 1, res, crossing, free, p, T,
                                   eps, x0, s.H, history)
-        G = fgrad(x, []).reshape(2, 9)
-        f = _rhs_function()(x, pars)
+        G = fgrad(x, []).reshape(-1, x.size)
+        f = body_functions()["rhs"](x, pars)
         if void_psi:
             dT = -r[0] / (G[0] @ f)
             T += dT
             continue
-        dxdp = Phi @ _launch_derivative(p, free, eps) + Psi @ _free_direction(free)
+        dxdp = Phi @ _launch_derivative(p, free, eps) + Psi @ _free_direction(p, free)
         Jm = np.column_stack([G @ f, G @ dxdp])
         try:
             step = -np.linalg.solve(Jm, r)
@@ -298,13 +281,16 @@ def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", eps: fl
 
 
 # --- the full symmetric orbit --------------------------------------------------------------------------------
+_E31, _E32 = systems.state_index("body", "e31"), systems.state_index("body", "e32")
+
+
 def reversor_at(x_sym) -> np.ndarray:
     """The reversor G_a R_b G_-a (9x9) whose fixed set contains the symmetric point x_sym: a is the direction
     of e_perp there (derive/symmetry.py)."""
-    a = math.atan2(x_sym[7], x_sym[6])
+    a = math.atan2(x_sym[_E32], x_sym[_E31])
     c, s_ = math.cos(a), math.sin(a)
     G3 = np.array([[c, -s_, 0], [s_, c, 0], [0, 0, 1]])
-    G = np.kron(np.eye(3), G3)
+    G = np.kron(np.eye(3), G3)  # the state is three body vectors (m, n, e3), each rotated by G3
     return G @ np.diag(R_DIAG) @ G.T
 
 
@@ -318,16 +304,18 @@ def orbit(result: ShootingResult, n: int = 4001) -> dict:
     pars = p.array()
     half = (n + 1) // 2
     tg = np.linspace(0.0, result.T, half)
-    ta = body_integrator(result.x0, pars)
-    xs = ta.propagate_grid(tg)[5]
+    ta = _orbit_integrator()
+    systems.reset(ta, result.x0, 0.0, pars)
+    xs = ta.propagate_grid(tg)[-1]
     R = reversor_at(xs[-1])
     second = (R @ xs[-2::-1].T).T
     X = np.vstack([xs, second])
     t = np.concatenate([tg, 2 * result.T - tg[-2::-1]])
     Xc = np.ascontiguousarray(X.T)
-    th, ps, _, pt, pp = body_to_euler(Xc, pars)
+    e = dict(zip(CHART, body_to_euler(Xc, pars)))
     H = body_functions()["H"](Xc, pars)[0]
-    return {"t": t, "x": X, "theta": th, "psi": ps, "ptheta": pt, "ppsi": pp, "H": H, "reversor": R}
+    return {"t": t, "x": X, "theta": e["theta"], "psi": e["psi"], "ptheta": e["ptheta"], "ppsi": e["ppsi"], "H": H,
+            "reversor": R}
 
 
 def count_pulses(theta: np.ndarray) -> int:
@@ -364,7 +352,7 @@ def scan(params: RodParams, free: str, values, crossings: int, eps: float = DEFA
         for c in br:
             out[i, c.index - 1] = c.sinpsi
         if progress is not None:
-            progress.update(1)
+            progress(1)
     return out
 
 
@@ -428,13 +416,7 @@ def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, sp
     return found
 
 
-# --- Figures 6 and 7 -----------------------------------------------------------------------------------------
-FIGURES = {
-    6: {"params": RodParams(m=1.7, mu=0.002, gamma=1.0, delta=1.0, lam=0.001), "show": (2, 4),
-        "label": "fig:multimodal1", "caption": "two-pulse (solid) and four-pulse (dashed)"},
-    7: {"params": RodParams(m=1.7, mu=1.0, gamma=0.01, delta=0.01, lam=0.5), "show": (2, 3),
-        "label": "fig:multimodal2", "caption": "two-pulse (solid) and three-pulse (dashed)"},
-}
+# --- the plotted window of Figures 6 and 7 ------------------------------------------------------------------
 THETA_CUT = 1e-3  # the plotted window: where theta first exceeds this (tails are straight rod to O(THETA_CUT))
 
 
@@ -447,108 +429,3 @@ def scaled_arclength(orb: dict, theta_cut: float = THETA_CUT):
     L = T - s_cut
     tau = (t - T) / L
     return tau, np.abs(tau) <= 1.0
-
-
-def write_orbit(entry: dict, out_dir, stem: str, extra: dict | None = None):
-    """Orbit data as .npz (t, body states, reduced coordinates, launch point, pars) + JSON sidecar."""
-    from .io import atomic_savez, atomic_write_json, versions
-
-    orb, r = entry["orbit"], entry["result"]
-    tau, _ = scaled_arclength(orb)
-    npz = atomic_savez(Path(out_dir) / f"{stem}.npz", t=orb["t"], x=orb["x"], theta=orb["theta"], psi=orb["psi"],
-                       ptheta=orb["ptheta"], ppsi=orb["ppsi"], H=orb["H"], tau=tau, x0=r.x0, T=r.T, eps=r.eps,
-                       pars=r.params.array(), reversor=orb["reversor"])
-    meta = {k: v for k, v in entry.items() if k not in ("result", "orbit")}
-    meta.update({"shooting": r.as_dict(), "history": r.history, "versions": versions(),
-                 "scale": "B = C = m3 = 1 (derive/numeric_scale.py): t = s, lengths in units of B/m3",
-                 "tau": f"(s - T)/L, L = T - s(theta first >= {THETA_CUT})", **(extra or {})})
-    js = atomic_write_json(Path(out_dir) / f"{stem}.json", meta)
-    return [str(npz), str(js)]
-
-
-def multipulse(params: RodParams, out_dir=None, *, free: str = "lam", max_pulses: int = 6, span: float = 0.5,
-               samples: int = 81, stem: str = "multipulse", quiet: bool = True) -> dict:
-    """find_orbits + files: one .npz/.json per orbit found and a table (JSON) of all N <= max_pulses."""
-    from tqdm import tqdm
-
-    from .io import atomic_write_json, ensure_writable_dir, versions
-
-    straight_rod(params)  # bad input fails before any file is written
-    if out_dir is not None:
-        ensure_writable_dir(out_dir)
-    t0 = time.perf_counter()
-    with tqdm(total=samples, desc=f"scan {free}", disable=quiet, file=__import__("sys").stderr) as bar:
-        found = find_orbits(params, free=free, max_pulses=max_pulses, span=span, samples=samples, progress=bar)
-    rows = []
-    for e in found:
-        row = {k: v for k, v in e.items() if k not in ("result", "orbit")}
-        if e["success"] and out_dir is not None:
-            row["paths"] = write_orbit(e, out_dir, f"{stem}_N{e['pulses']}",
-                                       {"nominal_params": params.as_dict(), "free": free})
-        rows.append(row)
-    out = {"ok": True, "params": params.as_dict(), "free": free, "span": span, "samples": samples,
-           "orbits": rows, "wall_time_s": time.perf_counter() - t0,
-           "note": "symmetric homoclinic orbits of the straight rod are of codimension one (the launch phase is a "
-                   f"symmetry): each orbit exists at its own value of {free}, found by Newton on (T, {free})"}
-    if out_dir is not None:
-        out["table"] = str(atomic_write_json(Path(out_dir) / f"{stem}_table.json", {**out, "versions": versions()}))
-    return out, found
-
-
-def _figure(number: int, out_dir, quick: bool = False, quiet: bool = True) -> list[str]:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from .io import atomic_savefig, ensure_writable_dir
-
-    spec = FIGURES[number]
-    out_dir = ensure_writable_dir(out_dir)
-    max_pulses = max(spec["show"]) if quick else 6
-    summary, found = multipulse(spec["params"], out_dir, max_pulses=max_pulses, samples=41 if quick else 81,
-                                stem=f"figure{number}", quiet=quiet)
-    paths = [summary["table"]]
-    for row in summary["orbits"]:
-        paths += row.get("paths", [])
-    fig, ax = plt.subplots(figsize=(7, 3.2))
-    for N, style in zip(spec["show"], ("-", "--")):
-        e = found[N - 1]
-        if not e["success"]:
-            continue
-        tau, win = scaled_arclength(e["orbit"])
-        ax.plot(tau[win], e["orbit"]["theta"][win], style, color="k", lw=1.2,
-                label=f"{N}-pulse, lam = {e['free_value']:.6g}, residual {e['residual']:.1e}")
-    p = spec["params"]
-    ax.set_xlim(-1, 1)
-    ax.set_ylim(bottom=0)
-    ax.set_xlabel(r"$(s - s_{sym})/L$")
-    ax.set_ylabel(r"$\theta$")
-    ax.set_title(f"Fig. {number} ({spec['label']}): m={p.m}, gamma={p.gamma}, delta={p.delta}, mu = 2 lam "
-                 f"(paper lam={p.lam})", fontsize=9)
-    ax.legend(fontsize=7, loc="upper right")
-    fig.tight_layout()
-    paths.append(str(atomic_savefig(fig, Path(out_dir) / f"figure{number}.png", dpi=150)))
-    plt.close(fig)
-    # 3-D rod shapes of the orbits shown (directors + extensible centreline, magrod.rod)
-    from . import rod as rodmod
-
-    for N in spec["show"]:
-        e = found[N - 1]
-        if not e["success"]:
-            continue
-        stem = f"figure{number}_N{N}"
-        r = rodmod.from_orbit_file(Path(out_dir) / f"{stem}.npz")
-        paths += rodmod.plot_rod(r, out_dir, stem, title=f"Fig. {number}: {N}-pulse rod, lam = {e['free_value']:.6g}, "
-                                                         f"orthonormality {r['orthonormality']:.1e}")
-    return paths
-
-
-def figure_6(out_dir, quick: bool = False, quiet: bool = True) -> list[str]:
-    """fig:multimodal1: two- and four-pulse orbits near lam = 0.001 (mu = 2 lam), plus N <= 6 table."""
-    return _figure(6, out_dir, quick, quiet)
-
-
-def figure_7(out_dir, quick: bool = False, quiet: bool = True) -> list[str]:
-    """fig:multimodal2: two- and three-pulse orbits near lam = 0.5 (mu = 2 lam), plus N <= 6 table."""
-    return _figure(7, out_dir, quick, quiet)

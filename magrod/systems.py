@@ -280,7 +280,8 @@ def reduced_functions() -> dict:
     x = variables("reduced")
     p = pars()
     return {"H": CFunc([reduced.hamiltonian(*x, *p)], x), "I2": CFunc([reduced.i2bar(*x, *p)], x),
-            "radicand": CFunc([reduced.radicand(*x, *p)], x), "rhs": CFunc(reduced.rhs(*x, *p), x)}
+            "radicand": CFunc([reduced.radicand(*x, *p)], x), "section": CFunc([reduced.section(*x, *p)], x),
+            "rhs": CFunc(reduced.rhs(*x, *p), x)}
 
 
 @lru_cache(maxsize=None)
@@ -295,6 +296,7 @@ def body_functions() -> dict:
             "casimirs": CFunc(body.casimirs(*x, *p), x),
             "casimir_values": CFunc(body.casimir_values(*p), []),
             "rhs": CFunc(f, x),
+            "events": CFunc([e(*x, *p) for e in EVENTS["body"].values()], x),
             "jacobian": CFunc([hy.diff(fi, xj) for fi in f for xj in x], x),
             "to_body": CFunc(body.euler_to_body(*q, *p), q),
             "to_euler": CFunc(body.body_to_euler(*x, *p), x)}

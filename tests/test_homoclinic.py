@@ -168,7 +168,9 @@ def test_cli(capsys, tmp_path):
 
 
 def test_figure_3(tmp_path):
-    paths = H.figure_3(tmp_path, quick=True, progress=False)
+    from magrod.figures.homoclinic import figure_3
+
+    paths = figure_3(tmp_path, quick=True)
     assert {p.rsplit(".", 1)[1] for p in paths} == {"png", "npz", "json"}
     meta = json.loads((tmp_path / "fig3.json").read_text())
     assert meta["orbits"]["ext"]["verify"]["max_dev_theta"] <= 1e-12

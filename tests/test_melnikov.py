@@ -126,7 +126,9 @@ def test_cli(capsys):
 
 
 def test_figure_2(tmp_path):
-    paths = M.figure_2(tmp_path, quick=True, progress=False)
+    from magrod.figures.melnikov import figure_2
+
+    paths = figure_2(tmp_path, quick=True)
     assert {p.rsplit(".", 1)[1] for p in paths} == {"png", "npz", "json"}
     meta = json.loads((tmp_path / "fig2.json").read_text())
     assert meta["scan_sign_changes"]["printed"] == 0

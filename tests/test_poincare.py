@@ -9,7 +9,9 @@ import pytest
 from magrod import cli, systems
 from magrod.errors import ParameterError
 from magrod.params import RodParams
-from magrod.poincare import (PANELS, figure_4, figure_5, panel_kwargs, poincare_map, run_panels, solve_p_psi)
+from magrod.figures.poincare import _figure, figure_4, figure_5
+from magrod.poincare import poincare_map, run_panels, solve_p_psi
+from magrod.printed import PANELS, panel_kwargs
 
 EPS = np.finfo(float).eps
 # the issue's conservation target (the paper reports 3.6e-9 / 3.9e-9 with DOP853 at rtol 1e-12)
@@ -207,7 +209,7 @@ def test_cli_json_shape_and_files(tmp_path, capsys):
 
 
 def test_figure_4_quick_writes_panels(tmp_path):
-    paths = figure_4(tmp_path, quick=True, iterates=60, progress=False)
+    paths = _figure("4", tmp_path, iterates=60)
     names = {p.rsplit("/", 1)[-1] for p in paths}
     assert {"fig4.png", "fig4a.png", "fig4d.npz", "fig4c.json"} <= names
     for k in "abcd":
@@ -219,7 +221,7 @@ def test_figure_4_quick_writes_panels(tmp_path):
 @pytest.mark.slow
 @pytest.mark.parametrize("fig", ["4", "5"])
 def test_full_paper_figure(tmp_path, fig):
-    paths = (figure_4 if fig == "4" else figure_5)(tmp_path, progress=False)
+    paths = (figure_4 if fig == "4" else figure_5)(tmp_path)
     assert len(paths) == 13
     for k in "abcd":
         meta = json.loads((tmp_path / f"fig{fig}{k}.json").read_text())
@@ -229,6 +231,16 @@ def test_full_paper_figure(tmp_path, fig):
 
 @pytest.mark.slow
 def test_full_panels_reduced_formulation_conserve_hbar():
-    res = run_panels(list(PANELS), iterates=10_000, progress=False, formulation="reduced")
+    res = run_panels(list(PANELS), iterates=10_000, formulation="reduced")
     for k, r in res.items():
         assert r.success and r.max_abs_dH <= DH_BOUND, k
+
+
+def test_cli_choices_match_the_numerics():
+    """The CLI lists the choices without importing heyoka; they must be the numerics' own."""
+    from magrod import poincare
+    from magrod.cli import poincare as cli_poincare
+
+    assert set(cli_poincare.DIRECTIONS) == set(poincare.DIRECTIONS)
+    assert tuple(cli_poincare.BRANCHES) == tuple(poincare.BRANCHES)
+    assert set(cli_poincare.FORMULATIONS) == set(poincare.FORMULATIONS)

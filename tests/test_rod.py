@@ -13,7 +13,7 @@ EPS = np.finfo(float).eps
 def test_straight_rod_centreline(gamma, delta):
     p = RodParams(m=1.7, mu=0.002, gamma=gamma, delta=delta, lam=0.001)
     s = np.linspace(0.0, 20.0, 41)
-    r = rod.reconstruct(straight_rod_state(p.m), p.array(), s, D0=np.eye(3))
+    r = rod.reconstruct(straight_rod_state(p), p.array(), s, D0=np.eye(3))
     # v3 = 1 + n3/K with n3 = 1/m^2 and 1/K = (gamma + delta) m^2 at this scale: r(s) = (0, 0, (1 + gamma + delta) s)
     v3 = 1 + gamma + delta
     np.testing.assert_allclose(r["r"][:, 2], v3 * s, rtol=0, atol=64 * EPS * v3 * s[-1])

@@ -47,9 +47,10 @@ def test_two_pulse_orbit_reversible_and_on_level():
     assert abs(res.params.mu - 2 * res.params.lam) <= 4 * EPS * res.params.mu
     assert np.max(np.abs(orb["H"] - res.saddle_H)) <= 1e-13
     # reversibility: integrate the ODE past the symmetric point and compare with R applied to the first half
-    from magrod.systems import body_integrator
+    from magrod import systems
 
-    ta = body_integrator(res.x0, res.params.array())
+    ta = systems.integrator("body")
+    systems.reset(ta, res.x0, 0.0, res.params.array())
     s = np.linspace(res.T, res.T + 0.5 * res.T, 201)
     fwd = ta.propagate_grid(np.concatenate([[0.0], s]))[5][1:]
     back = shooting.orbit(res, n=4001)
@@ -92,6 +93,8 @@ def test_cli_exit_codes(tmp_path):
 
 @pytest.mark.slow
 def test_figures_full(tmp_path):
-    paths6 = shooting.figure_6(tmp_path)
-    paths7 = shooting.figure_7(tmp_path)
+    from magrod.figures.multipulse import figure_6, figure_7
+
+    paths6 = figure_6(tmp_path)
+    paths7 = figure_7(tmp_path)
     assert any(p.endswith("figure6.png") for p in paths6) and any(p.endswith("figure7.png") for p in paths7)

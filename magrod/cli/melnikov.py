@@ -4,7 +4,8 @@ function, M(psi0) = A sin(psi0) sqrt(a - 2b) (paper sec. 7, eq:Mel_ext), with it
 A(gamma) = 0 at the given m."""
 from __future__ import annotations
 
-from .errors import ParameterError, require_finite
+from ..errors import ParameterError
+from .options import number
 
 
 def add_arguments(p):
@@ -18,17 +19,17 @@ def add_arguments(p):
 
 
 def run(args) -> dict:
-    from .melnikov import INTEGRANDS, amplitude, amplitude_zero
+    from ..melnikov import INTEGRANDS, amplitude, amplitude_zero
 
     which = list(INTEGRANDS) if args.integrand == "both" else [args.integrand]
     out = {"ok": True, "convention": "M(psi0) = A * sin(psi0) * sqrt(a - 2b), A = Int F dt along the "
                                      "lambdabar = 0 homoclinic orbit; error = |A_float64 - A_real128| + tail bound"}
-    m = require_finite("m", args.m)
+    m = number("m", args.m)
     if args.find_zero:
-        lo, hi = (require_finite("bracket", b) for b in args.bracket)
+        lo, hi = (number("bracket", b) for b in args.bracket)
         if not 0.0 <= lo < hi:
             raise ParameterError("bracket", f"need 0 <= LO < HI, got {lo}, {hi}")
-        from .homoclinic import validate
+        from ..homoclinic import validate
 
         validate(m, lo)
         out["zeros"] = {k: amplitude_zero(m, k, (lo, hi)) for k in which}

@@ -1,22 +1,12 @@
-"""`magrod check`: the integrability report (Casimirs found, involution tables per regime, reduction
-verified, I2bar conservation cases), read from the checked-in derivation report generated/report.json.
-`--rederive` re-runs the SymPy derivation live (needs the `derive` extra: sympy, mpmath)."""
+"""The integrability report: Casimirs found, involution tables per regime, reduction verified, I2bar
+conservation cases, read from the checked-in derivation report generated/report.json (no SymPy), or computed
+live by SymPy (`rederive`, `custom_involution`: needs the `derive` extra)."""
 from __future__ import annotations
 
 import json
 from importlib import resources
 
 SECTIONS = ("casimirs", "involution", "jacobi", "poisson_map", "I2bar_conservation")
-
-
-def add_arguments(p):
-    p.add_argument("--rederive", action="store_true",
-                   help="re-run the SymPy derivation instead of reading generated/report.json (slower)")
-    p.add_argument("--all", action="store_true", help="include every derived result, not only the integrability ones")
-    p.add_argument("--subs", metavar="NAME=VALUE,...",
-                   help="compute the involution table of H, I1, I2 and the Casimirs live for a modified model, e.g. "
-                        "'B2=B1,c_J=c_H,lambda=0' (symbols: B1 B2 C c_H c_J c_K lambda; c = 1/stiffness, so "
-                        "c_H=0,c_J=0,c_K=0 is the inextensible, unshearable rod); needs sympy")
 
 
 def load_report(rederive: bool = False) -> dict:
@@ -31,18 +21,37 @@ def load_report(rederive: bool = False) -> dict:
     return rep
 
 
-def run(args) -> dict:
-    if args.subs:
-        return _custom(args.subs)
-    rep = load_report(args.rederive)
+def summary(rederive: bool = False, everything: bool = False) -> dict:
+    """The integrability results (all derived results if `everything`), their statuses and the keys that
+    disagree with the printed paper."""
+    rep = load_report(rederive)
     res = rep["results"]
-    chosen = res if args.all else [r for r in res if r["key"] in SECTIONS]
+    chosen = res if everything else [r for r in res if r["key"] in SECTIONS]
     disagreements = [r["key"] for r in res if r["status"] == "disagrees"]
     return {"ok": True, "source": rep["source"], "results": chosen,
             "statuses": {r["key"]: r["status"] for r in res}, "disagreements_with_paper": disagreements}
 
 
+def custom_involution(text: str) -> dict:
+    """Brackets among H, I1, I2 and the Casimirs for the model with the substitution `text` (live SymPy)."""
+    from .derive import poisson
+    from .errors import ParameterError
+
+    try:
+        sub = poisson.parse_substitution(text)
+    except (ValueError, SyntaxError) as exc:
+        raise ParameterError("subs", str(exc)) from None
+    table = poisson.involution_table(sub)
+    res = {"key": "involution (custom)", "label": "eq:magnetic_lagrange, eq:int2", "status": "computed",
+           "title": f"Brackets among H, I1, I2 and the Casimirs with {text}",
+           "method": "symbolic: grad f . J grad g expanded and factored (live)",
+           "details": {"tables": {text: table}}}
+    return {"ok": True, "source": "computed now", "results": [res], "statuses": {},
+            "disagreements_with_paper": [], "substitution": text}
+
+
 def format_text(out: dict) -> str:
+    """Plain-text rendering of summary() / custom_involution() (used by `magrod check` and REPORT.md)."""
     lines = [f"magrod integrability report ({out['source']})", ""]
     for r in out["results"]:
         lines.append(f"[{r['status']}] {r['label']}: {r['title']}")
@@ -63,20 +72,3 @@ def format_text(out: dict) -> str:
     lines.append("disagreements with the printed paper (see docs/errata.md): "
                  + (", ".join(out["disagreements_with_paper"]) or "none"))
     return "\n".join(lines)
-
-
-def _custom(text: str) -> dict:
-    from .derive import poisson
-    from .errors import ParameterError
-
-    try:
-        sub = poisson.parse_substitution(text)
-    except (ValueError, SyntaxError) as exc:
-        raise ParameterError("subs", str(exc)) from None
-    table = poisson.involution_table(sub)
-    res = {"key": "involution (custom)", "label": "eq:magnetic_lagrange, eq:int2", "status": "computed",
-           "title": f"Brackets among H, I1, I2 and the Casimirs with {text}",
-           "method": "symbolic: grad f . J grad g expanded and factored (live)",
-           "details": {"tables": {text: table}}}
-    return {"ok": True, "source": "computed now", "results": [res], "statuses": {},
-            "disagreements_with_paper": [], "substitution": text}

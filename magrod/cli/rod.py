@@ -7,20 +7,19 @@ from pathlib import Path
 def add_arguments(p):
     p.add_argument("--from", dest="source", required=True, help="orbit .npz written by `magrod multipulse`")
     p.add_argument("--out", default=None, help="output directory (default: next to the input file)")
-    p.add_argument("--points", type=int, default=3001, help="samples along the rod")
+    p.add_argument("--points", default="3001", help="samples along the rod")
 
 
 def run(args) -> dict:
-    from . import rod
-    from .errors import ParameterError
-    from .io import atomic_write_json, versions
+    from ..figures.rod import plot_rod, rod_from_orbit_file
+    from ..io import atomic_write_json, versions
+    from .options import integer
 
-    if args.points < 2:
-        raise ParameterError("points", f"must be >= 2, got {args.points}")
-    r = rod.from_orbit_file(args.source, n=args.points)
+    points = integer("points", args.points, minimum=2)
+    r = rod_from_orbit_file(args.source, n=points)
     out = Path(args.out) if args.out else Path(args.source).parent
     stem = Path(args.source).stem
-    paths = rod.plot_rod(r, out, stem, title=f"{stem}: pars (m, mu, gamma, delta, lam) = "
+    paths = plot_rod(r, out, stem, title=f"{stem}: pars (m, mu, gamma, delta, lam) = "
                                              f"{[float(f'{v:.6g}') for v in r['pars']]}")
     res = {"ok": True, "source": str(args.source), "paths": paths, "length": float(r["s"][-1] - r["s"][0]),
            "end_to_end": float(abs(r["r"][-1] - r["r"][0]).max()), "orthonormality": r["orthonormality"],

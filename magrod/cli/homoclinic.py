@@ -3,7 +3,7 @@ sec. 6): roots u_pm, k, kappa, theta_max, h, m_c, and the check of the closed fo
 multiprecision heyoka integration of Hamilton's equations from the turning point (magrod.homoclinic.verify)."""
 from __future__ import annotations
 
-from .errors import require_finite
+from .options import integer, number
 
 
 def add_arguments(p):
@@ -15,18 +15,16 @@ def add_arguments(p):
 
 
 def run(args) -> dict:
-    from .errors import ParameterError, require_positive_int
-    from .homoclinic import homoclinic, verify
+    from ..errors import ParameterError
+    from ..homoclinic import homoclinic, verify
 
     orbit = homoclinic(args.m, args.gamma)
     out = {"ok": True, **orbit.summary(), "kirchhoff": orbit.kirchhoff}
     if not args.no_verify:
-        theta_stop = require_finite("theta-stop", args.theta_stop)
+        theta_stop = number("theta-stop", args.theta_stop)
         if not 0.0 < theta_stop < orbit.theta_max:
             raise ParameterError("theta-stop", f"must be in (0, theta_max = {orbit.theta_max:.6g}), got {theta_stop}")
-        n = require_positive_int("n", int(float(args.n)) if str(args.n).replace(".", "", 1).isdigit() else args.n)
-        if n < 2:
-            raise ParameterError("n", f"must be >= 2, got {n}")
+        n = integer("n", args.n, minimum=2)
         v = verify(orbit, theta_stop=theta_stop, n=n)
         v.pop("arrays")
         out["verify"] = v

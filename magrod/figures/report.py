@@ -1,125 +1,17 @@
-"""`magrod reproduce`: every figure and claim of the paper in one command, with a claim-by-claim REPORT.md.
-
-Nothing symbolic is re-derived (generated/ is used as is).  Figures run as independent tasks in worker
-processes (--jobs), each task writing its files atomically; a task whose stamp (same quick flag, same
-package versions, all files present) is found in OUT/.state/ is skipped, so an interrupted run resumes.
-Ctrl-C stops the workers, leaves no half-written file and exits non-zero (130)."""
+"""REPORT.md of `magrod reproduce`: claim rows (what the paper says, what magrod computed, the verdict) built
+from the derivation report and from the sidecars the figure builders wrote."""
 from __future__ import annotations
 
-import concurrent.futures as cf
 import json
 import os
 import platform
-import sys
-import time
 from pathlib import Path
 
-from . import __version__
-from .errors import ParameterError, require_positive_int
-from .figures_cli import FIGURES, figure_kwargs, resolve
-from .io import atomic_write_json, atomic_write_text, ensure_writable_dir, versions
-
-TASKS = ["2", "3", "4", "5", "6", "7"]
+from .. import __version__
+from ..io import versions
+from ..printed import PAPER_CLAIMS, MULTIPULSE
 
 
-def add_arguments(p):
-    p.add_argument("--out", default="out", help="output directory for PNGs, data, sidecars and REPORT.md")
-    p.add_argument("--quick", action="store_true", help="reduced sizes (fewer Poincare iterates etc.), ~1 min")
-    p.add_argument("--jobs", type=int, default=2, help="worker processes (figures run in parallel)")
-    p.add_argument("--only", default=",".join(TASKS), help="comma-separated figure numbers to run")
-    p.add_argument("--force", action="store_true", help="ignore finished-task stamps and recompute everything")
-
-
-def _stamp_path(out: Path, task: str) -> Path:
-    return out / ".state" / f"figure_{task}.json"
-
-
-def _stamp_ok(out: Path, task: str, quick: bool) -> dict | None:
-    p = _stamp_path(out, task)
-    if not p.exists():
-        return None
-    try:
-        st = json.loads(p.read_text())
-    except (OSError, ValueError):
-        return None
-    if st.get("quick") != quick or st.get("versions") != versions():
-        return None
-    if not all(Path(x).exists() for x in st.get("paths", [])):
-        return None
-    return st
-
-
-def _run_task(task: str, out: str, quick: bool) -> dict:
-    """Worker: one figure.  Runs in a separate process; returns paths and wall time."""
-    fn = resolve(task)
-    t0 = time.perf_counter()
-    res = fn(Path(out), **figure_kwargs(fn, quick, progress=False))
-    paths = res.get("paths", []) if isinstance(res, dict) else list(res)
-    return {"task": task, "paths": [str(p) for p in paths], "wall_s": time.perf_counter() - t0}
-
-
-def run(args) -> dict:
-    out = ensure_writable_dir(Path(args.out))
-    jobs = require_positive_int("jobs", args.jobs)
-    tasks = [t.strip() for t in args.only.split(",") if t.strip()]
-    for t in tasks:
-        if t not in FIGURES:
-            raise ParameterError("only", f"unknown figure {t!r}; choose from {', '.join(TASKS)}")
-    (out / ".state").mkdir(exist_ok=True)
-    t0 = time.perf_counter()
-    done, todo = {}, []
-    for t in tasks:
-        st = None if args.force else _stamp_ok(out, t, args.quick)
-        if st:
-            done[t] = {**st, "skipped": True}
-        else:
-            todo.append(t)
-    progress = None
-    if not args.quiet:
-        from tqdm import tqdm
-
-        progress = tqdm(total=len(tasks), initial=len(done), desc="reproduce", unit="figure", file=sys.stderr)
-    failures = {}
-    import multiprocessing
-
-    # spawn, not fork: workers build their own LLVM/heyoka state (the on-disk JIT cache makes this cheap)
-    ex = cf.ProcessPoolExecutor(max_workers=min(jobs, max(1, len(todo))),
-                                mp_context=multiprocessing.get_context("spawn"))
-    try:
-        futs = {ex.submit(_run_task, t, str(out), args.quick): t for t in todo}
-        for fut in cf.as_completed(futs):
-            t = futs[fut]
-            try:
-                r = fut.result()
-            except Exception as exc:  # a failed figure is reported, the others still finish
-                failures[t] = f"{type(exc).__name__}: {exc}"
-            else:
-                st = {"task": t, "quick": args.quick, "versions": versions(), "paths": r["paths"],
-                      "wall_s": r["wall_s"]}
-                atomic_write_json(_stamp_path(out, t), st)
-                done[t] = {**st, "skipped": False}
-            if progress:
-                progress.update(1)
-    except KeyboardInterrupt:
-        for f in futs:
-            f.cancel()
-        ex.shutdown(wait=False, cancel_futures=True)
-        raise
-    finally:
-        ex.shutdown(wait=True, cancel_futures=True)
-        if progress:
-            progress.close()
-    report_path = out / "REPORT.md"
-    rows = claims(out, args.quick)
-    atomic_write_text(report_path, report_markdown(rows, done, failures, args.quick, time.perf_counter() - t0))
-    return {"ok": not failures, "out": str(out), "report": str(report_path), "quick": args.quick,
-            "figures": {t: {"paths": d["paths"], "skipped": d["skipped"], "wall_s": d.get("wall_s")}
-                        for t, d in sorted(done.items())},
-            "failures": failures, "claims": rows, "wall_s": time.perf_counter() - t0}
-
-
-# ----------------------------------------------------------------------------------------------------------
-# claims
 
 def _verdict(status: str) -> str:
     return {"holds": "reproduced", "holds under stated assumptions": "reproduced (under stated assumptions)",
@@ -225,12 +117,14 @@ def _fig3(out, quick):
 
 @_claim
 def _fig4(out, quick):
-    return _poincare_claims(out, "4", "fig:poincare1", 3.6e-9, 84000, quick)
+    c = PAPER_CLAIMS["4"]
+    return _poincare_claims(out, "4", c["label"], c["max_abs_dH"], c["t_final"], quick)
 
 
 @_claim
 def _fig5(out, quick):
-    return _poincare_claims(out, "5", "fig:poincare2", 3.9e-9, 81000, quick)
+    c = PAPER_CLAIMS["5"]
+    return _poincare_claims(out, "5", c["label"], c["max_abs_dH"], c["t_final"], quick)
 
 
 def _multipulse_claims(out: Path, fig: int, label: str, shown: tuple, paper_lam: float) -> list[dict]:
@@ -252,12 +146,14 @@ def _multipulse_claims(out: Path, fig: int, label: str, shown: tuple, paper_lam:
 
 @_claim
 def _fig6(out, quick):
-    return _multipulse_claims(out, 6, "fig:multimodal1", (2, 4), 0.001)
+    f = MULTIPULSE[6]
+    return _multipulse_claims(out, 6, f["label"], f["show"], f["params"].lam)
 
 
 @_claim
 def _fig7(out, quick):
-    return _multipulse_claims(out, 7, "fig:multimodal2", (2, 3), 0.5)
+    f = MULTIPULSE[7]
+    return _multipulse_claims(out, 7, f["label"], f["show"], f["params"].lam)
 
 
 def claims(out: Path, quick: bool) -> list[dict]:
@@ -274,7 +170,7 @@ def claims(out: Path, quick: bool) -> list[dict]:
 def report_markdown(rows, done, failures, quick, wall) -> str:
     from importlib import resources
 
-    from .check import format_text as check_text, load_report
+    from ..integrability import format_text as check_text, load_report
 
     lines = ["# magrod reproduction report", "",
              f"Paper: Sinden & van der Heijden, *Spatial chaos of an extensible conducting rod in a uniform magnetic "
@@ -303,10 +199,3 @@ def report_markdown(rows, done, failures, quick, wall) -> str:
     return "\n".join(lines) + "\n"
 
 
-def format_text(r: dict) -> str:
-    lines = [f"reproduce: {'ok' if r['ok'] else 'with failures'} in {r['wall_s']:.1f} s -> {r['report']}"]
-    for t, d in r["figures"].items():
-        lines.append(f"  figure {t}: {len(d['paths'])} files" + (" (skipped: already done)" if d["skipped"] else ""))
-    for t, msg in r["failures"].items():
-        lines.append(f"  figure {t}: FAILED {msg}")
-    return "\n".join(lines)

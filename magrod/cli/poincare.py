@@ -3,29 +3,33 @@ parameters (--m --mu --gamma --delta --lam --h --theta0 --ptheta0 [--psi0]).  Op
 the panel's values.  With --out DIR the section is written as DIR/<stem>.npz, .json and .png (atomically)."""
 from __future__ import annotations
 
-import numpy as np
+from ..errors import ParameterError
+from ..generated.names import PARAMS
+from .options import add_params, integer, number, params_from
 
-from .errors import ParameterError, require_finite, require_positive_int
-from .params import RodParams
-
-_FREE = ("m", "mu", "gamma", "delta", "lam", "h", "theta0", "ptheta0", "psi0")
+_START = ("h", "theta0", "ptheta0", "psi0")
+# the choices, known without importing heyoka (checked against magrod.poincare in the tests)
+DIRECTIONS = ("any", "negative", "positive")
+BRANCHES = ("any", "0", "pi")
+FORMULATIONS = ("reduced", "body")
 
 
 def add_arguments(p):
-    from .poincare import BRANCHES, DEFAULT_FORMULATION, DIRECTIONS, FORMULATIONS, PANELS
+    from ..printed import PANELS
 
     p.add_argument("--figure", metavar="PANEL", help=f"a panel of the paper: {', '.join(PANELS)}")
-    g = p.add_argument_group("free parameters (eq:nondim_1) and start (needed without --figure)")
-    for name in _FREE:
+    add_params(p, help_suffix=" (needed without --figure)")
+    g = p.add_argument_group("start (needed without --figure)")
+    for name in _START:
         g.add_argument(f"--{name}", type=str, default=None, help="psi0 defaults to 0" if name == "psi0" else None)
     g.add_argument("--ppsi0", type=str, default=None, help="give pbar_psi0 instead of --h (then h = Hbar(start))")
     p.add_argument("--iterates", type=str, default="10000", help="number of section points")
     p.add_argument("--root", default="smallest",
                    help="which root pbar_psi of Hbar = h: largest, smallest or an index into the ascending roots")
-    p.add_argument("--direction", default="positive", choices=sorted(DIRECTIONS),
+    p.add_argument("--direction", default="positive", choices=DIRECTIONS,
                    help="sign of d/dt sin(psi) at recorded crossings")
-    p.add_argument("--branch", default="any", choices=list(BRANCHES), help="psi = 0, psi = pi or both")
-    p.add_argument("--formulation", default=DEFAULT_FORMULATION, choices=list(FORMULATIONS),
+    p.add_argument("--branch", default="any", choices=BRANCHES, help="psi = 0, psi = pi or both")
+    p.add_argument("--formulation", default="body", choices=FORMULATIONS,
                    help="body: 9-D body frame; reduced: the paper's 4-D system (body frame near chart singularities)")
     p.add_argument("--t-max", type=str, default=None, help="max-time guard (default 100 x iterates)")
     p.add_argument("--out", default=None, help="write <stem>.npz/.json/.png into this directory")
@@ -33,7 +37,7 @@ def add_arguments(p):
 
 
 def _inputs(args) -> tuple[dict, str | None]:
-    from .poincare import PANELS, panel_kwargs
+    from ..printed import PANELS, panel_kwargs
 
     vals = {}
     key = None
@@ -41,17 +45,18 @@ def _inputs(args) -> tuple[dict, str | None]:
         key = str(args.figure).lower()
         kw = panel_kwargs(key)
         vals = dict(kw["params"].as_dict(), h=kw["h"], theta0=kw["theta0"], ptheta0=kw["ptheta0"], psi0=kw["psi0"])
-    for name in _FREE:
+    vals = params_from(args, vals)
+    for name in _START:
         v = getattr(args, name)
         if v is not None:
-            vals[name] = require_finite(name, v)
+            vals[name] = number(name, v)
     if args.ppsi0 is not None:
         if args.h is not None:
             raise ParameterError("ppsi0", "give either --h or --ppsi0, not both")
-        vals["p_psi0"] = require_finite("ppsi0", args.ppsi0)
+        vals["p_psi0"] = number("ppsi0", args.ppsi0)
         vals.pop("h", None)  # a panel's h is replaced by Hbar at the given start
     vals.setdefault("psi0", 0.0)
-    for name in ("m", "mu", "gamma", "delta", "lam", "theta0", "ptheta0"):
+    for name in (*PARAMS, "theta0", "ptheta0"):
         if name not in vals:
             raise ParameterError(name, f"missing: give --{name} (or --figure one of {', '.join(PANELS)})")
     if "h" not in vals and "p_psi0" not in vals:
@@ -60,58 +65,40 @@ def _inputs(args) -> tuple[dict, str | None]:
 
 
 def run(args) -> dict:
-    from .io import ensure_writable_dir
-    from .poincare import PANELS, poincare_map, save_result, solve_p_psi
+    from ..figures.poincare import save_result
+    from ..io import ensure_writable_dir
+    from ..params import RodParams
+    from ..poincare import _admissible_interval, _radicand, choose_root, poincare_map, solve_p_psi
+    from ..printed import PANELS
+    from ..progress import bar
 
     vals, key = _inputs(args)
-    params = RodParams(*(vals[k] for k in ("m", "mu", "gamma", "delta", "lam")))
-    iterates = require_positive_int("iterates", _int(args.iterates))
-    t_max = None if args.t_max is None else require_finite("t_max", args.t_max)
+    params = RodParams(**{k: vals[k] for k in PARAMS})
+    iterates = integer("iterates", args.iterates)
+    t_max = None if args.t_max is None else number("t_max", args.t_max)
     if t_max is not None and t_max <= 0:
         raise ParameterError("t_max", f"must be > 0, got {t_max}")
     start = dict(theta0=vals["theta0"], ptheta0=vals["ptheta0"], psi0=vals["psi0"])
-    root = args.root if args.root in ("largest", "smallest") else _int(args.root, "root")
+    root = args.root if args.root in ("largest", "smallest") else integer("root", args.root, minimum=-10**9)
     # every input error is raised before anything is computed or written
     if "p_psi0" not in vals:
-        from .poincare import choose_root
-
         choose_root(solve_p_psi(params, vals["h"], **start), root)
     else:
-        from .poincare import _admissible_interval
-
         lo, hi = _admissible_interval(params)
         if not lo < vals["p_psi0"] < hi:
             raise ParameterError("ppsi0", f"the square root sqrt(mu - 2 lam pbar_psi) of Hbar is imaginary or zero at "
-                                          f"the start: mu - 2 lam ppsi0 = {params.mu - 2 * params.lam * vals['p_psi0']:.6g}")
+                                          f"the start: mu - 2 lam ppsi0 = {_radicand(params, vals['p_psi0']):.6g}")
     out = ensure_writable_dir(args.out) if args.out is not None else None
 
-    bar = None
-    if not args.quiet:
-        from tqdm import tqdm
-
-        bar = tqdm(total=iterates, desc="poincare", unit="it", leave=False)
-    try:
+    with bar(iterates, "poincare", not args.quiet) as update:
         res = poincare_map(params, vals.get("h"), **start, p_psi0=vals.get("p_psi0"), iterates=iterates, root=root,
                            direction=args.direction, branch=args.branch, formulation=args.formulation, t_max=t_max,
-                           progress=bar.update if bar is not None else None)
-    finally:
-        if bar is not None:
-            bar.close()
+                           progress=update)
     paths = {}
     if out is not None:
         stem = args.stem or (f"fig{key}" if key else "poincare")
         paths = save_result(res, out, stem, key=key, label=PANELS[key]["label"] if key else None)
     return {"ok": bool(res.success), "panel": key, **res.summary(), "output": paths}
-
-
-def _int(v, name="iterates"):
-    try:
-        f = float(v)
-    except (TypeError, ValueError):
-        raise ParameterError(name, f"must be an integer, got {v!r}") from None
-    if not np.isfinite(f) or f != int(f):
-        raise ParameterError(name, f"must be an integer, got {v!r}")
-    return int(f)
 
 
 def format_text(r: dict) -> str:

@@ -1,44 +1,33 @@
 """`magrod` command line.  Every subcommand accepts --json and then prints exactly one JSON object on stdout
 (progress goes to stderr).  Exit codes: 0 success, 1 computation failed, 2 invalid input (one line naming
-the parameter and the violated condition, no traceback)."""
+the parameter and the violated condition, no traceback).
+
+One module per subcommand in this package, each with add_arguments(parser), run(args) -> dict and
+format_text(dict) -> str.  Subcommand modules import nothing heavy at module level (heyoka, matplotlib, SymPy are
+imported inside run), so `magrod check` never loads heyoka or matplotlib."""
 from __future__ import annotations
 
 import argparse
 import importlib
-import importlib.util
 import json
 import sys
 
-from .errors import ParameterError
+from ..errors import ParameterError
 
-# subcommand -> module; each module defines add_arguments(parser), run(args) -> dict, format_text(dict) -> str.
-# Imported lazily so that `magrod check` does not pay for heyoka/matplotlib imports it does not need.
+# subcommand -> (module, help)
 SUBCOMMANDS = {
-    "check": ("magrod.check", "integrability report (Casimirs, involution tables, reduction, I2bar cases)"),
+    "check": ("magrod.cli.check", "integrability report (Casimirs, involution tables, reduction, I2bar cases)"),
+    "poincare": ("magrod.cli.poincare", "Poincare sections sin(psi) = 0 (Figures 4, 5)"),
+    "homoclinic": ("magrod.cli.homoclinic", "homoclinic orbit of the extensible rod at lambdabar = 0"),
+    "melnikov": ("magrod.cli.melnikov", "Mel'nikov function amplitude (eq:Mel_ext)"),
+    "figure": ("magrod.cli.figure", "write a figure of the paper (2, 3, 4, 5, 6, 7)"),
+    "multipulse": ("magrod.cli.multipulse", "multipulse homoclinic orbits by shooting (Figures 6, 7)"),
+    "rod": ("magrod.cli.rod", "3-D rod shape from a computed solution"),
+    "reproduce": ("magrod.cli.reproduce", "reproduce every figure and claim of the paper"),
 }
 
 
-def register(name: str, module: str, help_: str) -> None:
-    SUBCOMMANDS[name] = (module, help_)
-
-
-def _optional_subcommands():
-    # capabilities that live in their own modules; listed here so `magrod --help` shows them all
-    for name, module, help_ in [
-        ("poincare", "magrod.poincare_cli", "Poincare sections sin(psi) = 0 (Figures 4, 5)"),
-        ("homoclinic", "magrod.homoclinic_cli", "homoclinic orbit of the extensible rod at lambdabar = 0"),
-        ("melnikov", "magrod.melnikov_cli", "Mel'nikov function amplitude (eq:Mel_ext)"),
-        ("figure", "magrod.figures_cli", "write a figure of the paper (2, 3, 4, 5, 6, 7)"),
-        ("multipulse", "magrod.multipulse_cli", "multipulse homoclinic orbits by shooting (Figures 6, 7)"),
-        ("rod", "magrod.rod_cli", "3-D rod shape from a computed solution"),
-        ("reproduce", "magrod.reproduce", "reproduce every figure and claim of the paper"),
-    ]:
-        if importlib.util.find_spec(module) is not None:
-            SUBCOMMANDS.setdefault(name, (module, help_))
-
-
 def build_parser() -> argparse.ArgumentParser:
-    _optional_subcommands()
     parser = argparse.ArgumentParser(prog="magrod", description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name, (module, help_) in SUBCOMMANDS.items():
@@ -86,7 +75,3 @@ def _default(o):
     except ImportError:  # pragma: no cover
         pass
     return str(o)
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

@@ -1,0 +1,56 @@
+"""`magrod multipulse`: symmetric multipulse homoclinic orbits of the straight rod by shooting (Figures 6, 7)."""
+from __future__ import annotations
+
+from ..errors import ParameterError
+from ..generated.names import PARAMS
+from .options import add_params, integer, number, params_from
+
+FREE = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))  # = magrod.shooting.FREE_PARAMETERS
+
+
+def add_arguments(p):
+    p.add_argument("--figure", type=int, choices=(6, 7), help="parameters of fig:multimodal1 (6) / fig:multimodal2 (7)")
+    add_params(p, help_suffix=" (free-parameter form; overrides --figure)")
+    p.add_argument("--free", default="lam", choices=FREE,
+                   help="parameter solved for together with T (mu follows it: mu = 2 lam)")
+    p.add_argument("--max-pulses", default="6", help="look for N-pulse orbits, N = 1..max")
+    p.add_argument("--span", default="0.5", help="relative scan range of the free parameter")
+    p.add_argument("--samples", default="81", help="scan samples")
+    p.add_argument("--out", default="out/multipulse", help="output directory")
+
+
+def run(args) -> dict:
+    from ..figures.multipulse import multipulse
+    from ..params import RodParams
+    from ..printed import MULTIPULSE
+
+    base = MULTIPULSE[args.figure]["params"].as_dict() if args.figure else {}
+    vals = params_from(args, base)
+    if args.figure is None and any(k not in vals for k in PARAMS):
+        raise ParameterError("figure", "give --figure 6|7 or all of " + " ".join(f"--{k}" for k in PARAMS))
+    params = RodParams(**vals)
+    max_pulses = integer("max_pulses", args.max_pulses)
+    span = number("span", args.span)
+    if not (0 < span < 1):
+        raise ParameterError("span", f"must be in (0, 1), got {span}")
+    samples = integer("samples", args.samples, minimum=3)
+    summary, _ = multipulse(params, args.out, free=args.free, max_pulses=max_pulses, span=span, samples=samples,
+                            stem=f"figure{args.figure}" if args.figure else "multipulse", progress=not args.quiet)
+    return summary
+
+
+def format_text(d: dict) -> str:
+    lines = [f"multipulse orbits, nominal {d['params']}, free {d['free']}:"]
+    for o in d["orbits"]:
+        if o["success"]:
+            fv = "" if o["free_value"] is None else f"{d['free']}={o['free_value']:.12g} "
+            lines.append(f"  N={o['pulses']}: {fv}residual={o['residual']:.2e} "
+                         f"arclength={o['arclength']:.6g} (eps={o['eps']:g}) H={o['H']:.15g} "
+                         f"|H-H_saddle|={o['max_abs_H_minus_saddle']:.1e} files={o.get('paths', [])}")
+        else:
+            extra = f" (iterations {o['iterations']}, last residual {o['residual']:.2e})" if "iterations" in o else ""
+            lines.append(f"  N={o['pulses_target']}: no orbit: {o['message']}{extra}")
+    lines.append(f"  {d['note']}")
+    if "table" in d:
+        lines.append(f"  table: {d['table']}")
+    return "\n".join(lines)

@@ -1,0 +1,34 @@
+"""The figures wing: one module per paper section, each figure a builder with one signature
+
+    build(out_dir, *, quick=False, progress=False) -> list[str]     (the paths written, atomically)
+
+registered here.  Builders call the numerics (magrod.*), draw with matplotlib (Agg) and write PNG + .npz + JSON
+sidecars through magrod.io.  Imported lazily: `FIGURES` lists module and function names only."""
+from __future__ import annotations
+
+import importlib
+
+# figure number -> (module, builder, description)
+FIGURES = {
+    "2": ("magrod.figures.melnikov", "figure_2", "Mel'nikov function M(psi0)/sqrt(a-2b), derived and printed integrands"),
+    "3": ("magrod.figures.homoclinic", "figure_3", "phase portraits and the homoclinic orbit (theta, pbar_theta, psi')"),
+    "4": ("magrod.figures.poincare", "figure_4", "Poincare sections, h = 0.9, lambdabar in {0.135, 0.1575, 0.175, 0.186}"),
+    "5": ("magrod.figures.poincare", "figure_5", "Poincare sections, h = 0.8, gamma in {0.15, 0.205, 0.208, 0.24}"),
+    "6": ("magrod.figures.multipulse", "figure_6", "two- and four-pulse homoclinic orbits and rod shapes (lambdabar = 0.001)"),
+    "7": ("magrod.figures.multipulse", "figure_7", "two- and three-pulse homoclinic orbits and rod shapes (lambdabar = 0.5)"),
+}
+
+
+def builder(number: str):
+    """The builder of a registered figure (ParameterError naming `number` if unknown)."""
+    from ..errors import ParameterError
+
+    number = str(number).strip()
+    if number not in FIGURES:
+        raise ParameterError("number", f"must be one of {', '.join(FIGURES)}, got {number!r}")
+    module, func, _ = FIGURES[number]
+    return getattr(importlib.import_module(module), func)
+
+
+def build(number: str, out_dir, *, quick=False, progress=False) -> list[str]:
+    return [str(p) for p in builder(number)(out_dir, quick=quick, progress=progress)]

@@ -1,0 +1,106 @@
+"""Figures of sec. 8, symmetric multipulse homoclinic orbits: fig:multimodal1 (Figure 6) and fig:multimodal2
+(Figure 7), and the files of `magrod multipulse` (one .npz/.json per orbit, a table of all N)."""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..printed import MULTIPULSE
+from ..progress import bar
+from ..saddle import straight_rod
+from ..shooting import THETA_CUT, find_orbits, scaled_arclength
+from .common import pyplot
+from .rod import plot_rod, rod_from_orbit_file
+
+
+def write_orbit(entry: dict, out_dir, stem: str, extra: dict | None = None):
+    """Orbit data as .npz (t, body states, reduced coordinates, launch point, pars) + JSON sidecar."""
+    orb, r = entry["orbit"], entry["result"]
+    tau, _ = scaled_arclength(orb)
+    npz = atomic_savez(Path(out_dir) / f"{stem}.npz", t=orb["t"], x=orb["x"], theta=orb["theta"], psi=orb["psi"],
+                       ptheta=orb["ptheta"], ppsi=orb["ppsi"], H=orb["H"], tau=tau, x0=r.x0, T=r.T, eps=r.eps,
+                       pars=r.params.array(), reversor=orb["reversor"])
+    meta = {k: v for k, v in entry.items() if k not in ("result", "orbit")}
+    meta.update({"shooting": r.as_dict(), "history": r.history, "versions": versions(),
+                 "scale": "B = C = m3 = 1 (derive/numeric_scale.py): t = s, lengths in units of B/m3",
+                 "tau": f"(s - T)/L, L = T - s(theta first >= {THETA_CUT})", **(extra or {})})
+    js = atomic_write_json(Path(out_dir) / f"{stem}.json", meta)
+    return [str(npz), str(js)]
+
+
+def multipulse(params, out_dir=None, *, free: str = "lam", max_pulses: int = 6, span: float = 0.5,
+               samples: int = 81, stem: str = "multipulse", progress: bool = False) -> tuple:
+    """find_orbits + files: one .npz/.json per orbit found and a table (JSON) of all N <= max_pulses.
+    Returns (summary dict, the list of find_orbits entries)."""
+    straight_rod(params)  # bad input fails before any file is written
+    if out_dir is not None:
+        ensure_writable_dir(out_dir)
+    t0 = time.perf_counter()
+    with bar(samples, f"scan {free}", progress) as update:
+        found = find_orbits(params, free=free, max_pulses=max_pulses, span=span, samples=samples, progress=update)
+    rows = []
+    for e in found:
+        row = {k: v for k, v in e.items() if k not in ("result", "orbit")}
+        if e["success"] and out_dir is not None:
+            row["paths"] = write_orbit(e, out_dir, f"{stem}_N{e['pulses']}",
+                                       {"nominal_params": params.as_dict(), "free": free})
+        rows.append(row)
+    out = {"ok": True, "params": params.as_dict(), "free": free, "span": span, "samples": samples,
+           "orbits": rows, "wall_time_s": time.perf_counter() - t0,
+           "note": "symmetric homoclinic orbits of the straight rod are of codimension one (the launch phase is a "
+                   f"symmetry): each orbit exists at its own value of {free}, found by Newton on (T, {free})"}
+    if out_dir is not None:
+        out["table"] = str(atomic_write_json(Path(out_dir) / f"{stem}_table.json", {**out, "versions": versions()}))
+    return out, found
+
+
+def _figure(number: int, out_dir, quick: bool = False, progress: bool = False) -> list[str]:
+    plt = pyplot()
+    spec = MULTIPULSE[number]
+    out_dir = ensure_writable_dir(out_dir)
+    max_pulses = max(spec["show"]) if quick else 6
+    summary, found = multipulse(spec["params"], out_dir, max_pulses=max_pulses, samples=41 if quick else 81,
+                                stem=f"figure{number}", progress=progress)
+    paths = [summary["table"]]
+    for row in summary["orbits"]:
+        paths += row.get("paths", [])
+    fig, ax = plt.subplots(figsize=(7, 3.2))
+    for N, style in zip(spec["show"], ("-", "--")):
+        e = found[N - 1]
+        if not e["success"]:
+            continue
+        tau, win = scaled_arclength(e["orbit"])
+        ax.plot(tau[win], e["orbit"]["theta"][win], style, color="k", lw=1.2,
+                label=f"{N}-pulse, lam = {e['free_value']:.6g}, residual {e['residual']:.1e}")
+    p = spec["params"]
+    ax.set_xlim(-1, 1)
+    ax.set_ylim(bottom=0)
+    ax.set_xlabel(r"$(s - s_{sym})/L$")
+    ax.set_ylabel(r"$\theta$")
+    ax.set_title(f"Fig. {number} ({spec['label']}): m={p.m}, gamma={p.gamma}, delta={p.delta}, mu = 2 lam "
+                 f"(paper lam={p.lam})", fontsize=9)
+    ax.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    paths.append(str(atomic_savefig(fig, Path(out_dir) / f"figure{number}.png", dpi=150)))
+    plt.close(fig)
+    # 3-D rod shapes of the orbits shown (directors + extensible centreline, magrod.rod), from the files just written
+    for N in spec["show"]:
+        e = found[N - 1]
+        if not e["success"]:
+            continue
+        stem = f"figure{number}_N{N}"
+        r = rod_from_orbit_file(Path(out_dir) / f"{stem}.npz")
+        paths += plot_rod(r, out_dir, stem, title=f"Fig. {number}: {N}-pulse rod, lam = {e['free_value']:.6g}, "
+                                                         f"orthonormality {r['orthonormality']:.1e}")
+    return paths
+
+
+def figure_6(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
+    """fig:multimodal1: two- and four-pulse orbits near lam = 0.001 (mu = 2 lam), plus N <= 6 table."""
+    return _figure(6, out_dir, quick, progress)
+
+
+def figure_7(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
+    """fig:multimodal2: two- and three-pulse orbits near lam = 0.5 (mu = 2 lam), plus N <= 6 table."""
+    return _figure(7, out_dir, quick, progress)

@@ -1,0 +1,90 @@
+"""Figures of sec. 8, Poincare sections: fig:poincare1 (Figure 4) and fig:poincare2 (Figure 5).
+
+Each panel writes <stem>.npz (the arrays of PoincareResult), <stem>.json (its summary, versions, axes) and
+<stem>.png; the figure adds fig4.png / fig5.png with the four panels."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..printed import PANELS
+from ..progress import bar
+from .common import pyplot
+
+
+def panel_title(key, res) -> str:
+    p = res.params
+    pars = (f"m={p.m:g}, $\\mu$={p.mu:g}, $\\gamma$={p.gamma:g}, $\\delta$={p.delta:g}, $\\bar\\lambda$={p.lam:g}, "
+            f"h={res.h:g}")
+    head = f"Fig. {key[0]}({key[1]})  " if key else ""
+    return f"{head}{pars}\n{res.n_points} iterates, max|$\\bar H$-h| = {res.max_abs_dH:.1e}"
+
+
+def plot_points(ax, res, title=None):
+    """theta on the horizontal axis, pbar_theta on the vertical one: the two coordinates of the section
+    sin(psi) = 0 that are free at fixed h (pbar_psi follows from Hbar = h, psi is 0 or pi).  The paper's
+    panels are not labelled in the source; theta-pbar_theta is the natural choice for this section."""
+    ax.plot(res.points[:, 0], res.points[:, 2], ",", color="k", rasterized=True)
+    ax.set_xlim(0.0, np.pi)
+    ax.set_xlabel(r"$\theta$")
+    ax.set_ylabel(r"$\bar p_\theta$")
+    if title:
+        ax.set_title(title, fontsize=8)
+
+
+def save_result(res, out_dir, stem: str, *, key=None, label=None, formats=("png",)) -> dict:
+    """Write <stem>.npz (arrays), <stem>.json (metadata, versions) and <stem>.png atomically; returns the paths."""
+    plt = pyplot()
+    out = ensure_writable_dir(out_dir)
+    paths = {"npz": str(atomic_savez(out / f"{stem}.npz", **res.arrays()))}
+    meta = {"panel": key, "label": label, **res.summary(), "versions": versions(),
+            "axes": "theta (horizontal) vs pbar_theta (vertical)",
+            "section": "sin(psi) = 0, direction = sign of d/dt sin(psi) at the crossing"}
+    for fmt in formats:
+        fig, ax = plt.subplots(figsize=(5.0, 4.2), dpi=150)
+        plot_points(ax, res, panel_title(key, res))
+        fig.tight_layout()
+        paths[fmt] = str(atomic_savefig(fig, out / f"{stem}.{fmt}"))
+        plt.close(fig)
+    meta["files"] = dict(paths)
+    paths["json"] = str(atomic_write_json(out / f"{stem}.json", meta))
+    return paths
+
+
+def _figure(fig_no: str, out_dir, quick=False, progress=False, iterates=None, workers=2) -> list[str]:
+    from ..poincare import DEFAULT_FORMULATION, run_panels
+
+    plt = pyplot()
+    out = ensure_writable_dir(out_dir)
+    n = iterates or (500 if quick else 10_000)
+    keys = [f"{fig_no}{c}" for c in "abcd"]
+    with bar(n * len(keys), "poincare", progress) as update:
+        results = run_panels(keys, iterates=n, workers=workers, progress=update, formulation=DEFAULT_FORMULATION)
+    written = []
+    for k in keys:
+        written += list(save_result(results[k], out, f"fig{k}", key=k, label=PANELS[k]["label"]).values())
+    fig, axes = plt.subplots(2, 2, figsize=(10, 8.4), dpi=150)
+    for ax, k in zip(axes.flat, keys):
+        var, val = PANELS[k]["vary"]
+        sym = {"lam": r"$\bar\lambda$", "gamma": r"$\gamma$"}[var]
+        plot_points(ax, results[k], f"({k[1]}) {sym} = {val:g}   [max|$\\bar H$-h| = {results[k].max_abs_dH:.1e}]")
+    p = results[keys[0]].params
+    common = (f"m={p.m:g}, $\\mu$={p.mu:g}, $\\gamma$={p.gamma:g}, $\\delta$={p.delta:g}" if fig_no == "4"
+              else f"m={p.m:g}, $\\delta$={p.delta:g}, $\\bar\\lambda$={p.lam:g}, $\\mu$={p.mu:g}")
+    fig.suptitle(f"Fig. {fig_no}: Poincare sections sin$\\psi$ = 0 at h = {results[keys[0]].h:g} ({common}), "
+                 f"{n} iterates each", fontsize=10)
+    fig.tight_layout()
+    written.append(str(atomic_savefig(fig, out / f"fig{fig_no}.png")))
+    plt.close(fig)
+    return written
+
+
+def figure_4(out_dir, *, quick=False, progress=False) -> list[str]:
+    """fig:poincare1: four panels (lam = 0.135, 0.1575, 0.175, 0.186), per-panel .png/.npz/.json and fig4.png.
+    quick=True uses 500 iterates per panel instead of the paper's 10 000."""
+    return _figure("4", out_dir, quick, progress)
+
+
+def figure_5(out_dir, *, quick=False, progress=False) -> list[str]:
+    """fig:poincare2: four panels (gamma = 0.15, 0.205, 0.208, 0.24), per-panel files and fig5.png."""
+    return _figure("5", out_dir, quick, progress)

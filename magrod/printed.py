@@ -1,0 +1,63 @@
+"""What the paper printed: the parameters of every figure and the numbers it claims, in one place.
+
+Used by the figures, `magrod reproduce` (claim rows) and the benchmarks alike.  These are *comparison targets
+and inputs of the paper's experiments*, never formulas (printed formulas live in derive/paper.py).  Each entry
+names the paper label it comes from.
+"""
+from __future__ import annotations
+
+from .params import RodParams
+
+# --- sec. 7, fig:Mel_ext -----------------------------------------------------------------------------------------
+FIG2_M = 1.7
+FIG2_GAMMAS = (1.0, 1.2, 1.4, 1.6, 1.8, 2.0)
+FIG2_ZERO_BRACKET = (1.8, 2.0)  # "the amplitude is identically zero for a gamma between 1.8 and 2"
+
+# --- sec. 6, fig:angles ------------------------------------------------------------------------------------------
+# m = 1.7, gamma = 1 (panels a, c-e); panel (b) printed as m = 2.2 "> m_c"; m_super = 3 is our own comparison panel.
+# paper_axes: the axis ranges read off the LaTeX picture labels of fig:angles.
+FIG3 = {"m": 1.7, "gamma": 1.0, "m_b": 2.2, "m_super": 3.0,
+        "paper_axes": {"a": ((-1.5, 1.5), (-0.5, 0.5)), "b": ((-1.5, 1.5), (-0.8, 0.8)),
+                       "c": ((-1, 1), (0, 1.2)), "d": ((-1, 1), (-0.3, 0.3)), "e": ((-1, 1), (0.45, 0.75))}}
+
+# --- sec. 8, fig:poincare1 and fig:poincare2 ---------------------------------------------------------------------
+# fig:poincare1: one orbit per panel from theta = 0.1, pbar_theta = 0.5, psi = 0 at h = 0.9;
+# fig:poincare2: from theta = 0.1, pbar_theta = 1, psi = 0 at h = 0.8.
+_F4 = dict(m=1.7, mu=0.4, gamma=3.0, delta=3.0)
+_F5 = dict(m=1.7, mu=4.0, delta=0.25, lam=2.0)
+PANELS = {
+    **{f"4{k}": dict(params=RodParams(**_F4, lam=lam), h=0.9, theta0=0.1, ptheta0=0.5, psi0=0.0,
+                     label=f"fig:poincare1{k}", vary=("lam", lam))
+       for k, lam in zip("abcd", (0.135, 0.1575, 0.175, 0.186))},
+    **{f"5{k}": dict(params=RodParams(**_F5, gamma=g), h=0.8, theta0=0.1, ptheta0=1.0, psi0=0.0,
+                     label=f"fig:poincare2{k}", vary=("gamma", g))
+       for k, g in zip("abcd", (0.15, 0.205, 0.208, 0.24))},
+}
+POINCARE_ITERATES = 10_000  # "10000 iterates" per panel (fig:poincare1)
+# "runs up to t = 84000" (fig:poincare1) and "t = 81000" (fig:poincare2), Hbar preserved to 3.6e-9 / 3.9e-9
+PAPER_CLAIMS = {"4": dict(t_final=84000.0, max_abs_dH=3.6e-9, label="fig:poincare1"),
+                "5": dict(t_final=81000.0, max_abs_dH=3.9e-9, label="fig:poincare2")}
+
+# --- sec. 8, fig:multimodal1 and fig:multimodal2 -----------------------------------------------------------------
+MULTIPULSE = {
+    6: {"params": RodParams(m=1.7, mu=0.002, gamma=1.0, delta=1.0, lam=0.001), "show": (2, 4),
+        "label": "fig:multimodal1", "caption": "two-pulse (solid) and four-pulse (dashed)"},
+    7: {"params": RodParams(m=1.7, mu=1.0, gamma=0.01, delta=0.01, lam=0.5), "show": (2, 3),
+        "label": "fig:multimodal2", "caption": "two-pulse (solid) and three-pulse (dashed)"},
+}
+
+
+def panel(key: str) -> dict:
+    """A Poincare panel '4a'..'5d' (ParameterError naming `figure` if unknown)."""
+    from .errors import ParameterError
+
+    k = str(key).lower()
+    if k not in PANELS:
+        raise ParameterError("figure", f"unknown panel {key!r}; choose one of {', '.join(PANELS)}")
+    return PANELS[k]
+
+
+def panel_kwargs(key: str) -> dict:
+    """poincare_map keyword arguments (params, h, theta0, ptheta0, psi0) of a paper panel."""
+    P = panel(key)
+    return dict(params=P["params"], h=P["h"], theta0=P["theta0"], ptheta0=P["ptheta0"], psi0=P["psi0"])
