@@ -27,7 +27,8 @@ import time
 import numpy as np
 
 from magrod import systems
-from magrod.poincare import PANELS, PAPER_CLAIMS, panel_kwargs, poincare_map, run_panels
+from magrod.poincare import poincare_map, run_panels
+from magrod.printed import PANELS, PAPER_CLAIMS, panel_kwargs
 
 
 def _hbar_fn():
@@ -137,9 +138,9 @@ def panels():
     print("\n== all 8 panels, 10 000 iterates each, 2 threads, warm JIT cache ==", flush=True)
     out = {}
     for form in ("body", "reduced"):
-        run_panels(list(PANELS), iterates=5, progress=False, formulation=form)  # warm the cache in this process
+        run_panels(list(PANELS), iterates=5, formulation=form)  # warm the cache in this process
         t0 = time.perf_counter()
-        res = run_panels(list(PANELS), iterates=10_000, workers=2, progress=False, formulation=form)
+        res = run_panels(list(PANELS), iterates=10_000, workers=2, formulation=form)
         wall = time.perf_counter() - t0
         worst = max(r.max_abs_dH for r in res.values())
         print(f"  {form:8s}: wall {wall:6.2f} s (sum of per-panel {sum(r.wall_s for r in res.values()):6.2f} s), "
@@ -177,7 +178,7 @@ def times():
     out = {}
     for root in ("smallest", "largest"):
         for direction in ("positive", "any"):
-            res = run_panels(list(PANELS), iterates=10_000, progress=False, root=root, direction=direction)
+            res = run_panels(list(PANELS), iterates=10_000, root=root, direction=direction)
             row = {k: round(r.final_time) for k, r in res.items()}
             out[f"{root}/{direction}"] = row
             print(f"  root={root:8s} direction={direction:8s}: " + "  ".join(f"{k} {v:6d}" for k, v in row.items()))

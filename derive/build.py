@@ -14,7 +14,7 @@ from . import homoclinic, melnikov, poisson, reduction, symmetry
 from .codegen import HeyokaPrinter, function_source, module_source
 from .model import X, phi, psi, theta
 from .paper import delta, gamma, lambar, m, mu, pps, pth
-from .results import CONDITIONAL, DISAGREES, HOLDS, Result
+from .results import CONDITIONAL, DISAGREES, Result
 
 PAR_NAMES = {m: "m", mu: "mu", gamma: "gamma", delta: "delta", lambar: "lam"}
 PAR_ARGS = ["m", "mu", "gamma", "delta", "lam"]

@@ -11,10 +11,10 @@ import sympy as sp
 
 from . import paper
 from .codegen import HeyokaPrinter, function_source, module_source
-from .model import psi, theta
-from .paper import delta, gamma, lambar, m, mu, pps, pth, t
+from .model import theta
+from .paper import gamma, lambar, m, mu, pps, pth, t
 from .reduction import reduced_hamiltonians, trig_normal_form
-from .results import CONDITIONAL, DISAGREES, HOLDS, Result, fmt
+from .results import DISAGREES, HOLDS, Result, fmt
 
 u = sp.symbols("u", real=True)  # u = cos(theta)
 up, um = sp.symbols("u_+ u_-", real=True)

@@ -9,7 +9,7 @@ from functools import lru_cache
 import sympy as sp
 
 from . import reduction
-from .model import B, B1, B2, C, X, bracket, cH, cJ, cK, gradient, lam, p_phi, p_psi, p_theta, structure_matrix
+from .model import B, B1, B2, C, X, cH, cJ, cK, gradient, lam, p_phi, p_psi, p_theta, structure_matrix
 from .paper import C1, C2, delta, gamma, lambar, m, mu, pps, pth
 from .poisson import hamiltonian_compliance
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .model import (B, B1, B2, C, J, K, Hs, e1, e2, e3, evec, lam, m1, m2, m3, mvec, n1, n2, n3, nvec,
+from .model import (B, B1, B2, C, J, K, Hs, e3, evec, lam, m1, m2, m3, mvec, n1, n2, n3, nvec,
                     p_phi, p_psi, p_theta, phi, psi, theta, d3)
 
 # constants of the reduction and the non-dimensional parameters (eq:nondim_1)

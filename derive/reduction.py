@@ -9,11 +9,11 @@ from functools import lru_cache
 import sympy as sp
 
 from . import paper
-from .model import (B, B1, B2, C, J, K, X, cH, cJ, cK, e3, evec, euler_rotation, lam, m3, mvec, nvec, p_phi,
+from .model import (B, B1, B2, J, K, X, cH, cJ, cK, e3, euler_rotation, lam, mvec, nvec, p_phi,
                     p_psi, p_theta, phi, psi, strain_energy, structure_matrix, theta, u1, u2, u3)
 from .paper import C1, C2, delta, gamma, lambar, m, mu, pps, pth
 from .poisson import hamiltonian_compliance
-from .results import CONDITIONAL, DISAGREES, HOLDS, Result, fmt, numeric_max_residual
+from .results import CONDITIONAL, DISAGREES, HOLDS, Result, fmt
 
 Q = [theta, psi, phi]
 P = [p_theta, p_psi, p_phi]

@@ -57,7 +57,7 @@ from . import systems
 from .errors import ParameterError, require_finite, require_positive_int
 from .generated import scalars
 from .params import RodParams
-from .printed import PANELS, panel_kwargs
+from .printed import panel_kwargs
 
 DIRECTIONS = systems.DIRECTIONS
 BRANCHES = ("any", "0", "pi")

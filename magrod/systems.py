@@ -316,23 +316,3 @@ def body_to_euler(x, pars_) -> np.ndarray:
 
 def chart_index(name: str) -> int:
     return names.CHART.index(name)
-
-
-# backwards-compatible spellings used by the benchmarks
-def reduced_vars():
-    return variables("reduced")
-
-
-def body_vars():
-    return variables("body")
-
-
-def body_integrator(state, pars_, *, tol=None, t_events=(), nt_events=(), fp_type=float, **kw):
-    """A body-frame integrator with explicit events (hy.t_event objects) and initial data."""
-    return taylor(system("body"), state, pars_, fp_type=fp_type, tol=tol, t_events=t_events, nt_events=nt_events, **kw)
-
-
-def reduced_integrator(state, pars_, *, tol=None, t_events=(), nt_events=(), fp_type=float, **kw):
-    """A reduced-system integrator with explicit events (hy.t_event objects) and initial data."""
-    return taylor(system("reduced"), state, pars_, fp_type=fp_type, tol=tol, t_events=t_events,
-                  nt_events=nt_events, **kw)

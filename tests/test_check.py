@@ -4,7 +4,6 @@ import subprocess
 import tempfile
 import sys
 
-import pytest
 
 from magrod import cli
 

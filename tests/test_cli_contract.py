@@ -17,7 +17,7 @@ SUBCOMMANDS = ["check", "poincare", "homoclinic", "melnikov", "figure", "multipu
 def magrod(*argv, timeout=300):
     return subprocess.run([sys.executable, "-m", "magrod.cli", *argv], capture_output=True, text=True,
                           cwd=tempfile.gettempdir(),  # not the repo root: its magrod/ would shadow the install
-                         
+
                           timeout=timeout, env={**os.environ, "PYTHONWARNINGS": "ignore"})
 
 

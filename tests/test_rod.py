@@ -27,7 +27,6 @@ def test_frame_orthonormal_on_multipulse_orbit(tmp_path):
     p = RodParams(1.7, 0.0025, 1.0, 1.0, 0.00125)
     res = shooting.shoot(p, 2)
     assert res.success
-    orb = shooting.orbit(res)
     s = np.linspace(0.0, 2 * res.T, 2001)
     r = rod.reconstruct(res.x0, res.params.array(), s)
     assert r["orthonormality"] <= 1e-12
