@@ -129,16 +129,11 @@ MODEL_SYMBOLS = {str(s): s for s in (B, B1, B2, C, lam, cH, cJ, cK)}
 
 
 def parse_substitution(text: str) -> dict:
-    """'B2=B1, c_J=c_H, lambda=0' -> {B2: B1, cJ: cH, lam: 0} over the model symbols (for `magrod check --subs`)."""
-    out = {}
-    for item in filter(None, (x.strip() for x in text.split(","))):
-        if "=" not in item:
-            raise ValueError(f"expected NAME=VALUE, got {item!r}")
-        k, v = (x.strip() for x in item.split("=", 1))
-        if k not in MODEL_SYMBOLS:
-            raise ValueError(f"unknown model symbol {k!r}; known: {', '.join(sorted(MODEL_SYMBOLS))}")
-        out[MODEL_SYMBOLS[k]] = sp.sympify(v, locals=MODEL_SYMBOLS)
-    return out
+    """'B2=B1, c_J=c_H, lambda=0' -> {B2: B1, cJ: cH, lam: 0} over the model symbols (for `magrod check --subs`).
+    The text is data: derive/substitution.py parses it with a bounded grammar (no sympify/eval)."""
+    from .substitution import parse
+
+    return parse(text, MODEL_SYMBOLS)
 
 
 def derive_all():

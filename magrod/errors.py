@@ -13,15 +13,39 @@ class ParameterError(ValueError):
         return (ParameterError, (self.name, self.message))
 
 
-def require_finite(name: str, value) -> float:
+class EnvironmentFault(RuntimeError):
+    """The machine, not the input, stopped the run (disk full, unwritable path, locked output, JIT cache).
+    `name` is the parameter whose path is involved (e.g. "out"), or None."""
+
+    def __init__(self, name, message: str):
+        self.name = name
+        self.message = message
+        super().__init__(message)
+
+    def __reduce__(self):
+        return (EnvironmentFault, (self.name, self.message))
+
+
+# Inputs beyond these magnitudes are refused up front: the model's terms go up to m^4 and 1/m^4, and a float64
+# integration of them with such parameters would overflow or lose every digit long before producing a NaN.
+MAX_MAGNITUDE = 1e6
+
+
+def require_finite(name: str, value, bound: float | None = None) -> float:
+    """A finite float; subnormal numbers (|x| < 2.2e-308, x != 0) are refused, and |x| <= bound if given."""
     import math
+    import sys
 
     try:
         v = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(name, f"must be a number, got {value!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise ParameterError(name, f"must be a number, got {str(value)[:40]!r}") from None
     if not math.isfinite(v):
-        raise ParameterError(name, f"must be finite, got {value!r}")
+        raise ParameterError(name, f"must be finite, got {str(value)[:40]!r}")
+    if v != 0.0 and abs(v) < sys.float_info.min:
+        raise ParameterError(name, f"{value!r} is below the float64 normal range (|x| >= {sys.float_info.min:.3g})")
+    if bound is not None and abs(v) > bound:
+        raise ParameterError(name, f"must satisfy |{name}| <= {bound:g}, got {value!r}")
     return v
 
 

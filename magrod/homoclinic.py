@@ -48,10 +48,11 @@ import heyoka as hy
 import numpy as np
 
 from . import systems
-from .errors import ParameterError, require_finite
+from .errors import MAX_MAGNITUDE, ParameterError, require_finite
 from .generated import homoclinic as gen
 from .generated import scalars
 from .generated.names import CLOSED_FORM_REGULAR
+from .params import M_MIN
 
 _PREC = 256  # bits of the multiprecision verification run (see module docstring)
 
@@ -59,10 +60,12 @@ _PREC = 256  # bits of the multiprecision verification run (see module docstring
 def validate(m, gamma) -> tuple[float, float]:
     """(m, gamma) as floats; a homoclinic orbit of theta = 0 exists iff m > 0, gamma >= 0 and
     m^2 < 4 (1 + gamma) (eq:buckling_load_2: V''(0) = 1/4 - (1 + gamma)/m^2 < 0)."""
-    m = require_finite("m", m)
-    gamma = require_finite("gamma", gamma)
+    m = require_finite("m", m, MAX_MAGNITUDE)
+    gamma = require_finite("gamma", gamma, MAX_MAGNITUDE)
     if m <= 0:
         raise ParameterError("m", f"must be > 0, got {m}")
+    if m < M_MIN:
+        raise ParameterError("m", f"must be >= {M_MIN:g} (terms in m^-2 and m^-4), got {m}")
     if gamma < 0:
         raise ParameterError("gamma", f"must be >= 0 (gamma = 0 is the inextensible Kirchhoff rod), got {gamma}")
     if scalars.potential_dd0(m, gamma) >= 0:

@@ -34,12 +34,16 @@ def summary(rederive: bool = False, everything: bool = False) -> dict:
 
 def custom_involution(text: str) -> dict:
     """Brackets among H, I1, I2 and the Casimirs for the model with the substitution `text` (live SymPy)."""
-    from .derive import poisson
-    from .errors import ParameterError
+    from .errors import EnvironmentFault, ParameterError
+
+    try:
+        from .derive import poisson
+    except ImportError as exc:
+        raise EnvironmentFault("subs", f"needs SymPy (pip install '.[derive]'): {exc}") from None
 
     try:
         sub = poisson.parse_substitution(text)
-    except (ValueError, SyntaxError) as exc:
+    except ValueError as exc:  # SubstitutionError: the text was refused by the bounded grammar
         raise ParameterError("subs", str(exc)) from None
     table = poisson.involution_table(sub)
     res = {"key": "involution (custom)", "label": "eq:magnetic_lagrange, eq:int2", "status": "computed",

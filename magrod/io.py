@@ -1,7 +1,10 @@
 """Atomic file output: data as .npz plus a JSON sidecar with parameters, tolerances, versions and timings.
 
 Every file is written to a temporary name in the target directory and renamed into place, so an interrupted
-run never leaves a half-written file."""
+run never leaves a half-written file; files get the permissions of the umask (like any file the user creates).
+A write that fails because of the machine (disk full, file-size limit, read-only filesystem) raises
+EnvironmentFault naming the path.  Directories created by a command are tracked so that a failed run removes
+the ones it left empty."""
 from __future__ import annotations
 
 import io as _io
@@ -13,7 +16,31 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import ParameterError
+from .errors import EnvironmentFault, ParameterError
+
+_created: list | None = None  # directories made by ensure_writable_dir since track_created_dirs()
+
+
+def track_created_dirs() -> None:
+    global _created
+    _created = []
+
+
+def remove_empty_created_dirs() -> None:
+    """Remove the directories this command created that are still empty (deepest first)."""
+    global _created
+    for d in reversed(_created or []):
+        try:
+            d.rmdir()
+        except OSError:
+            pass
+    _created = [] if _created is not None else None
+
+
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def versions() -> dict:
@@ -28,31 +55,66 @@ def versions() -> dict:
             "python": platform.python_version()}
 
 
-def ensure_writable_dir(path) -> Path:
+def check_out_path(path, name: str = "out") -> Path:
+    """Validate an output directory argument without creating anything: non-empty, no NUL, not an existing
+    non-directory, and its nearest existing ancestor is a writable directory."""
+    if path is None or str(path).strip() == "":
+        raise ParameterError(name, "must be a non-empty directory path")
+    if "\x00" in str(path):
+        raise ParameterError(name, "must not contain a NUL character")
     p = Path(path)
+    if len(os.fsencode(str(p))) > 4000 or any(len(os.fsencode(c)) > 255 for c in p.parts):
+        raise ParameterError(name, "path too long")
+    if p.exists() and not p.is_dir():
+        raise ParameterError(name, f"{str(p)!r} exists and is not a directory")
+    q = p.absolute()
+    while not q.exists():
+        q = q.parent
+    if not q.is_dir():
+        raise ParameterError(name, f"{str(q)!r} is not a directory")
+    if not os.access(q, os.W_OK | os.X_OK) or str(q).startswith(("/proc", "/sys")):
+        raise ParameterError(name, f"cannot create or write {str(p)!r}: {str(q)!r} is not writable")
+    return p
+
+
+def ensure_writable_dir(path, name: str = "out") -> Path:
+    p = check_out_path(path, name)
+    missing = []
+    q = p.absolute()
+    while not q.exists():
+        missing.append(q)
+        q = q.parent
     try:
         p.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise ParameterError("out", f"cannot create output directory {str(p)!r}: {exc.strerror}") from None
+        raise ParameterError(name, f"cannot create output directory {str(p)!r}: {exc.strerror}") from None
+    if _created is not None:
+        _created.extend(reversed(missing))
     if not os.access(p, os.W_OK | os.X_OK):
-        raise ParameterError("out", f"output directory {str(p)!r} is not writable")
+        raise ParameterError(name, f"output directory {str(p)!r} is not writable")
     return p
 
 
 def atomic_write_bytes(path, data: bytes) -> Path:
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name[:200]}.", suffix=".tmp")
+    except OSError as exc:
+        raise EnvironmentFault("out", f"cannot write in {str(path.parent)!r}: {exc.strerror}") from None
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
             fh.flush()
             os.fsync(fh.fileno())
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; a result file is as readable as any other
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         try:
             os.unlink(tmp)
         except FileNotFoundError:
             pass
+        if isinstance(exc, OSError):
+            raise EnvironmentFault("out", f"cannot write {str(path)!r}: {exc.strerror or exc}") from None
         raise
     return path
 
@@ -85,16 +147,39 @@ ORBIT_KEYS = ("x0", "T", "pars", "t", "tau", "x")
 
 
 def load_orbit_file(path) -> dict:
-    """The arrays of an orbit .npz written by `magrod multipulse` (ParameterError naming `from` if the file is
-    missing or is not such a file).  Never unpickles: allow_pickle=False."""
+    """The arrays of an orbit .npz written by `magrod multipulse`, validated: ParameterError naming `from` if the
+    file is missing, empty, truncated, not such a file, or holds non-finite or inconsistent data.  Never
+    unpickles (allow_pickle=False)."""
+    import zipfile
+
     path = Path(path)
     if not path.is_file():
         raise ParameterError("from", f"no such file: {str(path)!r}")
+    bad = f"{str(path)!r} is not an orbit file of magrod multipulse"
     try:
         with np.load(path, allow_pickle=False) as d:
-            return {k: d[k] for k in ORBIT_KEYS}
-    except (KeyError, ValueError, OSError) as exc:
-        raise ParameterError("from", f"{str(path)!r} is not an orbit file of magrod multipulse ({exc})") from None
+            out = {k: np.asarray(d[k]) for k in ORBIT_KEYS}
+    except (KeyError, ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
+        raise ParameterError("from", f"{bad} ({type(exc).__name__}: {' '.join(str(exc).split())[:120]})") from None
+    from .generated.names import BODY_STATE, PARAMS
+
+    n = len(BODY_STATE)
+    shapes_ok = (out["x0"].shape == (n,) and out["T"].shape == () and out["pars"].shape == (len(PARAMS),)
+                 and out["t"].ndim == 1 and out["t"].size >= 3 and out["tau"].shape == out["t"].shape
+                 and out["x"].shape == (out["t"].size, n))
+    if not shapes_ok:
+        raise ParameterError("from", f"{bad} (arrays of the wrong shape)")
+    if not all(out[k].dtype.kind == "f" and np.all(np.isfinite(out[k])) for k in ORBIT_KEYS):
+        raise ParameterError("from", f"{bad} (non-numeric or non-finite values)")
+    if not (np.all(np.diff(out["t"]) > 0) and np.count_nonzero(np.abs(out["tau"]) <= 1.0) >= 2):
+        raise ParameterError("from", f"{bad} (arclength not increasing or no plotted window)")
+    from .params import RodParams
+
+    try:
+        RodParams.from_array(out["pars"])
+    except ParameterError as exc:
+        raise ParameterError("from", f"{bad} (its parameters: {exc})") from None
+    return out
 
 
 def _jsonable(o):

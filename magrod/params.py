@@ -5,8 +5,11 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .errors import ParameterError, require_finite
+from .errors import MAX_MAGNITUDE, ParameterError, require_finite
 from .generated.names import PARAMS
+
+
+M_MIN = 1e-3
 
 
 @dataclass(frozen=True)
@@ -16,7 +19,8 @@ class RodParams:
 
     Physical ranges: m > 0 (m3 > 0, C2 > 0); delta >= 0 (J > 0); gamma + delta >= 0 (K > 0); mu is
     constrained only through the radicand mu - 2 lam pbar_psi > 0 along an orbit (eq:alignment_condition),
-    which the integrators check."""
+    which the integrators check.  Numerical range: |value| <= MAX_MAGNITUDE = 1e6 and m >= M_MIN = 1e-3 (the
+    vector field has terms in m^-4: beyond these a float64 run is meaningless)."""
 
     m: float
     mu: float
@@ -26,9 +30,11 @@ class RodParams:
 
     def __post_init__(self):
         for f in PARAMS:
-            object.__setattr__(self, f, require_finite(f, getattr(self, f)))
+            object.__setattr__(self, f, require_finite(f, getattr(self, f), MAX_MAGNITUDE))
         if self.m <= 0:
             raise ParameterError("m", f"must be > 0 (m = m3/sqrt(B C2)), got {self.m}")
+        if self.m < M_MIN:
+            raise ParameterError("m", f"must be >= {M_MIN:g} (terms in m^-4), got {self.m}")
         if self.delta < 0:
             raise ParameterError("delta", f"must be >= 0 (delta = C2/J with shear stiffness J > 0), got {self.delta}")
         if self.gamma + self.delta < 0:

@@ -68,6 +68,11 @@ FRAME_REDUCED, FRAME_BODY = 0, 1
 # chart singularities) agrees with it to ~1e-11 over the first 50 crossings and conserves Hbar to < 1e-12.
 DEFAULT_FORMULATION = "body"
 DEFAULT_ROOT = "smallest"  # see the module docstring for the evidence
+# A result checks itself: integrated with tol = eps, Hbar and the Casimirs drift by ~1e-13 over the paper's
+# 10 000 iterates (benchmarks/README.md); a drift above these bounds means the run did not do what it claims
+# (e.g. a damaged compiled integrator), and the result is refused.
+ENERGY_TOL = 1e-10
+CASIMIR_TOL = 1e-10
 
 # ----------------------------------------------------------------------------------------------------------
 # initial data
@@ -265,6 +270,17 @@ class PoincareResult:
     def n_points(self) -> int:
         return int(self.points.shape[0])
 
+    def accuracy_checks(self, energy_tol=None, casimir_tol=None) -> dict:
+        """max |Hbar - h| and the Casimir drift against their tolerances (default ENERGY_TOL, CASIMIR_TOL);
+        `passed` is both (and finite)."""
+        energy_tol = ENERGY_TOL if energy_tol is None else energy_tol
+        casimir_tol = CASIMIR_TOL if casimir_tol is None else casimir_tol
+        e_ok = bool(np.isfinite(self.max_abs_dH) and self.max_abs_dH <= energy_tol)
+        c = self.casimir_drift
+        c_ok = c is None or bool(np.isfinite(c) and c <= casimir_tol)
+        return {"energy_tol": energy_tol, "casimir_tol": casimir_tol, "energy_ok": e_ok, "casimir_ok": c_ok,
+                "passed": e_ok and c_ok}
+
     def summary(self) -> dict:
         """JSON-able metadata (everything except the per-point arrays)."""
         return {"success": self.success, "message": self.message, "parameters": self.params.as_dict(),
@@ -276,7 +292,7 @@ class PoincareResult:
                 "casimir_drift": self.casimir_drift, "n_frame_switches": self.n_frame_switches,
                 "fraction_body_frame_points": float(np.mean(self.frame == FRAME_BODY)) if self.n_points else 0.0,
                 "max_abs_section_residual": float(np.max(np.abs(self.section_residual))) if self.n_points else 0.0,
-                "wall_s": self.wall_s, "fp_type": self.fp_type, **self.extra}
+                "wall_s": self.wall_s, "fp_type": self.fp_type, "accuracy": self.accuracy_checks(), **self.extra}
 
     def arrays(self) -> dict:
         return {"points": self.points, "times": self.times, "branch": self.branch,

@@ -23,6 +23,8 @@ keeps one mutable integrator per thread and configuration.
 """
 from __future__ import annotations
 
+import os
+import sys
 import threading
 from functools import lru_cache, wraps
 
@@ -41,6 +43,77 @@ EVENTS = {"body": {k: getattr(body, k) for k in names.BODY_EVENTS},
 DIRECTIONS = {"positive": hy.event_direction.positive, "negative": hy.event_direction.negative,
               "any": hy.event_direction.any}
 PRECISIONS = {"double": float, "long double": np.longdouble, "quad": hy.real128, "mp": hy.real}
+
+
+# --------------------------------------------------------------------------------------------------------------
+# heyoka's on-disk JIT cache: never on our stdout, never a stall
+# --------------------------------------------------------------------------------------------------------------
+MIN_FREE_BYTES = 64 * 2**20
+_cache_note: list = []
+
+
+def _warn(text: str) -> None:
+    print(f"magrod: warning: {' '.join(text.split())}", file=sys.stderr)
+
+
+def configure_jit_cache() -> str | None:
+    """heyoka logs cache trouble to *stdout* (which would break --json) and waits up to a minute on a locked cache
+    database.  So: heyoka's logger is limited to critical messages, and the disk cache is probed once per process
+    (creatable, writable, >= 64 MB free, database not locked, each answered within ~0.5 s); if the probe fails
+    the disk cache is switched off with one warning on stderr (builds then compile, ~1 s each, instead of
+    loading).  Returns the reason it was switched off, or None."""
+    hy.set_logger_level_critical()
+    if not hy.llvm_state.get_diskcache_enabled():
+        return None
+    path = str(hy.llvm_state.get_diskcache_path())
+    reason = None
+    try:
+        os.makedirs(path, exist_ok=True)
+        if not os.access(path, os.W_OK | os.X_OK):
+            reason = "not writable"
+        elif __import__("shutil").disk_usage(path).free < MIN_FREE_BYTES:
+            reason = "less than 64 MB free"
+    except OSError as exc:
+        reason = exc.strerror or str(exc)
+    db = os.path.join(path, "cache.db")
+    if reason is None and os.path.exists(db):
+        import sqlite3
+
+        try:
+            con = sqlite3.connect(db, timeout=0.5)
+            try:
+                con.execute("BEGIN IMMEDIATE")
+                con.rollback()
+            finally:
+                con.close()
+        except sqlite3.Error as exc:
+            reason = f"database unusable ({exc})"
+    if reason is not None:
+        hy.llvm_state.set_diskcache_enabled(False)
+        _cache_note.append(reason)
+        _warn(f"heyoka JIT cache {path!r} {reason}: running without it (integrators are compiled, not loaded)")
+    return reason
+
+
+def bypass_disk_cache(clear: bool = False) -> None:
+    """Stop using the on-disk JIT cache in this process and rebuild every integrator (used when a result fails
+    its accuracy checks: a damaged cache entry must not be hit again); clear=True also empties the cache."""
+    if clear:
+        try:
+            hy.llvm_state.clear_diskcache()
+        except Exception as exc:  # best effort: the cache is off for this process either way
+            _warn(f"could not clear the heyoka JIT cache: {exc}")
+    hy.llvm_state.set_diskcache_enabled(False)
+    hy.llvm_state.clear_memcache()
+    _GENERATION[0] += 1
+    for f in (reduced_functions, body_functions, variables):
+        f.cache_clear()
+
+
+_GENERATION = [0]  # bumped by bypass_disk_cache: per-thread caches then build afresh
+
+
+configure_jit_cache()
 
 
 def par_index(name: str) -> int:
@@ -63,9 +136,10 @@ def per_thread(fn):
     @wraps(fn)
     def wrapper(*key):
         cache = local.__dict__.setdefault("cache", {})
-        if key not in cache:
-            cache[key] = fn(*key)
-        return cache[key]
+        k = (_GENERATION[0], *key)
+        if k not in cache:
+            cache[k] = fn(*key)
+        return cache[k]
 
     wrapper.cache_clear = lambda: local.__dict__.pop("cache", None)
     return wrapper

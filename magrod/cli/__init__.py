@@ -1,6 +1,8 @@
 """`magrod` command line.  Every subcommand accepts --json and then prints exactly one JSON object on stdout
-(progress goes to stderr).  Exit codes: 0 success, 1 computation failed, 2 invalid input (one line naming
-the parameter and the violated condition, no traceback).
+(progress goes to stderr).  Exit codes: 0 success, 1 computation failed (including a result that fails its own
+accuracy checks), 2 invalid input (one line naming the parameter and the violated condition), 3 environment
+fault (disk full, unwritable path, closed output pipe; one line with the path), 130 interrupted.  Never a
+traceback (set MAGROD_DEBUG=1 to get one for an internal error); nothing is left behind by a failed run.
 
 One module per subcommand in this package, each with add_arguments(parser), run(args) -> dict and
 format_text(dict) -> str.  Subcommand modules import nothing heavy at module level (heyoka, matplotlib, SymPy are
@@ -10,9 +12,24 @@ from __future__ import annotations
 import argparse
 import importlib
 import json
+import math
+import os
+import re
+import signal
 import sys
 
-from ..errors import ParameterError
+
+
+def _interrupted_early(signum, frame):  # Ctrl-C while modules are still being imported: no traceback either
+    print("magrod: error: interrupted", file=sys.stderr)
+    raise SystemExit(130)
+
+
+signal.signal(signal.SIGINT, _interrupted_early)
+
+from ..errors import EnvironmentFault, ParameterError  # noqa: E402 - after the early Ctrl-C handler
+
+EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_ENVIRONMENT, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 
 # subcommand -> (module, help)
 SUBCOMMANDS = {
@@ -27,9 +44,38 @@ SUBCOMMANDS = {
 }
 
 
+class UsageError(ParameterError):
+    """An argparse error (unknown option, bad choice, missing value ...), routed through the common error path."""
+
+    def __str__(self):
+        return self.message
+
+
+def _param_of(message: str) -> str:
+    """The option an argparse message is about (for the one-line error and the JSON `parameter`)."""
+    m = re.match(r"argument (\S+?)(?:/\S+)?: ", message)
+    if m:
+        name = m.group(1)
+        return "command" if name in ("COMMAND", "command") else name.lstrip("-").replace("-", "_")
+    m = re.match(r"the following arguments are required: (\S+?)(?:,|$)", message)
+    if m:
+        return m.group(1).split("/")[0].lstrip("-").replace("-", "_")
+    m = re.match(r"unrecognized arguments: (\S+)", message)
+    if m:
+        return m.group(1).split("=")[0].lstrip("-").replace("-", "_")
+    return "arguments"
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse without the multi-line usage dump on error: errors raise UsageError instead."""
+
+    def error(self, message):
+        raise UsageError(_param_of(message), message)
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="magrod", description=__doc__.split("\n")[0])
-    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    parser = Parser(prog="magrod", description=__doc__.split("\n")[0])
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=Parser)
     for name, (module, help_) in SUBCOMMANDS.items():
         p = sub.add_parser(name, help=help_, description=help_,
                            formatter_class=argparse.ArgumentDefaultsHelpFormatter)
@@ -40,38 +86,107 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _command_of(argv) -> str:
+    return next((a for a in argv if not a.startswith("-")), "")
+
+
 def main(argv=None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if args.json:
-        args.quiet = True
-    mod = importlib.import_module(args._module)
+    argv = list(sys.argv[1:] if argv is None else argv)
+    want_json = "--json" in argv
+    command = _command_of(argv) if _command_of(argv) in SUBCOMMANDS else ""
+    if hasattr(signal, "SIGXFSZ"):  # a file-size limit (ulimit -f) must be an OSError, not a kill
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    signal.signal(signal.SIGINT, signal.default_int_handler)  # from here on Ctrl-C is a KeyboardInterrupt
+    from .. import io
+
+    io.track_created_dirs()
     try:
-        result = mod.run(args)
-    except ParameterError as exc:
+        args = build_parser().parse_args(argv)
+        want_json = bool(args.json)
         if args.json:
-            print(json.dumps({"ok": False, "error": str(exc), "parameter": exc.name}))
-        print(f"magrod {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+            args.quiet = True
+        mod = importlib.import_module(args._module)
+        result = mod.run(args)
+        ok = bool(result.get("ok", True))
+        text = json.dumps(_clean(result), sort_keys=True, allow_nan=False) if want_json else mod.format_text(result)
+        _emit(text)
+        if not ok:  # a computation that failed (or failed its own accuracy checks) says so once on stderr
+            _stderr(command, f"error: {result.get('error') or result.get('message') or 'computation failed'}")
+        return EXIT_OK if ok else EXIT_FAILED
+    except ParameterError as exc:
+        return _fail(command, want_json, EXIT_INPUT, str(exc), exc.name)
     except KeyboardInterrupt:
-        print(f"magrod {args.command}: interrupted", file=sys.stderr)
-        return 130
-    ok = bool(result.get("ok", True))
-    if args.json:
-        print(json.dumps(result, sort_keys=True, default=_default))
-    else:
-        print(mod.format_text(result))
-    return 0 if ok else 1
+        return _fail(command, want_json, EXIT_INTERRUPTED, "interrupted", None)
+    except BrokenPipeError:
+        # the reader went away (e.g. `| head -c 10`): stop writing to it, say so once on stderr
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        except OSError:
+            pass
+        _stderr(command, "error: output pipe closed by the reader")
+        return EXIT_ENVIRONMENT
+    except EnvironmentFault as exc:
+        return _fail(command, want_json, EXIT_ENVIRONMENT, str(exc), exc.name)
+    except OSError as exc:
+        path = exc.filename if exc.filename is not None else ""
+        msg = f"{exc.strerror or exc}" + (f": {path!r}" if path else "")
+        return _fail(command, want_json, EXIT_ENVIRONMENT, msg, "out")
+    except MemoryError:
+        return _fail(command, want_json, EXIT_ENVIRONMENT, "out of memory", None)
+    except Exception as exc:  # an internal error: one line (MAGROD_DEBUG=1 re-raises for the traceback)
+        if os.environ.get("MAGROD_DEBUG"):
+            raise
+        msg = " ".join(f"internal error: {type(exc).__name__}: {exc}".split())
+        return _fail(command, want_json, EXIT_FAILED, msg, None)
+    finally:
+        io.remove_empty_created_dirs()
 
 
-def _default(o):
+def _stderr(command: str, text: str) -> None:
+    line = " ".join(f"magrod{' ' + command if command else ''}: {text}".split())  # exactly one line
+    try:
+        print(line, file=sys.stderr, flush=True)
+    except (OSError, ValueError):
+        pass
+
+
+def _emit(text: str) -> None:
+    sys.stdout.write(text + "\n")
+    sys.stdout.flush()
+
+
+def _fail(command, want_json, code, message, parameter) -> int:
+    from .. import io
+
+    io.remove_empty_created_dirs()
+    if want_json:
+        try:
+            _emit(json.dumps({"ok": False, "error": " ".join(str(message).split()), "parameter": parameter,
+                              "exit_code": code}))
+        except (BrokenPipeError, OSError, ValueError):
+            pass
+    _stderr(command, f"error: {message}")
+    return code
+
+
+def _clean(o):
+    """JSON-able copy: numpy scalars/arrays to Python, non-finite floats to None (strict JSON has no NaN)."""
+    if isinstance(o, dict):
+        return {str(k): _clean(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [_clean(v) for v in o]
+    if isinstance(o, float):
+        return o if math.isfinite(o) else None
+    if isinstance(o, (str, int, bool)) or o is None:
+        return o
     try:
         import numpy as np
 
-        if isinstance(o, (np.floating, np.integer)):
-            return o.item()
         if isinstance(o, np.ndarray):
-            return o.tolist()
+            return _clean(o.tolist())
+        if isinstance(o, (np.floating, np.integer, np.bool_)):
+            return _clean(o.item())
     except ImportError:  # pragma: no cover
         pass
     return str(o)

@@ -16,7 +16,11 @@ def add_arguments(p):
 def run(args) -> dict:
     from ..integrability import custom_involution, summary
 
-    if args.subs:
+    from ..errors import ParameterError
+
+    if args.subs is not None:
+        if args.rederive or args.all:
+            raise ParameterError("subs", "computes one custom table: do not combine it with --rederive or --all")
         return custom_involution(args.subs)
     return summary(args.rederive, args.all)
 

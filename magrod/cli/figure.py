@@ -12,10 +12,10 @@ def add_arguments(p):
 
 def run(args) -> dict:
     from ..figures import build, builder
-    from ..io import ensure_writable_dir
+    from ..io import check_out_path, ensure_writable_dir
 
     builder(args.number)  # an unknown figure fails before the output directory is created
-    out = ensure_writable_dir(args.out)
+    out = ensure_writable_dir(check_out_path(args.out))
     paths = build(args.number, out, quick=args.quick, progress=not args.quiet)
     return {"ok": True, "figure": str(args.number).strip(), "outputs": paths, "quick": bool(args.quick)}
 

@@ -9,8 +9,9 @@ from .options import integer, number
 def add_arguments(p):
     p.add_argument("--m", required=True, help="m = m3/sqrt(B C2) (0 < m < m_c = 2 sqrt(1 + gamma))")
     p.add_argument("--gamma", required=True, help="extensibility gamma >= 0 (0: inextensible Kirchhoff rod)")
-    p.add_argument("--theta-stop", default="1e-8", help="compare closed form and integration until theta = this")
-    p.add_argument("--n", default="201", help="grid points per time direction for the comparison")
+    p.add_argument("--theta-stop", default=None, help="compare closed form and integration until theta = this "
+                                                       "(default 1e-8)")
+    p.add_argument("--n", default=None, help="grid points per time direction for the comparison (default 201)")
     p.add_argument("--no-verify", action="store_true", help="skip the multiprecision integration")
 
 
@@ -18,13 +19,15 @@ def run(args) -> dict:
     from ..errors import ParameterError
     from ..homoclinic import homoclinic, verify
 
-    orbit = homoclinic(args.m, args.gamma)
+    if args.no_verify and (args.theta_stop is not None or args.n is not None):
+        raise ParameterError("no_verify", "--theta-stop and --n set up the verification that --no-verify skips")
+    orbit = homoclinic(number("m", args.m), number("gamma", args.gamma))
     out = {"ok": True, **orbit.summary(), "kirchhoff": orbit.kirchhoff}
     if not args.no_verify:
-        theta_stop = number("theta-stop", args.theta_stop)
-        if not 0.0 < theta_stop < orbit.theta_max:
-            raise ParameterError("theta-stop", f"must be in (0, theta_max = {orbit.theta_max:.6g}), got {theta_stop}")
-        n = integer("n", args.n, minimum=2)
+        theta_stop = number("theta_stop", "1e-8" if args.theta_stop is None else args.theta_stop)
+        if not 1e-30 <= theta_stop < orbit.theta_max:
+            raise ParameterError("theta_stop", f"must be in [1e-30, theta_max = {orbit.theta_max:.6g}), got {theta_stop}")
+        n = integer("n", "201" if args.n is None else args.n, minimum=2)
         v = verify(orbit, theta_stop=theta_stop, n=n)
         v.pop("arrays")
         out["verify"] = v

@@ -14,7 +14,7 @@ def add_arguments(p):
     p.add_argument("--integrand", default="derived", choices=["derived", "printed", "both"],
                    help="derived: from eq:melnikov_bracket; printed: eq:Mel_ext as printed")
     p.add_argument("--find-zero", action="store_true", help="search gamma with A(gamma) = 0 in --bracket")
-    p.add_argument("--bracket", nargs=2, default=["1.8", "2.0"], metavar=("LO", "HI"),
+    p.add_argument("--bracket", nargs=2, default=None, metavar=("LO", "HI"),
                    help="gamma interval for --find-zero (the paper reports a zero between 1.8 and 2)")
 
 
@@ -25,8 +25,12 @@ def run(args) -> dict:
     out = {"ok": True, "convention": "M(psi0) = A * sin(psi0) * sqrt(a - 2b), A = Int F dt along the "
                                      "lambdabar = 0 homoclinic orbit; error = |A_float64 - A_real128| + tail bound"}
     m = number("m", args.m)
+    if args.find_zero and args.gamma is not None:
+        raise ParameterError("gamma", "--find-zero searches gamma in --bracket: do not give --gamma as well")
+    if not args.find_zero and args.bracket is not None:
+        raise ParameterError("bracket", "is the search interval of --find-zero: give --find-zero too")
     if args.find_zero:
-        lo, hi = (number("bracket", b) for b in args.bracket)
+        lo, hi = (number("bracket", b) for b in (args.bracket or ("1.8", "2.0")))
         if not 0.0 <= lo < hi:
             raise ParameterError("bracket", f"need 0 <= LO < HI, got {lo}, {hi}")
         from ..homoclinic import validate
@@ -36,7 +40,8 @@ def run(args) -> dict:
         return out
     if args.gamma is None:
         raise ParameterError("gamma", "missing: give --gamma (or --find-zero)")
-    out["amplitudes"] = {k: amplitude(m, args.gamma, k).as_dict() for k in which}
+    gamma = number("gamma", args.gamma)
+    out["amplitudes"] = {k: amplitude(m, gamma, k).as_dict() for k in which}
     return out
 
 

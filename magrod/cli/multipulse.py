@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from ..errors import ParameterError
 from ..generated.names import PARAMS
-from .options import add_params, integer, number, params_from
+from .options import add_params, integer, number, out_dir, params_from
 
 FREE = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))  # = magrod.shooting.FREE_PARAMETERS
 
@@ -34,6 +34,7 @@ def run(args) -> dict:
     if not (0 < span < 1):
         raise ParameterError("span", f"must be in (0, 1), got {span}")
     samples = integer("samples", args.samples, minimum=3)
+    out_dir("out", args.out)
     summary, _ = multipulse(params, args.out, free=args.free, max_pulses=max_pulses, span=span, samples=samples,
                             stem=f"figure{args.figure}" if args.figure else "multipulse", progress=not args.quiet)
     return summary

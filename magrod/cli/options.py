@@ -4,8 +4,20 @@ from __future__ import annotations
 
 import math
 
-from ..errors import ParameterError, require_finite
+import os
+
+from ..errors import MAX_MAGNITUDE, ParameterError, require_finite
 from ..generated.names import PARAMS
+
+# Counts are bounded by what memory and time allow on a workstation; the messages state the limit.
+LIMITS = {
+    "iterates": 2_000_000,   # Poincare points: ~200 bytes and ~0.2 ms each -> 400 MB, ~7 min
+    "n": 20_001,             # homoclinic comparison grid (multiprecision, ~1 ms per point)
+    "max_pulses": 12,        # N-pulse search: the branch is integrated past N near-saddle passages
+    "samples": 2_001,        # multipulse scan: one unstable-branch integration per sample
+    "points": 1_000_000,     # rod samples
+    "jobs": 64,              # reproduce worker processes
+}
 
 PARAM_HELP = {"m": "m = m3/sqrt(B C2) > 0", "mu": "mu = (2 C1 - C2^2)/C2^2", "gamma": "extensibility gamma",
               "delta": "shearability delta >= 0", "lam": "lambdabar = lambda m3/C2^2 (field strength x current)"}
@@ -30,19 +42,40 @@ def params_from(args, base: dict | None = None) -> dict:
     return vals
 
 
-def number(name: str, value) -> float:
-    return require_finite(name, value)
+def number(name: str, value, bound: float = MAX_MAGNITUDE) -> float:
+    """A finite, normal float with |x| <= bound."""
+    return require_finite(name, value, bound)
 
 
-def integer(name: str, value, minimum: int = 1) -> int:
-    """An integer >= minimum; accepts integral floats written as '1e4'."""
+def integer(name: str, value, minimum: int = 1, maximum: int | None = None) -> int:
+    """An integer in [minimum, maximum] (maximum defaults to LIMITS[name]); accepts integral floats ('1e4')."""
     try:
         f = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(name, f"must be an integer, got {value!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise ParameterError(name, f"must be an integer, got {str(value)[:40]!r}") from None
     if not math.isfinite(f) or f != int(f):
-        raise ParameterError(name, f"must be an integer, got {value!r}")
+        raise ParameterError(name, f"must be an integer, got {str(value)[:40]!r}")
     i = int(f)
     if i < minimum:
         raise ParameterError(name, f"must be >= {minimum}, got {value!r}")
+    maximum = LIMITS.get(name) if maximum is None else maximum
+    if maximum is not None and i > maximum:
+        raise ParameterError(name, f"must be <= {maximum} (the limit of what this command can finish), got {value!r}")
     return i
+
+
+def stem(name: str, value) -> str:
+    """A file-name stem: one path component (no '/', no '..'), printable, at most 200 bytes (suffixes follow)."""
+    v = str(value)
+    if not v or v in (".", "..") or "/" in v or "\\" in v or "\x00" in v or v.startswith("."):
+        raise ParameterError(name, f"must be a plain file name (no directories, not hidden), got {v[:60]!r}")
+    if not v.isprintable() or len(os.fsencode(v)) > 200:
+        raise ParameterError(name, "must be printable and at most 200 bytes")
+    return v
+
+
+def out_dir(name: str, value):
+    """Validate an output directory without creating it (io.check_out_path)."""
+    from ..io import check_out_path
+
+    return check_out_path(value, name)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from ..errors import ParameterError
 from ..generated.names import PARAMS
-from .options import add_params, integer, number, params_from
+from .options import LIMITS, add_params, integer, number, out_dir, params_from, stem
 
 _START = ("h", "theta0", "ptheta0", "psi0")
 # the choices, known without importing heyoka (checked against magrod.poincare in the tests)
@@ -31,7 +31,8 @@ def add_arguments(p):
     p.add_argument("--branch", default="any", choices=BRANCHES, help="psi = 0, psi = pi or both")
     p.add_argument("--formulation", default="body", choices=FORMULATIONS,
                    help="body: 9-D body frame; reduced: the paper's 4-D system (body frame near chart singularities)")
-    p.add_argument("--t-max", type=str, default=None, help="max-time guard (default 100 x iterates)")
+    p.add_argument("--t-max", type=str, default=None, help=f"max-time guard (default 100 x iterates, at most "
+                                                           f"{100 * LIMITS['iterates']:.0e})")
     p.add_argument("--out", default=None, help="write <stem>.npz/.json/.png into this directory")
     p.add_argument("--stem", default=None, help="file name stem (default: fig<PANEL> or poincare)")
 
@@ -65,21 +66,22 @@ def _inputs(args) -> tuple[dict, str | None]:
 
 
 def run(args) -> dict:
-    from ..figures.poincare import save_result
-    from ..io import ensure_writable_dir
     from ..params import RodParams
-    from ..poincare import _admissible_interval, _radicand, choose_root, poincare_map, solve_p_psi
-    from ..printed import PANELS
-    from ..progress import bar
+    from ..poincare import _admissible_interval, _radicand, choose_root, solve_p_psi
 
     vals, key = _inputs(args)
     params = RodParams(**{k: vals[k] for k in PARAMS})
     iterates = integer("iterates", args.iterates)
-    t_max = None if args.t_max is None else number("t_max", args.t_max)
+    t_max = None if args.t_max is None else number("t_max", args.t_max, bound=100.0 * LIMITS["iterates"])
     if t_max is not None and t_max <= 0:
         raise ParameterError("t_max", f"must be > 0, got {t_max}")
+    if args.stem is not None and args.out is None:
+        raise ParameterError("stem", "names the files written into --out: give --out too")
+    name = stem("stem", args.stem) if args.stem is not None else (f"fig{key}" if key else "poincare")
+    out = out_dir("out", args.out) if args.out is not None else None
     start = dict(theta0=vals["theta0"], ptheta0=vals["ptheta0"], psi0=vals["psi0"])
-    root = args.root if args.root in ("largest", "smallest") else integer("root", args.root, minimum=-10**9)
+    root = args.root if args.root in ("largest", "smallest") else integer("root", args.root, minimum=-10**9,
+                                                                          maximum=10**9)
     # every input error is raised before anything is computed or written
     if "p_psi0" not in vals:
         choose_root(solve_p_psi(params, vals["h"], **start), root)
@@ -88,17 +90,44 @@ def run(args) -> dict:
         if not lo < vals["p_psi0"] < hi:
             raise ParameterError("ppsi0", f"the square root sqrt(mu - 2 lam pbar_psi) of Hbar is imaginary or zero at "
                                           f"the start: mu - 2 lam ppsi0 = {_radicand(params, vals['p_psi0']):.6g}")
-    out = ensure_writable_dir(args.out) if args.out is not None else None
+    kw = dict(params=params, h=vals.get("h"), **start, p_psi0=vals.get("p_psi0"), iterates=iterates, root=root,
+              direction=args.direction, branch=args.branch, formulation=args.formulation, t_max=t_max)
+    res = _compute(kw, args.quiet)
+    retried = False
+    if res.success and not res.accuracy_checks()["passed"]:
+        # the integrator did not conserve what it must: do not trust the compiled code from the disk cache
+        from .. import systems
 
-    with bar(iterates, "poincare", not args.quiet) as update:
-        res = poincare_map(params, vals.get("h"), **start, p_psi0=vals.get("p_psi0"), iterates=iterates, root=root,
-                           direction=args.direction, branch=args.branch, formulation=args.formulation, t_max=t_max,
-                           progress=update)
+        systems.bypass_disk_cache()
+        res, retried = _compute(kw, args.quiet), True
+        if res.accuracy_checks()["passed"]:
+            systems.bypass_disk_cache(clear=True)
+            systems._warn("the on-disk JIT cache gave an integrator that failed its accuracy checks; the cache was "
+                          "cleared and the run repeated with freshly compiled code")
+    acc = res.accuracy_checks()
+    ok = bool(res.success and acc["passed"])
     paths = {}
-    if out is not None:
-        stem = args.stem or (f"fig{key}" if key else "poincare")
-        paths = save_result(res, out, stem, key=key, label=PANELS[key]["label"] if key else None)
-    return {"ok": bool(res.success), "panel": key, **res.summary(), "output": paths}
+    if ok and out is not None:
+        from ..figures.poincare import save_result
+        from ..io import ensure_writable_dir
+        from ..printed import PANELS
+
+        paths = save_result(res, ensure_writable_dir(out), name, key=key, label=PANELS[key]["label"] if key else None)
+    out_d = {"ok": ok, "panel": key, **res.summary(), "output": paths, "retried_without_jit_cache": retried}
+    if not ok:
+        out_d["error"] = res.message if not res.success else (
+            f"accuracy check failed: max |Hbar - h| = {res.max_abs_dH:.3g} (tol {acc['energy_tol']:g}), Casimir drift "
+            f"{res.casimir_drift if res.casimir_drift is not None else 0:.3g} (tol {acc['casimir_tol']:g}); "
+            "nothing written")
+    return out_d
+
+
+def _compute(kw, quiet):
+    from ..poincare import poincare_map
+    from ..progress import bar
+
+    with bar(kw["iterates"], "poincare", not quiet) as update:
+        return poincare_map(**kw, progress=update)
 
 
 def format_text(r: dict) -> str:

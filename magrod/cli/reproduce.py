@@ -2,16 +2,17 @@
 
 Nothing symbolic is re-derived (generated/ is used as is).  Figures run as independent tasks in worker
 processes (--jobs), each task writing its files atomically; a task whose stamp (same quick flag, same
-package versions, all files present) is found in OUT/.state/ is skipped, so an interrupted run resumes.
-Ctrl-C stops the workers, leaves no half-written file and exits non-zero (130)."""
+package versions, every file present with its recorded content hash) is found in OUT/.state/ is skipped, so an
+interrupted run resumes.  Ctrl-C stops the workers at once, keeps the stamps of finished figures, leaves no
+half-written file and exits 130; workers die with their parent even on kill -9; a second run into the same
+directory is refused while the first holds its lock."""
 from __future__ import annotations
 
 import json
-import sys
 import time
 from pathlib import Path
 
-from ..errors import ParameterError
+from ..errors import EnvironmentFault, ParameterError
 from ..figures import FIGURES
 from .options import integer
 
@@ -30,45 +31,125 @@ def _stamp_path(out: Path, task: str) -> Path:
     return out / ".state" / f"figure_{task}.json"
 
 
+def _sha256(path: Path) -> str:
+    import hashlib
+
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
 def _stamp_ok(out: Path, task: str, quick: bool) -> dict | None:
+    """The stamp of a finished task if it is valid for this run: a JSON object written by this code, same quick
+    flag and package versions, and every file it lists present with the content hash it recorded.  Anything
+    else (missing, unreadable, truncated, wrong type, a changed file) means: recompute."""
     from ..io import versions
 
     p = _stamp_path(out, task)
-    if not p.exists():
-        return None
     try:
         st = json.loads(p.read_text())
-    except (OSError, ValueError):
+    except (OSError, ValueError, UnicodeDecodeError):
         return None
-    if st.get("quick") != quick or st.get("versions") != versions():
+    files = st.get("files") if isinstance(st, dict) else None
+    if (not isinstance(files, dict) or not files or st.get("quick") is not quick or st.get("versions") != versions()
+            or not isinstance(st.get("paths"), list)):
         return None
-    if not all(Path(x).exists() for x in st.get("paths", [])):
-        return None
+    for name, digest in files.items():
+        f = out / str(name)
+        if not isinstance(digest, str) or Path(name).name != name or not f.is_file():
+            return None
+        try:
+            if _sha256(f) != digest:
+                return None
+        except OSError:
+            return None
     return st
 
 
+def _worker_init(parent_pid: int) -> None:
+    """Runs in each worker: Ctrl-C is the parent's to handle, and a worker never outlives its parent (Linux:
+    the kernel kills it when the parent dies, even by kill -9; elsewhere a watchdog thread notices)."""
+    import os
+    import signal
+    import threading
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        import ctypes
+
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+    if os.getppid() != parent_pid:  # the parent died before prctl took effect
+        os._exit(1)
+
+    def watchdog():
+        while True:
+            time.sleep(1.0)
+            if os.getppid() != parent_pid:
+                os._exit(1)
+
+    threading.Thread(target=watchdog, daemon=True).start()
+
+
 def _run_task(task: str, out: str, quick: bool) -> dict:
-    """Worker: one figure.  Runs in a separate process; returns paths and wall time."""
+    """Worker: one figure.  Runs in a separate process; returns paths, their content hashes and wall time."""
     from ..figures import build
 
     t0 = time.perf_counter()
     paths = build(task, Path(out), quick=quick, progress=False)
-    return {"task": task, "paths": paths, "wall_s": time.perf_counter() - t0}
+    files = {Path(p).name: _sha256(Path(p)) for p in paths}
+    return {"task": task, "paths": paths, "files": files, "wall_s": time.perf_counter() - t0}
+
+
+def _tasks(only: str) -> list:
+    tasks = [t.strip() for t in str(only).split(",")]
+    if not any(tasks):
+        raise ParameterError("only", f"give at least one figure number ({', '.join(TASKS)})")
+    for t in tasks:
+        if t not in FIGURES:
+            raise ParameterError("only", f"unknown figure {t!r}; choose from {', '.join(TASKS)}")
+    dup = sorted({t for t in tasks if tasks.count(t) > 1})
+    if dup:
+        raise ParameterError("only", f"figure(s) {', '.join(dup)} listed twice")
+    return tasks
+
+
+def _lock(out: Path):
+    """An exclusive lock on OUT/.state/lock for the whole run: a second `magrod reproduce` into the same
+    directory fails at once instead of computing everything again."""
+    import fcntl
+
+    fh = open(out / ".state" / "lock", "a+")
+    try:
+        fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        fh.close()
+        raise EnvironmentFault("out", f"another magrod reproduce is writing into {str(out)!r}; wait for it to "
+                                      "finish (finished figures are then reused) or choose another --out") from None
+    return fh
 
 
 def run(args) -> dict:
     import concurrent.futures as cf
+    import multiprocessing
+    import os
 
     from ..figures.report import claims, report_markdown
     from ..io import atomic_write_json, atomic_write_text, ensure_writable_dir, versions
+    from ..progress import bar
+    from .options import out_dir
 
     jobs = integer("jobs", args.jobs)
-    tasks = [t.strip() for t in args.only.split(",") if t.strip()]
-    for t in tasks:
-        if t not in FIGURES:
-            raise ParameterError("only", f"unknown figure {t!r}; choose from {', '.join(TASKS)}")
-    out = ensure_writable_dir(Path(args.out))
-    (out / ".state").mkdir(exist_ok=True)
+    tasks = _tasks(args.only)
+    out = ensure_writable_dir(out_dir("out", args.out))
+    try:
+        (out / ".state").mkdir(exist_ok=True)
+    except OSError as exc:
+        raise EnvironmentFault("out", f"cannot create {str(out / '.state')!r}: {exc.strerror}") from None
+    lock = _lock(out)
     t0 = time.perf_counter()
     done, todo = {}, []
     for t in tasks:
@@ -77,48 +158,44 @@ def run(args) -> dict:
             done[t] = {**st, "skipped": True}
         else:
             todo.append(t)
-    progress = None
-    if not args.quiet:
-        from tqdm import tqdm
-
-        progress = tqdm(total=len(tasks), initial=len(done), desc="reproduce", unit="figure", file=sys.stderr)
     failures = {}
-    import multiprocessing
-
     # spawn, not fork: workers build their own LLVM/heyoka state (the on-disk JIT cache makes this cheap)
-    ex = cf.ProcessPoolExecutor(max_workers=min(jobs, max(1, len(todo))),
-                                mp_context=multiprocessing.get_context("spawn"))
+    ex = cf.ProcessPoolExecutor(max_workers=min(jobs, max(1, len(todo))), mp_context=multiprocessing.get_context("spawn"),
+                                initializer=_worker_init, initargs=(os.getpid(),))
+    interrupted = False
     try:
-        futs = {ex.submit(_run_task, t, str(out), args.quick): t for t in todo}
-        for fut in cf.as_completed(futs):
-            t = futs[fut]
-            try:
-                r = fut.result()
-            except Exception as exc:  # a failed figure is reported, the others still finish
-                failures[t] = f"{type(exc).__name__}: {exc}"
-            else:
-                st = {"task": t, "quick": args.quick, "versions": versions(), "paths": r["paths"],
-                      "wall_s": r["wall_s"]}
-                atomic_write_json(_stamp_path(out, t), st)
-                done[t] = {**st, "skipped": False}
-            if progress:
-                progress.update(1)
-    except KeyboardInterrupt:
-        for f in futs:
-            f.cancel()
-        ex.shutdown(wait=False, cancel_futures=True)
+        with bar(len(todo), "reproduce", not args.quiet, unit="figure") as update:
+            futs = {ex.submit(_run_task, t, str(out), args.quick): t for t in todo}
+            for fut in cf.as_completed(futs):
+                t = futs[fut]
+                try:
+                    r = fut.result()
+                except Exception as exc:  # a failed figure is reported, the others still finish
+                    failures[t] = " ".join(f"{type(exc).__name__}: {exc}".split())
+                else:
+                    st = {"task": t, "quick": args.quick, "versions": versions(), "paths": r["paths"],
+                          "files": r["files"], "wall_s": r["wall_s"]}
+                    atomic_write_json(_stamp_path(out, t), st)
+                    done[t] = {**st, "skipped": False}
+                update(1)
+    except BaseException:
+        interrupted = True
+        for proc in list(getattr(ex, "_processes", {}).values()):  # stop now, not after the running figures
+            proc.kill()
         raise
     finally:
-        ex.shutdown(wait=True, cancel_futures=True)
-        if progress:
-            progress.close()
+        ex.shutdown(wait=not interrupted, cancel_futures=True)
+        lock.close()
     report_path = out / "REPORT.md"
     rows = claims(out, args.quick)
     atomic_write_text(report_path, report_markdown(rows, done, failures, args.quick, time.perf_counter() - t0))
-    return {"ok": not failures, "out": str(out), "report": str(report_path), "quick": args.quick,
-            "figures": {t: {"paths": d["paths"], "skipped": d["skipped"], "wall_s": d.get("wall_s")}
-                        for t, d in sorted(done.items())},
-            "failures": failures, "claims": rows, "wall_s": time.perf_counter() - t0}
+    res = {"ok": not failures, "out": str(out), "report": str(report_path), "quick": args.quick,
+           "figures": {t: {"paths": d["paths"], "skipped": d["skipped"], "wall_s": d.get("wall_s")}
+                       for t, d in sorted(done.items())},
+           "failures": failures, "claims": rows, "wall_s": time.perf_counter() - t0}
+    if failures:
+        res["error"] = "figure(s) failed: " + "; ".join(f"{t}: {m}" for t, m in sorted(failures.items()))
+    return res
 
 
 def format_text(r: dict) -> str:

@@ -13,11 +13,11 @@ def add_arguments(p):
 def run(args) -> dict:
     from ..figures.rod import plot_rod, rod_from_orbit_file
     from ..io import atomic_write_json, versions
-    from .options import integer
+    from .options import integer, out_dir
 
     points = integer("points", args.points, minimum=2)
+    out = out_dir("out", args.out if args.out is not None else str(Path(args.source).parent))
     r = rod_from_orbit_file(args.source, n=points)
-    out = Path(args.out) if args.out else Path(args.source).parent
     stem = Path(args.source).stem
     paths = plot_rod(r, out, stem, title=f"{stem}: pars (m, mu, gamma, delta, lam) = "
                                              f"{[float(f'{v:.6g}') for v in r['pars']]}")
