@@ -48,7 +48,8 @@ class UsageError(ParameterError):
     """An argparse error (unknown option, bad choice, missing value ...), routed through the common error path."""
 
     def __str__(self):
-        return self.message
+        msg = self.message.replace("argument COMMAND", "command").replace("COMMAND", "command")
+        return msg if self.name in msg else f"{self.name}: {msg}"
 
 
 def _param_of(message: str) -> str:
@@ -59,7 +60,8 @@ def _param_of(message: str) -> str:
         return "command" if name in ("COMMAND", "command") else name.lstrip("-").replace("-", "_")
     m = re.match(r"the following arguments are required: (\S+?)(?:,|$)", message)
     if m:
-        return m.group(1).split("/")[0].lstrip("-").replace("-", "_")
+        name = m.group(1).split("/")[0]
+        return "command" if name in ("COMMAND", "command") else name.lstrip("-").replace("-", "_")
     m = re.match(r"unrecognized arguments: (\S+)", message)
     if m:
         return m.group(1).split("=")[0].lstrip("-").replace("-", "_")
@@ -97,10 +99,10 @@ def main(argv=None) -> int:
     if hasattr(signal, "SIGXFSZ"):  # a file-size limit (ulimit -f) must be an OSError, not a kill
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
     signal.signal(signal.SIGINT, signal.default_int_handler)  # from here on Ctrl-C is a KeyboardInterrupt
-    from .. import io
-
-    io.track_created_dirs()
     try:
+        from .. import io
+
+        io.track_created_dirs()
         args = build_parser().parse_args(argv)
         want_json = bool(args.json)
         if args.json:
@@ -140,7 +142,7 @@ def main(argv=None) -> int:
         msg = " ".join(f"internal error: {type(exc).__name__}: {exc}".split())
         return _fail(command, want_json, EXIT_FAILED, msg, None)
     finally:
-        io.remove_empty_created_dirs()
+        _cleanup()
 
 
 def _stderr(command: str, text: str) -> None:
@@ -156,10 +158,14 @@ def _emit(text: str) -> None:
     sys.stdout.flush()
 
 
-def _fail(command, want_json, code, message, parameter) -> int:
-    from .. import io
+def _cleanup() -> None:
+    io = sys.modules.get(__package__.rsplit(".", 1)[0] + ".io")
+    if io is not None:
+        io.remove_empty_created_dirs()
 
-    io.remove_empty_created_dirs()
+
+def _fail(command, want_json, code, message, parameter) -> int:
+    _cleanup()
     if want_json:
         try:
             _emit(json.dumps({"ok": False, "error": " ".join(str(message).split()), "parameter": parameter,
