@@ -334,3 +334,20 @@ def reduced_integrator(state, pars_, *, tol=None, t_events=(), nt_events=(), fp_
     """A reduced-system integrator with explicit events (hy.t_event objects) and initial data."""
     return taylor(system("reduced"), state, pars_, fp_type=fp_type, tol=tol, t_events=t_events,
                   nt_events=nt_events, **kw)
+
+
+# --------------------------------------------------------------------------------------------------------------
+# issue 13 (periodic saddle, homoclinic orbits to it, continuation): cached builders
+# --------------------------------------------------------------------------------------------------------------
+@per_thread
+def cached_variational(precision: str = "double"):
+    """One body-frame variational integrator (w.r.t. the 9 initial values and the 5 parameters) per thread and
+    precision ("double" or "long double"); reset with `reset_variational`, never rebuilt per orbit."""
+    return variational_integrator("body", wrt_pars=True, fp_type=PRECISIONS[precision])
+
+
+@lru_cache(maxsize=None)
+def body_casimir_gradients() -> CFunc:
+    """Gradients of the Casimirs C1, C2, C3 (3 x 9, row-major) by hy.diff of the generated expressions."""
+    x = variables("body")
+    return CFunc([hy.diff(c, xi) for c in body.casimirs(*x, *pars()) for xi in x], x)
