@@ -196,14 +196,33 @@ def _phase_fix(v):
     return v * np.exp(-1j * np.angle(v[j]))
 
 
-def monodromy(x0, pars, T, precision: str = "double") -> np.ndarray:
-    """d x(T)/d x(0) along the orbit of x0 (heyoka variational equations, tol = eps); returns (x(T), M)."""
+def monodromy(x0, pars, T, precision: str = "double", as_float: bool = True):
+    """d x(T)/d x(0) along the orbit of x0 (heyoka variational equations, tol = eps of the precision); returns
+    (x(T), M) (float64 unless as_float=False)."""
     ta = systems.cached_variational(precision)
     ftype = systems.PRECISIONS[precision]
     systems.reset_variational(ta, np.asarray(x0, dtype=ftype), np.asarray(pars, dtype=ftype))
     ta.propagate_until(ftype(T))
+    if not as_float:
+        n = ta.n_orig_sv
+        D = np.asarray(ta.state[ta.get_vslice(order=1)]).reshape(n, len(ta.vargs))
+        return np.array(ta.state[:n]), D[:, :n].copy()
     x, Phi, _ = systems.variational_blocks(ta)
     return x.astype(float), Phi
+
+
+def reciprocal_defect_extended(ps: "PeriodicSaddle", dps: int = 30) -> float:
+    """max over the quartet of min_j |Lambda_i Lambda_j - 1|, with the monodromy integrated in long double and
+    its eigenvalues computed by mpmath at `dps` digits (in double the small multipliers carry an absolute
+    error ~ eps |M|, i.e. a relative one ~ eps |Lambda|^2 ~ 1e-12)."""
+    import mpmath
+
+    _, M = monodromy(ps.x, ps.params.array(), ps.T, precision="long double", as_float=False)
+    with mpmath.workdps(dps):
+        A = mpmath.matrix([[mpmath.mpf(str(M[i, j])) for j in range(9)] for i in range(9)])
+        ev = mpmath.eig(A, left=False, right=False)
+        ev = sorted(ev, key=lambda z: -abs(mpmath.log(abs(z))))[:4]
+        return float(max(min(abs(a * b - 1) for b in ev) for a in ev))
 
 
 def periodic_saddle(params: RodParams, *, require_hyperbolic: bool = True) -> PeriodicSaddle:
