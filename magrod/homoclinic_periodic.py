@@ -160,6 +160,8 @@ def residual_and_jacobian(params: RodParams, crossing_T: float, angle: float, *,
     for name in free:
         v = getattr(params, name)
         h = h_rel * max(1.0, abs(v))
+        if name in ("mu", "lam"):  # stay on the side mu > 2 lam where the periodic saddle exists
+            h = min(h, 0.25 * (params.mu - 2 * params.lam) / (2.0 if name == "lam" else 1.0))
         xp = periodic_saddle(_with(params, name, v + h)).launch_point(eps, angle)
         xm = periodic_saddle(_with(params, name, v - h)).launch_point(eps, angle)
         cols.append(G @ (Phi @ ((xp - xm) / (2 * h)) + Psi[:, systems.par_index(name)]))
@@ -219,7 +221,7 @@ def find(params: RodParams, pulses: int, *, samples: int = 181, eps: float | Non
     near-saddle zero for even pulses) from sign changes of sin psi over a launch-angle scan, each refined by
     Newton on (T, angle); duplicates removed."""
     pulses = require_positive_int("pulses", pulses)
-    ang, t, sp_ = scan_angles(params, pulses, samples, k=k)
+    ang, t, sp_ = scan_angles(params, pulses, samples, k=k, eps=eps or DEFAULT_EPS)
     out = []
     n = len(ang)
     for i in range(n):
