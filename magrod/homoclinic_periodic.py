@@ -267,3 +267,38 @@ def orbit(res: PeriodicHomoclinic, n: int = 4001) -> dict:
     th, ps, _, pt, pp = systems.body_to_euler(Xc, pars)
     H = systems.body_functions()["H"](Xc, pars)[0]
     return {"t": t, "x": X, "theta": th, "psi": ps, "ptheta": pt, "ppsi": pp, "H": H, "reversor": R}
+
+
+def multipulse(params: RodParams, out_dir=None, *, max_pulses: int = 3, samples: int = 121, quiet: bool = True) -> dict:
+    """`magrod multipulse` for mu != 2 lam: symmetric N-pulse orbits to the periodic saddle at the given
+    parameters (no parameter freed: they are generic), N = 1..max_pulses; one .npz/.json per orbit."""
+    import time
+    from pathlib import Path
+
+    from .io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
+
+    max_pulses = require_positive_int("max_pulses", max_pulses)
+    s = periodic_saddle(params)  # ParameterError before anything is written
+    if out_dir is not None:
+        ensure_writable_dir(out_dir)
+    t0 = time.perf_counter()
+    rows = []
+    for N in range(1, max_pulses + 1):
+        found = find(params, N, samples=samples)
+        if not found:
+            rows.append({"pulses_target": N, "success": False, "message": "no sign change of sin psi over the "
+                         f"launch-angle scan ({samples} angles) converged to a {N}-pulse orbit"})
+        for k, r in enumerate(found):
+            row = {"pulses_target": N, "pulses": N, **r.as_dict()}
+            if out_dir is not None:
+                orb = orbit(r)
+                stem = f"multipulse_periodic_N{N}_{k}"
+                row["paths"] = [str(atomic_savez(Path(out_dir) / f"{stem}.npz", t=orb["t"], x=orb["x"],
+                                                 theta=orb["theta"], psi=orb["psi"], H=orb["H"], x0=r.x0)),
+                                str(atomic_write_json(Path(out_dir) / f"{stem}.json", {**row, "versions": versions()}))]
+            rows.append(row)
+    return {"ok": True, "params": params.as_dict(), "free": None, "saddle": "periodic (helical relative equilibrium)",
+            "saddle_T": s.T, "quartet_abs": [abs(z) for z in s.quartet], "orbits": rows,
+            "wall_time_s": time.perf_counter() - t0,
+            "note": "mu != 2 lam: homoclinic orbits to the periodic saddle are generic (unknowns T and the launch "
+                    "angle), found at the given parameters"}

@@ -27,6 +27,11 @@ def run(args) -> dict:
         if getattr(args, k) is not None:
             base[k] = getattr(args, k)
     params = RodParams(**base)
+    if abs(params.mu - 2 * params.lam) > 64 * 2.220446049250313e-16 * max(1.0, abs(params.mu)):
+        # issue 13: mu != 2 lam, orbits to the periodic saddle (generic; nothing freed)
+        from . import homoclinic_periodic
+
+        return homoclinic_periodic.multipulse(params, args.out, max_pulses=args.max_pulses, quiet=args.quiet)
     if not (0 < args.span < 1):
         raise ParameterError("span", f"must be in (0, 1), got {args.span}")
     if args.samples < 3:
@@ -40,7 +45,10 @@ def run(args) -> dict:
 def format_text(d: dict) -> str:
     lines = [f"multipulse orbits, nominal {d['params']}, free {d['free']}:"]
     for o in d["orbits"]:
-        if o["success"]:
+        if o["success"] and "angle" in o:  # issue 13: periodic saddle
+            lines.append(f"  N={o['pulses']}: angle={o['angle']:.12g} T={o['T']:.10g} residual={o['residual']:.2e} "
+                         f"|H-H_saddle|={o['energy_error']:.1e} files={o.get('paths', [])}")
+        elif o["success"]:
             fv = "" if o["free_value"] is None else f"{d['free']}={o['free_value']:.12g} "
             lines.append(f"  N={o['pulses']}: {fv}residual={o['residual']:.2e} "
                          f"arclength={o['arclength']:.6g} (eps={o['eps']:g}) H={o['H']:.15g} "
