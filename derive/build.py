@@ -11,6 +11,7 @@ import sympy as sp
 
 from . import numeric_scale as ns
 from . import homoclinic, melnikov, poisson, reduction, symmetry
+from . import floquet  # issue 13
 from .codegen import HeyokaPrinter, function_source, module_source
 from .model import X, phi, psi, theta
 from .paper import delta, gamma, lambar, m, mu, pps, pth
@@ -207,6 +208,7 @@ def all_results():
     results += homoclinic.derive_all()
     results += melnikov.derive_all()
     results += symmetry.derive_all()
+    results += floquet.derive_all()  # issue 13
     return results, {}
 
 
@@ -242,6 +244,7 @@ def build(out_dir: Path, verbose=True) -> dict:
     files["homoclinic.py"] = homoclinic.module()
     files["melnikov.py"] = melnikov.module()
     files["symmetry.py"] = symmetry.module()
+    files["floquet.py"] = floquet.module()  # issue 13
     files["names.py"] = names_module()
     files["scalars.py"] = scalars_module()
     results, _ = all_results()

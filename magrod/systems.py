@@ -390,3 +390,20 @@ def body_to_euler(x, pars_) -> np.ndarray:
 
 def chart_index(name: str) -> int:
     return names.CHART.index(name)
+
+
+# --------------------------------------------------------------------------------------------------------------
+# periodic saddle, homoclinic orbits to it, continuation: cached builders
+# --------------------------------------------------------------------------------------------------------------
+@per_thread
+def cached_variational(precision: str = "double"):
+    """One body-frame variational integrator (w.r.t. the 9 initial values and the 5 parameters) per thread and
+    precision ("double" or "long double"); reset with `reset_variational`, never rebuilt per orbit."""
+    return variational_integrator("body", wrt_pars=True, fp_type=PRECISIONS[precision])
+
+
+@lru_cache(maxsize=None)
+def body_casimir_gradients() -> CFunc:
+    """Gradients of the Casimirs C1, C2, C3 (3 x 9, row-major) by hy.diff of the generated expressions."""
+    x = variables("body")
+    return CFunc([hy.diff(c, xi) for c in body.casimirs(*x, *pars()) for xi in x], x)

@@ -87,7 +87,8 @@ def test_bad_parameters():
 def test_cli_exit_codes(tmp_path):
     from magrod.cli import main
 
-    assert main(["multipulse", "--figure", "6", "--mu", "0.5", "--out", str(tmp_path / "x"), "--quiet"]) == 2
+    # issue 13: mu != 2 lam is accepted (orbits to the periodic saddle); mu < 2 lam has no saddle near the rod
+    assert main(["multipulse", "--figure", "6", "--mu", "0.0019", "--out", str(tmp_path / "x"), "--quiet"]) == 2
     assert not (tmp_path / "x").exists()
 
 

@@ -41,6 +41,7 @@ SUBCOMMANDS = {
     "multipulse": ("magrod.cli.multipulse", "multipulse homoclinic orbits by shooting (Figures 6, 7)"),
     "rod": ("magrod.cli.rod", "3-D rod shape from a computed solution"),
     "reproduce": ("magrod.cli.reproduce", "reproduce every figure and claim of the paper"),
+    "continue": ("magrod.cli.continuation", "pseudo-arclength continuation of symmetric homoclinic orbits"),
 }
 
 

@@ -21,6 +21,7 @@ def add_arguments(p):
 
 def run(args) -> dict:
     from ..figures.multipulse import multipulse
+    from ..generated import scalars
     from ..params import RodParams
     from ..printed import MULTIPULSE
 
@@ -30,6 +31,14 @@ def run(args) -> dict:
         raise ParameterError("figure", "give --figure 6|7 or all of " + " ".join(f"--{k}" for k in PARAMS))
     params = RodParams(**vals)
     max_pulses = integer("max_pulses", args.max_pulses)
+    if abs(params.mu - scalars.straight_rod_mu(**vals)) > 64 * 2.220446049250313e-16 * max(1.0, abs(params.mu)):
+        # mu != 2 lam: orbits to the periodic saddle (helical rod) are generic, found at the given parameters
+        from ..figures.continuation import write_periodic_multipulse
+
+        samples = integer("samples", args.samples, minimum=3)
+        out_dir("out", args.out)
+        return write_periodic_multipulse(params, args.out, max_pulses=max_pulses, samples=samples,
+                                         progress=not args.quiet)
     span = number("span", args.span)
     if not (0 < span < 1):
         raise ParameterError("span", f"must be in (0, 1), got {span}")
@@ -43,7 +52,10 @@ def run(args) -> dict:
 def format_text(d: dict) -> str:
     lines = [f"multipulse orbits, nominal {d['params']}, free {d['free']}:"]
     for o in d["orbits"]:
-        if o["success"]:
+        if o["success"] and "angle" in o:  # periodic saddle (mu != 2 lam)
+            lines.append(f"  N={o['pulses']}: angle={o['angle']:.12g} T={o['T']:.10g} residual={o['residual']:.2e} "
+                         f"|H-H_saddle|={o['energy_error']:.1e} files={o.get('paths', [])}")
+        elif o["success"]:
             fv = "" if o["free_value"] is None else f"{d['free']}={o['free_value']:.12g} "
             lines.append(f"  N={o['pulses']}: {fv}residual={o['residual']:.2e} "
                          f"arclength={o['arclength']:.6g} (eps={o['eps']:g}) H={o['H']:.15g} "

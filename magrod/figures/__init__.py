@@ -16,6 +16,9 @@ FIGURES = {
     "5": ("magrod.figures.poincare", "figure_5", "Poincare sections, h = 0.8, gamma in {0.15, 0.205, 0.208, 0.24}"),
     "6": ("magrod.figures.multipulse", "figure_6", "two- and four-pulse homoclinic orbits and rod shapes (lambdabar = 0.001)"),
     "7": ("magrod.figures.multipulse", "figure_7", "two- and three-pulse homoclinic orbits and rod shapes (lambdabar = 0.5)"),
+    # beyond the paper
+    "continuation": ("magrod.figures.continuation", "build",
+                     "Fig 6 2-pulse orbit as a curve in (lam, m) on mu = 2 lam; primaries to the periodic saddle vs mu"),
 }
 
 

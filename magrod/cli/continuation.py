@@ -1,0 +1,127 @@
+"""`magrod continue`: pseudo-arclength continuation of symmetric homoclinic orbits (magrod.continuation).
+
+Two kinds of branches:
+  generic   (mu > 2 lam) orbits to the periodic saddle, unknowns (T, launch angle, --free), --pulses N
+  --mu2lam  codimension-one orbits of the straight rod on mu = 2 lam: a curve in the (lam, --second) plane
+Writes branch.npz + branch.json (+ bifurcation diagram PNG) into --out."""
+from __future__ import annotations
+
+from ..errors import ParameterError
+from ..generated.names import PARAMS
+from .options import integer, number, out_dir, params_from
+
+START = dict(m=1.7, mu=0.0021, gamma=1.0, delta=1.0, lam=0.001)  # near Fig 6, generic side mu > 2 lam
+
+
+def add_arguments(p):
+    for k in PARAMS:
+        p.add_argument(f"--{k}", default=None, help=f"{k} at the start of the branch (default {START[k]})")
+    p.add_argument("--pulses", default="1", help="number of pulses N >= 1")
+    p.add_argument("--free", default="mu", choices=PARAMS, help="continuation parameter (generic case)")
+    p.add_argument("--mu2lam", action="store_true", help="continue codimension-one orbits on mu = 2 lam in (lam, --second)")
+    p.add_argument("--second", default="m", choices=tuple(k for k in PARAMS if k not in ("mu", "lam")),
+                   help="second parameter on mu = 2 lam")
+    p.add_argument("--steps", default="40", help="continuation steps")
+    p.add_argument("--ds", default="0.1", help="initial scaled arclength step, in (0, 1]")
+    p.add_argument("--direction", type=int, default=1, choices=(-1, 1), help="initial direction in the parameter")
+    p.add_argument("--range", nargs=2, metavar=("LO", "HI"), help="stop when the parameter leaves [LO, HI]")
+    p.add_argument("--allow-boundary", action="store_true",
+                   help="allow --range to cross a stability (Hamiltonian-Hopf) boundary of the saddle")
+    p.add_argument("--out", default="out/continue", help="output directory")
+
+
+def _check_range(params, name: str, rng, mu2lam: bool):
+    from ..floquet import periodic_saddle
+    from ..generated import scalars
+    from ..params import RodParams
+    from ..saddle import straight_rod
+
+    for v in rng:
+        kw = {**params.as_dict(), name: v}
+        if mu2lam:
+            kw["mu"] = scalars.straight_rod_mu(**kw)
+        try:
+            q = RodParams(**kw)
+            straight_rod(q) if mu2lam else periodic_saddle(q)
+        except ParameterError as exc:
+            raise ParameterError("range", f"{name} = {v:g} is beyond a stability boundary of the saddle ({exc.message}); "
+                                          "pass --allow-boundary to continue anyway") from None
+
+
+def run(args) -> dict:
+    import time
+
+    import numpy as np
+
+    from .. import continuation as C
+    from .. import homoclinic_periodic as hp
+    from .. import shooting
+    from ..figures.continuation import write_branch
+    from ..generated import scalars
+    from ..params import RodParams
+    from ..progress import bar
+
+    N = integer("pulses", args.pulses, maximum=12)
+    steps = integer("steps", args.steps, maximum=10_000)
+    ds = number("ds", args.ds)
+    if not (0 < ds <= 1):
+        raise ParameterError("ds", f"must be in (0, 1], got {ds}")
+    vals = params_from(args, START)
+    if args.mu2lam:
+        if args.mu is not None:
+            raise ParameterError("mu", "--mu2lam sets mu = 2 lam: do not give --mu")
+        vals["mu"] = scalars.straight_rod_mu(**vals)
+    base = RodParams(**vals)
+    name = args.second if args.mu2lam else args.free
+    if args.range is not None:
+        lo, hi = (number("range", v) for v in args.range)
+        if not lo < hi:
+            raise ParameterError("range", f"need LO < HI, got {lo} {hi}")
+        if not args.allow_boundary:
+            _check_range(base, name, (lo, hi), args.mu2lam)
+    out = out_dir("out", args.out)
+    t0 = time.perf_counter()
+    if args.mu2lam:
+        r = shooting.shoot(base, N)
+        if not r.success:
+            return {"ok": False, "error": f"no {N}-pulse orbit on mu = 2 lam near lam = {base.lam}: {r.message}"}
+        F, params_of = C.mu2lam_problem(r.params, name)
+        u0 = [r.T, r.params.lam, getattr(r.params, name)]
+        names, par, scale = ("T", "lam", name), 2, [r.T, 1e-3, max(1.0, abs(u0[2]))]
+    else:
+        found = hp.find(base, N, samples=121)
+        if not found:
+            return {"ok": False, "error": f"no symmetric {N}-pulse homoclinic orbit to the periodic saddle at {base.as_dict()}"}
+        r = found[0]
+        F, params_of = C.periodic_problem(base, name, N)
+        v = getattr(base, name)
+        u0 = [r.T, r.angle, v]
+        dv = (base.mu - 2 * base.lam) if name in ("mu", "lam") else max(abs(v), 1e-3) * 0.1
+        names, par, scale = ("T", "angle", name), 2, [10.0, 1.0, dv]
+    bounds = {2: (lo, hi)} if args.range else None
+    with bar(steps, "continue", not args.quiet) as update:
+        br = C.pseudo_arclength(F, u0, scale=scale, ds=ds, ds_max=max(ds, 0.5), steps=steps, par=par,
+                                direction=args.direction, bounds=bounds, names=names, progress=update)
+    wall = time.perf_counter() - t0
+    stem = "branch_mu2lam" if args.mu2lam else f"branch_N{N}_{name}"
+    folds = C.fold_summary(br)
+    meta = {"ok": True, "kind": "mu = 2 lam (codimension one)" if args.mu2lam else "periodic saddle (mu > 2 lam)",
+            "start_params": base.as_dict(), "pulses": N, "parameter": name, "names": list(names),
+            "points": int(len(br.u)), "success": br.success, "message": br.message, "folds": folds,
+            "max_residual": float(np.max(br.residuals)), "wall_time_s": wall, "tolerance": 1e-10,
+            "algorithm": "pseudo-arclength (Keller), Newton + heyoka variational Jacobians",
+            "first": dict(zip(names, map(float, br.u[0]))), "last": dict(zip(names, map(float, br.u[-1])))}
+    meta["paths"] = write_branch(br, meta, out, stem)
+    return meta
+
+
+def format_text(d: dict) -> str:
+    if not d.get("ok", True):
+        return f"continue: {d['error']}"
+    lines = [f"continuation ({d['kind']}, N = {d['pulses']}) in {d['parameter']}: {d['points']} points, "
+             f"max residual {d['max_residual']:.1e}, {d['wall_time_s']:.1f} s; {d['message']}",
+             f"  first {d['first']}", f"  last  {d['last']}"]
+    for f in d["folds"]:
+        lines.append(f"  fold: {f}")
+    lines.append(f"  files: {d['paths']}")
+    return "\n".join(lines)

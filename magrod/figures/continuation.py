@@ -1,0 +1,138 @@
+"""Figures of localised rods across parameter space: bifurcation diagrams of symmetric homoclinic orbits (magrod.continuation) and the
+Floquet data of the periodic saddle.  `build(out_dir, quick=False, progress=False) -> list[str]` writes:
+  continuation_mu2lam.png/.npz/.json   the Fig 6 two-pulse orbit continued on mu = 2 lam as a curve in the
+                                       (lam, m) plane; the printed m = 1.7 point (lam* of docs/errata.md) marked
+  continuation_periodic.png/.npz/.json the two primary orbits to the periodic saddle at lam = 0.001 continued
+                                       in mu towards mu = 2 lam (log scale in mu - 2 lam); T and launch angle
+Data as .npz + JSON sidecar (magrod.io atomic writers)."""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .. import continuation as C
+from .. import homoclinic_periodic as hp
+from .. import shooting
+from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..params import RodParams
+from .common import pyplot
+
+
+def plot_branch(branch, path, title: str = ""):
+    """Bifurcation diagram of one Branch: T (and the second unknown) against the parameter, folds marked."""
+    plt = pyplot()
+    u = branch.u
+    names = branch.names or ("u0", "u1", "par")
+    fig, axs = plt.subplots(1, 2, figsize=(9, 3.4))
+    for ax, j in zip(axs, (0, 1)):
+        ax.plot(u[:, 2], u[:, j], ".-", lw=1, ms=3, color="k")
+        for f in branch.folds:
+            if f["u"] is not None:
+                ax.plot(f["u"][2], f["u"][j], "o", mfc="none", color="r", label="fold")
+        ax.set_xlabel(names[2])
+        ax.set_ylabel(names[j])
+    axs[0].set_title(title, fontsize=7)
+    fig.tight_layout()
+    p = atomic_savefig(fig, Path(path), dpi=130)
+    plt.close(fig)
+    return p
+
+
+def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
+    plt = pyplot()
+    out = ensure_writable_dir(out_dir)
+    paths = []
+    # --- mu = 2 lam: Fig 6 two-pulse orbit as a curve in (lam, m)
+    t0 = time.perf_counter()
+    lam_star = 0.00126208079536
+    r = shooting.shoot(RodParams(1.7, 2 * lam_star, 1.0, 1.0, lam_star), 2)
+    F, _ = C.mu2lam_problem(r.params, "m")
+    scale = [r.T, 1e-3, 1.0]
+    steps = 8 if quick else 60
+    branches = []
+    for d in (-1, 1):
+        branches.append(C.pseudo_arclength(F, [r.T, r.params.lam, 1.7], scale=scale, ds=0.02, ds_max=0.1,
+                                           steps=steps, par=2, direction=d, names=("T", "lam", "m"),
+                                           bounds={2: (1.0, 2.8)}))
+    u = np.vstack([branches[0].u[::-1], branches[1].u[1:]])
+    folds = C.fold_summary(branches[0]) + C.fold_summary(branches[1])
+    paths.append(str(atomic_savez(out / "continuation_mu2lam.npz", u=u)))
+    paths.append(str(atomic_write_json(out / "continuation_mu2lam.json", {
+        "what": "Fig 6 2-pulse orbit (fig:multimodal1) continued on mu = 2 lam in (lam, m), gamma = delta = 1",
+        "columns": ["T", "lam", "m"], "folds": folds, "lam_star_at_m_1.7": r.params.lam,
+        "max_residual": float(max(np.max(b.residuals) for b in branches)), "wall_time_s": time.perf_counter() - t0,
+        "messages": [b.message for b in branches], "versions": versions()})))
+    fig, ax = plt.subplots(figsize=(5, 3.6))
+    ax.plot(u[:, 1], u[:, 2], "k-", lw=1.2, label="2-pulse symmetric orbit exists (mu = 2 lam)")
+    ax.plot([r.params.lam], [1.7], "ro", label=f"Fig 6: m = 1.7, lam* = {r.params.lam:.12g}")
+    ax.axvline(0.001, ls=":", color="gray", label="printed lam = 0.001")
+    for f in folds:
+        ax.plot(f["lam"], f["m"], "bs", mfc="none")
+    ax.set_xlabel("lam (mu = 2 lam)")
+    ax.set_ylabel("m")
+    ax.set_title("codimension-one 2-pulse orbits: a curve in (lam, m); gamma = delta = 1", fontsize=8)
+    ax.legend(fontsize=6)
+    fig.tight_layout()
+    paths.append(str(atomic_savefig(fig, out / "continuation_mu2lam.png", dpi=140)))
+    plt.close(fig)
+    # --- periodic saddle: the two primaries at lam = 0.001 continued in mu -> 2 lam
+    t0 = time.perf_counter()
+    P = RodParams(1.7, 0.0021, 1.0, 1.0, 0.001)
+    prim = hp.find(P, 1, samples=91)
+    fig, axs = plt.subplots(1, 2, figsize=(9, 3.4))
+    data = {}
+    for k, rr in enumerate(prim):
+        Fp, _ = C.periodic_problem(P, "mu", 1)
+        b = C.pseudo_arclength(Fp, [rr.T, rr.angle, P.mu], scale=[10, 1.0, 1e-4], ds=0.3, ds_max=1.0,
+                               steps=10 if quick else 40, par=2, direction=-1, names=("T", "angle", "mu"),
+                               bounds={2: (0.0020000001, 0.01)})
+        data[f"primary{k}"] = b.u
+        axs[0].semilogx(b.u[:, 2] - 2 * P.lam, b.u[:, 0], ".-", ms=3, label=f"primary {k}")
+        axs[1].semilogx(b.u[:, 2] - 2 * P.lam, b.u[:, 1], ".-", ms=3)
+    axs[0].set_xlabel("mu - 2 lam")
+    axs[0].set_ylabel("T (eps = 1e-7)")
+    axs[1].set_xlabel("mu - 2 lam")
+    axs[1].set_ylabel("launch angle")
+    axs[0].legend(fontsize=7)
+    axs[0].set_title("primary orbits to the periodic saddle, lam = 0.001, m = 1.7, gamma = delta = 1", fontsize=7)
+    fig.tight_layout()
+    paths.append(str(atomic_savez(out / "continuation_periodic.npz", **data)))
+    paths.append(str(atomic_write_json(out / "continuation_periodic.json", {
+        "what": "primary symmetric homoclinic orbits to the periodic saddle continued in mu towards 2 lam",
+        "columns": ["T", "angle", "mu"], "start": P.as_dict(), "wall_time_s": time.perf_counter() - t0,
+        "versions": versions()})))
+    paths.append(str(atomic_savefig(fig, out / "continuation_periodic.png", dpi=140)))
+    plt.close(fig)
+    return paths
+
+
+def write_branch(branch, meta: dict, out_dir, stem: str) -> list[str]:
+    """A continuation branch as <stem>.npz (u, tangents, residuals, iterations, names), <stem>.json (meta) and
+    <stem>.png (bifurcation diagram), atomically."""
+    out = ensure_writable_dir(out_dir)
+    npz = atomic_savez(out / f"{stem}.npz", u=branch.u, tangents=branch.tangents, residuals=branch.residuals,
+                       iterations=branch.iterations, names=np.array(branch.names))
+    png = plot_branch(branch, out / f"{stem}.png", title=f"{meta.get('kind', '')}, N = {meta.get('pulses')}, "
+                                                           f"start {meta.get('start_params')}")
+    paths = [str(npz), str(out / f"{stem}.json"), str(png)]
+    atomic_write_json(out / f"{stem}.json", {**meta, "paths": paths, "versions": versions()})
+    return paths
+
+
+def write_periodic_multipulse(params, out_dir, *, max_pulses: int = 3, samples: int = 121,
+                              progress: bool = False) -> dict:
+    """`magrod multipulse` for mu != 2 lam: hp.multipulse_rows plus one .npz/.json per orbit found."""
+    out = ensure_writable_dir(out_dir) if out_dir is not None else None
+    summary, found = hp.multipulse_rows(params, max_pulses=max_pulses, samples=samples)
+    for row, r in found:
+        if out is None:
+            continue
+        orb = hp.orbit(r)
+        stem = f"multipulse_periodic_N{row['pulses']}_{row['index']}"
+        row["paths"] = [str(atomic_savez(out / f"{stem}.npz", t=orb["t"], x=orb["x"], theta=orb["theta"],
+                                         psi=orb["psi"], H=orb["H"], x0=r.x0)),
+                        str(out / f"{stem}.json")]
+        atomic_write_json(out / f"{stem}.json", {**row, "versions": versions()})
+    return summary

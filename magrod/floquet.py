@@ -1,0 +1,290 @@
+"""The periodic saddle for mu != 2 lambdabar: the helical relative equilibrium, its monodromy matrix and Floquet
+multipliers (paper sec. 3: "a periodic solution in the four-dimensional system").
+
+Geometry (derive/floquet.py, report entries `relative_equilibrium`, `floquet_straight_rod`).  The rotations G_a
+about the body 3-axis (phi -> phi - a, derive/symmetry.py) commute with the flow.  For mu != 2 lambdabar the
+straight rod is off the chart's Casimir level; the saddle-type set on the level is a *relative equilibrium*
+x(t) = G_{omega t} x0 -- a uniform helix, periodic in the body frame with period T = 2 pi/|omega| and an
+equilibrium (theta_eq, psi = 0, pbar_theta = 0, pbar_psi_eq) of the reduced 4-D system, on Fix(R).  Near the
+straight rod it exists for mu > 2 lambdabar only (theta_eq^2 ~ mu - 2 lambdabar; the branch is born from the
+straight rod's centre pair +-i w, omega -> -w as mu -> 2 lambdabar).
+
+It is computed by Gauss-Newton on (x0, omega) for
+    f(x0) - omega xi x0 = 0,  C_i(x0) = chart values,  m3 = 1 (= p_phi),  e32 = 0 (phase on the G-orbit),
+with xi the generator of G_a (14 equations, 10 unknowns, consistent), started on the straight rod's centre
+eigenvector and, if needed, continued in mu from mu = 2 lambdabar.
+
+Monodromy.  M = d x(T)/d x(0) from heyoka's variational equations (systems.cached_variational).  Because
+Phi_t(x0) = G_{omega t} x0, d Phi_t(x0) = G_{omega t} exp(t A) with A = Df(x0) - omega xi (the Jacobian in the
+co-rotating frame), so M = exp(T A): an independent check (`exp_check`).  Multipliers on the 6-D symplectic
+leaf: 1, 1 (the G-direction = flow direction and the conserved m3), and a quartet Lambda, 1/Lambda, conj (a
+saddle-focus, |Lambda| = exp(a T)) while the reduced equilibrium is hyperbolic; the three Casimir directions
+give three more multipliers 1.  M is a Poisson map: M J(x0) M^T = J(x0) (`symplectic_defect`).  The quartet
+meets the unit circle at the Hamiltonian-Hopf boundary (at mu = 2 lambdabar in closed form, derive/floquet.py).
+
+Cost: one Gauss-Newton solve (~10 evaluations of compiled functions) and one variational integration over one
+period (~5 ms).  Nothing here mutates anything but the per-thread cached integrator.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import systems
+from .errors import ParameterError
+from .generated import floquet as gfl
+from .generated import scalars
+from .params import RodParams
+
+N = systems.dim("body")
+XI = np.array(gfl.ROTATION_GENERATOR, dtype=float).reshape(N, N)
+MU_TOL = 64 * np.finfo(float).eps
+# Re(exponent) below this is not hyperbolic (the quartet splits like sqrt(eps) at a Hamiltonian-Hopf collision)
+HYPERBOLIC_TOL = 1e3 * math.sqrt(np.finfo(float).eps)
+
+
+def _poisson_matrix(x, lam_body):
+    """J(x; lambda) of eq:noncanonical_structure (structure matrix of derive/model.py), from the generated
+    function, for the symplecticity check."""
+    return np.asarray(gfl.structure_matrix(*x, lam_body), dtype=float).reshape(N, N)
+
+
+def _re_equations(z, pars, cv):
+    F = systems.body_functions()
+    x, w = z[:9], z[9]
+    i_m3, i_e32 = systems.state_index("body", "m3"), systems.state_index("body", "e32")
+    r = np.r_[F["rhs"](x, pars) - w * XI @ x, F["casimirs"](x, pars) - cv, x[i_m3] - 1.0, x[i_e32]]
+    J = np.zeros((14, 10))
+    J[:N, :N] = F["jacobian"](x, pars).reshape(N, N) - w * XI
+    J[:9, 9] = -XI @ x
+    J[9:12, :9] = systems.body_casimir_gradients()(x, pars).reshape(3, 9)
+    J[12, i_m3] = 1.0
+    J[13, i_e32] = 1.0
+    return r, J
+
+
+def _gauss_newton(z, pars, max_iter=40):
+    cv = systems.body_functions()["casimir_values"]([], pars)
+    res = math.inf
+    for _ in range(max_iter):
+        r, J = _re_equations(z, pars, cv)
+        res = float(np.max(np.abs(r)))
+        if not np.isfinite(res):
+            break
+        dz = np.linalg.lstsq(J, -r, rcond=None)[0]
+        z = z + dz
+        if np.max(np.abs(dz)) <= 4 * np.finfo(float).eps * max(1.0, np.max(np.abs(z))):
+            r, _ = _re_equations(z, pars, cv)
+            return z, float(np.max(np.abs(r)))
+    return z, res
+
+
+def _straight_rod_centre(params: RodParams):
+    """Straight rod state, its centre frequency w > 0 and the real part of the centre eigenvector."""
+    pars = params.array()
+    x = np.array(scalars.straight_rod_state(*pars))
+    Jm = systems.body_functions()["jacobian"](x, pars).reshape(N, N)
+    w, V = np.linalg.eig(Jm)
+    k = int(np.argmax(np.where(np.abs(w.real) < 1e-8, w.imag, -np.inf)))
+    d = np.real(V[:, k])
+    return x, float(w[k].imag), d / np.linalg.norm(d)
+
+
+def relative_equilibrium(params: RodParams, *, tol: float = 1e-13):
+    """(x0 (9,), omega, residual): the helical relative equilibrium f(x0) = omega xi x0 on the chart's Casimir
+    level, phase fixed by e32 = 0, e31 <= 0 (phi = 0).  Raises ParameterError if none is found near the
+    straight rod (mu < 2 lambdabar, or too far from it)."""
+    p = params
+    pars = p.array()
+    mu_level = scalars.straight_rod_mu(**p.as_dict())  # mu = 2 lam: the straight rod on the chart's level
+    delta_mu = p.mu - mu_level
+    if delta_mu <= MU_TOL * max(1.0, abs(p.mu)):
+        raise ParameterError("mu", f"no periodic saddle near the straight rod for mu <= 2 lam (got mu - 2 lam = "
+                                   f"{delta_mu:.3g}); at mu = 2 lam the saddle is the straight rod itself "
+                                   "(magrod.saddle)")
+    x_eq, w, d = _straight_rod_centre(p)
+    best = (None, math.inf)
+    for sgn in (-1.0, 1.0):
+        z0 = np.r_[x_eq + sgn * math.sqrt(delta_mu) * d, -w]
+        z, res = _gauss_newton(z0, pars)
+        if res <= tol:
+            best = (z, res)
+            break
+        if res < best[1]:
+            best = (z, res)
+    if best[1] > tol:
+        # homotopy in mu from just above 2 lam
+        z = None
+        for s in np.linspace(0.05, 1.0, 20):
+            q = p.replace(mu=mu_level + s * delta_mu)
+            z0 = z if z is not None else np.r_[x_eq - math.sqrt(s * delta_mu) * d, -w]
+            z, res = _gauss_newton(z0, q.array())
+            if res > tol:
+                break
+        best = (z, res)
+    z, res = best
+    if z is None or res > tol:
+        raise ParameterError("mu", f"no periodic saddle (helical relative equilibrium) found at {p.as_dict()} "
+                                   f"(Gauss-Newton residual {res:.2e})")
+    x0 = z[:9].copy()
+    if x0[systems.state_index("body", "e31")] > 0:  # G_pi: the same orbit, the phi = 0 representative
+        x0 = np.diag([-1, -1, 1] * 3) @ x0
+    return x0, float(z[9]), res
+
+
+@dataclass(frozen=True)
+class PeriodicSaddle:
+    """The helical relative equilibrium and its Floquet data.
+
+    x (9,): point of the periodic orbit with e32 = 0 (phi = 0); omega: rotation rate (x(t) = G_{omega t} x);
+    period T = 2 pi/|omega|; monodromy (9, 9) = d x(T)/d x(0); multipliers (9,) (eigenvalues of the monodromy);
+    exponents (9,): eigenvalues of the co-rotating Jacobian A = Df(x) - omega xi; unstable_multiplier Lambda
+    (|Lambda| > 1, Im >= 0) and its unit eigenvector (phase fixed: the largest |component| of the first
+    eigenvector real > 0... see `_phase_fix`); chart = (theta, psi, phi, pbar_theta, pbar_psi) of x;
+    H = H_body - offset (the chart's Hbar); closure = |x(T) - x|; exp_check = |M - expm(T A)|/|M|;
+    symplectic_defect = |M J M^T - J|/(|M|^2 |J|); reciprocal_defect = max over the quartet of
+    |Lambda_i Lambda_j - 1| for its reciprocal partners."""
+
+    params: RodParams
+    x: np.ndarray
+    omega: float
+    T: float
+    monodromy: np.ndarray
+    multipliers: np.ndarray
+    exponents: np.ndarray
+    unstable_multiplier: complex
+    unstable_vector: np.ndarray
+    chart: np.ndarray
+    H: float
+    re_residual: float
+    closure: float
+    exp_check: float
+    symplectic_defect: float
+    reciprocal_defect: float
+    hyperbolic: bool
+
+    @property
+    def quartet(self) -> np.ndarray:
+        """The four nontrivial multipliers (largest |log|Lambda|| first)."""
+        idx = np.argsort(-np.abs(np.log(np.abs(self.multipliers))))
+        return self.multipliers[idx[:4]]
+
+    def launch_point(self, eps: float, angle: float = 0.0) -> np.ndarray:
+        """x + eps Re(e^{-i angle} v)/|Re(e^{-i angle} v)|: a point at distance eps on the linear unstable
+        fibre of the periodic orbit at phase 0 (the O(eps^2) error of the linearisation is the launch error)."""
+        d = np.real(np.exp(-1j * angle) * self.unstable_vector)
+        return self.x + eps * d / np.linalg.norm(d)
+
+    def summary(self) -> dict:
+        q = self.quartet
+        return {"params": self.params.as_dict(), "x": self.x.tolist(), "omega": self.omega, "T": self.T,
+                "chart": dict(zip(("theta", "psi", "phi", "ptheta", "ppsi"), self.chart.tolist())), "H": self.H,
+                "multipliers": [[float(z.real), float(z.imag)] for z in self.multipliers],
+                "quartet_abs": [float(abs(z)) for z in q],
+                "unstable_multiplier": [self.unstable_multiplier.real, self.unstable_multiplier.imag],
+                "re_residual": self.re_residual, "closure": self.closure, "exp_check": self.exp_check,
+                "symplectic_defect": self.symplectic_defect, "reciprocal_defect": self.reciprocal_defect,
+                "hyperbolic": self.hyperbolic}
+
+
+def _phase_fix(v):
+    """Unit norm, e31 component real > 0 (as magrod.saddle does for the straight rod), so that the launch angle
+    varies smoothly with the parameters; the largest component if e31 vanishes."""
+    v = v / np.linalg.norm(v)
+    j = systems.state_index("body", "e31")
+    j = j if abs(v[j]) > 1e-3 else int(np.argmax(np.abs(v)))
+    return v * np.exp(-1j * np.angle(v[j]))
+
+
+def monodromy(x0, pars, T, precision: str = "double", as_float: bool = True):
+    """d x(T)/d x(0) along the orbit of x0 (heyoka variational equations, tol = eps of the precision); returns
+    (x(T), M) (float64 unless as_float=False)."""
+    ta = systems.cached_variational(precision)
+    ftype = systems.PRECISIONS[precision]
+    systems.reset_variational(ta, np.asarray(x0, dtype=ftype), np.asarray(pars, dtype=ftype))
+    ta.propagate_until(ftype(T))
+    if not as_float:
+        n = ta.n_orig_sv
+        D = np.asarray(ta.state[ta.get_vslice(order=1)]).reshape(n, len(ta.vargs))
+        return np.array(ta.state[:n]), D[:, :n].copy()
+    x, Phi, _ = systems.variational_blocks(ta)
+    return x.astype(float), Phi
+
+
+def reciprocal_defect_backward(ps: "PeriodicSaddle", precision: str = "long double") -> float:
+    """Reciprocal pairing checked with the backward monodromy M_b = d x(-T)/d x(0) = M^{-1}, integrated
+    independently: spec(M) is closed under z -> 1/z iff the dominant (unstable) multipliers of M and M_b
+    coincide.  Returns max |Lambda_i(M)/Lambda_i(M_b) - 1| over the two unstable members of the quartet
+    (eigenvalues of dominant modulus are computed to ~eps relative; the small ones of M directly are not: their
+    absolute error ~ eps |M| makes the product test of `reciprocal_defect` ~ eps |Lambda|^2).  Measured: exactly
+    0 -- the backward integration of this reversible system returns R M R to the last bit, so this checks the
+    reversing symmetry of the computed monodromy rather than the eigen-solver."""
+    pars = ps.params.array()
+    _, M = monodromy(ps.x, pars, ps.T, precision=precision)
+    _, Mb = monodromy(ps.x, pars, -ps.T, precision=precision)
+
+    def top2(A):
+        ev = np.linalg.eigvals(A)
+        ev = ev[np.argsort(-np.abs(ev))][:2]
+        return ev[np.argsort(ev.imag)]
+
+    a, b = top2(M), top2(Mb)
+    return float(np.max(np.abs(a / b - 1.0)))
+
+
+def periodic_saddle(params: RodParams, *, require_hyperbolic: bool = True) -> PeriodicSaddle:
+    """The periodic saddle at `params` (mu > 2 lambdabar) with its monodromy and Floquet multipliers.
+    ParameterError if there is no relative equilibrium near the straight rod, or (require_hyperbolic) if its
+    nontrivial multipliers lie on the unit circle (beyond the Hamiltonian-Hopf boundary, e.g. m >= m_c)."""
+    from scipy.linalg import expm
+
+    p = params
+    pars = p.array()
+    x0, omega, res = relative_equilibrium(p)
+    T = 2 * math.pi / abs(omega)
+    xT, M = monodromy(x0, pars, T)
+    A = systems.body_functions()["jacobian"](x0, pars).reshape(N, N) - omega * XI
+    expo = np.linalg.eigvals(A)
+    mult, V = np.linalg.eig(M)
+    k = int(np.argmax(np.abs(mult) + 1e-300 * np.sign(mult.imag)))
+    cand = [i for i in range(N) if abs(abs(mult[i]) - abs(mult[k])) <= 1e-9 * abs(mult[k]) and mult[i].imag >= 0]
+    k = cand[0] if cand else k
+    hyper = bool(np.max(expo.real) > HYPERBOLIC_TOL)
+    if require_hyperbolic and not hyper:
+        mc = scalars.m_critical(p.gamma) if p.gamma > -1 else float("nan")
+        raise ParameterError("m", f"no saddle: the periodic orbit is not hyperbolic at these parameters (max "
+                                  f"Re exponent {np.max(expo.real):.3g}); beyond the Hamiltonian-Hopf boundary "
+                                  f"(at lam = 0: m >= m_c = {mc:.6g})")
+    Jx = _poisson_matrix(x0, p.lam / p.m**4)
+    nM = np.linalg.norm(M, 2)
+    sym = float(np.linalg.norm(M @ Jx @ M.T - Jx, 2) / (nM**2 * np.linalg.norm(Jx, 2)))
+    # reciprocal partners within the quartet (the multipliers off the unit circle)
+    order = np.argsort(-np.abs(np.log(np.abs(mult))))
+    q = mult[order[:4]]
+    rec = max(float(np.min(np.abs(q * qi - 1.0))) for qi in q) if hyper else float(
+        max(np.min(np.abs(mult * mi - 1.0)) for mi in mult))
+    chart = systems.body_to_euler(x0, pars)
+    H = float(systems.body_functions()["H"](x0, pars)[0])
+    return PeriodicSaddle(p, x0, omega, T, M, mult, expo, complex(mult[k]), _phase_fix(V[:, k]), np.asarray(chart),
+                          H, res, float(np.max(np.abs(xT - x0))),
+                          float(np.linalg.norm(M - expm(T * A), 2) / nM), sym, rec, hyper)
+
+
+def hamiltonian_hopf_scan(params: RodParams, name: str, values) -> dict:
+    """max Re of the co-rotating exponents (= log|Lambda|/T) along `values` of one parameter: the quartet meets
+    the imaginary axis where it drops to 0 (Hamiltonian-Hopf).  Returns arrays values, growth (nan where no
+    relative equilibrium was found)."""
+    out = np.full(len(values), np.nan)
+    for i, v in enumerate(values):
+        kw = params.as_dict()
+        kw[name] = float(v)
+        try:
+            q = RodParams(**kw)
+            x0, omega, _ = relative_equilibrium(q)
+        except ParameterError:
+            continue
+        A = systems.body_functions()["jacobian"](x0, q.array()).reshape(N, N) - omega * XI
+        out[i] = float(np.max(np.linalg.eigvals(A).real))
+    return {"values": np.asarray(values, float), "growth": out}
