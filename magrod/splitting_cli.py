@@ -1,0 +1,119 @@
+"""`magrod splitting --m 1.7 --gamma 1 --delta 1 --a 2 --b 1 --eps 0.1,0.03,0.01 --precision quad`: splitting of
+the separatrix of the straight rod along mu = a eps^2, lambdabar = b eps^2 (eq:condition_unperturbed_1),
+measured at the first turning point of the unstable manifold (magrod/splitting.py, docs/nonintegrability.md).
+a = 2b: the saddle is the straight rod (an equilibrium); D = psi_u and d = rho sin psi_u.  a > 2b: the saddle is
+the tilted straight rod (a saddle-focus of the reduced chart); D(psi) = theta_u(psi) - theta_u(-psi) ~ 2 s1 sin psi.
+The result is computed in --precision and checked in the next lower precision."""
+from __future__ import annotations
+
+from .errors import ParameterError, require_finite
+
+CHECK = {"mp": "quad", "quad": "long", "long": "double", "double": None}
+
+
+def add_arguments(p):
+    p.add_argument("--m", default="1.7", help="m = m3/sqrt(B C2), 0 < m < m_c = 2 sqrt(1 + gamma)")
+    p.add_argument("--gamma", default="1", help="extensibility gamma >= 0")
+    p.add_argument("--delta", default="1", help="shear compliance delta >= 0")
+    p.add_argument("--a", default="2", help="mu = a eps^2 (a >= 2b)")
+    p.add_argument("--b", default="1", help="lambdabar = b eps^2 (b >= 0)")
+    p.add_argument("--eps", default="0.3,0.1,0.03,0.01,0.003,0.001", help="comma-separated eps > 0")
+    p.add_argument("--precision", default="quad", choices=["double", "long", "quad", "mp"],
+                   help="working precision of the reference values (checked in the next lower one)")
+    p.add_argument("--phases", default="64", help="launch phases on the unstable eigenplane (a > 2b only)")
+    p.add_argument("--out", default=None, help="write splitting.json/.npz/.png into this directory")
+
+
+def _eps_list(s):
+    try:
+        vals = [float(x) for x in str(s).split(",") if x.strip()]
+    except ValueError:
+        raise ParameterError("eps", f"must be a comma-separated list of numbers, got {s!r}") from None
+    if not vals:
+        raise ParameterError("eps", "empty list")
+    for v in vals:
+        require_finite("eps", v)
+        if not v > 0:
+            raise ParameterError("eps", f"must be > 0, got {v}")
+    return vals
+
+
+def run(args) -> dict:
+    from . import splitting as S
+
+    vals = {k: require_finite(k, getattr(args, k)) for k in ("m", "gamma", "delta", "a", "b")}
+    eps = _eps_list(args.eps)
+    if args.precision not in S.PRECISIONS:
+        raise ParameterError("precision", f"must be one of {sorted(S.PRECISIONS)}, got {args.precision!r}")
+    S._check(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], min(eps), args.precision)
+    precs = tuple(p for p in (CHECK[args.precision], args.precision) if p)
+    bar = None
+    if not args.quiet:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(eps), desc="splitting", unit="eps", leave=False)
+    try:
+        if vals["a"] == 2 * vals["b"]:
+            res = S.scan(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], eps, precs, progress=bar)
+            out = {"ok": True, "case": "equilibrium (a = 2b)", **_scan_dict(res)}
+        else:
+            n = int(require_finite("phases", args.phases))
+            res = S.tilted_scan(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], eps, precs,
+                                n_phases=n, progress=bar)
+            out = {"ok": True, "case": "tilted saddle-focus (a > 2b)", **res.as_dict(), "precisions": list(precs)}
+    finally:
+        if bar is not None:
+            bar.close()
+    if args.out is not None:
+        from .splitting_figures import write
+
+        out["paths"] = write(res, args.out)
+    return out
+
+
+def _scan_dict(res) -> dict:
+    ref = res.precisions[-1]
+    return {"m": res.m, "gamma": res.gamma, "delta": res.delta, "a": res.a, "b": res.b, "eps": res.eps,
+            "precisions": res.precisions, "rows": res.table(ref),
+            "check_rows": res.table(res.precisions[0]) if len(res.precisions) > 1 else [],
+            "agreement_psi": res.agreement_psi, "agreement_d": res.agreement_d,
+            "fit_psi": res.fit_psi.as_dict() if res.fit_psi else None,
+            "fit_d": res.fit_d.as_dict() if res.fit_d else None,
+            "max_abs_psi": res.max_abs_psi, "max_abs_d": res.max_abs_d, "notes": res.notes,
+            "wall_time_s": res.wall_time_s,
+            "measure": "psi_u: chart angle psi at the first turning point of W^u (W^s there: -psi_u); "
+                       "d = rho sin psi_u = (e31 n2 - e32 n1)/sin(theta): half the body-frame distance of W^u "
+                       "from its mirror image W^s on pbar_theta = 0"}
+
+
+def _fit_line(name, f):
+    if not f:
+        return f"  {name}: no fit"
+    return (f"  {name} ~ C eps^p:  p = {f['p']:.4f} (drop smallest eps: {f['p_drop_smallest']:.4f}, drop largest: "
+            f"{f['p_drop_largest']:.4f}), max |log residual| {f['max_abs_residual']:.2e};  "
+            f"C0 = lim {name}/eps^{f['p_int']} = {f['C0']:+.8g}")
+
+
+def format_text(r: dict) -> str:
+    lines = [f"{r['case']}: m = {r['m']:g}, gamma = {r['gamma']:g}, delta = {r['delta']:g}, a = {r['a']:g}, "
+             f"b = {r['b']:g}; precisions {', '.join(r['precisions'])}"]
+    if "rows" in r:
+        lines.append(f"  {'eps':>9s} {'psi_u':>22s} {'d = rho sin psi_u':>22s} {'theta_u':>10s} {'|dH|':>8s}")
+        for row in r["rows"]:
+            lines.append(f"  {row['eps']:9.3g} {row['psi']:+22.14e} {row['d']:+22.14e} {row['theta']:10.6f} "
+                         f"{abs(row['H_drift']):8.1e}")
+        for k, v in r["agreement_psi"].items():
+            lines.append(f"  max relative difference {k} vs {r['precisions'][-1]}: psi_u {v:.1e}, d "
+                         f"{r['agreement_d'][k]:.1e}")
+        lines += [_fit_line("psi_u", r["fit_psi"]), _fit_line("d", r["fit_d"])]
+        lines += ["  " + n for n in r["notes"]]
+    else:
+        lines.append(f"  {'eps':>9s} {'s1 (D ~ 2 s1 sin psi)':>24s} {'s2':>12s} {'fit residual':>12s}")
+        for c in r["curves"]:
+            lines.append(f"  {c['eps']:9.3g} {c['sin_coeffs'][0]:+24.12e} {c['sin_coeffs'][1]:+12.4e} "
+                         f"{c['fit_residual']:12.1e}")
+        lines.append(f"  max |s1 difference| between precisions: {r['agreement_s1']:.1e}")
+        lines.append(_fit_line("s1", r["fit_s1"]))
+    for p in r.get("paths", []):
+        lines.append(f"  wrote {p}")
+    return "\n".join(lines)
