@@ -407,3 +407,62 @@ def body_casimir_gradients() -> CFunc:
     """Gradients of the Casimirs C1, C2, C3 (3 x 9, row-major) by hy.diff of the generated expressions."""
     x = variables("body")
     return CFunc([hy.diff(c, xi) for c in body.casimirs(*x, *pars()) for xi in x], x)
+
+
+# --------------------------------------------------------------------------------------------------------------
+# compiled functions in any precision (magrod/splitting.py)
+# --------------------------------------------------------------------------------------------------------------
+def fp_array(values, fp_type=float, prec=None) -> np.ndarray:
+    """values as a numpy array of fp_type (hy.real at `prec` bits); strings are parsed in full precision."""
+    if fp_type is hy.real:
+        return np.array([v if isinstance(v, hy.real) else hy.real(v if isinstance(v, str) else float(v), prec)
+                         for v in values])
+    if fp_type is float:
+        return np.array([float(v) for v in values], dtype=float)
+    return np.array([fp_type(v) for v in values])
+
+
+class PrecisionCFunc:
+    """A compiled heyoka function in fp_type (float, np.longdouble, hy.real128 or hy.real at `prec` bits) of
+    some variables and the runtime parameters PARAMS (only those it uses are passed)."""
+
+    def __init__(self, exprs, variables_, fp_type=float, prec=None):
+        kw = {"fp_type": fp_type} if fp_type is not float else {}
+        if fp_type is hy.real:
+            kw["prec"] = int(prec)
+        self.fp_type, self.prec = fp_type, prec
+        self._cf = hy.cfunc(list(exprs), vars=list(variables_), **kw)
+
+    def __call__(self, x, pars_=()):
+        x = fp_array(x, self.fp_type, self.prec)
+        if self._cf.nparams:
+            return self._cf(x, pars=fp_array(list(pars_)[: self._cf.nparams], self.fp_type, self.prec))
+        return self._cf(x)
+
+
+@lru_cache(maxsize=None)
+def splitting_functions(fp_type=float, prec=None) -> dict:
+    """Body-frame functions evaluated in the working precision at a section crossing, and the reduced chart's
+    vector field, its Jacobian (hy.diff) and the chart -> body map, all compiled for fp_type:
+      "chart"     body_to_euler (theta, psi, phi, pbar_theta, pbar_psi)
+      "fix"       (e31 n2 - e32 n1)/sin(theta) = rho sin(psi): the component of the force that the reversor
+                  flips, i.e. the distance of a state with pbar_theta = 0 from Fix(R) (modulo rotations)
+      "H", "casimirs", "casimir_values", "reduced_rhs", "reduced_jacobian", "to_body" (phi = 0)."""
+    x = variables("body")
+    p = pars()
+    q = variables("reduced")
+    e31, e32 = x[state_index("body", "e31")], x[state_index("body", "e32")]
+    fr = reduced.rhs(*q, *p)
+    phi0 = hy.expression(0.0) if fp_type is not hy.real else hy.expression(hy.real(0, prec))
+    to_body = body.euler_to_body(q[0], q[1], phi0, q[2], q[3], *p)
+
+    def cf(exprs, vs):
+        return PrecisionCFunc(exprs, vs, fp_type, prec)
+
+    return {"chart": cf(body.body_to_euler(*x, *p), x),
+            "fix": cf([body.section(*x, *p) / hy.sqrt(e31**2 + e32**2)], x),
+            "H": cf([body.hamiltonian(*x, *p) - body.hamiltonian_offset(*p)], x),
+            "casimirs": cf([c - v for c, v in zip(body.casimirs(*x, *p), body.casimir_values(*p))], x),
+            "reduced_rhs": cf(fr, q),
+            "reduced_jacobian": cf([hy.diff(fi, qj) for fi in fr for qj in q], q),
+            "to_body": cf(to_body, q)}

@@ -42,6 +42,7 @@ SUBCOMMANDS = {
     "rod": ("magrod.cli.rod", "3-D rod shape from a computed solution"),
     "reproduce": ("magrod.cli.reproduce", "reproduce every figure and claim of the paper"),
     "continue": ("magrod.cli.continuation", "pseudo-arclength continuation of symmetric homoclinic orbits"),
+    "splitting": ("magrod.cli.splitting", "splitting of the separatrix along mu = a eps^2, lam = b eps^2"),
 }
 
 

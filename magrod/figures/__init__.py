@@ -19,6 +19,8 @@ FIGURES = {
     # beyond the paper
     "continuation": ("magrod.figures.continuation", "build",
                      "Fig 6 2-pulse orbit as a curve in (lam, m) on mu = 2 lam; primaries to the periodic saddle vs mu"),
+    "splitting": ("magrod.figures.splitting", "build",
+                  "splitting of the separatrix vs eps (a = 2b and a > 2b) with the integrable controls"),
 }
 
 

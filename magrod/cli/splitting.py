@@ -1,0 +1,97 @@
+"""`magrod splitting --m 1.7 --gamma 1 --delta 1 --a 2 --b 1 --eps 0.1,0.03,0.01 --precision quad`: splitting of
+the separatrix of the straight rod along mu = a eps^2, lambdabar = b eps^2 (eq:condition_unperturbed_1),
+measured at the first turning point of the unstable manifold (magrod/splitting.py, docs/nonintegrability.md).
+a = 2b: the saddle is the straight rod (an equilibrium); D = psi_u and d = rho sin psi_u.  a > 2b: the saddle is
+the tilted straight rod (a saddle-focus of the reduced chart); D(psi) = theta_u(psi) - theta_u(-psi) ~ 2 s1 sin psi.
+The result is computed in --precision and checked in the next lower precision."""
+from __future__ import annotations
+
+from ..errors import ParameterError
+from .options import integer, number, out_dir
+
+CHECK = {"mp": "quad", "quad": "long", "long": "double", "double": None}
+
+
+def add_arguments(p):
+    p.add_argument("--m", default="1.7", help="m = m3/sqrt(B C2), 0 < m < m_c = 2 sqrt(1 + gamma)")
+    p.add_argument("--gamma", default="1", help="extensibility gamma >= 0")
+    p.add_argument("--delta", default="1", help="shear compliance delta >= 0")
+    p.add_argument("--a", default="2", help="mu = a eps^2 (a >= 2b)")
+    p.add_argument("--b", default="1", help="lambdabar = b eps^2 (b >= 0)")
+    p.add_argument("--eps", default="0.3,0.1,0.03,0.01,0.003,0.001", help="comma-separated eps > 0")
+    p.add_argument("--precision", default="quad", choices=("double", "long", "quad", "mp"),
+                   help="working precision of the reference values (checked in the next lower one)")
+    p.add_argument("--phases", default="64", help="launch phases on the unstable eigenplane (a > 2b only)")
+    p.add_argument("--out", default=None, help="write splitting.json/.npz/.png into this directory")
+
+
+def _eps_list(s):
+    vals = [number("eps", x) for x in str(s).split(",") if x.strip()]
+    if not vals:
+        raise ParameterError("eps", "empty list")
+    if len(vals) > 64:
+        raise ParameterError("eps", f"at most 64 values, got {len(vals)}")
+    for v in vals:
+        if not 0 < v <= 1:
+            raise ParameterError("eps", f"must be in (0, 1] (the expansion parameter), got {v}")
+    if len(set(vals)) != len(vals):
+        raise ParameterError("eps", "values must be distinct")
+    return vals
+
+
+def run(args) -> dict:
+    from .. import splitting as S
+    from ..progress import bar
+
+    vals = {k: number(k, getattr(args, k)) for k in ("m", "gamma", "delta", "a", "b")}
+    eps = _eps_list(args.eps)
+    S._check(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], min(eps), args.precision)
+    n = integer("phases", args.phases, minimum=8, maximum=4096)
+    dest = out_dir("out", args.out) if args.out is not None else None
+    precs = tuple(p for p in (CHECK[args.precision], args.precision) if p)
+    with bar(len(eps), "splitting", not args.quiet, unit="eps") as update:
+        if S.is_equilibrium_case(vals["a"], vals["b"]):
+            res = S.scan(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], eps, precs, progress=update)
+            out = {"ok": True, "case": "equilibrium (a = 2b)", **S.scan_summary(res)}
+        else:
+            res = S.tilted_scan(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], eps, precs,
+                                n_phases=n, progress=update)
+            out = {"ok": True, "case": "tilted saddle-focus (a > 2b)", **res.as_dict(), "precisions": list(precs)}
+    if dest is not None:
+        from ..figures.splitting import write
+
+        out["paths"] = write(res, dest)
+    return out
+
+
+def _fit_line(name, f):
+    if not f:
+        return f"  {name}: no fit"
+    return (f"  {name} ~ C eps^p:  p = {f['p']:.4f} (drop smallest eps: {f['p_drop_smallest']:.4f}, drop largest: "
+            f"{f['p_drop_largest']:.4f}), max |log residual| {f['max_abs_residual']:.2e};  "
+            f"C0 = lim {name}/eps^{f['p_int']} = {f['C0']:+.8g}")
+
+
+def format_text(r: dict) -> str:
+    lines = [f"{r['case']}: m = {r['m']:g}, gamma = {r['gamma']:g}, delta = {r['delta']:g}, a = {r['a']:g}, "
+             f"b = {r['b']:g}; precisions {', '.join(r['precisions'])}"]
+    if "rows" in r:
+        lines.append(f"  {'eps':>9s} {'psi_u':>22s} {'d = rho sin psi_u':>22s} {'theta_u':>10s} {'|dH|':>8s}")
+        for row in r["rows"]:
+            lines.append(f"  {row['eps']:9.3g} {row['psi']:+22.14e} {row['d']:+22.14e} {row['theta']:10.6f} "
+                         f"{abs(row['H_drift']):8.1e}")
+        for k, v in r["agreement_psi"].items():
+            lines.append(f"  max relative difference {k} vs {r['precisions'][-1]}: psi_u {v:.1e}, d "
+                         f"{r['agreement_d'][k]:.1e}")
+        lines += [_fit_line("psi_u", r["fit_psi"]), _fit_line("d", r["fit_d"])]
+        lines += ["  " + n for n in r["notes"]]
+    else:
+        lines.append(f"  {'eps':>9s} {'s1 (D ~ 2 s1 sin psi)':>24s} {'s2':>12s} {'fit residual':>12s}")
+        for c in r["curves"]:
+            lines.append(f"  {c['eps']:9.3g} {c['sin_coeffs'][0]:+24.12e} {c['sin_coeffs'][1]:+12.4e} "
+                         f"{c['fit_residual']:12.1e}")
+        lines.append(f"  max |s1 difference| between precisions: {r['agreement_s1']:.1e}")
+        lines.append(_fit_line("s1", r["fit_s1"]))
+    for p in r.get("paths", []):
+        lines.append(f"  wrote {p}")
+    return "\n".join(lines)

@@ -1,0 +1,111 @@
+"""Figure and data files of the separatrix splitting (magrod/splitting.py, docs/nonintegrability.md).
+
+write(result, out_dir)  one scan (SplittingScan or TiltedScan) as JSON + npz + PNG
+build(out_dir, quick=False, progress=False)  the verdict figure: (a) a = 2b: |psi_u| and |d| vs eps with fitted
+slopes, and the integrable control gamma = delta = 0 at its rounding floor; (b) a > 2b: |s1| vs eps with slope and
+the b = 0 control; (c) C(psi) = D(psi)/eps^3 for several eps (collapse, simple zeros at psi = 0, pi)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .. import splitting as S
+from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from .common import pyplot
+
+
+def write(res, out_dir, stem: str = "splitting") -> list[str]:
+    out = ensure_writable_dir(out_dir)
+    d = res.as_dict() if not isinstance(res, S.SplittingScan) else S.scan_summary(res)
+    paths = [str(atomic_write_json(out / f"{stem}.json", {**d, "versions": versions()}))]
+    if isinstance(res, S.SplittingScan):
+        ref = res.crossings[res.precisions[-1]]
+        arrays = {"eps": np.array(res.eps), "psi": np.array([c.psi for c in ref]), "d": np.array([c.d for c in ref]),
+                  "theta": np.array([c.theta for c in ref])}
+    else:
+        arrays = {"eps": np.array(res.eps), "s1": np.array([c.sin_coeffs[0] for c in res.curves]),
+                  "sin_coeffs": np.array([c.sin_coeffs for c in res.curves])}
+    paths.append(str(atomic_savez(out / f"{stem}.npz", **arrays)))
+    paths.append(plot(res, out, stem))
+    return paths
+
+
+def _loglog(ax, eps, y, fit, label, marker):
+    e = np.asarray(eps)
+    ax.loglog(e, np.abs(y), marker, label=label)
+    if fit is not None:
+        ax.loglog(e, abs(fit.C0) * e ** fit.p_int, "k:", lw=0.8)
+        ax.annotate(f"p = {fit.p:.3f}", (e[len(e) // 2], abs(y[len(e) // 2])), fontsize=7,
+                    textcoords="offset points", xytext=(5, -12))
+
+
+def plot(res, out_dir, stem: str = "splitting") -> str:
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(5, 3.6))
+    if isinstance(res, S.SplittingScan):
+        ref = res.crossings[res.precisions[-1]]
+        _loglog(ax, res.eps, np.array([c.psi for c in ref]), res.fit_psi, r"$|\psi_u|$", "o-")
+        _loglog(ax, res.eps, np.array([c.d for c in ref]), res.fit_d, r"$|d| = |\rho\sin\psi_u|$", "s-")
+    else:
+        _loglog(ax, res.eps, np.array([c.sin_coeffs[0] for c in res.curves]), res.fit_s1, r"$|s_1|$", "o-")
+    ax.set_xlabel(r"$\varepsilon$")
+    ax.set_title(f"m={res.m:g}, gamma={res.gamma:g}, delta={res.delta:g}, a={res.a:g}, b={res.b:g}", fontsize=8)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    p = str(atomic_savefig(fig, Path(out_dir) / f"{stem}.png", dpi=150))
+    plt.close(fig)
+    return p
+
+
+FIGURE = {"m": 1.7, "gamma": 1.0, "delta": 1.0}
+
+
+def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
+    plt = pyplot()
+    out = ensure_writable_dir(out_dir)
+    eps = S.DEFAULT_EPS[::2] if quick else S.DEFAULT_EPS
+    eps_t = [0.1, 0.03, 0.01] if quick else [0.1, 0.0541, 0.0292, 0.0158, 0.00855, 0.00462, 0.0025]
+    prec = ("double", "long") if quick else ("long", "quad")
+    eq = S.scan(**FIGURE, a=2.0, b=1.0, eps=eps, precisions=prec)
+    ctl = S.scan(1.7, 0.0, 0.0, 2.0, 1.0, eps, prec, fit=False)
+    ti = S.tilted_scan(**FIGURE, a=4.0, b=1.0, eps=eps_t)
+    ti0 = S.tilted_scan(**FIGURE, a=1.0, b=0.0, eps=eps_t[:3])
+    paths = []
+    for r, stem in ((eq, "splitting_a2b"), (ctl, "splitting_a2b_control"), (ti, "splitting_tilted"),
+                    (ti0, "splitting_tilted_control")):
+        paths += write(r, out, stem)
+    fig, axs = plt.subplots(1, 3, figsize=(13, 3.8))
+    ax = axs[0]
+    ref = eq.crossings[eq.precisions[-1]]
+    _loglog(ax, eq.eps, np.array([c.psi for c in ref]), eq.fit_psi, r"$|\psi_u|$", "o-")
+    _loglog(ax, eq.eps, np.array([c.d for c in ref]), eq.fit_d, r"$|d|$", "s-")
+    cr = ctl.crossings[ctl.precisions[-1]]
+    ax.loglog(ctl.eps, np.maximum(np.abs([c.psi for c in cr]), 1e-40), "x", label=r"control $\gamma=\delta=0$: $|\psi_u|$")
+    ax.set_title(f"(a) a = 2b = 2 (straight rod), {eq.precisions[-1]}", fontsize=8)
+    ax.set_xlabel(r"$\varepsilon$")
+    ax.legend(fontsize=7)
+    ax = axs[1]
+    _loglog(ax, ti.eps, np.array([c.sin_coeffs[0] for c in ti.curves]), ti.fit_s1, r"$|s_1|$, a=4, b=1", "o-")
+    ax.loglog(ti0.eps, np.maximum(np.abs([c.sin_coeffs[0] for c in ti0.curves]), 1e-40), "x",
+              label=r"control b = 0: $|s_1|$")
+    ax.loglog(ti0.eps, [c.fit_residual for c in ti0.curves], "k--", lw=0.6, label="control: Fourier fit residual")
+    ax.set_title("(b) a > 2b (tilted saddle-focus)", fontsize=8)
+    ax.set_xlabel(r"$\varepsilon$")
+    ax.legend(fontsize=7)
+    ax = axs[2]
+    grid = np.linspace(-np.pi, np.pi, 361)
+    for c in ti.curves:
+        D = 2 * sum(s * np.sin((k + 1) * grid) for k, s in enumerate(c.sin_coeffs))
+        ax.plot(grid, D / c.eps**3, lw=0.9, label=f"eps = {c.eps:g}")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel(r"$\psi$ on $\bar p_\theta = 0$")
+    ax.set_ylabel(r"$C(\psi) = D(\psi)/\varepsilon^3$")
+    ax.set_title("(c) a = 4, b = 1: D = theta_u(psi) - theta_u(-psi)", fontsize=8)
+    ax.legend(fontsize=6)
+    fig.suptitle(f"Separatrix splitting, m = {FIGURE['m']}, gamma = {FIGURE['gamma']}, delta = {FIGURE['delta']}",
+                 fontsize=9)
+    fig.tight_layout()
+    paths.append(str(atomic_savefig(fig, out / "splitting.png", dpi=150)))
+    plt.close(fig)
+    return paths

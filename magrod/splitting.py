@@ -1,0 +1,493 @@
+"""Splitting of the separatrix of the straight rod under the paper's scaling mu = a eps^2, lambdabar = b eps^2
+(eq:condition_unperturbed_1), measured in the singularity-free body frame (docs/nonintegrability.md).
+
+Why.  The first-order Mel'nikov function of sec. 7 vanishes identically (docs/errata.md, derive/melnikov.py:
+`melnikov_vanishes`), so it cannot decide whether the stable and unstable manifolds of the saddle split.  Here
+the splitting is measured directly, in several floating-point precisions, and fitted as D ~ C eps^p.
+
+The measure.  Sigma = {pbar_theta = 0} (the first turning point of theta after leaving the saddle, where theta
+is near its maximum 1.1..1.6) is invariant under the reversor R (derive/symmetry.py: (theta, psi, pbar_theta,
+pbar_psi) -> (theta, -psi, -pbar_theta, pbar_psi)), and R maps the unstable manifold W^u onto the stable one
+W^s.  If x_u is the first point of W^u on Sigma, R x_u is a point of W^s on Sigma, and
+
+    d = rho sin(psi) = (e31 n2 - e32 n1)/sin(theta)      (at x_u)
+
+is the component of the force that R flips: |x_u - R x_u| = 2 |d| in (m, n, e3) once the rotation about d3 (a
+symmetry) is used to put e3 in the (d1, d3) plane.  d = 0 iff x_u lies on Fix(R) iff the orbit is a symmetric
+(primary) homoclinic orbit.  We also report the chart angle psi_u; note psi = atan2(rho sin psi, rho cos psi)
+is an angle around the small transverse force rho (rho = O(eps) at the turning point) and is computed from the
+state with absolute error ~ ulp/rho, which is why the crossing is evaluated in the working precision.
+
+Cases.
+  a = 2b   the saddle is the straight rod, an equilibrium (magrod/saddle.py); its 2-D unstable manifold is a
+           single orbit modulo the rotations about d3 (the launch phase is a symmetry, magrod/shooting.py), so
+           the splitting is ONE number d(eps) per eps.
+  a > 2b   the saddle is the relative equilibrium "straight rod tilted by theta0 = O(eps) from the field" (a
+           periodic orbit in the body frame, an equilibrium (theta0, psi = 0, 0, pbar_psi0) on Fix(R) of the
+           reduced chart, computed here by Newton in the working precision).  It is a saddle-focus of the chart:
+           its unstable manifold is 2-D, parametrised by a genuine phase phi on the unstable eigenplane, and
+           its trace on Sigma is a closed curve x_u(phi).  The splitting is the odd part of that curve:
+           D(psi) = theta_u(psi) - theta_u(-psi) (W^s on Sigma is the mirror image psi -> -psi of W^u), computed
+           by a Fourier fit of theta_u against psi_u; and d(phi) as above.
+  a < 2b   the radicand mu - 2 lambdabar pbar_psi is negative near the straight rod (the aligned side): not a
+           saddle of the chart, ParameterError.
+
+Precisions (PRECISIONS): double (float64), long (x87 80-bit), quad (IEEE binary128, hy.real128), mp (hy.real,
+MP_BITS bits).  Launch distance eta per precision (LAUNCH_ETA): the linear launch is off the manifold by
+O(eta^2), which is below the rounding error of each precision.  Parameters are the float64 numbers
+b eps^2 and a eps^2 (mu = 2 lambdabar exactly when a = 2b) in every precision, so all precisions solve the same
+problem and their difference is the numerical error.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import asdict, dataclass, field
+
+import heyoka as hy
+import numpy as np
+
+from .errors import MAX_MAGNITUDE, ParameterError, require_finite
+from .params import RodParams
+from .generated import scalars
+from . import systems
+
+MP_BITS = 192
+PRECISIONS = {"double": (float, None), "long": (np.longdouble, None), "quad": (hy.real128, None),
+              "mp": (hy.real, MP_BITS)}
+# launch distance from the saddle (relative to theta0 when the saddle is tilted): eta^2 < rounding unit
+LAUNCH_ETA = {"double": 1e-8, "long": 1e-10, "quad": 1e-17, "mp": 1e-30}
+THETA_TURN_MIN = 0.3  # a zero of pbar_theta counts as the turning point only where theta exceeds this
+T_MAX = 2000.0
+
+
+def a_level(b) -> float:
+    """The a at which the straight rod is the saddle: mu on its level (generated straight_rod_mu = 2 lam) is
+    linear in lam, so along mu = a eps^2, lam = b eps^2 the condition reads a = a_level(b) = 2b."""
+    return scalars.straight_rod_mu(m=1.0, mu=0.0, gamma=0.0, delta=0.0, lam=float(b))
+
+
+def is_equilibrium_case(a, b) -> bool:
+    return float(a) == a_level(b)
+
+
+def _check(m, gamma, delta, a, b, eps, precision):
+    m, gamma, delta, a, b = (require_finite(k, v, MAX_MAGNITUDE) for k, v in
+                             (("m", m), ("gamma", gamma), ("delta", delta), ("a", a), ("b", b)))
+    eps = require_finite("eps", eps)
+    if precision not in PRECISIONS:
+        raise ParameterError("precision", f"must be one of {sorted(PRECISIONS)}, got {precision!r}")
+    if a < 0:
+        raise ParameterError("a", f"must be >= 0 (mu = a eps^2 >= 0), got {a}")
+    if b < 0:
+        raise ParameterError("b", f"must be >= 0 (lambdabar = b eps^2 >= 0), got {b}")
+    if a < a_level(b):
+        raise ParameterError("a", f"must satisfy a >= 2b (got a = {a}, 2b = {a_level(b)}): for a < 2b the radicand "
+                                  "mu - 2 lambdabar pbar_psi of eq:alignment_condition is negative at the straight rod")
+    if not eps > 0:
+        raise ParameterError("eps", f"must be > 0, got {eps}")
+    if gamma < 0 or delta < 0:
+        raise ParameterError("gamma" if gamma < 0 else "delta", "must be >= 0")
+    mc = scalars.m_critical(gamma)
+    if not 0 < m < mc:
+        raise ParameterError("m", f"must satisfy 0 < m < m_c = 2 sqrt(1 + gamma) = {mc:.6g} (eq:buckling_load_2; "
+                                  f"the straight rod is a saddle only below m_c), got {m}")
+    return m, gamma, delta, a, b, eps
+
+
+def scaled_params(m, gamma, delta, a, b, eps) -> RodParams:
+    """RodParams with lambdabar = b eps^2 and mu = a eps^2 (float64); mu = 2 lambdabar exactly when a = 2b."""
+    lam = float(b) * float(eps) ** 2
+    mu = scalars.straight_rod_mu(m=m, mu=0.0, gamma=gamma, delta=delta, lam=lam) if is_equilibrium_case(a, b) \
+        else float(a) * float(eps) ** 2
+    return RodParams(m=m, mu=mu, gamma=gamma, delta=delta, lam=lam)
+
+
+# --------------------------------------------------------------------------------------------------------------
+# the saddle and its unstable directions
+# --------------------------------------------------------------------------------------------------------------
+@dataclass
+class SaddleData:
+    """The saddle in the working precision.  kind "equilibrium" (a = 2b, body state x_body) or "tilted" (a > 2b,
+    chart state q = (theta0, 0, 0, pbar_psi0) on Fix(R)); the unstable eigenvalue and eigenvector (float64)
+    of the body (equilibrium) or chart (tilted) Jacobian; H_saddle the chart energy Hbar of the saddle."""
+
+    kind: str
+    x_body: np.ndarray | None
+    q: np.ndarray | None
+    eigenvalue: complex
+    vector: np.ndarray
+    H: object
+    newton_residual: float
+
+
+def saddle(params: RodParams, precision: str = "double") -> SaddleData:
+    fp, prec = PRECISIONS[precision]
+    F = systems.splitting_functions(fp, prec)
+    pars = params.array()
+    mu_level = scalars.straight_rod_mu(**params.as_dict())  # mu = 2 lam
+    if params.mu == mu_level:
+        from .saddle import straight_rod
+
+        s = straight_rod(params)
+        # the straight rod in the working precision (1/m^2 rounded there, not in double)
+        x = systems.fp_array(scalars.straight_rod_state(*systems.fp_array(pars, fp, prec)), fp, prec)
+        H = F["H"](x, pars)[0]
+        return SaddleData("equilibrium", x, None, s.unstable_eigenvalue, s.unstable_vector, H, 0.0)
+    # tilted straight rod: Newton on (theta, pbar_psi) for theta' = pbar_theta'... = 0 at psi = pbar_theta = 0
+    # (psi' = 0 and pbar_theta' = 0; psi = 0 and pbar_theta = 0 make theta' = pbar_psi' = 0 by the reversibility)
+    th0 = math.sqrt(params.mu - mu_level)  # leading order: the tilt of the force from the field
+    q = systems.fp_array([th0, 0.0, 0.0, math.cos(th0)], fp, prec)
+    res = math.inf
+    for _ in range(60):
+        r = F["reduced_rhs"](q, pars)
+        Jm = F["reduced_jacobian"](q, pars).reshape(4, 4)
+        A = np.array([[float(Jm[i, j]) for j in (0, 3)] for i in (1, 2)])
+        rr = np.array([float(r[1]), float(r[2])])
+        res = float(np.max(np.abs(rr)))
+        step = np.linalg.solve(A, -rr)
+        q[0] += systems.fp_array([step[0]], fp, prec)[0]
+        q[3] += systems.fp_array([step[1]], fp, prec)[0]
+        if res == 0.0 or np.max(np.abs(step)) < 1e-3 * 2.0 ** -(113 if prec is None else prec) * (1 + th0):
+            break
+    r = F["reduced_rhs"](q, pars)
+    res = float(max(abs(float(v)) for v in r))
+    Jm = np.array([float(v) for v in F["reduced_jacobian"](q, pars)]).reshape(4, 4)
+    w, V = np.linalg.eig(Jm)
+    k = max(range(4), key=lambda i: (round(w[i].real, 12), w[i].imag))
+    if w[k].real <= 1e3 * math.sqrt(np.finfo(float).eps):
+        raise ParameterError("m", f"the tilted straight rod is not hyperbolic (eigenvalues {w})")
+    v = V[:, k] / np.linalg.norm(V[:, k])
+    v = v * np.exp(-1j * np.angle(v[0]))
+    H = None
+    return SaddleData("tilted", None, q, complex(w[k]), v, H, res)
+
+
+def launch(sd: SaddleData, params: RodParams, precision: str, phase: float = 0.0, eta: float | None = None):
+    """Body state at distance eta (relative to theta0 for the tilted saddle) on the linearised unstable manifold,
+    at `phase` on the unstable eigenplane (e^{-i phase} v)."""
+    fp, prec = PRECISIONS[precision]
+    eta = LAUNCH_ETA[precision] if eta is None else eta
+    d = np.real(np.exp(-1j * phase) * sd.vector)
+    d = d / np.linalg.norm(d)
+    if sd.kind == "equilibrium":
+        return sd.x_body + systems.fp_array(eta * d, fp, prec)
+    scale = float(sd.q[0])
+    q = sd.q + systems.fp_array(eta * scale * d, fp, prec)
+    F = systems.splitting_functions(fp, prec)
+    return F["to_body"](q, params.array())
+
+
+# --------------------------------------------------------------------------------------------------------------
+# the first turning point
+# --------------------------------------------------------------------------------------------------------------
+@dataclass
+class Crossing:
+    """The first point x_u of W^u on Sigma = {pbar_theta = 0} with theta > THETA_TURN_MIN.  d = rho sin psi (the
+    splitting measure, module docstring), rho_cos = rho cos psi; H_drift = Hbar(x_u) - Hbar(launch);
+    casimir_drift = max |C_i(x_u) - C_i(chart)|.  Floats (rounded from the working precision)."""
+
+    eps: float
+    phase: float
+    precision: str
+    eta: float
+    t: float
+    theta: float
+    psi: float
+    ppsi: float
+    d: float
+    rho_cos: float
+    H_drift: float
+    casimir_drift: float
+    wall_time_s: float
+
+
+def _integrator(precision):
+    fp, prec = PRECISIONS[precision]
+    ev = systems.t_event("body", "ptheta_sin", fp_type=fp, prec=prec)
+    x0 = systems.fp_array([0, 0, 1, 0, 0, 1, 0, 0, 1], fp, prec)
+    return systems.taylor(systems.system("body"), x0, [1.0] * len(systems.PARAMS), fp_type=fp, prec=prec,
+                          t_events=[ev])
+
+
+_TA = {}
+
+
+def first_crossing(params: RodParams, precision: str = "double", *, phase: float = 0.0, eta: float | None = None,
+                   sd: SaddleData | None = None, eps: float = math.nan) -> Crossing:
+    """Integrate W^u from the launch point to its first turning point (a stopping event on e32 m1 - e31 m2 =
+    sin(theta) pbar_theta = 0) in the working precision and evaluate the crossing there.  Reuses one integrator
+    per precision (reset time/state/pars).  Guard: T_MAX."""
+    fp, prec = PRECISIONS[precision]
+    t0 = time.perf_counter()
+    sd = sd or saddle(params, precision)
+    eta = LAUNCH_ETA[precision] if eta is None else eta
+    x0 = launch(sd, params, precision, phase, eta)
+    if precision not in _TA:
+        _TA[precision] = _integrator(precision)
+    ta = _TA[precision]
+    ta.time = systems._fp(fp, 0.0, prec)
+    ta.state[:] = x0
+    ta.pars[:] = systems.fp_array(params.array(), fp, prec)
+    ta.reset_cooldowns()
+    F = systems.splitting_functions(fp, prec)
+    pars = params.array()
+    H0 = F["H"](x0, pars)[0]
+    while True:
+        oc, *_ = ta.propagate_until(systems._fp(fp, T_MAX, prec))
+        if int(oc) != -1:
+            raise RuntimeError(f"no turning point of theta before t = {T_MAX} (outcome {oc})")
+        x = ta.state.copy()
+        ch = F["chart"](x)
+        if float(ch[0]) > THETA_TURN_MIN:
+            break
+    fix = F["fix"](x)[0]
+    # rho cos psi from psi and d: evaluated in the working precision by the chart map (atan2 of the two parts)
+    H = F["H"](x, pars)[0]
+    cas = F["casimirs"](x, pars)
+    psi = float(ch[1])
+    d = float(fix)
+    return Crossing(eps, phase, precision, eta, float(ta.time), float(ch[0]), psi, float(ch[4]), d,
+                    d / math.tan(psi) if psi != 0 else math.inf, float(H - H0),
+                    max(abs(float(c)) for c in cas), time.perf_counter() - t0)
+
+
+# --------------------------------------------------------------------------------------------------------------
+# eps scan (a = 2b) and power-law fit
+# --------------------------------------------------------------------------------------------------------------
+DEFAULT_EPS = tuple(float(f"{x:.3g}") for x in np.geomspace(0.3, 1e-3, 11))
+
+
+@dataclass
+class PowerFit:
+    """log|D| = log|C| + p log(eps) by least squares: p, C (with the sign of D), residuals (log), max |residual|;
+    p without the smallest / largest eps; and C0 = lim D/eps^p_int by a linear fit of D/eps^p_int in eps^2 on
+    the smallest half of the eps (p_int = round(p): D is a function of eps^2 through mu and lambdabar)."""
+
+    p: float
+    C: float
+    residuals: list
+    max_abs_residual: float
+    p_drop_smallest: float
+    p_drop_largest: float
+    p_int: int
+    C0: float
+    C0_slope: float
+    C0_fit_max_rel_residual: float
+    n: int
+
+    def as_dict(self):
+        return asdict(self)
+
+
+def fit_power(eps, D) -> PowerFit:
+    e = np.asarray(eps, float)
+    y = np.asarray(D, float)
+    if len(e) < 4 or np.any(y == 0) or np.any(np.sign(y) != np.sign(y[0])):
+        raise ParameterError("eps", "a power-law fit needs >= 4 eps values with D of one sign, non-zero")
+    o = np.argsort(e)
+    e, y = e[o], y[o]
+
+    def slope(ee, yy):
+        A = np.column_stack([np.log(ee), np.ones_like(ee)])
+        coef, *_ = np.linalg.lstsq(A, np.log(np.abs(yy)), rcond=None)
+        return coef, np.log(np.abs(yy)) - A @ coef
+
+    (p, lc), res = slope(e, y)
+    p_lo = slope(e[1:], y[1:])[0][0]
+    p_hi = slope(e[:-1], y[:-1])[0][0]
+    pi = int(round(p))
+    k = max(3, (len(e) + 1) // 2)
+    z = y[:k] / e[:k] ** pi
+    A = np.column_stack([np.ones(k), e[:k] ** 2])
+    c, *_ = np.linalg.lstsq(A, z, rcond=None)
+    rel = float(np.max(np.abs(A @ c - z)) / abs(c[0]))
+    return PowerFit(float(p), float(np.sign(y[0]) * math.exp(lc)), [float(r) for r in res], float(np.max(np.abs(res))),
+                    float(p_lo), float(p_hi), pi, float(c[0]), float(c[1]), rel, len(e))
+
+
+@dataclass
+class SplittingScan:
+    """First turning points of W^u for each eps (rows) and precision (columns) at a = 2b, or for a control.
+    `agreement[prec]` = max over eps of |psi_prec - psi_ref| / |psi_ref| (and of d) against the highest precision;
+    fits of psi_u and of d from the reference precision (None for an integrable control, where D is zero to
+    the working precision)."""
+
+    m: float
+    gamma: float
+    delta: float
+    a: float
+    b: float
+    eps: list
+    precisions: list
+    crossings: dict
+    agreement_psi: dict
+    agreement_d: dict
+    fit_psi: PowerFit | None
+    fit_d: PowerFit | None
+    max_abs_psi: float
+    max_abs_d: float
+    wall_time_s: float
+    notes: list = field(default_factory=list)
+
+    def table(self, precision=None):
+        pr = precision or self.precisions[-1]
+        return [asdict(c) for c in self.crossings[pr]]
+
+    def as_dict(self):
+        d = asdict(self)
+        return d
+
+
+def scan(m, gamma, delta, a, b, eps=DEFAULT_EPS, precisions=("long", "quad"), *, progress=None,
+         fit: bool = True) -> SplittingScan:
+    """D(eps) for the straight-rod saddle (a = 2b) in each precision; the last precision is the reference.
+    Cost: ~1 ms (double), ~10 ms (long), ~0.1 s (quad) per eps; mp (hy.real) is ~100x slower than quad."""
+    t0 = time.perf_counter()
+    eps = [require_finite("eps", e) for e in eps]
+    for pr in precisions:
+        _check(m, gamma, delta, a, b, min(eps) if eps else 1.0, pr)
+    if not eps or min(eps) <= 0:
+        raise ParameterError("eps", f"need a non-empty list of eps > 0, got {eps}")
+    if not is_equilibrium_case(a, b):
+        raise ParameterError("a", f"scan() is the a = 2b (straight-rod equilibrium) case; got a = {a}, b = {b}: use "
+                                  "tilted_curve() for a > 2b")
+    cr = {pr: [] for pr in precisions}
+    for e in eps:
+        p = scaled_params(m, gamma, delta, a, b, e)
+        for pr in precisions:
+            cr[pr].append(first_crossing(p, pr, eps=e))
+        if progress is not None:
+            progress(1)
+    ref = cr[precisions[-1]]
+    ag_psi, ag_d = {}, {}
+    for pr in precisions[:-1]:
+        ag_psi[pr] = max(abs(c.psi - r.psi) / max(abs(r.psi), 1e-300) for c, r in zip(cr[pr], ref))
+        ag_d[pr] = max(abs(c.d - r.d) / max(abs(r.d), 1e-300) for c, r in zip(cr[pr], ref))
+    max_psi = max(abs(c.psi) for c in ref)
+    max_d = max(abs(c.d) for c in ref)
+    fp = fd = None
+    notes = []
+    if fit and b > 0 and len(eps) >= 4:
+        fp = fit_power(eps, [c.psi for c in ref])
+        fd = fit_power(eps, [c.d for c in ref])
+    elif fit:
+        notes.append("no fit: b = 0 (lambdabar = 0)")
+    return SplittingScan(m, gamma, delta, a, b, list(eps), list(precisions), cr, ag_psi, ag_d, fp, fd, max_psi,
+                         max_d, time.perf_counter() - t0, notes)
+
+
+# --------------------------------------------------------------------------------------------------------------
+# a > 2b: the tilted saddle (saddle-focus of the chart), splitting as a function of the phase
+# --------------------------------------------------------------------------------------------------------------
+@dataclass
+class TiltedCurve:
+    """W^u on Sigma for the tilted saddle at one eps: launch phases (N,), theta_u, psi_u, d (N,); the Fourier fit
+    theta_u(psi) = c0 + sum_k (ck cos k psi + sk sin k psi), k <= K (least squares on the samples, max residual
+    `fit_residual`); the splitting D(psi) = theta_u(psi) - theta_u(-psi) = 2 sum_k sk sin k psi (W^s on Sigma is
+    the mirror image of W^u), D_amplitude = max over psi of |D| (on a 720-point grid)."""
+
+    eps: float
+    a: float
+    b: float
+    precision: str
+    theta0: float
+    eigenvalue: complex
+    phases: list
+    theta: list
+    psi: list
+    d: list
+    cos_coeffs: list
+    sin_coeffs: list
+    fit_residual: float
+    D_amplitude: float
+
+    def as_dict(self):
+        d = asdict(self)
+        d["eigenvalue"] = [self.eigenvalue.real, self.eigenvalue.imag]
+        return d
+
+
+def tilted_curve(m, gamma, delta, a, b, eps, precision="double", *, n_phases=64, harmonics=4) -> TiltedCurve:
+    """Trace of W^u of the tilted saddle (a > 2b) on Sigma over n_phases launch phases, and its odd part D(psi).
+    Cost: n_phases first crossings (~1 ms each in double, ~10 ms in long)."""
+    m, gamma, delta, a, b, eps = _check(m, gamma, delta, a, b, eps, precision)
+    if is_equilibrium_case(a, b):
+        raise ParameterError("a", "a = 2b is the straight-rod equilibrium: use scan()")
+    p = scaled_params(m, gamma, delta, a, b, eps)
+    sd = saddle(p, precision)
+    ph = np.linspace(0, 2 * np.pi, int(n_phases), endpoint=False)
+    cs = [first_crossing(p, precision, phase=float(x), sd=sd, eps=eps) for x in ph]
+    th = np.array([c.theta for c in cs])
+    ps = np.array([c.psi for c in cs])
+    K = int(harmonics)
+    cols = [np.ones_like(ps)] + [f(k * ps) for k in range(1, K + 1) for f in (np.cos, np.sin)]
+    A = np.column_stack(cols)
+    coef, *_ = np.linalg.lstsq(A, th, rcond=None)
+    res = float(np.max(np.abs(A @ coef - th)))
+    ck = [float(coef[0])] + [float(coef[1 + 2 * (k - 1)]) for k in range(1, K + 1)]
+    sk = [float(coef[2 + 2 * (k - 1)]) for k in range(1, K + 1)]
+    grid = np.linspace(-np.pi, np.pi, 720)
+    D = 2 * sum(s * np.sin((k + 1) * grid) for k, s in enumerate(sk))
+    return TiltedCurve(eps, a, b, precision, float(sd.q[0]), sd.eigenvalue, ph.tolist(), th.tolist(), ps.tolist(),
+                       [c.d for c in cs], ck, sk, res, float(np.max(np.abs(D))))
+
+
+@dataclass
+class TiltedScan:
+    """tilted_curve for each eps (reference precision) plus a check precision; fit of the first sine coefficient
+    s1(eps) (D(psi) ~ 2 s1 sin psi; simple zeros at psi = 0, pi iff s1 != 0 dominates) when b > 0."""
+
+    m: float
+    gamma: float
+    delta: float
+    a: float
+    b: float
+    eps: list
+    curves: list
+    check: list
+    agreement_s1: float
+    fit_s1: PowerFit | None
+    max_abs_sin: float
+    max_fit_residual: float
+    wall_time_s: float
+
+    def as_dict(self):
+        return {**{k: getattr(self, k) for k in ("m", "gamma", "delta", "a", "b", "eps", "agreement_s1",
+                                                  "max_abs_sin", "max_fit_residual", "wall_time_s")},
+                "curves": [c.as_dict() for c in self.curves], "check": [c.as_dict() for c in self.check],
+                "fit_s1": self.fit_s1.as_dict() if self.fit_s1 else None}
+
+
+def tilted_scan(m, gamma, delta, a, b, eps, precisions=("double", "long"), *, n_phases=64, harmonics=4,
+                progress=None) -> TiltedScan:
+    t0 = time.perf_counter()
+    ref, chk = [], []
+    for e in eps:
+        ref.append(tilted_curve(m, gamma, delta, a, b, e, precisions[-1], n_phases=n_phases, harmonics=harmonics))
+        if len(precisions) > 1:
+            chk.append(tilted_curve(m, gamma, delta, a, b, e, precisions[0], n_phases=n_phases, harmonics=harmonics))
+        if progress is not None:
+            progress(1)
+    ag = max((abs(c.sin_coeffs[0] - r.sin_coeffs[0]) for c, r in zip(chk, ref)), default=0.0)
+    s1 = [c.sin_coeffs[0] for c in ref]
+    fit = fit_power(eps, s1) if b > 0 and len(eps) >= 4 else None
+    return TiltedScan(m, gamma, delta, a, b, list(eps), ref, chk, float(ag), fit,
+                      max(abs(s) for c in ref for s in c.sin_coeffs), max(c.fit_residual for c in ref),
+                      time.perf_counter() - t0)
+
+
+def scan_summary(res) -> dict:
+    """JSON-able summary of a SplittingScan (the reference precision is the last one)."""
+    ref = res.precisions[-1]
+    return {"m": res.m, "gamma": res.gamma, "delta": res.delta, "a": res.a, "b": res.b, "eps": res.eps,
+            "precisions": res.precisions, "rows": res.table(ref),
+            "check_rows": res.table(res.precisions[0]) if len(res.precisions) > 1 else [],
+            "agreement_psi": res.agreement_psi, "agreement_d": res.agreement_d,
+            "fit_psi": res.fit_psi.as_dict() if res.fit_psi else None,
+            "fit_d": res.fit_d.as_dict() if res.fit_d else None,
+            "max_abs_psi": res.max_abs_psi, "max_abs_d": res.max_abs_d, "notes": res.notes,
+            "wall_time_s": res.wall_time_s,
+            "measure": "psi_u: chart angle psi at the first turning point of W^u (W^s there: -psi_u); "
+                       "d = rho sin psi_u = (e31 n2 - e32 n1)/sin(theta): half the body-frame distance of W^u "
+                       "from its mirror image W^s on pbar_theta = 0"}

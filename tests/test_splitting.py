@@ -1,0 +1,98 @@
+"""Separatrix splitting (magrod/splitting.py): precision agreement, independent float64 code path, integrable
+controls at their rounding floor, power-law fits stable under dropping end points, CLI contract."""
+import json
+import math
+
+import numpy as np
+import pytest
+
+from magrod import splitting as S
+from magrod.cli import main
+from magrod.shooting import unstable_branch
+
+M, G, DL = 1.7, 1.0, 1.0
+ULP = {"double": np.finfo(float).eps, "long": float(np.finfo(np.longdouble).eps), "quad": 2.0**-112}
+
+
+@pytest.mark.parametrize("eps", [0.1, 0.01])
+def test_equilibrium_two_precisions_and_independent_path(eps):
+    p = S.scaled_params(M, G, DL, 2.0, 1.0, eps)
+    assert p.mu == 2 * p.lam
+    q = S.first_crossing(p, "quad", eps=eps)
+    lo = S.first_crossing(p, "long", eps=eps)
+    # psi is the angle of the transverse force rho = O(eps^2): absolute error ~ ulp / rho
+    rho = math.hypot(q.d, q.rho_cos)
+    assert abs(lo.psi - q.psi) <= 1e4 * ULP["long"] / rho
+    assert abs(lo.d - q.d) <= 1e4 * ULP["long"] * abs(q.d) / rho
+    # shooting.unstable_branch: float64, other launch distance and event code, psi from float64 chart map
+    c = unstable_branch(p, crossings=1, eps=1e-7)[0]
+    assert abs(c.theta - q.theta) <= 1e-12
+    assert abs(c.psi - q.psi) <= 1e4 * ULP["double"] / rho
+    assert abs(q.H_drift) <= 1e3 * ULP["quad"] and q.casimir_drift <= 1e3 * ULP["quad"]
+
+
+def test_launch_phase_is_a_symmetry_for_the_straight_rod():
+    p = S.scaled_params(M, G, DL, 2.0, 1.0, 0.05)
+    a = S.first_crossing(p, "long", phase=0.0)
+    b = S.first_crossing(p, "long", phase=2.0)
+    rho = math.hypot(a.d, a.rho_cos)
+    assert abs(a.psi - b.psi) <= 1e4 * ULP["long"] / rho
+
+
+@pytest.mark.parametrize("eps", [0.1, 0.01, 0.001])
+def test_integrable_control_gamma_delta_zero(eps):
+    """gamma = delta = 0 (inextensible, unshearable): I2 is conserved, W^u = W^s, psi_u = 0 to rounding."""
+    p = S.scaled_params(M, 0.0, 0.0, 2.0, 1.0, eps)
+    q = S.first_crossing(p, "quad", eps=eps)
+    assert abs(q.psi) <= 1e4 * ULP["quad"] / (0.3 * eps**2)
+    assert abs(q.d) <= 1e4 * ULP["quad"]
+    # the non-integrable case at the same eps is many orders above that floor
+    assert abs(S.first_crossing(S.scaled_params(M, G, DL, 2.0, 1.0, eps), "quad").psi) > 0.5 * eps**2
+
+
+def test_equilibrium_fit_p2_stable():
+    eps = [0.1, 0.03, 0.01, 0.003, 0.001]
+    r = S.scan(M, G, DL, 2.0, 1.0, eps, ("long", "quad"))
+    f = r.fit_psi
+    assert abs(f.p - 2) < 0.01 and abs(f.p_drop_smallest - 2) < 0.01 and abs(f.p_drop_largest - 2) < 0.01
+    assert abs(r.fit_d.p - 4) < 0.01
+    # C0 extrapolated in eps^2 agrees with psi/eps^2 at the smallest eps to O(eps^2)
+    last = r.crossings["quad"][-1]
+    assert abs(last.psi / last.eps**2 - f.C0) <= 2 * abs(f.C0_slope) * last.eps**2 + 1e-9
+    assert r.agreement_psi["long"] < 1e-6
+
+
+def test_tilted_saddle_on_fix_and_hyperbolic():
+    p = S.scaled_params(M, G, DL, 4.0, 1.0, 0.03)
+    sd = S.saddle(p, "long")
+    assert sd.kind == "tilted" and sd.newton_residual <= 1e3 * ULP["long"]
+    assert float(sd.q[1]) == 0.0 and float(sd.q[2]) == 0.0  # on Fix(R)
+    assert sd.eigenvalue.real > 0.5 and abs(sd.eigenvalue.imag) > 0.1  # saddle-focus
+    # leading order tilt theta0 = eps sqrt(a - 2b)
+    assert abs(float(sd.q[0]) / (0.03 * math.sqrt(2.0)) - 1) < 0.01
+
+
+def test_tilted_splitting_p3_and_control_b0():
+    eps = [0.05, 0.025, 0.0125, 0.00625]
+    r = S.tilted_scan(M, G, DL, 4.0, 1.0, eps, ("double",), n_phases=48)
+    assert abs(r.fit_s1.p - 3) < 0.02 and abs(r.fit_s1.p_drop_smallest - 3) < 0.02
+    for c in r.curves:  # the first harmonic dominates and is far above the fit residual: simple zeros at 0, pi
+        assert abs(c.sin_coeffs[0]) > 100 * c.fit_residual
+        assert abs(c.sin_coeffs[0]) > 10 * max(abs(s) for s in c.sin_coeffs[1:])
+    ctl = S.tilted_scan(M, G, DL, 1.0, 0.0, eps[:2], ("double",), n_phases=48)
+    for c in ctl.curves:  # b = 0: integrable (lambdabar = 0), D(psi) = 0 up to the Fourier fit residual
+        assert max(abs(s) for s in c.sin_coeffs) <= c.fit_residual
+
+
+@pytest.mark.parametrize("argv,name", [(["--a", "-1"], "a"), (["--eps", "0.1,0"], "eps"), (["--m", "3"], "m"),
+                                       (["--a", "1", "--b", "1"], "a")])
+def test_cli_bad_input(argv, name, capsys):
+    assert main(["splitting", "--json", *argv]) == 2
+    out = json.loads(capsys.readouterr().out)
+    assert out["ok"] is False and out["parameter"] == name
+
+
+def test_cli_json(capsys):
+    assert main(["splitting", "--json", "--eps", "0.1,0.05,0.02,0.01", "--precision", "long"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert abs(out["fit_psi"]["p"] - 2) < 0.02 and len(out["rows"]) == 4
