@@ -395,7 +395,7 @@ def test_workers_die_with_their_parent(tmp_path):
     assert not any(_alive(w) for w in workers)
 
 
-@pytest.mark.parametrize("delay", [0.05, 2.0])
+@pytest.mark.parametrize("delay", [0.05, 0.5, 1.0, 2.0])
 def test_ctrl_c_exits_130_with_one_line(tmp_path, delay):
     p = _start_reproduce(tmp_path / "o", "--only", "4,5", "--jobs", "2", "--force")
     time.sleep(delay)

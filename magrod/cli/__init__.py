@@ -90,6 +90,14 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+_INTERRUPTED: list = []
+
+
+def _on_sigint(signum, frame):
+    _INTERRUPTED.append(signum)
+    raise KeyboardInterrupt
+
+
 def _command_of(argv) -> str:
     return next((a for a in argv if not a.startswith("-")), "")
 
@@ -100,7 +108,8 @@ def main(argv=None) -> int:
     command = _command_of(argv) if _command_of(argv) in SUBCOMMANDS else ""
     if hasattr(signal, "SIGXFSZ"):  # a file-size limit (ulimit -f) must be an OSError, not a kill
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
-    signal.signal(signal.SIGINT, signal.default_int_handler)  # from here on Ctrl-C is a KeyboardInterrupt
+    _INTERRUPTED.clear()
+    signal.signal(signal.SIGINT, _on_sigint)  # from here on Ctrl-C is a KeyboardInterrupt (and remembered)
     try:
         from .. import io
 
@@ -139,6 +148,8 @@ def main(argv=None) -> int:
     except MemoryError:
         return _fail(command, want_json, EXIT_ENVIRONMENT, "out of memory", None)
     except Exception as exc:  # an internal error: one line (MAGROD_DEBUG=1 re-raises for the traceback)
+        if _INTERRUPTED:  # Ctrl-C landed inside a library (e.g. half-way through an import) and came out as this
+            return _fail(command, want_json, EXIT_INTERRUPTED, "interrupted", None)
         if os.environ.get("MAGROD_DEBUG"):
             raise
         msg = " ".join(f"internal error: {type(exc).__name__}: {exc}".split())
