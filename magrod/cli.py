@@ -32,6 +32,7 @@ def _optional_subcommands():
         ("multipulse", "magrod.multipulse_cli", "multipulse homoclinic orbits by shooting (Figures 6, 7)"),
         ("rod", "magrod.rod_cli", "3-D rod shape from a computed solution"),
         ("reproduce", "magrod.reproduce", "reproduce every figure and claim of the paper"),
+        ("chaosmap", "magrod.chaosmap_cli", "chaos maps (FLI, Lyapunov) over parameter planes and sections"),
     ]:
         if importlib.util.find_spec(module) is not None:
             SUBCOMMANDS.setdefault(name, (module, help_))
