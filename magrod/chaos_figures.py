@@ -55,8 +55,7 @@ def draw_map(fields: dict, spec: chaos.MapSpec, path, *, indicator="growth", tit
 
     g = np.where(np.asarray(fields["status"]) == chaos.OK, fields[FIELD_NAMES[indicator]], np.nan)
     fig, ax = plt.subplots(figsize=(6.4, 5.0), layout="constrained")
-    cmap = plt.get_cmap("RdYlBu_r" if indicator == "growth" else "magma").copy()
-    cmap.set_bad("0.8")
+    cmap = plt.get_cmap("RdYlBu_r" if indicator == "growth" else "magma").with_extremes(bad="0.8")
     norm = None
     if indicator == "growth":
         vmax = max(float(np.nanmax(g)) if np.isfinite(g).any() else 2 * threshold, 2 * threshold)

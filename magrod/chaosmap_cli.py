@@ -45,9 +45,27 @@ def spec_from_args(args):
         v = getattr(args, name)
         if v is not None:
             base[name] = require_finite(name, v)
+    _some_point_physical(x, y, base)
     return MapSpec(x, y, base=base, panel=str(args.panel).lower(), root=args.root,
                    t_max=require_finite("t_max", args.t_max), tol=require_finite("tol", args.tol),
                    renorm_dt=require_finite("renorm_dt", args.renorm_dt), tile=_int("tile", args.tile))
+
+
+def _some_point_physical(x, y, base):
+    """Points with unphysical parameters are marked missing, but a map with none physical is an input error.
+    The constraints (m > 0, delta >= 0, gamma + delta >= 0) are linear, so the grid's corners decide."""
+    from .params import RodParams
+
+    err = None
+    for xv in (x.lo, x.hi):
+        for yv in (y.lo, y.hi):
+            v = {**base, x.name: xv, y.name: yv}
+            try:
+                RodParams(v["m"], v["mu"], v["gamma"], v["delta"], v["lam"])
+                return
+            except ParameterError as exc:
+                err = exc
+    raise err
 
 
 def _int(name, v):

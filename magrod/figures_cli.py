@@ -17,6 +17,8 @@ FIGURES = {
     "5": ("magrod.poincare", "figure_5", "Poincare sections, h = 0.8, gamma in {0.15, 0.205, 0.208, 0.24}"),
     "6": ("magrod.shooting", "figure_6", "two- and four-pulse homoclinic orbits and rod shapes (lambdabar = 0.001)"),
     "7": ("magrod.shooting", "figure_7", "two- and three-pulse homoclinic orbits and rod shapes (lambdabar = 0.5)"),
+    # issue 11: not a figure of the paper -- a chaos map around the Figure 4 panels and their indicators
+    "chaos": ("magrod.chaos_figures", "build", "chaos map (growth exponent) in lambdabar x gamma at Figure 4's start"),
 }
 
 
