@@ -16,6 +16,7 @@ result is bit-identical whatever the number of workers or the order the tiles ru
 from __future__ import annotations
 
 import json
+import logging
 import os
 import time
 from pathlib import Path
@@ -147,10 +148,14 @@ def run_tiles(spec: chaos.MapSpec, store: Path, tiles_dir: Path, *, workers=2, s
     if not todo:
         return res
     _worker_env()
+    logging.getLogger("distributed").setLevel(logging.ERROR)  # progress is ours; the cluster's INFO is noise
     cluster = None
     if scheduler is None:
+        # dashboard off; the scheduler still serves its health routes over HTTP: on a free port (":0"), not 8787,
+        # so that concurrent maps do not fight over it
         cluster = LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=50)
+                               dashboard_address=None, scheduler_kwargs={"dashboard": False, "dashboard_address": ":0"},
+                               silence_logs=logging.ERROR)
         client = Client(cluster)
     else:
         try:
