@@ -273,3 +273,28 @@ def test_reproduce_chaos_claims(tmp_path):
     text = " ".join(r["computed"] for r in rows)
     assert any("4(a)" in r["paper"] for r in rows) and "growth exponent" in text
     assert rows[0]["verdict"].startswith("reproduced"), rows
+
+
+def test_scheduler_attach_and_help(tmp_path, capsys):
+    """--scheduler tcp://HOST:PORT runs the tiles on an existing cluster (left running afterwards); same map."""
+    import logging
+
+    from distributed import LocalCluster
+
+    from magrod import chaos_store
+
+    with pytest.raises(SystemExit):
+        cli.main(["chaosmap", "--help"])
+    assert "--scheduler" in capsys.readouterr().out
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
+                      scheduler_kwargs={"dashboard": False, "dashboard_address": ":0"},
+                      silence_logs=logging.ERROR) as cluster:
+        rc = cli.main(["chaosmap", "--x", "lam:0.12:0.2:4", "--y", "gamma:2:4:4", "--tile", "2", "--t-max", "300",
+                       "--scheduler", cluster.scheduler_address, "--out", str(tmp_path), "--json"])
+        assert rc == 0 and len(cluster.workers) == 1
+    obj = json.loads(capsys.readouterr().out)
+    assert obj["scheduler"] == cluster.scheduler_address and obj["tiles"]["computed"] == 4
+    f = chaos_store.load_fields(Path(obj["output"]["store"]))
+    ref = chaos.chaos_map(_spec("lam:0.12:0.2:4", "gamma:2:4:4", tile=2)).fields
+    for k in ref:
+        assert np.array_equal(f[k], ref[k], equal_nan=True), k
