@@ -22,6 +22,10 @@ Criterion (stated once, used everywhere): an orbit is *chaotic* iff growth_expon
 Tangent vectors of regular orbits grow at most linearly (shear between tori: p ~ 1), those of chaotic ones
 exponentially (p ~ lyap T/(2 ln 2), e.g. 8 for lyap = 0.011 at T = 1000); the threshold leaves room for the
 intermittent, separatrix-crossing growth of regular orbits near a homoclinic loop.
+Resolution: an orbit with exponent lyap is seen as chaotic once lyap T/(2 ln 2) > 3, i.e. T > 4.2/lyap.  The
+Figure 4 orbits have lyap ~ 0.01 (Fig 4(a) at T = 1000: growth exponent 2.9, at T = 3000: 11.9), so T = 1000
+is marginal for this rod and the default is T = 3000.  (MEGNO proper is not computed: it needs the integral of
+t d ln|w| between samples; the growth exponent is its discrete analogue with the same limits, ~1 vs ~lyap t.)
 
 Neutral directions (body frame)
 -------------------------------
@@ -105,7 +109,8 @@ def tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=DEFAULT_RENORM_DT, 
 
     x0 (n, N) starts, w0 (n, N) tangent vectors (normalised here), pars (npars, N); project(x, w, p) -> w
     maps tangent vectors onto the neutral-free subspace (None: identity); check(x, p) -> (ok (b,), drift (2, b))
-    flags lanes that left the physical range and reports (|dH|, Casimir drift, -stretch) whose maxima are kept; valid (N,) bool skips points.
+    flags lanes that left the physical range and reports (|dH|, Casimir drift, -stretch), whose maxima are kept;
+    valid (N,) bool skips points.
     Lanes are filled in order, padded with a copy of a valid lane: a lane's result does not depend on its
     neighbours (heyoka batch lanes step independently), and the fixed order makes results reproducible.
     Cost: N/batch_size batch propagations of t_max plus 2 t_max/renorm_dt Python-level renormalisations."""
@@ -316,8 +321,11 @@ def reference_indicators(name, x0, pars=None, *, t_max, tol=None, renorm_dt=1.0,
     p = np.repeat(np.asarray(p0 if pars is None else pars, float).reshape(-1, 1), N, axis=1) if len(p0) else \
         np.zeros((0, N))
     ta = systems.tangent_batch(sys_, len(p0), batch_size=batch_size, tol=tol)
-    return tangent_indicators(ta, x0, generic_w0(x0.shape[0], N), p, t_max=t_max, renorm_dt=renorm_dt,
-                              valid=np.all(np.isfinite(x0), axis=0))
+    start = np.all(np.isfinite(x0), axis=0)
+    ind = tangent_indicators(ta, np.nan_to_num(x0), generic_w0(x0.shape[0], N), p, t_max=t_max,
+                             renorm_dt=renorm_dt, valid=start)
+    ind.status[~start] = NO_ROOT  # e.g. a Henon-Heiles start whose energy level is not reached
+    return ind
 
 
 # ----------------------------------------------------------------------------------------------------------

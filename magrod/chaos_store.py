@@ -34,7 +34,8 @@ LONG = {"lyap": "finite-time maximal Lyapunov exponent L(T)/T",
         "fli": "Fast Lyapunov Indicator max_{t<=T} ln|w(t)|", "fli_half": "FLI at T/2",
         "growth_exponent": "(FLI(T) - FLI(T/2))/ln 2: power of tangent growth over [T/2, T]",
         "max_abs_dH": "max |H - H(0)| along the orbit", "casimir_drift": "max |C - C(0)| (Casimirs)",
-        "min_stretch": "min axial stretch v3 = dH/dn3 at the sample times", "p_psi0": "start pbar_psi (root of Hbar = h)",
+        "min_stretch": "min axial stretch v3 = dH/dn3 at the sample times",
+        "p_psi0": "start pbar_psi (root of Hbar = h)",
         "status": "0 ok; " + "; ".join(f"{c} {r}" for c, r in chaos.REASONS.items() if c)}
 
 
@@ -89,7 +90,8 @@ def _create(spec: chaos.MapSpec, store: Path) -> None:
     ds = xr.Dataset(data, coords=coords, attrs={
         "title": "magrod chaos map (Sinden & van der Heijden, spatial chaos of a conducting rod)",
         "spec": _spec_json(spec), "criterion": f"chaotic iff growth_exponent > {chaos.GROWTH_THRESHOLD:g}",
-        "tolerance": "machine epsilon" if not spec.tol else repr(spec.tol), "formulation": "body (9-D, generated/body.py)",
+        "tolerance": "machine epsilon" if not spec.tol else repr(spec.tol),
+        "formulation": "body (9-D, generated/body.py)",
         "tangent_vectors": "projected onto the level set of C1, C2, C3, H, m3 (magrod.chaos)",
         "versions": json.dumps(versions(), sort_keys=True)})
     # compute=False writes metadata and coordinates; the data chunks are written tile by tile
