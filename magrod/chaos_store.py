@@ -11,7 +11,9 @@ done tiles.  Each tile writes only its own chunk (zarr region write), so workers
 
 Dask: run_tiles starts a LocalCluster (processes, threads_per_worker=1, no dashboard) unless a scheduler
 address is given.  Every tile is a pure function of (spec, tile) computed by magrod.chaos.compute_tile, so the
-result is bit-identical whatever the number of workers or the order the tiles run in.
+result is bit-identical whatever the number of workers or the order the tiles run in (on one CPU type: workers
+on other machines compile heyoka for their own instruction set, e.g. with or without FMA, and may differ in the
+last bits; the batch size is part of the spec, so it is the same everywhere).
 """
 from __future__ import annotations
 

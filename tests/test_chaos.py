@@ -298,3 +298,22 @@ def test_scheduler_attach_and_help(tmp_path, capsys):
     ref = chaos.chaos_map(_spec("lam:0.12:0.2:4", "gamma:2:4:4", tile=2)).fields
     for k in ref:
         assert np.array_equal(f[k], ref[k], equal_nan=True), k
+
+
+def test_one_vector_tangent_system_equals_full_variational_matrix():
+    """systems.tangent_system (var_ode_sys w.r.t. a parameter absent from the field) integrates w = Phi w0, with
+    Phi from the full first-order variational system (systems.variational_integrator): agreement to ~1e-12."""
+    from magrod import systems
+
+    x0, p = _panel_starts(("4a",))
+    x0, p = x0[:, 0], p[:, 0]
+    w0 = chaos.generic_w0(9, 1)[:, 0]
+    full = systems.variational_integrator("body", wrt_pars=False)
+    systems.reset_variational(full, x0, p)
+    full.propagate_until(50.0)
+    _, Phi, _ = systems.variational_blocks(full)
+    one = systems.taylor(systems.tangent_system(systems.system("body"), len(systems.PARAMS)),
+                         np.concatenate([x0, w0]), p)
+    one.propagate_until(50.0)
+    w = np.array(one.state[9:])
+    assert np.linalg.norm(w - Phi @ w0) <= 1e-12 * np.linalg.norm(w)
