@@ -62,6 +62,11 @@ def draw_map(fields: dict, spec: chaos.MapSpec, path, *, indicator="growth", tit
         norm = TwoSlopeNorm(vmin=0.0, vcenter=threshold, vmax=vmax)
     im = ax.pcolormesh(spec.x.values(), spec.y.values(), np.ma.masked_invalid(g), cmap=cmap, shading="nearest",
                        norm=norm)
+    ge = np.ma.masked_invalid(np.asarray(fields["growth_exponent"], float))
+    if spec.x.n > 1 and spec.y.n > 1 and (ge > threshold).any() and (ge <= threshold).any():
+        # the classification boundary (masked where missing), whatever indicator is coloured
+        ax.contour(spec.x.values(), spec.y.values(), ge, levels=[threshold], linewidths=0.8,
+                   colors="k" if indicator == "growth" else "c")
     cb = fig.colorbar(im, ax=ax)
     cb.set_label(FIELD_LABELS[indicator] + (f"; chaotic > {threshold:g}" if indicator == "growth" else "")
                  + "; grey: missing")
