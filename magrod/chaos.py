@@ -24,8 +24,9 @@ exponentially (p ~ lyap T/(2 ln 2), e.g. 8 for lyap = 0.011 at T = 1000); the th
 intermittent, separatrix-crossing growth of regular orbits near a homoclinic loop.
 Resolution: an orbit with exponent lyap is seen as chaotic once lyap T/(2 ln 2) > 3, i.e. T > 4.2/lyap.  The
 Figure 4 orbits have lyap ~ 0.01 and are sticky (Fig 4(a): growth exponent 2.9, 3.8, 2.3, 3.3, 11.9 at
-T = 1000, 1200, 1500, 2000, 3000), so T <= 2000 is marginal for this rod and the default is T = 3000.  (MEGNO proper is not computed: it needs the integral of
-t d ln|w| between samples; the growth exponent is its discrete analogue with the same limits, ~1 vs ~lyap t.)
+T = 1000, 1200, 1500, 2000, 3000), so T <= 2000 is marginal for this rod and the default is T = 3000.
+MEGNO proper is not computed: it needs the integral of t d ln|w| between samples (and a 0/0 at t = 0 in the
+Taylor recursion); the growth exponent is its discrete analogue with the same limits (~1 regular, ~lyap t).
 
 Neutral directions (body frame)
 -------------------------------
