@@ -339,13 +339,16 @@ class CFunc:
         return self._cf.nparams
 
     def __call__(self, x, pars_):
+        """x of shape (nvars,) or (nvars, N); pars_ of shape (len(PARAMS),) (shared) or (len(PARAMS), N)
+        (one parameter set per column)."""
         x = np.ascontiguousarray(x, dtype=float)
         p = np.ascontiguousarray(np.asarray(pars_, dtype=float)[: self._cf.nparams])
-        if x.ndim == 1:
-            return self._cf(x, pars=p) if self._cf.nparams else self._cf(x)
+        if not self._cf.nparams:
+            return self._cf(x)
+        if x.ndim == 1 or p.ndim == 2:
+            return self._cf(x, pars=p)
         # batch mode: x of shape (nvars, N); heyoka wants pars of shape (nparams, N)
-        pp = np.repeat(p[:, None], x.shape[1], axis=1)
-        return self._cf(x, pars=pp) if self._cf.nparams else self._cf(x)
+        return self._cf(x, pars=np.ascontiguousarray(np.repeat(p[:, None], x.shape[1], axis=1)))
 
 
 @lru_cache(maxsize=None)
@@ -466,3 +469,57 @@ def splitting_functions(fp_type=float, prec=None) -> dict:
             "reduced_rhs": cf(fr, q),
             "reduced_jacobian": cf([hy.diff(fi, qj) for fi in fr for qj in q], q),
             "to_body": cf(to_body, q)}
+
+
+# --------------------------------------------------------------------------------------------------------------
+# tangent-vector integrators for chaos indicators (magrod.chaos)
+# --------------------------------------------------------------------------------------------------------------
+def tangent_system(sys_, npars: int):
+    """x' = f(x), w' = Df(x) w: the first-order variational equations along ONE tangent vector w.
+
+    Built with hy.var_ode_sys w.r.t. a parameter hy.par[npars] that f does not contain: its sensitivity
+    w = dx/dp obeys w' = Df(x) w + df/dp = Df(x) w exactly, and its initial value is ours to set (heyoka starts
+    it at 0; `magrod.chaos` writes the tangent vector there).  n + n equations instead of the n + n^2 of the
+    full matrix Phi: ~14x cheaper for the 9-D body system (benchmarks/README.md)."""
+    return hy.var_ode_sys(sys_, [hy.par[int(npars)]], order=1)
+
+
+def tangent_batch(sys_, npars: int, *, batch_size=None, tol=None):
+    """SIMD batch integrator of `tangent_system(sys_, npars)`, float64, non-compact mode (compiled once, then
+    loaded from the JIT cache; compact mode is ~2x slower to run).  State shape (2n, batch_size): rows
+    [0, n) the state, rows [n, 2n) the tangent vector; pars (npars, batch_size)."""
+    b = int(batch_size or recommended_batch_size())
+    vs = tangent_system(sys_, npars)
+    return hy.taylor_adaptive_batch(vs, np.ones((2 * len(sys_), b)), pars=np.ones((int(npars), b)),
+                                    tol=float(tol or 0.0))
+
+
+@per_thread
+def body_tangent_batch(batch_size=None, tol=None):
+    """`tangent_batch` of the body system, cached per thread and (batch_size, tol)."""
+    return tangent_batch(system("body"), len(PARAMS), batch_size=batch_size, tol=tol)
+
+
+@lru_cache(maxsize=None)
+def body_neutral_gradients() -> CFunc:
+    """Gradients of the body system's first integrals, stacked row-wise (k x 9 outputs): the Casimirs C1..C3,
+    H, and every state component whose generated right-hand side is identically 0 (m3 = I1, the twist, for
+    the isotropic rod).  Their kernel is the tangent space of the invariant level set through x."""
+    x = variables("body")
+    p = pars()
+    f = [r for _, r in system("body")]
+    integrals = list(body.casimirs(*x, *p)) + [body.hamiltonian(*x, *p)]
+    integrals += [x[i] for i, fi in enumerate(f) if fi == hy.expression(0.0)]
+    return CFunc([hy.diff(g, xj) for g in integrals for xj in x], x)
+
+
+def cfunc_lanes(cf: CFunc, x, pars_) -> np.ndarray:
+    """Evaluate a CFunc on columns x (nvars, N) with per-column parameters pars_ (len(PARAMS), N)."""
+    return cf(x, np.asarray(pars_, dtype=float).reshape(len(PARAMS), -1))
+
+
+@lru_cache(maxsize=None)
+def body_stretch() -> CFunc:
+    """The axial stretch v3 = dH/dn3 of the constitutive law (eq:hyperelastic); a physical rod has v3 > 0."""
+    x = variables("body")
+    return CFunc([hy.diff(body.hamiltonian(*x, *pars()), x[state_index("body", "n3")])], x)

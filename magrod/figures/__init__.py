@@ -19,6 +19,7 @@ FIGURES = {
     # beyond the paper
     "continuation": ("magrod.figures.continuation", "build",
                      "Fig 6 2-pulse orbit as a curve in (lam, m) on mu = 2 lam; primaries to the periodic saddle vs mu"),
+    "chaos": ("magrod.figures.chaos", "build", "chaos map (growth exponent) in lambdabar x gamma at Figure 4's start"),
     "splitting": ("magrod.figures.splitting", "build",
                   "splitting of the separatrix vs eps (a = 2b and a > 2b) with the integrable controls"),
 }

@@ -12,7 +12,6 @@ from ..io import versions
 from ..printed import PAPER_CLAIMS, MULTIPULSE
 
 
-
 def _verdict(status: str) -> str:
     return {"holds": "reproduced", "holds under stated assumptions": "reproduced (under stated assumptions)",
             "disagrees": "differs — see docs/errata.md"}.get(status, "not checkable")
@@ -154,6 +153,29 @@ def _fig6(out, quick):
 def _fig7(out, quick):
     f = MULTIPULSE[7]
     return _multipulse_claims(out, 7, f["label"], f["show"], f["params"].lam)
+
+
+@_claim
+def _chaos(out, quick):
+    """Issue 11: the Figure 4 orbits classified by the tangent growth exponent (magrod.chaos)."""
+    p = out / "chaos.json"
+    if not p.exists():
+        return _not_run("fig:poincare1 (chaos indicator)", "Figure 4(a) chaotic, 4(d) regular")
+    d = json.loads(p.read_text())
+    pn, s = d["panels"], d["summary"]
+    desc = "; ".join(f"{k}: growth exponent {v['growth_exponent']:.2f}, FLI {v['fli']:.1f}, lyap {v['lyap']:.4f}"
+                     f" ({'chaotic' if v['chaotic'] else 'regular'})" for k, v in sorted(pn.items()))
+    ok = pn["4a"]["chaotic"] and not pn["4d"]["chaotic"]
+    return [{"label": "fig:poincare1 (chaos indicator)",
+             "paper": "Figure 4(a) (lam = 0.135) a chaotic sea, 4(d) (lam = 0.186) a closed curve (regular)",
+             "computed": f"T = {d['panel_t_max']:g}, {s['criterion']}: {desc}",
+             "verdict": "reproduced (by the indicator)" if ok else "differs"},
+            {"label": "fig:poincare1 (chaos map)",
+             "paper": "no map in the paper: chaos around the Figure 4 panels in the lam x gamma plane",
+             "computed": f"{s['grid']['x']['n']} x {s['grid']['y']['n']} grid, T = {s['t_max']:g}: fraction chaotic "
+                         f"{s['fraction_chaotic']:.2f} of {s['computed']} points ({s['missing'] or 'none'} missing), "
+                         f"max |dH| {s['max_abs_dH']:.1e}, {s['orbits_per_s']:.0f} orbits/s (chaos.png)",
+             "verdict": "new result (beyond the paper)"}]
 
 
 def claims(out: Path, quick: bool) -> list[dict]:

@@ -1,0 +1,575 @@
+"""Chaos indicators from the tangent (variational) equations, and chaos maps over parameter planes and sections
+(issue 11).  Numerics only: result objects out, no plotting, no files.
+
+Public API
+----------
+tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=10.0, project=None, check=None) -> Indicators
+body_indicators(x0, pars, *, t_max, tol=None, renorm_dt=10.0, project=True, batch_size=None) -> Indicators
+reference_indicators(name, x0, pars, *, t_max, ...) -> Indicators        name in REFERENCE_SYSTEMS
+panel_indicators(keys=("4a", "4d"), *, t_max=...) -> {key: Indicators}   the paper's orbits
+Axis, MapSpec, parse_axis(option, text), tiles(spec), compute_tile(spec, iy, ix) -> dict, chaos_map(spec) -> MapResult
+
+Indicators (Froeschle, Lega & Gonczi 1997; Benettin et al. 1980; Cincotta & Simo 2000)
+----------------------------------------------------------------------------------------
+One tangent vector w(t) = Phi(t) w0, |w0| = 1, is integrated with the orbit (systems.tangent_system: heyoka's
+var_ode_sys, n + n equations) and renormalised every renorm_dt; the logarithms of the norms are summed, so
+L(t_k) = ln |w(t_k)| exactly at the sample times t_k = k dt.
+  lyap            = L(T)/T                   finite-time maximal Lyapunov exponent
+  fli             = max_{t_k <= T} L(t_k)     Fast Lyapunov Indicator (sampled at the t_k)
+  fli_half        = max_{t_k <= T/2} L(t_k)
+  growth_exponent = (fli - fli_half)/ln 2   the power p of |w| ~ t^p over [T/2, T]: a discrete MEGNO.
+Criterion (stated once, used everywhere): an orbit is *chaotic* iff growth_exponent > GROWTH_THRESHOLD = 3.
+Tangent vectors of regular orbits grow at most linearly (shear between tori: p ~ 1), those of chaotic ones
+exponentially (p ~ lyap T/(2 ln 2), e.g. 8 for lyap = 0.011 at T = 1000); the threshold leaves room for the
+intermittent, separatrix-crossing growth of regular orbits near a homoclinic loop.
+Resolution: an orbit with exponent lyap is seen as chaotic once lyap T/(2 ln 2) > 3, i.e. T > 4.2/lyap.  The
+Figure 4 orbits have lyap ~ 0.01 and are sticky (Fig 4(a): growth exponent 2.9, 3.8, 2.3, 3.3, 11.9 at
+T = 1000, 1200, 1500, 2000, 3000), so T <= 2000 is marginal for this rod and the default is T = 3000.
+MEGNO proper is not computed: it needs the integral of t d ln|w| between samples (and a 0/0 at t = 0 in the
+Taylor recursion); the growth exponent is its discrete analogue with the same limits (~1 regular, ~lyap t).
+
+Neutral directions (body frame)
+-------------------------------
+The body system has first integrals C1, C2, C3 (Casimirs), H and m3 (I1; its right-hand side is identically 0).
+Their level set through x0 is invariant, so its tangent space T = ker G(x), G = the stacked gradients, is
+carried into itself by Phi.  A tangent vector with a component across T measures how *neighbouring leaves*
+(other Casimir values, energies, twists: other rods) drift apart -- a linear shear that adds a c log t bias to
+the FLI and nothing to lyap.  We remove it: w0 and, after every renormalisation, w are projected orthogonally
+onto ker G(x(t)) (w - G^T (G G^T)^{-1} G w), so the indicators describe the orbit's own leaf.  By invariance
+the projection removes only round-off after the first one (tests/test_chaos.py checks both facts).
+
+Cost: ~4.4 us per orbit per unit time at tol = eps in SIMD batches of hy.recommended_simd_size() lanes
+(~24 us scalar), plus ~1.3 ms per start point for the energy root; see benchmarks/README.md.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+
+import heyoka as hy
+import numpy as np
+
+from . import systems
+from .errors import MAX_MAGNITUDE, ParameterError, require_finite, require_positive_int
+from .generated.names import BODY_STATE, PARAMS
+from .params import RodParams
+
+GROWTH_THRESHOLD = 3.0
+DEFAULT_RENORM_DT = 10.0
+# status codes of a grid point; NaN indicators carry one of these reasons
+OK, NO_ROOT, UNPHYSICAL, LEFT_RANGE, FAILED = 0, 1, 2, 3, 4
+REASONS = {OK: "ok", NO_ROOT: "no_energy_root", UNPHYSICAL: "unphysical_parameters",
+           LEFT_RANGE: "left_physical_range", FAILED: "integration_failed"}
+# An orbit whose first integrals drift by more than this has left its invariant set (the integration is not
+# trustworthy there); the paper's runs keep them to ~1e-13.
+DRIFT_LIMIT = 1e-8
+_KEYS = ("lyap", "fli", "fli_half", "growth_exponent", "max_abs_dH", "casimir_drift", "min_stretch")
+_W0_SEED = 11  # the fixed generic direction of w0 (before projection): same on every worker and machine
+
+
+# ----------------------------------------------------------------------------------------------------------
+# results
+# ----------------------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Indicators:
+    """Per-orbit chaos indicators, arrays of shape (N,); NaN where status != OK."""
+
+    lyap: np.ndarray
+    fli: np.ndarray
+    fli_half: np.ndarray
+    growth_exponent: np.ndarray
+    max_abs_dH: np.ndarray
+    casimir_drift: np.ndarray
+    min_stretch: np.ndarray
+    status: np.ndarray
+    t_max: float
+    renorm_dt: float
+
+    @property
+    def chaotic(self) -> np.ndarray:
+        """growth_exponent > GROWTH_THRESHOLD (False where missing)."""
+        with np.errstate(invalid="ignore"):
+            return np.asarray(self.growth_exponent > GROWTH_THRESHOLD)
+
+    def arrays(self) -> dict:
+        return {k: v for k, v in asdict(self).items() if isinstance(v, np.ndarray)}
+
+
+# ----------------------------------------------------------------------------------------------------------
+# the core: one tangent vector, renormalised
+# ----------------------------------------------------------------------------------------------------------
+def _steps(t_max, renorm_dt):
+    """An even number of renormalisation intervals (so T/2 is a sample time) of length <= renorm_dt."""
+    k = max(2, 2 * math.ceil(t_max / (2 * renorm_dt)))
+    return k, t_max / k
+
+
+def tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=DEFAULT_RENORM_DT, project=None, check=None,
+                       valid=None) -> Indicators:
+    """Indicators of N orbits with a batch tangent integrator (systems.tangent_batch).
+
+    x0 (n, N) starts, w0 (n, N) tangent vectors (normalised here), pars (npars, N); project(x, w, p) -> w
+    maps tangent vectors onto the neutral-free subspace (None: identity); check(x, p) -> (ok (b,), diag (3, b))
+    flags lanes that left the physical range and reports (|dH|, Casimir drift, -stretch), whose maxima are kept;
+    valid (N,) bool skips points.
+    Lanes are filled in order, padded with a copy of a valid lane: a lane's result does not depend on its
+    neighbours (heyoka batch lanes step independently), and the fixed order makes results reproducible.
+    Cost: N/batch_size batch propagations of t_max plus ~t_max/renorm_dt Python-level renormalisations each."""
+    t_max = float(t_max)
+    x0, w0, pars = (np.atleast_2d(np.asarray(a, float)) for a in (x0, w0, pars))
+    n, N = x0.shape
+    b = ta.batch_size
+    valid = np.ones(N, bool) if valid is None else np.asarray(valid, bool).copy()
+    out = {k: np.full(N, np.nan) for k in _KEYS}
+    status = np.where(valid, OK, FAILED).astype(np.int8)
+    nsteps, dt = _steps(t_max, renorm_dt)
+    for s in range(0, N, b):
+        idx = np.arange(s, min(s + b, N))
+        good = idx[valid[idx]]
+        if good.size == 0:
+            continue
+        lanes = np.concatenate([good, np.full(b - good.size, good[-1])])
+        res = _run_batch(ta, x0[:, lanes], w0[:, lanes], pars[:, lanes], nsteps, dt, project, check)
+        k = good.size
+        for key in out:
+            out[key][good] = res[key][:k]
+        status[good] = res["status"][:k]
+    bad = status != OK
+    for key in out:
+        out[key][bad] = np.nan
+    return Indicators(**out, status=status, t_max=t_max, renorm_dt=dt)
+
+
+def _normalise(x, w, p, project):
+    if project is not None:
+        w = project(x, w, p)
+    nrm = np.linalg.norm(w, axis=0)
+    return w / nrm, nrm
+
+
+def _run_batch(ta, x, w, p, nsteps, dt, project, check) -> dict:
+    n = x.shape[0]
+    b = ta.batch_size
+    ta.set_time(0.0)
+    ta.pars[:] = p
+    w, _ = _normalise(x, w, p, project)
+    ta.state[:n] = x
+    ta.state[n:] = w
+    L = np.zeros(b)
+    fli = np.zeros(b)
+    fli_half = np.zeros(b)
+    status = np.zeros(b, np.int8)
+    drift = np.full((3, b), -np.inf)
+    ok_outcome = hy.taylor_outcome.time_limit
+    for k in range(1, nsteps + 1):
+        ta.propagate_until(k * dt)
+        failed = np.array([r[0] != ok_outcome for r in ta.propagate_res]) | ~np.all(np.isfinite(ta.state), axis=0)
+        xs = np.array(ta.state[:n])
+        if check is not None:
+            in_range, d = check(np.where(failed, x, xs), p)
+            drift = np.maximum(drift, d)
+            status[(status == OK) & ~in_range] = LEFT_RANGE
+        status[(status == OK) & failed] = FAILED
+        if failed.any():  # restart dead lanes from their start so the batch keeps going; results discarded
+            st = np.array(ta.state)
+            st[:n, failed], st[n:, failed] = x[:, failed], w[:, failed]
+            ta.state[:] = st
+        wk, nrm = _normalise(np.array(ta.state[:n]), np.array(ta.state[n:]), p, project)
+        ta.state[n:] = wk
+        L += np.log(nrm)
+        fli = np.maximum(fli, L)
+        if 2 * k == nsteps:
+            fli_half = fli.copy()
+    T = nsteps * dt
+    if check is None:  # nothing monitored: NaN, not the -inf of an empty maximum
+        drift[:] = np.nan
+    return {"lyap": L / T, "fli": fli, "fli_half": fli_half, "growth_exponent": (fli - fli_half) / math.log(2.0),
+            "max_abs_dH": drift[0], "casimir_drift": drift[1], "min_stretch": -drift[2], "status": status}
+
+
+def generic_w0(n: int, N: int) -> np.ndarray:
+    """The fixed generic start direction (seeded Gaussian, unit norm), repeated for N orbits: (n, N)."""
+    v = np.random.default_rng(_W0_SEED).standard_normal(n)
+    return np.repeat((v / np.linalg.norm(v))[:, None], N, axis=1)
+
+
+# ----------------------------------------------------------------------------------------------------------
+# the rod in the body frame
+# ----------------------------------------------------------------------------------------------------------
+def project_neutral(x, w, p) -> np.ndarray:
+    """Orthogonal projection of the columns of w onto ker G(x): the tangent space of the level set of the first
+    integrals (C1, C2, C3, H, m3) through x (see the module docstring)."""
+    G = systems.cfunc_lanes(systems.body_neutral_gradients(), x, p)  # (k*9, N)
+    n = x.shape[0]
+    G = G.reshape(-1, n, x.shape[1]).transpose(2, 0, 1)  # (N, k, n)
+    Gw = np.einsum("bkn,nb->bk", G, w)
+    coef = np.linalg.solve(G @ G.transpose(0, 2, 1), Gw[..., None])[..., 0]
+    return w - np.einsum("bkn,bk->nb", G, coef)
+
+
+def neutral_components(x, w, p) -> np.ndarray:
+    """|G(x) w| / |w| per column: how much of w lies across the invariant level set (0 = none)."""
+    G = systems.cfunc_lanes(systems.body_neutral_gradients(), x, p)
+    n = x.shape[0]
+    G = G.reshape(-1, n, x.shape[1]).transpose(2, 0, 1)
+    Gn = G / np.linalg.norm(G, axis=2, keepdims=True)
+    return np.linalg.norm(np.einsum("bkn,nb->bk", Gn, w), axis=1) / np.linalg.norm(w, axis=0)
+
+
+@dataclass
+class _BodyCheck:
+    """Physical range and conservation budget along an orbit, evaluated at the sample times.
+
+    Range: the first integrals stay within DRIFT_LIMIT of their start values (otherwise the orbit has left its
+    invariant set and nothing computed on it can be trusted).  The axial stretch v3 = dH/dn3 (eq:hyperelastic) is
+    recorded as min_stretch but does not mark a point missing: the paper's own Fig 4 orbits reach v3 < 0 (the
+    rod compressed through zero length, unphysical for a real rod but a valid orbit of the Hamiltonian system)."""
+
+    H0: np.ndarray
+    C0: np.ndarray
+
+    @classmethod
+    def at(cls, x0, p):
+        f = systems.body_functions()
+        return cls(systems.cfunc_lanes(f["H"], x0, p)[0], systems.cfunc_lanes(f["casimirs"], x0, p))
+
+    def __call__(self, x, p):
+        f = systems.body_functions()
+        dH = np.abs(systems.cfunc_lanes(f["H"], x, p)[0] - self.H0)
+        dC = np.max(np.abs(systems.cfunc_lanes(f["casimirs"], x, p) - self.C0), axis=0)
+        v3 = systems.cfunc_lanes(systems.body_stretch(), x, p)[0]
+        ok = (dH <= DRIFT_LIMIT) & (dC <= DRIFT_LIMIT)
+        return ok, np.vstack([dH, dC, -v3])
+
+
+def body_indicators(x0, pars, *, t_max, tol=None, renorm_dt=DEFAULT_RENORM_DT, project=True, batch_size=None,
+                    w0=None, valid=None) -> Indicators:
+    """Indicators of body-frame orbits x0 (9, N) with parameters pars (5, N) in PARAMS order.
+
+    Defaults: tol None = machine epsilon, renorm_dt 10, project onto the invariant level set (module docstring),
+    batch size hy.recommended_simd_size(), w0 the fixed generic direction.  Max |H - H0| and Casimir drift are
+    returned per orbit; an orbit with v3 <= 0 or drift > DRIFT_LIMIT is LEFT_RANGE.
+    Cost: ~4.4 us per orbit per unit time (tol = eps, AVX-512 batch of 8)."""
+    x0 = np.atleast_2d(np.asarray(x0, float).T).T if np.ndim(x0) == 1 else np.asarray(x0, float)
+    pars = np.asarray(pars, float)
+    if pars.ndim == 1:
+        pars = np.repeat(pars[:, None], x0.shape[1], axis=1)
+    n, N = x0.shape
+    valid = np.ones(N, bool) if valid is None else np.asarray(valid, bool)
+    ta = systems.body_tangent_batch(batch_size, tol)
+    w0 = generic_w0(n, N) if w0 is None else np.asarray(w0, float).reshape(n, -1)
+    results = []
+    b = ta.batch_size
+    # batch by batch, so that each batch's checker holds its own lanes' start values of H and the Casimirs
+    for s in range(0, N, b):
+        good = np.nonzero(valid[s:s + b])[0] + s
+        if good.size == 0:
+            continue
+        lanes = np.concatenate([good, np.full(b - good.size, good[-1])])
+        chk = _BodyCheck.at(x0[:, lanes], pars[:, lanes])
+        r = tangent_indicators(ta, x0[:, lanes], w0[:, lanes], pars[:, lanes], t_max=t_max, renorm_dt=renorm_dt,
+                               project=project_neutral if project else None, check=chk)
+        results.append((good, r))
+    return _merge(results, N, valid, float(t_max), _steps(float(t_max), renorm_dt)[1])
+
+
+def _merge(results, N, valid, t_max, dt) -> Indicators:
+    keys = _KEYS
+    out = {k: np.full(N, np.nan) for k in keys}
+    status = np.full(N, FAILED, np.int8)
+    for item in results:
+        good, r = item
+        k = good.size
+        for key in keys:
+            out[key][good] = getattr(r, key)[:k]
+        status[good] = r.status[:k]
+    return Indicators(**out, status=status, t_max=t_max, renorm_dt=dt)
+
+
+# ----------------------------------------------------------------------------------------------------------
+# reference systems nobody here wrote: controls for the machinery
+# ----------------------------------------------------------------------------------------------------------
+def reference_system(name: str):
+    """(sys, pars, integrals) of a textbook system, pars as hy.par[i]:
+    "lorenz"        x' = s (y - x), y' = x (r - z) - y, z' = x y - b z; classic pars (10, 28, 8/3),
+                    lambda_max = 0.9056 (Sprott, Chaos and Time-Series Analysis, 2003, table A.1).
+    "henon_heiles"  H = (px^2 + py^2)/2 + (x^2 + y^2)/2 + x^2 y - y^3/3 (no parameters); E = 1/6 mostly
+                    chaotic, E = 1/12 mostly regular (Henon & Heiles 1964)."""
+    if name == "lorenz":
+        x, y, z = hy.make_vars("x", "y", "z")
+        s, r, b = hy.par[0], hy.par[1], hy.par[2]
+        return [(x, s * (y - x)), (y, x * (r - z) - y), (z, x * y - b * z)], [10.0, 28.0, 8.0 / 3.0]
+    if name == "henon_heiles":
+        x, y, px, py = hy.make_vars("x", "y", "px", "py")
+        H = (px * px + py * py) / 2.0 + (x * x + y * y) / 2.0 + x * x * y - y * y * y / 3.0
+        return hy.hamiltonian(H, [x, y], [px, py]), []
+    raise ValueError(f"unknown reference system {name!r}; known: lorenz, henon_heiles")
+
+
+def henon_heiles_start(E, y0, x0=0.0, py0=0.0) -> np.ndarray:
+    """(x, y, px, py) on the level H = E with px >= 0 solved for; NaN where the level is not reached."""
+    y0 = np.asarray(y0, float)
+    V = (x0 ** 2 + y0 ** 2) / 2 + x0 ** 2 * y0 - y0 ** 3 / 3
+    with np.errstate(invalid="ignore"):
+        px = np.sqrt(2 * (E - V) - py0 ** 2)
+    return np.vstack([np.full_like(y0, x0), y0, px, np.full_like(y0, py0)])
+
+
+def reference_indicators(name, x0, pars=None, *, t_max, tol=None, renorm_dt=1.0, batch_size=None) -> Indicators:
+    """Indicators of a reference system (no projection: for Henon-Heiles the energy direction's shear is
+    linear and cannot make a regular orbit look chaotic).  x0 (n, N); pars default the classic ones."""
+    sys_, p0 = reference_system(name)
+    x0 = np.asarray(x0, float)
+    N = x0.shape[1]
+    p = np.repeat(np.asarray(p0 if pars is None else pars, float).reshape(-1, 1), N, axis=1) if len(p0) else \
+        np.zeros((0, N))
+    ta = systems.tangent_batch(sys_, len(p0), batch_size=batch_size, tol=tol)
+    start = np.all(np.isfinite(x0), axis=0)
+    ind = tangent_indicators(ta, np.nan_to_num(x0), generic_w0(x0.shape[0], N), p, t_max=t_max,
+                             renorm_dt=renorm_dt, valid=start)
+    ind.status[~start] = NO_ROOT  # e.g. a Henon-Heiles start whose energy level is not reached
+    return ind
+
+
+# ----------------------------------------------------------------------------------------------------------
+# maps over parameter planes and sections
+# ----------------------------------------------------------------------------------------------------------
+START = ("h", "theta0", "ptheta0", "psi0")
+AXIS_NAMES = tuple(PARAMS) + START
+DEFAULT_PANEL = "4a"
+DEFAULT_TILE = 16
+
+
+@dataclass(frozen=True)
+class Axis:
+    """A grid axis: n points linspace(lo, hi, n) of one parameter (PARAMS) or start value (START)."""
+
+    name: str
+    lo: float
+    hi: float
+    n: int
+
+    def values(self) -> np.ndarray:
+        return np.linspace(self.lo, self.hi, self.n)
+
+
+MAX_AXIS_POINTS = 4096  # 4096^2 orbits at ~5 ms each is a day on 2 cores: the largest map worth refusing later
+
+
+def parse_axis(option: str, text: str) -> Axis:
+    """NAME:LO:HI:N -> Axis; ParameterError(option, ...) on an unknown name, non-finite bounds, an empty range
+    (LO >= HI with N > 1, or LO != HI with N = 1) or N not a positive integer."""
+    parts = str(text).split(":")
+    if len(parts) != 4:
+        raise ParameterError(option, f"expected NAME:LO:HI:N (e.g. lam:0:0.3:128), got {text!r}")
+    name, lo, hi, n = parts
+    if name not in AXIS_NAMES:
+        raise ParameterError(option, f"unknown parameter {name!r}; choose from {', '.join(AXIS_NAMES)}")
+    lo, hi = require_finite(option, lo, MAX_MAGNITUDE), require_finite(option, hi, MAX_MAGNITUDE)
+    try:
+        nf = float(n)
+    except ValueError:
+        raise ParameterError(option, f"number of points must be a positive integer, got {n!r}") from None
+    if not math.isfinite(nf) or nf != int(nf) or nf < 1:
+        raise ParameterError(option, f"number of points must be a positive integer, got {n!r}")
+    n = int(nf)
+    if n > MAX_AXIS_POINTS:
+        raise ParameterError(option, f"at most {MAX_AXIS_POINTS} points per axis, got {n}")
+    if (n > 1 and not lo < hi) or (n == 1 and lo != hi):
+        raise ParameterError(option, f"empty range {lo:g}..{hi:g} with {n} point(s): need LO < HI (or LO = HI "
+                                     f"with N = 1)")
+    return Axis(name, lo, hi, n)
+
+
+@dataclass(frozen=True)
+class MapSpec:
+    """Everything that determines a chaos map (the store's identity: a resumed run must match it).
+
+    base: values of PARAMS and START for every point (a paper panel, see panel_base), overridden by the axes.
+    root: which root pbar_psi of Hbar = h starts the orbit ("smallest", the poincare default, or "largest").
+    tol 0 = machine epsilon.  tile: tile edge in grid points (one Dask task and one zarr chunk per tile)."""
+
+    x: Axis
+    y: Axis
+    base: dict = field(default_factory=dict)
+    panel: str | None = DEFAULT_PANEL
+    root: str = "smallest"
+    t_max: float = 3000.0
+    tol: float = 0.0
+    renorm_dt: float = DEFAULT_RENORM_DT
+    tile: int = DEFAULT_TILE
+    batch_size: int = 0
+
+    def __post_init__(self):
+        if self.x.name == self.y.name:
+            raise ParameterError("y", f"must vary a different parameter than --x (both {self.x.name!r})")
+        t = require_finite("t_max", self.t_max)
+        if t <= 0:
+            raise ParameterError("t_max", f"must be > 0, got {self.t_max}")
+        if require_finite("tol", self.tol) < 0:
+            raise ParameterError("tol", f"must be >= 0 (0 = machine epsilon), got {self.tol}")
+        if require_finite("renorm_dt", self.renorm_dt) <= 0:
+            raise ParameterError("renorm_dt", f"must be > 0, got {self.renorm_dt}")
+        require_positive_int("tile", self.tile)
+        if self.root not in ("smallest", "largest"):
+            raise ParameterError("root", f"must be 'smallest' or 'largest', got {self.root!r}")
+        missing = [k for k in AXIS_NAMES if k not in self.base and k not in (self.x.name, self.y.name)]
+        if missing:
+            raise ParameterError(missing[0], "no value: give it or choose a --panel")
+        if not self.batch_size:
+            object.__setattr__(self, "batch_size", systems.recommended_batch_size())
+
+    @property
+    def shape(self) -> tuple:
+        return (self.y.n, self.x.n)
+
+    def as_dict(self) -> dict:
+        d = asdict(self)
+        d["base"] = {k: float(v) for k, v in sorted(self.base.items())}
+        return d
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "MapSpec":
+        d = dict(d)
+        d["x"], d["y"] = Axis(**d["x"]), Axis(**d["y"])
+        return cls(**d)
+
+    def point(self, ix: int, iy: int) -> dict:
+        v = dict(self.base)
+        v[self.x.name] = float(self.x.values()[ix])
+        v[self.y.name] = float(self.y.values()[iy])
+        return v
+
+
+def panel_base(key: str) -> dict:
+    """PARAMS and START values of a paper panel (magrod.poincare.PANELS)."""
+    from .printed import PANELS
+
+    if key not in PANELS:
+        raise ParameterError("panel", f"unknown panel {key!r}; choose from {', '.join(PANELS)}")
+    pk = PANELS[key]
+    return {**pk["params"].as_dict(), "h": pk["h"], "theta0": pk["theta0"], "ptheta0": pk["ptheta0"],
+            "psi0": pk["psi0"]}
+
+
+def start_point(v: dict, root: str = "smallest"):
+    """(x0 (9,), pars (5,), status, pbar_psi0) of one grid point: the chart start (theta0, psi0, pbar_theta0,
+    pbar_psi) on Hbar = h mapped to the body frame; status NO_ROOT / UNPHYSICAL with NaNs if impossible."""
+    from .poincare import solve_p_psi
+
+    nan9 = np.full(len(BODY_STATE), np.nan)
+    try:
+        params = RodParams(*(v[k] for k in PARAMS))
+    except ParameterError:
+        return nan9, np.full(len(PARAMS), np.nan), UNPHYSICAL, np.nan
+    p = params.array()
+    try:
+        roots = solve_p_psi(params, v["h"], v["theta0"], v["ptheta0"], v["psi0"])
+    except ParameterError:
+        return nan9, p, NO_ROOT, np.nan
+    q = roots[0] if root == "smallest" else roots[-1]
+    return systems.euler_to_body(v["theta0"], v["psi0"], v["ptheta0"], q, p), p, OK, float(q)
+
+
+@dataclass(frozen=True)
+class Tile:
+    iy: int
+    ix: int
+    ys: slice
+    xs: slice
+
+    @property
+    def key(self) -> str:
+        return f"{self.iy}_{self.ix}"
+
+
+def tiles(spec: MapSpec) -> list[Tile]:
+    """The grid cut into tile x tile blocks, row-major; the same on every machine and for any worker count."""
+    t = spec.tile
+    return [Tile(iy, ix, slice(iy * t, min((iy + 1) * t, spec.y.n)), slice(ix * t, min((ix + 1) * t, spec.x.n)))
+            for iy in range(math.ceil(spec.y.n / t)) for ix in range(math.ceil(spec.x.n / t))]
+
+
+MAP_FIELDS = _KEYS + ("p_psi0",)
+
+
+def compute_tile(spec: MapSpec, tile: Tile) -> dict:
+    """Indicators of every grid point of one tile: {field: (ny_t, nx_t) float64 array, "status": int8 array}.
+    Pure function of (spec, tile): the unit of work of a Dask task and of a zarr chunk."""
+    iys = range(tile.ys.start, tile.ys.stop)
+    ixs = range(tile.xs.start, tile.xs.stop)
+    pts = [spec.point(ix, iy) for iy in iys for ix in ixs]
+    starts = [start_point(v, spec.root) for v in pts]
+    x0 = np.array([s[0] for s in starts]).T
+    p = np.array([s[1] for s in starts]).T
+    st0 = np.array([s[2] for s in starts], np.int8)
+    ind = body_indicators(np.nan_to_num(x0), np.nan_to_num(p, nan=1.0), t_max=spec.t_max, tol=spec.tol or None,
+                          renorm_dt=spec.renorm_dt, batch_size=spec.batch_size, valid=st0 == OK)
+    shape = (len(iys), len(ixs))
+    out = {k: getattr(ind, k).reshape(shape) for k in _KEYS}
+    out["p_psi0"] = np.array([s[3] for s in starts]).reshape(shape)
+    out["status"] = np.where(st0 == OK, ind.status, st0).astype(np.int8).reshape(shape)
+    return out
+
+
+@dataclass(frozen=True)
+class MapResult:
+    """A whole map in memory: fields (ny, nx) as in compute_tile, plus the spec and wall time."""
+
+    spec: MapSpec
+    fields: dict
+    wall_s: float
+
+    def summary(self, threshold=GROWTH_THRESHOLD) -> dict:
+        return map_summary(self.spec, self.fields, self.wall_s, threshold)
+
+
+def map_summary(spec: MapSpec, fields: dict, wall_s: float, threshold=GROWTH_THRESHOLD) -> dict:
+    """Grid, fraction chaotic (growth_exponent > threshold, among computed points), missing points by reason,
+    wall time and orbits per second."""
+    st = np.asarray(fields["status"])
+    ok = st == OK
+    g = np.asarray(fields["growth_exponent"])
+    n_ok = int(ok.sum())
+    return {"grid": {"x": asdict(spec.x), "y": asdict(spec.y)}, "points": int(st.size), "computed": n_ok,
+            "missing": {REASONS[c]: int((st == c).sum()) for c in REASONS if c != OK and (st == c).any()},
+            "criterion": f"chaotic iff growth_exponent = (FLI(T) - FLI(T/2))/ln 2 > {threshold:g}",
+            "threshold": threshold,
+            "fraction_chaotic": float((g[ok] > threshold).mean()) if n_ok else None,
+            "max_growth_exponent": float(np.max(g[ok])) if n_ok else None,
+            "max_lyap": float(np.nanmax(np.asarray(fields["lyap"])[ok])) if n_ok else None,
+            "max_abs_dH": float(np.max(np.asarray(fields["max_abs_dH"])[ok])) if n_ok else None,
+            "max_casimir_drift": float(np.max(np.asarray(fields["casimir_drift"])[ok])) if n_ok else None,
+            "fraction_compressed": float((np.asarray(fields["min_stretch"])[ok] <= 0).mean()) if n_ok else None,
+            "t_max": spec.t_max, "wall_s": wall_s, "orbits_per_s": st.size / wall_s if wall_s > 0 else None}
+
+
+def empty_fields(spec: MapSpec) -> dict:
+    f = {k: np.full(spec.shape, np.nan) for k in MAP_FIELDS}
+    f["status"] = np.full(spec.shape, FAILED, np.int8)
+    return f
+
+
+def chaos_map(spec: MapSpec, *, progress=None) -> MapResult:
+    """The whole map in this process (tests, the figure builder, small maps); the CLI spreads the same tiles
+    over Dask workers and a zarr store instead (magrod.chaos_store).  progress(n) is called per tile."""
+    import time
+
+    t0 = time.perf_counter()
+    fields = empty_fields(spec)
+    for tile in tiles(spec):
+        res = compute_tile(spec, tile)
+        for k, v in res.items():
+            fields[k][tile.ys, tile.xs] = v
+        if progress is not None:
+            progress(1)
+    return MapResult(spec, fields, time.perf_counter() - t0)
+
+
+def panel_indicators(keys=("4a", "4b", "4c", "4d"), *, t_max=3000.0, tol=None, root="smallest") -> dict:
+    """{panel: dict of the indicators of the paper's orbit} (one batch).  Cost ~t_max * 5 us per panel."""
+    starts = [start_point(panel_base(k), root) for k in keys]
+    ind = body_indicators(np.array([s[0] for s in starts]).T, np.array([s[1] for s in starts]).T, t_max=t_max,
+                          tol=tol)
+    return {k: {f: (float(getattr(ind, f)[i]) if f != "status" else REASONS[int(ind.status[i])]) for f in
+                _KEYS + ("status",)} | {"chaotic": bool(ind.chaotic[i])} for i, k in enumerate(keys)}

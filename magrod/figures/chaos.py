@@ -1,0 +1,102 @@
+"""Chaos-map pictures and the small map of `magrod reproduce` (drawing and writing; numerics in magrod.chaos).
+
+build(out_dir, *, quick=False, progress=False) -> list[str]
+    A lambdabar x gamma map around the Figure 4 panels (start rule of fig:poincare1) plus the indicators of the
+    four Figure 4 orbits; writes chaos.png, chaos.npz and the sidecar chaos.json (read by magrod reproduce).
+draw_map(fields, spec, path, *, title=None) -> Path
+    PNG heat map of the growth exponent with colour bar, missing points grey, the paper's panels marked.
+"""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .. import chaos
+from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..printed import PANELS
+from ..progress import bar
+from .common import pyplot
+
+# the reproduce map: full and --quick sizes (grid points per axis, t_max)
+REPRODUCE_GRID = {False: (24, 3000.0), True: (8, 2000.0)}
+REPRODUCE_AXES = ("lam:0.12:0.2", "gamma:2.0:4.0")
+PANEL_T_MAX = {False: 5000.0, True: 3000.0}
+
+
+def panel_marks(spec: chaos.MapSpec) -> list[tuple]:
+    """(key, x, y) of every paper panel that lies in the map's plane: its values of all non-axis parameters equal
+    the map's base values and its axis values are inside the ranges."""
+    marks = []
+    for key in PANELS:
+        v = chaos.panel_base(key)
+        others = [k for k in chaos.AXIS_NAMES if k not in (spec.x.name, spec.y.name)]
+        if all(np.isclose(v[k], spec.base.get(k, np.nan)) for k in others):
+            x, y = v[spec.x.name], v[spec.y.name]
+            if spec.x.lo <= x <= spec.x.hi and spec.y.lo <= y <= spec.y.hi:
+                marks.append((key, x, y))
+    return marks
+
+
+FIELD_LABELS = {"growth": "growth exponent (FLI(T) - FLI(T/2))/ln 2", "fli": "FLI = max ln|w(t)|, t <= T",
+                "lyap": "finite-time Lyapunov exponent L(T)/T"}
+FIELD_NAMES = {"growth": "growth_exponent", "fli": "fli", "lyap": "lyap"}
+
+
+def draw_map(fields: dict, spec: chaos.MapSpec, path, *, indicator="growth", title=None,
+             threshold=chaos.GROWTH_THRESHOLD) -> Path:
+    """PNG heat map of one indicator ("growth", "fli" or "lyap"); missing points grey; paper panels starred.
+    The growth exponent is coloured diverging about the chaos threshold."""
+    plt = pyplot()
+    from matplotlib.colors import TwoSlopeNorm
+
+    g = np.where(np.asarray(fields["status"]) == chaos.OK, fields[FIELD_NAMES[indicator]], np.nan)
+    fig, ax = plt.subplots(figsize=(6.4, 5.0), layout="constrained")
+    cmap = plt.get_cmap("RdYlBu_r" if indicator == "growth" else "magma").with_extremes(bad="0.8")
+    norm = None
+    if indicator == "growth":
+        vmax = max(float(np.nanmax(g)) if np.isfinite(g).any() else 2 * threshold, 2 * threshold)
+        norm = TwoSlopeNorm(vmin=0.0, vcenter=threshold, vmax=vmax)
+    im = ax.pcolormesh(spec.x.values(), spec.y.values(), np.ma.masked_invalid(g), cmap=cmap, shading="nearest",
+                       norm=norm)
+    ge = np.ma.masked_invalid(np.asarray(fields["growth_exponent"], float))
+    if spec.x.n > 1 and spec.y.n > 1 and (ge > threshold).any() and (ge <= threshold).any():
+        # the classification boundary (masked where missing), whatever indicator is coloured
+        ax.contour(spec.x.values(), spec.y.values(), ge, levels=[threshold], linewidths=0.8,
+                   colors="k" if indicator == "growth" else "c")
+    cb = fig.colorbar(im, ax=ax)
+    cb.set_label(FIELD_LABELS[indicator] + (f"; chaotic > {threshold:g}" if indicator == "growth" else "")
+                 + "; grey: missing")
+    for key, x, y in panel_marks(spec):
+        ax.plot(x, y, "k*", ms=10, mec="w")
+        ax.annotate(key, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=9)
+    ax.set_xlabel(spec.x.name)
+    ax.set_ylabel(spec.y.name)
+    fixed = ", ".join(f"{k} = {v:g}" for k, v in sorted(spec.base.items()) if k not in (spec.x.name, spec.y.name))
+    ax.set_title(title or f"chaos map, T = {spec.t_max:g}\n{fixed}", fontsize=9)
+    try:
+        return atomic_savefig(fig, path, dpi=120)
+    finally:
+        plt.close(fig)
+
+
+def build(out_dir, *, quick=False, progress=False) -> list[str]:
+    """The reproduce map (REPRODUCE_GRID) and the Figure 4 panel indicators; see the module docstring."""
+    out = ensure_writable_dir(out_dir)
+    n, t_max = REPRODUCE_GRID[bool(quick)]
+    spec = chaos.MapSpec(chaos.parse_axis("x", f"{REPRODUCE_AXES[0]}:{n}"),
+                         chaos.parse_axis("y", f"{REPRODUCE_AXES[1]}:{n}"), base=chaos.panel_base("4a"),
+                         panel="4a", t_max=t_max)
+    with bar(len(chaos.tiles(spec)), "chaos map", progress, unit="tile") as update:
+        res = chaos.chaos_map(spec, progress=update)
+    t0 = time.perf_counter()
+    panels = chaos.panel_indicators(("4a", "4b", "4c", "4d"), t_max=PANEL_T_MAX[bool(quick)])
+    png = draw_map(res.fields, spec, out / "chaos.png")
+    npz = atomic_savez(out / "chaos.npz", **{k: np.asarray(v) for k, v in res.fields.items()},
+                       x=spec.x.values(), y=spec.y.values())
+    side = atomic_write_json(out / "chaos.json", {
+        "label": "fig:poincare1 (chaos map)", "spec": spec.as_dict(), "summary": res.summary(),
+        "panels": panels, "panel_t_max": PANEL_T_MAX[bool(quick)], "quick": bool(quick),
+        "wall_s": res.wall_s + time.perf_counter() - t0, "versions": versions()})
+    return [str(png), str(npz), str(side)]
