@@ -251,29 +251,11 @@ def count_pulses(res: PeriodicHomoclinic) -> int:
     return int(np.count_nonzero(inner))
 
 
-@systems.per_thread
-def _orbit_integrator():
-    return systems.integrator("body")
-
-
 def orbit(res: PeriodicHomoclinic, n: int = 4001) -> dict:
-    """The symmetric orbit on [0, 2T]: first half integrated, second half its reversor image (as in
-    magrod.shooting.orbit).  Body states (n, 9), reduced coordinates, Hbar."""
-    from .shooting import reversor_at
+    """The symmetric orbit on [0, 2T] (magrod.shooting.symmetric_orbit): body states, reduced coordinates, Hbar."""
+    from .shooting import symmetric_orbit
 
-    pars = res.params.array()
-    half = (n + 1) // 2
-    tg = np.linspace(0.0, res.T, half)
-    ta = _orbit_integrator()
-    systems.reset(ta, res.x0, 0.0, pars)
-    xs = ta.propagate_grid(tg)[-1]
-    R = reversor_at(xs[-1])
-    X = np.vstack([xs, (R @ xs[-2::-1].T).T])
-    t = np.concatenate([tg, 2 * res.T - tg[-2::-1]])
-    Xc = np.ascontiguousarray(X.T)
-    th, ps, _, pt, pp = systems.body_to_euler(Xc, pars)
-    H = systems.body_functions()["H"](Xc, pars)[0]
-    return {"t": t, "x": X, "theta": th, "psi": ps, "ptheta": pt, "ppsi": pp, "H": H, "reversor": R}
+    return symmetric_orbit(res.x0, res.T, res.params.array(), n)
 
 
 def multipulse_rows(params: RodParams, *, max_pulses: int = 3, samples: int = 121) -> tuple:

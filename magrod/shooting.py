@@ -295,22 +295,25 @@ def reversor_at(x_sym) -> np.ndarray:
 
 
 def orbit(result: ShootingResult, n: int = 4001) -> dict:
-    """The symmetric orbit sampled on t in [0, 2T] (t = arclength s from the launch point): first half
-    integrated, second half its image under the reversor (x(T + s) = R x(T - s)).  Returns body states
-    (n, 9), reduced (theta, psi, pbar_theta, pbar_psi), Hbar along the orbit."""
+    """The symmetric orbit of a converged shooting result (symmetric_orbit)."""
     if not result.success:
         raise ValueError("no orbit: shooting did not converge")
-    p = result.params
-    pars = p.array()
+    return symmetric_orbit(result.x0, result.T, result.params.array(), n)
+
+
+def symmetric_orbit(x0, T, pars, n: int = 4001) -> dict:
+    """A reversible orbit sampled on t in [0, 2T] (t = arclength s from the launch point x0, the symmetric point
+    at t = T): first half integrated, second half its image under the reversor (x(T + s) = R x(T - s)).
+    Returns body states (n, 9), reduced (theta, psi, pbar_theta, pbar_psi), Hbar along the orbit."""
     half = (n + 1) // 2
-    tg = np.linspace(0.0, result.T, half)
+    tg = np.linspace(0.0, T, half)
     ta = _orbit_integrator()
-    systems.reset(ta, result.x0, 0.0, pars)
+    systems.reset(ta, x0, 0.0, pars)
     xs = ta.propagate_grid(tg)[-1]
     R = reversor_at(xs[-1])
     second = (R @ xs[-2::-1].T).T
     X = np.vstack([xs, second])
-    t = np.concatenate([tg, 2 * result.T - tg[-2::-1]])
+    t = np.concatenate([tg, 2 * T - tg[-2::-1]])
     Xc = np.ascontiguousarray(X.T)
     e = dict(zip(CHART, body_to_euler(Xc, pars)))
     H = body_functions()["H"](Xc, pars)[0]
