@@ -58,8 +58,12 @@ def test_numerics_do_not_import_sympy():
 
     import magrod
 
-    offenders = []
-    for path in Path(magrod.__file__).parent.rglob("*.py"):
+    offenders, scanned = [], 0
+    root = Path(magrod.__file__).parent
+    for path in root.rglob("*.py"):
+        if path.relative_to(root).parts[0] == "derive":  # installed as magrod.derive: the SymPy side itself
+            continue
+        scanned += 1
         tree = ast.parse(path.read_text())
         for node in ast.walk(tree):
             names = []
@@ -71,7 +75,7 @@ def test_numerics_do_not_import_sympy():
                 if n.split(".")[0] in ("sympy", "mpmath") or "derive" in n:
                     if not (path.name == "integrability.py" and "derive" in n):
                         offenders.append(f"{path.name}: {n}")
-    assert not offenders, offenders
+    assert scanned >= 20 and not offenders, (scanned, offenders)
 
 
 def test_check_imports_neither_heyoka_nor_matplotlib():
