@@ -584,3 +584,24 @@ def leading_coefficient(m, gamma, delta, *, reference=True, theta_tail=1e-20) ->
     tan_half = math.sqrt((1.0 - orbit.u_plus) / (1.0 + orbit.u_plus))
     return LeadingTerm(orbit.m, orbit.gamma, delta, s64, sref, qerr, tail, err, orbit.theta_max, s / tan_half,
                        s / m2, T, time.perf_counter() - t0)
+
+
+def digits_agreeing(x, ref) -> float:
+    """-log10 |x/ref - 1| (inf if equal): the number of significant digits x shares with ref."""
+    rel = abs(x / ref - 1.0)
+    return math.inf if rel == 0 else -math.log10(rel)
+
+
+def compare_leading(m, gamma, delta, a, b, eps=(0.02, 0.014, 0.01, 0.007, 0.005, 0.0035),
+                    precisions=("double", "long")) -> dict:
+    """Derived leading term (leading_coefficient) against the measured one (scan: C0 of the eps^2 extrapolation
+    of psi_u/eps^2 and d/eps^4) at a = 2b.  Cost ~0.5 s."""
+    if not is_equilibrium_case(a, b):
+        raise ParameterError("a", f"the derived leading term is the a = 2b case; got a = {a}, b = {b}")
+    lt = leading_coefficient(m, gamma, delta)
+    sc = scan(m, gamma, delta, a, b, list(eps), precisions)
+    dp, dd = b * lt.C_psi, b * b * lt.C_d
+    return {"m": m, "gamma": gamma, "delta": delta, "a": a, "b": b, "eps": list(eps), "precisions": list(precisions),
+            "derived_psi": dp, "measured_psi": sc.fit_psi.C0, "digits_psi": digits_agreeing(sc.fit_psi.C0, dp),
+            "derived_d": dd, "measured_d": sc.fit_d.C0, "digits_d": digits_agreeing(sc.fit_d.C0, dd),
+            "measured_fit_rel_residual": sc.fit_psi.C0_fit_max_rel_residual, "leading": lt.as_dict()}
