@@ -10,7 +10,7 @@ import mpmath
 import sympy as sp
 
 from . import numeric_scale as ns
-from . import homoclinic, melnikov, poisson, reduction, symmetry
+from . import homoclinic, melnikov, poisson, reduction, splitting, symmetry
 from . import floquet  # issue 13
 from .codegen import HeyokaPrinter, function_source, module_source
 from .model import X, phi, psi, theta
@@ -209,6 +209,7 @@ def all_results():
     results += melnikov.derive_all()
     results += symmetry.derive_all()
     results += floquet.derive_all()  # issue 13
+    results += splitting.derive_all()  # issue 12
     return results, {}
 
 
@@ -245,6 +246,7 @@ def build(out_dir: Path, verbose=True) -> dict:
     files["melnikov.py"] = melnikov.module()
     files["symmetry.py"] = symmetry.module()
     files["floquet.py"] = floquet.module()  # issue 13
+    files["splitting.py"] = splitting.module()  # issue 12
     files["names.py"] = names_module()
     files["scalars.py"] = scalars_module()
     results, _ = all_results()

@@ -491,3 +491,117 @@ def scan_summary(res) -> dict:
             "measure": "psi_u: chart angle psi at the first turning point of W^u (W^s there: -psi_u); "
                        "d = rho sin psi_u = (e31 n2 - e32 n1)/sin(theta): half the body-frame distance of W^u "
                        "from its mirror image W^s on pbar_theta = 0"}
+
+
+# --------------------------------------------------------------------------------------------------------------
+# a = 2b: the derived leading term (derive/splitting.py; report entries splitting_blowup,
+# splitting_invariant_manifold, splitting_leading_term)
+# --------------------------------------------------------------------------------------------------------------
+@systems.per_thread
+def _leading_integrator(fp_type=float):
+    """Taylor integrator of (Psi, S(t))' = (1/(1 + cos theta), N) along the closed-form lambdabar = 0 homoclinic
+    orbit (t = hy.time, t = 0 at the turning point); pars (m, gamma, delta)."""
+    from .generated import splitting as gen_split
+    from .homoclinic import stable_expressions
+
+    Psi, S = hy.make_vars("Psi", "S")
+    m, g, dl = hy.par[0], hy.par[1], hy.par[2]
+    e = stable_expressions(hy.time, m, g)
+    sys = [(Psi, e["psidot"]), (S, gen_split.leading_integrand(e["theta"], e["ptheta"], Psi, m, g, dl))]
+    if fp_type is float:
+        return systems.taylor(sys, [0.0, 0.0], [1.0, 1.0, 1.0])
+    return systems.taylor(sys, [0, 0], [1, 1, 1], fp_type=fp_type, compact_mode=True,
+                          tol="1e-32" if fp_type is hy.real128 else 0)
+
+
+def _leading_run(m, gamma, delta, T, fp_type=float):
+    ta = _leading_integrator(fp_type)
+    ta.time = fp_type(0)
+    ta.state[:] = np.array([fp_type(0)] * 2)
+    ta.pars[:] = np.array([fp_type(m), fp_type(gamma), fp_type(delta)])
+    res = ta.propagate_until(fp_type(T))
+    if res[0] != hy.taylor_outcome.time_limit:
+        raise RuntimeError(f"splitting quadrature failed: {res[0]}")
+    return ta.state[1]
+
+
+@dataclass(frozen=True)
+class LeadingTerm:
+    """Derived leading term of the splitting at mu = 2 lambdabar (a = 2b) for (m, gamma, delta):
+
+        psi_u = C_psi lambdabar + O(lambdabar^2),   d = rho sin psi_u = C_d lambdabar^2 + O(lambdabar^3),
+
+    C_psi = S/tan(theta_t/2), C_d = S/m^2 (rho of the body numeric scale = sqrt(mu - 2 lambdabar pbar_psi)/m^2,
+    derive/numeric_scale.py), S = Int_0^inf N dt (generated.splitting.leading_integrand).  Along the paper's
+    scaling lambdabar = b eps^2: psi_u/eps^2 -> b C_psi, d/eps^4 -> b^2 C_d."""
+
+    m: float
+    gamma: float
+    delta: float
+    S: float  # float64 quadrature
+    S_reference: float | None  # real128 quadrature
+    quad_error: float | None  # |S - S_reference|
+    tail_estimate: float  # asymptotic bound of |Int_T^inf N dt| (theta -> 0 along the orbit)
+    error: float | None  # quad_error + tail_estimate
+    theta_turn: float
+    C_psi: float
+    C_d: float
+    T: float
+    wall_time_s: float
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def leading_coefficient(m, gamma, delta, *, reference=True, theta_tail=1e-20) -> LeadingTerm:
+    """The derived coefficients C_psi, C_d of the a = 2b splitting (see LeadingTerm) by heyoka quadrature of the
+    generated integrand on the closed-form homoclinic orbit, float64 (tol = eps) and, if reference, real128
+    (tol = 1e-32) for the error estimate.
+    Tail: as theta -> 0 on the orbit, x = tan(theta/2) ~ theta/2, |pbar_theta| ~ kappa theta, J/sin^2 -> q0 =
+    (1/4 + kappa^2)/2, so |N| <~ theta [kappa (q0 + delta/m^2) + (q0 + (1 + gamma + delta)/m^2)/2] and
+    Int_T^inf theta dt ~ theta(T)/kappa; tail_estimate is twice that (asymptotic, not rigorous; 1e-19 at the
+    default theta_tail).  Cost: ~ms (float64) + ~0.3 s (real128)."""
+    from .homoclinic import homoclinic
+
+    t0 = time.perf_counter()
+    delta = require_finite("delta", delta, MAX_MAGNITUDE)
+    if delta < 0:
+        raise ParameterError("delta", f"must be >= 0, got {delta}")
+    orbit = homoclinic(m, gamma)
+    T = orbit.time_at_theta(theta_tail)
+    s64 = float(_leading_run(orbit.m, orbit.gamma, delta, T))
+    sref = qerr = err = None
+    if reference:
+        sref = float(_leading_run(orbit.m, orbit.gamma, delta, T, hy.real128))
+        qerr = abs(s64 - sref)
+    k = orbit.saddle_rate
+    q0 = (0.25 + k * k) / 2
+    m2 = orbit.m**2
+    tail = 2.0 * theta_tail / k * (k * (q0 + delta / m2) + 0.5 * (q0 + (1 + orbit.gamma + delta) / m2))
+    if reference:
+        err = qerr + tail
+    s = sref if reference else s64
+    tan_half = math.sqrt((1.0 - orbit.u_plus) / (1.0 + orbit.u_plus))
+    return LeadingTerm(orbit.m, orbit.gamma, delta, s64, sref, qerr, tail, err, orbit.theta_max, s / tan_half,
+                       s / m2, T, time.perf_counter() - t0)
+
+
+def digits_agreeing(x, ref) -> float:
+    """-log10 |x/ref - 1| (inf if equal): the number of significant digits x shares with ref."""
+    rel = abs(x / ref - 1.0)
+    return math.inf if rel == 0 else -math.log10(rel)
+
+
+def compare_leading(m, gamma, delta, a, b, eps=(0.02, 0.014, 0.01, 0.007, 0.005, 0.0035),
+                    precisions=("double", "long")) -> dict:
+    """Derived leading term (leading_coefficient) against the measured one (scan: C0 of the eps^2 extrapolation
+    of psi_u/eps^2 and d/eps^4) at a = 2b.  Cost ~0.5 s."""
+    if not is_equilibrium_case(a, b):
+        raise ParameterError("a", f"the derived leading term is the a = 2b case; got a = {a}, b = {b}")
+    lt = leading_coefficient(m, gamma, delta)
+    sc = scan(m, gamma, delta, a, b, list(eps), precisions)
+    dp, dd = b * lt.C_psi, b * b * lt.C_d
+    return {"m": m, "gamma": gamma, "delta": delta, "a": a, "b": b, "eps": list(eps), "precisions": list(precisions),
+            "derived_psi": dp, "measured_psi": sc.fit_psi.C0, "digits_psi": digits_agreeing(sc.fit_psi.C0, dp),
+            "derived_d": dd, "measured_d": sc.fit_d.C0, "digits_d": digits_agreeing(sc.fit_d.C0, dd),
+            "measured_fit_rel_residual": sc.fit_psi.C0_fit_max_rel_residual, "leading": lt.as_dict()}

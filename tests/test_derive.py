@@ -80,6 +80,10 @@ EXPECTED = {
     "melnikov_partials": "holds",
     "melnikov_integrand": "disagrees",        # sign of the sin^2(theta)(1 + gamma cos theta) term
     "melnikov_vanishes": "disagrees",         # first-order Mel'nikov function is identically zero
+    # issue 12: the splitting at mu = 2 lambdabar (beyond the paper)
+    "splitting_blowup": "holds",
+    "splitting_invariant_manifold": "holds",
+    "splitting_leading_term": "holds",
 }
 
 

@@ -96,3 +96,32 @@ def test_cli_json(capsys):
     assert main(["splitting", "--json", "--eps", "0.1,0.05,0.02,0.01", "--precision", "long"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert abs(out["fit_psi"]["p"] - 2) < 0.02 and len(out["rows"]) == 4
+
+
+# --- the derived leading term at a = 2b (derive/splitting.py, magrod.splitting.leading_coefficient) -----------
+def test_leading_term_matches_measured_constants():
+    """docs/nonintegrability.md: psi_u/eps^2 -> -0.8039252, d/eps^4 -> -0.2859876 (quad, a = 2b = 2)."""
+    lt = S.leading_coefficient(M, G, DL)
+    # the real128 reference and the float64 quadrature agree to a few ulp; the tail is below 1e-18
+    assert lt.quad_error <= 1e3 * ULP["double"] and lt.tail_estimate <= 1e-18
+    assert S.digits_agreeing(lt.C_psi, -0.8039252) >= 6.5  # the published constant has 7 digits
+    assert S.digits_agreeing(lt.C_d, -0.2859876) >= 6.5
+
+
+@pytest.mark.parametrize("case", [(1.7, 1.0, 1.0, 2.0, 1.0), (1.2, 0.5, 2.0, 2.0, 1.0), (2.2, 2.0, 0.5, 1.0, 0.5)])
+def test_leading_term_against_scan(case):
+    c = S.compare_leading(*case)
+    # the measured C0 (eps^2 extrapolation, long double) is good to ~1e-8 relative
+    assert c["digits_psi"] >= 6 and c["digits_d"] >= 6, c
+
+
+def test_leading_term_integrable_control_zero():
+    """gamma = delta = 0 (integrable for every lambdabar): the derived splitting vanishes."""
+    lt = S.leading_coefficient(M, 0.0, 0.0)
+    # real128: zero up to the truncated tail Int_T^inf (theta(T) = 1e-20); float64: up to rounding
+    assert abs(lt.S_reference) <= lt.tail_estimate and abs(lt.S) <= 1e3 * ULP["double"]
+
+
+def test_leading_term_tilted_case_rejected():
+    with pytest.raises(S.ParameterError):
+        S.compare_leading(M, G, DL, 4.0, 1.0)

@@ -59,6 +59,9 @@ def plot(res, out_dir, stem: str = "splitting") -> str:
 
 
 FIGURE = {"m": 1.7, "gamma": 1.0, "delta": 1.0}
+# (m, gamma, delta, a, b) where the derived leading term (derive/splitting.py) is compared with the measurement
+LEADING_CASES = [(1.7, 1.0, 1.0, 2.0, 1.0), (1.7, 1.0, 0.0, 2.0, 1.0), (1.7, 0.0, 1.0, 2.0, 1.0),
+                 (1.2, 0.5, 2.0, 2.0, 1.0), (2.2, 2.0, 0.5, 1.0, 0.5), (1.0, 0.0, 1.0, 2.0, 1.0)]
 
 
 def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
@@ -71,7 +74,11 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     ctl = S.scan(1.7, 0.0, 0.0, 2.0, 1.0, eps, prec, fit=False)
     ti = S.tilted_scan(**FIGURE, a=4.0, b=1.0, eps=eps_t)
     ti0 = S.tilted_scan(**FIGURE, a=1.0, b=0.0, eps=eps_t[:3])
-    paths = []
+    lead = [S.compare_leading(*c) for c in (LEADING_CASES[:2] if quick else LEADING_CASES)]
+    control = S.leading_coefficient(1.7, 0.0, 0.0)
+    paths = [str(atomic_write_json(out / "splitting_leading.json",
+                                   {"cases": lead, "control_gamma_delta_0": control.as_dict(),
+                                    "versions": versions()}))]
     for r, stem in ((eq, "splitting_a2b"), (ctl, "splitting_a2b_control"), (ti, "splitting_tilted"),
                     (ti0, "splitting_tilted_control")):
         paths += write(r, out, stem)
@@ -80,6 +87,9 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     ref = eq.crossings[eq.precisions[-1]]
     _loglog(ax, eq.eps, np.array([c.psi for c in ref]), eq.fit_psi, r"$|\psi_u|$", "o-")
     _loglog(ax, eq.eps, np.array([c.d for c in ref]), eq.fit_d, r"$|d|$", "s-")
+    ee = np.array([min(eq.eps), max(eq.eps)])
+    ax.loglog(ee, np.abs(lead[0]["derived_psi"]) * ee**2, "k--", lw=0.8,
+              label=rf"derived $|\psi_u| \approx {abs(lead[0]['derived_psi']):.6f}\,\varepsilon^2$")
     cr = ctl.crossings[ctl.precisions[-1]]
     ax.loglog(ctl.eps, np.maximum(np.abs([c.psi for c in cr]), 1e-40), "x", label=r"control $\gamma=\delta=0$: $|\psi_u|$")
     ax.set_title(f"(a) a = 2b = 2 (straight rod), {eq.precisions[-1]}", fontsize=8)
