@@ -91,9 +91,9 @@ def test_axial_stretch_derivation():
     sin theta cos psi); 1 + gamma + delta on the straight rod; 1 for the inextensible rod."""
     import sympy as sp
 
-    from derive import numeric_scale as ns
-    from derive.paper import delta, gamma, m
-    from derive.model import K, n3
+    from magrod.derive import numeric_scale as ns
+    from magrod.derive.paper import delta, gamma, m
+    from magrod.derive.model import K, n3
 
     st = ns.stretch_analysis()
     for k in ("legendre", "legendre_closed", "compliance", "body", "chart", "straight", "inext"):
