@@ -76,6 +76,9 @@ def scalars_module():
                         "The pbar_psi at which the radicand mu - 2 lambdabar pbar_psi vanishes (lambdabar != 0)."),
         function_source("radicand_slope_ppsi", PAR_ARGS, sp.diff(reduction.RHO2_BAR, pps), pm,
                         "d(radicand)/d(pbar_psi): its sign says on which side of radicand_root_ppsi the chart exists."),
+        function_source("straight_rod_stretch", PAR_ARGS, ns.stretch_analysis()["v3_straight_rod"], pm,
+                        "Axial stretch v3 = dH/dn3 of the straight rod (n3 = C2): 1 + gamma + delta (report entry "
+                        "axial_stretch)."),
         function_source("casimir_values", PAR_ARGS, ns.casimir_values(), pm,
                         "(C1, C2, C3) on the Euler-angle chart at the numeric scale."),
         function_source("hamiltonian_offset", PAR_ARGS, ns.hamiltonian_offset(), pm,
@@ -118,6 +121,8 @@ def reduced_module():
                         "mu - 2 lambdabar pbar_psi: must stay > 0 (eq:alignment_condition)."),
         function_source("section", args, sp.sin(psi), pr, "sin(psi): the Poincare section of sec:numerics."),
         function_source("sin_theta", args, sp.sin(theta), pr, "sin(theta): distance from the chart's poles."),
+        function_source("stretch", args, ns.stretch_chart(), pr,
+                        "Axial stretch v3 = 1 + n3/K on the chart (report entry axial_stretch); v3 > 0 for a physical rod."),
         _pars_src(), _system_src(RED_ARGS, "rhs"),
     ]
     return module_source("Reduced canonical 4-D system in (theta, psi, pbar_theta, pbar_psi) (paper sec. 4).",

@@ -123,6 +123,49 @@ def straight_rod_analysis():
     return rhs, defect, mu_sol
 
 
+# --- the axial stretch v3 (eq:hyperelastic) -----------------------------------------------------------------
+def stretch_chart():
+    """v3 on the Euler chart, written by hand from the chart (eq:canonical_force) and eq:nondim_1, to be checked
+    against the body-frame v3 = dH/dn3 pulled back (stretch_analysis):
+    n3 = n.d3 = C2 cos(theta) + rho sin(theta) cos(psi) with C2 = 1/m^2, rho = sqrt(mu - 2 lambdabar pbar_psi)/m^2,
+    and 1/K = (gamma + delta)/C2 = (gamma + delta) m^2, so
+    v3 = 1 + n3/K = 1 + (gamma + delta) (cos(theta) + sqrt(mu - 2 lambdabar pbar_psi) sin(theta) cos(psi)).
+    Independent of pbar_theta and of phi."""
+    from .model import psi, theta
+
+    return 1 + (gamma + delta) * (sp.cos(theta) + sp.sqrt(reduction.RHO2_BAR) * sp.sin(theta) * sp.cos(psi))
+
+
+def stretch_analysis():
+    """The axial stretch v3 = d3.r' = ds'/ds (deformed over reference length) four ways.
+
+    Returns a dict of residuals that vanish iff each identity holds, plus the closed forms:
+      legendre   dH/dn3 - v3(n) where v3(n) inverts n3 = dW/dv3 of eq:hyperelastic (dimensional: 1 + n3/K)
+      compliance 1/K from eq:nondim_1 (gamma = C2 (1/K - 1/J), delta = C2/J) minus (gamma + delta)/C2
+      body       dH/dn3 at the numeric scale minus 1 + (gamma + delta) m^2 n3
+      chart      the body v3 pulled back through euler_to_body minus stretch_chart() (trig normal form)
+      straight   v3 at the straight rod (n3 = C2 = 1/m^2): 1 + gamma + delta
+      inext      v3 at gamma = delta = 0: 1 (the inextensible rod)."""
+    from .model import K as Kst, n3, v3
+    from .poisson import hamiltonian
+
+    Ham, sol = hamiltonian()
+    v3_dim = sp.diff(Ham, n3)
+    Kp, Jp = sp.symbols("K_s J_s", positive=True)
+    ck_sol = sp.solve([gamma - C2 * (1 / Kp - 1 / Jp), delta - C2 / Jp], [Kp, Jp], dict=True)[0]
+    v3_body = sp.expand(sp.diff(body_hamiltonian(), n3))
+    sub = dict(zip(X, euler_to_body()))
+    chart = stretch_chart()
+    pulled = reduction.trig_normal_form(sp.expand(v3_body.subs(sub, simultaneous=True) - chart), reduction.RHO2_BAR)
+    straight = sp.simplify(v3_body.subs(dict(zip(X, straight_rod_state()))))
+    return {"v3_dimensional": v3_dim, "v3_body": v3_body, "v3_chart": chart, "v3_straight_rod": straight,
+            "legendre": sp.expand(v3_dim - sol[v3]), "legendre_closed": sp.expand(v3_dim - (1 + n3 / Kst)),
+            "compliance": sp.simplify(1 / ck_sol[Kp] - (gamma + delta) / C2),
+            "body": sp.expand(v3_body - (1 + (gamma + delta) * m**2 * X[5])),
+            "chart": pulled, "straight": sp.simplify(straight - (1 + gamma + delta)),
+            "inext": sp.expand(v3_body.subs({gamma: 0, delta: 0}) - 1)}
+
+
 def derive_all():
     """Results of this module for the derivation report."""
     from .results import DISAGREES, HOLDS, Result, fmt
@@ -143,4 +186,15 @@ def derive_all():
                       HOLDS if ok else DISAGREES,
                       "symbolic: rhs at the state simplifies to 0; C1(x_eq) - (mu + 1)/(2 m^4) solved for mu",
                       {"C1 defect": fmt(defect), "mu on the level": [fmt(s) for s in mu_sol]}))
+    st = stretch_analysis()
+    keys = ("legendre", "legendre_closed", "compliance", "body", "chart", "straight", "inext")
+    res.append(Result("axial_stretch", "eq:hyperelastic, eq:nondim_1 (v3 > 0, sec. 2)",
+                      "The axial stretch v3 = dH/dn3 = 1 + n3/K = 1 + (gamma + delta) m^2 n3 = 1 + (gamma + delta) "
+                      "(cos(theta) + sqrt(mu - 2 lambdabar pbar_psi) sin(theta) cos(psi)); 1 + gamma + delta on the "
+                      "straight rod, 1 for gamma = delta = 0; v3 <= 0 (unphysical) iff n3 <= -K",
+                      HOLDS if all(st[k] == 0 for k in keys) else DISAGREES,
+                      "symbolic: dH/dn3 of the Legendre transform minus the inverted constitutive law; 1/K solved from "
+                      "eq:nondim_1; body v3 pulled back through the chart, trig normal form of the difference is 0",
+                      {**{k: fmt(st[k]) for k in keys},
+                       **{k: fmt(st[k]) for k in ("v3_dimensional", "v3_body", "v3_chart", "v3_straight_rod")}}))
     return res

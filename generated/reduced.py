@@ -50,6 +50,11 @@ def sin_theta(theta, psi, ptheta, ppsi, m, mu, gamma, delta, lam):
     return _E(hy.sin(theta))
 
 
+def stretch(theta, psi, ptheta, ppsi, m, mu, gamma, delta, lam):
+    """Axial stretch v3 = 1 + n3/K on the chart (report entry axial_stretch); v3 > 0 for a physical rod."""
+    return _E((1.0 + ((delta + gamma) * ((hy.sqrt((mu - (2.0 * lam * ppsi))) * hy.sin(theta) * hy.cos(psi)) + hy.cos(theta)))))
+
+
 def pars():
     """The runtime parameters PARAMS = (m, mu, gamma, delta, lambdabar) as heyoka parameters hy.par[0..4]."""
     return [hy.par[i] for i in range(len(PARAMS))]

@@ -75,6 +75,11 @@ def radicand_slope_ppsi(m, mu, gamma, delta, lam):
     return (-(2.0 * lam))
 
 
+def straight_rod_stretch(m, mu, gamma, delta, lam):
+    """Axial stretch v3 = dH/dn3 of the straight rod (n3 = C2): 1 + gamma + delta (report entry axial_stretch)."""
+    return (1.0 + delta + gamma)
+
+
 def casimir_values(m, mu, gamma, delta, lam):
     """(C1, C2, C3) on the Euler-angle chart at the numeric scale."""
     return [

@@ -6,6 +6,7 @@ solve_p_psi(params, h, theta0, ptheta0, psi0=0)  -> every real root pbar_psi of 
 poincare_map(params, h, theta0, ptheta0, psi0=0, *, iterates=10_000, root="smallest", direction="positive",
              branch="any", formulation="body", ...) -> PoincareResult
 run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.printed.PANELS), threads
+orbit_stretch(res, dt=0.05)             -> the axial stretch v3 along the orbit (min, fraction <= 0; two forms)
 (figures: magrod/figures/poincare.py; files: PoincareResult.arrays()/summary())
 
 What is integrated
@@ -265,6 +266,7 @@ class PoincareResult:
     wall_s: float
     fp_type: str = "float64"
     extra: dict = field(default_factory=dict)
+    stretch: dict | None = None  # orbit_stretch(...) when asked for (stretch_dt); summary only, not arrays()
 
     @property
     def n_points(self) -> int:
@@ -292,7 +294,8 @@ class PoincareResult:
                 "casimir_drift": self.casimir_drift, "n_frame_switches": self.n_frame_switches,
                 "fraction_body_frame_points": float(np.mean(self.frame == FRAME_BODY)) if self.n_points else 0.0,
                 "max_abs_section_residual": float(np.max(np.abs(self.section_residual))) if self.n_points else 0.0,
-                "wall_s": self.wall_s, "fp_type": self.fp_type, "accuracy": self.accuracy_checks(), **self.extra}
+                "wall_s": self.wall_s, "fp_type": self.fp_type, "accuracy": self.accuracy_checks(),
+                **({"stretch": self.stretch} if self.stretch is not None else {}), **self.extra}
 
     def arrays(self) -> dict:
         return {"points": self.points, "times": self.times, "branch": self.branch,
@@ -318,7 +321,7 @@ def _validate_options(iterates, root, direction, branch, formulation, pole_switc
 def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *, p_psi0=None, iterates=10_000,
                  root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION, tol=None,
                  t_max=None, pole_switch=(0.05, 0.1), radicand_switch=(1e-3, 2e-3), fp_type=float,
-                 progress=None) -> PoincareResult:
+                 progress=None, stretch_dt=None) -> PoincareResult:
     """Iterate the Poincare map of sin(psi) = 0 for the orbit through (theta0, psi0, pbar_theta0, pbar_psi0).
 
     Either h (then pbar_psi0 solves Hbar = h, all roots reported, `root` picks one: "smallest" (default, see
@@ -327,8 +330,9 @@ def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *
     crossings or at t_max (default 100 * iterates, about 12x the paper's time per iterate), whichever first;
     success is False (with a message) if t_max or a non-finite state stopped it.  tol defaults to machine
     epsilon of fp_type.  fp_type=np.longdouble is supported for formulation="body" (verification runs).
-    progress: optional callable(n_new_points) for progress bars.  The integrators are per-thread and reused;
-    the function does not mutate anything visible to the caller."""
+    progress: optional callable(n_new_points) for progress bars.  stretch_dt: if given, the axial stretch v3 along
+    the orbit is sampled every stretch_dt (orbit_stretch) and stored in result.stretch (and its summary).
+    The integrators are per-thread and reused; the function does not mutate anything visible to the caller."""
     t_start = time.perf_counter()
     if not isinstance(params, RodParams):
         raise TypeError("params must be a RodParams")
@@ -440,6 +444,8 @@ def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *
     res = _assemble(params, pars, h, theta0, ptheta0, psi0, p_psi0, roots, ridx, formulation, direction, branch,
                     tol_eff, iterates, t_max, raw[:n], times[:n], frame[:n], final_time, switches, success,
                     message, fp_type)
+    if stretch_dt is not None and res.n_points:
+        res.stretch = orbit_stretch(res, dt=stretch_dt, fp_type=fp_type)
     res.wall_s = time.perf_counter() - t_start
     return res
 
@@ -482,6 +488,82 @@ def _assemble(params, pars, h, theta0, ptheta0, psi0, p_psi0, roots, ridx, formu
         frame=frame, dH=dH, body_points=body_points, section_residual=section_residual, max_abs_dH=float(np.max(np.abs(dH))) if n else 0.0,
         casimir_drift=casimir, final_time=final_time, n_frame_switches=int(switches), wall_s=0.0,
         fp_type=np.dtype(fp_type).name)
+
+
+# ----------------------------------------------------------------------------------------------------------
+# the axial stretch along an orbit (eq:hyperelastic; docs/errata.md)
+# ----------------------------------------------------------------------------------------------------------
+STRETCH_DT = 0.05  # sampling step in arclength; from 0.05 to 0.01 (panel 4d, 1000 iterates) min v3 moves by 3e-4
+# and the fraction with v3 <= 0 by 5e-5
+_STRETCH_CHUNK = 8192  # grid points per propagate_grid call (memory stays ~1 MB per chunk)
+
+
+@systems.per_thread
+def _stretch_integrator(fp_type):
+    return systems.integrator("body", fp_type=fp_type)
+
+
+def orbit_stretch(res: PoincareResult, *, dt=STRETCH_DT, fp_type=float, t_final=None) -> dict:
+    """The axial stretch v3 = d3.r' = ds'/ds (deformed over reference length) along the orbit of `res`.
+
+    The orbit is re-integrated in the body frame from the start of `res` (theta0, psi0, pbar_theta0, pbar_psi0)
+    over [0, t_final] (default res.final_time) and sampled every dt; at every sample v3 is evaluated twice:
+      * body: dH/dn3 of the generated body Hamiltonian (systems.body_stretch, hy.diff), = 1 + (gamma+delta) m^2 n3;
+      * chart: the closed form 1 + (gamma+delta)(cos theta + sqrt(mu - 2 lam pbar_psi) sin theta cos psi)
+        (generated reduced.stretch, report key axial_stretch) at the chart coordinates of the sample.
+    Also v3 at the recorded section points of `res` (chart form at res.points: for formulation="reduced" those
+    come from the independent 4-D integration).  v3 <= 0 means the linearly elastic rod is compressed through
+    zero length: still an orbit of the Hamiltonian system, not a physical rod (paper sec. 2: v3 > 0).
+    The re-integration follows the run of `res` to round-off, then (chaotic orbits) only statistically.
+    Returns a JSON-able dict; min_* are minima, fraction_compressed_* the fraction of samples with v3 <= 0
+    (the fraction of arclength, to O(dt) per sign change)."""
+    dt = float(require_finite("dt", dt))
+    if dt <= 0:
+        raise ParameterError("dt", f"must be > 0, got {dt}")
+    T = float(res.final_time if t_final is None else require_finite("t_final", t_final))
+    pars = res.params.array()
+    ta = _stretch_integrator(fp_type)
+    x0 = systems.euler_to_body(res.theta0, res.psi0, res.ptheta0, res.p_psi0, pars)
+    systems.reset(ta, [fp_type(v) for v in x0] if fp_type is not float else x0, 0.0, pars)
+    v3b_cf, v3c_cf, to_euler = systems.body_stretch(), systems.reduced_functions()["stretch"], systems.body_functions()["to_euler"]
+    n_total = int(np.floor(T / dt)) + 1
+    acc = {"n": 0, "neg_b": 0, "neg_c": 0, "min_b": np.inf, "t_min_b": 0.0, "min_c": np.inf, "max_diff": 0.0,
+           "max_b": -np.inf}
+    k = 0
+    while k < n_total:
+        k1 = min(n_total, k + _STRETCH_CHUNK)
+        k0 = max(k - 1, 0)  # heyoka wants the grid to start at the current time: repeat the last point, drop it
+        grid = np.arange(k0, k1, dtype=float) * dt
+        if fp_type is not float:
+            grid = np.array([fp_type(i) * fp_type(dt) for i in range(k0, k1)])
+        out = np.asarray(ta.propagate_grid(grid)[-1], dtype=float)[k - k0:]
+        grid = grid[k - k0:]
+        if out.shape[0] != k1 - k or not np.all(np.isfinite(out)):
+            raise RuntimeError(f"orbit_stretch: integration stopped near t = {float(ta.time):g}")
+        x = np.ascontiguousarray(out.T)
+        vb = np.array(v3b_cf(x, pars)[0])
+        e = to_euler(x, pars)[_CHART4]
+        vc = v3c_cf(np.ascontiguousarray(e), pars)[0]
+        i = int(np.argmin(vb))
+        if vb[i] < acc["min_b"]:
+            acc["min_b"], acc["t_min_b"] = float(vb[i]), float(grid[i])
+        if not np.all(np.isfinite(vc)):  # the chart form is defined on the whole level; never seen
+            raise RuntimeError(f"orbit_stretch: chart form of v3 not finite near t = {float(grid[-1]):g}")
+        acc["min_c"] = min(acc["min_c"], float(np.min(vc)))
+        acc["max_b"] = max(acc["max_b"], float(np.max(vb)))
+        acc["max_diff"] = max(acc["max_diff"], float(np.max(np.abs(vb - vc))))
+        acc["neg_b"] += int(np.sum(vb <= 0))
+        acc["neg_c"] += int(np.sum(vc <= 0))
+        acc["n"] += k1 - k
+        k = k1
+    sec = v3c_cf(np.ascontiguousarray(res.points.T), pars)[0] if res.n_points else np.zeros(0)
+    return {"dt": dt, "t_final": T, "n_samples": acc["n"], "fp_type": np.dtype(fp_type).name,
+            "min_body": acc["min_b"], "t_min_body": acc["t_min_b"], "max_body": acc["max_b"],
+            "min_chart": acc["min_c"], "max_abs_body_minus_chart": acc["max_diff"],
+            "fraction_compressed_body": acc["neg_b"] / acc["n"], "fraction_compressed_chart": acc["neg_c"] / acc["n"],
+            "min_at_section_points": float(np.min(sec)) if sec.size else None,
+            "fraction_compressed_at_section_points": float(np.mean(sec <= 0)) if sec.size else None,
+            "straight_rod": float(scalars.straight_rod_stretch(*pars))}
 
 
 # ----------------------------------------------------------------------------------------------------------

@@ -353,12 +353,13 @@ class CFunc:
 
 @lru_cache(maxsize=None)
 def reduced_functions() -> dict:
-    """Compiled Hbar, I2bar, radicand and the vector field of the reduced system."""
+    """Compiled Hbar, I2bar, radicand, section, the vector field and the axial stretch v3 (chart form) of the
+    reduced system."""
     x = variables("reduced")
     p = pars()
     return {"H": CFunc([reduced.hamiltonian(*x, *p)], x), "I2": CFunc([reduced.i2bar(*x, *p)], x),
             "radicand": CFunc([reduced.radicand(*x, *p)], x), "section": CFunc([reduced.section(*x, *p)], x),
-            "rhs": CFunc(reduced.rhs(*x, *p), x)}
+            "rhs": CFunc(reduced.rhs(*x, *p), x), "stretch": CFunc([reduced.stretch(*x, *p)], x)}
 
 
 @lru_cache(maxsize=None)

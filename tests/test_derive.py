@@ -84,7 +84,27 @@ EXPECTED = {
     "splitting_blowup": "holds",
     "splitting_invariant_manifold": "holds",
     "splitting_leading_term": "holds",
+    # sec. 2 / 8: the axial stretch v3 = dH/dn3 (docs/errata.md, Figs 4-5 reach v3 <= 0)
+    "axial_stretch": "holds",
 }
+
+
+def test_axial_stretch_derivation():
+    """v3 = dH/dn3 is the inverted constitutive law 1 + n3/K; 1/K = (gamma + delta)/C2 (eq:nondim_1); at the numeric
+    scale 1 + (gamma + delta) m^2 n3; on the chart 1 + (gamma + delta)(cos theta + sqrt(mu - 2 lam pbar_psi)
+    sin theta cos psi); 1 + gamma + delta on the straight rod; 1 for the inextensible rod."""
+    import sympy as sp
+
+    from magrod.derive import numeric_scale as ns
+    from magrod.derive.paper import delta, gamma, m
+    from magrod.derive.model import K, n3
+
+    st = ns.stretch_analysis()
+    for k in ("legendre", "legendre_closed", "compliance", "body", "chart", "straight", "inext"):
+        assert st[k] == 0, (k, st[k])
+    assert sp.expand(st["v3_dimensional"] - (1 + n3 / K)) == 0
+    assert sp.expand(st["v3_body"] - 1 - (gamma + delta) * m**2 * n3) == 0
+    assert sp.expand(st["v3_straight_rod"] - (1 + gamma + delta)) == 0
 
 
 @pytest.mark.parametrize("key", sorted(EXPECTED))

@@ -1,7 +1,8 @@
 """Figures of sec. 8, Poincare sections: fig:poincare1 (Figure 4) and fig:poincare2 (Figure 5).
 
-Each panel writes <stem>.npz (the arrays of PoincareResult), <stem>.json (its summary, versions, axes) and
-<stem>.png; the figure adds fig4.png / fig5.png with the four panels."""
+Each panel writes <stem>.npz (the arrays of PoincareResult), <stem>.json (its summary, versions, axes, and the
+axial stretch v3 along the orbit under "stretch": poincare.orbit_stretch) and <stem>.png; the figure adds
+fig4.png / fig5.png with the four panels."""
 from __future__ import annotations
 
 import numpy as np
@@ -52,14 +53,15 @@ def save_result(res, out_dir, stem: str, *, key=None, label=None, formats=("png"
 
 
 def _figure(fig_no: str, out_dir, quick=False, progress=False, iterates=None, workers=2) -> list[str]:
-    from ..poincare import DEFAULT_FORMULATION, run_panels
+    from ..poincare import DEFAULT_FORMULATION, STRETCH_DT, run_panels
 
     plt = pyplot()
     out = ensure_writable_dir(out_dir)
     n = iterates or (500 if quick else 10_000)
     keys = [f"{fig_no}{c}" for c in "abcd"]
     with bar(n * len(keys), "poincare", progress) as update:
-        results = run_panels(keys, iterates=n, workers=workers, progress=update, formulation=DEFAULT_FORMULATION)
+        results = run_panels(keys, iterates=n, workers=workers, progress=update, formulation=DEFAULT_FORMULATION,
+                             stretch_dt=STRETCH_DT)
     written = []
     for k in keys:
         written += list(save_result(results[k], out, f"fig{k}", key=k, label=PANELS[k]["label"]).values())

@@ -1,0 +1,88 @@
+"""The axial stretch v3 = dH/dn3 = ds'/ds (eq:hyperelastic): two forms (body dH/dn3, chart closed form), controls
+with a known answer (straight rod: 1 + gamma + delta; inextensible rod: 1), and the finding of docs/errata.md
+(the orbits of Figs 4-5 reach v3 <= 0)."""
+import numpy as np
+import pytest
+
+from magrod import systems
+from magrod.errors import ParameterError
+from magrod.generated import scalars
+from magrod.params import RodParams
+from magrod.poincare import orbit_stretch, poincare_map
+from magrod.printed import PANELS, panel_kwargs
+
+EPS = np.finfo(float).eps
+
+
+@pytest.mark.parametrize("key", ["4a", "5d"])
+def test_body_and_chart_forms_agree_on_random_chart_points(key):
+    p = PANELS[key]["params"]
+    rng = np.random.default_rng(5)
+    lo = -2.0 if p.lam > 0 else 0.0
+    hi = (p.mu / (2 * p.lam)) * (1 - 1e-3)  # radicand mu - 2 lam pbar_psi > 0
+    q = [(rng.uniform(0.01, 3.13), rng.uniform(-np.pi, np.pi), rng.normal(), rng.uniform(lo, hi), rng.uniform(-3, 3))
+         for _ in range(50)]
+    x = np.array([systems.euler_to_body(th, ps, pt, pp, p.array(), phi=ph) for th, ps, pt, pp, ph in q]).T
+    vb = np.array(systems.body_stretch()(np.ascontiguousarray(x), p.array())[0])
+    chart = np.ascontiguousarray(np.array([[th, ps, pt, pp] for th, ps, pt, pp, _ in q]).T)
+    vc = systems.reduced_functions()["stretch"](chart, p.array())[0]
+    # closed form typed here once more: 1 + (gamma + delta)(cos theta + sqrt(mu - 2 lam pbar_psi) sin theta cos psi)
+    th, ps, pp = chart[0], chart[1], chart[3]
+    by_hand = 1 + (p.gamma + p.delta) * (np.cos(th) + np.sqrt(p.mu - 2 * p.lam * pp) * np.sin(th) * np.cos(ps))
+    np.testing.assert_allclose(vb, vc, rtol=0, atol=64 * EPS * (1 + p.gamma + p.delta))
+    np.testing.assert_allclose(vc, by_hand, rtol=0, atol=64 * EPS * (1 + p.gamma + p.delta))
+
+
+@pytest.mark.parametrize("gamma, delta", [(3.0, 3.0), (0.15, 0.25), (0.0, 0.0)])
+def test_control_straight_rod(gamma, delta):
+    # the straight rod aligned with the field carries the tension n3 = C2 = 1/m^2: v3 = 1 + (gamma + delta)
+    p = RodParams(m=1.7, mu=0.4, gamma=gamma, delta=delta, lam=0.135)
+    x = np.array(scalars.straight_rod_state(*p.array()), dtype=float)
+    v3 = float(systems.body_stretch()(x, p.array())[0])
+    assert v3 == pytest.approx(1 + gamma + delta, abs=4 * EPS * (1 + gamma + delta))
+    assert scalars.straight_rod_stretch(*p.array()) == 1 + gamma + delta
+
+
+def test_control_inextensible_rod_along_an_orbit():
+    # gamma = delta = 0: v3 = 1 identically, along the whole orbit, in both forms
+    kw = panel_kwargs("4a")
+    p = kw["params"]
+    kw["params"] = RodParams(m=p.m, mu=p.mu, gamma=0.0, delta=0.0, lam=p.lam)
+    res = poincare_map(**kw, iterates=30, stretch_dt=0.05)
+    s = res.stretch
+    assert s["n_samples"] > 1000 and s["straight_rod"] == 1.0
+    for k in ("min_body", "max_body", "min_chart", "min_at_section_points"):
+        assert s[k] == pytest.approx(1.0, abs=1e-14), k
+    assert s["fraction_compressed_body"] == 0.0 and s["fraction_compressed_chart"] == 0.0
+
+
+def test_fig4a_orbit_is_compressed_past_zero_length():
+    """The finding (docs/errata.md): at gamma = delta = 3 the straight rod is stretched to 7 times its length and
+    the Fig 4(a) orbit reaches v3 ~ -6.8; both forms agree along the sampled orbit."""
+    res = poincare_map(**panel_kwargs("4a"), iterates=200, stretch_dt=0.05)
+    s = res.stretch
+    assert s["max_abs_body_minus_chart"] <= 1e-12
+    assert s["min_body"] < -6.0 and s["min_chart"] == pytest.approx(s["min_body"], abs=1e-12)
+    assert 0.2 < s["fraction_compressed_body"] < 0.8
+    assert s["straight_rod"] == 7.0
+    # the global bound v3 >= 1 - (gamma + delta) sqrt(1 + mu - 2 lam pbar_psi) (|n| m^2 = sqrt(1 + radicand))
+    pp_min = np.min(res.points[:, 3])
+    assert s["min_at_section_points"] >= 1 - 6 * np.sqrt(1 + 0.4 - 2 * 0.135 * pp_min) - 1e-12
+    assert "stretch" in res.summary() and "stretch" not in res.arrays()
+
+
+def test_orbit_stretch_long_double_agrees_before_divergence():
+    res = poincare_map(**panel_kwargs("4d"), iterates=20)
+    a = orbit_stretch(res, t_final=60.0)
+    b = orbit_stretch(res, t_final=60.0, fp_type=np.longdouble)
+    assert b["fp_type"] != "float64"
+    assert abs(a["min_body"] - b["min_body"]) <= 1e-9
+    assert a["fraction_compressed_body"] == b["fraction_compressed_body"]
+
+
+def test_orbit_stretch_bad_input():
+    res = poincare_map(**panel_kwargs("4a"), iterates=3)
+    with pytest.raises(ParameterError):
+        orbit_stretch(res, dt=0.0)
+    with pytest.raises(ParameterError):
+        orbit_stretch(res, dt=float("nan"))
