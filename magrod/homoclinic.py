@@ -94,14 +94,14 @@ _KEYS = CLOSED_FORM_REGULAR
 def _stable_cfunc():
     t = hy.make_vars("t")
     e = stable_expressions(t, hy.par[0], hy.par[1])
-    return hy.cfunc([e[k] for k in _KEYS], vars=[t])
+    return systems.build(hy.cfunc, [e[k] for k in _KEYS], vars=[t])
 
 
 @lru_cache(maxsize=None)
 def _constants_cfunc():
     m, g = hy.par[0], hy.par[1]
     c0 = constant_expressions(m, g)
-    return hy.cfunc([c0["u_plus"], c0["one_minus_k"], c0["kappa"], gen.roots(m, g)[1], gen.energy(m, g),
+    return systems.build(hy.cfunc, [c0["u_plus"], c0["one_minus_k"], c0["kappa"], gen.roots(m, g)[1], gen.energy(m, g),
                      gen.m_critical(g)], vars=[])
 
 
@@ -110,7 +110,7 @@ def _potential_cfunc(fp_type=float, prec=0):
     th = hy.make_vars("theta")
     kw = {"fp_type": fp_type, "prec": prec} if fp_type is hy.real else ({} if fp_type is float else
                                                                        {"fp_type": fp_type})
-    return hy.cfunc([gen.potential(th, hy.par[0], hy.par[1])], vars=[th], **kw)
+    return systems.build(hy.cfunc, [gen.potential(th, hy.par[0], hy.par[1])], vars=[th], **kw)
 
 
 def _call(cf, x, m, gamma):
@@ -243,13 +243,13 @@ def _closed_form_hp(prec: int, kirchhoff: bool):
     else:
         c, pt, psid = gen.closed_form(t, hy.par[0], hy.par[1])
         ex = [hy.acos(c), pt, psid]
-    return hy.cfunc(ex, vars=[t], fp_type=hy.real, prec=prec)
+    return systems.build(hy.cfunc, ex, vars=[t], fp_type=hy.real, prec=prec)
 
 
 @lru_cache(maxsize=None)
 def _energy_hp(prec: int):
     th, pt = hy.make_vars("theta", "ptheta")
-    return hy.cfunc([0.5 * pt**2 + gen.potential(th, hy.par[0], hy.par[1]) - gen.energy(hy.par[0], hy.par[1])],
+    return systems.build(hy.cfunc, [0.5 * pt**2 + gen.potential(th, hy.par[0], hy.par[1]) - gen.energy(hy.par[0], hy.par[1])],
                     vars=[th, pt], fp_type=hy.real, prec=prec)
 
 

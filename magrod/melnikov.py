@@ -150,7 +150,7 @@ def melnikov_function(psi0, amp) -> np.ndarray:
 @lru_cache(maxsize=None)
 def _primitive_cfunc():
     th, pt, ps = hy.make_vars("theta", "ptheta", "psi")
-    return hy.cfunc([gen.primitive(th, pt, ps, hy.par[0], hy.par[1])], vars=[th, pt, ps])
+    return systems.build(hy.cfunc, [gen.primitive(th, pt, ps, hy.par[0], hy.par[1])], vars=[th, pt, ps])
 
 
 @lru_cache(maxsize=None)
@@ -160,7 +160,7 @@ def _two_phi_cfunc(fp_type):
     e = stable_expressions(t, hy.par[0], hy.par[1])
     half_pi = hy.acos(hy.expression(fp_type(0)))  # pi/2 at the working precision
     phi = gen.primitive(e["theta"], e["ptheta"], psib + half_pi, hy.par[0], hy.par[1])
-    return hy.cfunc([2.0 * phi], vars=[t, psib], fp_type=fp_type)
+    return systems.build(hy.cfunc, [2.0 * phi], vars=[t, psib], fp_type=fp_type)
 
 
 def primitive_check(m, gamma, n=64, theta_tail=1e-20) -> dict:

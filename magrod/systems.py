@@ -10,6 +10,7 @@ a second process load instead of compile (~20 ms instead of ~1 s).
 
 Builders (keyword-only options; fp_type is float, np.longdouble, hy.real128 or hy.real with `prec` bits):
   taylor(sys, state, pars, ...)              any system: the one place hy.taylor_adaptive is called
+  build(constructor, ...)                    every heyoka constructor goes through it (damaged JIT cache entries)
   integrator(formulation, events=...)        scalar integrator of a formulation, events by name
   batch_integrator(formulation, ...)         SIMD batch integrator (batch size: hy.recommended_simd_size())
   variational_integrator(formulation, ...)   first-order variational equations (hy.var_ode_sys) w.r.t. the
@@ -113,6 +114,30 @@ def bypass_disk_cache(clear: bool = False) -> None:
 _GENERATION = [0]  # bumped by bypass_disk_cache: per-thread caches then build afresh
 
 
+def build(constructor, *args, **kwargs):
+    """Call a heyoka constructor (hy.taylor_adaptive, hy.taylor_adaptive_batch, hy.cfunc).  If it fails while
+    the on-disk JIT cache is on, a damaged cache entry is the likely cause: it is built again with the disk cache
+    off, and if that works the cache is cleared (one warning on stderr) so that the entry is not hit again."""
+    try:
+        return constructor(*args, **kwargs)
+    except Exception:
+        if not hy.llvm_state.get_diskcache_enabled():
+            raise
+        hy.llvm_state.set_diskcache_enabled(False)
+        try:
+            obj = constructor(*args, **kwargs)
+        except Exception:
+            hy.llvm_state.set_diskcache_enabled(True)
+            raise
+        try:
+            hy.llvm_state.clear_diskcache()
+        except Exception:  # best effort: the cache stays off for this process either way
+            pass
+        _warn("building a compiled integrator from the heyoka JIT cache failed; the cache was cleared and the "
+              "integrator compiled afresh")
+        return obj
+
+
 configure_jit_cache()
 
 
@@ -206,9 +231,9 @@ def taylor(sys, state, pars=(), *, fp_type=float, tol=None, prec=None, t_events=
     """hy.taylor_adaptive for any system: state and pars converted to fp_type, tol None = machine epsilon of
     fp_type (hy.real: of `prec` bits)."""
     if fp_type is float:
-        return hy.taylor_adaptive(sys, [float(s) for s in state], pars=[float(p) for p in pars], tol=float(tol or 0.0),
+        return build(hy.taylor_adaptive, sys, [float(s) for s in state], pars=[float(p) for p in pars], tol=float(tol or 0.0),
                                   t_events=list(t_events), nt_events=list(nt_events), compact_mode=compact_mode, **kw)
-    return hy.taylor_adaptive(sys, [_fp(fp_type, s, prec) for s in state], pars=[_fp(fp_type, p, prec) for p in pars],
+    return build(hy.taylor_adaptive, sys, [_fp(fp_type, s, prec) for s in state], pars=[_fp(fp_type, p, prec) for p in pars],
                               tol=_fp(fp_type, tol or 0, prec), t_events=list(t_events), nt_events=list(nt_events),
                               fp_type=fp_type, compact_mode=compact_mode, **kw)
 
@@ -246,7 +271,7 @@ def batch_integrator(formulation: str = "body", *, batch_size=None, events=(), t
     st = np.repeat(np.array(_unit_state(formulation), float)[:, None], b, axis=1)
     if variational:
         st = np.vstack([st, np.zeros((n * n, b))])  # heyoka initialises the identity block itself
-    return hy.taylor_adaptive_batch(sys_, st, pars=np.ones((len(PARAMS), b)), tol=float(tol or 0.0),
+    return build(hy.taylor_adaptive_batch, sys_, st, pars=np.ones((len(PARAMS), b)), tol=float(tol or 0.0),
                                     t_events=_events(formulation, events, float, batch=True),
                                     compact_mode=compact_mode or variational)
 
@@ -332,7 +357,7 @@ class CFunc:
     """A compiled heyoka function of some variables and (a prefix of) the runtime parameters PARAMS."""
 
     def __init__(self, exprs, variables_):
-        self._cf = hy.cfunc(list(exprs), vars=list(variables_))
+        self._cf = build(hy.cfunc, list(exprs), vars=list(variables_))
 
     @property
     def nparams(self) -> int:
@@ -435,7 +460,7 @@ class PrecisionCFunc:
         if fp_type is hy.real:
             kw["prec"] = int(prec)
         self.fp_type, self.prec = fp_type, prec
-        self._cf = hy.cfunc(list(exprs), vars=list(variables_), **kw)
+        self._cf = build(hy.cfunc, list(exprs), vars=list(variables_), **kw)
 
     def __call__(self, x, pars_=()):
         x = fp_array(x, self.fp_type, self.prec)
@@ -491,7 +516,7 @@ def tangent_batch(sys_, npars: int, *, batch_size=None, tol=None):
     [0, n) the state, rows [n, 2n) the tangent vector; pars (npars, batch_size)."""
     b = int(batch_size or recommended_batch_size())
     vs = tangent_system(sys_, npars)
-    return hy.taylor_adaptive_batch(vs, np.ones((2 * len(sys_), b)), pars=np.ones((int(npars), b)),
+    return build(hy.taylor_adaptive_batch, vs, np.ones((2 * len(sys_), b)), pars=np.ones((int(npars), b)),
                                     tol=float(tol or 0.0))
 
 

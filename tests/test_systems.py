@@ -131,3 +131,31 @@ def test_long_double_straight_rod_is_exact_in_extended_precision():
     p = RodParams(m=1.7, mu=0.002, gamma=1.0, delta=1.0, lam=0.001)
     x = straight_rod_state(p, np.longdouble)
     assert x.dtype == np.longdouble and x[5] == np.longdouble(1) / np.longdouble(1.7) ** 2
+
+
+def test_build_bypasses_a_failing_jit_cache(monkeypatch, capsys):
+    """A constructor that fails while the disk cache is on (as with a damaged cache entry) is built again with the
+    cache off, the cache is cleared (here: recorded, not done) and one warning goes to stderr."""
+    cleared = []
+    monkeypatch.setattr(hy.llvm_state, "clear_diskcache", lambda: cleared.append(True))
+    was_on = hy.llvm_state.get_diskcache_enabled()
+    hy.llvm_state.set_diskcache_enabled(True)
+    try:
+        def constructor(x):
+            if hy.llvm_state.get_diskcache_enabled():
+                raise RuntimeError("corrupted object code")
+            return 2 * x
+
+        assert systems.build(constructor, 21) == 42
+        assert cleared == [True] and not hy.llvm_state.get_diskcache_enabled()
+        assert len([ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]) == 1
+
+        def always_fails():
+            raise ValueError("bad arguments")
+
+        hy.llvm_state.set_diskcache_enabled(True)
+        with pytest.raises(ValueError):
+            systems.build(always_fails)
+        assert hy.llvm_state.get_diskcache_enabled()  # not a cache problem: the cache stays on
+    finally:
+        hy.llvm_state.set_diskcache_enabled(was_on)
