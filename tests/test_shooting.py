@@ -121,3 +121,22 @@ def test_six_pulse_found_by_bisection_then_newton():
     assert r2.success
     assert abs(r.params.lam - r2.params.lam) <= 2 * max(r.resolution, r2.resolution)
     assert shooting.count_pulses(shooting.orbit(r)["theta"]) == 6
+
+
+def test_branch_table_rows_read_the_sidecar(tmp_path):
+    """REPORT.md branch table (figures/report.py) from a figure table sidecar: one row per orbit, lam* with its
+    significant digits and uncertainty as written by shooting.uncertainty."""
+    import json
+
+    from magrod.figures import report
+
+    u = {"success": True, "significant": "0.00126208079543(4)", "uncertainty": 3.3e-14, "eps_spread": 4.9e-16,
+         "double_check": {"max_abs_difference": 5.2e-11}}
+    table = {"orbits": [{"success": True, "pulses": 2, "arclength": 100.05, "residual": 7e-12, "noise_floor": 0.0,
+                         "free_value": 0.0012620807954, "uncertainty": u},
+                        {"success": False, "pulses_target": 1}]}
+    (tmp_path / "figure6_table.json").write_text(json.dumps(table))
+    (tmp_path / "continuation_mu2lam.json").write_text(json.dumps({"folds": [{"lam": 0.0013, "m": 1.65}]}))
+    rows = report._branch_table(tmp_path, False)
+    assert [r["label"] for r in rows] == ["branch table: Fig 6, N = 2", "branch table: folds (continuation_mu2lam)"]
+    assert "0.00126208079543(4)" in rows[0]["computed"] and "lam = 0.0013" in rows[1]["computed"]
