@@ -88,3 +88,20 @@ def test_periodic_branch_in_mu_reversible(primaries):
     u_end, _ = C.point_at(F, back.u[np.argmin(np.abs(back.u[:, 2] - P.mu))], 2, P.mu, scale=scale)
     assert abs(u_end[0] - fwd.u[0][0]) <= 1e-9 * fwd.u[0][0]
     assert abs(math.remainder(u_end[1] - fwd.u[0][1], 2 * math.pi)) <= 1e-9
+
+
+def test_mu2lam_continuation_in_gamma_from_fig6_two_pulse(fig6_n2):
+    """Issue 13 item 3: the codimension-one Fig 6 two-pulse orbit continued on mu = 2 lam in gamma (the second
+    parameter) from gamma = 1 a little way: the first corrected point is the orbit itself (lam* to 1e-9), the
+    branch stays converged, and the reversed run reproduces its points to 1e-9 (scaled)."""
+    F, params_of = C.mu2lam_problem(fig6_n2.params, "gamma")
+    scale = [fig6_n2.T, 1e-3, 1.0]
+    u0, res = C.point_at(F, [fig6_n2.T, fig6_n2.params.lam, 1.0], 2, 1.0, scale=scale)
+    assert res <= 1e-10 and abs(u0[1] / fig6_n2.params.lam - 1) <= 1e-9
+    br = C.pseudo_arclength(F, u0, scale=scale, ds=0.01, ds_max=0.02, steps=3, par=2)
+    assert br.success and br.u[-1, 2] > 1.0 and np.all(br.residuals <= 1e-10)
+    assert params_of(br.u[-1]).mu == pytest.approx(2 * br.u[-1, 1], rel=4 * EPS)  # stayed on mu = 2 lam
+    back = C.pseudo_arclength(F, br.u[-1], scale=scale, ds=0.01, ds_max=0.02, steps=3, par=2, direction=-1)
+    for u_ in br.u[1:-1]:
+        v, _ = C.point_at(F, back.u[np.argmin(np.abs(back.u[:, 2] - u_[2]))], 2, u_[2], scale=scale)
+        assert np.max(np.abs((v - u_) / np.asarray(scale))) <= 1e-9

@@ -41,3 +41,17 @@ def test_rod_cli_bad_file(tmp_path):
     from magrod.cli import main
 
     assert main(["rod", "--from", str(tmp_path / "missing.npz")]) == 2
+
+
+def test_magnification_of_a_localised_bump():
+    """A straight segment of length 100 along z with a transverse bump of height 0.3: the chord is z, the
+    transverse part is the bump, and the 1-2-5 factor is the largest one <= 100 / (4 * 0.3) = 83.3, i.e. 50."""
+    from magrod.figures.rod import magnification
+
+    z = np.linspace(0.0, 100.0, 2001)
+    r = np.column_stack([0.3 * np.exp(-((z - 50.0) / 5.0) ** 2), np.zeros_like(z), z])
+    M, u, perp = magnification(r)
+    assert M == 50.0
+    assert np.allclose(u, [0.0, 0.0, 1.0], atol=1e-12)
+    assert abs(np.max(np.linalg.norm(perp, axis=1)) - 0.3) <= 1e-3  # exp(-(z-50)^2/25) at the nearest grid point
+    assert magnification(np.column_stack([np.zeros(3), np.zeros(3), [0.0, 1.0, 2.0]]))[0] == 1.0

@@ -99,3 +99,44 @@ def test_figures_full(tmp_path):
     paths6 = figure_6(tmp_path)
     paths7 = figure_7(tmp_path)
     assert any(p.endswith("figure6.png") for p in paths6) and any(p.endswith("figure7.png") for p in paths7)
+
+
+def test_significant_digits_format():
+    # the bracketed digit is the uncertainty of the last shown digit, rounded up
+    assert shooting.significant(0.0012620807954259, 3.3e-14) == "0.00126208079543(4)"
+    assert shooting.significant(0.40401385557147707, 2.07e-12) == "0.404013855571(3)"
+
+
+def test_six_pulse_found_by_bisection_then_newton():
+    """Issue 13 item 6: the Fig 6 six-pulse orbit (Newton stalled from the secant start).  Bisection on sin(psi)
+    at the 6th crossing in long double, then Newton; the noise floor of long double after five near-saddle
+    passages (~1e-9) is above tol, so the result is accepted at the measured floor and says so."""
+    p = FIG6
+    r = shooting.free_star(p, "lam", 6, 0.001125, 0.0011375, eps=shooting.EXTENDED_EPS, precision="long double")
+    assert r is not None and r.success
+    assert r.residual <= max(shooting.DEFAULT_TOL, shooting.FLOOR_FACTOR * r.noise_floor)
+    assert r.residual <= shooting.FLOOR_CAP
+    # the same orbit from an independent start (the one that converged by hand, issue 13) to its resolution
+    r2 = shooting.shoot(shooting._with_free(p, "lam", 0.0011352), 6)
+    assert r2.success
+    assert abs(r.params.lam - r2.params.lam) <= 2 * max(r.resolution, r2.resolution)
+    assert shooting.count_pulses(shooting.orbit(r)["theta"]) == 6
+
+
+def test_branch_table_rows_read_the_sidecar(tmp_path):
+    """REPORT.md branch table (figures/report.py) from a figure table sidecar: one row per orbit, lam* with its
+    significant digits and uncertainty as written by shooting.uncertainty."""
+    import json
+
+    from magrod.figures import report
+
+    u = {"success": True, "significant": "0.00126208079543(4)", "uncertainty": 3.3e-14, "eps_spread": 4.9e-16,
+         "double_check": {"max_abs_difference": 5.2e-11}}
+    table = {"orbits": [{"success": True, "pulses": 2, "arclength": 100.05, "residual": 7e-12, "noise_floor": 0.0,
+                         "free_value": 0.0012620807954, "uncertainty": u},
+                        {"success": False, "pulses_target": 1}]}
+    (tmp_path / "figure6_table.json").write_text(json.dumps(table))
+    (tmp_path / "continuation_mu2lam.json").write_text(json.dumps({"folds": [{"lam": 0.0013, "m": 1.65}]}))
+    rows = report._branch_table(tmp_path, False)
+    assert [r["label"] for r in rows] == ["branch table: Fig 6, N = 2", "branch table: folds (continuation_mu2lam)"]
+    assert "0.00126208079543(4)" in rows[0]["computed"] and "lam = 0.0013" in rows[1]["computed"]

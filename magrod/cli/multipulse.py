@@ -56,7 +56,11 @@ def format_text(d: dict) -> str:
             lines.append(f"  N={o['pulses']}: angle={o['angle']:.12g} T={o['T']:.10g} residual={o['residual']:.2e} "
                          f"|H-H_saddle|={o['energy_error']:.1e} files={o.get('paths', [])}")
         elif o["success"]:
-            fv = "" if o["free_value"] is None else f"{d['free']}={o['free_value']:.12g} "
+            u = o.get("uncertainty") or {}
+            fv = "" if o["free_value"] is None else (
+                f"{d['free']}*={u['significant']} (+-{u['uncertainty']:.1e}; double agrees to "
+                f"{u['double_check']['max_abs_difference']:.1e}) " if u.get("success") and "double_check" in u
+                else f"{d['free']}={o['free_value']:.12g} ")
             lines.append(f"  N={o['pulses']}: {fv}residual={o['residual']:.2e} "
                          f"arclength={o['arclength']:.6g} (eps={o['eps']:g}) H={o['H']:.15g} "
                          f"|H-H_saddle|={o['max_abs_H_minus_saddle']:.1e} files={o.get('paths', [])}")

@@ -9,7 +9,7 @@ from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writabl
 from ..printed import MULTIPULSE
 from ..progress import bar
 from ..saddle import straight_rod
-from ..shooting import THETA_CUT, find_orbits, scaled_arclength
+from ..shooting import LAUNCH_DISTANCES, THETA_CUT, find_orbits, scaled_arclength
 from .common import pyplot
 from .rod import plot_rod, rod_from_orbit_file
 
@@ -30,15 +30,18 @@ def write_orbit(entry: dict, out_dir, stem: str, extra: dict | None = None):
 
 
 def multipulse(params, out_dir=None, *, free: str = "lam", max_pulses: int = 6, span: float = 0.5,
-               samples: int = 81, stem: str = "multipulse", progress: bool = False) -> tuple:
-    """find_orbits + files: one .npz/.json per orbit found and a table (JSON) of all N <= max_pulses.
-    Returns (summary dict, the list of find_orbits entries)."""
+               samples: int = 81, stem: str = "multipulse", progress: bool = False,
+               with_uncertainty: bool = True) -> tuple:
+    """find_orbits + files: one .npz/.json per orbit found and a table (JSON) of all N <= max_pulses, each
+    found orbit with the free parameter at two eps and two precisions (shooting.uncertainty: value, uncertainty,
+    significant digits) unless with_uncertainty is False.  Returns (summary dict, the find_orbits entries)."""
     straight_rod(params)  # bad input fails before any file is written
     if out_dir is not None:
         ensure_writable_dir(out_dir)
     t0 = time.perf_counter()
     with bar(samples, f"scan {free}", progress) as update:
-        found = find_orbits(params, free=free, max_pulses=max_pulses, span=span, samples=samples, progress=update)
+        found = find_orbits(params, free=free, max_pulses=max_pulses, span=span, samples=samples, progress=update,
+                            with_uncertainty=with_uncertainty)
     rows = []
     for e in found:
         row = {k: v for k, v in e.items() if k not in ("result", "orbit")}
@@ -48,11 +51,21 @@ def multipulse(params, out_dir=None, *, free: str = "lam", max_pulses: int = 6, 
         rows.append(row)
     out = {"ok": True, "params": params.as_dict(), "free": free, "span": span, "samples": samples,
            "orbits": rows, "wall_time_s": time.perf_counter() - t0,
+           "uncertainty_method": f"{free}* at launch distances eps = {LAUNCH_DISTANCES} in double and long double; "
+                                 "value = long double at the smaller eps, uncertainty = max(long double spread "
+                                 "over eps, Newton resolution through J^-1 at the residual or noise floor); "
+                                 "double_check = |double - value| (double floor 1e-8..1e-6 after near-saddle "
+                                 "passages)",
            "note": "symmetric homoclinic orbits of the straight rod are of codimension one (the launch phase is a "
                    f"symmetry): each orbit exists at its own value of {free}, found by Newton on (T, {free})"}
     if out_dir is not None:
         out["table"] = str(atomic_write_json(Path(out_dir) / f"{stem}_table.json", {**out, "versions": versions()}))
     return out, found
+
+
+def _lam_text(e: dict) -> str:
+    u = e.get("uncertainty") or {}
+    return u["significant"] if u.get("success") else f"{e['free_value']:.6g}"
 
 
 def _figure(number: int, out_dir, quick: bool = False, progress: bool = False) -> list[str]:
@@ -72,7 +85,7 @@ def _figure(number: int, out_dir, quick: bool = False, progress: bool = False) -
             continue
         tau, win = scaled_arclength(e["orbit"])
         ax.plot(tau[win], e["orbit"]["theta"][win], style, color="k", lw=1.2,
-                label=f"{N}-pulse, lam = {e['free_value']:.6g}, residual {e['residual']:.1e}")
+                label=f"{N}-pulse, lam* = {_lam_text(e)}, residual {e['residual']:.1e}")
     p = spec["params"]
     ax.set_xlim(-1, 1)
     ax.set_ylim(bottom=0)
@@ -91,7 +104,7 @@ def _figure(number: int, out_dir, quick: bool = False, progress: bool = False) -
             continue
         stem = f"figure{number}_N{N}"
         r = rod_from_orbit_file(Path(out_dir) / f"{stem}.npz")
-        paths += plot_rod(r, out_dir, stem, title=f"Fig. {number}: {N}-pulse rod, lam = {e['free_value']:.6g}, "
+        paths += plot_rod(r, out_dir, stem, title=f"Fig. {number}: {N}-pulse rod, lam* = {_lam_text(e)}, "
                                                          f"orthonormality {r['orthonormality']:.1e}")
     return paths
 

@@ -259,6 +259,45 @@ def _continuation(out, quick):
     return rows
 
 
+@_claim
+def _branch_table(out, quick):
+    """Issue 13: the branch table -- lam* per N (Figs 6, 7; two eps x two precisions, magrod.shooting.uncertainty)
+    and the folds of the continued branches (continuation sidecars)."""
+    rows = []
+    for fig in (6, 7):
+        p = out / f"figure{fig}_table.json"
+        if not p.exists():
+            continue
+        for o in json.loads(p.read_text())["orbits"]:
+            if not o["success"]:
+                continue
+            u = o.get("uncertainty") or {}
+            if u.get("success"):
+                dc = u.get("double_check", {}).get("max_abs_difference", float("nan"))
+                val = (f"lam* = {u['significant']} (+-{u['uncertainty']:.1e}; long double spread over eps "
+                       f"{u['eps_spread']:.1e}; |double - long double| {dc:.1e})")
+            else:
+                val = f"lam* = {o['free_value']:.9g} (uncertainty not computed)"
+            rows.append({"label": f"branch table: Fig {fig}, N = {o['pulses']}",
+                         "paper": f"{o['pulses']}-pulse orbit on mu = 2 lam (m, gamma, delta of Fig {fig})",
+                         "computed": f"{val}; length 2T = {o['arclength']:.5g}, residual {o['residual']:.1e}"
+                                     + (f" (noise floor {o['noise_floor']:.1e})" if o.get("noise_floor") else ""),
+                         "verdict": "computed (beyond the paper: the paper printed lam = "
+                                    f"{MULTIPULSE[fig]['params'].lam})"})
+    for name in ("continuation_mu2lam.json", "continuation_periodic.json"):
+        p = out / name
+        if not p.exists():
+            continue
+        d = json.loads(p.read_text())
+        folds = d.get("folds", [])
+        txt = "; ".join(", ".join(f"{k} = {v:.6g}" for k, v in f.items() if isinstance(v, (int, float)))
+                        for f in folds) or "none on the computed range"
+        rows.append({"label": f"branch table: folds ({name.removesuffix('.json')})",
+                     "paper": "(not in the paper)", "computed": f"{len(folds)} fold(s): {txt}",
+                     "verdict": "computed"})
+    return rows or _not_run("branch table", "lam* per N and folds (run figures 6, 7 and continuation)")
+
+
 def _fit_text(f, name) -> str:
     if not f:
         return f"{name}: too few eps for a fit"
