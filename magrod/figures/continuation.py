@@ -16,7 +16,9 @@ from .. import continuation as C
 from .. import homoclinic_periodic as hp
 from .. import shooting
 from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..generated import scalars
 from ..params import RodParams
+from ..printed import MULTIPULSE
 from .common import pyplot
 
 
@@ -46,8 +48,9 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     paths = []
     # --- mu = 2 lam: Fig 6 two-pulse orbit as a curve in (lam, m)
     t0 = time.perf_counter()
-    lam_star = 0.00126208079536
-    r = shooting.shoot(RodParams(1.7, 2 * lam_star, 1.0, 1.0, lam_star), 2)
+    base = MULTIPULSE[6]["params"]
+    lam0 = 0.0012620808  # Newton start near the Fig 6 2-pulse orbit (docs/errata.md); shoot() solves for lam
+    r = shooting.shoot(base.replace(lam=lam0, mu=scalars.straight_rod_mu(**{**base.as_dict(), "lam": lam0})), 2)
     F, _ = C.mu2lam_problem(r.params, "m")
     scale = [r.T, 1e-3, 1.0]
     steps = 8 if quick else 60
