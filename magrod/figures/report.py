@@ -38,6 +38,12 @@ def _sidecars(out: Path, pattern: str) -> list[dict]:
 CLAIM_EXTRACTORS: list = []  # functions (out_dir, quick) -> list of claim rows, registered below
 
 
+def _sidecar(out: Path, name: str) -> dict | None:
+    """The JSON sidecar OUT/name a figure builder wrote, or None if the figure was not run."""
+    p = out / name
+    return json.loads(p.read_text()) if p.exists() else None
+
+
 def _not_run(label: str, what: str) -> list[dict]:
     return [{"label": label, "paper": what, "computed": "not run", "verdict": "not checkable"}]
 
@@ -83,10 +89,9 @@ def _poincare_claims(out: Path, fig: str, label: str, bound: float, t_paper: flo
 
 @_claim
 def _fig2(out, quick):
-    p = out / "fig2.json"
-    if not p.exists():
+    d = _sidecar(out, "fig2.json")
+    if d is None:
         return _not_run("fig:Mel_ext", "Mel'nikov function")
-    d = json.loads(p.read_text())
     pr = d["amplitudes"]["printed"]
     rows = [{"label": "eq:Mel_ext, fig:Mel_ext",
              "paper": "M(psi0) has simple zeros (transverse homoclinic orbits), hence nonintegrability",
@@ -106,10 +111,9 @@ def _fig2(out, quick):
 
 @_claim
 def _fig3(out, quick):
-    p = out / "fig3.json"
-    if not p.exists():
+    d = _sidecar(out, "fig3.json")
+    if d is None:
         return _not_run("fig:angles", "homoclinic orbits")
-    d = json.loads(p.read_text())
     e, k = d["orbits"]["ext"], d["orbits"]["kir"]
     return [{"label": "fig:angles, eq:theta_homoclinic",
              "paper": "homoclinic orbits of the extensible (gamma = 1) and inextensible rods at m = 1.7",
@@ -139,10 +143,9 @@ def _fig5(out, quick):
 
 
 def _multipulse_claims(out: Path, fig: int, label: str, shown: tuple, paper_lam: float) -> list[dict]:
-    p = out / f"figure{fig}_table.json"
-    if not p.exists():
+    d = _sidecar(out, f"figure{fig}_table.json")
+    if d is None:
         return _not_run(label, f"multipulse orbits of Figure {fig}")
-    d = json.loads(p.read_text())
     found = [o for o in d["orbits"] if o["success"]]
     desc = "; ".join(f"{o['pulses']}-pulse at lam = {o['free_value']:.9g} (residual {o['residual']:.1e}, "
                      f"|H - H_saddle| {o['max_abs_H_minus_saddle']:.1e}, length {o['arclength']:.4g})" for o in found)
@@ -170,10 +173,9 @@ def _fig7(out, quick):
 @_claim
 def _chaos(out, quick):
     """Issue 11: the Figure 4 orbits classified by the tangent growth exponent (magrod.chaos)."""
-    p = out / "chaos.json"
-    if not p.exists():
+    d = _sidecar(out, "chaos.json")
+    if d is None:
         return _not_run("fig:poincare1 (chaos indicator)", "Figure 4(a) chaotic, 4(d) regular")
-    d = json.loads(p.read_text())
     pn, s = d["panels"], d["summary"]
     desc = "; ".join(f"{k}: growth exponent {v['growth_exponent']:.2f}, FLI {v['fli']:.1f}, lyap {v['lyap']:.4f}"
                      f" ({'chaotic' if v['chaotic'] else 'regular'})" for k, v in sorted(pn.items()))
@@ -237,10 +239,9 @@ def report_markdown(rows, done, failures, quick, wall) -> str:
 
 @_claim
 def _continuation(out, quick):
-    p = out / "continuation_mu2lam.json"
-    if not p.exists():
+    d = _sidecar(out, "continuation_mu2lam.json")
+    if d is None:
         return _not_run("fig:multimodal1 (continuation)", "branches of localised rods (beyond the paper)")
-    d = json.loads(p.read_text())
     q = out / "continuation_periodic.json"
     per = json.loads(q.read_text()) if q.exists() else None
     rows = [{"label": "fig:multimodal1 (continuation, beyond the paper)",
@@ -307,10 +308,9 @@ def _fit_text(f, name) -> str:
 
 @_claim
 def _splitting(out, quick):
-    p = out / "splitting_a2b.json"
-    if not p.exists():
+    eq = _sidecar(out, "splitting_a2b.json")
+    if eq is None:
         return _not_run("eq:Mel_ext (splitting)", "splitting of the separatrix (beyond the paper)")
-    eq = json.loads(p.read_text())
     ctl = json.loads((out / "splitting_a2b_control.json").read_text())
     ti = json.loads((out / "splitting_tilted.json").read_text())
     ti0 = json.loads((out / "splitting_tilted_control.json").read_text())
