@@ -105,3 +105,75 @@ def test_mu2lam_continuation_in_gamma_from_fig6_two_pulse(fig6_n2):
     for u_ in br.u[1:-1]:
         v, _ = C.point_at(F, back.u[np.argmin(np.abs(back.u[:, 2] - u_[2]))], 2, u_[2], scale=scale)
         assert np.max(np.abs((v - u_) / np.asarray(scale))) <= 1e-9
+
+
+# --- a genuine fold: 2-pulse orbits to the periodic saddle continued in mu --------------------------------------
+# At lam = 0.001, m = 1.7, gamma = delta = 1 a branch of symmetric 2-pulse orbits (launch angle ~ 20.07, i.e.
+# 1.228 mod 2 pi, T ~ 42.9 at eps = 1e-9, long double) folds in mu at mu - 2 lam ~ 2.86e-3: far from the chart
+# singularity at mu = 2 lam (the primaries' fold at mu - 2 lam ~ 7e-13 is not a usable test).  Newton on this branch
+# reaches |F| ~ 1e-13 .. 1e-12 (long double noise), so the corrector runs at tol 2e-12.
+FOLD_TOL = 2e-12
+FOLD_SCALE = np.array([40.0, 1.0, 1e-4])
+
+
+def _fold_problem():
+    return C.periodic_problem(P, "mu", 2)
+
+
+def _xT(params_of, u):
+    r = hp.shoot(params_of(u), 2, u[1], u[0], tol=1.0)  # tol 1: no Newton step, just the orbit at (T, angle)
+    return r, np.asarray(r.xT, float)
+
+
+def _across_and_back(mu0, steps, ds):
+    F, params_of = _fold_problem()
+    u0, res = C.point_at(F, [42.9, 20.07, mu0], 2, mu0, scale=FOLD_SCALE, tol=FOLD_TOL)
+    kw = dict(scale=FOLD_SCALE, ds=ds, ds_max=ds, steps=steps, par=2, direction=-1, tol=FOLD_TOL,
+              names=("T", "angle", "mu"))
+    fwd = C.pseudo_arclength(F, u0, **kw)
+    back = C.pseudo_arclength(F, fwd.u[-1], **{**kw, "steps": steps + 1})
+    return F, params_of, fwd, back
+
+
+def _check_fold_and_points(F, fwd, back):
+    assert fwd.success and back.success
+    assert np.all(fwd.residuals <= FOLD_TOL) and np.all(back.residuals <= FOLD_TOL)
+    assert len(fwd.folds) == 1 and len(back.folds) == 1
+    ff, fb = fwd.folds[0]["u"], back.folds[0]["u"]
+    # a fold of mu: the branch lies on one side, both arms on it were visited
+    assert np.all(fwd.u[:, 2] >= ff[2]) and fwd.u[0, 0] < ff[0] < fwd.u[-1, 0]
+    assert abs(fb[2] / ff[2] - 1) <= 1e-9 and abs(fb[0] / ff[0] - 1) <= 1e-9 and abs(fb[1] - ff[1]) <= 1e-9
+    # every forward point is reproduced by the backward run: correct the nearest backward point onto the forward
+    # point's pseudo-arclength hyperplane (well conditioned also at the fold)
+    out = []
+    for u, t in zip(fwd.u, fwd.tangents):
+        near = back.u[np.argmin(np.linalg.norm((back.u - u) / FOLD_SCALE, axis=1))]
+        tt = t * FOLD_SCALE / np.linalg.norm(t * FOLD_SCALE)
+        v, res, *_ = C.correct(F, u, tt, scale=FOLD_SCALE, tol=FOLD_TOL, start=near)
+        assert abs(v[0] / u[0] - 1) <= 1e-9 and abs(v[1] - u[1]) <= 1e-9 and abs(v[2] / u[2] - 1) <= 1e-9
+        out.append(v)
+    return ff, np.array(out)
+
+
+def test_two_pulse_branch_folds_in_mu_and_steps_across_it_reproduce_the_orbits():
+    """Must hold (issue 13): continuation steps back and forth across a fold reproduce the same orbits to 1e-9 --
+    on a real branch: forward across the fold, back across it from the last point; the fold located from either
+    side and every forward point agree to 1e-9 (T and mu relative, launch angle absolute)."""
+    F, _, fwd, back = _across_and_back(4.8625e-3, 3, 0.05)
+    ff, _ = _check_fold_and_points(F, fwd, back)
+    assert 4.8e-3 < ff[2] < 4.9e-3  # mu - 2 lam ~ 2.86e-3: far from the chart singularity at mu = 2 lam
+
+
+@pytest.mark.slow
+def test_two_pulse_fold_back_and_forth_states_at_matched_mu():
+    """Full version: a longer excursion over the fold; at each forward point's mu the backward branch gives the same
+    (T, angle) and the same state x(T) at the symmetric point to 1e-9, and both arms are 2-pulse orbits."""
+    F, params_of, fwd, back = _across_and_back(4.87e-3, 6, 0.1)
+    ff, matched = _check_fold_and_points(F, fwd, back)
+    for u, v in zip(fwd.u, matched):
+        w, res = C.point_at(F, v, 2, u[2], scale=FOLD_SCALE, tol=FOLD_TOL)  # same mu, from the backward run
+        assert res <= FOLD_TOL and abs(w[0] / u[0] - 1) <= 1e-9 and abs(w[1] - u[1]) <= 1e-9
+        ru, xu = _xT(params_of, u)
+        _, xw = _xT(params_of, w)
+        assert np.max(np.abs(xw - xu)) <= 1e-9
+        assert hp.count_pulses(ru) == 2
