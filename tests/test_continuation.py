@@ -8,6 +8,7 @@ import pytest
 from magrod import continuation as C
 from magrod import homoclinic_periodic as hp
 from magrod import shooting
+from magrod.generated import scalars
 from magrod.params import RodParams
 
 EPS = np.finfo(float).eps
@@ -177,3 +178,37 @@ def test_two_pulse_fold_back_and_forth_states_at_matched_mu():
         _, xw = _xT(params_of, w)
         assert np.max(np.abs(xw - xu)) <= 1e-9
         assert hp.count_pulses(ru) == 2
+
+
+def test_primaries_tend_to_the_mu_2lam_limits():
+    """Must hold (issue 13): what the generic-case branches do as mu -> 2 lam.  The two primary orbits at lam =
+    0.001 (eps = 1e-7) followed down mu - 2 lam = 1e-4 .. 1e-10 (natural continuation, Newton from the previous
+    decade):
+      * T tends to T0, the time from the straight rod (launched at the same eps on mu = 2 lam) to its first turning
+        point (an independent computation: magrod.shooting.unstable_branch), |T - T0| <= 2e-6 below 1e-8;
+      * the launch angles stay symmetric about a fixed midpoint (2.870125) and spread apart from pi as
+        b - a - pi = -2 asin(c / sqrt(mu - 2 lam)): sin psi at the turning point is psi0 + A sqrt(gap) cos(angle -
+        angle0) to leading order, psi0 = psi at the straight rod's turning point, c = |psi0| / A.  The two
+        primaries merge at the midpoint when sqrt(gap) = c (the fold reported in docs/errata.md)."""
+    mu0 = scalars.straight_rod_mu(**P.as_dict())
+    turn = shooting.unstable_branch(P.replace(mu=mu0), crossings=1, eps=1e-7)[0]
+    prim = [(26.4567663389, 1.298695337565), (26.4567330589, 4.440084038851)]  # docs/errata.md table, gap 1e-4
+    rows = {}
+    for gap in (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10):
+        p = P.replace(mu=mu0 + gap)
+        rs = [hp.shoot(p, 1, a, T, eps=1e-7) for T, a in prim]
+        assert all(r.success and r.residual <= 1e-10 and hp.count_pulses(r) == 1 for r in rs)
+        prim = [(r.T, r.angle) for r in rs]
+        rows[gap] = prim
+    dT = {g: max(abs(T - turn.t) for T, _ in v) for g, v in rows.items()}
+    assert dT[1e-4] > dT[1e-5] > dT[1e-6] > dT[1e-7] and dT[1e-4] < 2e-3
+    assert all(dT[g] <= 2e-6 for g in (1e-8, 1e-9, 1e-10))
+    mid = {g: (v[0][1] + v[1][1]) / 2 for g, v in rows.items()}
+    assert all(abs(mid[g] - mid[1e-10]) <= 1e-5 for g in (1e-6, 1e-7, 1e-8, 1e-9))
+    spread = {g: v[1][1] - v[0][1] - math.pi for g, v in rows.items()}
+    c = {g: math.sin(-spread[g] / 2) * math.sqrt(g) for g in (1e-7, 1e-8, 1e-9, 1e-10)}
+    assert all(abs(c[g] / c[1e-9] - 1) <= 1e-2 for g in c)  # the sqrt(gap) law, c = 8.30e-7
+    # c = |psi0| / A with A from the range of sin psi over a launch-angle scan at gap = 1e-8 (half-width / sqrt(gap))
+    _, _, sp = hp.scan_angles(P.replace(mu=mu0 + 1e-8), 1, 61, eps=1e-7)
+    A = (np.nanmax(sp) - np.nanmin(sp)) / 2 / math.sqrt(1e-8)
+    assert abs(c[1e-9] * A / abs(turn.psi) - 1) <= 2e-2
