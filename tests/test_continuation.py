@@ -212,3 +212,21 @@ def test_primaries_tend_to_the_mu_2lam_limits():
     _, _, sp = hp.scan_angles(P.replace(mu=mu0 + 1e-8), 1, 61, eps=1e-7)
     A = (np.nanmax(sp) - np.nanmin(sp)) / 2 / math.sqrt(1e-8)
     assert abs(c[1e-9] * A / abs(turn.psi) - 1) <= 2e-2
+
+
+def test_three_pulse_orbits_to_the_periodic_saddle():
+    """Issue 13: genuine 3-pulse orbits (symmetric point at the middle pulse's maximum).  find() scans, bisects and
+    runs Newton at one launch distance (eps = 1e-9, long double); it used to scan at 1e-7 and shoot at 1e-9 and slid
+    onto 2-pulse orbits.  Check against the launch-distance law: the same orbit launched at eps = 1e-7 (double)
+    reaches its symmetric point ln(100)/a earlier, a = ln|Lambda_u| / T_periodic (the Floquet exponent)."""
+    found = hp.find(P, 3, samples=181)
+    assert len(found) == 2
+    for r in found:
+        assert r.success and r.residual <= 1e-10 and r.energy_error <= 1e-13 and r.eps == 1e-9
+        assert hp.count_pulses(r) == 3
+        a = math.log(abs(r.saddle.unstable_multiplier)) / r.saddle.T
+        shift = math.log(100.0) / a  # 6.929
+        b = math.atan2(r.saddle.unstable_multiplier.imag, r.saddle.unstable_multiplier.real) / r.saddle.T
+        r7 = hp.shoot(P, 3, r.angle - math.remainder(b * shift, math.pi), r.T - shift, eps=1e-7, precision="double")
+        assert r7.success and hp.count_pulses(r7) == 3
+        assert abs((r.T - r7.T) / shift - 1) <= 1e-3  # O(eps) corrections to the linear launch
