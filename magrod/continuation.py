@@ -8,8 +8,9 @@ that t_k . t_{k-1} > 0): predictor u* = u_k + ds t_k; corrector Newton on
 converged when max|F| <= tol.  Step control: ds halves on failure (down to ds_min), grows by 1.5 after a quick
 (<= 3 Newton steps) convergence (up to ds_max).  All arclength geometry is in scaled variables u / scale, so that
 unknowns of different size (T ~ 100, lambdabar ~ 1e-3) count alike.  A fold of the parameter u[par] is a sign
-change of t[par] between consecutive points; it is located by a Newton solve of (F = 0, t[par] = 0) started at
-the secant-interpolated point (the augmented system uses d t[par]/du by differencing tangents).
+change of t[par] between consecutive points; it is located by regula falsi (Illinois variant) on t[par] = 0 along
+the chord between the two points, each iterate corrected onto the branch (so the fold comes out the same from
+either side: tests/test_continuation.py crosses a real fold of 2-pulse orbits forward and back).
 
 Problems (each a function returning F(u), F_u(u)):
   mu2lam_problem    symmetric N-pulse orbits of the straight rod on mu = 2 lambdabar (codimension one), u = (T,
