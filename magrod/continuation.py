@@ -8,8 +8,9 @@ that t_k . t_{k-1} > 0): predictor u* = u_k + ds t_k; corrector Newton on
 converged when max|F| <= tol.  Step control: ds halves on failure (down to ds_min), grows by 1.5 after a quick
 (<= 3 Newton steps) convergence (up to ds_max).  All arclength geometry is in scaled variables u / scale, so that
 unknowns of different size (T ~ 100, lambdabar ~ 1e-3) count alike.  A fold of the parameter u[par] is a sign
-change of t[par] between consecutive points; it is located by a Newton solve of (F = 0, t[par] = 0) started at
-the secant-interpolated point (the augmented system uses d t[par]/du by differencing tangents).
+change of t[par] between consecutive points; it is located by regula falsi (Illinois variant) on t[par] = 0 along
+the chord between the two points, each iterate corrected onto the branch (so the fold comes out the same from
+either side: tests/test_continuation.py crosses a real fold of 2-pulse orbits forward and back).
 
 Problems (each a function returning F(u), F_u(u)):
   mu2lam_problem    symmetric N-pulse orbits of the straight rod on mu = 2 lambdabar (codimension one), u = (T,
@@ -58,11 +59,11 @@ def _tangent(J, prev=None):
     return t / np.linalg.norm(t)
 
 
-def correct(F, u_pred, t, *, scale, tol, max_iter=12):
-    """Newton on (F(u) = 0, t . (u - u_pred)/scale = 0) in scaled variables.  Returns (u, |F|, iterations,
-    J at the solution) or raises RuntimeError."""
-    v = u_pred / scale
-    vp = v.copy()
+def correct(F, u_pred, t, *, scale, tol, max_iter=12, start=None):
+    """Newton on (F(u) = 0, t . (u - u_pred)/scale = 0) in scaled variables, from `start` (default u_pred).
+    Returns (u, |F|, iterations, J at the solution) or raises RuntimeError."""
+    vp = np.asarray(u_pred, float) / scale
+    v = vp.copy() if start is None else np.asarray(start, float) / scale
     for it in range(max_iter + 1):
         r, J = F(v * scale)
         res = float(np.max(np.abs(r)))
@@ -139,23 +140,35 @@ def pseudo_arclength(F, u0, *, scale=None, ds=0.05, steps=50, ds_min=1e-6, ds_ma
     return Branch(np.array(U), np.array(Tg), np.array(R), np.array(I), folds, ok, msg, tuple(names))
 
 
-def _locate_fold(F, ua, ub, ta, tb, scale, par, tol, max_iter=15):
-    """Fold point: F(u) = 0 and t(u)[par] = 0, by a secant iteration on the arclength between ua and ub (each
-    iterate corrected onto the branch perpendicular to the chord)."""
+def _locate_fold(F, ua, ub, ta, tb, scale, par, tol, max_iter=20):
+    """Fold point: F(u) = 0 and t(u)[par] = 0, by regula falsi (Illinois variant) on the arclength s along the
+    chord between ua and ub, each iterate corrected onto the branch in the hyperplane perpendicular to the chord.
+    Stops when |t[par]| <= 1e-12 or the bracket in s is below 1e-12.  The corrector accepts 4 tol there: the
+    residual's noise floor is reached at the fold, where the (T, angle) block of the Jacobian is singular."""
     va, vb = ua / scale, ub / scale
     ga, gb = ta[par], tb[par]
     chord = (vb - va) / np.linalg.norm(vb - va)
     sa, sb = 0.0, float(np.linalg.norm(vb - va))
+    side = 0
+    u = res = None
     for _ in range(max_iter):
-        s_ = sa - ga * (sb - sa) / (gb - ga)
-        u, res, _, Js = correct(F, (va + s_ * chord) * scale, chord, scale=scale, tol=tol)
+        s_ = (sa * gb - sb * ga) / (gb - ga)
+        u, res, _, Js = correct(F, (va + s_ * chord) * scale, chord, scale=scale, tol=4 * tol)
         g = _tangent(Js, ta)[par]
-        if abs(g) < 1e-10 or abs(sb - sa) < 1e-14:
-            return {"u": u, "residual": res}
+        if abs(g) <= 1e-12:
+            break
         if np.sign(g) == np.sign(ga):
             sa, ga = s_, g
+            if side == -1:
+                gb *= 0.5
+            side = -1
         else:
             sb, gb = s_, g
+            if side == 1:
+                ga *= 0.5
+            side = 1
+        if abs(sb - sa) <= 1e-12:
+            break
     return {"u": u, "residual": res}
 
 

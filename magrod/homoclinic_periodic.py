@@ -216,13 +216,52 @@ def scan_angles(params: RodParams, pulses: int, samples: int = 181, *, eps: floa
     return ang, t, sp_
 
 
+def bisect_angle(saddle: PeriodicSaddle, pulses: int, a: float, b: float, *, eps: float, k: int = 1,
+                 width: float = 1e-12, max_iter: int = 60):
+    """Bisection on g(angle) = sin psi at the candidate symmetric point (`crossings`, k-th one for even pulses) over
+    a sign change [a, b] of the launch angle: the 1-D form of the shooting problem (pbar_theta = 0 holds exactly at
+    the event).  Returns (angle, t) or None if the bracket is not a transversal zero: the branch loses the crossing,
+    or sin psi or the crossing time jumps (|d sin psi| >= 1 or |dt| > 2: through the chart's cut, or to the
+    neighbouring symmetric point after one more turn near the saddle).  Cost: one double-precision event
+    integration per halving (a few ms)."""
+    def g(angle):
+        c = crossings(saddle, angle, pulses, eps=eps)
+        return c[k - 1] if len(c) >= k else None
+
+    ga, gb = g(a), g(b)
+    if ga is None or gb is None or np.sign(ga[1]) == np.sign(gb[1]):
+        return None
+    for _ in range(max_iter):
+        if abs(b - a) <= width or abs(ga[1] - gb[1]) >= 1.0 or abs(ga[0] - gb[0]) > 2.0:
+            break
+        m = 0.5 * (a + b)
+        gm = g(m)
+        if gm is None:
+            return None
+        if np.sign(gm[1]) == np.sign(ga[1]):
+            a, ga = m, gm
+        else:
+            b, gb = m, gm
+    if abs(ga[1] - gb[1]) >= 1.0 or abs(ga[0] - gb[0]) > 2.0:
+        return None
+    w = ga[1] / (ga[1] - gb[1]) if ga[1] != gb[1] else 0.5
+    return a + w * (b - a), ga[0] + w * (gb[0] - ga[0])
+
+
 def find(params: RodParams, pulses: int, *, samples: int = 181, eps: float | None = None, k: int = 1,
-         tol: float = DEFAULT_TOL, max_orbits: int | None = None) -> list[PeriodicHomoclinic]:
+         tol: float = DEFAULT_TOL, max_orbits: int | None = None, precision: str = "auto") -> list[PeriodicHomoclinic]:
     """Symmetric homoclinic orbits with `pulses` pulses (symmetric point chosen as in `crossings`, k-th
-    near-saddle zero for even pulses) from sign changes of sin psi over a launch-angle scan, each refined by
-    Newton on (T, angle); duplicates removed."""
+    near-saddle zero for even pulses) from sign changes of sin psi over a launch-angle scan, each narrowed by
+    bisection (`bisect_angle`) and refined by Newton on (T, angle) in `precision` (auto: long double from 2 pulses
+    on); duplicates removed.  The scan, the bisection and Newton use the same launch distance eps: a different eps
+    is a different launch phase (angle shift b ln(eps'/eps)/a, T shift ln(eps'/eps)/a ~ 6.93 for 1e-7 -> 1e-9),
+    and a Newton started from the other eps's angle slides to a neighbouring symmetric point (it used to: 3-pulse
+    searches ended on 2-pulse orbits)."""
     pulses = require_positive_int("pulses", pulses)
-    ang, t, sp_ = scan_angles(params, pulses, samples, k=k, eps=eps or DEFAULT_EPS)
+    prec = _precision(pulses, precision)
+    eps = eps if eps is not None else (DEFAULT_EPS if prec == "double" else EXTENDED_EPS)
+    s = periodic_saddle(params)
+    ang, t, sp_ = scan_angles(params, pulses, samples, k=k, eps=eps)
     out = []
     n = len(ang)
     for i in range(n):
@@ -233,8 +272,10 @@ def find(params: RodParams, pulses: int, *, samples: int = 181, eps: float | Non
             continue  # a jump through the chart's cut or to another zero, not a transversal zero
         a_i = ang[i]
         a_j = ang[j] if j > i else ang[j] + 2 * math.pi
-        w = sp_[i] / (sp_[i] - sp_[j])
-        r = shoot(params, pulses, a_i + w * (a_j - a_i), t[i] + w * (t[j] - t[i]), eps=eps, tol=tol)
+        start = bisect_angle(s, pulses, a_i, a_j, eps=eps, k=k)
+        if start is None:
+            continue
+        r = shoot(params, pulses, start[0], start[1], eps=eps, tol=tol, precision=prec)
         if r.success and count_pulses(r) != pulses:
             continue  # Newton slid to a neighbouring symmetric point
         if r.success and not any(abs(math.remainder(r.angle - o.angle, 2 * math.pi)) < 1e-6 for o in out):

@@ -4,6 +4,8 @@ Floquet data of the periodic saddle.  `build(out_dir, quick=False, progress=Fals
                                        (lam, m) plane; the printed m = 1.7 point (lam* of docs/errata.md) marked
   continuation_periodic.png/.npz/.json the two primary orbits to the periodic saddle at lam = 0.001 continued
                                        in mu towards mu = 2 lam (log scale in mu - 2 lam); T and launch angle
+  continuation_fold.png/.npz/.json     a 2-pulse branch to the periodic saddle continued in mu across its fold
+                                       (mu = 4.8614e-3), fold located and marked
 Data as .npz + JSON sidecar (magrod.io atomic writers)."""
 from __future__ import annotations
 
@@ -108,6 +110,26 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
         "versions": versions()})))
     paths.append(str(atomic_savefig(fig, out / "continuation_periodic.png", dpi=140)))
     plt.close(fig)
+    # --- a fold: the 2-pulse branch (launch angle ~ 20.07) to the periodic saddle in mu (docs/errata.md)
+    t0 = time.perf_counter()
+    F2, _ = C.periodic_problem(P, "mu", 2)
+    sc = np.array([40.0, 1.0, 1e-4])
+    tol2 = 2e-12  # long double noise floor of this branch's residual is 1e-13 .. 1e-12
+    mu_start = 4.87e-3
+    u0, _ = C.point_at(F2, [42.9, 20.07, mu_start], 2, mu_start, scale=sc, tol=tol2)
+    b2 = C.pseudo_arclength(F2, u0, scale=sc, ds=0.1, ds_max=0.3, steps=6 if quick else 24, par=2, direction=-1,
+                            tol=tol2, names=("T", "angle", "mu"))
+    folds2 = C.fold_summary(b2)
+    paths.append(str(atomic_savez(out / "continuation_fold.npz", u=b2.u, tangents=b2.tangents,
+                                  residuals=b2.residuals)))
+    paths.append(str(atomic_write_json(out / "continuation_fold.json", {
+        "what": "symmetric 2-pulse orbits to the periodic saddle continued in mu across a fold (lam = 0.001, m = 1.7, "
+                "gamma = delta = 1, long double, eps = 1e-9)", "columns": ["T", "angle", "mu"], "start": P.as_dict(),
+        "folds": folds2, "max_residual": float(np.max(b2.residuals)), "tol": tol2, "message": b2.message,
+        "wall_time_s": time.perf_counter() - t0, "versions": versions()})))
+    paths.append(str(plot_branch(b2, out / "continuation_fold.png",
+                                 title="2-pulse orbits to the periodic saddle in mu: a fold (red circle); lam = 0.001, "
+                                       "m = 1.7, gamma = delta = 1")))
     return paths
 
 

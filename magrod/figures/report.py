@@ -285,7 +285,7 @@ def _branch_table(out, quick):
                                      + (f" (noise floor {o['noise_floor']:.1e})" if o.get("noise_floor") else ""),
                          "verdict": "computed (beyond the paper: the paper printed lam = "
                                     f"{MULTIPULSE[fig]['params'].lam})"})
-    for name in ("continuation_mu2lam.json", "continuation_periodic.json"):
+    for name in ("continuation_mu2lam.json", "continuation_periodic.json", "continuation_fold.json"):
         p = out / name
         if not p.exists():
             continue
