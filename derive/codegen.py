@@ -34,7 +34,8 @@ class HeyokaPrinter:
         self.lib = lib
 
     def __call__(self, e) -> str:
-        return self.p(sp.sympify(e))
+        # strict: SymPy objects and numbers only, never a string (generated code is built from expressions)
+        return self.p(sp.sympify(e, strict=True))
 
     def wrap(self, src: str) -> str:
         """A returned value: a heyoka expression (hy), or plain arithmetic (math: floats for float inputs, and the

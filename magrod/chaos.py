@@ -199,7 +199,7 @@ def generic_w0(n: int, N: int) -> np.ndarray:
 def project_neutral(x, w, p) -> np.ndarray:
     """Orthogonal projection of the columns of w onto ker G(x): the tangent space of the level set of the first
     integrals (C1, C2, C3, H, m3) through x (see the module docstring)."""
-    G = systems.cfunc_lanes(systems.body_neutral_gradients(), x, p)  # (k*9, N)
+    G = systems.body_neutral_gradients()(x, p)  # (k*9, N)
     n = x.shape[0]
     G = G.reshape(-1, n, x.shape[1]).transpose(2, 0, 1)  # (N, k, n)
     Gw = np.einsum("bkn,nb->bk", G, w)
@@ -209,7 +209,7 @@ def project_neutral(x, w, p) -> np.ndarray:
 
 def neutral_components(x, w, p) -> np.ndarray:
     """|G(x) w| / |w| per column: how much of w lies across the invariant level set (0 = none)."""
-    G = systems.cfunc_lanes(systems.body_neutral_gradients(), x, p)
+    G = systems.body_neutral_gradients()(x, p)
     n = x.shape[0]
     G = G.reshape(-1, n, x.shape[1]).transpose(2, 0, 1)
     Gn = G / np.linalg.norm(G, axis=2, keepdims=True)
@@ -231,13 +231,13 @@ class _BodyCheck:
     @classmethod
     def at(cls, x0, p):
         f = systems.body_functions()
-        return cls(systems.cfunc_lanes(f["H"], x0, p)[0], systems.cfunc_lanes(f["casimirs"], x0, p))
+        return cls(f["H"](x0, p)[0], f["casimirs"](x0, p))
 
     def __call__(self, x, p):
         f = systems.body_functions()
-        dH = np.abs(systems.cfunc_lanes(f["H"], x, p)[0] - self.H0)
-        dC = np.max(np.abs(systems.cfunc_lanes(f["casimirs"], x, p) - self.C0), axis=0)
-        v3 = systems.cfunc_lanes(systems.body_stretch(), x, p)[0]
+        dH = np.abs(f["H"](x, p)[0] - self.H0)
+        dC = np.max(np.abs(f["casimirs"](x, p) - self.C0), axis=0)
+        v3 = systems.body_stretch()(x, p)[0]
         ok = (dH <= DRIFT_LIMIT) & (dC <= DRIFT_LIMIT)
         return ok, np.vstack([dH, dC, -v3])
 

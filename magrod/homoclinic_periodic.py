@@ -30,7 +30,7 @@ import numpy as np
 from . import systems
 from .errors import ParameterError, require_positive_int
 from .floquet import PeriodicSaddle, periodic_saddle
-from .generated import scalars, symmetry
+from .generated import scalars
 from .params import RodParams
 
 DEFAULT_EPS = 1e-7
@@ -68,16 +68,11 @@ class PeriodicHomoclinic:
 
 
 # --- compiled pieces -----------------------------------------------------------------------------------------
-_FIX = {}
-
-
 def _fix():
-    if not _FIX:
-        x = systems.variables("body")
-        c = symmetry.fix_conditions(*x)
-        _FIX["f"] = systems.CFunc(c, x)
-        _FIX["g"] = systems.CFunc([hy.diff(ci, xj) for ci in c for xj in x], x)
-    return _FIX["f"], _FIX["g"]
+    """The Fix(R) conditions and their gradients, shared with the straight-rod shooting."""
+    from .shooting import fix_functions
+
+    return fix_functions()
 
 
 @systems.per_thread

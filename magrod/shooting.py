@@ -57,7 +57,8 @@ R_DIAG = np.array(symmetry.REVERSOR_DIAG)
 
 # --- compiled pieces (built once per process) --------------------------------------------------------
 @lru_cache(maxsize=None)
-def _fix_functions():
+def fix_functions():
+    """Compiled Fix(R) conditions (pbar_theta, sin psi) of a body state and their gradients (2 x 9, hy.diff)."""
     x = systems.variables("body")
     c = symmetry.fix_conditions(*x)
     grads = [hy.diff(ci, xj) for ci in c for xj in x]
@@ -85,7 +86,7 @@ def _orbit_integrator():
 
 def fix_residual(x) -> np.ndarray:
     """(pbar_theta, sin psi) of a body state (zero on Fix(R))."""
-    return _fix_functions()[0](x, [])
+    return fix_functions()[0](x, [])
 
 
 _MU = systems.par_index("mu")
@@ -257,7 +258,7 @@ def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", eps: fl
                                              f"t = 2000 (no homoclinic level reached)")
         T_guess = br[crossing - 1].t
     T = float(T_guess)
-    fcond, fgrad = _fix_functions()
+    fcond, fgrad = fix_functions()
     history = []
     res = math.inf
     best = None  # (residual, p, T, x0, H, r, dr/dfree) of the best iterate: near the root the residual is noise
@@ -342,7 +343,7 @@ def noise_floor(params: RodParams, free: str, crossing: int, T: float, r0, drdv,
     |r(v + k h) - r(v) - k h dr/dv| with h = `ulps` ulp of the free value v (T fixed).  The linear part is
     ~|dr/dv| h (subtracted), so what is left is the non-smooth part: integration rounding amplified by the
     near-saddle passages, which Newton cannot reduce.  Eight integrations without variational equations."""
-    fcond, _ = _fix_functions()
+    fcond, _ = fix_functions()
     v = getattr(params, free)
     h = ulps * float(np.spacing(abs(v)))
     worst = np.zeros(2)

@@ -202,15 +202,13 @@ class Crossing:
     wall_time_s: float
 
 
+@systems.per_thread
 def _integrator(precision):
     fp, prec = PRECISIONS[precision]
     ev = systems.t_event("body", "ptheta_sin", fp_type=fp, prec=prec)
     x0 = systems.fp_array([0, 0, 1, 0, 0, 1, 0, 0, 1], fp, prec)
     return systems.taylor(systems.system("body"), x0, [1.0] * len(systems.PARAMS), fp_type=fp, prec=prec,
                           t_events=[ev])
-
-
-_TA = {}
 
 
 def first_crossing(params: RodParams, precision: str = "double", *, phase: float = 0.0, eta: float | None = None,
@@ -223,9 +221,7 @@ def first_crossing(params: RodParams, precision: str = "double", *, phase: float
     sd = sd or saddle(params, precision)
     eta = LAUNCH_ETA[precision] if eta is None else eta
     x0 = launch(sd, params, precision, phase, eta)
-    if precision not in _TA:
-        _TA[precision] = _integrator(precision)
-    ta = _TA[precision]
+    ta = _integrator(precision)
     ta.time = systems._fp(fp, 0.0, prec)
     ta.state[:] = x0
     ta.pars[:] = systems.fp_array(params.array(), fp, prec)

@@ -539,11 +539,6 @@ def body_neutral_gradients() -> CFunc:
     return CFunc([hy.diff(g, xj) for g in integrals for xj in x], x)
 
 
-def cfunc_lanes(cf: CFunc, x, pars_) -> np.ndarray:
-    """Evaluate a CFunc on columns x (nvars, N) with per-column parameters pars_ (len(PARAMS), N)."""
-    return cf(x, np.asarray(pars_, dtype=float).reshape(len(PARAMS), -1))
-
-
 @lru_cache(maxsize=None)
 def body_stretch() -> CFunc:
     """The axial stretch v3 = dH/dn3 of the constitutive law (eq:hyperelastic); a physical rod has v3 > 0."""
