@@ -117,6 +117,55 @@ class HeyokaPrinter:
         raise TypeError(f"cannot print {type(e).__name__}: {e}")
 
 
+_BALL_FUNCS = {sp.sin: "sin", sp.cos: "cos", sp.tan: "tan", sp.tanh: "tanh", sp.atanh: "atanh", sp.acos: "acos",
+               sp.asin: "asin", sp.atan: "atan", sp.cosh: "cosh", sp.sinh: "sinh", sp.exp: "exp", sp.log: "log"}
+
+
+class BallPrinter(HeyokaPrinter):
+    """Prints a SymPy expression as Python source over python-flint balls (`arb` or `acb`: the same source
+    serves both, so a generated integrand can be handed to `acb.integral`).  Rigorous by construction: every
+    rational is exact (`_Q(p, q)` = arb(fmpq(p, q)), rounded outward by Arb when it is combined), pi is
+    `arb.pi()`, functions are the balls' own methods (`x.sin()`), and a SymPy Float -- a number that was
+    rounded before it got here -- is refused, so no unrecorded rounding can enter a rigorous enclosure."""
+
+    def __init__(self, names: dict):
+        self.names = names
+        self.lib = "arb"
+
+    def wrap(self, src: str) -> str:
+        return src
+
+    def num(self, x) -> str:
+        if not x.is_Rational:
+            raise TypeError(f"ball arithmetic takes exact numbers only, got the rounded constant {x}")
+        return f"_Q({int(x.p)}, {int(x.q)})"
+
+    def p(self, e) -> str:
+        if e is sp.pi:
+            return "arb.pi()"
+        if e.is_Pow:
+            b, x = e.base, e.exp
+            if x.is_Rational and x.q == 2:
+                inner = f"({self.p(b)}).sqrt()"
+                k = int(x.p)
+                return f"({inner} ** {k})" if k > 0 else f"(_Q(1, 1) / ({inner} ** {-k}))"
+            if x == -1:
+                return f"(_Q(1, 1) / {self.p(b)})"
+        if e.is_Mul and not any(f.is_Pow and f.exp.is_Number and f.exp < 0 for f in e.args) \
+                and all(not (f.is_Rational and not f.is_Integer) for f in e.args):
+            c, _ = e.as_coeff_Mul()
+            if not (c.is_Number and c < 0):
+                return f"({' * '.join(self.p(f) for f in sorted(e.args, key=sp.default_sort_key))})"
+        if isinstance(e, sp.Function) and type(e) in _BALL_FUNCS:
+            if len(e.args) != 1:
+                raise TypeError(f"cannot print {type(e).__name__} with {len(e.args)} arguments as a ball method")
+            return f"({self.p(e.args[0])}).{_BALL_FUNCS[type(e)]}()"
+        if isinstance(e, sp.Function):
+            raise TypeError(f"no ball method for {type(e).__name__}: {e}")
+        out = super().p(e)
+        return out.replace("1.0 /", "_Q(1, 1) /").replace("(1.0)", "(_Q(1, 1))")
+
+
 def function_source(name: str, args: list[str], exprs, printer: HeyokaPrinter, doc: str) -> str:
     """A generated function returning one heyoka expression or a list of them."""
     single = not isinstance(exprs, (list, tuple))
@@ -135,8 +184,10 @@ def function_source(name: str, args: list[str], exprs, printer: HeyokaPrinter, d
 def module_source(doc: str, source: str, parts: list[str], constants: dict | None = None, lib: str = "hy",
                   imports: tuple = ()) -> str:
     """A generated module.  lib="hy": builds heyoka expressions; lib="math": plain floats, no heyoka import;
-    lib=None: constants only.  `imports`: extra import lines (e.g. names from generated/names.py)."""
-    head = {"hy": ["import heyoka as hy", "", "_E = hy.expression", ""], "math": ["import math", ""], None: []}[lib]
+    lib="arb": python-flint balls (BallPrinter); lib=None: constants only.  `imports`: extra import lines (e.g. names from generated/names.py)."""
+    head = {"hy": ["import heyoka as hy", "", "_E = hy.expression", ""], "math": ["import math", ""],
+            "arb": ["from flint import arb, fmpq", "", "", "def _Q(p, q):", "    return arb(fmpq(p, q))", ""],
+            None: []}[lib]
     out = [HEADER.format(doc=doc, source=source), *imports, *([""] if imports else []), *head]
     for k, v in (constants or {}).items():
         out.append(f"{k} = {v!r}")
