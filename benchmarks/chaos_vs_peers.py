@@ -22,7 +22,8 @@ import time
 
 import numpy as np
 
-from magrod import chaos, systems
+from magrod.chaos import indicators as chaos
+from magrod.core import systems
 
 
 def fig4a():
@@ -156,7 +157,7 @@ def batch_vs_scalar(span):
 
 
 def workers(n=32, t_max=1000.0):
-    from magrod import chaos_store
+    from magrod.chaos import store as chaos_store
 
     spec = chaos.MapSpec(chaos.parse_axis("x", f"lam:0.12:0.2:{n}"), chaos.parse_axis("y", f"gamma:2:4:{n}"),
                          base=chaos.panel_base("4a"), t_max=t_max, tile=8)

@@ -26,9 +26,9 @@ import time
 
 import numpy as np
 
-from magrod import systems
-from magrod.poincare import poincare_map, run_panels
-from magrod.printed import PANELS, PAPER_CLAIMS, panel_kwargs
+from magrod.core import systems
+from magrod.chaos.section import poincare_map, run_panels
+from magrod.core.printed import PANELS, PAPER_CLAIMS, panel_kwargs
 
 
 def _hbar_fn():

@@ -1,7 +1,7 @@
 """Chaos indicators and maps (issue 11): controls on systems nobody here wrote, the integrable limits of the rod,
 the neutral directions of the body frame, the grid-spec contract, Dask determinism and resume.
 
-Criterion under test (magrod.chaos): chaotic iff growth_exponent = (FLI(T) - FLI(T/2))/ln 2 > GROWTH_THRESHOLD."""
+Criterion under test (magrod.chaos.indicators): chaotic iff growth_exponent = (FLI(T) - FLI(T/2))/ln 2 > GROWTH_THRESHOLD."""
 import json
 import os
 import signal
@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from magrod import chaos, cli
+from magrod.chaos import indicators as chaos
+from magrod import cli
 
 THR = chaos.GROWTH_THRESHOLD
 
@@ -99,12 +100,13 @@ def _panel_starts(keys):
 def test_projection_keeps_tangent_vectors_on_the_leaf():
     """After projecting w0 onto ker G (gradients of C1..C3, H, m3) the transverse part of w stays at round-off
     relative to |w| (Phi maps ker G(x0) onto ker G(x(t)))."""
-    from magrod import systems
+    from magrod.core import systems
 
-    x0, p = _panel_starts(("4a", "4d"))
-    x0, p = np.repeat(x0, 4, axis=1), np.repeat(p, 4, axis=1)
     ta = systems.body_tangent_batch(None, None)
-    w0 = chaos.project_neutral(x0, chaos.generic_w0(9, 8), p)
+    b = ta.batch_size  # the machine's SIMD width (4 with AVX2, 8 with AVX-512): fill every lane
+    x0, p = _panel_starts(("4a", "4d"))
+    x0, p = np.repeat(x0, b // 2, axis=1)[:, :b], np.repeat(p, b // 2, axis=1)[:, :b]
+    w0 = chaos.project_neutral(x0, chaos.generic_w0(9, b), p)
     assert chaos.neutral_components(x0, w0, p).max() < 100 * np.finfo(float).eps  # a 5 x 9 least-squares solve
     ta.set_time(0.0)
     ta.pars[:] = p
@@ -113,7 +115,7 @@ def test_projection_keeps_tangent_vectors_on_the_leaf():
     x, w = np.array(ta.state[:9]), np.array(ta.state[9:])
     assert chaos.neutral_components(x, w, p).max() < 1e-10
     # and an unprojected generic w0 does have a transverse part of order one
-    assert chaos.neutral_components(x0, chaos.generic_w0(9, 8), p).min() > 1e-2
+    assert chaos.neutral_components(x0, chaos.generic_w0(9, b), p).min() > 1e-2
 
 
 def test_projection_does_not_change_the_verdict():
@@ -184,7 +186,7 @@ def test_bad_spec_subprocess(tmp_path):
 # Dask, zarr, resume
 # ------------------------------------------------------------------------------------------------------------
 def _store_run(spec, d: Path, **kw):
-    from magrod import chaos_store
+    from magrod.chaos import store as chaos_store
 
     pth = chaos_store.paths(d, "m")
     chaos_store.create_or_open(spec, pth["store"], pth["tiles"])
@@ -193,7 +195,7 @@ def _store_run(spec, d: Path, **kw):
 
 
 def test_one_and_two_workers_bit_identical(tmp_path):
-    from magrod import chaos_store
+    from magrod.chaos import store as chaos_store
 
     spec = _spec("lam:0.12:0.2:8", "gamma:2:4:8", t_max=300.0, tile=4)
     _, p1 = _store_run(spec, tmp_path / "w1", workers=1)
@@ -212,7 +214,7 @@ def test_one_and_two_workers_bit_identical(tmp_path):
 def test_resume_skips_finished_tiles(tmp_path):
     """A run stopped after 2 of 4 tiles, plus one tile whose chunk was written but not its marker (killed
     between the two): the resumed run computes exactly the 2 unmarked tiles and leaves the others alone."""
-    from magrod import chaos_store
+    from magrod.chaos import store as chaos_store
 
     spec = _spec("lam:0.12:0.2:8", "gamma:2:4:8", t_max=300.0, tile=4)
     res, pth = _store_run(spec, tmp_path, workers=1, max_tiles=2)
@@ -228,7 +230,7 @@ def test_resume_skips_finished_tiles(tmp_path):
     for k in ref:
         assert np.array_equal(f[k], ref[k], equal_nan=True), k
     # a store of a different map is refused, not silently mixed
-    from magrod.errors import ParameterError
+    from magrod.core.errors import ParameterError
 
     with pytest.raises(ParameterError, match="different chaos map"):
         chaos_store.create_or_open(_spec("lam:0.12:0.2:8", "gamma:2:4:8", t_max=400.0, tile=4), pth["store"],
@@ -282,7 +284,7 @@ def test_scheduler_attach_and_help(tmp_path, capsys):
 
     from distributed import LocalCluster
 
-    from magrod import chaos_store
+    from magrod.chaos import store as chaos_store
 
     with pytest.raises(SystemExit):
         cli.main(["chaosmap", "--help"])
@@ -304,7 +306,7 @@ def test_scheduler_attach_and_help(tmp_path, capsys):
 def test_one_vector_tangent_system_equals_full_variational_matrix():
     """systems.tangent_system (var_ode_sys w.r.t. a parameter absent from the field) integrates w = Phi w0, with
     Phi from the full first-order variational system (systems.variational_integrator): agreement to ~1e-12."""
-    from magrod import systems
+    from magrod.core import systems
 
     x0, p = _panel_starts(("4a",))
     x0, p = x0[:, 0], p[:, 0]

@@ -1,4 +1,4 @@
-"""Poincare sections sin(psi) = 0 (magrod.poincare, magrod poincare).  Quick runs (hundreds of iterates) in the
+"""Poincare sections sin(psi) = 0 (magrod.chaos.section, magrod poincare).  Quick runs (hundreds of iterates) in the
 default suite; the full paper panels (10 000 iterates each, fig:poincare1 / fig:poincare2) with --full."""
 import json
 import math
@@ -6,12 +6,13 @@ import math
 import numpy as np
 import pytest
 
-from magrod import cli, systems
-from magrod.errors import ParameterError
-from magrod.params import RodParams
+from magrod import cli
+from magrod.core import systems
+from magrod.core.errors import ParameterError
+from magrod.core.params import RodParams
 from magrod.figures.poincare import _figure, figure_4, figure_5
-from magrod.poincare import poincare_map, run_panels, solve_p_psi
-from magrod.printed import PANELS, panel_kwargs
+from magrod.chaos.section import poincare_map, run_panels, solve_p_psi
+from magrod.core.printed import PANELS, panel_kwargs
 
 EPS = np.finfo(float).eps
 # the issue's conservation target (the paper reports 3.6e-9 / 3.9e-9 with DOP853 at rtol 1e-12)
@@ -245,7 +246,7 @@ def test_full_panels_reduced_formulation_conserve_hbar():
 
 def test_cli_choices_match_the_numerics():
     """The CLI lists the choices without importing heyoka; they must be the numerics' own."""
-    from magrod import poincare
+    from magrod.chaos import section as poincare
     from magrod.cli import poincare as cli_poincare
 
     assert set(cli_poincare.DIRECTIONS) == set(poincare.DIRECTIONS)

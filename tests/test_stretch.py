@@ -4,12 +4,12 @@ with a known answer (straight rod: 1 + gamma + delta; inextensible rod: 1), and 
 import numpy as np
 import pytest
 
-from magrod import systems
-from magrod.errors import ParameterError
+from magrod.core import systems
+from magrod.core.errors import ParameterError
 from magrod.generated import scalars
-from magrod.params import RodParams
-from magrod.poincare import orbit_stretch, poincare_map
-from magrod.printed import PANELS, panel_kwargs
+from magrod.core.params import RodParams
+from magrod.chaos.section import orbit_stretch, poincare_map
+from magrod.core.printed import PANELS, panel_kwargs
 
 EPS = np.finfo(float).eps
 

@@ -1,13 +1,13 @@
-"""The integrator layer (magrod.systems) and generated/ as the single source of the model's names."""
+"""The integrator layer (magrod.core.systems) and generated/ as the single source of the model's names."""
 import dataclasses
 
 import heyoka as hy
 import numpy as np
 import pytest
 
-from magrod import systems
+from magrod.core import systems
 from magrod.generated import body, names, reduced, scalars
-from magrod.params import RodParams
+from magrod.core.params import RodParams
 
 EPS = np.finfo(float).eps
 P4A = RodParams(m=1.7, mu=0.4, gamma=3.0, delta=3.0, lam=0.135)
@@ -126,7 +126,7 @@ def test_scalars_agree_with_heyoka_expressions():
 
 
 def test_long_double_straight_rod_is_exact_in_extended_precision():
-    from magrod.saddle import straight_rod_state
+    from magrod.orbits.equilibrium import straight_rod_state
 
     p = RodParams(m=1.7, mu=0.002, gamma=1.0, delta=1.0, lam=0.001)
     x = straight_rod_state(p, np.longdouble)

@@ -27,7 +27,7 @@ def _interrupted_early(signum, frame):  # Ctrl-C while modules are still being i
 
 signal.signal(signal.SIGINT, _interrupted_early)
 
-from ..errors import EnvironmentFault, ParameterError  # noqa: E402 - after the early Ctrl-C handler
+from ..core.errors import EnvironmentFault, ParameterError  # noqa: E402 - after the early Ctrl-C handler
 
 EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_ENVIRONMENT, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 
@@ -112,7 +112,7 @@ def main(argv=None) -> int:
     _INTERRUPTED.clear()
     signal.signal(signal.SIGINT, _on_sigint)  # from here on Ctrl-C is a KeyboardInterrupt (and remembered)
     try:
-        from .. import io
+        from ..core import io
 
         io.track_created_dirs()
         args = build_parser().parse_args(argv)
@@ -173,7 +173,7 @@ def _emit(text: str) -> None:
 
 
 def _cleanup() -> None:
-    io = sys.modules.get(__package__.rsplit(".", 1)[0] + ".io")
+    io = sys.modules.get(__package__.rsplit(".", 1)[0] + ".core.io")
     if io is not None:
         io.remove_empty_created_dirs()
 

@@ -8,7 +8,7 @@ Examples:  magrod chaosmap --x lam:0:0.3:128 --y gamma:0:3:128 --t-max 1000 --ou
            magrod chaosmap --panel 4a --x theta0:0.05:1.5:64 --y ptheta0:-1:1:64 --out DIR"""
 from __future__ import annotations
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from .options import integer, number, out_dir, stem
 
@@ -39,8 +39,8 @@ def add_arguments(p):
 
 def spec_from_args(args):
     """Validate everything and build the MapSpec; raises ParameterError before anything is written."""
-    from ..chaos import MapSpec, panel_base, parse_axis
-    from ..printed import panel
+    from ..chaos.indicators import MapSpec, panel_base, parse_axis
+    from ..core.printed import panel
 
     x, y = parse_axis("x", args.x), parse_axis("y", args.y)
     try:
@@ -61,7 +61,7 @@ def spec_from_args(args):
 def _some_point_physical(x, y, base):
     """Points with unphysical parameters are marked missing, but a map with none physical is an input error.
     The constraints (m > 0, delta >= 0, gamma + delta >= 0) are linear, so the grid's corners decide."""
-    from ..params import RodParams
+    from ..core.params import RodParams
 
     err = None
     for xv in (x.lo, x.hi):
@@ -95,10 +95,10 @@ def run(args) -> dict:
     name = stem("stem", args.stem)
     out = out_dir("out", args.out)
 
-    from .. import chaos, chaos_store
+    from ..chaos import indicators as chaos, store as chaos_store
     from ..figures.chaos import draw_map
-    from ..io import atomic_write_json, ensure_writable_dir, versions
-    from ..progress import bar
+    from ..core.io import atomic_write_json, ensure_writable_dir, versions
+    from ..core.progress import bar
 
     out = ensure_writable_dir(out)
     pth = chaos_store.paths(out, name)

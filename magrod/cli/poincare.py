@@ -3,19 +3,19 @@ parameters (--m --mu --gamma --delta --lam --h --theta0 --ptheta0 [--psi0]).  Op
 the panel's values.  With --out DIR the section is written as DIR/<stem>.npz, .json and .png (atomically)."""
 from __future__ import annotations
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from .options import LIMITS, add_params, integer, number, out_dir, params_from, stem
 
 _START = ("h", "theta0", "ptheta0", "psi0")
-# the choices, known without importing heyoka (checked against magrod.poincare in the tests)
+# the choices, known without importing heyoka (checked against magrod.chaos.section in the tests)
 DIRECTIONS = ("any", "negative", "positive")
 BRANCHES = ("any", "0", "pi")
 FORMULATIONS = ("reduced", "body")
 
 
 def add_arguments(p):
-    from ..printed import PANELS
+    from ..core.printed import PANELS
 
     p.add_argument("--figure", metavar="PANEL", help=f"a panel of the paper: {', '.join(PANELS)}")
     add_params(p, help_suffix=" (needed without --figure)")
@@ -38,7 +38,7 @@ def add_arguments(p):
 
 
 def _inputs(args) -> tuple[dict, str | None]:
-    from ..printed import PANELS, panel_kwargs
+    from ..core.printed import PANELS, panel_kwargs
 
     vals = {}
     key = None
@@ -66,8 +66,8 @@ def _inputs(args) -> tuple[dict, str | None]:
 
 
 def run(args) -> dict:
-    from ..params import RodParams
-    from ..poincare import _admissible_interval, _radicand, choose_root, solve_p_psi
+    from ..core.params import RodParams
+    from ..chaos.section import _admissible_interval, _radicand, choose_root, solve_p_psi
 
     vals, key = _inputs(args)
     params = RodParams(**{k: vals[k] for k in PARAMS})
@@ -96,7 +96,7 @@ def run(args) -> dict:
     retried = False
     if res.success and not res.accuracy_checks()["passed"]:
         # the integrator did not conserve what it must: do not trust the compiled code from the disk cache
-        from .. import systems
+        from ..core import systems
 
         systems.bypass_disk_cache()
         res, retried = _compute(kw, args.quiet), True
@@ -109,8 +109,8 @@ def run(args) -> dict:
     paths = {}
     if ok and out is not None:
         from ..figures.poincare import save_result
-        from ..io import ensure_writable_dir
-        from ..printed import PANELS
+        from ..core.io import ensure_writable_dir
+        from ..core.printed import PANELS
 
         paths = save_result(res, ensure_writable_dir(out), name, key=key, label=PANELS[key]["label"] if key else None)
     out_d = {"ok": ok, "panel": key, **res.summary(), "output": paths, "retried_without_jit_cache": retried}
@@ -123,8 +123,8 @@ def run(args) -> dict:
 
 
 def _compute(kw, quiet):
-    from ..poincare import poincare_map
-    from ..progress import bar
+    from ..chaos.section import poincare_map
+    from ..core.progress import bar
 
     with bar(kw["iterates"], "poincare", not quiet) as update:
         return poincare_map(**kw, progress=update)

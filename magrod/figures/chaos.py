@@ -1,4 +1,4 @@
-"""Chaos-map pictures and the small map of `magrod reproduce` (drawing and writing; numerics in magrod.chaos).
+"""Chaos-map pictures and the small map of `magrod reproduce` (drawing and writing; numerics in magrod.chaos.indicators).
 
 build(out_dir, *, quick=False, progress=False) -> list[str]
     A lambdabar x gamma map around the Figure 4 panels (start rule of fig:poincare1) plus the indicators of the
@@ -13,10 +13,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import chaos
-from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..printed import PANELS
-from ..progress import bar
+from ..chaos import indicators as chaos
+from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.printed import PANELS
+from ..core.progress import bar
 from .common import pyplot
 
 # the reproduce map: full and --quick sizes (grid points per axis, t_max)

@@ -6,9 +6,9 @@ import time
 import numpy as np
 
 from ..generated import scalars
-from ..homoclinic import homoclinic, phase_portrait_energy, verify
-from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..printed import FIG3
+from ..orbits.homoclinic import homoclinic, phase_portrait_energy, verify
+from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.printed import FIG3
 from .common import pyplot, rect
 
 

@@ -8,8 +8,8 @@ import platform
 from pathlib import Path
 
 from .. import __version__
-from ..io import versions
-from ..printed import PAPER_CLAIMS, MULTIPULSE
+from ..core.io import versions
+from ..core.printed import PAPER_CLAIMS, MULTIPULSE
 
 
 def _verdict(status: str) -> str:
@@ -172,7 +172,7 @@ def _fig7(out, quick):
 
 @_claim
 def _chaos(out, quick):
-    """Issue 11: the Figure 4 orbits classified by the tangent growth exponent (magrod.chaos)."""
+    """Issue 11: the Figure 4 orbits classified by the tangent growth exponent (magrod.chaos.indicators)."""
     d = _sidecar(out, "chaos.json")
     if d is None:
         return _not_run("fig:poincare1 (chaos indicator)", "Figure 4(a) chaotic, 4(d) regular")
@@ -206,7 +206,7 @@ def claims(out: Path, quick: bool) -> list[dict]:
 def report_markdown(rows, done, failures, quick, wall) -> str:
     from importlib import resources
 
-    from ..integrability import format_text as check_text, load_report
+    from ..integrability.report import format_text as check_text, load_report
 
     lines = ["# magrod reproduction report", "",
              f"Paper: Sinden & van der Heijden, *Spatial chaos of an extensible conducting rod in a uniform magnetic "
@@ -262,7 +262,7 @@ def _continuation(out, quick):
 
 @_claim
 def _branch_table(out, quick):
-    """Issue 13: the branch table -- lam* per N (Figs 6, 7; two eps x two precisions, magrod.shooting.uncertainty)
+    """Issue 13: the branch table -- lam* per N (Figs 6, 7; two eps x two precisions, magrod.orbits.shooting.uncertainty)
     and the folds of the continued branches (continuation sidecars)."""
     rows = []
     for fig in (6, 7):

@@ -15,7 +15,7 @@ Builders (keyword-only options; fp_type is float, np.longdouble, hy.real128 or h
   batch_integrator(formulation, ...)         SIMD batch integrator (batch size: hy.recommended_simd_size())
   variational_integrator(formulation, ...)   first-order variational equations (hy.var_ode_sys) w.r.t. the
                                              initial state and the parameters; `variational_blocks` splits them
-  rod_frame_integrator()                     body system + director frame + centreline (magrod.rod)
+  rod_frame_integrator()                     body system + director frame + centreline (magrod.orbits.rod)
 Events are named (generated BODY_EVENTS, or "section", "sin_theta", "radicand" in the reduced system) and built
 with a direction and an offset: event = expression - offset.
 
@@ -32,7 +32,7 @@ from functools import lru_cache, wraps
 import heyoka as hy
 import numpy as np
 
-from .generated import body, names, reduced
+from ..generated import body, names, reduced
 
 PARAMS = names.PARAMS
 STATE = {"body": names.BODY_STATE, "reduced": names.REDUCED_STATE}
@@ -326,7 +326,7 @@ def variational_blocks(ta) -> tuple:
 
 def rod_frame_system():
     """The body system plus the director frame D' = D hat(u) and the centreline r' = D v (21 equations), with
-    the strains u = dH/dm, v = dH/dn of the constitutive law (magrod.rod)."""
+    the strains u = dH/dm, v = dH/dn of the constitutive law (magrod.orbits.rod)."""
     x = variables("body")
     p = pars()
     H = body.hamiltonian(*x, *p)
@@ -498,14 +498,14 @@ def splitting_functions(fp_type=float, prec=None) -> dict:
 
 
 # --------------------------------------------------------------------------------------------------------------
-# tangent-vector integrators for chaos indicators (magrod.chaos)
+# tangent-vector integrators for chaos indicators (magrod.chaos.indicators)
 # --------------------------------------------------------------------------------------------------------------
 def tangent_system(sys_, npars: int):
     """x' = f(x), w' = Df(x) w: the first-order variational equations along ONE tangent vector w.
 
     Built with hy.var_ode_sys w.r.t. a parameter hy.par[npars] that f does not contain: its sensitivity
     w = dx/dp obeys w' = Df(x) w + df/dp = Df(x) w exactly, and its initial value is ours to set (heyoka starts
-    it at 0; `magrod.chaos` writes the tangent vector there).  n + n equations instead of the n + n^2 of the
+    it at 0; `magrod.chaos.indicators` writes the tangent vector there).  n + n equations instead of the n + n^2 of the
     full matrix Phi: ~14x cheaper for the 9-D body system (benchmarks/README.md)."""
     return hy.var_ode_sys(sys_, [hy.par[int(npars)]], order=1)
 

@@ -11,7 +11,7 @@ SECTIONS = ("casimirs", "involution", "jacobi", "poisson_map", "I2bar_conservati
 
 def load_report(rederive: bool = False) -> dict:
     if rederive:
-        from .derive.build import all_results
+        from ..derive.build import all_results
 
         results, _ = all_results()
         return {"results": [r.as_dict() for r in results], "source": "re-derived now"}
@@ -34,10 +34,10 @@ def summary(rederive: bool = False, everything: bool = False) -> dict:
 
 def custom_involution(text: str) -> dict:
     """Brackets among H, I1, I2 and the Casimirs for the model with the substitution `text` (live SymPy)."""
-    from .errors import EnvironmentFault, ParameterError
+    from ..core.errors import EnvironmentFault, ParameterError
 
     try:
-        from .derive import poisson
+        from ..derive import poisson
     except ImportError as exc:
         raise EnvironmentFault("subs", f"needs SymPy (pip install '.[derive]'): {exc}") from None
 

@@ -49,10 +49,10 @@ from dataclasses import asdict, dataclass, field
 import heyoka as hy
 import numpy as np
 
-from . import systems
-from .errors import MAX_MAGNITUDE, ParameterError, require_finite, require_positive_int
-from .generated.names import BODY_STATE, PARAMS
-from .params import RodParams
+from ..core import systems
+from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite, require_positive_int
+from ..generated.names import BODY_STATE, PARAMS
+from ..core.params import RodParams
 
 GROWTH_THRESHOLD = 3.0
 DEFAULT_RENORM_DT = 10.0
@@ -442,8 +442,8 @@ class MapSpec:
 
 
 def panel_base(key: str) -> dict:
-    """PARAMS and START values of a paper panel (magrod.poincare.PANELS)."""
-    from .printed import PANELS
+    """PARAMS and START values of a paper panel (magrod.chaos.section.PANELS)."""
+    from ..core.printed import PANELS
 
     if key not in PANELS:
         raise ParameterError("panel", f"unknown panel {key!r}; choose from {', '.join(PANELS)}")
@@ -455,7 +455,7 @@ def panel_base(key: str) -> dict:
 def start_point(v: dict, root: str = "smallest"):
     """(x0 (9,), pars (5,), status, pbar_psi0) of one grid point: the chart start (theta0, psi0, pbar_theta0,
     pbar_psi) on Hbar = h mapped to the body frame; status NO_ROOT / UNPHYSICAL with NaNs if impossible."""
-    from .poincare import solve_p_psi
+    from .section import solve_p_psi
 
     nan9 = np.full(len(BODY_STATE), np.nan)
     try:
@@ -552,7 +552,7 @@ def empty_fields(spec: MapSpec) -> dict:
 
 def chaos_map(spec: MapSpec, *, progress=None) -> MapResult:
     """The whole map in this process (tests, the figure builder, small maps); the CLI spreads the same tiles
-    over Dask workers and a zarr store instead (magrod.chaos_store).  progress(n) is called per tile."""
+    over Dask workers and a zarr store instead (magrod.chaos.store).  progress(n) is called per tile."""
     import time
 
     t0 = time.perf_counter()

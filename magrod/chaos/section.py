@@ -5,7 +5,7 @@ Public API
 solve_p_psi(params, h, theta0, ptheta0, psi0=0)  -> every real root pbar_psi of Hbar(theta0, psi0, ptheta0, .) = h
 poincare_map(params, h, theta0, ptheta0, psi0=0, *, iterates=10_000, root="smallest", direction="positive",
              branch="any", formulation="body", ...) -> PoincareResult
-run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.printed.PANELS), threads
+run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.core.printed.PANELS), threads
 orbit_stretch(res, dt=0.05)             -> the axial stretch v3 along the orbit (min, fraction <= 0; two forms)
 (figures: magrod/figures/poincare.py; files: PoincareResult.arrays()/summary())
 
@@ -54,11 +54,11 @@ import heyoka as hy
 import numpy as np
 from scipy.optimize import brentq
 
-from . import systems
-from .errors import ParameterError, require_finite, require_positive_int
-from .generated import scalars
-from .params import RodParams
-from .printed import panel_kwargs
+from ..core import systems
+from ..core.errors import ParameterError, require_finite, require_positive_int
+from ..generated import scalars
+from ..core.params import RodParams
+from ..core.printed import panel_kwargs
 
 DIRECTIONS = systems.DIRECTIONS
 BRANCHES = ("any", "0", "pi")
@@ -570,9 +570,9 @@ def orbit_stretch(res: PoincareResult, *, dt=STRETCH_DT, fp_type=float, t_final=
 # several panels at once
 # ----------------------------------------------------------------------------------------------------------
 def run_panels(keys, *, iterates=10_000, workers=2, progress=None, **kw) -> dict:
-    """Run several paper panels (magrod.printed.PANELS) concurrently in threads (heyoka's propagate releases the
+    """Run several paper panels (magrod.core.printed.PANELS) concurrently in threads (heyoka's propagate releases the
     GIL; each thread owns its integrators).  Returns {key: PoincareResult}.  progress: optional thread-safe
-    callable(n_new_points) (e.g. magrod.progress.bar)."""
+    callable(n_new_points) (e.g. magrod.core.progress.bar)."""
     keys = [str(k).lower() for k in keys]
     for k in keys:
         panel_kwargs(k)

@@ -6,7 +6,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from .errors import MAX_MAGNITUDE, ParameterError, require_finite
-from .generated.names import PARAMS
+from ..generated.names import PARAMS
 
 
 M_MIN = 1e-3

@@ -1,4 +1,4 @@
-"""Chaos maps on disk and on a Dask cluster (I/O; the numerics are in magrod.chaos).
+"""Chaos maps on disk and on a Dask cluster (I/O; the numerics are in magrod.chaos.indicators).
 
 Layout of OUT (stem "chaosmap" by default):
   OUT/<stem>.zarr        chunked zarr store, one chunk per tile, readable as an xarray Dataset (open_map)
@@ -10,7 +10,7 @@ no marker and is recomputed).  A resumed run checks that the store was made by t
 done tiles.  Each tile writes only its own chunk (zarr region write), so workers never touch the same file.
 
 Dask: run_tiles starts a LocalCluster (processes, threads_per_worker=1, no dashboard) unless a scheduler
-address is given.  Every tile is a pure function of (spec, tile) computed by magrod.chaos.compute_tile, so the
+address is given.  Every tile is a pure function of (spec, tile) computed by magrod.chaos.indicators.compute_tile, so the
 result is bit-identical whatever the number of workers or the order the tiles run in (on one CPU type: workers
 on other machines compile heyoka for their own instruction set, e.g. with or without FMA, and may differ in the
 last bits; the batch size is part of the spec, so it is the same everywhere).
@@ -25,9 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import chaos
-from .errors import ParameterError
-from .io import atomic_write_json
+from . import indicators as chaos
+from ..core.errors import ParameterError
+from ..core.io import atomic_write_json
 
 UNITS = {"lyap": "1/length (scaled arclength of eq:nondim_1)", "fli": "1 (ln |w|)", "fli_half": "1 (ln |w|)",
          "growth_exponent": "1", "max_abs_dH": "1", "casimir_drift": "1", "min_stretch": "1", "p_psi0": "1",
@@ -78,7 +78,7 @@ def _create(spec: chaos.MapSpec, store: Path) -> None:
     import dask.array as da
     import xarray as xr
 
-    from .io import versions
+    from ..core.io import versions
 
     chunks = (spec.tile, spec.tile)
     dims = (spec.y.name, spec.x.name)
@@ -94,7 +94,7 @@ def _create(spec: chaos.MapSpec, store: Path) -> None:
         "spec": _spec_json(spec), "criterion": f"chaotic iff growth_exponent > {chaos.GROWTH_THRESHOLD:g}",
         "tolerance": "machine epsilon" if not spec.tol else repr(spec.tol),
         "formulation": "body (9-D, generated/body.py)",
-        "tangent_vectors": "projected onto the level set of C1, C2, C3, H, m3 (magrod.chaos)",
+        "tangent_vectors": "projected onto the level set of C1, C2, C3, H, m3 (magrod.chaos.indicators)",
         "versions": json.dumps(versions(), sort_keys=True)})
     # compute=False writes metadata and coordinates; the data chunks are written tile by tile
     ds.to_zarr(str(store), mode="w", compute=False, consolidated=False)

@@ -48,7 +48,7 @@ def versions() -> dict:
     import matplotlib
     import scipy
 
-    from . import __version__
+    from .. import __version__
 
     return {"magrod": __version__, "heyoka": heyoka.__version__, "numpy": np.__version__,
             "scipy": scipy.__version__, "matplotlib": matplotlib.__version__,
@@ -161,7 +161,7 @@ def load_orbit_file(path) -> dict:
             out = {k: np.asarray(d[k]) for k in ORBIT_KEYS}
     except (KeyError, ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
         raise ParameterError("from", f"{bad} ({type(exc).__name__}: {' '.join(str(exc).split())[:120]})") from None
-    from .generated.names import BODY_STATE, PARAMS
+    from ..generated.names import BODY_STATE, PARAMS
 
     n = len(BODY_STATE)
     shapes_ok = (out["x0"].shape == (n,) and out["T"].shape == () and out["pars"].shape == (len(PARAMS),)
