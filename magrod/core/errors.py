@@ -26,6 +26,10 @@ class EnvironmentFault(RuntimeError):
         return (EnvironmentFault, (self.name, self.message))
 
 
+class MagrodWarning(UserWarning):
+    """Something the user should know that did not stop the run (e.g. the JIT cache was switched off)."""
+
+
 # Inputs beyond these magnitudes are refused up front: the model's terms go up to m^4 and 1/m^4, and a float64
 # integration of them with such parameters would overflow or lose every digit long before producing a NaN.
 MAX_MAGNITUDE = 1e6
