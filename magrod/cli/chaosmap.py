@@ -39,7 +39,7 @@ def add_arguments(p):
 
 def spec_from_args(args):
     """Validate everything and build the MapSpec; raises ParameterError before anything is written."""
-    from ..chaos.indicators import MapSpec, panel_base, parse_axis
+    from ..chaos.maps import MapSpec, panel_base, parse_axis
     from ..core.printed import panel
 
     x, y = parse_axis("x", args.x), parse_axis("y", args.y)
@@ -95,7 +95,7 @@ def run(args) -> dict:
     name = stem("stem", args.stem)
     out = out_dir("out", args.out)
 
-    from ..chaos import indicators as chaos, store as chaos_store
+    from ..chaos import maps, store as chaos_store
     from ..figures.chaos import draw_map
     from ..core.io import atomic_write_json, ensure_writable_dir, versions
     from ..core.progress import bar
@@ -103,7 +103,7 @@ def run(args) -> dict:
     out = ensure_writable_dir(out)
     pth = chaos_store.paths(out, name)
     chaos_store.create_or_open(spec, pth["store"], pth["tiles"], force=args.force)
-    n_tiles = len(chaos.tiles(spec))
+    n_tiles = len(maps.tiles(spec))
     todo = n_tiles - len(chaos_store.done_tiles(pth["tiles"]))
     t0 = time.perf_counter()
     with bar(todo, "chaosmap", not args.quiet, unit="tile") as update:
@@ -112,8 +112,8 @@ def run(args) -> dict:
     wall = time.perf_counter() - t0
     fields = chaos_store.load_fields(pth["store"])
     draw_map(fields, spec, pth["png"], indicator=args.indicator, threshold=threshold)
-    summary = chaos.map_summary(spec, fields, wall, threshold)
-    pts = sum(int(((t.ys.stop - t.ys.start) * (t.xs.stop - t.xs.start))) for t in chaos.tiles(spec)
+    summary = maps.map_summary(spec, fields, wall, threshold)
+    pts = sum(int(((t.ys.stop - t.ys.start) * (t.xs.stop - t.xs.start))) for t in maps.tiles(spec)
               if t.key in set(res["computed"]))
     summary.update(orbits_computed=pts, orbits_per_s=pts / wall if pts and wall > 0 else None,
                    tiles={"total": n_tiles, "computed": len(res["computed"]), "skipped": len(res["skipped"])},

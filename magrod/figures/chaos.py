@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..chaos import indicators as chaos
+from ..chaos import indicators as chaos, maps
 from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import PANELS
 from ..core.progress import bar
@@ -25,13 +25,13 @@ REPRODUCE_AXES = ("lam:0.12:0.2", "gamma:2.0:4.0")
 PANEL_T_MAX = {False: 5000.0, True: 3000.0}
 
 
-def panel_marks(spec: chaos.MapSpec) -> list[tuple]:
+def panel_marks(spec: maps.MapSpec) -> list[tuple]:
     """(key, x, y) of every paper panel that lies in the map's plane: its values of all non-axis parameters equal
     the map's base values and its axis values are inside the ranges."""
     marks = []
     for key in PANELS:
-        v = chaos.panel_base(key)
-        others = [k for k in chaos.AXIS_NAMES if k not in (spec.x.name, spec.y.name)]
+        v = maps.panel_base(key)
+        others = [k for k in maps.AXIS_NAMES if k not in (spec.x.name, spec.y.name)]
         if all(np.isclose(v[k], spec.base.get(k, np.nan)) for k in others):
             x, y = v[spec.x.name], v[spec.y.name]
             if spec.x.lo <= x <= spec.x.hi and spec.y.lo <= y <= spec.y.hi:
@@ -44,7 +44,7 @@ FIELD_LABELS = {"growth": "growth exponent (FLI(T) - FLI(T/2))/ln 2", "fli": "FL
 FIELD_NAMES = {"growth": "growth_exponent", "fli": "fli", "lyap": "lyap"}
 
 
-def draw_map(fields: dict, spec: chaos.MapSpec, path, *, indicator="growth", title=None,
+def draw_map(fields: dict, spec: maps.MapSpec, path, *, indicator="growth", title=None,
              threshold=chaos.GROWTH_THRESHOLD) -> Path:
     """PNG heat map of one indicator ("growth", "fli" or "lyap"); missing points grey; paper panels starred.
     The growth exponent is coloured diverging about the chaos threshold."""
@@ -85,13 +85,13 @@ def build(out_dir, *, quick=False, progress=False) -> list[str]:
     """The reproduce map (REPRODUCE_GRID) and the Figure 4 panel indicators; see the module docstring."""
     out = ensure_writable_dir(out_dir)
     n, t_max = REPRODUCE_GRID[bool(quick)]
-    spec = chaos.MapSpec(chaos.parse_axis("x", f"{REPRODUCE_AXES[0]}:{n}"),
-                         chaos.parse_axis("y", f"{REPRODUCE_AXES[1]}:{n}"), base=chaos.panel_base("4a"),
+    spec = maps.MapSpec(maps.parse_axis("x", f"{REPRODUCE_AXES[0]}:{n}"),
+                         maps.parse_axis("y", f"{REPRODUCE_AXES[1]}:{n}"), base=maps.panel_base("4a"),
                          panel="4a", t_max=t_max)
-    with bar(len(chaos.tiles(spec)), "chaos map", progress, unit="tile") as update:
-        res = chaos.chaos_map(spec, progress=update)
+    with bar(len(maps.tiles(spec)), "chaos map", progress, unit="tile") as update:
+        res = maps.chaos_map(spec, progress=update)
     t0 = time.perf_counter()
-    panels = chaos.panel_indicators(("4a", "4b", "4c", "4d"), t_max=PANEL_T_MAX[bool(quick)])
+    panels = maps.panel_indicators(("4a", "4b", "4c", "4d"), t_max=PANEL_T_MAX[bool(quick)])
     png = draw_map(res.fields, spec, out / "chaos.png")
     npz = atomic_savez(out / "chaos.npz", **{k: np.asarray(v) for k, v in res.fields.items()},
                        x=spec.x.values(), y=spec.y.values())
