@@ -42,9 +42,17 @@ _source_checkout()
 
 # public name -> module that defines it (relative to magrod); imported on first attribute access
 _API = {
+    # the model and its vocabulary
     "RodParams": "core.params",
     "Precision": "core.precision",
     "ParameterError": "core.errors",
+    "panel": "core.printed",
+    # chaos: sections, indicators, maps
+    "poincare_section": "chaos.section",
+    "lyapunov": "chaos.lyapunov",
+    "chaos_map": "chaos.maps",
+    # symbolic checks
+    "integrability_report": "integrability.report",
 }
 
 __all__ = sorted(_API)

@@ -81,6 +81,14 @@ class Indicators:
     status: np.ndarray
     t_max: float
     renorm_dt: float
+    # with history=True: ln |w(t_k)| (N, K) at the renormalisation times t_k = k renorm_dt, k = 1..K
+    log_growth: np.ndarray | None = None
+
+    @property
+    def times(self) -> np.ndarray:
+        """The sample times t_k = k renorm_dt (K,) of log_growth."""
+        K = 0 if self.log_growth is None else self.log_growth.shape[1]
+        return self.renorm_dt * np.arange(1, K + 1)
 
     @property
     def chaotic(self) -> np.ndarray:
@@ -102,13 +110,13 @@ def _steps(t_max, renorm_dt):
 
 
 def tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=DEFAULT_RENORM_DT, project=None, check=None,
-                       valid=None) -> Indicators:
+                       valid=None, history=False) -> Indicators:
     """Indicators of N orbits with a batch tangent integrator (systems.tangent_batch).
 
     x0 (n, N) starts, w0 (n, N) tangent vectors (normalised here), pars (npars, N); project(x, w, p) -> w
     maps tangent vectors onto the neutral-free subspace (None: identity); check(x, p) -> (ok (b,), diag (3, b))
     flags lanes that left the physical range and reports (|dH|, Casimir drift, -stretch), whose maxima are kept;
-    valid (N,) bool skips points.
+    valid (N,) bool skips points; history=True also returns ln |w(t_k)| at every renormalisation time.
     Lanes are filled in order, padded with a copy of a valid lane: a lane's result does not depend on its
     neighbours (heyoka batch lanes step independently), and the fixed order makes results reproducible.
     Cost: N/batch_size batch propagations of t_max plus ~t_max/renorm_dt Python-level renormalisations each."""
@@ -120,21 +128,26 @@ def tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=DEFAULT_RENORM_DT, 
     out = {k: np.full(N, np.nan) for k in _KEYS}
     status = np.where(valid, OK, FAILED).astype(np.int8)
     nsteps, dt = _steps(t_max, renorm_dt)
+    hist = np.full((N, nsteps), np.nan) if history else None
     for s in range(0, N, b):
         idx = np.arange(s, min(s + b, N))
         good = idx[valid[idx]]
         if good.size == 0:
             continue
         lanes = np.concatenate([good, np.full(b - good.size, good[-1])])
-        res = _run_batch(ta, x0[:, lanes], w0[:, lanes], pars[:, lanes], nsteps, dt, project, check)
+        res = _run_batch(ta, x0[:, lanes], w0[:, lanes], pars[:, lanes], nsteps, dt, project, check, history)
         k = good.size
         for key in out:
             out[key][good] = res[key][:k]
         status[good] = res["status"][:k]
+        if history:
+            hist[good] = res["history"][:, :k].T
     bad = status != OK
     for key in out:
         out[key][bad] = np.nan
-    return Indicators(**out, status=status, t_max=t_max, renorm_dt=dt)
+    if history:
+        hist[bad] = np.nan
+    return Indicators(**out, status=status, t_max=t_max, renorm_dt=dt, log_growth=hist)
 
 
 def _normalise(x, w, p, project):
@@ -144,7 +157,7 @@ def _normalise(x, w, p, project):
     return w / nrm, nrm
 
 
-def _run_batch(ta, x, w, p, nsteps, dt, project, check) -> dict:
+def _run_batch(ta, x, w, p, nsteps, dt, project, check, history=False) -> dict:
     n = x.shape[0]
     b = ta.batch_size
     ta.set_time(0.0)
@@ -158,6 +171,7 @@ def _run_batch(ta, x, w, p, nsteps, dt, project, check) -> dict:
     status = np.zeros(b, np.int8)
     drift = np.full((3, b), -np.inf)
     ok_outcome = hy.taylor_outcome.time_limit
+    hist = np.empty((nsteps, b)) if history else None
     for k in range(1, nsteps + 1):
         ta.propagate_until(k * dt)
         failed = np.array([r[0] != ok_outcome for r in ta.propagate_res]) | ~np.all(np.isfinite(ta.state), axis=0)
@@ -174,6 +188,8 @@ def _run_batch(ta, x, w, p, nsteps, dt, project, check) -> dict:
         wk, nrm = _normalise(np.array(ta.state[:n]), np.array(ta.state[n:]), p, project)
         ta.state[n:] = wk
         L += np.log(nrm)
+        if history:
+            hist[k - 1] = L
         fli = np.maximum(fli, L)
         if 2 * k == nsteps:
             fli_half = fli.copy()
@@ -181,7 +197,8 @@ def _run_batch(ta, x, w, p, nsteps, dt, project, check) -> dict:
     if check is None:  # nothing monitored: NaN, not the -inf of an empty maximum
         drift[:] = np.nan
     return {"lyap": L / T, "fli": fli, "fli_half": fli_half, "growth_exponent": (fli - fli_half) / math.log(2.0),
-            "max_abs_dH": drift[0], "casimir_drift": drift[1], "min_stretch": -drift[2], "status": status}
+            "max_abs_dH": drift[0], "casimir_drift": drift[1], "min_stretch": -drift[2], "status": status,
+            "history": hist}
 
 
 def generic_w0(n: int, N: int) -> np.ndarray:
@@ -240,7 +257,7 @@ class _BodyCheck:
 
 
 def body_indicators(x0, pars, *, t_max, tol=None, renorm_dt=DEFAULT_RENORM_DT, project=True, batch_size=None,
-                    w0=None, valid=None) -> Indicators:
+                    w0=None, valid=None, history=False) -> Indicators:
     """Indicators of body-frame orbits x0 (9, N) with parameters pars (5, N) in PARAMS order.
 
     Defaults: tol None = machine epsilon, renorm_dt 10, project onto the invariant level set (module docstring),
@@ -265,22 +282,26 @@ def body_indicators(x0, pars, *, t_max, tol=None, renorm_dt=DEFAULT_RENORM_DT, p
         lanes = np.concatenate([good, np.full(b - good.size, good[-1])])
         chk = _BodyCheck.at(x0[:, lanes], pars[:, lanes])
         r = tangent_indicators(ta, x0[:, lanes], w0[:, lanes], pars[:, lanes], t_max=t_max, renorm_dt=renorm_dt,
-                               project=project_neutral if project else None, check=chk)
+                               project=project_neutral if project else None, check=chk, history=history)
         results.append((good, r))
-    return _merge(results, N, valid, float(t_max), _steps(float(t_max), renorm_dt)[1])
+    nsteps, dt = _steps(float(t_max), renorm_dt)
+    return _merge(results, N, valid, float(t_max), dt, nsteps if history else None)
 
 
-def _merge(results, N, valid, t_max, dt) -> Indicators:
+def _merge(results, N, valid, t_max, dt, nsteps=None) -> Indicators:
     keys = _KEYS
     out = {k: np.full(N, np.nan) for k in keys}
     status = np.full(N, FAILED, np.int8)
+    hist = np.full((N, nsteps), np.nan) if nsteps else None
     for item in results:
         good, r = item
         k = good.size
         for key in keys:
             out[key][good] = getattr(r, key)[:k]
         status[good] = r.status[:k]
-    return Indicators(**out, status=status, t_max=t_max, renorm_dt=dt)
+        if hist is not None:
+            hist[good] = r.log_growth[:k]
+    return Indicators(**out, status=status, t_max=t_max, renorm_dt=dt, log_growth=hist)
 
 
 # ----------------------------------------------------------------------------------------------------------

@@ -14,6 +14,8 @@ import numpy as np
 from ..core import systems
 from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite, require_positive_int
 from ..core.params import RodParams
+from ..core.results import Result
+from ..core.tolerances import DRIFT_LIMIT
 from ..generated.names import BODY_STATE, PARAMS
 from .indicators import (_KEYS, DEFAULT_RENORM_DT, FAILED, GROWTH_THRESHOLD, NO_ROOT, OK, REASONS, UNPHYSICAL,
                          body_indicators)
@@ -26,20 +28,61 @@ DEFAULT_PANEL = "4a"
 DEFAULT_TILE = 16
 
 
+MAX_AXIS_POINTS = 4096  # 4096^2 orbits at ~5 ms each is a day on 2 cores: the largest map worth refusing later
+
+
 @dataclass(frozen=True)
 class Axis:
-    """A grid axis: n points linspace(lo, hi, n) of one parameter (PARAMS) or start value (START)."""
+    """A grid axis: n points linspace(lo, hi, n) of one parameter (PARAMS) or start value (START).
+
+    Validated on construction: ParameterError names the field (`name`, `lo`, `hi`, `n`) and the violated
+    condition (unknown name, non-finite bound, n not an integer in [1, MAX_AXIS_POINTS], an empty range)."""
 
     name: str
     lo: float
     hi: float
     n: int
 
+    def __post_init__(self):
+        if self.name not in AXIS_NAMES:
+            raise ParameterError("name", f"unknown parameter {self.name!r}; choose from {', '.join(AXIS_NAMES)}")
+        lo = require_finite("lo", self.lo, MAX_MAGNITUDE)
+        hi = require_finite("hi", self.hi, MAX_MAGNITUDE)
+        try:
+            nf = float(self.n)
+        except (TypeError, ValueError):
+            raise ParameterError("n", f"number of points must be a positive integer, got {self.n!r}") from None
+        if isinstance(self.n, bool) or not math.isfinite(nf) or nf != int(nf) or nf < 1:
+            raise ParameterError("n", f"number of points must be a positive integer, got {self.n!r}")
+        n = int(nf)
+        if n > MAX_AXIS_POINTS:
+            raise ParameterError("n", f"at most {MAX_AXIS_POINTS} points per axis, got {n}")
+        if (n > 1 and not lo < hi) or (n == 1 and lo != hi):
+            raise ParameterError("hi", f"empty range {lo:g}..{hi:g} with {n} point(s): need lo < hi (or lo = hi "
+                                       f"with n = 1)")
+        object.__setattr__(self, "lo", lo)
+        object.__setattr__(self, "hi", hi)
+        object.__setattr__(self, "n", n)
+
     def values(self) -> np.ndarray:
         return np.linspace(self.lo, self.hi, self.n)
 
-
-MAX_AXIS_POINTS = 4096  # 4096^2 orbits at ~5 ms each is a day on 2 cores: the largest map worth refusing later
+    @classmethod
+    def of(cls, value, option: str) -> "Axis":
+        """An Axis from an Axis, a tuple (name, lo, hi, n) or the text NAME:LO:HI:N; ParameterError names
+        `option` (e.g. "x" or "--x") with the field's complaint."""
+        if isinstance(value, Axis):
+            return value
+        if isinstance(value, str):
+            return parse_axis(option, value)
+        try:
+            name, lo, hi, n = value
+        except (TypeError, ValueError):
+            raise ParameterError(option, f"expected (name, lo, hi, n) or 'NAME:LO:HI:N', got {value!r}") from None
+        try:
+            return cls(name, lo, hi, n)
+        except ParameterError as exc:
+            raise ParameterError(option, exc.message) from None
 
 
 def parse_axis(option: str, text: str) -> Axis:
@@ -49,22 +92,10 @@ def parse_axis(option: str, text: str) -> Axis:
     if len(parts) != 4:
         raise ParameterError(option, f"expected NAME:LO:HI:N (e.g. lam:0:0.3:128), got {text!r}")
     name, lo, hi, n = parts
-    if name not in AXIS_NAMES:
-        raise ParameterError(option, f"unknown parameter {name!r}; choose from {', '.join(AXIS_NAMES)}")
-    lo, hi = require_finite(option, lo, MAX_MAGNITUDE), require_finite(option, hi, MAX_MAGNITUDE)
     try:
-        nf = float(n)
-    except ValueError:
-        raise ParameterError(option, f"number of points must be a positive integer, got {n!r}") from None
-    if not math.isfinite(nf) or nf != int(nf) or nf < 1:
-        raise ParameterError(option, f"number of points must be a positive integer, got {n!r}")
-    n = int(nf)
-    if n > MAX_AXIS_POINTS:
-        raise ParameterError(option, f"at most {MAX_AXIS_POINTS} points per axis, got {n}")
-    if (n > 1 and not lo < hi) or (n == 1 and lo != hi):
-        raise ParameterError(option, f"empty range {lo:g}..{hi:g} with {n} point(s): need LO < HI (or LO = HI "
-                                     f"with N = 1)")
-    return Axis(name, lo, hi, n)
+        return Axis(name, lo, hi, n)
+    except ParameterError as exc:
+        raise ParameterError(option, exc.message) from None
 
 
 @dataclass(frozen=True)
@@ -198,16 +229,58 @@ def compute_tile(spec: MapSpec, tile: Tile) -> dict:
     return out
 
 
-@dataclass(frozen=True)
-class MapResult:
-    """A whole map in memory: fields (ny, nx) as in compute_tile, plus the spec and wall time."""
+@dataclass(repr=False)
+class ChaosMap(Result):
+    """A chaos map: fields (ny, nx) as in compute_tile ("status" int8, NaN indicators where status != OK), the
+    spec, wall time.  success: at least one point computed; `summary()` adds the fraction chaotic."""
 
+    success: bool
+    message: str
     spec: MapSpec
     fields: dict
     wall_s: float
+    store: str | None = None
+
+    _repr_fields = ("shape", "fraction_chaotic", "wall_s", "store")
+
+    @property
+    def shape(self) -> tuple:
+        return self.spec.shape
+
+    @property
+    def fraction_chaotic(self):
+        return self.summary()["fraction_chaotic"]
+
+    @property
+    def accuracy(self) -> dict:
+        """Worst conservation over the computed points against DRIFT_LIMIT (points beyond it are LEFT_RANGE)."""
+        s = self.summary()
+        return {"max_abs_dH": s["max_abs_dH"], "max_casimir_drift": s["max_casimir_drift"], "limit": DRIFT_LIMIT}
 
     def summary(self, threshold=GROWTH_THRESHOLD) -> dict:
         return map_summary(self.spec, self.fields, self.wall_s, threshold)
+
+    def to_dict(self) -> dict:
+        from ..core.results import jsonable
+
+        return jsonable({"success": self.success, "message": self.message, "spec": self.spec.as_dict(),
+                         "summary": self.summary(), "fields": self.fields, "store": self.store})
+
+    def to_xarray(self):
+        """An xarray.Dataset with coordinates (y-parameter, x-parameter) and one variable per field."""
+        import json
+
+        import xarray as xr
+
+        from ..core.results import jsonable
+
+        sx, sy = self.spec.x, self.spec.y
+        dims = (sy.name, sx.name)
+        ds = xr.Dataset({k: (dims, np.asarray(v)) for k, v in self.fields.items()},
+                        coords={sx.name: sx.values(), sy.name: sy.values()})
+        ds.attrs.update({"spec": json.dumps(self.spec.as_dict()), "criterion": self.summary()["criterion"],
+                         "summary": json.dumps(jsonable(self.summary()))})
+        return ds
 
 
 def map_summary(spec: MapSpec, fields: dict, wall_s: float, threshold=GROWTH_THRESHOLD) -> dict:
@@ -236,20 +309,100 @@ def empty_fields(spec: MapSpec) -> dict:
     return f
 
 
-def chaos_map(spec: MapSpec, *, progress=None) -> MapResult:
-    """The whole map in this process (tests, the figure builder, small maps); the CLI spreads the same tiles
-    over Dask workers and a zarr store instead (magrod.chaos.store).  progress(n) is called per tile."""
+def compute_map(spec: MapSpec, *, progress=None, client=None) -> ChaosMap:
+    """The whole map in memory: tile by tile in this process, or as one task per tile on a Dask `client`."""
     import time
 
     t0 = time.perf_counter()
     fields = empty_fields(spec)
-    for tile in tiles(spec):
-        res = compute_tile(spec, tile)
+    all_tiles = tiles(spec)
+    if client is None:
+        done = ((t, compute_tile(spec, t)) for t in all_tiles)
+    else:
+        from dask.distributed import as_completed
+
+        sd = spec.as_dict()
+        futs = {client.submit(_tile_task, sd, t.key, pure=False): t for t in all_tiles}
+        done = ((futs[f], f.result()) for f in as_completed(futs))
+    for tile, res in done:
         for k, v in res.items():
             fields[k][tile.ys, tile.xs] = v
         if progress is not None:
             progress(1)
-    return MapResult(spec, fields, time.perf_counter() - t0)
+    n_ok = int((fields["status"] == OK).sum())
+    msg = "ok" if n_ok else "no point of the map could be computed (see the status field)"
+    return ChaosMap(n_ok > 0, msg, spec, fields, time.perf_counter() - t0)
+
+
+def _tile_task(spec_dict: dict, tile_key: str) -> dict:
+    """One tile from plain data (a Dask task: picklable, no shared state)."""
+    spec = MapSpec.from_dict(spec_dict)
+    return compute_tile(spec, {t.key: t for t in tiles(spec)}[tile_key])
+
+
+def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_dt=DEFAULT_RENORM_DT,
+              root="smallest", tile=DEFAULT_TILE, client=None, progress=None, **values) -> ChaosMap:
+    """Chaos indicators over a plane of two parameters or start values, around a paper panel.
+
+    Parameters
+    ----------
+    x, y : tuple, str or Axis
+        The axes: (name, lo, hi, n), "name:lo:hi:n" or Axis; name is a parameter (m, mu, gamma, delta, lam) or a
+        start value (h, theta0, ptheta0, psi0).  A MapSpec may be given as `x` alone.
+    panel : str or None
+        Paper panel whose parameters and start fill in every value not on an axis (None: give them all).
+    t_max, tol, renorm_dt, root
+        As in `lyapunov` (tol 0 = machine epsilon).
+    tile : int
+        Tile edge (one task per tile).
+    client : dask.distributed.Client, optional
+        Run the tiles on this cluster (the workers need magrod installed); None: in this process.
+    progress : callable, optional
+        progress(n_tiles_done).
+    **values
+        Values overriding the panel's (e.g. lam=0.15, h=0.9).
+
+    Returns
+    -------
+    ChaosMap
+        fields (ny, nx) of lyap, fli, fli_half, growth_exponent, max_abs_dH, casimir_drift, min_stretch, p_psi0,
+        status; `summary()`, `to_xarray()`, `plot()`.
+
+    Raises
+    ------
+    ParameterError
+        Naming x, y or the value: unknown name, empty range, the same name on both axes, a value both on an
+        axis and given explicitly, bad t_max/tol/renorm_dt/tile.
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> cm = mr.chaos_map(("lam", 0.12, 0.2, 2), ("gamma", 2.0, 3.5, 2), t_max=200)
+    >>> cm.success, cm.shape, cm.to_xarray()["growth_exponent"].dims
+    (True, (2, 2), ('gamma', 'lam'))
+
+    Notes
+    -----
+    Criterion: chaotic iff growth_exponent > 3 (magrod.chaos.indicators).  Cost ~5 us per orbit per unit time in
+    SIMD batches, plus the energy root per point.  Results are bit-identical for any tile order and worker
+    count.  For maps too large for memory, or resumable runs, use `magrod chaosmap --out DIR` (a zarr store).
+    """
+    if isinstance(x, MapSpec):
+        if y is not None or values:
+            raise ParameterError("y", "give a MapSpec alone, or two axes")
+        return compute_map(x, progress=progress, client=client)
+    if y is None:
+        raise ParameterError("y", "missing: give two axes (name, lo, hi, n)")
+    ax, ay = Axis.of(x, "x"), Axis.of(y, "y")
+    base = panel_base(panel) if panel is not None else {}
+    for k, v in values.items():
+        if k not in AXIS_NAMES:
+            raise ParameterError(k, f"not a parameter or start value; choose from {', '.join(AXIS_NAMES)}")
+        if k in (ax.name, ay.name):
+            raise ParameterError(k, f"is varied on the {'x' if k == ax.name else 'y'} axis: do not also fix it")
+        base[k] = require_finite(k, v, MAX_MAGNITUDE)
+    spec = MapSpec(ax, ay, base=base, panel=panel, root=root, t_max=t_max, tol=tol, renorm_dt=renorm_dt, tile=tile)
+    return compute_map(spec, progress=progress, client=client)
 
 
 def panel_indicators(keys=("4a", "4b", "4c", "4d"), *, t_max=3000.0, tol=None, root="smallest") -> dict:

@@ -348,6 +348,27 @@ def _validate_options(iterates, root, direction, branch, formulation, pole_switc
     return iterates
 
 
+def resolve_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=None) -> tuple:
+    """(params, panel key, h, theta0, ptheta0, psi0) from a RodParams and a start, or from a paper panel (a
+    Panel or its key) whose start values fill in what is not given.  ParameterError names what is missing."""
+    if isinstance(params, (str, Panel)):
+        P = panel(params)
+        params, key = P.params, P.key
+        if p_psi0 is None and h is None:
+            h = P.h
+        theta0 = P.theta0 if theta0 is None else theta0
+        ptheta0 = P.ptheta0 if ptheta0 is None else ptheta0
+        psi0 = P.psi0 if psi0 is None else psi0
+    else:
+        key = None
+        if not isinstance(params, RodParams):
+            raise ParameterError("params", f"must be a RodParams, a Panel or a panel name, got {type(params).__name__}")
+        for name, v in (("theta0", theta0), ("ptheta0", ptheta0)):
+            if v is None:
+                raise ParameterError(name, "missing: give the start (theta0, ptheta0) or a paper panel")
+    return params, key, h, theta0, ptheta0, 0.0 if psi0 is None else psi0
+
+
 def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
                      root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION,
                      precision=Precision.DOUBLE, tol=None, t_max=None, verify=True, pole_switch=(0.05, 0.1),
@@ -416,22 +437,7 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     over 10 000 iterates.  Integrators are cached per thread and reused; nothing visible to the caller is
     mutated (verify=True may switch off heyoka's disk cache for the process after a failed check).
     """
-    if isinstance(params, (str, Panel)):
-        P = params if isinstance(params, Panel) else panel(params)
-        params, key = P.params, P.key
-        if p_psi0 is None and h is None:
-            h = P.h
-        theta0 = P.theta0 if theta0 is None else theta0
-        ptheta0 = P.ptheta0 if ptheta0 is None else ptheta0
-        psi0 = P.psi0 if psi0 is None else psi0
-    else:
-        key = None
-        if not isinstance(params, RodParams):
-            raise ParameterError("params", f"must be a RodParams, a Panel or a panel name, got {type(params).__name__}")
-        for name, v in (("theta0", theta0), ("ptheta0", ptheta0)):
-            if v is None:
-                raise ParameterError(name, "missing: give the start (theta0, ptheta0) or a paper panel")
-    psi0 = 0.0 if psi0 is None else psi0
+    params, key, h, theta0, ptheta0, psi0 = resolve_start(params, h, theta0, ptheta0, psi0, p_psi0)
     precision = Precision.parse(precision)
     if precision not in (Precision.DOUBLE, Precision.LONG_DOUBLE):
         raise ParameterError("precision", f"must be 'double' or 'long double' for sections, got {precision.value!r}")

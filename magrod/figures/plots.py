@@ -9,7 +9,12 @@ from __future__ import annotations
 import importlib
 
 # result class name -> "module:function" (module relative to magrod.figures), imported on first use
-PLOTTERS: dict[str, str] = {}
+PLOTTERS: dict[str, str] = {
+    "PoincareResult": "poincare:plot_section",
+    "LyapunovResult": "chaos:plot_lyapunov",
+    "ChaosMap": "chaos:plot_map",
+    "IntegrabilityReport": "integrability:plot_involution",
+}
 
 
 def axes(ax=None, *, projection=None, figsize=(5.0, 4.0)):
