@@ -2,7 +2,18 @@
 
 
 class ParameterError(ValueError):
-    """An input that is out of range, non-finite or inconsistent.  `name` is the offending parameter."""
+    """An input that is out of range, non-finite or inconsistent.  `name` is the offending parameter, `message`
+    the violated condition; the CLI prints them as its one error line (exit 2).
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> try:
+    ...     mr.panel("9z")
+    ... except mr.ParameterError as exc:
+    ...     print(exc.name)
+    panel
+    """
 
     def __init__(self, name: str, message: str):
         self.name = name

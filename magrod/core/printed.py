@@ -92,6 +92,12 @@ def panel(key) -> Panel:
     >>> p = mr.panel("4a")
     >>> p.params.lam, p.h, p.label
     (0.135, 0.9, 'fig:poincare1a')
+
+    Notes
+    -----
+    The start values are those printed with fig:poincare1 (theta = 0.1, pbar_theta = 0.5, psi = 0 at h = 0.9)
+    and fig:poincare2 (theta = 0.1, pbar_theta = 1, psi = 0 at h = 0.8); the panels differ in lambdabar
+    (Fig 4) or gamma (Fig 5), named by `vary`.
     """
     from .errors import ParameterError
 
