@@ -203,8 +203,19 @@ class Tile:
 def tiles(spec: MapSpec) -> list[Tile]:
     """The grid cut into tile x tile blocks, row-major; the same on every machine and for any worker count."""
     t = spec.tile
-    return [Tile(iy, ix, slice(iy * t, min((iy + 1) * t, spec.y.n)), slice(ix * t, min((ix + 1) * t, spec.x.n)))
-            for iy in range(math.ceil(spec.y.n / t)) for ix in range(math.ceil(spec.x.n / t))]
+    return [tile_of(spec, f"{iy}_{ix}") for iy in range(math.ceil(spec.y.n / t)) for ix in range(math.ceil(spec.x.n / t))]
+
+
+def tile_of(spec: MapSpec, key: str) -> Tile:
+    """The tile with this key ("iy_ix"), built directly (O(1): a task must not list every tile of a 4096^2 map)."""
+    try:
+        iy, ix = (int(v) for v in str(key).split("_"))
+    except ValueError:
+        raise ParameterError("tile", f"not a tile key: {key!r}") from None
+    t = spec.tile
+    if not (0 <= iy < math.ceil(spec.y.n / t) and 0 <= ix < math.ceil(spec.x.n / t)):
+        raise ParameterError("tile", f"tile {key!r} is outside the {spec.y.n} x {spec.x.n} grid")
+    return Tile(iy, ix, slice(iy * t, min((iy + 1) * t, spec.y.n)), slice(ix * t, min((ix + 1) * t, spec.x.n)))
 
 
 MAP_FIELDS = _KEYS + ("p_psi0",)
@@ -337,7 +348,7 @@ def compute_map(spec: MapSpec, *, progress=None, client=None) -> ChaosMap:
 def _tile_task(spec_dict: dict, tile_key: str) -> dict:
     """One tile from plain data (a Dask task: picklable, no shared state)."""
     spec = MapSpec.from_dict(spec_dict)
-    return compute_tile(spec, {t.key: t for t in tiles(spec)}[tile_key])
+    return compute_tile(spec, tile_of(spec, tile_key))
 
 
 def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_dt=DEFAULT_RENORM_DT,

@@ -124,7 +124,7 @@ def write_tile(store: Path, tiles_dir: Path, tile: maps.Tile, fields: dict, wall
 def tile_task(spec_dict: dict, tile_key: str, store: str, tiles_dir: str) -> tuple:
     """The Dask task: compute one tile and write it.  Takes plain data (picklable, no shared state)."""
     spec = maps.MapSpec.from_dict(spec_dict)
-    tile = {t.key: t for t in maps.tiles(spec)}[tile_key]
+    tile = maps.tile_of(spec, tile_key)
     t0 = time.perf_counter()
     fields = maps.compute_tile(spec, tile)
     wall = time.perf_counter() - t0

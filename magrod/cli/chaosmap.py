@@ -30,7 +30,7 @@ def add_arguments(p):
     p.add_argument("--renorm-dt", default="10", help="renormalisation interval of the tangent vector")
     p.add_argument("--threshold", default="3", help="chaotic iff growth exponent > threshold")
     p.add_argument("--tile", default="16", help="tile edge in grid points (one Dask task, one zarr chunk)")
-    p.add_argument("--workers", default="2", help="LocalCluster worker processes (1 thread each)")
+    p.add_argument("--workers", default=None, help="LocalCluster worker processes (1 thread each; default 2)")
     p.add_argument("--scheduler", default=None, help="tcp://HOST:PORT of a running Dask scheduler instead")
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--stem", default="chaosmap", help="file name stem")
@@ -87,8 +87,8 @@ def run(args) -> dict:
     import time
 
     spec = spec_from_args(args)
-    workers = integer("workers", args.workers, maximum=64)
-    if args.scheduler is not None and args.workers != "2":
+    workers = integer("workers", 2 if args.workers is None else args.workers, maximum=64)
+    if args.scheduler is not None and args.workers is not None:  # given at all, even as "2" or "2.0"
         raise ParameterError("workers", "sizes the LocalCluster that --scheduler replaces: give one of them")
     scheduler = _check_scheduler(args.scheduler)
     threshold = number("threshold", args.threshold)
@@ -113,8 +113,9 @@ def run(args) -> dict:
     fields = chaos_store.load_fields(pth["store"])
     draw_map(fields, spec, pth["png"], indicator=args.indicator, threshold=threshold)
     summary = maps.map_summary(spec, fields, wall, threshold)
+    computed = set(res["computed"])  # a set once, not per tile: a 4096^2 map has 65 536 tiles
     pts = sum(int(((t.ys.stop - t.ys.start) * (t.xs.stop - t.xs.start))) for t in maps.tiles(spec)
-              if t.key in set(res["computed"]))
+              if t.key in computed)
     summary.update(orbits_computed=pts, orbits_per_s=pts / wall if pts and wall > 0 else None,
                    tiles={"total": n_tiles, "computed": len(res["computed"]), "skipped": len(res["skipped"])},
                    workers=None if scheduler else workers, scheduler=scheduler or "LocalCluster",
