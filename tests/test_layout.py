@@ -20,7 +20,7 @@ NUMERICS = ("core", "orbits", "chaos", "separatrix", "integrability")  # the num
 
 PUBLIC = {
     "RodParams", "Precision", "ParameterError", "panel",
-    "poincare_section", "lyapunov", "chaos_map",
+    "poincare_section", "section_portrait", "orbit_diagram", "lyapunov", "chaos_map",
     "integrability_report",
 }
 

@@ -521,8 +521,11 @@ def start_table(starts, name="starts") -> np.ndarray:
         raise ParameterError(name, f"must have shape (N, 2), (N, 3) or (N, 4) = (theta0, ptheta0[, psi0[, "
                                    f"p_psi0]]), got shape {a.shape}")
     _count_check(a.shape[0], name)
-    if not np.all(np.isfinite(a)):
-        i = int(np.nonzero(~np.all(np.isfinite(a), axis=1))[0][0])
+    fin = np.isfinite(a)
+    if a.shape[1] == 4:
+        fin[:, 3] |= np.isnan(a[:, 3])  # NaN p_psi0: solve for it
+    if not np.all(fin):
+        i = int(np.nonzero(~np.all(fin, axis=1))[0][0])
         raise ParameterError(name, f"start {i} has a non-finite value: {a[i].tolist()}")
     out = np.full((a.shape[0], 4), np.nan)
     out[:, 2] = 0.0

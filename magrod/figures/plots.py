@@ -14,6 +14,8 @@ PLOTTERS: dict[str, str] = {
     "LyapunovResult": "chaos:plot_lyapunov",
     "ChaosMap": "chaos:plot_map",
     "IntegrabilityReport": "integrability:plot_involution",
+    "SectionPortrait": "portrait:plot_portrait",
+    "OrbitDiagram": "portrait:plot_orbit_diagram",
 }
 
 
