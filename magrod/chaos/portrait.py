@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -443,8 +444,10 @@ def orbit_diagram(parameter, values, *, base="4a", h=None, theta0=None, ptheta0=
         orbits = poincare_section(items, iterates=iterates + transient, root=root, direction=direction,
                                   t_max=t_max, workers=workers, progress=progress)
     except ParameterError as exc:
-        if exc.name == "params":
-            raise ParameterError("values", exc.message.replace("entry", "value", 1)) from None
+        m = re.match(r"entry (\d+) ", exc.message)
+        if exc.name == "params" and m:
+            i = int(m.group(1))
+            raise ParameterError("values", f"value {i} = {v[i]:g}: {exc.message[m.end():]}") from None
         raise
     idx, pts = [], []
     for i, r in enumerate(orbits):

@@ -599,8 +599,9 @@ def _job(spec, root):
     except ParameterError as exc:
         if exc.name == "root":
             raise
-        raise ParameterError(name, f"start {i} (theta0={theta0:.17g}, ptheta0={ptheta0:.17g}, psi0={psi0:.17g}): "
-                                   f"{exc.name}: {exc.message}") from None
+        what = f"entry {i}" if name == "params" else f"start {i}"
+        raise ParameterError(name, f"{what} (theta0={float(theta0)!r}, ptheta0={float(ptheta0)!r}, "
+                                   f"psi0={float(psi0)!r}): {exc.name}: {exc.message}") from None
     x0 = systems.euler_to_body(theta0, psi0, ptheta0, p_psi0, pars)
     return Job(index=i, params=params, h=float(h), theta0=float(theta0), ptheta0=float(ptheta0), psi0=float(psi0),
                p_psi0=float(p_psi0), roots=np.asarray(roots, dtype=float), root_index=int(ridx), x0=x0, key=key)

@@ -20,7 +20,7 @@ from .common import pyplot
 LABELS = {"theta": r"$\theta$", "psi": r"$\psi$", "ptheta": r"$\bar p_\theta$", "ppsi": r"$\bar p_\psi$",
           "lam": r"$\bar\lambda$", "gamma": r"$\gamma$", "mu": r"$\mu$", "delta": r"$\delta$", "m": "m"}
 # the reproduce diagram: (number of lambdabar values, iterates per value, indicator time) full and --quick
-REPRODUCE = {False: (200, 500, 2000.0), True: (41, 150, 1000.0)}
+REPRODUCE = {False: (200, 500, 3000.0), True: (41, 150, 1000.0)}
 RANGE = (0.12, 0.2)
 
 
@@ -77,7 +77,7 @@ def draw_orbit_diagram(ax, res, title=None, colors=None):
         from matplotlib.cm import ScalarMappable
 
         norm = _norm(float(np.nanmax(colors)), GROWTH_THRESHOLD)
-        ax.scatter(x, y, s=0.05, c=colors[res.value_index], cmap="viridis", norm=norm, rasterized=True,
+        ax.scatter(x, y, s=0.4, c=colors[res.value_index], cmap="viridis", norm=norm, rasterized=True,
                    linewidths=0)
         cb = ax.figure.colorbar(ScalarMappable(norm=norm, cmap="viridis"), ax=ax)
         cb.set_label(f"growth exponent of the start (chaotic > {GROWTH_THRESHOLD:g})", fontsize=7)
@@ -114,7 +114,7 @@ def save_portrait(res, out_dir, stem: str) -> dict:
     return paths
 
 
-def save_orbit_diagram(res, out_dir, stem: str, *, extra=None, colors=None) -> dict:
+def save_orbit_diagram(res, out_dir, stem: str, *, extra=None, colors=None, band=None) -> dict:
     plt = pyplot()
     out = ensure_writable_dir(out_dir)
     arrays = res.arrays()
@@ -123,31 +123,70 @@ def save_orbit_diagram(res, out_dir, stem: str, *, extra=None, colors=None) -> d
     paths = {"npz": str(atomic_savez(out / f"{stem}.npz", **arrays))}
     fig, ax = plt.subplots(figsize=(7.5, 4.4), dpi=150, layout="constrained")
     draw_orbit_diagram(ax, res, colors=colors)
+    if band is not None and band[1] > band[0]:
+        ax.axvspan(*band, color="0.85", zorder=0)
+        ax.annotate("level not reached\nfrom this start", (0.5 * (band[0] + band[1]), 0.5),
+                    xycoords=("data", "axes fraction"), ha="center", fontsize=7, color="0.3")
+        ax.set_xlim(band[0], max(band[1], float(np.max(res.values))))
     paths["png"] = str(atomic_savefig(fig, out / f"{stem}.png"))
     meta = {**res.summary(), **(extra or {}), "versions": versions(), "files": dict(paths)}
     paths["json"] = str(atomic_write_json(out / f"{stem}.json", meta))
     return paths
 
 
+def accessible_threshold(base="4a", parameter="lam", lo=0.12, hi=0.2, xtol=1e-6):
+    """The smallest value of `parameter` in [lo, hi] at which the base panel's start reaches its level (Hbar = h
+    has a real root pbar_psi), by bisection on the existence of a root (assumed monotone on [lo, hi]: checked at
+    the grid values by the caller); lo if the level is reached there already."""
+    from ..chaos.section import solve_p_psi
+    from ..core.errors import ParameterError
+    from ..core.printed import panel
+
+    P = panel(base)
+
+    def ok(x):
+        try:
+            solve_p_psi(P.params.replace(**{parameter: x}), P.h, P.theta0, P.ptheta0, P.psi0)
+            return True
+        except ParameterError:
+            return False
+
+    if ok(lo):
+        return lo
+    a, b = lo, hi
+    while b - a > xtol:
+        c = 0.5 * (a + b)
+        a, b = (a, c) if ok(c) else (c, b)
+    return b
+
+
 def build(out_dir, *, quick=False, progress=False) -> list[str]:
-    """The reproduce orbit diagram (module docstring)."""
+    """The reproduce orbit diagram (module docstring).  At Figure 4's start the level h = 0.9 is reached only for
+    lambdabar above ~0.1305 (Hbar(theta0, psi0, pbar_theta0, .) > 0.9 for every pbar_psi below): the values under
+    that threshold have no orbit and are drawn as a grey band; the threshold is in the sidecar."""
     from ..chaos.indicators import GROWTH_THRESHOLD
     from ..chaos.maps import panel_indicators
     from ..chaos.portrait import orbit_diagram, start_indicators
 
     n, iterates, t_ind = REPRODUCE[bool(quick)]
     marks = {f"4({k[1]})": PANELS[k]["vary"][1] for k in ("4a", "4b", "4c", "4d")}
-    values = np.linspace(*RANGE, n)
-    with bar(n * iterates, "orbit diagram", progress) as update:
+    grid = np.linspace(*RANGE, n)
+    lam_min = accessible_threshold("4a", "lam", *RANGE)
+    values = grid[grid >= lam_min]
+    with bar(values.size * iterates, "orbit diagram", progress) as update:
         od = orbit_diagram("lam", values, base="4a", iterates=iterates, marks=marks, progress=update)
     ind = start_indicators(od.orbits, t_max=t_ind)
     g = np.where(ind["status"] == 0, ind["growth_exponent"], np.nan)
     # the four panels themselves, on the same footing (same start rule, same indicator time)
     pn = panel_indicators(("4a", "4b", "4c", "4d"), t_max=t_ind)
+    chaotic = g > GROWTH_THRESHOLD
     extra = {"indicator": {"name": "growth_exponent", "t_max": t_ind, "threshold": GROWTH_THRESHOLD,
-                           "fraction_chaotic": float(np.mean(g[np.isfinite(g)] > GROWTH_THRESHOLD)),
+                           "fraction_chaotic": float(np.mean(chaotic[np.isfinite(g)])),
+                           "largest_chaotic_value": float(values[chaotic].max()) if chaotic.any() else None,
                            "panels": {k: {"lam": PANELS[k]["vary"][1], "growth_exponent": v["growth_exponent"],
                                           "chaotic": v["chaotic"]} for k, v in pn.items()}},
-             "label": "fig:poincare1 (orbit diagram)"}
-    paths = save_orbit_diagram(od, ensure_writable_dir(out_dir), "orbitdiagram", extra=extra, colors=g)
+             "range": list(RANGE), "grid_values": int(n), "accessible_from": lam_min,
+             "no_orbit_values": int((grid < lam_min).sum()), "label": "fig:poincare1 (orbit diagram)"}
+    paths = save_orbit_diagram(od, ensure_writable_dir(out_dir), "orbitdiagram", extra=extra, colors=g,
+                               band=(RANGE[0], lam_min))
     return list(paths.values())
