@@ -124,12 +124,17 @@ def _worker(queue: _Queue, finish, *, iterates, t_max, direction, branch, tol, p
     t_stop = np.zeros(b)
     cap = min(iterates, _CHUNK)
 
+    n_active = [0]
+
     def fill(j):
         job = queue.take()
+        if lanes[j] is not None:
+            n_active[0] -= 1
         if job is None:  # park the lane: zero-length steps from now on
             lanes[j] = None
             t_stop[j] = ta.dtime[0][j]
             return
+        n_active[0] += 1
         hi, lo = (np.array(a) for a in ta.dtime)
         hi[j] = lo[j] = 0.0
         ta.set_dtime(hi, lo)  # the other lanes keep their double-length time
@@ -150,36 +155,45 @@ def _worker(queue: _Queue, finish, *, iterates, t_max, direction, branch, tol, p
     for j in range(b):
         fill(j)
     tv = ta.time  # a read-only view of the lanes' times (updated in place by heyoka)
-    while any(L is not None for L in lanes):
+    state = ta.state
+    lane_ids = range(b)
+    any_branch = branch == "any"
+    calls = 0
+    while n_active[0]:
         ta.propagate_until(t_stop)
         # which lanes stopped on the section: their event cooldown has just been armed (elapsed time 0).
         # Reading the cooldowns costs ~0.5 us, propagate_res ~10 us (a list of tuples of enums): the latter is
         # read only when no lane stopped on the section and none reached its t_stop (a failed step).
         cds = ta.te_cooldowns
         hit = False
-        for j in range(b):
+        for j in lane_ids:
+            c = cds[j][0]
+            if c is None or c[0] != 0.0:
+                continue
             L = lanes[j]
             if L is None:
                 continue
-            c = cds[j][0]
-            if c is not None and c[0] == 0.0:
-                hit = True
-                x = np.array(ta.state[:, j])
-                if _keep(x, L.job.pars, branch):
-                    L.record(x, tv[j], iterates)
-                    if progress is not None and L.n - L.reported >= 200:
-                        progress(L.n - L.reported)
-                        L.reported = L.n
-                    if L.n == iterates:
-                        done(j, True, "ok", tv[j])
-                        continue
-            if tv[j] >= t_stop[j]:
-                hit = True
-                done(j, False, f"t_max = {t_stop[j]:g} reached after {L.n} of {iterates} iterates (max-time "
-                               f"guard; raise t_max or check that the orbit crosses sin(psi) = 0)", tv[j])
+            hit = True
+            if any_branch or _keep(state[:, j], L.job.pars, branch):
+                L.record(state[:, j], tv[j], iterates)
+                if L.n == iterates:
+                    done(j, True, "ok", tv[j])
+                elif progress is not None and L.n - L.reported >= 200:
+                    progress(L.n - L.reported)
+                    L.reported = L.n
+        calls += 1
+        # a lane at its t_max idles (zero-length steps) until seen here: look when no lane stopped on the
+        # section (then some lane must be at its limit, or failed) and every 64 calls (a numpy test costs ~2 us)
+        if not hit or not calls % 64:
+            for j in lane_ids:
+                L = lanes[j]
+                if L is not None and tv[j] >= t_stop[j]:
+                    hit = True
+                    done(j, False, f"t_max = {t_stop[j]:g} reached after {L.n} of {iterates} iterates (max-time "
+                                   f"guard; raise t_max or check that the orbit crosses sin(psi) = 0)", tv[j])
         if not hit:
             res = ta.propagate_res
-            for j in range(b):
+            for j in lane_ids:
                 if lanes[j] is not None and int(res[j][0]) not in (_SUCCESS, _TIME_LIMIT, _EVENT):
                     done(j, False, f"integration failed at t = {tv[j]:g} ({res[j][0]}) after {lanes[j].n} "
                                    f"iterates", tv[j])
