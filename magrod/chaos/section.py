@@ -120,15 +120,22 @@ def solve_p_psi(params: RodParams, h, theta0, ptheta0, psi0=0.0) -> np.ndarray:
     level of Hbar.
     Raises ParameterError("h") if there is no root, ParameterError("mu") if no pbar_psi is admissible."""
     theta0, ptheta0, psi0, h = _check_start(theta0, ptheta0, psi0, h)
-    H = systems.reduced_functions()["H"]
-    pars = params.array()
+    cf = systems.reduced_functions()["H"]._cf
+    p = np.ascontiguousarray(params.array()[: cf.nparams])
     lo, hi = _admissible_interval(params)
+    fixed = (theta0, psi0, ptheta0)  # the chart state (theta, psi, pbar_theta, pbar_psi) with pbar_psi = q
 
     def f(q):
+        # the compiled Hbar on columns (theta0, psi0, pbar_theta0, q) with the parameters in every column:
+        # the same inputs as CFunc.__call__ builds with vstack/repeat, filled in place (3x cheaper)
         q = np.atleast_1d(np.asarray(q, dtype=float))
-        x = np.ascontiguousarray(np.vstack([np.full_like(q, theta0), np.full_like(q, psi0),
-                                            np.full_like(q, ptheta0), q]))
-        return H(x, pars)[0] - h
+        x = np.empty((len(fixed) + 1, q.size))
+        for i, v in enumerate(fixed):
+            x[i] = v
+        x[len(fixed)] = q
+        P = np.empty((p.size, q.size))
+        P[:] = p[:, None]
+        return cf(x, pars=P)[0] - h
 
     # bracket [a, b] of the level set: on each unbounded side walk outwards (doubling) until Hbar > h and
     # still increasing outwards, beyond which the quadratic term keeps it increasing
