@@ -24,6 +24,7 @@ def run(args) -> dict:
     from ..generated import scalars
     from ..core.params import RodParams
     from ..core.printed import MULTIPULSE
+    from ..core.tolerances import MU_TOL
 
     base = MULTIPULSE[args.figure]["params"].as_dict() if args.figure else {}
     vals = params_from(args, base)
@@ -31,7 +32,7 @@ def run(args) -> dict:
         raise ParameterError("figure", "give --figure 6|7 or all of " + " ".join(f"--{k}" for k in PARAMS))
     params = RodParams(**vals)
     max_pulses = integer("max_pulses", args.max_pulses)
-    if abs(params.mu - scalars.straight_rod_mu(**vals)) > 64 * 2.220446049250313e-16 * max(1.0, abs(params.mu)):
+    if abs(params.mu - scalars.straight_rod_mu(**vals)) > MU_TOL * max(1.0, abs(params.mu)):
         # mu != 2 lam: orbits to the periodic saddle (helical rod) are generic, found at the given parameters
         from ..figures.continuation import write_periodic_multipulse
 

@@ -5,28 +5,24 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.io import atomic_savefig, atomic_write_json, ensure_writable_dir, versions, write_orbit
 from ..core.printed import MULTIPULSE
 from ..core.progress import bar
+from ..core.tolerances import LAUNCH_DISTANCES
 from ..orbits.equilibrium import straight_rod
-from ..orbits.shooting import LAUNCH_DISTANCES, THETA_CUT, find_orbits, scaled_arclength
+from ..orbits.multipulse import find_orbits
+from ..orbits.shooting import THETA_CUT, scaled_arclength
 from .common import pyplot
 from .rod import plot_rod, rod_from_orbit_file
 
+TAU = f"(s - T)/L, L = T - s(theta first >= {THETA_CUT})"
 
-def write_orbit(entry: dict, out_dir, stem: str, extra: dict | None = None):
-    """Orbit data as .npz (t, body states, reduced coordinates, launch point, pars) + JSON sidecar."""
-    orb, r = entry["orbit"], entry["result"]
-    tau, _ = scaled_arclength(orb)
-    npz = atomic_savez(Path(out_dir) / f"{stem}.npz", t=orb["t"], x=orb["x"], theta=orb["theta"], psi=orb["psi"],
-                       ptheta=orb["ptheta"], ppsi=orb["ppsi"], H=orb["H"], tau=tau, x0=r.x0, T=r.T, eps=r.eps,
-                       pars=r.params.array(), reversor=orb["reversor"])
+
+def write_entry(entry: dict, out_dir, stem: str, extra: dict | None = None) -> list[str]:
+    """One find_orbits entry as an orbit file (magrod.core.io.write_orbit) with the entry's summary as metadata."""
     meta = {k: v for k, v in entry.items() if k not in ("result", "orbit")}
-    meta.update({"shooting": r.as_dict(), "history": r.history, "versions": versions(),
-                 "scale": "B = C = m3 = 1 (derive/numeric_scale.py): t = s, lengths in units of B/m3",
-                 "tau": f"(s - T)/L, L = T - s(theta first >= {THETA_CUT})", **(extra or {})})
-    js = atomic_write_json(Path(out_dir) / f"{stem}.json", meta)
-    return [str(npz), str(js)]
+    meta.update({"tau": TAU, **(extra or {})})
+    return write_orbit(out_dir, stem, entry["result"], samples=entry["orbit"], meta=meta)
 
 
 def multipulse(params, out_dir=None, *, free: str = "lam", max_pulses: int = 6, span: float = 0.5,
@@ -46,7 +42,7 @@ def multipulse(params, out_dir=None, *, free: str = "lam", max_pulses: int = 6, 
     for e in found:
         row = {k: v for k, v in e.items() if k not in ("result", "orbit")}
         if e["success"] and out_dir is not None:
-            row["paths"] = write_orbit(e, out_dir, f"{stem}_N{e['pulses']}",
+            row["paths"] = write_entry(e, out_dir, f"{stem}_N{e['pulses']}",
                                        {"nominal_params": params.as_dict(), "free": free})
         rows.append(row)
     out = {"ok": True, "params": params.as_dict(), "free": free, "span": span, "samples": samples,

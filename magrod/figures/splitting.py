@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.precision import Precision
 from ..separatrix import splitting as S
 from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from .common import pyplot
@@ -67,9 +68,9 @@ LEADING_CASES = [(1.7, 1.0, 1.0, 2.0, 1.0), (1.7, 1.0, 0.0, 2.0, 1.0), (1.7, 0.0
 def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     plt = pyplot()
     out = ensure_writable_dir(out_dir)
-    eps = S.DEFAULT_EPS[::2] if quick else S.DEFAULT_EPS
+    eps = S.EPS_SCAN[::2] if quick else S.EPS_SCAN
     eps_t = [0.1, 0.03, 0.01] if quick else [0.1, 0.0541, 0.0292, 0.0158, 0.00855, 0.00462, 0.0025]
-    prec = ("double", "long") if quick else ("long", "quad")
+    prec = (Precision.DOUBLE, Precision.LONG_DOUBLE) if quick else (Precision.LONG_DOUBLE, Precision.QUAD)
     eq = S.scan(**FIGURE, a=2.0, b=1.0, eps=eps, precisions=prec)
     ctl = S.scan(1.7, 0.0, 0.0, 2.0, 1.0, eps, prec, fit=False)
     ti = S.tilted_scan(**FIGURE, a=4.0, b=1.0, eps=eps_t)

@@ -27,9 +27,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.errors import ParameterError
-from ..generated import scalars
-from ..generated.names import PARAMS
 from ..core.params import RodParams
+from ..core.precision import Precision
+from ..core.tolerances import LAUNCH_DISTANCE
+from .equilibrium import on_level, straight_rod
+from .multipulse import shooting_precision
+from .periodic import periodic_saddle
+from .shooting import residual_and_jacobian
 
 
 @dataclass
@@ -182,56 +186,26 @@ def point_at(F, u_guess, index: int, value: float, *, scale=None, tol=1e-10):
     return correct(F, u, e, scale=scale, tol=tol)[:2]
 
 
-# --- problems --------------------------------------------------------------------------------------------------
+# --- problems ---------------------------------------------------------------------------------------------------
 MU2LAM_FREE = ("m", "gamma", "delta")
 
 
-def mu2lam_problem(base: RodParams, second: str = "m", *, eps: float = 1e-9, precision: str = "long double"):
+def mu2lam_problem(base: RodParams, second: str = "m", *, eps: float = LAUNCH_DISTANCE[Precision.LONG_DOUBLE],
+                   precision=Precision.LONG_DOUBLE):
     """F(T, lam, q) = (pbar_theta, sin psi)(x(T)) for the straight rod's unstable manifold on mu = 2 lam, q =
-    `second` (m, gamma or delta); Jacobian from the variational equations (as magrod.orbits.shooting.shoot).  Returns
-    (F, params_of(u))."""
-    from ..core import systems
-    from .periodic_homoclinic import _fix, _propagate
-    from .equilibrium import straight_rod
-
+    `second` (m, gamma or delta); residual and Jacobian from the one engine (shooting.residual_and_jacobian, mu
+    following lam).  Returns (F, params_of(u))."""
     if second not in MU2LAM_FREE:
         raise ParameterError("second", f"must be one of {MU2LAM_FREE}, got {second!r}")
-    ip = {n: systems.par_index(n) for n in ("mu", "lam", second)}
+    prec = Precision.parse(precision)
 
     def params_of(u):
-        kw = base.as_dict()
-        kw["lam"], kw[second] = float(u[1]), float(u[2])
-        kw["mu"] = scalars.straight_rod_mu(**kw)  # stay on mu = 2 lam, where the straight rod is the saddle
-        return RodParams(**kw)
-
-    def launch(p):
-        return straight_rod(p).launch_point(eps)
+        # stay on mu = 2 lam, where the straight rod is the saddle
+        return on_level(base, lam=float(u[1]), **{second: float(u[2])})
 
     def F(u):
-        p = params_of(u)
-        pars = p.array()
-        ft = systems.PRECISIONS[precision]
-        x0 = straight_rod(p).launch_point(eps, fp_type=ft)
-        x, Phi, Psi = _propagate(x0, pars, u[0], precision)
-        fc, fg = _fix()
-        r = fc(x, [])
-        G = fg(x, []).reshape(2, 9)
-        f = systems.body_functions()["rhs"](x, pars)
-        cols = [G @ f]
-        for name in ("lam", second):
-            v = getattr(p, name)
-            hh = 1e-6 * max(1.0, abs(v))
-            up, um = np.array(u, float), np.array(u, float)
-            j = 1 if name == "lam" else 2
-            up[j] += hh
-            um[j] -= hh
-            dx0 = (launch(params_of(up)) - launch(params_of(um))) / (2 * hh)
-            # d pars/d name with mu kept on the straight rod's level (generated straight_rod_mu_gradient)
-            dpar = np.zeros(len(PARAMS))
-            dpar[ip[name]] = 1.0
-            dpar[ip["mu"]] = scalars.straight_rod_mu_gradient(**params_of(u).as_dict())[ip[name]]
-            cols.append(G @ (Phi @ dx0 + Psi @ dpar))
-        return r, np.column_stack(cols)
+        ev = residual_and_jacobian(straight_rod(params_of(u)), u[0], eps=eps, precision=prec, free=("lam", second))
+        return ev.r, ev.J
 
     return F, params_of
 
@@ -239,24 +213,20 @@ def mu2lam_problem(base: RodParams, second: str = "m", *, eps: float = 1e-9, pre
 PERIODIC_FREE = ("lam", "mu", "m", "gamma", "delta")
 
 
-def periodic_problem(base: RodParams, free: str, pulses: int, *, eps: float | None = None, precision: str = "auto"):
-    """F(T, angle, q) for symmetric homoclinic orbits to the periodic saddle (magrod.orbits.periodic_homoclinic), q =
-    `free`.  Returns (F, params_of(u))."""
-    from . import periodic_homoclinic as hp
-
+def periodic_problem(base: RodParams, free: str, pulses: int, *, eps: float | None = None, precision=None):
+    """F(T, angle, q) for symmetric homoclinic orbits to the periodic saddle (magrod.orbits.periodic_multipulse),
+    q = `free`; the periodic saddle is computed once per point u.  Returns (F, params_of(u))."""
     if free not in PERIODIC_FREE:
         raise ParameterError("free", f"must be one of {PERIODIC_FREE}, got {free!r}")
-    prec = hp._precision(pulses, precision)
-    eps = eps if eps is not None else (hp.DEFAULT_EPS if prec == "double" else hp.EXTENDED_EPS)
+    prec = shooting_precision(pulses, precision)
+    eps = eps if eps is not None else LAUNCH_DISTANCE[prec]
 
     def params_of(u):
-        kw = base.as_dict()
-        kw[free] = float(u[2])
-        return RodParams(**kw)
+        return base.replace(**{free: float(u[2])})
 
     def F(u):
-        r, J, *_ = hp.residual_and_jacobian(params_of(u), u[0], u[1], eps=eps, precision=prec, free=(free,))
-        return r, J
+        ev = residual_and_jacobian(periodic_saddle(params_of(u)), u[0], u[1], eps=eps, precision=prec, free=(free,))
+        return ev.r, ev.J
 
     return F, params_of
 
