@@ -19,9 +19,10 @@ is an angle around the small transverse force rho (rho = O(eps) at the turning p
 state with absolute error ~ ulp/rho, which is why the crossing is evaluated in the working precision.
 
 Cases (both saddles implement the saddle protocol of magrod.orbits.shooting, whose crossing loop is used).
-  a = 2b   the saddle is the straight rod, an equilibrium (magrod.orbits.equilibrium.StraightRod, launched in the
-           working precision); its 2-D unstable manifold is a single orbit modulo the rotations about d3 (the
-           launch phase is a symmetry), so the splitting is ONE number d(eps) per eps.
+  a = 2b   the saddle is the straight rod, an equilibrium (`EquilibriumSaddle`: magrod.orbits.equilibrium's
+           straight rod with its state in the working precision); its 2-D unstable manifold is a single orbit
+           modulo the rotations about d3 (the launch phase is a symmetry), so the splitting is ONE number d(eps)
+           per eps.
   a > 2b   the saddle is the relative equilibrium "straight rod tilted by theta0 = O(eps) from the field" (a
            periodic orbit in the body frame -- the same relative equilibrium as magrod.orbits.periodic's
            PeriodicSaddle -- seen here as an equilibrium (theta0, psi = 0, 0, pbar_psi0) on Fix(R) of the reduced
@@ -104,6 +105,49 @@ def scaled_params(m, gamma, delta, a, b, eps) -> RodParams:
 # --------------------------------------------------------------------------------------------------------------
 # the saddle and its unstable directions
 # --------------------------------------------------------------------------------------------------------------
+def _launch_offset(vector, eta, angle, fp, prec):
+    """eta Re(e^{-i angle} v)/|.| formed in double and then converted to the working precision.  This is the
+    splitting's launch convention (StraightRod.launch_point forms the product in the working precision instead):
+    the eigenvector is a float64 quantity either way, and the measured splitting digits of REPORT.md (derived vs
+    measured leading term, 8.4 digits and more) were established with this rounding, which the long double runs
+    are sensitive to at their noise level (~1e-9 relative)."""
+    d = np.real(np.exp(-1j * angle) * vector)
+    d = d / np.linalg.norm(d)
+    return systems.fp_array(eta * d, fp, prec)
+
+
+@dataclass
+class EquilibriumSaddle:
+    """The straight rod (a = 2b) in the working precision: body state x_body computed there (1/m^2 rounded in
+    that precision), the unstable eigenvalue and eigenvector of magrod.orbits.equilibrium.straight_rod (float64),
+    H the chart energy Hbar of the saddle.  Implements the saddle protocol of magrod.orbits.shooting in its own
+    precision (kind "equilibrium": the launch angle is a symmetry direction)."""
+
+    params: RodParams
+    precision: Precision
+    x_body: np.ndarray
+    eigenvalue: complex
+    vector: np.ndarray
+    H: object
+    newton_residual: float = 0.0
+
+    kind = "equilibrium"
+
+    def launch_point(self, eps: float, angle: float = 0.0, precision=None) -> np.ndarray:
+        """x_body + eps Re(e^{-i angle} v)/|.| (`_launch_offset`), in the saddle's working precision."""
+        _same_precision(self, precision)
+        return self.x_body + _launch_offset(self.vector, eps, angle, self.precision.fp_type, self.precision.prec)
+
+    def at(self, params: RodParams) -> "EquilibriumSaddle":
+        return working_saddle(params, self.precision)
+
+
+def _same_precision(sd, precision):
+    if precision is not None and Precision.parse(precision) is not sd.precision:
+        raise ParameterError("precision", f"this saddle was computed in {sd.precision.value}; got "
+                                          f"{Precision.parse(precision).value}")
+
+
 @dataclass
 class TiltedSaddle:
     """The tilted straight rod (a > 2b) in the working precision: chart state q = (theta0, 0, 0, pbar_psi0) on
@@ -125,14 +169,9 @@ class TiltedSaddle:
     def launch_point(self, eps: float, angle: float = 0.0, precision=None) -> np.ndarray:
         """Body state of q + eps theta0 Re(e^{-i angle} v)/|.| (the distance relative to the tilt theta0, on the
         chart's linear unstable manifold), formed in the saddle's working precision."""
-        if precision is not None and Precision.parse(precision) is not self.precision:
-            raise ParameterError("precision", f"this saddle was computed in {self.precision.value}; got "
-                                              f"{Precision.parse(precision).value}")
+        _same_precision(self, precision)
         fp, prec = self.precision.fp_type, self.precision.prec
-        d = np.real(np.exp(-1j * angle) * self.vector)
-        d = d / np.linalg.norm(d)
-        scale = float(self.q[0])
-        q = self.q + systems.fp_array(eps * scale * d, fp, prec)
+        q = self.q + _launch_offset(self.vector, eps * float(self.q[0]), angle, fp, prec)
         return systems.splitting_functions(fp, prec)["to_body"](q, self.params.array())
 
     def at(self, params: RodParams) -> "TiltedSaddle":
@@ -140,17 +179,19 @@ class TiltedSaddle:
 
 
 def working_saddle(params: RodParams, precision=Precision.DOUBLE):
-    """The saddle at `params` in the working precision: the straight rod (magrod.orbits.equilibrium.StraightRod,
-    whose launch_point forms the launch in that precision) when mu = 2 lam exactly, else the TiltedSaddle."""
+    """The saddle at `params` in the working precision: the straight rod (`EquilibriumSaddle`) when mu = 2 lam
+    exactly, else the `TiltedSaddle`."""
     precision = Precision.parse(precision)
     fp, prec = precision.fp_type, precision.prec
     F = systems.splitting_functions(fp, prec)
     pars = params.array()
     mu_level = scalars.straight_rod_mu(**params.as_dict())  # mu = 2 lam
     if params.mu == mu_level:
-        from ..orbits.equilibrium import straight_rod
+        from ..orbits.equilibrium import straight_rod, straight_rod_state
 
-        return straight_rod(params)
+        s = straight_rod(params)
+        x = straight_rod_state(params, precision)
+        return EquilibriumSaddle(params, precision, x, s.unstable_eigenvalue, s.unstable_vector, F["H"](x, pars)[0])
     # tilted straight rod: Newton on (theta, pbar_psi) for theta' = pbar_theta'... = 0 at psi = pbar_theta = 0
     # (psi' = 0 and pbar_theta' = 0; psi = 0 and pbar_theta = 0 make theta' = pbar_psi' = 0 by the reversibility)
     th0 = math.sqrt(params.mu - mu_level)  # leading order: the tilt of the force from the field
