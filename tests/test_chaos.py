@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from magrod.chaos import indicators as chaos
+from magrod.chaos import indicators as chaos, maps
 from magrod import cli
 
 THR = chaos.GROWTH_THRESHOLD
@@ -28,8 +28,8 @@ def magrod(*argv, timeout=300, **kw):
 
 
 def _spec(x, y, t_max=300.0, tile=4, **over):
-    return chaos.MapSpec(chaos.parse_axis("x", x), chaos.parse_axis("y", y),
-                         base={**chaos.panel_base("4a"), **over}, t_max=t_max, tile=tile)
+    return maps.MapSpec(maps.parse_axis("x", x), maps.parse_axis("y", y),
+                         base={**maps.panel_base("4a"), **over}, t_max=t_max, tile=tile)
 
 
 # ------------------------------------------------------------------------------------------------------------
@@ -73,7 +73,7 @@ INTEGRABLE = [
                                                       INTEGRABLE])
 def test_integrable_limits_are_regular(x, y, over):
     """lam = 0 and gamma = delta = 0 (I2bar conserved, generated/report.md): every computed point regular."""
-    r = chaos.chaos_map(_spec(x, y, t_max=2000.0, tile=6, **over))
+    r = maps.chaos_map(_spec(x, y, t_max=2000.0, tile=6, **over))
     ok = r.fields["status"] == chaos.OK
     assert ok.sum() >= 8, r.summary()
     g = r.fields["growth_exponent"][ok]
@@ -85,7 +85,7 @@ def test_integrable_limits_are_regular(x, y, over):
 
 def test_paper_panels_4a_chaotic_4d_regular():
     """fig:poincare1: (a) a chaotic sea, (d) a closed curve -- by the indicator, at T = 3000."""
-    p = chaos.panel_indicators(("4a", "4d"), t_max=3000.0)
+    p = maps.panel_indicators(("4a", "4d"), t_max=3000.0)
     assert p["4a"]["chaotic"] and p["4a"]["growth_exponent"] > 3 * THR
     assert not p["4d"]["chaotic"] and p["4d"]["growth_exponent"] < 1.5
     for d in p.values():  # conservation budget at the level of the Poincare runs (~1e-13)
@@ -93,7 +93,7 @@ def test_paper_panels_4a_chaotic_4d_regular():
 
 
 def _panel_starts(keys):
-    s = [chaos.start_point(chaos.panel_base(k)) for k in keys]
+    s = [maps.start_point(maps.panel_base(k)) for k in keys]
     return np.array([a[0] for a in s]).T, np.array([a[1] for a in s]).T
 
 
@@ -133,8 +133,8 @@ def test_projection_does_not_change_the_verdict():
 
 def test_results_do_not_depend_on_tiling():
     """A lane's result does not depend on its batch neighbours: tile sizes 3 and 4 give bit-identical maps."""
-    a = chaos.chaos_map(_spec("lam:0.12:0.2:6", "gamma:2:4:6", tile=4)).fields
-    b = chaos.chaos_map(_spec("lam:0.12:0.2:6", "gamma:2:4:6", tile=3)).fields
+    a = maps.chaos_map(_spec("lam:0.12:0.2:6", "gamma:2:4:6", tile=4)).fields
+    b = maps.chaos_map(_spec("lam:0.12:0.2:6", "gamma:2:4:6", tile=3)).fields
     for k in a:
         assert np.array_equal(a[k], b[k], equal_nan=True), k
 
@@ -201,7 +201,7 @@ def test_one_and_two_workers_bit_identical(tmp_path):
     _, p1 = _store_run(spec, tmp_path / "w1", workers=1)
     _, p2 = _store_run(spec, tmp_path / "w2", workers=2)
     f1, f2 = chaos_store.load_fields(p1["store"]), chaos_store.load_fields(p2["store"])
-    ref = chaos.chaos_map(spec).fields
+    ref = maps.chaos_map(spec).fields
     for k in ref:
         assert f1[k].tobytes() == f2[k].tobytes(), k
         assert f1[k].tobytes() == np.asarray(ref[k], f1[k].dtype).tobytes(), k
@@ -226,7 +226,7 @@ def test_resume_skips_finished_tiles(tmp_path):
     assert set(res2["computed"]).isdisjoint(first)
     assert {k: (pth["tiles"] / f"{k}.json").stat().st_mtime_ns for k in first} == stamps
     f = chaos_store.load_fields(pth["store"])
-    ref = chaos.chaos_map(spec).fields
+    ref = maps.chaos_map(spec).fields
     for k in ref:
         assert np.array_equal(f[k], ref[k], equal_nan=True), k
     # a store of a different map is refused, not silently mixed
@@ -298,7 +298,7 @@ def test_scheduler_attach_and_help(tmp_path, capsys):
     obj = json.loads(capsys.readouterr().out)
     assert obj["scheduler"] == cluster.scheduler_address and obj["tiles"]["computed"] == 4
     f = chaos_store.load_fields(Path(obj["output"]["store"]))
-    ref = chaos.chaos_map(_spec("lam:0.12:0.2:4", "gamma:2:4:4", tile=2)).fields
+    ref = maps.chaos_map(_spec("lam:0.12:0.2:4", "gamma:2:4:4", tile=2)).fields
     for k in ref:
         assert np.array_equal(f[k], ref[k], equal_nan=True), k
 

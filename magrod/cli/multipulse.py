@@ -5,7 +5,7 @@ from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from .options import add_params, integer, number, out_dir, params_from
 
-FREE = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))  # = magrod.orbits.shooting.FREE_PARAMETERS
+FREE = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))  # = magrod.orbits.multipulse.FREE_PARAMETERS
 
 
 def add_arguments(p):

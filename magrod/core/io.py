@@ -44,15 +44,19 @@ def _umask() -> int:
 
 
 def versions() -> dict:
-    import heyoka
-    import matplotlib
-    import scipy
+    """Versions of magrod and the packages its numbers depend on (from the installed metadata: nothing imported)."""
+    from importlib.metadata import PackageNotFoundError, version
 
     from .. import __version__
 
-    return {"magrod": __version__, "heyoka": heyoka.__version__, "numpy": np.__version__,
-            "scipy": scipy.__version__, "matplotlib": matplotlib.__version__,
-            "python": platform.python_version()}
+    out = {"magrod": __version__}
+    for pkg in ("heyoka", "numpy", "scipy", "matplotlib"):
+        try:
+            out[pkg] = version(pkg)
+        except PackageNotFoundError:  # pragma: no cover - every one is a dependency
+            out[pkg] = None
+    out["python"] = platform.python_version()
+    return out
 
 
 def check_out_path(path, name: str = "out") -> Path:

@@ -29,7 +29,7 @@ def multipulse(params, out_dir=None, *, free: str = "lam", max_pulses: int = 6, 
                samples: int = 81, stem: str = "multipulse", progress: bool = False,
                with_uncertainty: bool = True) -> tuple:
     """find_orbits + files: one .npz/.json per orbit found and a table (JSON) of all N <= max_pulses, each
-    found orbit with the free parameter at two eps and two precisions (shooting.uncertainty: value, uncertainty,
+    found orbit with the free parameter at two eps and two precisions (multipulse.uncertainty: value, uncertainty,
     significant digits) unless with_uncertainty is False.  Returns (summary dict, the find_orbits entries)."""
     straight_rod(params)  # bad input fails before any file is written
     if out_dir is not None:

@@ -9,7 +9,20 @@ from __future__ import annotations
 import importlib
 
 # result class name -> "module:function" (module relative to magrod.figures), imported on first use
-PLOTTERS: dict[str, str] = {}
+PLOTTERS: dict[str, str] = {
+    "PoincareResult": "poincare:plot_section",
+    "LyapunovResult": "chaos:plot_lyapunov",
+    "ChaosMap": "chaos:plot_map",
+    "IntegrabilityReport": "integrability:plot_involution",
+    # orbits (magrod/figures/orbits.py)
+    "StraightRod": "orbits:plot_saddle",
+    "PeriodicSaddle": "orbits:plot_saddle",
+    "HomoclinicOrbit": "orbits:plot_homoclinic",
+    "MultipulseOrbit": "orbits:plot_orbit",
+    "MultipulseSearch": "orbits:plot_search",
+    "Branch": "orbits:plot_branch",
+    "RodShape": "orbits:plot_rod_shape",
+}
 
 
 def axes(ax=None, *, projection=None, figsize=(5.0, 4.0)):

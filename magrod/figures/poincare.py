@@ -33,6 +33,15 @@ def plot_points(ax, res, title=None):
         ax.set_title(title, fontsize=8)
 
 
+def plot_section(res, ax=None, **kw):
+    """PoincareResult.plot: the section points in (theta, pbar_theta) on ax (a new figure if None)."""
+    from .plots import axes
+
+    ax = axes(ax)
+    plot_points(ax, res, panel_title(res.panel, res))
+    return ax
+
+
 def save_result(res, out_dir, stem: str, *, key=None, label=None, formats=("png",)) -> dict:
     """Write <stem>.npz (arrays), <stem>.json (metadata, versions) and <stem>.png atomically; returns the paths."""
     plt = pyplot()

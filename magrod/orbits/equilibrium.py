@@ -9,7 +9,7 @@ chart is singular exactly at the saddle, which is why everything here is done in
 Spectrum (Jacobian of x' = J grad H from heyoka's symbolic differentiation, hy.diff): three zeros (Casimirs),
 one centre pair +-i w and a complex quartet +-a +-i b.  The rotations about the body 3-axis (phi shifts,
 derive/symmetry.py) fix the saddle, so its 2-D unstable eigenspace is a single complex line on which they act
-as the phase: the unstable manifold is ONE orbit modulo this symmetry (see magrod/shooting.py).
+as the phase: the unstable manifold is ONE orbit modulo this symmetry (see magrod.orbits.shooting).
 
 For mu != 2 lambdabar the straight rod is off the chart's level and the saddle-type set is a periodic orbit of
 the body frame (a uniform helix, paper sec. 3): magrod.orbits.periodic.  Both implement the saddle protocol of

@@ -18,12 +18,14 @@ generic): magrod.orbits.periodic_multipulse.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..core.errors import ParameterError, require_positive_int
 from ..core.params import RodParams
 from ..core.precision import Precision
+from ..core.results import Result, jsonable
 from ..core.tolerances import FLOOR_CAP, FLOOR_FACTOR, LAUNCH_DISTANCE, LAUNCH_DISTANCES, SHOOTING_TOL, STALL_ITERATIONS
 from ..generated.names import PARAMS
 from . import shooting
@@ -324,19 +326,20 @@ def significant(value: float, uncertainty: float) -> str:
 
 def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, span: float = 0.5,
                 samples: int = 81, eps: float | None = None, tol: float = SHOOTING_TOL, progress=None,
-                max_brackets: int = 8, with_uncertainty: bool = False) -> list[dict]:
+                max_brackets: int = 8, with_uncertainty: bool = False, saddle: StraightRod | None = None) -> list[dict]:
     """For N = 1..max_pulses: scan the free parameter over value * [1 - span, 1 + span] (linearly, `samples`
     points, double precision), bracket sign changes of sin(psi) at the N-th crossing, and from the brackets
     nearest to the nominal value (at most max_brackets): bisect on sin(psi) in the shooting precision (long
     double for N >= 2, as `shoot`), then Newton on (T, free) from the bisected value; keep converged orbits
     whose counted pulses equal N.  with_uncertainty: also the free parameter at two eps and two precisions
     (`uncertainty`, ~4x the cost).  Returns one entry per N (the converged orbit closest to the nominal value,
-    or a failure record listing what each bracket gave)."""
+    or a failure record listing what each bracket gave).  saddle: the straight rod at `params` if already
+    computed."""
     if free not in FREE_PARAMETERS:
         raise ParameterError("free", f"must be one of {FREE_PARAMETERS}, got {free!r}")
     max_pulses = require_positive_int("max_pulses", max_pulses)
     max_brackets = require_positive_int("max_brackets", max_brackets)
-    s = straight_rod(params)  # ParameterError early if there is no saddle
+    s = saddle if saddle is not None else straight_rod(params)  # ParameterError early if there is no saddle
     if params.lam == 0:
         # integrable case (psi is a gauge): only the primary orbit, unknown T alone
         r = shoot(params, 1, free=None, eps=eps, tol=tol, saddle=s)
@@ -394,3 +397,147 @@ def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, sp
             entry["message"] = "; ".join(entry["attempts"])
         found.append(entry)
     return found
+
+
+# --- the public search -------------------------------------------------------------------------------------------
+@dataclass(repr=False)
+class MultipulseSearch(Result):
+    """The symmetric multipulse homoclinic orbits found at (or, for the straight rod, near) `params`: `orbits`
+    (MultipulseOrbit, ordered by pulses; indexable: search[0]), `failures` (one dict per N without an orbit:
+    pulses_target, message), the saddle, and the search settings."""
+
+    success: bool
+    message: str
+    params: RodParams
+    saddle: object
+    orbits: list
+    failures: list = field(default_factory=list)
+    max_pulses: int = 0
+    free: str | None = None
+    wall_time_s: float = 0.0
+
+    _repr_fields = ("kind", "params", "pulses", "failures")
+
+    @property
+    def kind(self) -> str:
+        return self.saddle.kind
+
+    @property
+    def pulses(self) -> list:
+        """The pulse numbers of the orbits found."""
+        return [o.pulses for o in self.orbits]
+
+    def __len__(self) -> int:
+        return len(self.orbits)
+
+    def __getitem__(self, i) -> MultipulseOrbit:
+        return self.orbits[i]
+
+    def __iter__(self):
+        return iter(self.orbits)
+
+    def to_dict(self) -> dict:
+        return {"success": self.success, "message": self.message, "kind": self.kind,
+                "params": self.params.as_dict(), "saddle_H": self.saddle.H, "max_pulses": self.max_pulses,
+                "free": self.free, "orbits": [o.to_dict() for o in self.orbits], "failures": jsonable(self.failures),
+                "wall_time_s": self.wall_time_s}
+
+
+def multipulse_orbits(params: RodParams, max_pulses: int = 4, *, free: str = "lam", span: float = 0.5,
+                      samples: int | None = None, with_uncertainty: bool = False, progress=None) -> MultipulseSearch:
+    """Symmetric N-pulse homoclinic orbits, N = 1..max_pulses, to the saddle that exists at `params`.
+
+    Parameters
+    ----------
+    params : RodParams
+        mu = 2 lam (within MU_TOL): the saddle is the straight rod and symmetric orbits are of codimension one --
+        each exists at its own value of `free`, searched within value * [1 - span, 1 + span]; mu > 2 lam: the
+        saddle is the helical periodic one and orbits are generic, found at `params` (launch-angle scan).
+    max_pulses : int
+        Largest N (>= 1).
+    free : str
+        Straight rod only: the parameter solved for with T (lam, m, gamma or delta; mu follows on mu = 2 lam).
+    span : float
+        Straight rod only: relative scan range of `free`, in (0, 1).
+    samples : int, optional
+        Scan samples: values of `free` (straight rod, default 81) or launch angles (periodic saddle, default 121).
+    with_uncertainty : bool
+        Straight rod only: also the free parameter at two launch distances and two precisions (~4x the cost;
+        MultipulseOrbit.uncertainty with its significant digits).
+    progress : callable, optional
+        progress(k) after each scan sample (straight rod).
+
+    Returns
+    -------
+    MultipulseSearch
+        Indexable collection of MultipulseOrbit (pulses, T, x0, residual, params, saddle, `.sample(n)`,
+        `.accuracy`, `.plot()`), with the N that gave no orbit in `failures`; success iff at least one orbit.
+
+    Raises
+    ------
+    ParameterError
+        "mu" if mu < 2 lam (no saddle near the straight rod); "m" if the saddle is not hyperbolic; "max_pulses",
+        "samples", "span" or "free" if out of range; "lam" ("free") if the free parameter is zero.
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> from magrod.orbits.multipulse import multipulse_orbits
+    >>> fig6 = mr.RodParams(m=1.7, mu=0.002, gamma=1, delta=1, lam=0.001)    # fig:multimodal1, mu = 2 lam
+    >>> found = multipulse_orbits(fig6, max_pulses=2, samples=41)
+    >>> [(o.pulses, round(o.free_value, 9)) for o in found]    # lam* of the 2-pulse orbit (docs/errata.md)
+    [(2, 0.001262081)]
+    >>> found[0].residual < 1e-10, [f["pulses_target"] for f in found.failures]
+    (True, [1])
+
+    Notes
+    -----
+    Method: shooting onto Fix(R) with the one engine (magrod.orbits.shooting): a scan (sin psi at the N-th zero of
+    pbar_theta over the free parameter, or over the launch angle), bisection on the sign changes, Newton with the
+    variational Jacobian; an orbit is kept only if its counted pulses equal N.  Precision: double for N = 1, long
+    double and launch distance 1e-9 from N = 2 (tolerances.LAUNCH_DISTANCE).  Accuracy: residual <= 1e-10
+    (SHOOTING_TOL) or within the measured rounding floor (straight rod, N >= 3: noise_floor and resolution
+    say how far the free parameter can be from the root).  Cost: ~1-3 s per N in long double (bisection and
+    Newton), ~4x with_uncertainty.  References: paper sec. 8 (fig:multimodal1, fig:multimodal2); van der Heijden,
+    Champneys and Thompson 1998 (shooting for reversible homoclinic orbits); docs/errata.md (lam* table).
+    """
+    import time
+
+    from .shooting import saddle as saddle_of
+
+    if not isinstance(params, RodParams):
+        raise ParameterError("params", f"must be a RodParams, got {type(params).__name__}")
+    max_pulses = require_positive_int("max_pulses", max_pulses)
+    if samples is not None:
+        samples = require_positive_int("samples", samples)
+        if samples < 3:
+            raise ParameterError("samples", f"must be >= 3, got {samples}")
+    t0 = time.perf_counter()
+    s = saddle_of(params)
+    orbits, failures = [], []
+    if s.kind == "equilibrium":
+        if not (0 < float(span) < 1):
+            raise ParameterError("span", f"must be in (0, 1), got {span}")
+        found = find_orbits(params, free=free, max_pulses=max_pulses, span=float(span), samples=samples or 81,
+                            with_uncertainty=with_uncertainty, progress=progress, saddle=s)
+        for e in found:
+            if e["success"]:
+                orbits.append(e["result"])
+            else:
+                failures.append({"pulses_target": e["pulses_target"], "message": e["message"]})
+        free_used = free
+    else:
+        from . import periodic_multipulse as pm
+
+        for N in range(1, max_pulses + 1):
+            got = pm.find(params, N, samples=samples or 121, saddle=s)
+            if not got:
+                failures.append({"pulses_target": N, "message": "no sign change of sin psi over the launch-angle "
+                                 "scan converged to a symmetric orbit with this many pulses"})
+            orbits += got
+        free_used = None
+    n = len(orbits)
+    msg = (f"{n} symmetric orbit(s) to the {'straight rod' if s.kind == 'equilibrium' else 'periodic saddle'} "
+           f"for N <= {max_pulses}" + (f"; none for N = {[f['pulses_target'] for f in failures]}" if failures else ""))
+    return MultipulseSearch(n > 0, msg, params, s, orbits, failures, max_pulses, free_used,
+                            time.perf_counter() - t0)
