@@ -32,6 +32,11 @@ from . import shooting
 from .equilibrium import StraightRod, on_level, straight_rod
 from .shooting import MultipulseOrbit, count_pulses, fix_functions, residual_and_jacobian, unstable_branch
 
+MAX_DIGITS = 15  # significant digits a float64 value is printed with (`significant`)
+# the free-parameter scan: this many intervals over value * [1 - span, 1 + span] (1.25 % of the value each at
+# span 0.5), i.e. SCAN_INTERVALS + 1 samples
+SCAN_INTERVALS = 80
+ANGLE_SAMPLES = 121  # launch angles of the periodic saddle's scan (3 degrees apart)
 # mu is not free: it follows the free parameter so that the straight rod stays on the chart's level (mu = 2 lam)
 FREE_PARAMETERS = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))
 
@@ -40,7 +45,7 @@ def shooting_precision(crossing: int, precision=None) -> Precision:
     """The precision of a shot at the `crossing`-th zero: `precision` if given (a Precision or its value), else
     double for the first crossing (no passage near the saddle before it) and long double from the second on
     (after a near-saddle passage psi inherits the launch error divided by the small transverse force)."""
-    if precision is None or precision == "auto":
+    if precision is None:
         return Precision.DOUBLE if crossing == 1 else Precision.LONG_DOUBLE
     return Precision.parse(precision)
 
@@ -56,7 +61,7 @@ def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", eps: fl
     integration (135 equations) per iteration, ~10-50 ms each (x10 in long double).  saddle: the straight rod
     at `params` if already computed.
 
-    precision None ("auto"): double for the first crossing, long double and eps = LAUNCH_DISTANCE[long double]
+    precision None (automatic): double for the first crossing, long double and eps = LAUNCH_DISTANCE[long double]
     (1e-9) for later crossings.  Near the saddle psi is the angle of the transverse force rho ~ sqrt(lam) theta
     (~1e-6 there), so psi after (or at) a near-saddle passage inherits the O(eps^2) error of the linear launch
     and the rounding of n divided by rho: in double precision this puts a floor of ~1e-8..1e-7 on the residual
@@ -315,7 +320,8 @@ def significant(value: float, uncertainty: float) -> str:
     if value == 0 or not math.isfinite(uncertainty):
         return repr(value)
     lead = math.floor(math.log10(abs(value)))
-    last = lead - 14 if uncertainty <= 0 else max(math.floor(math.log10(uncertainty)), lead - 14)
+    last_digit = lead - (MAX_DIGITS - 1)
+    last = last_digit if uncertainty <= 0 else max(math.floor(math.log10(uncertainty)), last_digit)
     decimals = max(0, -last)
     u = max(1, math.ceil(uncertainty / 10.0**last - 1e-9)) if uncertainty > 0 else 1
     if u >= 10:  # 9.6 rounds up a decade
@@ -325,7 +331,7 @@ def significant(value: float, uncertainty: float) -> str:
 
 
 def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, span: float = 0.5,
-                samples: int = 81, eps: float | None = None, tol: float = SHOOTING_TOL, progress=None,
+                samples: int = SCAN_INTERVALS + 1, eps: float | None = None, tol: float = SHOOTING_TOL, progress=None,
                 max_brackets: int = 8, with_uncertainty: bool = False, saddle: StraightRod | None = None) -> list[dict]:
     """For N = 1..max_pulses: scan the free parameter over value * [1 - span, 1 + span] (linearly, `samples`
     points, double precision), bracket sign changes of sin(psi) at the N-th crossing, and from the brackets
@@ -518,7 +524,7 @@ def multipulse_orbits(params: RodParams, max_pulses: int = 4, *, free: str = "la
     if s.kind == "equilibrium":
         if not (0 < float(span) < 1):
             raise ParameterError("span", f"must be in (0, 1), got {span}")
-        found = find_orbits(params, free=free, max_pulses=max_pulses, span=float(span), samples=samples or 81,
+        found = find_orbits(params, free=free, max_pulses=max_pulses, span=float(span), samples=samples or SCAN_INTERVALS + 1,
                             with_uncertainty=with_uncertainty, progress=progress, saddle=s)
         for e in found:
             if e["success"]:
@@ -530,7 +536,7 @@ def multipulse_orbits(params: RodParams, max_pulses: int = 4, *, free: str = "la
         from . import periodic_multipulse as pm
 
         for N in range(1, max_pulses + 1):
-            got = pm.find(params, N, samples=samples or 121, saddle=s)
+            got = pm.find(params, N, samples=samples or ANGLE_SAMPLES, saddle=s)
             if not got:
                 failures.append({"pulses_target": N, "message": "no sign change of sin psi over the launch-angle "
                                  "scan converged to a symmetric orbit with this many pulses"})

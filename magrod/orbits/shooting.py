@@ -108,7 +108,7 @@ def saddle(params: RodParams) -> Saddle:
     >>> from magrod.orbits.shooting import saddle
     >>> s = saddle(mr.RodParams(m=1.7, mu=0.002, gamma=1, delta=1, lam=0.001))
     >>> s.kind, round(s.unstable_eigenvalue.real, 6)
-    ('equilibrium', 0.657386)
+    ('equilibrium', 0.664602)
     >>> saddle(mr.RodParams(m=1.7, mu=0.0021, gamma=1, delta=1, lam=0.001)).kind
     'periodic'
 
