@@ -34,11 +34,11 @@ def run(args) -> dict:
     max_pulses = integer("max_pulses", args.max_pulses)
     if abs(params.mu - scalars.straight_rod_mu(**vals)) > MU_TOL * max(1.0, abs(params.mu)):
         # mu != 2 lam: orbits to the periodic saddle (helical rod) are generic, found at the given parameters
-        from ..figures.continuation import write_periodic_multipulse
+        from ..figures.multipulse import periodic_multipulse
 
         samples = integer("samples", args.samples, minimum=3)
         out_dir("out", args.out)
-        return write_periodic_multipulse(params, args.out, max_pulses=max_pulses, samples=samples,
+        return periodic_multipulse(params, args.out, max_pulses=max_pulses, samples=samples,
                                          progress=not args.quiet)
     span = number("span", args.span)
     if not (0 < span < 1):

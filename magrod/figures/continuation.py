@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions, write_orbit
+from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.params import RodParams
 from ..orbits import continuation as C
 from ..orbits import multipulse as mp
@@ -144,17 +144,3 @@ def write_branch(branch, meta: dict, out_dir, stem: str) -> list[str]:
     paths = [str(npz), str(out / f"{stem}.json"), str(png)]
     atomic_write_json(out / f"{stem}.json", {**meta, "paths": paths, "versions": versions()})
     return paths
-
-
-def write_periodic_multipulse(params, out_dir, *, max_pulses: int = 3, samples: int = 121,
-                              progress: bool = False) -> dict:
-    """`magrod multipulse` for mu != 2 lam: periodic_multipulse.multipulse_rows plus one orbit file per orbit found
-    (magrod.core.io.write_orbit: the schema `magrod rod --from` reads)."""
-    out = ensure_writable_dir(out_dir) if out_dir is not None else None
-    summary, found = pm.multipulse_rows(params, max_pulses=max_pulses, samples=samples)
-    for row, r in found:
-        if out is None:
-            continue
-        stem = f"multipulse_periodic_N{row['pulses']}_{row['index']}"
-        row["paths"] = write_orbit(out, stem, r, meta=dict(row))
-    return summary

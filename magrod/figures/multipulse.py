@@ -1,5 +1,6 @@
 """Figures of sec. 8, symmetric multipulse homoclinic orbits: fig:multimodal1 (Figure 6) and fig:multimodal2
-(Figure 7), and the files of `magrod multipulse` (one .npz/.json per orbit, a table of all N)."""
+(Figure 7), and the files of `magrod multipulse` for either saddle (one orbit file per orbit, magrod.core.io
+.write_orbit; a table of all N)."""
 from __future__ import annotations
 
 import time
@@ -57,6 +58,22 @@ def multipulse(params, out_dir=None, *, free: str = "lam", max_pulses: int = 6, 
     if out_dir is not None:
         out["table"] = str(atomic_write_json(Path(out_dir) / f"{stem}_table.json", {**out, "versions": versions()}))
     return out, found
+
+
+def periodic_multipulse(params, out_dir, *, max_pulses: int = 3, samples: int = 121,
+                         progress: bool = False) -> dict:
+    """`magrod multipulse` for mu != 2 lam: periodic_multipulse.multipulse_rows plus one orbit file per orbit found
+    (magrod.core.io.write_orbit: the schema `magrod rod --from` reads)."""
+    from ..orbits import periodic_multipulse as pm
+
+    out = ensure_writable_dir(out_dir) if out_dir is not None else None
+    summary, found = pm.multipulse_rows(params, max_pulses=max_pulses, samples=samples)
+    for row, r in found:
+        if out is None:
+            continue
+        stem = f"multipulse_periodic_N{row['pulses']}_{row['index']}"
+        row["paths"] = write_orbit(out, stem, r, meta=dict(row))
+    return summary
 
 
 def _lam_text(e: dict) -> str:
