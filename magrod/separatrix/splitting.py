@@ -358,7 +358,8 @@ class SplittingScan:
     notes: list = field(default_factory=list)
 
     def table(self, precision=None):
-        pr = precision or self.precisions[-1]
+        """The crossings of one precision (a Precision or its value; default the reference) as dicts."""
+        pr = Precision.parse(precision) if precision is not None else self.precisions[-1]
         return [asdict(c) for c in self.crossings[pr]]
 
     def as_dict(self):
