@@ -14,6 +14,7 @@ PLOTTERS: dict[str, str] = {
     "LyapunovResult": "chaos:plot_lyapunov",
     "ChaosMap": "chaos:plot_map",
     "IntegrabilityReport": "integrability:plot_involution",
+    "Splitting": "splitting:plot_splitting",
     # orbits (magrod/figures/orbits.py)
     "StraightRod": "orbits:plot_saddle",
     "PeriodicSaddle": "orbits:plot_saddle",

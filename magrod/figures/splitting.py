@@ -120,3 +120,26 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     paths.append(str(atomic_savefig(fig, out / "splitting.png", dpi=150)))
     plt.close(fig)
     return paths
+
+
+def plot_splitting(res, ax=None, **kw):
+    """Splitting.plot: |measure| against eps (log-log) in the reference precision, the power-law fit and, at
+    a = 2b, the derived leading term b C_psi eps^2."""
+    from .plots import axes
+
+    ax = axes(ax)
+    e = np.asarray(res.eps, float)
+    ax.loglog(e, np.abs(res.measure), "ko", ms=4, label=("|psi_u|" if res.kind == "equilibrium" else "|s1|")
+              + f" ({res.precisions[-1]})", **kw)
+    grid = np.geomspace(e.min(), e.max(), 50)
+    if res.fit is not None:
+        ax.loglog(grid, abs(res.fit["C"]) * grid ** res.fit["p"], "k:", lw=1, label=f"fit eps^{res.fit['p']:.3f}")
+    if res.leading is not None:
+        ax.loglog(grid, abs(res.leading["derived_psi_over_eps2"]) * grid**2, "C3-", lw=1,
+                  label=f"derived b C_psi eps^2 ({res.leading['digits']:.1f} digits)")
+    ax.set_xlabel(r"$\varepsilon$")
+    ax.set_ylabel("splitting")
+    ax.set_title(f"m={res.m:g}, $\\gamma$={res.gamma:g}, $\\delta$={res.delta:g}, a={res.a:g}, b={res.b:g} "
+                 f"({res.kind})", fontsize=8)
+    ax.legend(fontsize=7)
+    return ax
