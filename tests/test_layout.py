@@ -16,7 +16,7 @@ import pytest
 import magrod
 
 ROOT = Path(magrod.__file__).resolve().parent
-NUMERICS = ("core", "orbits", "chaos", "separatrix", "integrability")  # the numerics wing (subpackages)
+NUMERICS = ("core", "orbits", "chaos", "separatrix", "integrability", "proof")  # the numerics wing (subpackages)
 
 PUBLIC = {
     "RodParams", "Precision", "ParameterError", "panel",

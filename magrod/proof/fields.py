@@ -48,11 +48,11 @@ class ExactParams:
 def chart_field(p: ExactParams, module=gen) -> Field:
     """The reduced chart field of Hbar (4-D) at exact parameters; `module` may be a (mutated) copy of the
     generated module (controls)."""
-    return Field(module.chart_rhs, module.chart_jacobian, 4, p.balls(), "chart")
+    return Field(module.chart_rhs, module.chart_jacobian, len(CHART_STATE), p.balls(), "chart")
 
 
 def body_field(p: ExactParams, module=gen) -> Field:
-    return Field(module.body_rhs, module.body_jacobian, 9, p.balls(), "body")
+    return Field(module.body_rhs, module.body_jacobian, len(gen.BODY_STATE), p.balls(), "body")
 
 
 BODY_EVENTS = gen.BODY_EVENTS
@@ -69,7 +69,7 @@ def lift_jacobian(p: ExactParams, q, module=gen):
     """dX/dq (9 x 4 arb_mat) at phi = 0 over the chart box q."""
     from flint import arb_mat
 
-    return arb_mat(9, 4, list(module.lift_jacobian(list(q), p.balls())))
+    return arb_mat(len(gen.BODY_STATE), len(CHART_STATE), list(module.lift_jacobian(list(q), p.balls())))
 
 
 def body_events(p: ExactParams, x, module=gen) -> dict:
@@ -78,9 +78,9 @@ def body_events(p: ExactParams, x, module=gen) -> dict:
 
 
 def body_event_gradient(p: ExactParams, x, name: str, module=gen) -> list:
-    k = EV[name]
+    k, n = EV[name], len(gen.BODY_STATE)
     g = module.body_events_gradient(list(x), p.balls())
-    return list(g[9 * k: 9 * (k + 1)])
+    return list(g[n * k: n * (k + 1)])
 
 
 def hamiltonian(p: ExactParams, x, module=gen):

@@ -147,7 +147,7 @@ def validate(fld, xhat: list, V: arb_mat, saddle_box: list, r_block, rho, L, r) 
     return LocalManifold(list(xhat), V, Vinv, r_block, rho, L, r, bounds, checks)
 
 
-def choose(fld, xhat, V, saddle_box, r, *, margin=Fraction(9, 8)) -> LocalManifold:
+def choose(fld, xhat, V, saddle_box, r, *, margin=Fraction("1.125")) -> LocalManifold:
     """Smallest admissible rho and L for the circle radius r (non-rigorous search; `validate` decides)."""
     r = ball.fraction(r)
     rb = r * margin

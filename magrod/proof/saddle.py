@@ -111,6 +111,7 @@ class SaddleEnclosure:
     lam_s: acb
     v_s: list
     checks: dict
+    eig_inputs: list  # [(lam, v / v_k, k)] as floats: the Krawczyk boxes' centres (a verifier rebuilds them)
 
 
 def refine(fld, x0, iterations=8) -> list:
@@ -139,13 +140,14 @@ def enclose(fld, xhat: list, radius: Fraction, symmetric=(1, 2), eig_guess=None,
     checks = {"krawczyk_inside": inside,
               "box_R_symmetric": all(ball.bounds(X[i])[0] == -ball.bounds(X[i])[1] for i in symmetric)}
     A = fld.df(K)
-    res = []
+    res, inputs = [], []
     for lam, v in eig_guess:
         k = int(np.argmax(np.abs(v)))
         lam_b, v_b, ok = eigenpair(A, lam, v, k, eig_rad)
         res.append((lam_b, v_b, ok))
+        inputs.append((complex(lam), np.asarray(v, complex) / complex(v[k]), k))
     (lu, vu, oku), (ls, vs, oks) = res
     checks.update({"eig_unstable_inside": oku, "eig_stable_inside": oks,
                    "unstable_re_pos": ball.positive(lu.real), "unstable_im_pos": ball.positive(lu.imag),
                    "stable_re_neg": ball.negative(ls.real), "stable_im_pos": ball.positive(ls.imag)})
-    return SaddleEnclosure(xhat, X, K, lu, vu, ls, vs, checks)
+    return SaddleEnclosure(xhat, X, K, lu, vu, ls, vs, checks, inputs)

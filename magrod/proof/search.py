@@ -31,7 +31,7 @@ from fractions import Fraction
 import numpy as np
 from flint import arb
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from ..generated import validated as gen
 from . import ball, fields, manifold, saddle, taylor
 
@@ -115,8 +115,8 @@ def validate_params(m, mu, gamma, delta, lam) -> fields.ExactParams:
 # floating-point search (heyoka via magrod.systems)
 # --------------------------------------------------------------------------------------------------------------
 def _float_saddle(p: fields.ExactParams):
-    from .. import splitting
-    from ..params import RodParams
+    from ..core.params import RodParams
+    from ..separatrix import splitting
 
     rp = RodParams(*p.floats())
     try:
@@ -140,7 +140,7 @@ class _FloatFlow:
     def __init__(self, p, xhat, V, r):
         import heyoka as hy
 
-        from .. import systems
+        from ..core import systems
 
         self.pars = np.array(p.floats())
         self.xh = np.array([float(v.mid()) for v in xhat])
@@ -322,8 +322,8 @@ def _prove(p, st, module, check, say) -> dict:
     xhat = saddle.refine(fld, [float(v) for v in sd.q])
     J = ball.to_floats(fld.df(xhat).mid())
     w, Vc = np.linalg.eig(J)
-    iu = [i for i in range(4) if w[i].real > 0 and w[i].imag > 0]
-    is_ = [i for i in range(4) if w[i].real < 0 and w[i].imag > 0]
+    iu = [i for i in range(len(w)) if w[i].real > 0 and w[i].imag > 0]
+    is_ = [i for i in range(len(w)) if w[i].real < 0 and w[i].imag > 0]
     check("saddle_focus_float", len(iu) == 1 and len(is_) == 1,
           f"float eigenvalues of the chart Jacobian at the saddle: {np.round(w, 6).tolist()}")
     guess = [(complex(w[iu[0]]), Vc[:, iu[0]]), (complex(w[is_[0]]), Vc[:, is_[0]])]
@@ -384,7 +384,7 @@ def _orbit_samples(p, xhat, n=6) -> list:
     """A few chart states along a float W^u trajectory (where the structural tests are made)."""
     import heyoka as hy  # noqa: F401 - systems builds the integrator
 
-    from .. import systems
+    from ..core import systems
 
     x0 = np.array([float(v.mid()) for v in xhat]) + np.array([1e-3, 1e-3, 1e-3, 0.0])
     ta = systems.taylor(systems.system("reduced"), x0, np.array(p.floats()))
@@ -410,14 +410,19 @@ def _flight(p, man, fb, g, dg, guard, phic, dphi, t_a, st, module) -> dict:
         vals[kind] = q
         record[kind] = {"steps": [_exact(h) for h in tr.steps], "guard_min": [float(v) for v in tr.guard_min],
                         "max_width": max(tr.widths), "n_steps": len(tr.steps),
-                        "enclosures": {k: ball.to_json(v) for k, v in q.items()}}
+                        "enclosures": {k: stored(v) for k, v in q.items()}}
     thin, arc = vals["thin"], vals["arc"]
     N = ball.q(phic) - thin["Gs"] / arc["dGs"]
     inside = ball.excludes_zero(arc["dGs"]) and _interior(N, ball.interval(phic - dphi, phic + dphi))
     dtdp = -arc["de33"] * arc["Gc"] / (arc["s2"].sqrt() * arc["dGs"])
-    record["newton"] = ball.to_json(N)
-    record["dtheta_dpsi"] = ball.to_json(dtdp)
+    record["newton"] = stored(N)
+    record["dtheta_dpsi"] = stored(dtdp)
     return {"values": vals, "newton": N, "newton_inside": inside, "dtheta_dpsi": dtdp, "record": record}
+
+
+def _eig_input(inp) -> dict:
+    lam, v, k = inp
+    return {"lam": [_exact(lam.real), _exact(lam.imag)], "v": [[_exact(z.real), _exact(z.imag)] for z in v], "k": k}
 
 
 def _interior(a: arb, b: arb) -> bool:
@@ -426,9 +431,23 @@ def _interior(a: arb, b: arb) -> bool:
     return blo < lo and hi < bhi
 
 
+def stored(x: arb) -> dict:
+    """The certificate's ball for an enclosure x: x widened by 2^-10 of its radius plus 2^-(prec - 8) of its
+    midpoint, so that a verifier whose last-bit rounding differs (another python-flint build) still finds its
+    recomputation inside; any tampering larger than that widening is detected."""
+    m, r = ball.mid_rad(x)
+    from flint import ctx
+
+    slack = r / 1024 + abs(m) * Fraction(1, 2 ** (ctx.prec - 8)) + Fraction(1, 2 ** (2 * ctx.prec))
+    return ball.to_json(arb(x.mid(), x.rad() + ball.q(slack)))
+
+
+def _cb(z):
+    return {"re": stored(z.real), "im": stored(z.imag)}
+
+
 def _certificate(p, st, E, man, crossings, digest) -> dict:
-    def cb(z):
-        return {"re": ball.to_json(z.real), "im": ball.to_json(z.imag)}
+    cb = _cb
 
     return {
         "format": FORMAT,
@@ -440,10 +459,11 @@ def _certificate(p, st, E, man, crossings, digest) -> dict:
         "settings": st.as_json(),
         "field_digest": digest,
         "saddle": {"xhat": [_exact(v) for v in E.xhat], "radius": _q(st.saddle_radius),
-                   "K": [ball.to_json(v) for v in E.K],
+                   "K": [stored(v) for v in E.K],
+                   "eig_input_u": _eig_input(E.eig_inputs[0]), "eig_input_s": _eig_input(E.eig_inputs[1]),
                    "lam_u": cb(E.lam_u), "lam_s": cb(E.lam_s),
                    "v_u": [cb(z) for z in E.v_u], "v_s": [cb(z) for z in E.v_s]},
-        "manifold": {"V": [[_exact(man.V[i, j]) for j in range(4)] for i in range(4)],
+        "manifold": {"V": [[_exact(man.V[i, j]) for j in range(man.V.ncols())] for i in range(man.V.nrows())],
                      "r_block": _q(man.r_block), "rho": _q(man.rho), "L": _q(man.L), "r": _q(man.r),
                      "rho_eff": _q(man.rho_eff),
                      "bounds": {k: _q(v) for k, v in man.bounds.items()}},
