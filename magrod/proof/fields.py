@@ -89,7 +89,29 @@ def hamiltonian(p: ExactParams, x, module=gen):
 
 def source_digest(module=gen) -> str:
     """SHA-256 of the vector-field source the proof ran on."""
-    names = ("chart_rhs", "chart_jacobian", "chart_hamiltonian", "body_rhs", "body_jacobian", "lift",
-             "lift_jacobian", "body_events", "body_events_gradient")
-    src = "\n".join(inspect.getsource(getattr(module, k)) for k in names) if module is gen else module.SOURCE
+    src = inspect.getsource(gen) if module is gen else module.SOURCE
     return hashlib.sha256(src.encode()).hexdigest()
+
+
+def mutated_module(term: int = 0, function: str = "chart_rhs"):
+    """A copy of generated/validated.py with the sign of one term flipped: the `term`-th ' + ' inside `function`
+    becomes ' - ' (a control: the mutated field is neither the derived one nor, in general, reversible or
+    Hamiltonian; `magrod prove` must fail on it).  Returns a module-like namespace with the mutated source."""
+    import types
+
+    src = inspect.getsource(gen)
+    start = src.index(f"def {function}(")
+    end = src.find("\ndef ", start + 1)
+    end = len(src) if end < 0 else end
+    body = src[start:end]
+    pos = -1
+    for _ in range(term + 1):
+        pos = body.find(" + ", pos + 1)
+        if pos < 0:
+            raise ValueError(f"{function} has fewer than {term + 1} ' + ' terms")
+    body = body[:pos] + " - " + body[pos + 3:]
+    new = src[:start] + body + src[end:]
+    mod = types.ModuleType("magrod.generated.validated_mutated")
+    exec(compile(new, "<mutated generated/validated.py>", "exec"), mod.__dict__)  # noqa: S102 - our own source
+    mod.SOURCE = new
+    return mod

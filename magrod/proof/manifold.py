@@ -156,6 +156,8 @@ def choose(fld, xhat, V, saddle_box, r, *, margin=Fraction("1.125")) -> LocalMan
     for _ in range(8):
         man = validate(fld, xhat, V, saddle_box, rb, rho, L, r)
         b = man.bounds
+        if not (b["m_u"] > 0 > b["M_s"]) or b["m_u"] == b["M_s"]:
+            return man  # not hyperbolic on the block: no rho, L can help
         # (C2): rho > c_su (rb + U)/|M_s|; (C3), (C4): L > c_su/(m_u - M_s), L > c_su/|M_s|
         rho_new = Fraction(3, 2) * b["c_su"] * (rb + b["U"]) / (-b["M_s"]) + 2 * b["S"]
         L_new = Fraction(3, 2) * b["c_su"] / min(b["m_u"] - b["M_s"], -b["M_s"])

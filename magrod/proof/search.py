@@ -107,7 +107,7 @@ def validate_params(m, mu, gamma, delta, lam) -> fields.ExactParams:
                                   f"(eq:buckling_load_2: no saddle at m >= m_c), got {m}")
     if vals["mu"] <= 2 * vals["lam"]:
         raise ParameterError("mu", f"must satisfy mu > 2 lambdabar (the tilted saddle exists only then; "
-                                   f"eq:alignment_condition), got mu = {mu}, 2 lam = {2 * vals['lam']}")
+                                   f"eq:alignment_condition), got mu = {mu}, 2 lam = {float(2 * vals['lam']):g}")
     return fields.ExactParams(**vals)
 
 
@@ -298,7 +298,12 @@ def prove(params: fields.ExactParams, settings: ProofSettings | None = None, *, 
     st = settings or ProofSettings()
     t0 = time.perf_counter()
     checks: list = []
-    say = progress or (lambda msg: None)
+    stage = ["start"]
+
+    def say(msg):
+        stage[0] = msg
+        if progress is not None:
+            progress(msg)
 
     def check(name, holds, how):
         checks.append({"name": name, "holds": bool(holds), "how": how})
@@ -310,6 +315,11 @@ def prove(params: fields.ExactParams, settings: ProofSettings | None = None, *, 
             cert = _prove(params, st, module, check, say)
     except ProofFailure as err:
         return ProofResult(False, None, err.reason, checks, time.perf_counter() - t0)
+    except (ArithmeticError, ValueError, np.linalg.LinAlgError) as err:  # nan/inf balls, singular matrices
+        if isinstance(err, ParameterError):
+            raise
+        reason = f"{stage[0]}: numerical failure ({type(err).__name__}: {' '.join(str(err).split())[:160]})"
+        return ProofResult(False, None, reason, checks, time.perf_counter() - t0)
     cert["checks"] = checks
     cert["wall_time_s"] = round(time.perf_counter() - t0, 3)
     return ProofResult(True, cert, "all checks hold", checks, time.perf_counter() - t0)

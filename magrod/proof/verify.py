@@ -117,7 +117,22 @@ def _recomputed(claim, name, value: arb, stored):
           f"[{stored['mid']} +- {stored['rad']}]")
 
 
+def _stored_claims(cert, claim):
+    """The theorem's inequalities on the certificate's own balls (cheap; the recomputation follows)."""
+    for c in cert["crossings"]:
+        tgt = c["target"]
+        a = {k: ball.from_json(v) for k, v in c["arc"]["enclosures"].items()}
+        phic, dphi = _frac(c["phi_c"]), _frac(c["dphi"])
+        claim(f"psi={tgt} claims", ball.excludes_zero(a["gdot"]) and ball.excludes_zero(a["dGs"])
+              and (ball.positive if tgt == "0" else ball.negative)(a["Gc"])
+              and _inside(ball.from_json(c["newton"]), ball.interval(phic - dphi, phic + dphi))
+              and ball.excludes_zero(ball.from_json(c["dtheta_dpsi"])),
+              "the certificate's balls satisfy the claims (section transversal, branch, dGs != 0, Newton inside "
+              "the arc, dtheta_u/dpsi excludes 0)")
+
+
 def _verify(cert, p, st, module, claim):
+    _stored_claims(cert, claim)
     claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
           "the certificate's vector field is the installed derive-generated one (SHA-256 of generated/validated.py)")
     claim("parameters", p.mu > 2 * p.lam and p.m > 0 and p.m ** 2 < 4 * (1 + p.gamma) and min(p.gamma, p.delta) >= 0,
