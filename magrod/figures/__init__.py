@@ -22,6 +22,8 @@ FIGURES = {
     "chaos": ("magrod.figures.chaos", "build", "chaos map (growth exponent) in lambdabar x gamma at Figure 4's start"),
     "splitting": ("magrod.figures.splitting", "build",
                   "splitting of the separatrix vs eps (a = 2b and a > 2b) with the integrable controls"),
+    "proof": ("magrod.figures.proof", "build",
+              "computer-assisted proof: transverse homoclinic orbits of the tilted saddle-focus, verified certificate"),
 }
 
 
