@@ -22,11 +22,12 @@ import time
 
 import numpy as np
 
-from magrod import chaos, systems
+from magrod.chaos import indicators as chaos, maps
+from magrod.core import systems
 
 
 def fig4a():
-    x0, p, _, _ = chaos.start_point(chaos.panel_base("4a"))
+    x0, p, _, _ = maps.start_point(maps.panel_base("4a"))
     return x0, p
 
 
@@ -156,10 +157,10 @@ def batch_vs_scalar(span):
 
 
 def workers(n=32, t_max=1000.0):
-    from magrod import chaos_store
+    from magrod.chaos import store as chaos_store
 
-    spec = chaos.MapSpec(chaos.parse_axis("x", f"lam:0.12:0.2:{n}"), chaos.parse_axis("y", f"gamma:2:4:{n}"),
-                         base=chaos.panel_base("4a"), t_max=t_max, tile=8)
+    spec = maps.MapSpec(maps.parse_axis("x", f"lam:0.12:0.2:{n}"), maps.parse_axis("y", f"gamma:2:4:{n}"),
+                         base=maps.panel_base("4a"), t_max=t_max, tile=8)
     walls = {}
     for w in (1, 2):
         d = tempfile.mkdtemp()

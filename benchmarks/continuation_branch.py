@@ -5,9 +5,9 @@ import time
 
 import numpy as np
 
-from magrod import continuation as C
-from magrod import shooting
-from magrod.params import RodParams
+from magrod.orbits import continuation as C
+from magrod.orbits import shooting
+from magrod.core.params import RodParams
 
 LAM = 0.00126208079536
 r = shooting.shoot(RodParams(1.7, 2 * LAM, 1.0, 1.0, LAM), 2)

@@ -26,9 +26,9 @@ import time
 
 import numpy as np
 
-from magrod import systems
-from magrod.poincare import poincare_map, run_panels
-from magrod.printed import PANELS, PAPER_CLAIMS, panel_kwargs
+from magrod.core import systems
+from magrod.chaos.section import poincare_section, run_panels
+from magrod.core.printed import PANELS, PAPER_CLAIMS, panel_kwargs
 
 
 def _hbar_fn():
@@ -39,9 +39,9 @@ def magrod_runs(T):
     kw = panel_kwargs("4a")
     out = {}
     for form in ("body", "reduced"):
-        poincare_map(**kw, iterates=5, formulation=form)  # warm: build integrators (JIT cache)
+        poincare_section(**kw, iterates=5, formulation=form)  # warm: build integrators (JIT cache)
         t0 = time.perf_counter()
-        r = poincare_map(**kw, iterates=10**7, formulation=form, t_max=T)
+        r = poincare_section(**kw, iterates=10**7, formulation=form, t_max=T)
         out[f"magrod ({form})"] = dict(wall_s=time.perf_counter() - t0, max_abs_dH=r.max_abs_dH,
                                        n_points=r.n_points, t_end=r.final_time)
     return out
@@ -109,7 +109,7 @@ def jitcode_run(T, rhs, state, y0, h, rtol):
 
 def peers(span_iterates):
     kw = panel_kwargs("4a")
-    probe = poincare_map(**kw, iterates=span_iterates)
+    probe = poincare_section(**kw, iterates=span_iterates)
     T = probe.final_time + 1e-6  # just past the last crossing
     y0 = [kw["theta0"], kw["psi0"], kw["ptheta0"], probe.p_psi0]
     print(f"\n== peers: Fig 4(a) orbit, p_psi0 = {probe.p_psi0!r}, span T = {T:.1f} "
@@ -157,9 +157,9 @@ def panels():
 def longdouble(n=600):
     print(f"\n== float64 vs long double, Fig 4(a), {n} iterates (body frame) ==", flush=True)
     kw = panel_kwargs("4a")
-    a = poincare_map(**kw, iterates=n)
-    b = poincare_map(**kw, iterates=n, fp_type=np.longdouble)
-    red = poincare_map(**kw, iterates=n, formulation="reduced")
+    a = poincare_section(**kw, iterates=n)
+    b = poincare_section(**kw, iterates=n, precision="long double")
+    red = poincare_section(**kw, iterates=n, formulation="reduced")
     d = np.max(np.abs(a.points[:, [0, 2, 3]] - b.points[:, [0, 2, 3]]), axis=1)
     dr = np.max(np.abs(red.points[:, [0, 2, 3]] - b.points[:, [0, 2, 3]]), axis=1)
     out = {}

@@ -1,7 +1,7 @@
 """Chaos indicators and maps (issue 11): controls on systems nobody here wrote, the integrable limits of the rod,
 the neutral directions of the body frame, the grid-spec contract, Dask determinism and resume.
 
-Criterion under test (magrod.chaos): chaotic iff growth_exponent = (FLI(T) - FLI(T/2))/ln 2 > GROWTH_THRESHOLD."""
+Criterion under test (magrod.chaos.indicators): chaotic iff growth_exponent = (FLI(T) - FLI(T/2))/ln 2 > GROWTH_THRESHOLD."""
 import json
 import os
 import signal
@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from magrod import chaos, cli
+from magrod.chaos import indicators as chaos, maps
+from magrod import cli
 
 THR = chaos.GROWTH_THRESHOLD
 
@@ -27,8 +28,8 @@ def magrod(*argv, timeout=300, **kw):
 
 
 def _spec(x, y, t_max=300.0, tile=4, **over):
-    return chaos.MapSpec(chaos.parse_axis("x", x), chaos.parse_axis("y", y),
-                         base={**chaos.panel_base("4a"), **over}, t_max=t_max, tile=tile)
+    return maps.MapSpec(maps.parse_axis("x", x), maps.parse_axis("y", y),
+                         base={**maps.panel_base("4a"), **over}, t_max=t_max, tile=tile)
 
 
 # ------------------------------------------------------------------------------------------------------------
@@ -72,7 +73,7 @@ INTEGRABLE = [
                                                       INTEGRABLE])
 def test_integrable_limits_are_regular(x, y, over):
     """lam = 0 and gamma = delta = 0 (I2bar conserved, generated/report.md): every computed point regular."""
-    r = chaos.chaos_map(_spec(x, y, t_max=2000.0, tile=6, **over))
+    r = maps.chaos_map(_spec(x, y, t_max=2000.0, tile=6, **over))
     ok = r.fields["status"] == chaos.OK
     assert ok.sum() >= 8, r.summary()
     g = r.fields["growth_exponent"][ok]
@@ -84,7 +85,7 @@ def test_integrable_limits_are_regular(x, y, over):
 
 def test_paper_panels_4a_chaotic_4d_regular():
     """fig:poincare1: (a) a chaotic sea, (d) a closed curve -- by the indicator, at T = 3000."""
-    p = chaos.panel_indicators(("4a", "4d"), t_max=3000.0)
+    p = maps.panel_indicators(("4a", "4d"), t_max=3000.0)
     assert p["4a"]["chaotic"] and p["4a"]["growth_exponent"] > 3 * THR
     assert not p["4d"]["chaotic"] and p["4d"]["growth_exponent"] < 1.5
     for d in p.values():  # conservation budget at the level of the Poincare runs (~1e-13)
@@ -92,19 +93,20 @@ def test_paper_panels_4a_chaotic_4d_regular():
 
 
 def _panel_starts(keys):
-    s = [chaos.start_point(chaos.panel_base(k)) for k in keys]
+    s = [maps.start_point(maps.panel_base(k)) for k in keys]
     return np.array([a[0] for a in s]).T, np.array([a[1] for a in s]).T
 
 
 def test_projection_keeps_tangent_vectors_on_the_leaf():
     """After projecting w0 onto ker G (gradients of C1..C3, H, m3) the transverse part of w stays at round-off
     relative to |w| (Phi maps ker G(x0) onto ker G(x(t)))."""
-    from magrod import systems
+    from magrod.core import systems
 
-    x0, p = _panel_starts(("4a", "4d"))
-    x0, p = np.repeat(x0, 4, axis=1), np.repeat(p, 4, axis=1)
     ta = systems.body_tangent_batch(None, None)
-    w0 = chaos.project_neutral(x0, chaos.generic_w0(9, 8), p)
+    b = ta.batch_size  # the machine's SIMD width (4 with AVX2, 8 with AVX-512): fill every lane
+    x0, p = _panel_starts(("4a", "4d"))
+    x0, p = np.repeat(x0, b // 2, axis=1)[:, :b], np.repeat(p, b // 2, axis=1)[:, :b]
+    w0 = chaos.project_neutral(x0, chaos.generic_w0(9, b), p)
     assert chaos.neutral_components(x0, w0, p).max() < 100 * np.finfo(float).eps  # a 5 x 9 least-squares solve
     ta.set_time(0.0)
     ta.pars[:] = p
@@ -113,7 +115,7 @@ def test_projection_keeps_tangent_vectors_on_the_leaf():
     x, w = np.array(ta.state[:9]), np.array(ta.state[9:])
     assert chaos.neutral_components(x, w, p).max() < 1e-10
     # and an unprojected generic w0 does have a transverse part of order one
-    assert chaos.neutral_components(x0, chaos.generic_w0(9, 8), p).min() > 1e-2
+    assert chaos.neutral_components(x0, chaos.generic_w0(9, b), p).min() > 1e-2
 
 
 def test_projection_does_not_change_the_verdict():
@@ -131,8 +133,8 @@ def test_projection_does_not_change_the_verdict():
 
 def test_results_do_not_depend_on_tiling():
     """A lane's result does not depend on its batch neighbours: tile sizes 3 and 4 give bit-identical maps."""
-    a = chaos.chaos_map(_spec("lam:0.12:0.2:6", "gamma:2:4:6", tile=4)).fields
-    b = chaos.chaos_map(_spec("lam:0.12:0.2:6", "gamma:2:4:6", tile=3)).fields
+    a = maps.chaos_map(_spec("lam:0.12:0.2:6", "gamma:2:4:6", tile=4)).fields
+    b = maps.chaos_map(_spec("lam:0.12:0.2:6", "gamma:2:4:6", tile=3)).fields
     for k in a:
         assert np.array_equal(a[k], b[k], equal_nan=True), k
 
@@ -184,7 +186,7 @@ def test_bad_spec_subprocess(tmp_path):
 # Dask, zarr, resume
 # ------------------------------------------------------------------------------------------------------------
 def _store_run(spec, d: Path, **kw):
-    from magrod import chaos_store
+    from magrod.chaos import store as chaos_store
 
     pth = chaos_store.paths(d, "m")
     chaos_store.create_or_open(spec, pth["store"], pth["tiles"])
@@ -193,13 +195,13 @@ def _store_run(spec, d: Path, **kw):
 
 
 def test_one_and_two_workers_bit_identical(tmp_path):
-    from magrod import chaos_store
+    from magrod.chaos import store as chaos_store
 
     spec = _spec("lam:0.12:0.2:8", "gamma:2:4:8", t_max=300.0, tile=4)
     _, p1 = _store_run(spec, tmp_path / "w1", workers=1)
     _, p2 = _store_run(spec, tmp_path / "w2", workers=2)
     f1, f2 = chaos_store.load_fields(p1["store"]), chaos_store.load_fields(p2["store"])
-    ref = chaos.chaos_map(spec).fields
+    ref = maps.chaos_map(spec).fields
     for k in ref:
         assert f1[k].tobytes() == f2[k].tobytes(), k
         assert f1[k].tobytes() == np.asarray(ref[k], f1[k].dtype).tobytes(), k
@@ -212,7 +214,7 @@ def test_one_and_two_workers_bit_identical(tmp_path):
 def test_resume_skips_finished_tiles(tmp_path):
     """A run stopped after 2 of 4 tiles, plus one tile whose chunk was written but not its marker (killed
     between the two): the resumed run computes exactly the 2 unmarked tiles and leaves the others alone."""
-    from magrod import chaos_store
+    from magrod.chaos import store as chaos_store
 
     spec = _spec("lam:0.12:0.2:8", "gamma:2:4:8", t_max=300.0, tile=4)
     res, pth = _store_run(spec, tmp_path, workers=1, max_tiles=2)
@@ -224,11 +226,11 @@ def test_resume_skips_finished_tiles(tmp_path):
     assert set(res2["computed"]).isdisjoint(first)
     assert {k: (pth["tiles"] / f"{k}.json").stat().st_mtime_ns for k in first} == stamps
     f = chaos_store.load_fields(pth["store"])
-    ref = chaos.chaos_map(spec).fields
+    ref = maps.chaos_map(spec).fields
     for k in ref:
         assert np.array_equal(f[k], ref[k], equal_nan=True), k
     # a store of a different map is refused, not silently mixed
-    from magrod.errors import ParameterError
+    from magrod.core.errors import ParameterError
 
     with pytest.raises(ParameterError, match="different chaos map"):
         chaos_store.create_or_open(_spec("lam:0.12:0.2:8", "gamma:2:4:8", t_max=400.0, tile=4), pth["store"],
@@ -282,7 +284,7 @@ def test_scheduler_attach_and_help(tmp_path, capsys):
 
     from distributed import LocalCluster
 
-    from magrod import chaos_store
+    from magrod.chaos import store as chaos_store
 
     with pytest.raises(SystemExit):
         cli.main(["chaosmap", "--help"])
@@ -296,7 +298,7 @@ def test_scheduler_attach_and_help(tmp_path, capsys):
     obj = json.loads(capsys.readouterr().out)
     assert obj["scheduler"] == cluster.scheduler_address and obj["tiles"]["computed"] == 4
     f = chaos_store.load_fields(Path(obj["output"]["store"]))
-    ref = chaos.chaos_map(_spec("lam:0.12:0.2:4", "gamma:2:4:4", tile=2)).fields
+    ref = maps.chaos_map(_spec("lam:0.12:0.2:4", "gamma:2:4:4", tile=2)).fields
     for k in ref:
         assert np.array_equal(f[k], ref[k], equal_nan=True), k
 
@@ -304,7 +306,7 @@ def test_scheduler_attach_and_help(tmp_path, capsys):
 def test_one_vector_tangent_system_equals_full_variational_matrix():
     """systems.tangent_system (var_ode_sys w.r.t. a parameter absent from the field) integrates w = Phi w0, with
     Phi from the full first-order variational system (systems.variational_integrator): agreement to ~1e-12."""
-    from magrod import systems
+    from magrod.core import systems
 
     x0, p = _panel_starts(("4a",))
     x0, p = x0[:, 0], p[:, 0]

@@ -1,15 +1,15 @@
-"""Pseudo-arclength continuation (magrod.continuation) and homoclinic orbits to the periodic saddle
-(magrod.homoclinic_periodic)."""
+"""Pseudo-arclength continuation (magrod.orbits.continuation) and homoclinic orbits to the periodic saddle
+(magrod.orbits.periodic_homoclinic)."""
 import math
 
 import numpy as np
 import pytest
 
-from magrod import continuation as C
-from magrod import homoclinic_periodic as hp
-from magrod import shooting
+from magrod.orbits import continuation as C
+from magrod.orbits import periodic_homoclinic as hp
+from magrod.orbits import shooting
 from magrod.generated import scalars
-from magrod.params import RodParams
+from magrod.core.params import RodParams
 
 EPS = np.finfo(float).eps
 LAM_STAR_FIG6_N2 = 0.00126208079543  # docs/errata.md table: long double, eps = 1e-9, +-3.3e-14 (two eps, two precisions)
@@ -185,7 +185,7 @@ def test_primaries_tend_to_the_mu_2lam_limits():
     0.001 (eps = 1e-7) followed down mu - 2 lam = 1e-4 .. 1e-10 (natural continuation, Newton from the previous
     decade):
       * T tends to T0, the time from the straight rod (launched at the same eps on mu = 2 lam) to its first turning
-        point (an independent computation: magrod.shooting.unstable_branch), |T - T0| <= 2e-6 below 1e-8;
+        point (an independent computation: magrod.orbits.shooting.unstable_branch), |T - T0| <= 2e-6 below 1e-8;
       * the launch angles stay symmetric about a fixed midpoint (2.870125) and spread apart from pi as
         b - a - pi = -2 asin(c / sqrt(mu - 2 lam)): sin psi at the turning point is psi0 + A sqrt(gap) cos(angle -
         angle0) to leading order, psi0 = psi at the straight rod's turning point, c = |psi0| / A.  The two

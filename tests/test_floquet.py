@@ -1,4 +1,4 @@
-"""The periodic saddle for mu != 2 lam (magrod.floquet, derive/floquet.py): relative equilibrium, monodromy,
+"""The periodic saddle for mu != 2 lam (magrod.orbits.periodic, derive/floquet.py): relative equilibrium, monodromy,
 Floquet multipliers, Hamiltonian-Hopf boundary."""
 import math
 
@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from magrod import floquet
-from magrod.errors import ParameterError
+from magrod.orbits import periodic as floquet
+from magrod.core.errors import ParameterError
 from magrod.generated import floquet as gfl
-from magrod.params import RodParams
-from magrod.saddle import straight_rod
+from magrod.core.params import RodParams
+from magrod.orbits.equilibrium import straight_rod
 
 EPS = np.finfo(float).eps
 P = RodParams(1.7, 0.0021, 1.0, 1.0, 0.001)

@@ -338,7 +338,7 @@ def test_file_size_limit_is_an_environment_fault(tmp_path):
 
 
 def test_output_files_respect_the_umask(tmp_path):
-    from magrod import io
+    from magrod.core import io
 
     old = os.umask(0o022)
     try:
@@ -379,7 +379,7 @@ def test_failed_accuracy_check_is_an_error_and_writes_nothing(tmp_path):
     """A result that does not meet its own accuracy checks (here: a tolerance no run can meet, standing in for a
     damaged integrator) is refused: exit 1, one line, ok false, no files; the run was repeated without the JIT
     cache first."""
-    code = ("import sys; from magrod import poincare; poincare.ENERGY_TOL = 1e-300\n"
+    code = ("import sys; from magrod.chaos import section; section.ENERGY_TOL = 1e-300\n"
             "from magrod.cli import main; sys.exit(main(sys.argv[1:]))")
     out = tmp_path / "o"
     r = subprocess.run([sys.executable, "-c", code, "poincare", "--figure", "4a", "--iterates", "20", "--out",

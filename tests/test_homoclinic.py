@@ -1,4 +1,4 @@
-"""magrod.homoclinic: the lambdabar = 0 homoclinic orbit (paper sec. 6) against the generated closed form, the
+"""magrod.orbits.homoclinic: the lambdabar = 0 homoclinic orbit (paper sec. 6) against the generated closed form, the
 generated vector field (residual and an independent multiprecision integration), H0, parity, the Kirchhoff
 limit, and bad inputs."""
 import json
@@ -7,9 +7,9 @@ import heyoka as hy
 import numpy as np
 import pytest
 
-from magrod import homoclinic as H
+from magrod.orbits import homoclinic as H
 from magrod.cli import main
-from magrod.errors import ParameterError
+from magrod.core.errors import ParameterError
 from magrod.generated import homoclinic as gen
 
 EPS = np.finfo(float).eps

@@ -1,4 +1,4 @@
-"""magrod.melnikov: quadrature of the Mel'nikov amplitude along the homoclinic orbit (paper sec. 7,
+"""magrod.separatrix.melnikov: quadrature of the Mel'nikov amplitude along the homoclinic orbit (paper sec. 7,
 eq:Mel_ext), its error estimate, the exact-derivative identity of the derived integrand, and bad inputs."""
 import json
 
@@ -6,10 +6,10 @@ import heyoka as hy
 import numpy as np
 import pytest
 
-from magrod import melnikov as M
+from magrod.separatrix import melnikov as M
 from magrod.cli import main
-from magrod.errors import ParameterError
-from magrod.homoclinic import homoclinic
+from magrod.core.errors import ParameterError
+from magrod.orbits.homoclinic import homoclinic
 
 EPS = np.finfo(float).eps
 

@@ -1,4 +1,4 @@
-"""Poincare sections sin(psi) = 0 (magrod.poincare, magrod poincare).  Quick runs (hundreds of iterates) in the
+"""Poincare sections sin(psi) = 0 (magrod.chaos.section, magrod poincare).  Quick runs (hundreds of iterates) in the
 default suite; the full paper panels (10 000 iterates each, fig:poincare1 / fig:poincare2) with --full."""
 import json
 import math
@@ -6,12 +6,13 @@ import math
 import numpy as np
 import pytest
 
-from magrod import cli, systems
-from magrod.errors import ParameterError
-from magrod.params import RodParams
+from magrod import cli
+from magrod.core import systems
+from magrod.core.errors import ParameterError
+from magrod.core.params import RodParams
 from magrod.figures.poincare import _figure, figure_4, figure_5
-from magrod.poincare import poincare_map, run_panels, solve_p_psi
-from magrod.printed import PANELS, panel_kwargs
+from magrod.chaos.section import poincare_section, run_panels, solve_p_psi
+from magrod.core.printed import PANELS, panel_kwargs
 
 EPS = np.finfo(float).eps
 # the issue's conservation target (the paper reports 3.6e-9 / 3.9e-9 with DOP853 at rtol 1e-12)
@@ -23,8 +24,8 @@ AGREE_BOUND = 1e-9
 @pytest.fixture(scope="module")
 def fig4a_both():
     kw = panel_kwargs("4a")
-    return (poincare_map(**kw, iterates=300, formulation="body"),
-            poincare_map(**kw, iterates=300, formulation="reduced"))
+    return (poincare_section(**kw, iterates=300, formulation="body"),
+            poincare_section(**kw, iterates=300, formulation="reduced"))
 
 
 # --------------------------------------------------------------------------------------------- initial data
@@ -60,11 +61,11 @@ def test_fig4a_start_has_two_roots_and_root_selection():
     roots = solve_p_psi(kw["params"], kw["h"], kw["theta0"], kw["ptheta0"])
     assert roots.size == 2 and roots[0] < roots[1]
     for sel, idx in (("smallest", 0), ("largest", 1), (1, 1), (-2, 0)):
-        res = poincare_map(**kw, iterates=3, root=sel)
+        res = poincare_section(**kw, iterates=3, root=sel)
         assert res.root_index == idx and res.p_psi0 == roots[idx]
         np.testing.assert_array_equal(res.roots, roots)
     with pytest.raises(ParameterError) as e:
-        poincare_map(**kw, iterates=3, root=2)
+        poincare_section(**kw, iterates=3, root=2)
     assert e.value.name == "root"
 
 
@@ -120,20 +121,20 @@ def test_formulations_agree_on_the_first_50_crossings(fig4a_both):
 
 def test_long_double_agrees_with_float64_before_divergence():
     kw = panel_kwargs("4a")
-    a = poincare_map(**kw, iterates=40)
-    b = poincare_map(**kw, iterates=40, fp_type=np.longdouble)
+    a = poincare_section(**kw, iterates=40)
+    b = poincare_section(**kw, iterates=40, precision="long double")
     assert b.fp_type != "float64" and b.success
     assert np.max(np.abs(a.points[:, [0, 2, 3]] - b.points[:, [0, 2, 3]])) <= AGREE_BOUND
 
 
 def test_max_time_guard_stops_with_a_message():
-    res = poincare_map(**panel_kwargs("5a"), iterates=1000, t_max=50.0)
+    res = poincare_section(**panel_kwargs("5a"), iterates=1000, t_max=50.0)
     assert not res.success and "t_max" in res.message
     assert 0 < res.n_points < 1000 and res.final_time == pytest.approx(50.0)
 
 
 def test_branch_filter():
-    res = poincare_map(**panel_kwargs("4a"), iterates=30, branch="pi", direction="any")
+    res = poincare_section(**panel_kwargs("4a"), iterates=30, branch="pi", direction="any")
     assert np.all(res.branch == -1) and np.all(np.abs(np.cos(res.points[:, 1]) + 1) < 1e-6)
 
 
@@ -150,16 +151,16 @@ P4 = PANELS["4a"]["params"]
 def test_bad_input_names_the_parameter(kwargs, name):
     kw = {**dict(params=P4, h=0.9, theta0=0.1, ptheta0=0.5, iterates=5), **kwargs}
     with pytest.raises(ParameterError) as e:
-        poincare_map(**kw)
+        poincare_section(**kw)
     assert e.value.name == name
 
 
 def test_imaginary_square_root_at_the_start():
     with pytest.raises(ParameterError) as e:  # mu - 2 lam pbar_psi0 < 0
-        poincare_map(P4, theta0=0.1, ptheta0=0.5, p_psi0=2.0, iterates=5)
+        poincare_section(P4, theta0=0.1, ptheta0=0.5, p_psi0=2.0, iterates=5)
     assert e.value.name == "p_psi0"
     with pytest.raises(ParameterError) as e:  # lam = 0, mu < 0: sqrt(mu) imaginary for every pbar_psi
-        poincare_map(RodParams(1.7, -1.0, 3, 3, 0.0), 0.9, 0.1, 0.5, iterates=5)
+        poincare_section(RodParams(1.7, -1.0, 3, 3, 0.0), 0.9, 0.1, 0.5, iterates=5)
     assert e.value.name == "mu"
 
 
@@ -245,7 +246,7 @@ def test_full_panels_reduced_formulation_conserve_hbar():
 
 def test_cli_choices_match_the_numerics():
     """The CLI lists the choices without importing heyoka; they must be the numerics' own."""
-    from magrod import poincare
+    from magrod.chaos import section as poincare
     from magrod.cli import poincare as cli_poincare
 
     assert set(cli_poincare.DIRECTIONS) == set(poincare.DIRECTIONS)

@@ -6,7 +6,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from magrod import cli, io
+from magrod import cli
+from magrod.core import io
 
 
 @pytest.fixture(scope="module")

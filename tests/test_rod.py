@@ -2,9 +2,9 @@
 import numpy as np
 import pytest
 
-from magrod import rod
-from magrod.params import RodParams
-from magrod.saddle import straight_rod_state
+from magrod.orbits import rod
+from magrod.core.params import RodParams
+from magrod.orbits.equilibrium import straight_rod_state
 
 EPS = np.finfo(float).eps
 
@@ -22,7 +22,7 @@ def test_straight_rod_centreline(gamma, delta):
 
 
 def test_frame_orthonormal_on_multipulse_orbit(tmp_path):
-    from magrod import shooting
+    from magrod.orbits import shooting
 
     p = RodParams(1.7, 0.0025, 1.0, 1.0, 0.00125)
     res = shooting.shoot(p, 2)

@@ -2,10 +2,10 @@
 import numpy as np
 import pytest
 
-from magrod import shooting
-from magrod.errors import ParameterError
-from magrod.params import RodParams
-from magrod.saddle import straight_rod
+from magrod.orbits import shooting
+from magrod.core.errors import ParameterError
+from magrod.core.params import RodParams
+from magrod.orbits.equilibrium import straight_rod
 
 EPS = np.finfo(float).eps
 FIG6 = RodParams(1.7, 0.002, 1.0, 1.0, 0.001)
@@ -47,7 +47,7 @@ def test_two_pulse_orbit_reversible_and_on_level():
     assert abs(res.params.mu - 2 * res.params.lam) <= 4 * EPS * res.params.mu
     assert np.max(np.abs(orb["H"] - res.saddle_H)) <= 1e-13
     # reversibility: integrate the ODE past the symmetric point and compare with R applied to the first half
-    from magrod import systems
+    from magrod.core import systems
 
     ta = systems.integrator("body")
     systems.reset(ta, res.x0, 0.0, res.params.array())

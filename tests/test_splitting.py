@@ -6,9 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from magrod import splitting as S
+from magrod.separatrix import splitting as S
 from magrod.cli import main
-from magrod.shooting import unstable_branch
+from magrod.orbits.shooting import unstable_branch
 
 M, G, DL = 1.7, 1.0, 1.0
 ULP = {"double": np.finfo(float).eps, "long": float(np.finfo(np.longdouble).eps), "quad": 2.0**-112}
@@ -98,7 +98,7 @@ def test_cli_json(capsys):
     assert abs(out["fit_psi"]["p"] - 2) < 0.02 and len(out["rows"]) == 4
 
 
-# --- the derived leading term at a = 2b (derive/splitting.py, magrod.splitting.leading_coefficient) -----------
+# --- the derived leading term at a = 2b (derive/splitting.py, magrod.separatrix.splitting.leading_coefficient) -----------
 def test_leading_term_matches_measured_constants():
     """docs/nonintegrability.md: psi_u/eps^2 -> -0.8039252, d/eps^4 -> -0.2859876 (quad, a = 2b = 2)."""
     lt = S.leading_coefficient(M, G, DL)

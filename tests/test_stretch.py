@@ -4,12 +4,12 @@ with a known answer (straight rod: 1 + gamma + delta; inextensible rod: 1), and 
 import numpy as np
 import pytest
 
-from magrod import systems
-from magrod.errors import ParameterError
+from magrod.core import systems
+from magrod.core.errors import ParameterError
 from magrod.generated import scalars
-from magrod.params import RodParams
-from magrod.poincare import orbit_stretch, poincare_map
-from magrod.printed import PANELS, panel_kwargs
+from magrod.core.params import RodParams
+from magrod.chaos.section import orbit_stretch, poincare_section
+from magrod.core.printed import PANELS, panel_kwargs
 
 EPS = np.finfo(float).eps
 
@@ -48,7 +48,7 @@ def test_control_inextensible_rod_along_an_orbit():
     kw = panel_kwargs("4a")
     p = kw["params"]
     kw["params"] = RodParams(m=p.m, mu=p.mu, gamma=0.0, delta=0.0, lam=p.lam)
-    res = poincare_map(**kw, iterates=30, stretch_dt=0.05)
+    res = poincare_section(**kw, iterates=30, stretch_dt=0.05)
     s = res.stretch
     assert s["n_samples"] > 1000 and s["straight_rod"] == 1.0
     for k in ("min_body", "max_body", "min_chart", "min_at_section_points"):
@@ -59,7 +59,7 @@ def test_control_inextensible_rod_along_an_orbit():
 def test_fig4a_orbit_is_compressed_past_zero_length():
     """The finding (docs/errata.md): at gamma = delta = 3 the straight rod is stretched to 7 times its length and
     the Fig 4(a) orbit reaches v3 ~ -6.8; both forms agree along the sampled orbit."""
-    res = poincare_map(**panel_kwargs("4a"), iterates=200, stretch_dt=0.05)
+    res = poincare_section(**panel_kwargs("4a"), iterates=200, stretch_dt=0.05)
     s = res.stretch
     assert s["max_abs_body_minus_chart"] <= 1e-12
     assert s["min_body"] < -6.0 and s["min_chart"] == pytest.approx(s["min_body"], abs=1e-12)
@@ -72,16 +72,28 @@ def test_fig4a_orbit_is_compressed_past_zero_length():
 
 
 def test_orbit_stretch_long_double_agrees_before_divergence():
-    res = poincare_map(**panel_kwargs("4d"), iterates=20)
+    res = poincare_section(**panel_kwargs("4d"), iterates=20)
     a = orbit_stretch(res, t_final=60.0)
-    b = orbit_stretch(res, t_final=60.0, fp_type=np.longdouble)
+    b = orbit_stretch(res, t_final=60.0, precision="long double")
     assert b["fp_type"] != "float64"
     assert abs(a["min_body"] - b["min_body"]) <= 1e-9
     assert a["fraction_compressed_body"] == b["fraction_compressed_body"]
 
 
+def test_stretch_along_the_run_equals_the_reintegration():
+    """poincare_section(stretch_dt=...) samples v3 on the dense output of the run itself; orbit_stretch
+    re-integrates independently with propagate_grid.  On the regular Fig 4(d) orbit over 20 iterates (no
+    divergence yet) both give the same samples: minimum to 1e-10 and the same count of compressed samples."""
+    res = poincare_section("4d", iterates=20, stretch_dt=0.05)
+    a, b = res.stretch, orbit_stretch(res, dt=0.05)
+    assert a["sampled"].startswith("along the run") and b["sampled"].startswith("re-integrated")
+    assert a["n_samples"] == b["n_samples"] > 1000
+    assert abs(a["min_body"] - b["min_body"]) <= 1e-10 and abs(a["t_min_body"] - b["t_min_body"]) <= 0.05
+    assert abs(a["fraction_compressed_body"] - b["fraction_compressed_body"]) <= 2 / a["n_samples"]
+
+
 def test_orbit_stretch_bad_input():
-    res = poincare_map(**panel_kwargs("4a"), iterates=3)
+    res = poincare_section(**panel_kwargs("4a"), iterates=3)
     with pytest.raises(ParameterError):
         orbit_stretch(res, dt=0.0)
     with pytest.raises(ParameterError):

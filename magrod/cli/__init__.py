@@ -17,17 +17,9 @@ import os
 import re
 import signal
 import sys
+import warnings
 
-
-
-def _interrupted_early(signum, frame):  # Ctrl-C while modules are still being imported: no traceback either
-    print("magrod: error: interrupted", file=sys.stderr)
-    raise SystemExit(130)
-
-
-signal.signal(signal.SIGINT, _interrupted_early)
-
-from ..errors import EnvironmentFault, ParameterError  # noqa: E402 - after the early Ctrl-C handler
+from ..core.errors import EnvironmentFault, ParameterError
 
 EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_ENVIRONMENT, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 
@@ -104,15 +96,59 @@ def _command_of(argv) -> str:
 
 
 def main(argv=None) -> int:
+    """Run one command; returns its exit code.  The process-wide settings a command line tool owns (SIGINT and
+    SIGXFSZ handlers, how warnings are printed, heyoka's logger via MAGROD_QUIET_HEYOKA) are installed here and
+    restored on return, so that calling main() from Python (tests, notebooks) leaves the process as it was."""
+    saved = _install_process_settings()
+    try:
+        return _main(argv)
+    finally:
+        _restore_process_settings(saved)
+
+
+def _install_process_settings() -> dict:
+    saved = {"SIGINT": signal.getsignal(signal.SIGINT), "showwarning": warnings.showwarning,
+             "env": os.environ.get(QUIET_ENV)}
+    _INTERRUPTED.clear()
+    signal.signal(signal.SIGINT, _on_sigint)  # from here on Ctrl-C is a KeyboardInterrupt (and remembered)
+    if hasattr(signal, "SIGXFSZ"):  # a file-size limit (ulimit -f) must be an OSError, not a kill
+        saved["SIGXFSZ"] = signal.getsignal(signal.SIGXFSZ)
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    # heyoka logs JIT-cache trouble to stdout, which would break --json: the library quiets it when asked to
+    os.environ[QUIET_ENV] = "1"
+    warnings.showwarning = _show_warning
+    return saved
+
+
+def _restore_process_settings(saved: dict) -> None:
+    warnings.showwarning = saved["showwarning"]
+    if saved["env"] is None:
+        os.environ.pop(QUIET_ENV, None)
+    else:
+        os.environ[QUIET_ENV] = saved["env"]
+    if "SIGXFSZ" in saved:
+        signal.signal(signal.SIGXFSZ, saved["SIGXFSZ"])
+    signal.signal(signal.SIGINT, saved["SIGINT"] if saved["SIGINT"] is not None else signal.SIG_DFL)
+
+
+QUIET_ENV = "MAGROD_QUIET_HEYOKA"  # = magrod.core.systems.QUIET_ENV (not imported: that would load heyoka)
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    """A warning is one stderr line, 'magrod: warning: ...' (never the source line Python shows by default)."""
+    text = " ".join(f"magrod: warning: {message}".split())
+    try:
+        print(text, file=sys.stderr, flush=True)
+    except (OSError, ValueError):
+        pass
+
+
+def _main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     want_json = "--json" in argv
     command = _command_of(argv) if _command_of(argv) in SUBCOMMANDS else ""
-    if hasattr(signal, "SIGXFSZ"):  # a file-size limit (ulimit -f) must be an OSError, not a kill
-        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
-    _INTERRUPTED.clear()
-    signal.signal(signal.SIGINT, _on_sigint)  # from here on Ctrl-C is a KeyboardInterrupt (and remembered)
     try:
-        from .. import io
+        from ..core import io
 
         io.track_created_dirs()
         args = build_parser().parse_args(argv)
@@ -173,7 +209,7 @@ def _emit(text: str) -> None:
 
 
 def _cleanup() -> None:
-    io = sys.modules.get(__package__.rsplit(".", 1)[0] + ".io")
+    io = sys.modules.get(__package__.rsplit(".", 1)[0] + ".core.io")
     if io is not None:
         io.remove_empty_created_dirs()
 

@@ -1,4 +1,4 @@
-"""`magrod check`: the integrability report (magrod.integrability), from generated/report.json, re-derived
+"""`magrod check`: the integrability report (magrod.integrability.report), from generated/report.json, re-derived
 (--rederive) or for a modified model (--subs).  Imports neither heyoka nor matplotlib."""
 from __future__ import annotations
 
@@ -14,9 +14,9 @@ def add_arguments(p):
 
 
 def run(args) -> dict:
-    from ..integrability import custom_involution, summary
+    from ..integrability.report import custom_involution, summary
 
-    from ..errors import ParameterError
+    from ..core.errors import ParameterError
 
     if args.subs is not None:
         if args.rederive or args.all:
@@ -26,6 +26,6 @@ def run(args) -> dict:
 
 
 def format_text(out: dict) -> str:
-    from ..integrability import format_text as fmt
+    from ..integrability.report import format_text as fmt
 
     return fmt(out)

@@ -1,4 +1,4 @@
-"""`magrod continue`: pseudo-arclength continuation of symmetric homoclinic orbits (magrod.continuation).
+"""`magrod continue`: pseudo-arclength continuation of symmetric homoclinic orbits (magrod.orbits.continuation).
 
 Two kinds of branches:
   generic   (mu > 2 lam) orbits to the periodic saddle, unknowns (T, launch angle, --free), --pulses N
@@ -6,7 +6,7 @@ Two kinds of branches:
 Writes branch.npz + branch.json (+ bifurcation diagram PNG) into --out."""
 from __future__ import annotations
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from .options import integer, number, out_dir, params_from
 
@@ -31,10 +31,10 @@ def add_arguments(p):
 
 
 def _check_range(params, name: str, rng, mu2lam: bool):
-    from ..floquet import periodic_saddle
+    from ..orbits.periodic import periodic_saddle
     from ..generated import scalars
-    from ..params import RodParams
-    from ..saddle import straight_rod
+    from ..core.params import RodParams
+    from ..orbits.equilibrium import straight_rod
 
     for v in rng:
         kw = {**params.as_dict(), name: v}
@@ -53,13 +53,13 @@ def run(args) -> dict:
 
     import numpy as np
 
-    from .. import continuation as C
-    from .. import homoclinic_periodic as hp
-    from .. import shooting
+    from ..orbits import continuation as C
+    from ..orbits import periodic_homoclinic as hp
+    from ..orbits import shooting
     from ..figures.continuation import write_branch
     from ..generated import scalars
-    from ..params import RodParams
-    from ..progress import bar
+    from ..core.params import RodParams
+    from ..core.progress import bar
 
     N = integer("pulses", args.pulses, maximum=12)
     steps = integer("steps", args.steps, maximum=10_000)

@@ -12,7 +12,7 @@ def add_arguments(p):
 
 def run(args) -> dict:
     from ..figures import build, builder
-    from ..io import check_out_path, ensure_writable_dir
+    from ..core.io import check_out_path, ensure_writable_dir
 
     builder(args.number)  # an unknown figure fails before the output directory is created
     out = ensure_writable_dir(check_out_path(args.out))

@@ -1,6 +1,6 @@
 """`magrod homoclinic --m 1.7 --gamma 1`: the homoclinic orbit of the extensible rod at lambdabar = 0 (paper
 sec. 6): roots u_pm, k, kappa, theta_max, h, m_c, and the check of the closed form against an independent
-multiprecision heyoka integration of Hamilton's equations from the turning point (magrod.homoclinic.verify)."""
+multiprecision heyoka integration of Hamilton's equations from the turning point (magrod.orbits.homoclinic.verify)."""
 from __future__ import annotations
 
 from .options import integer, number
@@ -16,8 +16,8 @@ def add_arguments(p):
 
 
 def run(args) -> dict:
-    from ..errors import ParameterError
-    from ..homoclinic import homoclinic, verify
+    from ..core.errors import ParameterError
+    from ..orbits.homoclinic import homoclinic, verify
 
     if args.no_verify and (args.theta_stop is not None or args.n is not None):
         raise ParameterError("no_verify", "--theta-stop and --n set up the verification that --no-verify skips")

@@ -4,7 +4,7 @@ function, M(psi0) = A sin(psi0) sqrt(a - 2b) (paper sec. 7, eq:Mel_ext), with it
 A(gamma) = 0 at the given m."""
 from __future__ import annotations
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from .options import number
 
 
@@ -19,7 +19,7 @@ def add_arguments(p):
 
 
 def run(args) -> dict:
-    from ..melnikov import INTEGRANDS, amplitude, amplitude_zero
+    from ..separatrix.melnikov import INTEGRANDS, amplitude, amplitude_zero
 
     which = list(INTEGRANDS) if args.integrand == "both" else [args.integrand]
     out = {"ok": True, "convention": "M(psi0) = A * sin(psi0) * sqrt(a - 2b), A = Int F dt along the "
@@ -33,7 +33,7 @@ def run(args) -> dict:
         lo, hi = (number("bracket", b) for b in (args.bracket or ("1.8", "2.0")))
         if not 0.0 <= lo < hi:
             raise ParameterError("bracket", f"need 0 <= LO < HI, got {lo}, {hi}")
-        from ..homoclinic import validate
+        from ..orbits.homoclinic import validate
 
         validate(m, lo)
         out["zeros"] = {k: amplitude_zero(m, k, (lo, hi)) for k in which}

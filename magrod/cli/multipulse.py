@@ -1,11 +1,11 @@
 """`magrod multipulse`: symmetric multipulse homoclinic orbits of the straight rod by shooting (Figures 6, 7)."""
 from __future__ import annotations
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from .options import add_params, integer, number, out_dir, params_from
 
-FREE = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))  # = magrod.shooting.FREE_PARAMETERS
+FREE = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))  # = magrod.orbits.shooting.FREE_PARAMETERS
 
 
 def add_arguments(p):
@@ -22,8 +22,8 @@ def add_arguments(p):
 def run(args) -> dict:
     from ..figures.multipulse import multipulse
     from ..generated import scalars
-    from ..params import RodParams
-    from ..printed import MULTIPULSE
+    from ..core.params import RodParams
+    from ..core.printed import MULTIPULSE
 
     base = MULTIPULSE[args.figure]["params"].as_dict() if args.figure else {}
     vals = params_from(args, base)

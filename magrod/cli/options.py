@@ -6,7 +6,7 @@ import math
 
 import os
 
-from ..errors import MAX_MAGNITUDE, ParameterError, require_finite
+from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
 from ..generated.names import PARAMS
 
 # Counts are bounded by what memory and time allow on a workstation; the messages state the limit.
@@ -76,6 +76,6 @@ def stem(name: str, value) -> str:
 
 def out_dir(name: str, value):
     """Validate an output directory without creating it (io.check_out_path)."""
-    from ..io import check_out_path
+    from ..core.io import check_out_path
 
     return check_out_path(value, name)

@@ -3,19 +3,19 @@ parameters (--m --mu --gamma --delta --lam --h --theta0 --ptheta0 [--psi0]).  Op
 the panel's values.  With --out DIR the section is written as DIR/<stem>.npz, .json and .png (atomically)."""
 from __future__ import annotations
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from .options import LIMITS, add_params, integer, number, out_dir, params_from, stem
 
 _START = ("h", "theta0", "ptheta0", "psi0")
-# the choices, known without importing heyoka (checked against magrod.poincare in the tests)
+# the choices, known without importing heyoka (checked against magrod.chaos.section in the tests)
 DIRECTIONS = ("any", "negative", "positive")
 BRANCHES = ("any", "0", "pi")
 FORMULATIONS = ("reduced", "body")
 
 
 def add_arguments(p):
-    from ..printed import PANELS
+    from ..core.printed import PANELS
 
     p.add_argument("--figure", metavar="PANEL", help=f"a panel of the paper: {', '.join(PANELS)}")
     add_params(p, help_suffix=" (needed without --figure)")
@@ -38,14 +38,17 @@ def add_arguments(p):
 
 
 def _inputs(args) -> tuple[dict, str | None]:
-    from ..printed import PANELS, panel_kwargs
+    from ..core.printed import PANELS, panel
 
     vals = {}
     key = None
     if args.figure is not None:
-        key = str(args.figure).lower()
-        kw = panel_kwargs(key)
-        vals = dict(kw["params"].as_dict(), h=kw["h"], theta0=kw["theta0"], ptheta0=kw["ptheta0"], psi0=kw["psi0"])
+        try:
+            P = panel(args.figure)
+        except ParameterError as exc:
+            raise ParameterError("figure", exc.message) from None
+        key = P.key
+        vals = dict(P.params.as_dict(), **P.start())
     vals = params_from(args, vals)
     for name in _START:
         v = getattr(args, name)
@@ -66,8 +69,11 @@ def _inputs(args) -> tuple[dict, str | None]:
 
 
 def run(args) -> dict:
-    from ..params import RodParams
-    from ..poincare import _admissible_interval, _radicand, choose_root, solve_p_psi
+    """Parse, call magrod.chaos.section.poincare_section (which validates the start and checks its own accuracy),
+    write the files of a successful run."""
+    from ..chaos.section import poincare_section
+    from ..core.params import RodParams
+    from ..core.progress import bar
 
     vals, key = _inputs(args)
     params = RodParams(**{k: vals[k] for k in PARAMS})
@@ -79,55 +85,30 @@ def run(args) -> dict:
         raise ParameterError("stem", "names the files written into --out: give --out too")
     name = stem("stem", args.stem) if args.stem is not None else (f"fig{key}" if key else "poincare")
     out = out_dir("out", args.out) if args.out is not None else None
-    start = dict(theta0=vals["theta0"], ptheta0=vals["ptheta0"], psi0=vals["psi0"])
     root = args.root if args.root in ("largest", "smallest") else integer("root", args.root, minimum=-10**9,
                                                                           maximum=10**9)
-    # every input error is raised before anything is computed or written
-    if "p_psi0" not in vals:
-        choose_root(solve_p_psi(params, vals["h"], **start), root)
-    else:
-        lo, hi = _admissible_interval(params)
-        if not lo < vals["p_psi0"] < hi:
-            raise ParameterError("ppsi0", f"the square root sqrt(mu - 2 lam pbar_psi) of Hbar is imaginary or zero at "
-                                          f"the start: mu - 2 lam ppsi0 = {_radicand(params, vals['p_psi0']):.6g}")
-    kw = dict(params=params, h=vals.get("h"), **start, p_psi0=vals.get("p_psi0"), iterates=iterates, root=root,
-              direction=args.direction, branch=args.branch, formulation=args.formulation, t_max=t_max)
-    res = _compute(kw, args.quiet)
-    retried = False
-    if res.success and not res.accuracy_checks()["passed"]:
-        # the integrator did not conserve what it must: do not trust the compiled code from the disk cache
-        from .. import systems
-
-        systems.bypass_disk_cache()
-        res, retried = _compute(kw, args.quiet), True
-        if res.accuracy_checks()["passed"]:
-            systems.bypass_disk_cache(clear=True)
-            systems._warn("the on-disk JIT cache gave an integrator that failed its accuracy checks; the cache was "
-                          "cleared and the run repeated with freshly compiled code")
-    acc = res.accuracy_checks()
-    ok = bool(res.success and acc["passed"])
+    kw = dict(h=vals.get("h"), theta0=vals["theta0"], ptheta0=vals["ptheta0"], psi0=vals["psi0"],
+              p_psi0=vals.get("p_psi0"), iterates=iterates, root=root, direction=args.direction, branch=args.branch,
+              formulation=args.formulation, t_max=t_max, verify=True)
+    try:
+        with bar(iterates, "poincare", not args.quiet) as update:
+            res = poincare_section(params, **kw, progress=update)
+    except ParameterError as exc:
+        if exc.name == "p_psi0":  # the library's name of --ppsi0
+            raise ParameterError("ppsi0", exc.message) from None
+        raise
+    res.panel = key
     paths = {}
-    if ok and out is not None:
+    if res.success and out is not None:
+        from ..core.io import ensure_writable_dir
+        from ..core.printed import PANELS
         from ..figures.poincare import save_result
-        from ..io import ensure_writable_dir
-        from ..printed import PANELS
 
         paths = save_result(res, ensure_writable_dir(out), name, key=key, label=PANELS[key]["label"] if key else None)
-    out_d = {"ok": ok, "panel": key, **res.summary(), "output": paths, "retried_without_jit_cache": retried}
-    if not ok:
-        out_d["error"] = res.message if not res.success else (
-            f"accuracy check failed: max |Hbar - h| = {res.max_abs_dH:.3g} (tol {acc['energy_tol']:g}), Casimir drift "
-            f"{res.casimir_drift if res.casimir_drift is not None else 0:.3g} (tol {acc['casimir_tol']:g}); "
-            "nothing written")
+    out_d = {"ok": bool(res.success), "panel": key, **res.summary(), "output": paths}
+    if not res.success:
+        out_d["error"] = res.message + ("; nothing written" if out is not None else "")
     return out_d
-
-
-def _compute(kw, quiet):
-    from ..poincare import poincare_map
-    from ..progress import bar
-
-    with bar(kw["iterates"], "poincare", not quiet) as update:
-        return poincare_map(**kw, progress=update)
 
 
 def format_text(r: dict) -> str:

@@ -12,7 +12,7 @@ import json
 import time
 from pathlib import Path
 
-from ..errors import EnvironmentFault, ParameterError
+from ..core.errors import EnvironmentFault, ParameterError
 from ..figures import FIGURES
 from .options import integer
 
@@ -45,7 +45,7 @@ def _stamp_ok(out: Path, task: str, quick: bool) -> dict | None:
     """The stamp of a finished task if it is valid for this run: a JSON object written by this code, same quick
     flag and package versions, and every file it lists present with the content hash it recorded.  Anything
     else (missing, unreadable, truncated, wrong type, a changed file) means: recompute."""
-    from ..io import versions
+    from ..core.io import versions
 
     p = _stamp_path(out, task)
     try:
@@ -138,8 +138,8 @@ def run(args) -> dict:
     import os
 
     from ..figures.report import claims, report_markdown
-    from ..io import atomic_write_json, atomic_write_text, ensure_writable_dir, versions
-    from ..progress import bar
+    from ..core.io import atomic_write_json, atomic_write_text, ensure_writable_dir, versions
+    from ..core.progress import bar
     from .options import out_dir
 
     jobs = integer("jobs", args.jobs)

@@ -12,7 +12,7 @@ def add_arguments(p):
 
 def run(args) -> dict:
     from ..figures.rod import plot_rod, rod_from_orbit_file
-    from ..io import atomic_write_json, versions
+    from ..core.io import atomic_write_json, versions
     from .options import integer, out_dir
 
     points = integer("points", args.points, minimum=2)

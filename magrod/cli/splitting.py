@@ -6,7 +6,7 @@ the tilted straight rod (a saddle-focus of the reduced chart); D(psi) = theta_u(
 The result is computed in --precision and checked in the next lower precision."""
 from __future__ import annotations
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from .options import integer, number, out_dir
 
 CHECK = {"mp": "quad", "quad": "long", "long": "double", "double": None}
@@ -40,8 +40,8 @@ def _eps_list(s):
 
 
 def run(args) -> dict:
-    from .. import splitting as S
-    from ..progress import bar
+    from ..separatrix import splitting as S
+    from ..core.progress import bar
 
     vals = {k: number(k, getattr(args, k)) for k in ("m", "gamma", "delta", "a", "b")}
     eps = _eps_list(args.eps)

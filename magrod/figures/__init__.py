@@ -3,7 +3,7 @@
     build(out_dir, *, quick=False, progress=False) -> list[str]     (the paths written, atomically)
 
 registered here.  Builders call the numerics (magrod.*), draw with matplotlib (Agg) and write PNG + .npz + JSON
-sidecars through magrod.io.  Imported lazily: `FIGURES` lists module and function names only."""
+sidecars through magrod.core.io.  Imported lazily: `FIGURES` lists module and function names only."""
 from __future__ import annotations
 
 import importlib
@@ -27,7 +27,7 @@ FIGURES = {
 
 def builder(number: str):
     """The builder of a registered figure (ParameterError naming `number` if unknown)."""
-    from ..errors import ParameterError
+    from ..core.errors import ParameterError
 
     number = str(number).strip()
     if number not in FIGURES:

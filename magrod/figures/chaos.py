@@ -1,4 +1,4 @@
-"""Chaos-map pictures and the small map of `magrod reproduce` (drawing and writing; numerics in magrod.chaos).
+"""Chaos-map pictures and the small map of `magrod reproduce` (drawing and writing; numerics in magrod.chaos.indicators).
 
 build(out_dir, *, quick=False, progress=False) -> list[str]
     A lambdabar x gamma map around the Figure 4 panels (start rule of fig:poincare1) plus the indicators of the
@@ -13,10 +13,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import chaos
-from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..printed import PANELS
-from ..progress import bar
+from ..chaos import indicators as chaos, maps
+from ..chaos.fields import MAPPABLE
+from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.printed import PANELS
+from ..core.progress import bar
 from .common import pyplot
 
 # the reproduce map: full and --quick sizes (grid points per axis, t_max)
@@ -25,13 +26,13 @@ REPRODUCE_AXES = ("lam:0.12:0.2", "gamma:2.0:4.0")
 PANEL_T_MAX = {False: 5000.0, True: 3000.0}
 
 
-def panel_marks(spec: chaos.MapSpec) -> list[tuple]:
+def panel_marks(spec: maps.MapSpec) -> list[tuple]:
     """(key, x, y) of every paper panel that lies in the map's plane: its values of all non-axis parameters equal
     the map's base values and its axis values are inside the ranges."""
     marks = []
     for key in PANELS:
-        v = chaos.panel_base(key)
-        others = [k for k in chaos.AXIS_NAMES if k not in (spec.x.name, spec.y.name)]
+        v = maps.panel_base(key)
+        others = [k for k in maps.AXIS_NAMES if k not in (spec.x.name, spec.y.name)]
         if all(np.isclose(v[k], spec.base.get(k, np.nan)) for k in others):
             x, y = v[spec.x.name], v[spec.y.name]
             if spec.x.lo <= x <= spec.x.hi and spec.y.lo <= y <= spec.y.hi:
@@ -39,25 +40,53 @@ def panel_marks(spec: chaos.MapSpec) -> list[tuple]:
     return marks
 
 
-FIELD_LABELS = {"growth": "growth exponent (FLI(T) - FLI(T/2))/ln 2", "fli": "FLI = max ln|w(t)|, t <= T",
-                "lyap": "finite-time Lyapunov exponent L(T)/T"}
-FIELD_NAMES = {"growth": "growth_exponent", "fli": "fli", "lyap": "lyap"}
+FIELD_LABELS = {k: f.label for k, f in MAPPABLE.items()}
+FIELD_NAMES = {k: f.name for k, f in MAPPABLE.items()}
 
 
-def draw_map(fields: dict, spec: chaos.MapSpec, path, *, indicator="growth", title=None,
-             threshold=chaos.GROWTH_THRESHOLD) -> Path:
-    """PNG heat map of one indicator ("growth", "fli" or "lyap"); missing points grey; paper panels starred.
-    The growth exponent is coloured diverging about the chaos threshold."""
-    plt = pyplot()
-    from matplotlib.colors import TwoSlopeNorm
+def growth_norm(vmax: float, threshold: float):
+    """Colour scale of the growth exponent that shows the chaos threshold: linear on [0, threshold] (the lower half
+    of the colour map: regular, tangent growth at most a power t^p with p <= threshold), logarithmic from the
+    threshold up to vmax (the upper half: chaotic, p ~ lyap T/(2 ln 2) can reach 1000).  A plain linear or
+    TwoSlopeNorm scale up to ~1000 squeezes the threshold of 3 into the first percent of the bar."""
+    import numpy as _np
+    from matplotlib.colors import FuncNorm
 
+    top = _np.log(max(vmax, 1.01 * threshold) / threshold)
+
+    def forward(g):
+        g = _np.asarray(g, float)
+        with _np.errstate(divide="ignore", invalid="ignore"):
+            hi = 0.5 + 0.5 * _np.log(_np.maximum(g, threshold) / threshold) / top
+        return _np.where(g <= threshold, 0.5 * _np.clip(g, 0.0, None) / threshold, hi)
+
+    def inverse(u):
+        u = _np.asarray(u, float)
+        return _np.where(u <= 0.5, 2 * u * threshold, threshold * _np.exp((2 * u - 1) * top))
+
+    return FuncNorm((forward, inverse), vmin=0.0, vmax=max(vmax, 1.01 * threshold))
+
+
+def growth_ticks(vmax: float, threshold: float) -> list:
+    ticks = [0.0, threshold / 3, 2 * threshold / 3, threshold]
+    for t in (10, 30, 100, 300, 1000, 3000, 10000):
+        if threshold < t <= vmax:
+            ticks.append(float(t))
+    return ticks
+
+
+def map_axes(ax, fields: dict, spec: maps.MapSpec, *, indicator="growth", threshold=chaos.GROWTH_THRESHOLD,
+             title=None, colorbar=True):
+    """Draw one indicator of a map on `ax` ("growth", "fli" or "lyap"); missing points grey; the classification
+    boundary growth = threshold as a contour; paper panels starred.  Returns the QuadMesh."""
     g = np.where(np.asarray(fields["status"]) == chaos.OK, fields[FIELD_NAMES[indicator]], np.nan)
-    fig, ax = plt.subplots(figsize=(6.4, 5.0), layout="constrained")
-    cmap = plt.get_cmap("RdYlBu_r" if indicator == "growth" else "magma").with_extremes(bad="0.8")
+    import matplotlib
+
+    cmap = matplotlib.colormaps["RdYlBu_r" if indicator == "growth" else "magma"].with_extremes(bad="0.8")
     norm = None
     if indicator == "growth":
         vmax = max(float(np.nanmax(g)) if np.isfinite(g).any() else 2 * threshold, 2 * threshold)
-        norm = TwoSlopeNorm(vmin=0.0, vcenter=threshold, vmax=vmax)
+        norm = growth_norm(vmax, threshold)
     im = ax.pcolormesh(spec.x.values(), spec.y.values(), np.ma.masked_invalid(g), cmap=cmap, shading="nearest",
                        norm=norm)
     ge = np.ma.masked_invalid(np.asarray(fields["growth_exponent"], float))
@@ -65,33 +94,68 @@ def draw_map(fields: dict, spec: chaos.MapSpec, path, *, indicator="growth", tit
         # the classification boundary (masked where missing), whatever indicator is coloured
         ax.contour(spec.x.values(), spec.y.values(), ge, levels=[threshold], linewidths=0.8,
                    colors="k" if indicator == "growth" else "c")
-    cb = fig.colorbar(im, ax=ax)
-    cb.set_label(FIELD_LABELS[indicator] + (f"; chaotic > {threshold:g}" if indicator == "growth" else "")
-                 + "; grey: missing")
+    if colorbar:
+        cb = ax.figure.colorbar(im, ax=ax, ticks=growth_ticks(norm.vmax, threshold) if norm is not None else None)
+        if indicator == "growth":
+            cb.ax.axhline(threshold, color="k", lw=1.2)
+            cb.set_label(f"growth exponent (FLI(T) - FLI(T/2))/ln 2\nchaotic > {threshold:g} (log scale above); "
+                         "grey: missing", fontsize=8)
+        else:
+            cb.set_label(FIELD_LABELS[indicator] + "\ngrey: missing", fontsize=8)
     for key, x, y in panel_marks(spec):
         ax.plot(x, y, "k*", ms=10, mec="w")
         ax.annotate(key, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=9)
     ax.set_xlabel(spec.x.name)
     ax.set_ylabel(spec.y.name)
     fixed = ", ".join(f"{k} = {v:g}" for k, v in sorted(spec.base.items()) if k not in (spec.x.name, spec.y.name))
-    ax.set_title(title or f"chaos map, T = {spec.t_max:g}\n{fixed}", fontsize=9)
-    try:
-        return atomic_savefig(fig, path, dpi=120)
-    finally:
-        plt.close(fig)
+    ax.set_title(title or f"chaos map, T = {spec.t_max:g}\n{fixed}", fontsize=8)
+    return im
+
+
+def draw_map(fields: dict, spec: maps.MapSpec, path, *, indicator="growth", title=None,
+             threshold=chaos.GROWTH_THRESHOLD) -> Path:
+    """PNG heat map of one indicator ("growth", "fli" or "lyap") written to `path` (map_axes)."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(6.4, 5.0), layout="constrained")
+    map_axes(ax, fields, spec, indicator=indicator, threshold=threshold, title=title)
+    return atomic_savefig(fig, path, dpi=120)
+
+
+def plot_map(res, ax=None, *, indicator="growth", **kw):
+    """ChaosMap.plot: the map on ax (a new figure if None); returns the Axes."""
+    from .plots import axes
+
+    ax = axes(ax, figsize=(6.4, 5.0))
+    map_axes(ax, res.fields, res.spec, indicator=indicator, **kw)
+    return ax
+
+
+def plot_lyapunov(res, ax=None, **kw):
+    """LyapunovResult.plot: the finite-time exponent L(t)/t against t (log-log), the threshold line of the
+    growth exponent's power law would need two samples; the verdict and growth exponent are in the title."""
+    from .plots import axes
+
+    ax = axes(ax)
+    ax.loglog(res.times, np.abs(res.lyap_history), "k-", lw=1, **kw)
+    ax.set_xlabel("t (scaled arclength)")
+    ax.set_ylabel(r"$|\ln|w(t)|\,/\,t|$")
+    where = f"panel {res.panel}" if res.panel else ", ".join(f"{k}={v:g}" for k, v in res.params.as_dict().items())
+    ax.set_title(f"{where}: lyap(T={res.t_max:g}) = {res.lyap:.3g}, growth exponent {res.growth_exponent:.3g}"
+                 f"\n({'chaotic' if res.chaotic else 'regular'}: {res.criterion()})", fontsize=8)
+    return ax
 
 
 def build(out_dir, *, quick=False, progress=False) -> list[str]:
     """The reproduce map (REPRODUCE_GRID) and the Figure 4 panel indicators; see the module docstring."""
     out = ensure_writable_dir(out_dir)
     n, t_max = REPRODUCE_GRID[bool(quick)]
-    spec = chaos.MapSpec(chaos.parse_axis("x", f"{REPRODUCE_AXES[0]}:{n}"),
-                         chaos.parse_axis("y", f"{REPRODUCE_AXES[1]}:{n}"), base=chaos.panel_base("4a"),
+    spec = maps.MapSpec(maps.parse_axis("x", f"{REPRODUCE_AXES[0]}:{n}"),
+                         maps.parse_axis("y", f"{REPRODUCE_AXES[1]}:{n}"), base=maps.panel_base("4a"),
                          panel="4a", t_max=t_max)
-    with bar(len(chaos.tiles(spec)), "chaos map", progress, unit="tile") as update:
-        res = chaos.chaos_map(spec, progress=update)
+    with bar(len(maps.tiles(spec)), "chaos map", progress, unit="tile") as update:
+        res = maps.chaos_map(spec, progress=update)
     t0 = time.perf_counter()
-    panels = chaos.panel_indicators(("4a", "4b", "4c", "4d"), t_max=PANEL_T_MAX[bool(quick)])
+    panels = maps.panel_indicators(("4a", "4b", "4c", "4d"), t_max=PANEL_T_MAX[bool(quick)])
     png = draw_map(res.fields, spec, out / "chaos.png")
     npz = atomic_savez(out / "chaos.npz", **{k: np.asarray(v) for k, v in res.fields.items()},
                        x=spec.x.values(), y=spec.y.values())

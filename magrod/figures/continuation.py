@@ -1,4 +1,4 @@
-"""Figures of localised rods across parameter space: bifurcation diagrams of symmetric homoclinic orbits (magrod.continuation) and the
+"""Figures of localised rods across parameter space: bifurcation diagrams of symmetric homoclinic orbits (magrod.orbits.continuation) and the
 Floquet data of the periodic saddle.  `build(out_dir, quick=False, progress=False) -> list[str]` writes:
   continuation_mu2lam.png/.npz/.json   the Fig 6 two-pulse orbit continued on mu = 2 lam as a curve in the
                                        (lam, m) plane; the printed m = 1.7 point (lam* of docs/errata.md) marked
@@ -6,7 +6,7 @@ Floquet data of the periodic saddle.  `build(out_dir, quick=False, progress=Fals
                                        in mu towards mu = 2 lam (log scale in mu - 2 lam); T and launch angle
   continuation_fold.png/.npz/.json     a 2-pulse branch to the periodic saddle continued in mu across its fold
                                        (mu = 4.8614e-3), fold located and marked
-Data as .npz + JSON sidecar (magrod.io atomic writers)."""
+Data as .npz + JSON sidecar (magrod.core.io atomic writers)."""
 from __future__ import annotations
 
 import time
@@ -14,13 +14,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import continuation as C
-from .. import homoclinic_periodic as hp
-from .. import shooting
-from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..orbits import continuation as C
+from ..orbits import periodic_homoclinic as hp
+from ..orbits import shooting
+from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..generated import scalars
-from ..params import RodParams
-from ..printed import MULTIPULSE
+from ..core.params import RodParams
+from ..core.printed import MULTIPULSE
 from .common import pyplot
 
 

@@ -6,9 +6,10 @@ import time
 import numpy as np
 
 from ..generated import scalars
-from ..homoclinic import homoclinic, phase_portrait_energy, verify
-from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..printed import FIG3
+from ..orbits.homoclinic import homoclinic, phase_portrait_energy, verify
+from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.printed import FIG3
+from ..core.progress import bar
 from .common import pyplot, rect
 
 
@@ -59,7 +60,14 @@ def figure_3(out_dir, *, quick=False, progress=False) -> list[str]:
     t_start = time.perf_counter()
     out = ensure_writable_dir(out_dir)
     n = 201 if quick else 601
-    d = figure_3_data(401 if quick else 1201)
+    with bar(5, "figure 3", progress, unit="step") as update:  # two verified orbits, then three portraits
+        d = figure_3_data(401 if quick else 1201)
+        update(2)
+        fig, axes, ob = _figure_3_portraits(plt, d, n, update)
+    return _figure_3_rest(plt, fig, axes, ob, d, out, quick, t_start)
+
+
+def _figure_3_portraits(plt, d, n, update):
     ax_p = FIG3["paper_axes"]
     fig, axes = plt.subplots(2, 3, figsize=(14, 8), dpi=150)
     m, g = FIG3["m"], FIG3["gamma"]
@@ -68,14 +76,23 @@ def figure_3(out_dir, *, quick=False, progress=False) -> list[str]:
     _portrait(axes[0, 0], m, g, (-1.8, 1.8), (-0.6, 0.6),
               f"(a) $\\gamma$={g:g}, m={m:g} < $m_c$={mc:.3f}; homoclinic level h (red),\n"
               f"$\\theta_{{max}}$={th_max:.3f} exceeds the paper's $|\\theta|\\leq 1.5$", ax_p["a"], n)
+    update(1)
     ob = homoclinic(FIG3["m_b"], g)
     _portrait(axes[0, 1], FIG3["m_b"], g, (-1.5, 1.5), (-0.8, 0.8),
               f"(b) $\\gamma$={g:g}, m={FIG3['m_b']:g}: printed as '> $m_c$', but $m_c$={mc:.3f};\n"
               f"theta = 0 is still a saddle (homoclinic level red, $\\theta_{{max}}$={ob.theta_max:.3f})",
               ax_p["b"], n)
+    update(1)
     _portrait(axes[0, 2], FIG3["m_super"], g, (-1.5, 1.5), (-0.8, 0.8),
               f"(b*) not in the paper: $\\gamma$={g:g}, m={FIG3['m_super']:g} > $m_c$ (theta = 0 a centre;\n"
               "no homoclinic orbit)", None, n)
+    update(1)
+    return fig, axes, ob
+
+
+def _figure_3_rest(plt, fig, axes, ob, d, out, quick, t_start):
+    ax_p = FIG3["paper_axes"]
+    m, g = FIG3["m"], FIG3["gamma"]
     for ax, key, lab in ((axes[1, 0], "theta", r"$\theta$"), (axes[1, 1], "ptheta", r"$\bar p_\theta$"),
                          (axes[1, 2], "psidot", r"$\dot\psi = 1/(1+\cos\theta)$")):
         for which, style, name in (("ext", "-", f"extensible $\\gamma$={g:g}"), ("kir", "--", "inextensible $\\gamma$=0")):

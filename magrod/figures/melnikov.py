@@ -5,10 +5,10 @@ import time
 
 import numpy as np
 
-from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..melnikov import INTEGRANDS, amplitude, amplitude_zero, melnikov_function, primitive_check
-from ..printed import FIG2_GAMMAS, FIG2_M, FIG2_ZERO_BRACKET
-from ..progress import bar
+from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..separatrix.melnikov import INTEGRANDS, amplitude, amplitude_zero, melnikov_function, primitive_check
+from ..core.printed import FIG2_GAMMAS, FIG2_M, FIG2_ZERO_BRACKET
+from ..core.progress import bar
 from .common import pyplot
 
 

@@ -5,11 +5,11 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..printed import MULTIPULSE
-from ..progress import bar
-from ..saddle import straight_rod
-from ..shooting import LAUNCH_DISTANCES, THETA_CUT, find_orbits, scaled_arclength
+from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.printed import MULTIPULSE
+from ..core.progress import bar
+from ..orbits.equilibrium import straight_rod
+from ..orbits.shooting import LAUNCH_DISTANCES, THETA_CUT, find_orbits, scaled_arclength
 from .common import pyplot
 from .rod import plot_rod, rod_from_orbit_file
 
@@ -97,7 +97,7 @@ def _figure(number: int, out_dir, quick: bool = False, progress: bool = False) -
     fig.tight_layout()
     paths.append(str(atomic_savefig(fig, Path(out_dir) / f"figure{number}.png", dpi=150)))
     plt.close(fig)
-    # 3-D rod shapes of the orbits shown (directors + extensible centreline, magrod.rod), from the files just written
+    # 3-D rod shapes of the orbits shown (directors + extensible centreline, magrod.orbits.rod), from the files just written
     for N in spec["show"]:
         e = found[N - 1]
         if not e["success"]:

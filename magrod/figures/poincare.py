@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..printed import PANELS
-from ..progress import bar
+from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.printed import PANELS
+from ..core.progress import bar
 from .common import pyplot
 
 
@@ -33,6 +33,15 @@ def plot_points(ax, res, title=None):
         ax.set_title(title, fontsize=8)
 
 
+def plot_section(res, ax=None, **kw):
+    """PoincareResult.plot: the section points in (theta, pbar_theta) on ax (a new figure if None)."""
+    from .plots import axes
+
+    ax = axes(ax)
+    plot_points(ax, res, panel_title(res.panel, res))
+    return ax
+
+
 def save_result(res, out_dir, stem: str, *, key=None, label=None, formats=("png",)) -> dict:
     """Write <stem>.npz (arrays), <stem>.json (metadata, versions) and <stem>.png atomically; returns the paths."""
     plt = pyplot()
@@ -53,7 +62,7 @@ def save_result(res, out_dir, stem: str, *, key=None, label=None, formats=("png"
 
 
 def _figure(fig_no: str, out_dir, quick=False, progress=False, iterates=None, workers=2) -> list[str]:
-    from ..poincare import DEFAULT_FORMULATION, STRETCH_DT, run_panels
+    from ..chaos.section import DEFAULT_FORMULATION, STRETCH_DT, run_panels
 
     plt = pyplot()
     out = ensure_writable_dir(out_dir)

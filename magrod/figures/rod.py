@@ -6,13 +6,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io import atomic_savefig, atomic_write_text, ensure_writable_dir, load_orbit_file
-from ..rod import from_orbit
+from ..core.io import atomic_savefig, atomic_write_text, ensure_writable_dir, load_orbit_file
+from ..orbits.rod import from_orbit
 from .common import pyplot
 
 
 def rod_from_orbit_file(path, n: int = 3001) -> dict:
-    """magrod.rod.from_orbit of an orbit .npz written by `magrod multipulse` (validated by io.load_orbit_file)."""
+    """magrod.orbits.rod.from_orbit of an orbit .npz written by `magrod multipulse` (validated by io.load_orbit_file)."""
     return from_orbit(load_orbit_file(path), n)
 
 

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import splitting as S
-from ..io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..separatrix import splitting as S
+from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from .common import pyplot
 
 

@@ -26,10 +26,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import ParameterError
-from .generated import scalars
-from .generated.names import PARAMS
-from .params import RodParams
+from ..core.errors import ParameterError
+from ..generated import scalars
+from ..generated.names import PARAMS
+from ..core.params import RodParams
 
 
 @dataclass
@@ -188,11 +188,11 @@ MU2LAM_FREE = ("m", "gamma", "delta")
 
 def mu2lam_problem(base: RodParams, second: str = "m", *, eps: float = 1e-9, precision: str = "long double"):
     """F(T, lam, q) = (pbar_theta, sin psi)(x(T)) for the straight rod's unstable manifold on mu = 2 lam, q =
-    `second` (m, gamma or delta); Jacobian from the variational equations (as magrod.shooting.shoot).  Returns
+    `second` (m, gamma or delta); Jacobian from the variational equations (as magrod.orbits.shooting.shoot).  Returns
     (F, params_of(u))."""
-    from . import systems
-    from .homoclinic_periodic import _fix, _propagate
-    from .saddle import straight_rod
+    from ..core import systems
+    from .periodic_homoclinic import _fix, _propagate
+    from .equilibrium import straight_rod
 
     if second not in MU2LAM_FREE:
         raise ParameterError("second", f"must be one of {MU2LAM_FREE}, got {second!r}")
@@ -240,9 +240,9 @@ PERIODIC_FREE = ("lam", "mu", "m", "gamma", "delta")
 
 
 def periodic_problem(base: RodParams, free: str, pulses: int, *, eps: float | None = None, precision: str = "auto"):
-    """F(T, angle, q) for symmetric homoclinic orbits to the periodic saddle (magrod.homoclinic_periodic), q =
+    """F(T, angle, q) for symmetric homoclinic orbits to the periodic saddle (magrod.orbits.periodic_homoclinic), q =
     `free`.  Returns (F, params_of(u))."""
-    from . import homoclinic_periodic as hp
+    from . import periodic_homoclinic as hp
 
     if free not in PERIODIC_FREE:
         raise ParameterError("free", f"must be one of {PERIODIC_FREE}, got {free!r}")

@@ -44,15 +44,14 @@ Cost: ~4.4 us per orbit per unit time at tol = eps in SIMD batches of hy.recomme
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 
 import heyoka as hy
 import numpy as np
 
-from . import systems
-from .errors import MAX_MAGNITUDE, ParameterError, require_finite, require_positive_int
-from .generated.names import BODY_STATE, PARAMS
-from .params import RodParams
+from ..core import systems
+from ..core.tolerances import DRIFT_LIMIT
+from .fields import KEYS
 
 GROWTH_THRESHOLD = 3.0
 DEFAULT_RENORM_DT = 10.0
@@ -60,10 +59,8 @@ DEFAULT_RENORM_DT = 10.0
 OK, NO_ROOT, UNPHYSICAL, LEFT_RANGE, FAILED = 0, 1, 2, 3, 4
 REASONS = {OK: "ok", NO_ROOT: "no_energy_root", UNPHYSICAL: "unphysical_parameters",
            LEFT_RANGE: "left_physical_range", FAILED: "integration_failed"}
-# An orbit whose first integrals drift by more than this has left its invariant set (the integration is not
-# trustworthy there); the paper's runs keep them to ~1e-13.
-DRIFT_LIMIT = 1e-8
-_KEYS = ("lyap", "fli", "fli_half", "growth_exponent", "max_abs_dH", "casimir_drift", "min_stretch")
+# An orbit whose first integrals drift by more than DRIFT_LIMIT (magrod.core.tolerances) has left its invariant set
+_KEYS = KEYS  # the per-orbit outputs, described in magrod/chaos/fields.py
 _W0_SEED = 11  # the fixed generic direction of w0 (before projection): same on every worker and machine
 
 
@@ -84,6 +81,14 @@ class Indicators:
     status: np.ndarray
     t_max: float
     renorm_dt: float
+    # with history=True: ln |w(t_k)| (N, K) at the renormalisation times t_k = k renorm_dt, k = 1..K
+    log_growth: np.ndarray | None = None
+
+    @property
+    def times(self) -> np.ndarray:
+        """The sample times t_k = k renorm_dt (K,) of log_growth."""
+        K = 0 if self.log_growth is None else self.log_growth.shape[1]
+        return self.renorm_dt * np.arange(1, K + 1)
 
     @property
     def chaotic(self) -> np.ndarray:
@@ -105,13 +110,13 @@ def _steps(t_max, renorm_dt):
 
 
 def tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=DEFAULT_RENORM_DT, project=None, check=None,
-                       valid=None) -> Indicators:
+                       valid=None, history=False) -> Indicators:
     """Indicators of N orbits with a batch tangent integrator (systems.tangent_batch).
 
     x0 (n, N) starts, w0 (n, N) tangent vectors (normalised here), pars (npars, N); project(x, w, p) -> w
     maps tangent vectors onto the neutral-free subspace (None: identity); check(x, p) -> (ok (b,), diag (3, b))
     flags lanes that left the physical range and reports (|dH|, Casimir drift, -stretch), whose maxima are kept;
-    valid (N,) bool skips points.
+    valid (N,) bool skips points; history=True also returns ln |w(t_k)| at every renormalisation time.
     Lanes are filled in order, padded with a copy of a valid lane: a lane's result does not depend on its
     neighbours (heyoka batch lanes step independently), and the fixed order makes results reproducible.
     Cost: N/batch_size batch propagations of t_max plus ~t_max/renorm_dt Python-level renormalisations each."""
@@ -123,21 +128,26 @@ def tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=DEFAULT_RENORM_DT, 
     out = {k: np.full(N, np.nan) for k in _KEYS}
     status = np.where(valid, OK, FAILED).astype(np.int8)
     nsteps, dt = _steps(t_max, renorm_dt)
+    hist = np.full((N, nsteps), np.nan) if history else None
     for s in range(0, N, b):
         idx = np.arange(s, min(s + b, N))
         good = idx[valid[idx]]
         if good.size == 0:
             continue
         lanes = np.concatenate([good, np.full(b - good.size, good[-1])])
-        res = _run_batch(ta, x0[:, lanes], w0[:, lanes], pars[:, lanes], nsteps, dt, project, check)
+        res = _run_batch(ta, x0[:, lanes], w0[:, lanes], pars[:, lanes], nsteps, dt, project, check, history)
         k = good.size
         for key in out:
             out[key][good] = res[key][:k]
         status[good] = res["status"][:k]
+        if history:
+            hist[good] = res["history"][:, :k].T
     bad = status != OK
     for key in out:
         out[key][bad] = np.nan
-    return Indicators(**out, status=status, t_max=t_max, renorm_dt=dt)
+    if history:
+        hist[bad] = np.nan
+    return Indicators(**out, status=status, t_max=t_max, renorm_dt=dt, log_growth=hist)
 
 
 def _normalise(x, w, p, project):
@@ -147,7 +157,7 @@ def _normalise(x, w, p, project):
     return w / nrm, nrm
 
 
-def _run_batch(ta, x, w, p, nsteps, dt, project, check) -> dict:
+def _run_batch(ta, x, w, p, nsteps, dt, project, check, history=False) -> dict:
     n = x.shape[0]
     b = ta.batch_size
     ta.set_time(0.0)
@@ -161,6 +171,7 @@ def _run_batch(ta, x, w, p, nsteps, dt, project, check) -> dict:
     status = np.zeros(b, np.int8)
     drift = np.full((3, b), -np.inf)
     ok_outcome = hy.taylor_outcome.time_limit
+    hist = np.empty((nsteps, b)) if history else None
     for k in range(1, nsteps + 1):
         ta.propagate_until(k * dt)
         failed = np.array([r[0] != ok_outcome for r in ta.propagate_res]) | ~np.all(np.isfinite(ta.state), axis=0)
@@ -177,6 +188,8 @@ def _run_batch(ta, x, w, p, nsteps, dt, project, check) -> dict:
         wk, nrm = _normalise(np.array(ta.state[:n]), np.array(ta.state[n:]), p, project)
         ta.state[n:] = wk
         L += np.log(nrm)
+        if history:
+            hist[k - 1] = L
         fli = np.maximum(fli, L)
         if 2 * k == nsteps:
             fli_half = fli.copy()
@@ -184,7 +197,8 @@ def _run_batch(ta, x, w, p, nsteps, dt, project, check) -> dict:
     if check is None:  # nothing monitored: NaN, not the -inf of an empty maximum
         drift[:] = np.nan
     return {"lyap": L / T, "fli": fli, "fli_half": fli_half, "growth_exponent": (fli - fli_half) / math.log(2.0),
-            "max_abs_dH": drift[0], "casimir_drift": drift[1], "min_stretch": -drift[2], "status": status}
+            "max_abs_dH": drift[0], "casimir_drift": drift[1], "min_stretch": -drift[2], "status": status,
+            "history": hist}
 
 
 def generic_w0(n: int, N: int) -> np.ndarray:
@@ -243,7 +257,7 @@ class _BodyCheck:
 
 
 def body_indicators(x0, pars, *, t_max, tol=None, renorm_dt=DEFAULT_RENORM_DT, project=True, batch_size=None,
-                    w0=None, valid=None) -> Indicators:
+                    w0=None, valid=None, history=False) -> Indicators:
     """Indicators of body-frame orbits x0 (9, N) with parameters pars (5, N) in PARAMS order.
 
     Defaults: tol None = machine epsilon, renorm_dt 10, project onto the invariant level set (module docstring),
@@ -268,22 +282,26 @@ def body_indicators(x0, pars, *, t_max, tol=None, renorm_dt=DEFAULT_RENORM_DT, p
         lanes = np.concatenate([good, np.full(b - good.size, good[-1])])
         chk = _BodyCheck.at(x0[:, lanes], pars[:, lanes])
         r = tangent_indicators(ta, x0[:, lanes], w0[:, lanes], pars[:, lanes], t_max=t_max, renorm_dt=renorm_dt,
-                               project=project_neutral if project else None, check=chk)
+                               project=project_neutral if project else None, check=chk, history=history)
         results.append((good, r))
-    return _merge(results, N, valid, float(t_max), _steps(float(t_max), renorm_dt)[1])
+    nsteps, dt = _steps(float(t_max), renorm_dt)
+    return _merge(results, N, valid, float(t_max), dt, nsteps if history else None)
 
 
-def _merge(results, N, valid, t_max, dt) -> Indicators:
+def _merge(results, N, valid, t_max, dt, nsteps=None) -> Indicators:
     keys = _KEYS
     out = {k: np.full(N, np.nan) for k in keys}
     status = np.full(N, FAILED, np.int8)
+    hist = np.full((N, nsteps), np.nan) if nsteps else None
     for item in results:
         good, r = item
         k = good.size
         for key in keys:
             out[key][good] = getattr(r, key)[:k]
         status[good] = r.status[:k]
-    return Indicators(**out, status=status, t_max=t_max, renorm_dt=dt)
+        if hist is not None:
+            hist[good] = r.log_growth[:k]
+    return Indicators(**out, status=status, t_max=t_max, renorm_dt=dt, log_growth=hist)
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -329,247 +347,3 @@ def reference_indicators(name, x0, pars=None, *, t_max, tol=None, renorm_dt=1.0,
                              renorm_dt=renorm_dt, valid=start)
     ind.status[~start] = NO_ROOT  # e.g. a Henon-Heiles start whose energy level is not reached
     return ind
-
-
-# ----------------------------------------------------------------------------------------------------------
-# maps over parameter planes and sections
-# ----------------------------------------------------------------------------------------------------------
-START = ("h", "theta0", "ptheta0", "psi0")
-AXIS_NAMES = tuple(PARAMS) + START
-DEFAULT_PANEL = "4a"
-DEFAULT_TILE = 16
-
-
-@dataclass(frozen=True)
-class Axis:
-    """A grid axis: n points linspace(lo, hi, n) of one parameter (PARAMS) or start value (START)."""
-
-    name: str
-    lo: float
-    hi: float
-    n: int
-
-    def values(self) -> np.ndarray:
-        return np.linspace(self.lo, self.hi, self.n)
-
-
-MAX_AXIS_POINTS = 4096  # 4096^2 orbits at ~5 ms each is a day on 2 cores: the largest map worth refusing later
-
-
-def parse_axis(option: str, text: str) -> Axis:
-    """NAME:LO:HI:N -> Axis; ParameterError(option, ...) on an unknown name, non-finite bounds, an empty range
-    (LO >= HI with N > 1, or LO != HI with N = 1) or N not a positive integer."""
-    parts = str(text).split(":")
-    if len(parts) != 4:
-        raise ParameterError(option, f"expected NAME:LO:HI:N (e.g. lam:0:0.3:128), got {text!r}")
-    name, lo, hi, n = parts
-    if name not in AXIS_NAMES:
-        raise ParameterError(option, f"unknown parameter {name!r}; choose from {', '.join(AXIS_NAMES)}")
-    lo, hi = require_finite(option, lo, MAX_MAGNITUDE), require_finite(option, hi, MAX_MAGNITUDE)
-    try:
-        nf = float(n)
-    except ValueError:
-        raise ParameterError(option, f"number of points must be a positive integer, got {n!r}") from None
-    if not math.isfinite(nf) or nf != int(nf) or nf < 1:
-        raise ParameterError(option, f"number of points must be a positive integer, got {n!r}")
-    n = int(nf)
-    if n > MAX_AXIS_POINTS:
-        raise ParameterError(option, f"at most {MAX_AXIS_POINTS} points per axis, got {n}")
-    if (n > 1 and not lo < hi) or (n == 1 and lo != hi):
-        raise ParameterError(option, f"empty range {lo:g}..{hi:g} with {n} point(s): need LO < HI (or LO = HI "
-                                     f"with N = 1)")
-    return Axis(name, lo, hi, n)
-
-
-@dataclass(frozen=True)
-class MapSpec:
-    """Everything that determines a chaos map (the store's identity: a resumed run must match it).
-
-    base: values of PARAMS and START for every point (a paper panel, see panel_base), overridden by the axes.
-    root: which root pbar_psi of Hbar = h starts the orbit ("smallest", the poincare default, or "largest").
-    tol 0 = machine epsilon.  tile: tile edge in grid points (one Dask task and one zarr chunk per tile)."""
-
-    x: Axis
-    y: Axis
-    base: dict = field(default_factory=dict)
-    panel: str | None = DEFAULT_PANEL
-    root: str = "smallest"
-    t_max: float = 3000.0
-    tol: float = 0.0
-    renorm_dt: float = DEFAULT_RENORM_DT
-    tile: int = DEFAULT_TILE
-    batch_size: int = 0
-
-    def __post_init__(self):
-        if self.x.name == self.y.name:
-            raise ParameterError("y", f"must vary a different parameter than --x (both {self.x.name!r})")
-        t = require_finite("t_max", self.t_max)
-        if t <= 0:
-            raise ParameterError("t_max", f"must be > 0, got {self.t_max}")
-        if require_finite("tol", self.tol) < 0:
-            raise ParameterError("tol", f"must be >= 0 (0 = machine epsilon), got {self.tol}")
-        if require_finite("renorm_dt", self.renorm_dt) <= 0:
-            raise ParameterError("renorm_dt", f"must be > 0, got {self.renorm_dt}")
-        require_positive_int("tile", self.tile)
-        if self.root not in ("smallest", "largest"):
-            raise ParameterError("root", f"must be 'smallest' or 'largest', got {self.root!r}")
-        missing = [k for k in AXIS_NAMES if k not in self.base and k not in (self.x.name, self.y.name)]
-        if missing:
-            raise ParameterError(missing[0], "no value: give it or choose a --panel")
-        if not self.batch_size:
-            object.__setattr__(self, "batch_size", systems.recommended_batch_size())
-
-    @property
-    def shape(self) -> tuple:
-        return (self.y.n, self.x.n)
-
-    def as_dict(self) -> dict:
-        d = asdict(self)
-        d["base"] = {k: float(v) for k, v in sorted(self.base.items())}
-        return d
-
-    @classmethod
-    def from_dict(cls, d: dict) -> "MapSpec":
-        d = dict(d)
-        d["x"], d["y"] = Axis(**d["x"]), Axis(**d["y"])
-        return cls(**d)
-
-    def point(self, ix: int, iy: int) -> dict:
-        v = dict(self.base)
-        v[self.x.name] = float(self.x.values()[ix])
-        v[self.y.name] = float(self.y.values()[iy])
-        return v
-
-
-def panel_base(key: str) -> dict:
-    """PARAMS and START values of a paper panel (magrod.poincare.PANELS)."""
-    from .printed import PANELS
-
-    if key not in PANELS:
-        raise ParameterError("panel", f"unknown panel {key!r}; choose from {', '.join(PANELS)}")
-    pk = PANELS[key]
-    return {**pk["params"].as_dict(), "h": pk["h"], "theta0": pk["theta0"], "ptheta0": pk["ptheta0"],
-            "psi0": pk["psi0"]}
-
-
-def start_point(v: dict, root: str = "smallest"):
-    """(x0 (9,), pars (5,), status, pbar_psi0) of one grid point: the chart start (theta0, psi0, pbar_theta0,
-    pbar_psi) on Hbar = h mapped to the body frame; status NO_ROOT / UNPHYSICAL with NaNs if impossible."""
-    from .poincare import solve_p_psi
-
-    nan9 = np.full(len(BODY_STATE), np.nan)
-    try:
-        params = RodParams(*(v[k] for k in PARAMS))
-    except ParameterError:
-        return nan9, np.full(len(PARAMS), np.nan), UNPHYSICAL, np.nan
-    p = params.array()
-    try:
-        roots = solve_p_psi(params, v["h"], v["theta0"], v["ptheta0"], v["psi0"])
-    except ParameterError:
-        return nan9, p, NO_ROOT, np.nan
-    q = roots[0] if root == "smallest" else roots[-1]
-    return systems.euler_to_body(v["theta0"], v["psi0"], v["ptheta0"], q, p), p, OK, float(q)
-
-
-@dataclass(frozen=True)
-class Tile:
-    iy: int
-    ix: int
-    ys: slice
-    xs: slice
-
-    @property
-    def key(self) -> str:
-        return f"{self.iy}_{self.ix}"
-
-
-def tiles(spec: MapSpec) -> list[Tile]:
-    """The grid cut into tile x tile blocks, row-major; the same on every machine and for any worker count."""
-    t = spec.tile
-    return [Tile(iy, ix, slice(iy * t, min((iy + 1) * t, spec.y.n)), slice(ix * t, min((ix + 1) * t, spec.x.n)))
-            for iy in range(math.ceil(spec.y.n / t)) for ix in range(math.ceil(spec.x.n / t))]
-
-
-MAP_FIELDS = _KEYS + ("p_psi0",)
-
-
-def compute_tile(spec: MapSpec, tile: Tile) -> dict:
-    """Indicators of every grid point of one tile: {field: (ny_t, nx_t) float64 array, "status": int8 array}.
-    Pure function of (spec, tile): the unit of work of a Dask task and of a zarr chunk."""
-    iys = range(tile.ys.start, tile.ys.stop)
-    ixs = range(tile.xs.start, tile.xs.stop)
-    pts = [spec.point(ix, iy) for iy in iys for ix in ixs]
-    starts = [start_point(v, spec.root) for v in pts]
-    x0 = np.array([s[0] for s in starts]).T
-    p = np.array([s[1] for s in starts]).T
-    st0 = np.array([s[2] for s in starts], np.int8)
-    ind = body_indicators(np.nan_to_num(x0), np.nan_to_num(p, nan=1.0), t_max=spec.t_max, tol=spec.tol or None,
-                          renorm_dt=spec.renorm_dt, batch_size=spec.batch_size, valid=st0 == OK)
-    shape = (len(iys), len(ixs))
-    out = {k: getattr(ind, k).reshape(shape) for k in _KEYS}
-    out["p_psi0"] = np.array([s[3] for s in starts]).reshape(shape)
-    out["status"] = np.where(st0 == OK, ind.status, st0).astype(np.int8).reshape(shape)
-    return out
-
-
-@dataclass(frozen=True)
-class MapResult:
-    """A whole map in memory: fields (ny, nx) as in compute_tile, plus the spec and wall time."""
-
-    spec: MapSpec
-    fields: dict
-    wall_s: float
-
-    def summary(self, threshold=GROWTH_THRESHOLD) -> dict:
-        return map_summary(self.spec, self.fields, self.wall_s, threshold)
-
-
-def map_summary(spec: MapSpec, fields: dict, wall_s: float, threshold=GROWTH_THRESHOLD) -> dict:
-    """Grid, fraction chaotic (growth_exponent > threshold, among computed points), missing points by reason,
-    wall time and orbits per second."""
-    st = np.asarray(fields["status"])
-    ok = st == OK
-    g = np.asarray(fields["growth_exponent"])
-    n_ok = int(ok.sum())
-    return {"grid": {"x": asdict(spec.x), "y": asdict(spec.y)}, "points": int(st.size), "computed": n_ok,
-            "missing": {REASONS[c]: int((st == c).sum()) for c in REASONS if c != OK and (st == c).any()},
-            "criterion": f"chaotic iff growth_exponent = (FLI(T) - FLI(T/2))/ln 2 > {threshold:g}",
-            "threshold": threshold,
-            "fraction_chaotic": float((g[ok] > threshold).mean()) if n_ok else None,
-            "max_growth_exponent": float(np.max(g[ok])) if n_ok else None,
-            "max_lyap": float(np.nanmax(np.asarray(fields["lyap"])[ok])) if n_ok else None,
-            "max_abs_dH": float(np.max(np.asarray(fields["max_abs_dH"])[ok])) if n_ok else None,
-            "max_casimir_drift": float(np.max(np.asarray(fields["casimir_drift"])[ok])) if n_ok else None,
-            "fraction_compressed": float((np.asarray(fields["min_stretch"])[ok] <= 0).mean()) if n_ok else None,
-            "t_max": spec.t_max, "wall_s": wall_s, "orbits_per_s": st.size / wall_s if wall_s > 0 else None}
-
-
-def empty_fields(spec: MapSpec) -> dict:
-    f = {k: np.full(spec.shape, np.nan) for k in MAP_FIELDS}
-    f["status"] = np.full(spec.shape, FAILED, np.int8)
-    return f
-
-
-def chaos_map(spec: MapSpec, *, progress=None) -> MapResult:
-    """The whole map in this process (tests, the figure builder, small maps); the CLI spreads the same tiles
-    over Dask workers and a zarr store instead (magrod.chaos_store).  progress(n) is called per tile."""
-    import time
-
-    t0 = time.perf_counter()
-    fields = empty_fields(spec)
-    for tile in tiles(spec):
-        res = compute_tile(spec, tile)
-        for k, v in res.items():
-            fields[k][tile.ys, tile.xs] = v
-        if progress is not None:
-            progress(1)
-    return MapResult(spec, fields, time.perf_counter() - t0)
-
-
-def panel_indicators(keys=("4a", "4b", "4c", "4d"), *, t_max=3000.0, tol=None, root="smallest") -> dict:
-    """{panel: dict of the indicators of the paper's orbit} (one batch).  Cost ~t_max * 5 us per panel."""
-    starts = [start_point(panel_base(k), root) for k in keys]
-    ind = body_indicators(np.array([s[0] for s in starts]).T, np.array([s[1] for s in starts]).T, t_max=t_max,
-                          tol=tol)
-    return {k: {f: (float(getattr(ind, f)[i]) if f != "status" else REASONS[int(ind.status[i])]) for f in
-                _KEYS + ("status",)} | {"chaotic": bool(ind.chaotic[i])} for i, k in enumerate(keys)}

@@ -44,15 +44,19 @@ def _umask() -> int:
 
 
 def versions() -> dict:
-    import heyoka
-    import matplotlib
-    import scipy
+    """Versions of magrod and the packages its numbers depend on (from the installed metadata: nothing imported)."""
+    from importlib.metadata import PackageNotFoundError, version
 
-    from . import __version__
+    from .. import __version__
 
-    return {"magrod": __version__, "heyoka": heyoka.__version__, "numpy": np.__version__,
-            "scipy": scipy.__version__, "matplotlib": matplotlib.__version__,
-            "python": platform.python_version()}
+    out = {"magrod": __version__}
+    for pkg in ("heyoka", "numpy", "scipy", "matplotlib"):
+        try:
+            out[pkg] = version(pkg)
+        except PackageNotFoundError:  # pragma: no cover - every one is a dependency
+            out[pkg] = None
+    out["python"] = platform.python_version()
+    return out
 
 
 def check_out_path(path, name: str = "out") -> Path:
@@ -161,7 +165,7 @@ def load_orbit_file(path) -> dict:
             out = {k: np.asarray(d[k]) for k in ORBIT_KEYS}
     except (KeyError, ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
         raise ParameterError("from", f"{bad} ({type(exc).__name__}: {' '.join(str(exc).split())[:120]})") from None
-    from .generated.names import BODY_STATE, PARAMS
+    from ..generated.names import BODY_STATE, PARAMS
 
     n = len(BODY_STATE)
     shapes_ok = (out["x0"].shape == (n,) and out["T"].shape == () and out["pars"].shape == (len(PARAMS),)

@@ -27,11 +27,11 @@ from dataclasses import dataclass, field
 import heyoka as hy
 import numpy as np
 
-from . import systems
-from .errors import ParameterError, require_positive_int
-from .floquet import PeriodicSaddle, periodic_saddle
-from .generated import scalars
-from .params import RodParams
+from ..core import systems
+from ..core.errors import ParameterError, require_positive_int
+from .periodic import PeriodicSaddle, periodic_saddle
+from ..generated import scalars
+from ..core.params import RodParams
 
 DEFAULT_EPS = 1e-7
 EXTENDED_EPS = 1e-9
@@ -288,7 +288,7 @@ def count_pulses(res: PeriodicHomoclinic) -> int:
 
 
 def orbit(res: PeriodicHomoclinic, n: int = 4001) -> dict:
-    """The symmetric orbit on [0, 2T] (magrod.shooting.symmetric_orbit): body states, reduced coordinates, Hbar."""
+    """The symmetric orbit on [0, 2T] (magrod.orbits.shooting.symmetric_orbit): body states, reduced coordinates, Hbar."""
     from .shooting import symmetric_orbit
 
     return symmetric_orbit(res.x0, res.T, res.params.array(), n)

@@ -3,9 +3,9 @@
 Public API
 ----------
 solve_p_psi(params, h, theta0, ptheta0, psi0=0)  -> every real root pbar_psi of Hbar(theta0, psi0, ptheta0, .) = h
-poincare_map(params, h, theta0, ptheta0, psi0=0, *, iterates=10_000, root="smallest", direction="positive",
+poincare_section(params, h, theta0, ptheta0, psi0=0, *, iterates=10_000, root="smallest", direction="positive",
              branch="any", formulation="body", ...) -> PoincareResult
-run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.printed.PANELS), threads
+run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.core.printed.PANELS), threads
 orbit_stretch(res, dt=0.05)             -> the axial stretch v3 along the orbit (min, fraction <= 0; two forms)
 (figures: magrod/figures/poincare.py; files: PoincareResult.arrays()/summary())
 
@@ -54,11 +54,14 @@ import heyoka as hy
 import numpy as np
 from scipy.optimize import brentq
 
-from . import systems
-from .errors import ParameterError, require_finite, require_positive_int
-from .generated import scalars
-from .params import RodParams
-from .printed import panel_kwargs
+from ..core import systems
+from ..core.errors import ParameterError, require_finite, require_positive_int
+from ..generated import scalars
+from ..core.params import RodParams
+from ..core.precision import Precision
+from ..core.printed import Panel, panel, panel_kwargs
+from ..core.results import Result
+from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL
 
 DIRECTIONS = systems.DIRECTIONS
 BRANCHES = ("any", "0", "pi")
@@ -69,11 +72,7 @@ FRAME_REDUCED, FRAME_BODY = 0, 1
 # chart singularities) agrees with it to ~1e-11 over the first 50 crossings and conserves Hbar to < 1e-12.
 DEFAULT_FORMULATION = "body"
 DEFAULT_ROOT = "smallest"  # see the module docstring for the evidence
-# A result checks itself: integrated with tol = eps, Hbar and the Casimirs drift by ~1e-13 over the paper's
-# 10 000 iterates (benchmarks/README.md); a drift above these bounds means the run did not do what it claims
-# (e.g. a damaged compiled integrator), and the result is refused.
-ENERGY_TOL = 1e-10
-CASIMIR_TOL = 1e-10
+# A result checks itself against ENERGY_TOL and CASIMIR_TOL (magrod.core.tolerances: why these values)
 
 # ----------------------------------------------------------------------------------------------------------
 # initial data
@@ -223,9 +222,9 @@ def _wrap(a):
 # ----------------------------------------------------------------------------------------------------------
 # the map
 # ----------------------------------------------------------------------------------------------------------
-@dataclass
-class PoincareResult:
-    """One orbit's section points.  Arrays have length N = number of recorded iterates (N = iterates on success).
+@dataclass(repr=False)
+class PoincareResult(Result):
+    """One orbit's section points (what `poincare_section` returns).  Arrays have length N = number of recorded iterates (N = iterates on success).
 
     points: (N, 4) Euler-chart coordinates (theta, psi, pbar_theta, pbar_psi), psi wrapped to (-pi, pi];
     times: (N,) arclength of each crossing; branch: (N,) +1 where psi = 0 (cos psi > 0), -1 where psi = pi;
@@ -266,7 +265,36 @@ class PoincareResult:
     wall_s: float
     fp_type: str = "float64"
     extra: dict = field(default_factory=dict)
-    stretch: dict | None = None  # orbit_stretch(...) when asked for (stretch_dt); summary only, not arrays()
+    stretch: dict | None = None  # the axial stretch sampled along the run (stretch_dt); summary only, not arrays()
+    retried_without_jit_cache: bool = False  # verify=True repeated the run with freshly compiled code
+    panel: str | None = None
+
+    _repr_fields = ("panel", "n_points", "h", "p_psi0", "final_time", "max_abs_dH", "casimir_drift", "wall_s")
+
+    @property
+    def accuracy(self) -> dict:
+        """max |Hbar - h| and the Casimir drift against ENERGY_TOL and CASIMIR_TOL (`accuracy_checks()`)."""
+        return self.accuracy_checks()
+
+    def to_dict(self) -> dict:
+        """The summary plus every per-point array (JSON-able)."""
+        from ..core.results import jsonable
+
+        return jsonable({**self.summary(), "arrays": self.arrays()})
+
+    def to_xarray(self):
+        """The section points as an xarray.Dataset over the iterate index (attributes: the summary)."""
+        import json
+
+        import xarray as xr
+
+        from ..core.results import jsonable
+
+        coords = {"iterate": np.arange(self.n_points)}
+        data = {"theta": ("iterate", self.points[:, 0]), "psi": ("iterate", self.points[:, 1]),
+                "ptheta": ("iterate", self.points[:, 2]), "ppsi": ("iterate", self.points[:, 3]),
+                "t": ("iterate", self.times), "dH": ("iterate", self.dH), "frame": ("iterate", self.frame)}
+        return xr.Dataset(data, coords=coords, attrs={"summary": json.dumps(jsonable(self.summary()))})
 
     @property
     def n_points(self) -> int:
@@ -285,7 +313,8 @@ class PoincareResult:
 
     def summary(self) -> dict:
         """JSON-able metadata (everything except the per-point arrays)."""
-        return {"success": self.success, "message": self.message, "parameters": self.params.as_dict(),
+        return {"success": self.success, "message": self.message, "panel": self.panel,
+                "parameters": self.params.as_dict(),
                 "h": self.h, "theta0": self.theta0, "ptheta0": self.ptheta0, "psi0": self.psi0,
                 "p_psi0": self.p_psi0, "roots": [float(r) for r in self.roots], "root_index": self.root_index,
                 "formulation": self.formulation, "direction": self.direction, "branch": self.branch_filter,
@@ -295,6 +324,7 @@ class PoincareResult:
                 "fraction_body_frame_points": float(np.mean(self.frame == FRAME_BODY)) if self.n_points else 0.0,
                 "max_abs_section_residual": float(np.max(np.abs(self.section_residual))) if self.n_points else 0.0,
                 "wall_s": self.wall_s, "fp_type": self.fp_type, "accuracy": self.accuracy_checks(),
+                "retried_without_jit_cache": self.retried_without_jit_cache,
                 **({"stretch": self.stretch} if self.stretch is not None else {}), **self.extra}
 
     def arrays(self) -> dict:
@@ -318,24 +348,128 @@ def _validate_options(iterates, root, direction, branch, formulation, pole_switc
     return iterates
 
 
-def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *, p_psi0=None, iterates=10_000,
-                 root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION, tol=None,
-                 t_max=None, pole_switch=(0.05, 0.1), radicand_switch=(1e-3, 2e-3), fp_type=float,
-                 progress=None, stretch_dt=None) -> PoincareResult:
-    """Iterate the Poincare map of sin(psi) = 0 for the orbit through (theta0, psi0, pbar_theta0, pbar_psi0).
+def resolve_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=None) -> tuple:
+    """(params, panel key, h, theta0, ptheta0, psi0) from a RodParams and a start, or from a paper panel (a
+    Panel or its key) whose start values fill in what is not given.  ParameterError names what is missing."""
+    if isinstance(params, (str, Panel)):
+        P = panel(params)
+        params, key = P.params, P.key
+        if p_psi0 is None and h is None:
+            h = P.h
+        theta0 = P.theta0 if theta0 is None else theta0
+        ptheta0 = P.ptheta0 if ptheta0 is None else ptheta0
+        psi0 = P.psi0 if psi0 is None else psi0
+    else:
+        key = None
+        if not isinstance(params, RodParams):
+            raise ParameterError("params", f"must be a RodParams, a Panel or a panel name, got {type(params).__name__}")
+        for name, v in (("theta0", theta0), ("ptheta0", ptheta0)):
+            if v is None:
+                raise ParameterError(name, "missing: give the start (theta0, ptheta0) or a paper panel")
+    return params, key, h, theta0, ptheta0, 0.0 if psi0 is None else psi0
 
-    Either h (then pbar_psi0 solves Hbar = h, all roots reported, `root` picks one: "smallest" (default, see
-    the module docstring), "largest" or an index) or p_psi0 directly (then h = Hbar at the start).
-    Stops after `iterates` recorded
-    crossings or at t_max (default 100 * iterates, about 12x the paper's time per iterate), whichever first;
-    success is False (with a message) if t_max or a non-finite state stopped it.  tol defaults to machine
-    epsilon of fp_type.  fp_type=np.longdouble is supported for formulation="body" (verification runs).
-    progress: optional callable(n_new_points) for progress bars.  stretch_dt: if given, the axial stretch v3 along
-    the orbit is sampled every stretch_dt (orbit_stretch) and stored in result.stretch (and its summary).
-    The integrators are per-thread and reused; the function does not mutate anything visible to the caller."""
+
+def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
+                     root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION,
+                     precision=Precision.DOUBLE, tol=None, t_max=None, verify=True, pole_switch=(0.05, 0.1),
+                     radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None) -> PoincareResult:
+    """Poincare section sin(psi) = 0 of one orbit of the reduced system (paper sec. 8, fig:poincare1/2).
+
+    Parameters
+    ----------
+    params : RodParams, Panel or str
+        The rod, or a paper panel ("4a" .. "5d", or `magrod.panel("4a")`), whose parameters and start are used
+        unless h, theta0, ptheta0, psi0 are given.
+    h : float, optional
+        Energy level Hbar = h; pbar_psi0 is solved for (all real roots are reported, `root` picks one).
+    theta0, ptheta0, psi0 : float
+        Start on the chart; 0 < theta0 < pi, psi0 defaults to 0.
+    p_psi0 : float, optional
+        Give pbar_psi0 directly instead of h (then h = Hbar at the start).
+    iterates : int
+        Number of recorded section crossings (the paper: 10 000).
+    root : {"smallest", "largest"} or int
+        Which root pbar_psi of Hbar = h ("smallest" reproduces the paper's final times, see Notes).
+    direction : {"positive", "negative", "any"}
+        Sign of d/dt sin(psi) at recorded crossings.
+    branch : {"any", "0", "pi"}
+        psi = 0 crossings, psi = pi crossings, or both.
+    formulation : {"body", "reduced"}
+        Integrate the singularity-free 9-D body-frame system (default) or the paper's 4-D chart (with body-frame
+        patches near its singularities).
+    precision : Precision or str
+        "double" (default) or "long double" (body formulation only; verification runs).
+    tol : float, optional
+        Taylor tolerance (default: the precision's machine epsilon).
+    t_max : float, optional
+        Max-time guard (default 100 x iterates).
+    verify : bool
+        Check the result's own accuracy (max |Hbar - h| <= ENERGY_TOL, Casimir drift <= CASIMIR_TOL); if the check
+        fails, repeat the run once with freshly compiled integrators (a damaged JIT-cache entry is the likely
+        cause) and, if it still fails, return success=False with the reason.
+    progress : callable, optional
+        progress(n_new_points), e.g. a tqdm update.
+    stretch_dt : float, optional
+        Sample the axial stretch v3 every stretch_dt along the same integration (result.stretch).
+
+    Returns
+    -------
+    PoincareResult
+        points (N, 4) in (theta, psi, pbar_theta, pbar_psi), times (N,), dH (N,), accuracy, success/message.
+
+    Raises
+    ------
+    ParameterError
+        Naming the argument: no energy root, theta0 outside (0, pi), an imaginary square root at the start, ...
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> sec = mr.poincare_section("4a", iterates=200)
+    >>> sec.success, sec.points.shape, bool(sec.max_abs_dH < 1e-12)
+    (True, (200, 4), True)
+
+    Notes
+    -----
+    Section points are landed by heyoka stopping terminal events, so each lies on sin(psi) = 0 to ~1e-16.
+    On the Fig 4 start Hbar = h has two roots; the smaller one gives the final times the paper prints (module
+    docstring).  Cost: ~0.2 ms per iterate (body frame, float64, tol = eps, one core); max |Hbar - h| ~ 1e-13
+    over 10 000 iterates.  Integrators are cached per thread and reused; nothing visible to the caller is
+    mutated (verify=True may switch off heyoka's disk cache for the process after a failed check).
+    """
+    params, key, h, theta0, ptheta0, psi0 = resolve_start(params, h, theta0, ptheta0, psi0, p_psi0)
+    precision = Precision.parse(precision)
+    if precision not in (Precision.DOUBLE, Precision.LONG_DOUBLE):
+        raise ParameterError("precision", f"must be 'double' or 'long double' for sections, got {precision.value!r}")
+    kw = dict(p_psi0=p_psi0, iterates=iterates, root=root, direction=direction, branch=branch,
+              formulation=formulation, tol=tol, t_max=t_max, pole_switch=pole_switch,
+              radicand_switch=radicand_switch, fp_type=precision.fp_type, progress=progress, stretch_dt=stretch_dt)
+    res = _iterate(params, h, theta0, ptheta0, psi0, **kw)
+    res.panel = key
+    if verify and res.success and not res.accuracy_checks()["passed"]:
+        # the integrator did not conserve what it must: do not trust the compiled code from the disk cache
+        systems.bypass_disk_cache()
+        res = _iterate(params, h, theta0, ptheta0, psi0, **{**kw, "progress": None})
+        res.panel, res.retried_without_jit_cache = key, True
+        if res.accuracy_checks()["passed"]:
+            systems.bypass_disk_cache(clear=True)
+            systems._warn("the on-disk JIT cache gave an integrator that failed its accuracy checks; the cache was "
+                          "cleared and the run repeated with freshly compiled code")
+    if verify and res.success and not res.accuracy_checks()["passed"]:
+        acc = res.accuracy_checks()
+        res.success = False
+        res.message = (f"accuracy check failed: max |Hbar - h| = {res.max_abs_dH:.3g} (tol {acc['energy_tol']:g}), "
+                       f"Casimir drift {res.casimir_drift if res.casimir_drift is not None else 0:.3g} "
+                       f"(tol {acc['casimir_tol']:g})")
+    return res
+
+
+def _iterate(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *, p_psi0=None, iterates=10_000,
+             root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION, tol=None,
+             t_max=None, pole_switch=(0.05, 0.1), radicand_switch=(1e-3, 2e-3), fp_type=float,
+             progress=None, stretch_dt=None) -> PoincareResult:
+    """The section iteration itself (no accuracy gate; `poincare_section` is the public face)."""
     t_start = time.perf_counter()
-    if not isinstance(params, RodParams):
-        raise TypeError("params must be a RodParams")
     iterates = _validate_options(iterates, root, direction, branch, formulation, pole_switch, radicand_switch)
     pars = params.array()
     if p_psi0 is not None and h is not None:
@@ -388,9 +522,20 @@ def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *
     t_limit = hy.taylor_outcome.time_limit
     t_stop = t_max if fp_type is float else fp_type(t_max)
     last_report = 0
+    sampler = None
+    if stretch_dt is not None:
+        dt_s = float(require_finite("stretch_dt", stretch_dt))
+        if dt_s <= 0:
+            raise ParameterError("stretch_dt", f"must be > 0, got {stretch_dt}")
+        sampler = _StretchSampler(dt_s, pars)
     while n < iterates:
         ta = ta_r if mode == FRAME_REDUCED else ta_b
-        oc = ta.propagate_until(t_stop)[0]
+        if sampler is None:
+            oc = ta.propagate_until(t_stop)[0]
+        else:  # dense output of the same steps: the stretch is sampled on the trajectory that gives the points
+            r = ta.propagate_until(t_stop, c_output=True)
+            oc = r[0]
+            sampler.add(r[4], mode)
         if oc == t_limit:
             success, message = False, (f"t_max = {t_max:g} reached after {n} of {iterates} iterates (max-time guard; "
                                        f"raise t_max or check that the orbit crosses sin(psi) = 0)")
@@ -444,8 +589,8 @@ def poincare_map(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *
     res = _assemble(params, pars, h, theta0, ptheta0, psi0, p_psi0, roots, ridx, formulation, direction, branch,
                     tol_eff, iterates, t_max, raw[:n], times[:n], frame[:n], final_time, switches, success,
                     message, fp_type)
-    if stretch_dt is not None and res.n_points:
-        res.stretch = orbit_stretch(res, dt=stretch_dt, fp_type=fp_type)
+    if sampler is not None and res.n_points:
+        res.stretch = sampler.result(res, np.dtype(fp_type).name)
     res.wall_s = time.perf_counter() - t_start
     return res
 
@@ -503,32 +648,98 @@ def _stretch_integrator(fp_type):
     return systems.integrator("body", fp_type=fp_type)
 
 
-def orbit_stretch(res: PoincareResult, *, dt=STRETCH_DT, fp_type=float, t_final=None) -> dict:
-    """The axial stretch v3 = d3.r' = ds'/ds (deformed over reference length) along the orbit of `res`.
+class _StretchSampler:
+    """The axial stretch v3 at t = k dt along a section run, from the integrator's dense output of each
+    propagate call (the same Taylor steps that land the section points).  Body-frame segments: v3 = dH/dn3 of the
+    body Hamiltonian and the chart form at the chart coordinates of the sample; 4-D segments: the chart form, and
+    the body form at the body image of the sample (systems.euler_to_body)."""
 
-    The orbit is re-integrated in the body frame from the start of `res` (theta0, psi0, pbar_theta0, pbar_psi0)
-    over [0, t_final] (default res.final_time) and sampled every dt; at every sample v3 is evaluated twice:
-      * body: dH/dn3 of the generated body Hamiltonian (systems.body_stretch, hy.diff), = 1 + (gamma+delta) m^2 n3;
-      * chart: the closed form 1 + (gamma+delta)(cos theta + sqrt(mu - 2 lam pbar_psi) sin theta cos psi)
-        (generated reduced.stretch, report key axial_stretch) at the chart coordinates of the sample.
-    Also v3 at the recorded section points of `res` (chart form at res.points: for formulation="reduced" those
-    come from the independent 4-D integration).  v3 <= 0 means the linearly elastic rod is compressed through
-    zero length: still an orbit of the Hamiltonian system, not a physical rod (paper sec. 2: v3 > 0).
-    The re-integration follows the run of `res` to round-off, then (chaotic orbits) only statistically.
-    Returns a JSON-able dict; min_* are minima, fraction_compressed_* the fraction of samples with v3 <= 0
-    (the fraction of arclength, to O(dt) per sign change)."""
+    def __init__(self, dt: float, pars):
+        self.dt, self.pars, self.k = dt, pars, 0
+        self.acc = {"n": 0, "neg_b": 0, "neg_c": 0, "min_b": np.inf, "t_min_b": 0.0, "min_c": np.inf,
+                    "max_diff": 0.0, "max_b": -np.inf}
+        self.v3b, self.v3c = systems.body_stretch(), systems.reduced_functions()["stretch"]
+        self.B = systems.body_functions()
+
+    def add(self, c_out, mode) -> None:
+        t0, t1 = (float(b) for b in c_out.bounds)
+        k1 = int(np.floor(t1 / self.dt))
+        if k1 < self.k:
+            return
+        while self.k <= k1:  # in chunks of _STRETCH_CHUNK samples (memory)
+            kk = np.arange(self.k, min(k1 + 1, self.k + _STRETCH_CHUNK))
+            t = kk * self.dt
+            t = np.clip(t, t0, t1)  # t = k dt lies in [t0, t1] up to the rounding of k dt
+            X = np.asarray(c_out(t), dtype=float)
+            X = X[None, :] if X.ndim == 1 else X
+            if mode == FRAME_REDUCED:
+                q = np.ascontiguousarray(X.T)
+                vc = self.v3c(q, self.pars)[0]
+                chart = np.vstack([q[0], q[1], np.zeros(q.shape[1]), q[2], q[3]])
+                xb = self.B["to_body"](np.ascontiguousarray(chart), self.pars)
+                vb = np.asarray(self.v3b(np.ascontiguousarray(xb), self.pars)[0])
+            else:
+                xb = np.ascontiguousarray(X.T)
+                vb = np.asarray(self.v3b(xb, self.pars)[0])
+                e = self.B["to_euler"](xb, self.pars)[_CHART4]
+                vc = self.v3c(np.ascontiguousarray(e), self.pars)[0]
+            self._accumulate(t, vb, vc)
+            self.k = int(kk[-1]) + 1
+
+    def _accumulate(self, t, vb, vc) -> None:
+        a = self.acc
+        if not (np.all(np.isfinite(vb)) and np.all(np.isfinite(vc))):
+            raise RuntimeError(f"axial stretch not finite near t = {float(t[-1]):g}")
+        i = int(np.argmin(vb))
+        if vb[i] < a["min_b"]:
+            a["min_b"], a["t_min_b"] = float(vb[i]), float(t[i])
+        a["min_c"] = min(a["min_c"], float(np.min(vc)))
+        a["max_b"] = max(a["max_b"], float(np.max(vb)))
+        a["max_diff"] = max(a["max_diff"], float(np.max(np.abs(vb - vc))))
+        a["neg_b"] += int(np.sum(vb <= 0))
+        a["neg_c"] += int(np.sum(vc <= 0))
+        a["n"] += t.size
+
+    def result(self, res, fp_name: str) -> dict:
+        return _stretch_summary(self.acc, self.dt, res.final_time, fp_name, res, self.pars)
+
+
+def _stretch_summary(acc, dt, T, fp_name, res, pars) -> dict:
+    sec = systems.reduced_functions()["stretch"](np.ascontiguousarray(res.points.T), pars)[0] if res.n_points \
+        else np.zeros(0)
+    n = max(acc["n"], 1)
+    return {"dt": dt, "t_final": T, "n_samples": acc["n"], "fp_type": fp_name,
+            "min_body": acc["min_b"], "t_min_body": acc["t_min_b"], "max_body": acc["max_b"],
+            "min_chart": acc["min_c"], "max_abs_body_minus_chart": acc["max_diff"],
+            "fraction_compressed_body": acc["neg_b"] / n, "fraction_compressed_chart": acc["neg_c"] / n,
+            "min_at_section_points": float(np.min(sec)) if sec.size else None,
+            "fraction_compressed_at_section_points": float(np.mean(sec <= 0)) if sec.size else None,
+            "straight_rod": float(scalars.straight_rod_stretch(*pars)), "sampled": "along the run (dense output)"}
+
+
+def orbit_stretch(res: PoincareResult, *, dt=STRETCH_DT, precision=Precision.DOUBLE, t_final=None) -> dict:
+    """The axial stretch v3 = d3.r' = ds'/ds along the orbit of `res`, from an independent re-integration.
+
+    `poincare_section(..., stretch_dt=dt)` samples v3 along the run itself (its dense output): that is the
+    stretch of the trajectory whose points are reported.  This function re-integrates the orbit in the body frame
+    from the start of `res` over [0, t_final] (default res.final_time) in `precision` and samples it every dt, as a
+    cross-check: the two agree to round-off until a chaotic orbit's two integrations diverge
+    (tests/test_stretch.py).  At every sample v3 is evaluated twice: dH/dn3 of the generated body Hamiltonian
+    (systems.body_stretch, = 1 + (gamma+delta) m^2 n3) and the closed chart form 1 + (gamma+delta)(cos theta +
+    sqrt(mu - 2 lam pbar_psi) sin theta cos psi) (generated reduced.stretch).  v3 <= 0 means the linearly elastic
+    rod is compressed through zero length (paper sec. 2: v3 > 0).  Returns a JSON-able dict (min_*, fraction of
+    samples with v3 <= 0, ...)."""
     dt = float(require_finite("dt", dt))
     if dt <= 0:
         raise ParameterError("dt", f"must be > 0, got {dt}")
+    fp_type = Precision.parse(precision).fp_type
     T = float(res.final_time if t_final is None else require_finite("t_final", t_final))
     pars = res.params.array()
     ta = _stretch_integrator(fp_type)
     x0 = systems.euler_to_body(res.theta0, res.psi0, res.ptheta0, res.p_psi0, pars)
     systems.reset(ta, [fp_type(v) for v in x0] if fp_type is not float else x0, 0.0, pars)
-    v3b_cf, v3c_cf, to_euler = systems.body_stretch(), systems.reduced_functions()["stretch"], systems.body_functions()["to_euler"]
+    sampler = _StretchSampler(dt, pars)
     n_total = int(np.floor(T / dt)) + 1
-    acc = {"n": 0, "neg_b": 0, "neg_c": 0, "min_b": np.inf, "t_min_b": 0.0, "min_c": np.inf, "max_diff": 0.0,
-           "max_b": -np.inf}
     k = 0
     while k < n_total:
         k1 = min(n_total, k + _STRETCH_CHUNK)
@@ -537,49 +748,33 @@ def orbit_stretch(res: PoincareResult, *, dt=STRETCH_DT, fp_type=float, t_final=
         if fp_type is not float:
             grid = np.array([fp_type(i) * fp_type(dt) for i in range(k0, k1)])
         out = np.asarray(ta.propagate_grid(grid)[-1], dtype=float)[k - k0:]
-        grid = grid[k - k0:]
+        grid = np.asarray(grid[k - k0:], dtype=float)
         if out.shape[0] != k1 - k or not np.all(np.isfinite(out)):
             raise RuntimeError(f"orbit_stretch: integration stopped near t = {float(ta.time):g}")
         x = np.ascontiguousarray(out.T)
-        vb = np.array(v3b_cf(x, pars)[0])
-        e = to_euler(x, pars)[_CHART4]
-        vc = v3c_cf(np.ascontiguousarray(e), pars)[0]
-        i = int(np.argmin(vb))
-        if vb[i] < acc["min_b"]:
-            acc["min_b"], acc["t_min_b"] = float(vb[i]), float(grid[i])
-        if not np.all(np.isfinite(vc)):  # the chart form is defined on the whole level; never seen
-            raise RuntimeError(f"orbit_stretch: chart form of v3 not finite near t = {float(grid[-1]):g}")
-        acc["min_c"] = min(acc["min_c"], float(np.min(vc)))
-        acc["max_b"] = max(acc["max_b"], float(np.max(vb)))
-        acc["max_diff"] = max(acc["max_diff"], float(np.max(np.abs(vb - vc))))
-        acc["neg_b"] += int(np.sum(vb <= 0))
-        acc["neg_c"] += int(np.sum(vc <= 0))
-        acc["n"] += k1 - k
+        vb = np.array(sampler.v3b(x, pars)[0])
+        e = sampler.B["to_euler"](x, pars)[_CHART4]
+        sampler._accumulate(grid, vb, sampler.v3c(np.ascontiguousarray(e), pars)[0])
         k = k1
-    sec = v3c_cf(np.ascontiguousarray(res.points.T), pars)[0] if res.n_points else np.zeros(0)
-    return {"dt": dt, "t_final": T, "n_samples": acc["n"], "fp_type": np.dtype(fp_type).name,
-            "min_body": acc["min_b"], "t_min_body": acc["t_min_b"], "max_body": acc["max_b"],
-            "min_chart": acc["min_c"], "max_abs_body_minus_chart": acc["max_diff"],
-            "fraction_compressed_body": acc["neg_b"] / acc["n"], "fraction_compressed_chart": acc["neg_c"] / acc["n"],
-            "min_at_section_points": float(np.min(sec)) if sec.size else None,
-            "fraction_compressed_at_section_points": float(np.mean(sec <= 0)) if sec.size else None,
-            "straight_rod": float(scalars.straight_rod_stretch(*pars))}
+    out = _stretch_summary(sampler.acc, dt, T, np.dtype(fp_type).name, res, pars)
+    out["sampled"] = "re-integrated (orbit_stretch)"
+    return out
 
 
 # ----------------------------------------------------------------------------------------------------------
 # several panels at once
 # ----------------------------------------------------------------------------------------------------------
 def run_panels(keys, *, iterates=10_000, workers=2, progress=None, **kw) -> dict:
-    """Run several paper panels (magrod.printed.PANELS) concurrently in threads (heyoka's propagate releases the
+    """Run several paper panels (magrod.core.printed.PANELS) concurrently in threads (heyoka's propagate releases the
     GIL; each thread owns its integrators).  Returns {key: PoincareResult}.  progress: optional thread-safe
-    callable(n_new_points) (e.g. magrod.progress.bar)."""
+    callable(n_new_points) (e.g. magrod.core.progress.bar)."""
     keys = [str(k).lower() for k in keys]
     for k in keys:
         panel_kwargs(k)
     iterates = require_positive_int("iterates", iterates)
 
     def one(k):
-        return k, poincare_map(**panel_kwargs(k), iterates=iterates, progress=progress, **kw)
+        return k, poincare_section(k, iterates=iterates, progress=progress, **kw)
 
     with ThreadPoolExecutor(max_workers=max(1, int(workers))) as ex:
         return dict(ex.map(one, keys))

@@ -6,7 +6,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from .errors import MAX_MAGNITUDE, ParameterError, require_finite
-from .generated.names import PARAMS
+from ..generated.names import PARAMS
 
 
 M_MIN = 1e-3
@@ -20,7 +20,19 @@ class RodParams:
     Physical ranges: m > 0 (m3 > 0, C2 > 0); delta >= 0 (J > 0); gamma + delta >= 0 (K > 0); mu is
     constrained only through the radicand mu - 2 lam pbar_psi > 0 along an orbit (eq:alignment_condition),
     which the integrators check.  Numerical range: |value| <= MAX_MAGNITUDE = 1e6 and m >= M_MIN = 1e-3 (the
-    vector field has terms in m^-4: beyond these a float64 run is meaningless)."""
+    vector field has terms in m^-4: beyond these a float64 run is meaningless).
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> p = mr.RodParams(m=1.7, mu=0.4, gamma=3, delta=3, lam=0.135)
+    >>> p.replace(lam=0.15).lam
+    0.15
+    >>> mr.RodParams(m=1.7, mu=0.4, gamma=3, delta=-1, lam=0.135)
+    Traceback (most recent call last):
+    ...
+    magrod.core.errors.ParameterError: delta: must be >= 0 (delta = C2/J with shear stiffness J > 0), got -1.0
+    """
 
     m: float
     mu: float

@@ -9,20 +9,25 @@ from contextlib import contextmanager
 
 @contextmanager
 def bar(total: int, desc: str, enabled: bool = True, unit: str = "it"):
-    """Yields a thread-safe callable update(n) (a no-op when disabled); the bar is closed on exit."""
+    """Yields a thread-safe callable update(n) (a no-op when disabled); the bar is closed on exit.  The bar
+    appears at the first update, so that a run refused on its input (before any work) prints nothing but its
+    one error line."""
     if not enabled:
         yield lambda n=1: None
         return
     from tqdm import tqdm
 
-    t = tqdm(total=total, desc=desc, unit=unit, leave=False, smoothing=0.05, file=sys.stderr)
+    bars = []
     lock = threading.Lock()
 
     def update(n=1):
         with lock:
-            t.update(n)
+            if not bars:
+                bars.append(tqdm(total=total, desc=desc, unit=unit, leave=False, smoothing=0.05, file=sys.stderr))
+            bars[0].update(n)
 
     try:
         yield update
     finally:
-        t.close()
+        for t in bars:
+            t.close()

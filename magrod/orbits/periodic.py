@@ -32,11 +32,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import systems
-from .errors import ParameterError
-from .generated import floquet as gfl
-from .generated import scalars
-from .params import RodParams
+from ..core import systems
+from ..core.errors import ParameterError
+from ..generated import floquet as gfl
+from ..generated import scalars
+from ..core.params import RodParams
 
 N = systems.dim("body")
 XI = np.array(gfl.ROTATION_GENERATOR, dtype=float).reshape(N, N)
@@ -103,7 +103,7 @@ def relative_equilibrium(params: RodParams, *, tol: float = 1e-13):
     if delta_mu <= MU_TOL * max(1.0, abs(p.mu)):
         raise ParameterError("mu", f"no periodic saddle near the straight rod for mu <= 2 lam (got mu - 2 lam = "
                                    f"{delta_mu:.3g}); at mu = 2 lam the saddle is the straight rod itself "
-                                   "(magrod.saddle)")
+                                   "(magrod.orbits.equilibrium)")
     x_eq, w, d = _straight_rod_centre(p)
     best = (None, math.inf)
     for sgn in (-1.0, 1.0):
@@ -190,7 +190,7 @@ class PeriodicSaddle:
 
 
 def _phase_fix(v):
-    """Unit norm, e31 component real > 0 (as magrod.saddle does for the straight rod), so that the launch angle
+    """Unit norm, e31 component real > 0 (as magrod.orbits.equilibrium does for the straight rod), so that the launch angle
     varies smoothly with the parameters; the largest component if e31 vanishes."""
     v = v / np.linalg.norm(v)
     j = systems.state_index("body", "e31")

@@ -6,6 +6,8 @@ names the paper label it comes from.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from .params import RodParams
 
 # --- sec. 7, fig:Mel_ext -----------------------------------------------------------------------------------------
@@ -47,17 +49,68 @@ MULTIPULSE = {
 }
 
 
-def panel(key: str) -> dict:
-    """A Poincare panel '4a'..'5d' (ParameterError naming `figure` if unknown)."""
+@dataclass(frozen=True)
+class Panel:
+    """A Poincare panel of the paper: its rod, energy level and start on the chart (theta0, pbar_theta0, psi0),
+    the figure label and which parameter the figure varies across its panels."""
+
+    key: str
+    label: str
+    params: RodParams
+    h: float
+    theta0: float
+    ptheta0: float
+    psi0: float
+    vary: tuple
+
+    def start(self) -> dict:
+        """{h, theta0, ptheta0, psi0}."""
+        return {"h": self.h, "theta0": self.theta0, "ptheta0": self.ptheta0, "psi0": self.psi0}
+
+
+def panel(key) -> Panel:
+    """A Poincare panel of the paper: "4a" .. "4d" (fig:poincare1), "5a" .. "5d" (fig:poincare2).
+
+    Parameters
+    ----------
+    key : str
+        Figure number and panel letter, case-insensitive.
+
+    Returns
+    -------
+    Panel
+        params (RodParams), h, theta0, ptheta0, psi0, label (the paper's figure label), vary.
+
+    Raises
+    ------
+    ParameterError
+        Naming `panel` if the key is unknown.
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> p = mr.panel("4a")
+    >>> p.params.lam, p.h, p.label
+    (0.135, 0.9, 'fig:poincare1a')
+
+    Notes
+    -----
+    The start values are those printed with fig:poincare1 (theta = 0.1, pbar_theta = 0.5, psi = 0 at h = 0.9)
+    and fig:poincare2 (theta = 0.1, pbar_theta = 1, psi = 0 at h = 0.8); the panels differ in lambdabar
+    (Fig 4) or gamma (Fig 5), named by `vary`.
+    """
     from .errors import ParameterError
 
+    if isinstance(key, Panel):
+        return key
     k = str(key).lower()
     if k not in PANELS:
-        raise ParameterError("figure", f"unknown panel {key!r}; choose one of {', '.join(PANELS)}")
-    return PANELS[k]
+        raise ParameterError("panel", f"unknown panel {key!r}; choose one of {', '.join(PANELS)}")
+    P = PANELS[k]
+    return Panel(k, P["label"], P["params"], P["h"], P["theta0"], P["ptheta0"], P["psi0"], tuple(P["vary"]))
 
 
 def panel_kwargs(key: str) -> dict:
-    """poincare_map keyword arguments (params, h, theta0, ptheta0, psi0) of a paper panel."""
+    """Keyword arguments (params, h, theta0, ptheta0, psi0) of a paper panel."""
     P = panel(key)
-    return dict(params=P["params"], h=P["h"], theta0=P["theta0"], ptheta0=P["ptheta0"], psi0=P["psi0"])
+    return dict(params=P.params, h=P.h, theta0=P.theta0, ptheta0=P.ptheta0, psi0=P.psi0)

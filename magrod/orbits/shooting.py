@@ -29,13 +29,13 @@ from functools import lru_cache
 import heyoka as hy
 import numpy as np
 
-from . import systems
-from .errors import ParameterError, require_positive_int
-from .generated import scalars, symmetry
-from .generated.names import CHART, PARAMS
-from .params import RodParams
-from .saddle import Saddle, straight_rod
-from .systems import CFunc, body_functions, body_to_euler
+from ..core import systems
+from ..core.errors import ParameterError, require_positive_int
+from ..generated import scalars, symmetry
+from ..generated.names import CHART, PARAMS
+from ..core.params import RodParams
+from .equilibrium import Saddle, straight_rod
+from ..core.systems import CFunc, body_functions, body_to_euler
 
 # mu is not free: it follows the free parameter so that the straight rod stays on the chart's level (mu = 2 lam)
 FREE_PARAMETERS = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))

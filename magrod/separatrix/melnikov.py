@@ -18,7 +18,7 @@ melnikov_integrand); F itself is even (pbar_theta and psibar odd, theta even), s
 
 Quadrature and error bound
 --------------------------
-F(t) is evaluated on the closed form of magrod.homoclinic (t = hy.time inside a heyoka Taylor integrator of
+F(t) is evaluated on the closed form of magrod.orbits.homoclinic (t = hy.time inside a heyoka Taylor integrator of
 (psibar, A_derived, A_printed)' = (psi', 2 F_derived, 2 F_printed)), from t = 0 to T where theta(T) = theta_tail.
 * Tail: F = pbar_theta sin(psibar) G(theta)/m^2 with |G| <= 3 (1 + gamma) for both integrands (|cos| <= 1),
   and pbar_theta < 0 for t > 0, so |2 Int_T^inf F dt| <= 2 * 3 (1 + gamma) theta(T)/m^2 (rigorous).
@@ -37,11 +37,11 @@ from functools import lru_cache
 import heyoka as hy
 import numpy as np
 
-from . import systems
-from .errors import ParameterError
-from .generated import melnikov as gen
-from .homoclinic import homoclinic, stable_expressions
-from .printed import FIG2_M, FIG2_ZERO_BRACKET
+from ..core import systems
+from ..core.errors import ParameterError
+from ..generated import melnikov as gen
+from ..orbits.homoclinic import homoclinic, stable_expressions
+from ..core.printed import FIG2_M, FIG2_ZERO_BRACKET
 
 INTEGRANDS = ("derived", "printed")
 

@@ -15,7 +15,7 @@ Builders (keyword-only options; fp_type is float, np.longdouble, hy.real128 or h
   batch_integrator(formulation, ...)         SIMD batch integrator (batch size: hy.recommended_simd_size())
   variational_integrator(formulation, ...)   first-order variational equations (hy.var_ode_sys) w.r.t. the
                                              initial state and the parameters; `variational_blocks` splits them
-  rod_frame_integrator()                     body system + director frame + centreline (magrod.rod)
+  rod_frame_integrator()                     body system + director frame + centreline (magrod.orbits.rod)
 Events are named (generated BODY_EVENTS, or "section", "sin_theta", "radicand" in the reduced system) and built
 with a direction and an offset: event = expression - offset.
 
@@ -25,14 +25,15 @@ keeps one mutable integrator per thread and configuration.
 from __future__ import annotations
 
 import os
-import sys
 import threading
+import warnings
 from functools import lru_cache, wraps
 
 import heyoka as hy
 import numpy as np
 
-from .generated import body, names, reduced
+from ..generated import body, names, reduced
+from .errors import MagrodWarning
 
 PARAMS = names.PARAMS
 STATE = {"body": names.BODY_STATE, "reduced": names.REDUCED_STATE}
@@ -54,16 +55,31 @@ _cache_note: list = []
 
 
 def _warn(text: str) -> None:
-    print(f"magrod: warning: {' '.join(text.split())}", file=sys.stderr)
+    """A MagrodWarning (the CLI prints it as one stderr line; a notebook shows it as Python warnings are shown)."""
+    warnings.warn(" ".join(text.split()), MagrodWarning, stacklevel=3)
+
+
+QUIET_ENV = "MAGROD_QUIET_HEYOKA"  # set by the CLI (and inherited by its worker processes): heyoka's logger off
+_probed: list = []
+
+
+def _probe_once() -> None:
+    """The disk-cache probe, once per process, at the first build (never at import: importing magrod changes
+    nothing in the process)."""
+    if not _probed:
+        _probed.append(True)
+        configure_jit_cache()
 
 
 def configure_jit_cache() -> str | None:
-    """heyoka logs cache trouble to *stdout* (which would break --json) and waits up to a minute on a locked cache
-    database.  So: heyoka's logger is limited to critical messages, and the disk cache is probed once per process
-    (creatable, writable, >= 64 MB free, database not locked, each answered within ~0.5 s); if the probe fails
-    the disk cache is switched off with one warning on stderr (builds then compile, ~1 s each, instead of
-    loading).  Returns the reason it was switched off, or None."""
-    hy.set_logger_level_critical()
+    """heyoka waits up to a minute on a locked cache database and logs cache trouble to *stdout* (which would
+    break the CLI's --json).  So the disk cache is probed once per process, at the first build (creatable,
+    writable, >= 64 MB free, database not locked, each answered within ~0.5 s); if the probe fails the disk cache
+    is switched off with one MagrodWarning (builds then compile, ~1 s each, instead of loading).  heyoka's logger
+    is limited to critical messages only when the CLI asked for it (environment variable MAGROD_QUIET_HEYOKA): a
+    library does not reconfigure its host's loggers.  Returns the reason the cache was switched off, or None."""
+    if os.environ.get(QUIET_ENV):
+        hy.set_logger_level_critical()
     if not hy.llvm_state.get_diskcache_enabled():
         return None
     path = str(hy.llvm_state.get_diskcache_path())
@@ -118,6 +134,7 @@ def build(constructor, *args, **kwargs):
     """Call a heyoka constructor (hy.taylor_adaptive, hy.taylor_adaptive_batch, hy.cfunc).  If it fails while
     the on-disk JIT cache is on, a damaged cache entry is the likely cause: it is built again with the disk cache
     off, and if that works the cache is cleared (one warning on stderr) so that the entry is not hit again."""
+    _probe_once()
     try:
         return constructor(*args, **kwargs)
     except Exception:
@@ -136,9 +153,6 @@ def build(constructor, *args, **kwargs):
         _warn("building a compiled integrator from the heyoka JIT cache failed; the cache was cleared and the "
               "integrator compiled afresh")
         return obj
-
-
-configure_jit_cache()
 
 
 def par_index(name: str) -> int:
@@ -326,7 +340,7 @@ def variational_blocks(ta) -> tuple:
 
 def rod_frame_system():
     """The body system plus the director frame D' = D hat(u) and the centreline r' = D v (21 equations), with
-    the strains u = dH/dm, v = dH/dn of the constitutive law (magrod.rod)."""
+    the strains u = dH/dm, v = dH/dn of the constitutive law (magrod.orbits.rod)."""
     x = variables("body")
     p = pars()
     H = body.hamiltonian(*x, *p)
@@ -498,14 +512,14 @@ def splitting_functions(fp_type=float, prec=None) -> dict:
 
 
 # --------------------------------------------------------------------------------------------------------------
-# tangent-vector integrators for chaos indicators (magrod.chaos)
+# tangent-vector integrators for chaos indicators (magrod.chaos.indicators)
 # --------------------------------------------------------------------------------------------------------------
 def tangent_system(sys_, npars: int):
     """x' = f(x), w' = Df(x) w: the first-order variational equations along ONE tangent vector w.
 
     Built with hy.var_ode_sys w.r.t. a parameter hy.par[npars] that f does not contain: its sensitivity
     w = dx/dp obeys w' = Df(x) w + df/dp = Df(x) w exactly, and its initial value is ours to set (heyoka starts
-    it at 0; `magrod.chaos` writes the tangent vector there).  n + n equations instead of the n + n^2 of the
+    it at 0; `magrod.chaos.indicators` writes the tangent vector there).  n + n equations instead of the n + n^2 of the
     full matrix Phi: ~14x cheaper for the 9-D body system (benchmarks/README.md)."""
     return hy.var_ode_sys(sys_, [hy.par[int(npars)]], order=1)
 

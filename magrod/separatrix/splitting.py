@@ -47,10 +47,10 @@ from dataclasses import asdict, dataclass, field
 import heyoka as hy
 import numpy as np
 
-from .errors import MAX_MAGNITUDE, ParameterError, require_finite
-from .params import RodParams
-from .generated import scalars
-from . import systems
+from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
+from ..core.params import RodParams
+from ..generated import scalars
+from ..core import systems
 
 MP_BITS = 192
 PRECISIONS = {"double": (float, None), "long": (np.longdouble, None), "quad": (hy.real128, None),
@@ -127,7 +127,7 @@ def saddle(params: RodParams, precision: str = "double") -> SaddleData:
     pars = params.array()
     mu_level = scalars.straight_rod_mu(**params.as_dict())  # mu = 2 lam
     if params.mu == mu_level:
-        from .saddle import straight_rod
+        from ..orbits.equilibrium import straight_rod
 
         s = straight_rod(params)
         # the straight rod in the working precision (1/m^2 rounded there, not in double)
@@ -497,8 +497,8 @@ def scan_summary(res) -> dict:
 def _leading_integrator(fp_type=float):
     """Taylor integrator of (Psi, S(t))' = (1/(1 + cos theta), N) along the closed-form lambdabar = 0 homoclinic
     orbit (t = hy.time, t = 0 at the turning point); pars (m, gamma, delta)."""
-    from .generated import splitting as gen_split
-    from .homoclinic import stable_expressions
+    from ..generated import splitting as gen_split
+    from ..orbits.homoclinic import stable_expressions
 
     Psi, S = hy.make_vars("Psi", "S")
     m, g, dl = hy.par[0], hy.par[1], hy.par[2]
@@ -558,7 +558,7 @@ def leading_coefficient(m, gamma, delta, *, reference=True, theta_tail=1e-20) ->
     (1/4 + kappa^2)/2, so |N| <~ theta [kappa (q0 + delta/m^2) + (q0 + (1 + gamma + delta)/m^2)/2] and
     Int_T^inf theta dt ~ theta(T)/kappa; tail_estimate is twice that (asymptotic, not rigorous; 1e-19 at the
     default theta_tail).  Cost: ~ms (float64) + ~0.3 s (real128)."""
-    from .homoclinic import homoclinic
+    from ..orbits.homoclinic import homoclinic
 
     t0 = time.perf_counter()
     delta = require_finite("delta", delta, MAX_MAGNITUDE)

@@ -2,7 +2,18 @@
 
 
 class ParameterError(ValueError):
-    """An input that is out of range, non-finite or inconsistent.  `name` is the offending parameter."""
+    """An input that is out of range, non-finite or inconsistent.  `name` is the offending parameter, `message`
+    the violated condition; the CLI prints them as its one error line (exit 2).
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> try:
+    ...     mr.panel("9z")
+    ... except mr.ParameterError as exc:
+    ...     print(exc.name)
+    panel
+    """
 
     def __init__(self, name: str, message: str):
         self.name = name
@@ -24,6 +35,10 @@ class EnvironmentFault(RuntimeError):
 
     def __reduce__(self):
         return (EnvironmentFault, (self.name, self.message))
+
+
+class MagrodWarning(UserWarning):
+    """Something the user should know that did not stop the run (e.g. the JIT cache was switched off)."""
 
 
 # Inputs beyond these magnitudes are refused up front: the model's terms go up to m^4 and 1/m^4, and a float64

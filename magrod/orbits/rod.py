@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import systems
-from .errors import ParameterError
+from ..core import systems
+from ..core.errors import ParameterError
 
 N = systems.dim("body")
 E3 = slice(systems.state_index("body", "e31"), systems.state_index("body", "e33") + 1)  # body components of e3

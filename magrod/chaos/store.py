@@ -1,4 +1,4 @@
-"""Chaos maps on disk and on a Dask cluster (I/O; the numerics are in magrod.chaos).
+"""Chaos maps on disk and on a Dask cluster (I/O; the numerics are in magrod.chaos.indicators).
 
 Layout of OUT (stem "chaosmap" by default):
   OUT/<stem>.zarr        chunked zarr store, one chunk per tile, readable as an xarray Dataset (open_map)
@@ -10,7 +10,7 @@ no marker and is recomputed).  A resumed run checks that the store was made by t
 done tiles.  Each tile writes only its own chunk (zarr region write), so workers never touch the same file.
 
 Dask: run_tiles starts a LocalCluster (processes, threads_per_worker=1, no dashboard) unless a scheduler
-address is given.  Every tile is a pure function of (spec, tile) computed by magrod.chaos.compute_tile, so the
+address is given.  Every tile is a pure function of (spec, tile) computed by magrod.chaos.indicators.compute_tile, so the
 result is bit-identical whatever the number of workers or the order the tiles run in (on one CPU type: workers
 on other machines compile heyoka for their own instruction set, e.g. with or without FMA, and may differ in the
 last bits; the batch size is part of the spec, so it is the same everywhere).
@@ -25,19 +25,13 @@ from pathlib import Path
 
 import numpy as np
 
-from . import chaos
-from .errors import ParameterError
-from .io import atomic_write_json
+from . import indicators as chaos, maps
+from .fields import BY_NAME
+from ..core.errors import ParameterError
+from ..core.io import atomic_write_json
 
-UNITS = {"lyap": "1/length (scaled arclength of eq:nondim_1)", "fli": "1 (ln |w|)", "fli_half": "1 (ln |w|)",
-         "growth_exponent": "1", "max_abs_dH": "1", "casimir_drift": "1", "min_stretch": "1", "p_psi0": "1",
-         "status": "code"}
-LONG = {"lyap": "finite-time maximal Lyapunov exponent L(T)/T",
-        "fli": "Fast Lyapunov Indicator max_{t<=T} ln|w(t)|", "fli_half": "FLI at T/2",
-        "growth_exponent": "(FLI(T) - FLI(T/2))/ln 2: power of tangent growth over [T/2, T]",
-        "max_abs_dH": "max |H - H(0)| along the orbit", "casimir_drift": "max |C - C(0)| (Casimirs)",
-        "min_stretch": "min axial stretch v3 = dH/dn3 at the sample times",
-        "p_psi0": "start pbar_psi (root of Hbar = h)",
+UNITS = {**{k: f.unit for k, f in BY_NAME.items()}, "status": "code"}
+LONG = {**{k: f.long for k, f in BY_NAME.items()},
         "status": "0 ok; " + "; ".join(f"{c} {r}" for c, r in chaos.REASONS.items() if c)}
 
 
@@ -47,11 +41,11 @@ def paths(out: Path, stem: str) -> dict:
             "json": out / f"{stem}.json"}
 
 
-def _spec_json(spec: chaos.MapSpec) -> str:
+def _spec_json(spec: maps.MapSpec) -> str:
     return json.dumps(spec.as_dict(), sort_keys=True)
 
 
-def create_or_open(spec: chaos.MapSpec, store: Path, tiles_dir: Path, *, force=False) -> None:
+def create_or_open(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, force=False) -> None:
     """Create the empty store (metadata + coordinates only) or check that an existing one holds this spec.
     ParameterError("out") if OUT holds a store of a different map (pass force=True to overwrite it)."""
     import zarr
@@ -74,16 +68,16 @@ def create_or_open(spec: chaos.MapSpec, store: Path, tiles_dir: Path, *, force=F
     tiles_dir.mkdir(exist_ok=True)
 
 
-def _create(spec: chaos.MapSpec, store: Path) -> None:
+def _create(spec: maps.MapSpec, store: Path) -> None:
     import dask.array as da
     import xarray as xr
 
-    from .io import versions
+    from ..core.io import versions
 
     chunks = (spec.tile, spec.tile)
     dims = (spec.y.name, spec.x.name)
     data = {k: (dims, da.full(spec.shape, np.nan, chunks=chunks), {"units": UNITS[k], "long_name": LONG[k]})
-            for k in chaos.MAP_FIELDS}
+            for k in maps.MAP_FIELDS}
     data["status"] = (dims, da.full(spec.shape, chaos.FAILED, dtype=np.int8, chunks=chunks),
                       {"units": UNITS["status"], "long_name": LONG["status"], "flag_values": list(chaos.REASONS),
                        "flag_meanings": " ".join(chaos.REASONS.values())})
@@ -94,7 +88,7 @@ def _create(spec: chaos.MapSpec, store: Path) -> None:
         "spec": _spec_json(spec), "criterion": f"chaotic iff growth_exponent > {chaos.GROWTH_THRESHOLD:g}",
         "tolerance": "machine epsilon" if not spec.tol else repr(spec.tol),
         "formulation": "body (9-D, generated/body.py)",
-        "tangent_vectors": "projected onto the level set of C1, C2, C3, H, m3 (magrod.chaos)",
+        "tangent_vectors": "projected onto the level set of C1, C2, C3, H, m3 (magrod.chaos.indicators)",
         "versions": json.dumps(versions(), sort_keys=True)})
     # compute=False writes metadata and coordinates; the data chunks are written tile by tile
     ds.to_zarr(str(store), mode="w", compute=False, consolidated=False)
@@ -109,7 +103,7 @@ def done_tiles(tiles_dir: Path) -> set:
     return {p.stem for p in Path(tiles_dir).glob("*.json")}
 
 
-def write_tile(store: Path, tiles_dir: Path, tile: chaos.Tile, fields: dict, wall_s: float) -> str:
+def write_tile(store: Path, tiles_dir: Path, tile: maps.Tile, fields: dict, wall_s: float) -> str:
     """Region write of one tile's chunk, then its done-marker (atomically)."""
     import zarr
 
@@ -123,10 +117,10 @@ def write_tile(store: Path, tiles_dir: Path, tile: chaos.Tile, fields: dict, wal
 
 def tile_task(spec_dict: dict, tile_key: str, store: str, tiles_dir: str) -> tuple:
     """The Dask task: compute one tile and write it.  Takes plain data (picklable, no shared state)."""
-    spec = chaos.MapSpec.from_dict(spec_dict)
-    tile = {t.key: t for t in chaos.tiles(spec)}[tile_key]
+    spec = maps.MapSpec.from_dict(spec_dict)
+    tile = maps.tile_of(spec, tile_key)
     t0 = time.perf_counter()
-    fields = chaos.compute_tile(spec, tile)
+    fields = maps.compute_tile(spec, tile)
     wall = time.perf_counter() - t0
     write_tile(Path(store), Path(tiles_dir), tile, fields, wall)
     return tile_key, wall
@@ -138,14 +132,14 @@ def _worker_env() -> None:
         os.environ[k] = "1"
 
 
-def run_tiles(spec: chaos.MapSpec, store: Path, tiles_dir: Path, *, workers=2, scheduler=None, progress=None,
+def run_tiles(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, scheduler=None, progress=None,
               max_tiles=None) -> dict:
     """Compute the tiles that are not done, on Dask.  workers: LocalCluster size (ignored with scheduler, a
     tcp://HOST:PORT address of a running cluster).  max_tiles limits this call (tests: a 'killed' run).
     Returns {"computed": [...], "skipped": [...], "task_wall_s": total seconds inside tasks}."""
     from dask.distributed import Client, LocalCluster, as_completed
 
-    all_tiles = chaos.tiles(spec)
+    all_tiles = maps.tiles(spec)
     done = done_tiles(tiles_dir)
     todo = [t.key for t in all_tiles if t.key not in done][:max_tiles]
     res = {"computed": [], "skipped": sorted(done), "task_wall_s": 0.0}
@@ -193,4 +187,4 @@ def open_map(store: Path):
 
 def load_fields(store: Path) -> dict:
     ds = open_map(store)
-    return {k: ds[k].values for k in list(chaos.MAP_FIELDS) + ["status"]}
+    return {k: ds[k].values for k in list(maps.MAP_FIELDS) + ["status"]}

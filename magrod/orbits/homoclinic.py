@@ -47,12 +47,12 @@ from functools import lru_cache
 import heyoka as hy
 import numpy as np
 
-from . import systems
-from .errors import MAX_MAGNITUDE, ParameterError, require_finite
-from .generated import homoclinic as gen
-from .generated import scalars
-from .generated.names import CLOSED_FORM_REGULAR
-from .params import M_MIN
+from ..core import systems
+from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
+from ..generated import homoclinic as gen
+from ..generated import scalars
+from ..generated.names import CLOSED_FORM_REGULAR
+from ..core.params import M_MIN
 
 _PREC = 256  # bits of the multiprecision verification run (see module docstring)
 

@@ -19,10 +19,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ParameterError
-from .generated import scalars
-from .params import RodParams
-from .systems import body_functions, state_index
+from ..core.errors import ParameterError
+from ..generated import scalars
+from ..core.params import RodParams
+from ..core.systems import body_functions, state_index
 
 # mu = 2 lam is a condition on the input; accept the rounding of a decimal input, nothing more
 MU_TOL = 64 * np.finfo(float).eps

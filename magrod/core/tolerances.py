@@ -1,0 +1,50 @@
+"""Every tolerance of magrod's numerics, defined once, with the reason for its value.
+
+Modules import these names; none defines its own copy.  A tolerance here is a property of a method (a multiple
+of the unit roundoff, a measured floor with its margin) -- never an unexplained number.
+"""
+from __future__ import annotations
+
+import math
+
+from .precision import Precision
+
+EPS = 2.0**-52  # float64 machine epsilon (np.finfo(float).eps), spelled out so this module needs no numpy
+
+# --- accuracy gates of results (verify=True) ------------------------------------------------------------------
+# Integrated with tol = eps, Hbar and the Casimirs drift by ~1e-13 over the paper's 10 000 iterates (measured on
+# every Fig 4/5 panel, benchmarks/README.md); a drift above these bounds means the run did not do what it claims
+# (e.g. a damaged compiled integrator from the JIT cache) and the result is refused.
+ENERGY_TOL = 1e-10
+CASIMIR_TOL = 1e-10
+# A chaos-indicator orbit whose first integrals drift by more than this has left its invariant set: nothing
+# computed on it is trusted (the paper's runs keep them to ~1e-13).
+DRIFT_LIMIT = 1e-8
+
+# --- saddles ----------------------------------------------------------------------------------------------------
+# mu = 2 lam is a condition on the input: accept the rounding of a decimal input (64 ulp), nothing more
+MU_TOL = 64 * EPS
+# Re(eigenvalue) below this is not hyperbolic: the Jacobian is computed to ~eps, and eigenvalues of a defective
+# quartet (m = m_c, Hamiltonian-Hopf) split like sqrt(eps)
+HYPERBOLIC_TOL = 1e3 * math.sqrt(EPS)
+
+# --- shooting onto Fix(R) ---------------------------------------------------------------------------------------
+# Newton converged iff max |(pbar_theta, sin psi)(x(T))| <= SHOOTING_TOL
+SHOOTING_TOL = 1e-10
+# distance of the launch point from the saddle on its linear unstable manifold, per precision: the O(eps^2)
+# launch error stays below the residual floor of that precision (docs/errata.md: lam* insensitive to it)
+LAUNCH_DISTANCE = {Precision.DOUBLE: 1e-7, Precision.LONG_DOUBLE: 1e-9}
+# the two launch distances of an uncertainty estimate (a different eps is a different launch phase)
+LAUNCH_DISTANCES = (1e-7, 1e-9)
+# Newton stops after this many iterations without halving the best residual (it then samples rounding noise)
+STALL_ITERATIONS = 4
+# "within the floor" means best residual <= FLOOR_FACTOR x the measured floor (the floor is a max over 8 samples
+# of noise about a smooth fit through the best iterate, which carries noise of the same size)
+FLOOR_FACTOR = 2.0
+# a stalled Newton counts as converged only below this: the double floor after near-saddle passages is
+# 1e-8..1e-7; 1e-6 rad from Fix(R) is far below any feature of the orbit
+FLOOR_CAP = 1e-6
+
+# --- splitting of the separatrix --------------------------------------------------------------------------------
+# launch distance (relative to theta0 for the tilted saddle) per precision: eta^2 below the rounding unit
+SPLITTING_LAUNCH = {Precision.DOUBLE: 1e-8, Precision.LONG_DOUBLE: 1e-10, Precision.QUAD: 1e-17, Precision.MP: 1e-30}

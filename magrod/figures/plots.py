@@ -1,0 +1,36 @@
+"""`.plot(ax=None)` of every result object: one drawing function per result class, registered in PLOTTERS.
+
+Result.plot (magrod/core/results.py) lands here, so the numerics never import matplotlib.  Every function takes
+the result and an Axes (None: a new figure via pyplot, so that it shows inline in Jupyter) and returns the
+Axes; none switches matplotlib's backend or writes a file.
+"""
+from __future__ import annotations
+
+import importlib
+
+# result class name -> "module:function" (module relative to magrod.figures), imported on first use
+PLOTTERS: dict[str, str] = {
+    "PoincareResult": "poincare:plot_section",
+    "LyapunovResult": "chaos:plot_lyapunov",
+    "ChaosMap": "chaos:plot_map",
+    "IntegrabilityReport": "integrability:plot_involution",
+}
+
+
+def axes(ax=None, *, projection=None, figsize=(5.0, 4.0)):
+    """ax, or a new Axes of a new pyplot figure (pyplot's current backend: inline in Jupyter, Agg headless)."""
+    if ax is not None:
+        return ax
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=figsize, layout="constrained")
+    return fig.add_subplot(projection=projection)
+
+
+def plot(result, ax=None, **kw):
+    """Draw `result` with its registered plotter and return the Axes."""
+    name = type(result).__name__
+    if name not in PLOTTERS:
+        raise TypeError(f"{name} has no plot; plottable results: {', '.join(sorted(PLOTTERS))}")
+    module, func = PLOTTERS[name].split(":")
+    return getattr(importlib.import_module(f"{__package__}.{module}"), func)(result, ax=ax, **kw)

@@ -1,0 +1,184 @@
+"""The integrability report: Casimirs found, involution tables per regime, reduction verified, I2bar
+conservation cases, read from the checked-in derivation report generated/report.json (no SymPy), or computed
+live by SymPy (`rederive`, `custom_involution`: needs the `derive` extra)."""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from importlib import resources
+
+from ..core.results import Result
+
+SECTIONS = ("casimirs", "involution", "jacobi", "poisson_map", "I2bar_conservation")
+
+
+def load_report(rederive: bool = False) -> dict:
+    if rederive:
+        from ..derive.build import all_results
+
+        results, _ = all_results()
+        return {"results": [r.as_dict() for r in results], "source": "re-derived now"}
+    text = resources.files("magrod.generated").joinpath("report.json").read_text()
+    rep = json.loads(text)
+    rep["source"] = "generated/report.json"
+    return rep
+
+
+def summary(rederive: bool = False, everything: bool = False) -> dict:
+    """The integrability results (all derived results if `everything`), their statuses and the keys that
+    disagree with the printed paper."""
+    rep = load_report(rederive)
+    res = rep["results"]
+    chosen = res if everything else [r for r in res if r["key"] in SECTIONS]
+    disagreements = [r["key"] for r in res if r["status"] == "disagrees"]
+    return {"ok": True, "source": rep["source"], "results": chosen,
+            "statuses": {r["key"]: r["status"] for r in res}, "disagreements_with_paper": disagreements}
+
+
+def custom_involution(text: str) -> dict:
+    """Brackets among H, I1, I2 and the Casimirs for the model with the substitution `text` (live SymPy)."""
+    from ..core.errors import EnvironmentFault, ParameterError
+
+    try:
+        from ..derive import poisson
+    except ImportError as exc:
+        raise EnvironmentFault("subs", f"needs SymPy (pip install '.[derive]'): {exc}") from None
+
+    try:
+        sub = poisson.parse_substitution(text)
+    except ValueError as exc:  # SubstitutionError: the text was refused by the bounded grammar
+        raise ParameterError("subs", str(exc)) from None
+    table = poisson.involution_table(sub)
+    res = {"key": "involution (custom)", "label": "eq:magnetic_lagrange, eq:int2", "status": "computed",
+           "title": f"Brackets among H, I1, I2 and the Casimirs with {text}",
+           "method": "symbolic: grad f . J grad g expanded and factored (live)",
+           "details": {"tables": {text: table}}}
+    return {"ok": True, "source": "computed now", "results": [res], "statuses": {},
+            "disagreements_with_paper": [], "substitution": text}
+
+
+def format_text(out: dict) -> str:
+    """Plain-text rendering of summary() / custom_involution() (used by `magrod check` and REPORT.md)."""
+    lines = [f"magrod integrability report ({out['source']})", ""]
+    for r in out["results"]:
+        lines.append(f"[{r['status']}] {r['label']}: {r['title']}")
+        lines.append(f"    shown by: {r['method']}")
+        d = r["details"]
+        if r["key"] == "casimirs":
+            lines.append("    basis found (lambda generic): " + "; ".join(d["basis_found"]))
+            lines.append("    basis found (lambda = 0):     " + "; ".join(d["basis_found (lambda = 0)"]))
+        elif r["key"].startswith("involution"):
+            for reg, table in d["tables"].items():
+                nz = {k: v for k, v in table.items() if v != "0"}
+                lines.append(f"    {reg}: " + ("all brackets vanish" if not nz else
+                                                 "non-zero: " + "; ".join(f"{k} = {v}" for k, v in nz.items())))
+        elif r["key"] == "I2bar_conservation":
+            for case, v in d["cases"].items():
+                lines.append(f"    {{I2bar, Hbar}} at {case}: {'0 (conserved)' if v == '0' else 'non-zero'}")
+        lines.append("")
+    lines.append("disagreements with the printed paper (see docs/errata.md): "
+                 + (", ".join(out["disagreements_with_paper"]) or "none"))
+    return "\n".join(lines)
+
+
+@dataclass(repr=False)
+class IntegrabilityReport(Result):
+    """The derivation's integrability results: rows (one dict per result: key, label, status, title, method,
+    details), statuses {key: status}, the keys that disagree with the printed paper, and where they came from
+    (generated/report.json, re-derived now, or computed now for a substitution)."""
+
+    success: bool
+    message: str
+    source: str
+    rows: list
+    statuses: dict
+    disagreements_with_paper: list
+    substitution: str | None = None
+
+    _repr_fields = ("source", "substitution", "disagreements_with_paper")
+
+    def row(self, key: str) -> dict:
+        """The result with this key (KeyError naming the known keys otherwise)."""
+        for r in self.rows:
+            if r["key"] == key:
+                return r
+        raise KeyError(f"no result {key!r}; known: {', '.join(r['key'] for r in self.rows)}")
+
+    def involution(self) -> dict:
+        """{regime: {bracket: value}} of the involution tables in this report."""
+        out = {}
+        for r in self.rows:
+            if r["key"].startswith("involution"):
+                out.update(r["details"]["tables"])
+        return out
+
+    def text(self) -> str:
+        """The report as `magrod check` prints it."""
+        return format_text({"source": self.source, "results": self.rows,
+                            "disagreements_with_paper": self.disagreements_with_paper})
+
+
+def _subs_text(subs) -> str:
+    """A substitution given as a dict {symbol: value} in the grammar of derive.poisson.parse_substitution."""
+    from ..core.errors import ParameterError
+
+    if isinstance(subs, str):
+        return subs
+    if not isinstance(subs, dict) or not subs:
+        raise ParameterError("subs", f"must be a non-empty dict {{symbol: value}} or 'NAME=VALUE,...', got {subs!r}")
+    parts = []
+    for k, v in subs.items():
+        if isinstance(v, bool) or not isinstance(v, (int, float, str)):
+            raise ParameterError("subs", f"value of {k!r} must be a number or a symbol name, got {v!r}")
+        parts.append(f"{k}={v}")
+    return ",".join(parts)
+
+
+def integrability_report(subs=None, *, rederive: bool = False, everything: bool = False) -> IntegrabilityReport:
+    """The symbolic integrability checks: Casimirs, Jacobi identity, involution of H, I1, I2, the Poisson map of
+    the reduction and when I2bar is conserved.
+
+    Parameters
+    ----------
+    subs : dict or str, optional
+        Compute the involution table live for a modified model, e.g. {"lambda": 0} or "B2=B1,c_J=c_H" (symbols
+        B1 B2 C c_H c_J c_K lambda; c = 1/stiffness, so c_H = c_J = c_K = 0 is the inextensible, unshearable
+        rod).  Needs SymPy (the `derive` extra).
+    rederive : bool
+        Re-run the whole SymPy derivation instead of reading generated/report.json (~1 min).
+    everything : bool
+        Every derived result, not only the integrability ones.
+
+    Returns
+    -------
+    IntegrabilityReport
+        rows, statuses, disagreements_with_paper; `text()` as `magrod check` prints it.
+
+    Raises
+    ------
+    ParameterError
+        Naming `subs` if the substitution is refused by its grammar (user input is data, never code).
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> rep = mr.integrability_report()
+    >>> rep.statuses["casimirs"], "melnikov_vanishes" in rep.disagreements_with_paper
+    ('holds', True)
+
+    Notes
+    -----
+    Each row says how it was shown (symbolic simplification to 0, polynomial identity, or seeded high-precision
+    points) and its status (proved / numerical / disagrees with the paper).  Reading the checked-in report costs
+    nothing; `subs` costs a few seconds of SymPy.
+    """
+    from ..core.errors import ParameterError
+
+    if subs is not None:
+        if rederive or everything:
+            raise ParameterError("subs", "computes one custom table: do not combine it with rederive or everything")
+        out = custom_involution(_subs_text(subs))
+    else:
+        out = summary(rederive, everything)
+    return IntegrabilityReport(True, "ok", out["source"], out["results"], out["statuses"],
+                               out["disagreements_with_paper"], out.get("substitution"))

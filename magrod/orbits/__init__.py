@@ -1,0 +1,1 @@
+"""magrod.orbits."""

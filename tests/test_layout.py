@@ -1,0 +1,220 @@
+"""The package layout and its rules (docs/architecture.md), enforced on the source (AST) and at import.
+
+As heyoka.py's test_package_layout does, the public names are pinned: adding or removing one is a decision,
+made here and in docs/architecture.md, never a side effect."""
+from __future__ import annotations
+
+import ast
+import dataclasses
+import inspect
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import magrod
+
+ROOT = Path(magrod.__file__).resolve().parent
+NUMERICS = ("core", "orbits", "chaos", "separatrix", "integrability")  # the numerics wing (subpackages)
+
+PUBLIC = {
+    "RodParams", "Precision", "ParameterError", "panel",
+    "poincare_section", "lyapunov", "chaos_map",
+    "integrability_report",
+}
+
+
+def _modules(*subpackages):
+    for sub in subpackages:
+        for path in sorted((ROOT / sub).rglob("*.py")):
+            yield path, ast.parse(path.read_text(), filename=str(path))
+
+
+def _rel(path: Path) -> str:
+    return str(path.relative_to(ROOT))
+
+
+# --------------------------------------------------------------------------------------------------------------
+# the face
+def test_public_names_are_pinned():
+    assert set(magrod.__all__) == PUBLIC
+    for name in PUBLIC:
+        assert getattr(magrod, name) is not None
+    assert set(dir(magrod)) >= PUBLIC
+
+
+@pytest.mark.parametrize("name", sorted(PUBLIC))
+def test_public_docstrings_are_numpydoc(name):
+    """Every public function documents Parameters, Returns, Raises, Examples and Notes; every public class has a
+    docstring with an Examples section or documented fields."""
+    obj = getattr(magrod, name)
+    doc = inspect.getdoc(obj) or ""
+    assert doc, name
+    if inspect.isfunction(obj):
+        for section in ("Parameters", "Returns", "Raises", "Examples", "Notes"):
+            assert f"\n{section}\n" + "-" * len(section) in doc, f"{name}: no {section} section"
+        assert ">>> " in doc, f"{name}: the Examples section has no example"
+
+
+def _result_classes():
+    import importlib
+    import pkgutil
+
+    from magrod.core.results import Result
+
+    for mod in pkgutil.walk_packages([str(ROOT)], prefix="magrod."):
+        if mod.name.startswith(("magrod.cli", "magrod.figures", "magrod.derive", "magrod.generated")):
+            continue
+        importlib.import_module(mod.name)
+    seen, todo = [], list(Result.__subclasses__())
+    while todo:
+        c = todo.pop()
+        seen.append(c)
+        todo.extend(c.__subclasses__())
+    return seen
+
+
+def test_results_share_one_face():
+    """Every result class: a dataclass with success and message, the short repr of Result (not the dataclass's
+    field dump: @dataclass(repr=False)), and a registered plotter."""
+    from magrod.core.results import Result
+    from magrod.figures.plots import PLOTTERS
+
+    classes = _result_classes()
+    assert len(classes) >= 4
+    for c in classes:
+        assert dataclasses.is_dataclass(c), c
+        names = {f.name for f in dataclasses.fields(c)}
+        assert {"success", "message"} <= names, c
+        assert c.__repr__ is Result.__repr__, f"{c.__name__}: use @dataclass(repr=False)"
+        assert c.__name__ in PLOTTERS, f"{c.__name__} has no plotter in magrod/figures/plots.py"
+
+
+# --------------------------------------------------------------------------------------------------------------
+# rules on the source
+def test_only_systems_builds_heyoka_integrators():
+    builders = {"taylor_adaptive", "taylor_adaptive_batch"}
+    offenders = []
+    for path, tree in _modules(*NUMERICS, "figures", "cli"):
+        if _rel(path) == "core/systems.py":
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Attribute) and node.attr in builders:
+                offenders.append(f"{_rel(path)}:{node.lineno} {node.attr}")
+    assert not offenders, offenders
+
+
+# The body state has 9 components, its variational matrix 81, with the parameters 9 x 14 = 126 ... : sizes come
+# from generated/names.py through systems.dim/state_index/par_index, never as literals.  Allowed literals are
+# listed with the reason.
+STATE_SIZES = {9, 14, 81, 126, 135}
+ALLOWED_LITERALS = {
+    ("core/systems.py", 9): "_unit_state: the nine components of the straight rod, a placeholder state",
+    ("orbits/rod.py", 9): "the 3 x 3 director frame D stacked after the state",
+}
+
+
+def test_no_literal_state_sizes_in_the_numerics():
+    offenders = []
+    for path, tree in _modules(*NUMERICS):
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Constant) and type(node.value) is int and node.value in STATE_SIZES:
+                if (_rel(path), node.value) not in ALLOWED_LITERALS:
+                    offenders.append(f"{_rel(path)}:{node.lineno}: {node.value}")
+    assert not offenders, offenders
+
+
+def test_no_literal_parameter_indices():
+    """pars[4] or p[1] would silently mean another parameter if PARAMS changed: use systems.par_index(name)."""
+    offenders = []
+    for path, tree in _modules(*NUMERICS):
+        for node in ast.walk(tree):
+            if (isinstance(node, ast.Subscript) and isinstance(node.value, ast.Name)
+                    and node.value.id in ("pars", "p", "params", "par") and isinstance(node.slice, ast.Constant)
+                    and type(node.slice.value) is int):
+                offenders.append(f"{_rel(path)}:{node.lineno}")
+    assert not offenders, offenders
+
+
+def test_numerics_do_not_import_matplotlib():
+    """Results draw through magrod.figures (Result.plot imports it lazily); the numerics never import
+    matplotlib themselves."""
+    offenders = []
+    for path, tree in _modules(*NUMERICS):
+        for node in ast.walk(tree):
+            names = [a.name for a in node.names] if isinstance(node, ast.Import) else (
+                [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+            if any(n.split(".")[0] == "matplotlib" for n in names):
+                offenders.append(f"{_rel(path)}:{node.lineno}")
+    assert not offenders, offenders
+
+
+def _module_level_calls(tree):
+    """Calls executed at import: statements of the module body (and of if/try/with blocks in it), not inside
+    functions or classes."""
+    stack = list(tree.body)
+    while stack:
+        node = stack.pop()
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef, ast.Lambda)):
+            continue
+        if isinstance(node, ast.Call):
+            yield node
+        stack.extend(ast.iter_child_nodes(node))
+
+
+def test_no_process_wide_settings_anywhere_at_import():
+    """No matplotlib.use anywhere; no signal handler, logger level or heyoka logger change executed at import
+    (the CLI sets them in main() and restores them)."""
+    offenders = []
+    for path, tree in _modules(*NUMERICS, "figures", "cli"):
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Attribute) and node.attr == "use" and isinstance(node.value, ast.Name) \
+                    and node.value.id in ("matplotlib", "mpl"):
+                offenders.append(f"{_rel(path)}:{node.lineno} matplotlib.use")
+        for call in _module_level_calls(tree):
+            f = call.func
+            name = f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", "")
+            if name in ("signal", "setLevel", "basicConfig", "set_logger_level_critical", "set_logger_level_off",
+                        "filterwarnings", "simplefilter", "use"):
+                offenders.append(f"{_rel(path)}:{call.lineno} {name}() at import")
+    assert not offenders, offenders
+
+
+def test_importing_everything_changes_nothing_in_the_process():
+    """Import magrod and every module of the numerics, figures and CLI wings in a fresh interpreter: the SIGINT
+    handler is Python's default, matplotlib is not imported by the numerics, no backend was chosen."""
+    code = (
+        "import importlib, pkgutil, signal, sys, warnings\n"
+        "before = (signal.getsignal(signal.SIGINT), warnings.showwarning)\n"
+        "import magrod\n"
+        "for m in pkgutil.walk_packages(magrod.__path__, 'magrod.'):\n"
+        "    if not m.name.startswith(('magrod.derive', 'magrod.cli.__main__')):\n"
+        "        importlib.import_module(m.name)\n"
+        "after = (signal.getsignal(signal.SIGINT), warnings.showwarning)\n"
+        "assert before == after, (before, after)\n"
+        "import matplotlib\n"
+        "assert matplotlib.rcParams._get_backend_or_none() is None, matplotlib.rcParams._get_backend_or_none()\n"
+        "print('ok')\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0 and r.stdout.strip() == "ok", r.stderr[-2000:]
+
+
+def test_import_magrod_is_light():
+    """`import magrod` loads neither heyoka nor matplotlib nor dask (PEP 562 lazy names)."""
+    code = ("import sys, magrod\n"
+            "heavy = [m for m in ('heyoka', 'matplotlib', 'dask', 'scipy') if m in sys.modules]\n"
+            "print(heavy)\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert r.stdout.strip() == "[]", r.stdout + r.stderr
+
+
+def test_cli_main_restores_the_process_settings():
+    import signal
+    import warnings
+
+    from magrod import cli
+
+    before = (signal.getsignal(signal.SIGINT), warnings.showwarning)
+    assert cli.main(["check", "--json"]) == 0
+    assert (signal.getsignal(signal.SIGINT), warnings.showwarning) == before
