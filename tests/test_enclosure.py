@@ -11,7 +11,7 @@ import pytest
 
 flint = pytest.importorskip("flint")
 
-from magrod.errors import ParameterError  # noqa: E402
+from magrod.core.errors import ParameterError  # noqa: E402
 from magrod.separatrix import enclosure as E  # noqa: E402
 
 # the six (m, gamma, delta) of the a = 2b table of docs/nonintegrability.md
@@ -22,7 +22,7 @@ TABLE = [(1.7, 1.0, 1.0), (1.7, 1.0, 0.0), (1.7, 0.0, 1.0), (1.2, 0.5, 2.0), (2.
 def references():
     """real128 values of S (heyoka, tol 1e-32) and their stated tail errors, at the float parameters (the
     enclosure converts the same floats exactly, so both compute S at the same rational point)."""
-    from magrod import splitting as S
+    from magrod.separatrix import splitting as S
 
     out = {}
     for p in TABLE:
@@ -166,7 +166,7 @@ def test_box_theorem_locates_a_zero():
     assert r.zeros and not r.success
     s0 = E.enclose_S("1.7", 1, 0, prec=64).S
     s1 = E.enclose_S("1.7", 1, 1, prec=64).S
-    dstar = float((s0 / (s0 - s1)).mid())  # S(delta) = s0 + delta (s1 - s0) flipped: zero at s0/(s0 - s1)
+    dstar = float((s0 / (s1 - s0)).mid())  # S_flip(delta) = s0 - delta (s1 - s0): zero at s0/(s1 - s0)
     assert 0.25 < dstar < 0.5
     # the located ball (for (m, gamma) in the rectangle) contains the zero at its centre
     z = r.zeros[0]
