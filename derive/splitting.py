@@ -411,7 +411,10 @@ def integrand_tau(nr=None, ni=None):
     return e
 
 
-def tail_quantities(tT=sp.Symbol("tau_T", positive=True)):
+TAU_T = sp.Symbol("tau_T", positive=True)
+
+
+def tail_quantities(tT=TAU_T):
     """Bounds on the tail tau >= tau_T > 0 (t >= T = tau_T/kappa), valid for every parameter in the balls they are
     evaluated on: (s_up, c_lo, tanh(tau_T), 1 - omega, D_up, majorant) with s <= s_up = A sech(tau_T)/sqrt(1 -
     omega) (s decreasing, D >= 1 - omega), c >= c_lo = sqrt(1 - s_up^2), TH in [tanh(tau_T), 1], D in [1 - omega,
@@ -441,7 +444,7 @@ def ball_module(nr=None, ni=None, gradient=True) -> str:
     N = integrand_tau(nr.subs({om: omk, kp: kap}), ni.subs({om: omk, kp: kap}))
     grad = [sp.diff(N, v) for v in (m, gamma, delta)] if gradient else None
     branches = branch_arguments(N, tau_)
-    Tsym = sp.Symbol("tau_T", positive=True)
+    Tsym = TAU_T
     names = {t_: "t", tau_: "tau", m: "m", gamma: "gamma", delta: "delta", s_: "s", c_: "c", TH_: "TH", D_: "D",
              Tsym: "tau_T"}
     pr = BallPrinter(names)

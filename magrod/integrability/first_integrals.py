@@ -44,7 +44,7 @@ import time
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from flint import nmod, nmod_mat
+from flint import nmod_mat
 
 from ..core.errors import ParameterError
 from ..core.results import Result
