@@ -49,6 +49,8 @@ _API = {
     "panel": "core.printed",
     # chaos: sections, indicators, maps
     "poincare_section": "chaos.section",
+    "section_portrait": "chaos.portrait",
+    "orbit_diagram": "chaos.portrait",
     "lyapunov": "chaos.lyapunov",
     "chaos_map": "chaos.maps",
     # saddles and orbits

@@ -37,6 +37,7 @@ SUBCOMMANDS = {
     "splitting": ("magrod.cli.splitting", "splitting of the separatrix along mu = a eps^2, lam = b eps^2"),
     "chaosmap": ("magrod.cli.chaosmap", "chaos map (Lyapunov/FLI indicators) over a parameter plane or a section"),
     "prove": ("magrod.cli.prove", "computer-assisted proof of transverse homoclinic orbits (certificate, --verify)"),
+    "orbitdiagram": ("magrod.cli.orbitdiagram", "orbit diagram: Poincare section points against a model parameter"),
 }
 
 

@@ -592,6 +592,22 @@ def body_neutral_gradients() -> CFunc:
 
 
 @cache
+def body_renorm_functions() -> CFunc:
+    """One compiled function with everything a chaos indicator evaluates at a renormalisation (one call instead
+    of four): rows [H - offset, C1, C2, C3, v3 = dH/dn3, then the k x 9 gradients of body_neutral_gradients].
+    Each output is the same expression as in body_functions / body_stretch / body_neutral_gradients, compiled
+    together: the values are bit-identical to those of the separate functions (tests/test_chaos_speed.py)."""
+    x = variables("body")
+    p = pars()
+    H = body.hamiltonian(*x, *p)
+    f = [r for _, r in system("body")]
+    integrals = list(body.casimirs(*x, *p)) + [H]
+    integrals += [x[i] for i, fi in enumerate(f) if fi == hy.expression(0.0)]
+    return CFunc([H - body.hamiltonian_offset(*p), *body.casimirs(*x, *p),
+                  hy.diff(H, x[state_index("body", "n3")]), *[hy.diff(g, xj) for g in integrals for xj in x]], x)
+
+
+@cache
 def body_stretch() -> CFunc:
     """The axial stretch v3 = dH/dn3 of the constitutive law (eq:hyperelastic); a physical rod has v3 > 0."""
     x = variables("body")

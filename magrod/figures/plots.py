@@ -23,6 +23,9 @@ PLOTTERS: dict[str, str] = {
     "MultipulseSearch": "orbits:plot_search",
     "Branch": "orbits:plot_branch",
     "RodShape": "orbits:plot_rod_shape",
+    # many orbits (magrod/figures/portrait.py)
+    "SectionPortrait": "portrait:plot_portrait",
+    "OrbitDiagram": "portrait:plot_orbit_diagram",
 }
 
 

@@ -205,6 +205,27 @@ def _chaos(out, quick):
              "verdict": "new result (beyond the paper)"}]
 
 
+@_claim
+def _orbit_diagram(out, quick):
+    """Issue 18: the orbit diagram lambdabar 0.12..0.2 at Figure 4's start (magrod.figures.portrait)."""
+    d = _sidecar(out, "orbitdiagram.json")
+    label = "fig:poincare1 (orbit diagram)"
+    if d is None:
+        return _not_run(label, "the closed curve of 4(d) breaks up into the chaotic sea of 4(a) as lam decreases")
+    ind, pn = d["indicator"], d["indicator"]["panels"]
+    ok = pn["4a"]["chaotic"] and not pn["4d"]["chaotic"]
+    desc = "; ".join(f"{k} (lam = {v['lam']:g}): {v['growth_exponent']:.2f}" for k, v in sorted(pn.items()))
+    return [{"label": label,
+             "paper": "as lam decreases from 0.186 (d) to 0.135 (a) the closed curve breaks up into a chaotic sea",
+             "computed": f"{d['values']['n']} values lam = {d['values']['first']:.4g}..{d['values']['last']:g} x "
+                         f"{d['iterates']} iterates from the Fig 4 start (orbitdiagram.png), max |Hbar - h| "
+                         f"{d['max_abs_dH']:.1e}; growth exponent at T = {ind['panel_t_max']:g}: {desc}; "
+                         f"{100 * ind['fraction_chaotic']:.0f}% of the diagram's starts chaotic at T = "
+                         f"{ind['t_max']:g}; the level h = 0.9 is not reached from this start for lam < "
+                         f"{d['accessible_from']:.4f} ({d['no_orbit_values']} of {d['grid_values']} grid values)",
+             "verdict": "reproduced (by the indicator)" if ok else "differs"}]
+
+
 def claims(out: Path, quick: bool) -> list[dict]:
     rows = derivation_claims()
     for f in CLAIM_EXTRACTORS:
