@@ -599,8 +599,8 @@ def run_tiles(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, sc
         try:
             client.run(_worker_env)
             sd = spec.as_dict()
-            futs = [client.submit(tile_task, sd, k, str(store), str(tiles_dir), state.identity, pure=False)
-                    for k in todo]
+            futs = {client.submit(tile_task, sd, k, str(store), str(tiles_dir), state.identity, pure=False): k
+                    for k in todo}
             if on_submitted is not None:
                 on_submitted()
             _collect(client, futs, spec, state, res, progress)
@@ -626,7 +626,7 @@ def _close_quietly(client) -> None:
 
 
 def _collect(client, futs, spec, state: StoreState, res: dict, progress) -> None:
-    """Wait for the tasks; verify each tile the workers wrote by reading it back here."""
+    """Wait for the tasks ({future: tile key}); verify each tile the workers wrote by reading it back here."""
     import zarr
     from dask.distributed import as_completed
 
@@ -638,7 +638,7 @@ def _collect(client, futs, spec, state: StoreState, res: dict, progress) -> None
             except (ParameterError, EnvironmentFault):
                 raise
             except Exception as exc:  # noqa: BLE001 - a task or the cluster failed: one line saying which
-                raise TileFailure(fut, exc) from None
+                raise TileFailure(futs.get(fut), exc) from None
             if group is None:
                 group = zarr.open_group(str(state.store), mode="r")
             here = _hash_of_stored(state.store, maps.tile_of(spec, key), group)
@@ -653,7 +653,7 @@ def _collect(client, futs, spec, state: StoreState, res: dict, progress) -> None
                 progress(1)
     except BaseException:
         try:
-            client.cancel(futs)
+            client.cancel(list(futs))
         except BaseException:  # noqa: BLE001
             pass
         raise
@@ -662,8 +662,8 @@ def _collect(client, futs, spec, state: StoreState, res: dict, progress) -> None
 class TileFailure(RuntimeError):
     """A Dask task failed (an exception in the worker, a worker that died, the scheduler lost)."""
 
-    def __init__(self, fut, exc):
-        self.key = getattr(fut, "key", None)
+    def __init__(self, key, exc):
+        self.key = key
         self.exc = exc
         kind = type(exc).__name__
         text = " ".join(str(exc).split())[:300]

@@ -170,6 +170,7 @@ def run(args) -> dict:
     chaos_store.check_paths(pth)  # a symbolic link for the store: refused before anything is made
     if workers is not None:
         maps.check_cost(spec, workers)
+        _check_open_files(workers)
     client = cluster = None
     pids: list = []
     state = None
@@ -185,27 +186,31 @@ def run(args) -> dict:
         with DirectoryLock(pth["lock"], "out", busy):
             chaos_store.remove_temporaries(pth)  # what a killed run left (we hold the lock: no writer is alive)
             state = chaos_store.create_or_open(spec, pth["store"], pth["tiles"], force=args.force)
-            if state.repaired:
+            if state.repaired or state.metadata_rewritten:  # one line: what was found damaged and is repaired
                 import warnings
 
                 from ..core.errors import MagrodWarning
 
-                warnings.warn(f"{len(state.repaired)} damaged or missing tile(s) of {str(pth['store'])!r} failed "
-                              f"their content hash and are recomputed", MagrodWarning, stacklevel=1)
+                what = [f"{len(state.repaired)} damaged or missing tile(s) failed their content hash and are "
+                        f"recomputed"] if state.repaired else []
+                if state.metadata_rewritten:
+                    what.append(f"{len(state.metadata_rewritten)} damaged metadata file(s) rewritten from the spec")
+                warnings.warn(f"{str(pth['store'])!r}: {'; '.join(what)}", MagrodWarning, stacklevel=1)
             n_tiles = len(maps.tiles(spec))
             todo = n_tiles - len(state.done)
             t0 = time.perf_counter()
             if todo and client is None:
                 with chaos_store.quiet_distributed(), children_immune():
-                    cluster, client, pids = chaos_store.start_local_cluster(workers)
+                    try:
+                        cluster, client, pids = chaos_store.start_local_cluster(workers)
+                    except (RuntimeError, OSError, TimeoutError) as exc:
+                        raise _start_failure(exc, workers) from None
             try:
                 with bar(todo, "chaosmap", not args.quiet, unit="tile") as update, chaos_store.quiet_distributed():
                     res = chaos_store.run_tiles(spec, pth["store"], pth["tiles"], client=client, state=state,
                                                 progress=update, on_submitted=lambda: pause_point("chaosmap-running"))
-            except chaos_store.TileFailure as exc:
-                failed = _tile_failure(exc, address, len(state.done), n_tiles)
-                ok_exit = True  # finished tiles keep their markers; the store stays for the next run
-                return failed
+            except chaos_store.TileFailure as exc:  # finished tiles keep their markers for the next run
+                return _tile_failure(exc, address, len(state.done), n_tiles)
             chaos_store.finish(spec, state)
             wall = time.perf_counter() - t0
             fields = chaos_store.load_fields(pth["store"])
@@ -216,7 +221,8 @@ def run(args) -> dict:
             summary.update(orbits_computed=pts, orbits_per_s=pts / wall if pts and wall > 0 else None,
                            tiles={"total": n_tiles, "computed": len(res["computed"]), "skipped": len(res["skipped"]),
                                   "repaired": len(res["repaired"])},
-                           repaired_tiles=res["repaired"], workers=workers, scheduler=address or "LocalCluster",
+                           repaired_tiles=res["repaired"], metadata_rewritten=state.metadata_rewritten,
+                           workers=workers, scheduler=address or "LocalCluster",
                            task_wall_s=res["task_wall_s"])
             result = {"ok": True, "spec": spec.as_dict(), **summary, "store_identity": state.identity,
                       "output": {k: str(v) for k, v in pth.items() if k in ("store", "png", "json")}}
@@ -230,6 +236,10 @@ def run(args) -> dict:
                 atomic_write_json(pth["json"], {**result, "versions": versions()})
             ok_exit = True
             return result
+    except OSError as exc:  # the machine (disk full, file-size limit, ...): one line with the path
+        from ..core.io import resource_fault
+
+        raise resource_fault(exc, "out", exc.filename if exc.filename is not None else pth["store"]) from None
     finally:
         interrupted = not ok_exit
         if cluster is not None:
@@ -240,6 +250,41 @@ def run(args) -> dict:
             _clean_after_failure(chaos_store, pth, state, pids)
 
 
+def _files_needed(workers: int) -> int:
+    """Open files the parent needs for a LocalCluster: ~31 + 10 per worker measured (sockets, pipes, the JIT
+    cache, zarr), with a margin."""
+    return 40 + 12 * workers
+
+
+def _check_open_files(workers: int) -> None:
+    import resource
+
+    from ..core.errors import EnvironmentFault
+
+    soft, _ = resource.getrlimit(resource.RLIMIT_NOFILE)
+    need = _files_needed(workers)
+    if soft != resource.RLIM_INFINITY and soft < need:
+        raise EnvironmentFault("workers", f"the open-file limit (ulimit -n) is {soft}; a LocalCluster of {workers} "
+                                          f"worker(s) needs about {need} open files: raise it (e.g. ulimit -n 1024)")
+
+
+def _start_failure(exc, workers: int):
+    """The LocalCluster did not start: the machine's limits (memory, processes, files) say why, in one line."""
+    import resource
+
+    from ..core.errors import EnvironmentFault
+
+    limits = []
+    for name, rl, unit in (("ulimit -v", "RLIMIT_AS", "kB"), ("ulimit -u", "RLIMIT_NPROC", ""),
+                           ("ulimit -n", "RLIMIT_NOFILE", "")):
+        soft = resource.getrlimit(getattr(resource, rl))[0]
+        if soft != resource.RLIM_INFINITY:
+            limits.append(f"{name} {soft // 1024 if unit else soft}")
+    why = " ".join(f"{type(exc).__name__}: {exc}".split())[:120]
+    return EnvironmentFault("workers", f"cannot start a LocalCluster of {workers} worker(s) ({why}); limits in force: "
+                                       f"{', '.join(limits) or 'none'}")
+
+
 def _tile_failure(exc, address, done: int, total: int) -> dict:
     """A failed task as one line: the machine (a worker killed, out of memory, the scheduler lost, a full disk)
     is an EnvironmentFault (exit 3); an exception raised by the computation is a failed run (exit 1)."""
@@ -247,14 +292,18 @@ def _tile_failure(exc, address, done: int, total: int) -> dict:
     from ..core.io import resource_fault
 
     inner = exc.exc
-    kept = f"{done} of {total} tiles finished and kept; re-run to resume"
+    kept = f"{done} of {total} tiles finished" + (" and kept; re-run to resume" if done else "")
     where = f"the scheduler at {address}" if address else "the LocalCluster"
     kind = type(inner).__name__
     if isinstance(inner, OSError) and inner.errno is not None:
         f = resource_fault(inner, "out")
         raise EnvironmentFault("out", f"{f.message} ({kept})") from None
-    if isinstance(inner, MemoryError):
-        raise EnvironmentFault("workers", f"a worker ran out of memory on tile {exc.key} ({kept})") from None
+    text = str(inner)
+    if isinstance(inner, MemoryError) or "bad_alloc" in text or "can't start new thread" in text \
+            or "Cannot allocate memory" in text:
+        raise EnvironmentFault("workers", f"a worker ran out of memory or threads on tile {exc.key} ({kind}: "
+                                          f"{' '.join(text.split())[:80]}; a memory limit such as ulimit -v?); {kept}"
+                               ) from None
     if kind in ("KilledWorker", "CommClosedError", "FutureCancelledError", "CancelledError", "TimeoutError") \
             or isinstance(inner, (OSError, TimeoutError)):
         raise EnvironmentFault("scheduler", f"lost a worker or {where} ({kind}: "
