@@ -5,14 +5,14 @@ Layout of OUT (stem "chaosmap" by default):
                            warning), one chunk per tile, an xarray Dataset with coordinates (y-parameter,
                            x-parameter), units and provenance attributes, among them `spec` and `identity`
   OUT/<stem>.tiles/        the store's record and one done-marker per finished tile:
-    store.json             identity (sha256 of the spec, the store format and the versions of magrod, heyoka and
+    store.record           identity (sha256 of the spec, the store format and the versions of magrod, heyoka and
                            numpy), the sha256 of every file the creation wrote (metadata and coordinates), and,
                            once a run has finished every tile, the content hash of every tile (written last,
                            atomically)
     <iy>_<ix>.json         {tile, identity, sha256, wall_s, points}: written atomically after the tile's chunk
   OUT/.<stem>.lock         held (flock) for the whole run: a second run into the same store fails at once
 
-Integrity.  A tile is done iff a record of it (its marker, or the final list in store.json) carries this store's
+Integrity.  A tile is done iff a record of it (its marker, or the final list in store.record) carries this store's
 identity and the sha256 of its content (every field's dtype, shape and bytes, read back from the store) equals
 the recorded one.  A re-run verifies every done tile before trusting it: a deleted, truncated or corrupted chunk,
 an edited marker, a missing store, are found, recomputed and counted ("repaired").  Damaged metadata (the files
@@ -150,7 +150,7 @@ def check_paths(pth: dict) -> None:
     store/tile path exists and is not a directory."""
     for k in ("store", "tiles", "lock"):
         _refuse_symlink(pth[k])
-    _refuse_symlink(pth["tiles"] / "store.json")
+    _refuse_symlink(pth["tiles"] / "store.record")
     for k in ("store", "tiles"):
         if pth[k].exists() and not pth[k].is_dir():
             raise ParameterError("out", f"{str(pth[k])!r} exists and is not a directory")
@@ -186,7 +186,7 @@ def _remove_markers(tiles_dir: Path) -> None:
         for p in tiles_dir.iterdir():
             if _MARKER.match(p.name) and p.is_file() and not p.is_symlink():
                 _unlink(p)
-        _unlink(tiles_dir / "store.json")
+        _unlink(tiles_dir / "store.record")
 
 
 def _unlink(p: Path) -> None:
@@ -327,7 +327,7 @@ def create_or_open(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, force=Fa
     pth = {"store": store, "tiles": tiles_dir, "lock": store.parent / f".{store.stem}.lock"}
     check_paths(pth)
     ident = identity(spec)
-    rec = _read_json(tiles_dir / "store.json")
+    rec = _read_json(tiles_dir / "store.record")
     rec = rec if isinstance(rec, dict) and isinstance(rec.get("skeleton"), dict) else None
     names = list(FIELDS) + [spec.x.name, spec.y.name]
     has_store = store.exists() and any(store.iterdir())
@@ -338,13 +338,14 @@ def create_or_open(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, force=Fa
                                     f"another --out/--stem or --force to overwrite it")
     if rec is None and has_store and not force:
         attrs = _read_json(store / "zarr.json")
-        old = isinstance(attrs, dict) and "spec" in (attrs.get("attributes") or {})
-        raise ParameterError("out", f"{str(store)!r} " + ("is a chaos map store without an integrity record (written "
-                                                          "before store format 2, or its record "
-                                                          f"{str(tiles_dir / 'store.json')!r} is gone)" if old else
-                                                          "exists and is not a magrod chaos map store")
-                             + "; use another --out/--stem or --force to start over (only the files of a magrod "
-                               "store are removed)")
+        attrs = (attrs.get("attributes") or {}) if isinstance(attrs, dict) else {}
+        if attrs.get("identity") != ident:  # this very map's store with its record gone is started again below
+            raise ParameterError("out", f"{str(store)!r} " + (
+                "is a chaos map store without an integrity record (written before store format 2, or by another "
+                f"map; its record {str(tiles_dir / 'store.record')!r} is missing)" if "spec" in attrs else
+                "exists and is not a magrod chaos map store")
+                + "; use another --out/--stem or --force to start over (only the files of a magrod store are "
+                  "removed)")
     if force or rec is None or rec.get("identity") != ident:
         if rec is not None:
             names += [a["name"] for a in (rec.get("spec") or {}).values() if isinstance(a, dict) and "name" in a
@@ -362,6 +363,7 @@ def _spec_diff(other: dict, spec: maps.MapSpec) -> str:
 
 
 def _create(spec, ident, store: Path, tiles_dir: Path) -> StoreState:
+    store.parent.mkdir(parents=True, exist_ok=True)
     tmp, skel = _fresh_skeleton(spec, ident, store)
     try:
         tiles_dir.mkdir(exist_ok=True)
@@ -373,7 +375,7 @@ def _create(spec, ident, store: Path, tiles_dir: Path) -> StoreState:
 
 
 def _write_record(spec, ident, tiles_dir: Path, skeleton: dict, tiles: dict | None) -> None:
-    atomic_write_json(tiles_dir / "store.json", {
+    atomic_write_json(tiles_dir / "store.record", {
         "identity": ident, "format": STORE_FORMAT, "spec": spec.as_dict(), "code": code_versions(),
         "skeleton": skeleton, "complete": tiles is not None, "tiles": tiles or {}})
 
@@ -419,7 +421,7 @@ def _open(spec, ident, store: Path, tiles_dir: Path, rec: dict) -> StoreState:
 
 def _recorded_tiles(spec, ident, tiles_dir: Path, rec: dict) -> dict:
     """{tile key: recorded sha256, or None if its records disagree or are malformed} over markers and the final
-    list of store.json."""
+    list of store.record."""
     n_y, n_x = -(-spec.y.n // spec.tile), -(-spec.x.n // spec.tile)
     out: dict = {}
 
@@ -453,8 +455,8 @@ def done_tiles(tiles_dir: Path) -> set:
 
 
 def finish(spec: maps.MapSpec, state: StoreState) -> None:
-    """Record every tile's hash in store.json (written last and atomically): the store is complete."""
-    rec = _read_json(state.tiles_dir / "store.json") or {}
+    """Record every tile's hash in store.record (written last and atomically): the store is complete."""
+    rec = _read_json(state.tiles_dir / "store.record") or {}
     tiles = {}
     for t in maps.tiles(spec):
         m = _read_json(state.tiles_dir / f"{t.key}.json")

@@ -346,7 +346,7 @@ def _axis_names(state) -> set:
     import json
 
     try:
-        rec = json.loads((state.tiles_dir / "store.json").read_text())
+        rec = json.loads((state.tiles_dir / "store.record").read_text())
         return {rec["spec"]["x"]["name"], rec["spec"]["y"]["name"]}
     except (OSError, ValueError, KeyError, TypeError):
         from ..chaos.maps import AXIS_NAMES
