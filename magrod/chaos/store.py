@@ -575,7 +575,8 @@ def stop_local_cluster(cluster, client, pids, *, interrupted=False) -> None:
 
 
 def run_tiles(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, scheduler=None, progress=None,
-              max_tiles=None, client=None, state: StoreState | None = None, on_submitted=None) -> dict:
+              max_tiles=None, client=None, state: StoreState | None = None, on_submitted=None,
+              worker_timeout: float = 60.0) -> dict:
     """Compute the tiles that are not done, on Dask, and verify each as it arrives.
 
     workers: LocalCluster size (ignored with `client`, a Client of a running cluster, or `scheduler`, its address).
@@ -605,7 +606,7 @@ def run_tiles(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, sc
                     for k in todo}
             if on_submitted is not None:
                 on_submitted()
-            _collect(client, futs, spec, state, res, progress)
+            _collect(client, futs, spec, state, res, progress, worker_timeout)
         except BaseException:
             interrupted = True
             raise
@@ -627,38 +628,69 @@ def _close_quietly(client) -> None:
         pass
 
 
-def _collect(client, futs, spec, state: StoreState, res: dict, progress) -> None:
-    """Wait for the tasks ({future: tile key}); verify each tile the workers wrote by reading it back here."""
+POLL_S = 2.0  # how often a waiting client asks the scheduler whether it still has workers
+
+
+def _collect(client, futs, spec, state: StoreState, res: dict, progress, worker_timeout: float = 60.0) -> None:
+    """Wait for the tasks ({future: tile key}); verify each tile the workers wrote by reading it back here.  A
+    cluster left without workers for worker_timeout seconds, or a scheduler that stops answering, is an
+    EnvironmentFault("scheduler"), not an endless wait."""
     import zarr
-    from dask.distributed import as_completed
+    from dask.distributed import wait
 
     group = None
+    pending = set(futs)
+    idle_since = None
     try:
-        for fut in as_completed(futs):
+        while pending:
             try:
-                key, wall, digest = fut.result()
-            except (ParameterError, EnvironmentFault):
-                raise
-            except Exception as exc:  # noqa: BLE001 - a task or the cluster failed: one line saying which
-                raise TileFailure(futs.get(fut), exc) from None
-            if group is None:
-                group = zarr.open_group(str(state.store), mode="r")
-            here = _hash_of_stored(state.store, maps.tile_of(spec, key), group)
-            if here != digest:
-                raise EnvironmentFault("out", f"tile {key} written by a worker does not read back here from "
-                                              f"{str(state.store)!r} (content hash differs): the workers need the "
-                                              f"same --out path as the client (a shared filesystem)")
-            state.done.add(key)
-            res["computed"].append(key)
-            res["task_wall_s"] += wall
-            if progress is not None:
-                progress(1)
+                finished, pending = wait(list(pending), timeout=POLL_S, return_when="FIRST_COMPLETED")
+            except TimeoutError:
+                idle_since = _check_cluster(client, idle_since, worker_timeout)
+                continue
+            for fut in finished:
+                try:
+                    key, wall, digest = fut.result()
+                except (ParameterError, EnvironmentFault):
+                    raise
+                except Exception as exc:  # noqa: BLE001 - a task or the cluster failed: one line saying which
+                    raise TileFailure(futs.get(fut), exc) from None
+                if group is None:
+                    group = zarr.open_group(str(state.store), mode="r")
+                here = _hash_of_stored(state.store, maps.tile_of(spec, key), group)
+                if here != digest:
+                    raise EnvironmentFault("out", f"tile {key} written by a worker does not read back here from "
+                                                  f"{str(state.store)!r} (content hash differs): the workers need the "
+                                                  f"same --out path as the client (a shared filesystem)")
+                state.done.add(key)
+                res["computed"].append(key)
+                res["task_wall_s"] += wall
+                if progress is not None:
+                    progress(1)
     except BaseException:
         try:
             client.cancel(list(futs))
         except BaseException:  # noqa: BLE001
             pass
         raise
+
+
+def _check_cluster(client, idle_since, worker_timeout):
+    """While waiting: the scheduler must answer and have a worker at least every worker_timeout seconds."""
+    try:
+        n = len(client.nthreads())
+    except Exception as exc:  # noqa: BLE001 - the scheduler is gone or unreachable
+        raise EnvironmentFault("scheduler", f"lost the Dask scheduler ({type(exc).__name__}: "
+                                            f"{' '.join(str(exc).split())[:120]})") from None
+    if n:
+        return None
+    now = time.monotonic()
+    if idle_since is None:
+        return now
+    if now - idle_since > worker_timeout:
+        raise EnvironmentFault("scheduler", f"the Dask cluster has had no worker for {worker_timeout:g} s while tiles "
+                                            f"were waiting (workers died or were stopped)")
+    return idle_since
 
 
 class TileFailure(RuntimeError):

@@ -147,8 +147,8 @@ PAUSE_ENV = "MAGROD_TEST_PAUSE"
 
 def pause_point(point: str) -> None:
     """Test hook: with MAGROD_TEST_PAUSE=POINT:MARKER in the environment, reaching POINT writes the file MARKER and
-    waits (at most 60 s) until a signal arrives, so that tests send signals at a known moment rather than after a
-    sleep.  Without the variable (always, outside the tests) it does nothing."""
+    waits (at most 60 s) until a signal arrives or the test removes MARKER, so that tests act at a known moment
+    rather than after a sleep.  Without the variable (always, outside the tests) it does nothing."""
     spec = os.environ.get(PAUSE_ENV, "")
     want, _, marker = spec.partition(":")
     if not marker or want != point:
@@ -159,7 +159,7 @@ def pause_point(point: str) -> None:
     with open(marker, "w") as fh:
         fh.write(str(os.getpid()))
     deadline = time.monotonic() + 60.0
-    while time.monotonic() < deadline and len(_STATE["signals"]) == n:
+    while time.monotonic() < deadline and len(_STATE["signals"]) == n and os.path.exists(marker):
         time.sleep(0.005)  # an armed signal raises Interrupted out of this sleep
 
 

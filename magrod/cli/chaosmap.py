@@ -208,7 +208,8 @@ def run(args) -> dict:
             try:
                 with bar(todo, "chaosmap", not args.quiet, unit="tile") as update, chaos_store.quiet_distributed():
                     res = chaos_store.run_tiles(spec, pth["store"], pth["tiles"], client=client, state=state,
-                                                progress=update, on_submitted=lambda: pause_point("chaosmap-running"))
+                                                progress=update, on_submitted=lambda: pause_point("chaosmap-running"),
+                                                worker_timeout=worker_timeout)
             except chaos_store.TileFailure as exc:  # finished tiles keep their markers for the next run
                 return _tile_failure(exc, address, len(state.done), n_tiles)
             chaos_store.finish(spec, state)
