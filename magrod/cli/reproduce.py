@@ -161,8 +161,12 @@ def run(args) -> dict:
             todo.append(t)
     failures = {}
     # spawn, not fork: workers build their own LLVM/heyoka state (the on-disk JIT cache makes this cheap)
-    ex = cf.ProcessPoolExecutor(max_workers=min(jobs, max(1, len(todo))), mp_context=multiprocessing.get_context("spawn"),
-                                initializer=_worker_init, initargs=(os.getpid(),))
+    # multiprocessing's resource tracker starts with the pool's first queue: it too must not die of the terminal's
+    # SIGHUP (it ignores only SIGINT and SIGTERM itself)
+    with children_immune():
+        ex = cf.ProcessPoolExecutor(max_workers=min(jobs, max(1, len(todo))),
+                                    mp_context=multiprocessing.get_context("spawn"), initializer=_worker_init,
+                                    initargs=(os.getpid(),))
     interrupted = False
     pids = set()
     try:
