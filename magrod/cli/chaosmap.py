@@ -334,7 +334,8 @@ def _clean_after_failure(chaos_store, pth, state, pids) -> None:
     """After a failure or a signal: temporaries of interrupted writes go; a store this run created in which no tile
     finished goes too (nothing partial is left); finished tiles keep their markers for the next run."""
     chaos_store.remove_temporaries(pth, pids)
-    if state.created and not state.done:
+    if state.created and not state.done and not chaos_store.done_tiles(pth["tiles"]):  # a marker not yet verified
+        # here is kept too: the next run verifies it
         chaos_store._remove_store_files(pth["store"], set(chaos_store.FIELDS) | _axis_names(state))
         chaos_store._remove_markers(pth["tiles"])
         try:
