@@ -151,6 +151,7 @@ class MapSpec:
         if missing:
             raise ParameterError(missing[0], "no value: give it or choose a --panel")
         _check_theta0(self)
+        _check_some_point_physical(self)
         if not self.batch_size:
             object.__setattr__(self, "batch_size", systems.recommended_batch_size())
 
@@ -190,6 +191,22 @@ def _check_theta0(spec: "MapSpec") -> None:
     if "theta0" not in (spec.x.name, spec.y.name) and "theta0" in spec.base and bad(float(spec.base["theta0"])):
         raise ParameterError("theta0", f"must lie strictly inside (0, pi) (sin(theta) = 0 is the Euler-angle "
                                        f"singularity of Hbar), got {spec.base['theta0']!r}")
+
+
+def _check_some_point_physical(spec: "MapSpec") -> None:
+    """Points with unphysical parameters are marked missing, but a map with none physical is an input error
+    (RodParams' complaint).  The constraints (m > 0, delta >= 0, gamma + delta >= 0) are linear, so the grid's
+    corners decide."""
+    err = None
+    for xv in (spec.x.lo, spec.x.hi):
+        for yv in (spec.y.lo, spec.y.hi):
+            v = {**spec.base, spec.x.name: xv, spec.y.name: yv}
+            try:
+                RodParams(**{k: v[k] for k in PARAMS})
+                return
+            except ParameterError as exc:
+                err = exc
+    raise err
 
 
 def estimated_cpu_s(spec: "MapSpec") -> float:
