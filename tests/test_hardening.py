@@ -211,6 +211,41 @@ BATTERY = [
     (["chaosmap", "--stem", "../x", "--out", "{tmp}/o"], "stem", 2),
     (["chaosmap", "--out", "/proc/magrod-test"], "out", 2),
     (["chaosmap"], "out", 2),
+    # --- chaosmap (issue 17): duplicate and conflicting options, impossible starts, what cannot finish, clusters
+    (["chaosmap", "--x", "lam:0:1:4", "--x", "lam:0:1:5", "--out", "{tmp}/o"], "x", 2),
+    (["chaosmap", "--stem", "a", "--stem", "b", "--out", "{tmp}/o"], "stem", 2),
+    (["chaosmap", "--out", "{tmp}/o", "--out", "{tmp}/p"], "out", 2),
+    (["chaosmap", "--t-max", "100", "--t-max", "200", "--out", "{tmp}/o"], "t_max", 2),
+    (["chaosmap", "--lam", "0.5", "--x", "lam:0.1:0.2:4", "--out", "{tmp}/o"], "lam", 2),
+    (["chaosmap", "--gamma", "3", "--out", "{tmp}/o"], "gamma", 2),  # the default --y varies gamma
+    (["chaosmap", "--theta0", "0", "--out", "{tmp}/o"], "theta0", 2),
+    (["chaosmap", "--theta0", "3.14159265358979", "--out", "{tmp}/o"], "theta0", 2),
+    (["chaosmap", "--x", "theta0:0:1.5:4", "--out", "{tmp}/o"], "x", 2),
+    (["chaosmap", "--y", "theta0:0.1:3.5:4", "--out", "{tmp}/o"], "y", 2),
+    (["chaosmap", "--x", "delta:-3:-1:4", "--out", "{tmp}/o"], "delta", 2),
+    (["chaosmap", "--renorm-dt", "1e-9", "--out", "{tmp}/o"], "renorm_dt", 2),
+    (["chaosmap", "--renorm-dt", "2.3e-308", "--out", "{tmp}/o"], "renorm_dt", 2),
+    (["chaosmap", "--renorm-dt", "2000", "--out", "{tmp}/o"], "renorm_dt", 2),
+    (["chaosmap", "--renorm-dt", "0", "--out", "{tmp}/o"], "renorm_dt", 2),
+    (["chaosmap", "--renorm-dt", "nan", "--out", "{tmp}/o"], "renorm_dt", 2),
+    (["chaosmap", "--x", "lam:0:0.3:4096", "--y", "gamma:0:3:4096", "--out", "{tmp}/o"], "t_max", 2),
+    (["chaosmap", "--x", "lam:0:0.3:1024", "--y", "gamma:0:3:1024", "--t-max", "1e5", "--out", "{tmp}/o"],
+     "t_max", 2),
+    (["chaosmap", "--workers", "64", "--out", "{tmp}/o"], "workers", 2),
+    (["chaosmap", "--workers", str(len(os.sched_getaffinity(0)) + 1), "--out", "{tmp}/o"], "workers", 2),
+    (["chaosmap", "--workers", "2", "--scheduler", "tcp://127.0.0.1:1", "--out", "{tmp}/o"], "workers", 2),
+    (["chaosmap", "--workers", "1", "--scheduler-file", "{tmp}/file", "--out", "{tmp}/o"], "workers", 2),
+    (["chaosmap", "--scheduler", "127.0.0.1:1", "--scheduler-file", "{tmp}/file", "--out", "{tmp}/o"],
+     "scheduler_file", 2),
+    (["chaosmap", "--scheduler-file", "{tmp}/missing.json", "--out", "{tmp}/o"], "scheduler_file", 2),
+    (["chaosmap", "--scheduler-file", "{tmp}/file", "--out", "{tmp}/o"], "scheduler_file", 2),  # not JSON
+    (["chaosmap", "--scheduler", "inproc://x/1/2", "--out", "{tmp}/o"], "scheduler", 2),
+    (["chaosmap", "--scheduler", "tls://127.0.0.1:1", "--out", "{tmp}/o"], "scheduler", 2),
+    (["chaosmap", "--scheduler", "127.0.0.1:0", "--out", "{tmp}/o"], "scheduler", 2),
+    (["chaosmap", "--scheduler", "tcp://127.0.0.1:1", "--out", "{tmp}/o"], "scheduler", 2),  # refused
+    (["chaosmap", "--connect-timeout", "0", "--out", "{tmp}/o"], "connect_timeout", 2),
+    (["chaosmap", "--worker-timeout", "-1", "--out", "{tmp}/o"], "worker_timeout", 2),
+    (["chaosmap", "--out", "{tmp}/file/sub"], "out", 2),
 ]
 
 
@@ -543,6 +578,34 @@ def test_a_killed_run_leaves_no_temporary_behind(fig3_run):
         live.kill()
         live.wait()
         kept.unlink(missing_ok=True)
+
+
+# resource limits: exit 3, one line naming the limit or the path, nothing left behind
+CHAOS_SMALL = ["chaosmap", "--x", "lam:0.12:0.2:4", "--y", "gamma:2:4:4", "--tile", "2", "--t-max", "50",
+               "--workers", "1", "--json", "--quiet"]
+
+
+def _rlimit(which, value):
+    def f():
+        resource.setrlimit(which, (value, value))
+    return f
+
+
+@pytest.mark.parametrize("case,limit,words", [
+    ("ulimit -n 24", _rlimit(resource.RLIMIT_NOFILE, 24), "open-file limit"),
+    ("ulimit -f 2", _rlimit(resource.RLIMIT_FSIZE, 2048), "file too large"),
+    ("ulimit -v 1 GB", _rlimit(resource.RLIMIT_AS, 1 << 30), "memory"),
+], ids=["nofile", "fsize", "address-space"])
+def test_chaosmap_under_resource_limits(tmp_path, case, limit, words):
+    out = tmp_path / "o"
+    r = magrod(*CHAOS_SMALL, "--out", str(out), preexec_fn=limit, timeout=300)
+    assert r.returncode == 3, r.stderr
+    assert json.loads(r.stdout)["ok"] is False
+    line = _one_line(r.stderr)[0]
+    assert words in line, line
+    if case == "ulimit -f 2":
+        assert str(out) in line  # the path
+    assert not out.exists()  # nothing partial: no tile finished, so the store this run made is gone with OUT
 
 
 def test_report_on_a_full_disk_is_one_line(fig3_run):

@@ -282,7 +282,8 @@ def _start_failure(exc, workers: int):
         if soft != resource.RLIM_INFINITY:
             limits.append(f"{name} {soft // 1024 if unit else soft}")
     why = " ".join(f"{type(exc).__name__}: {exc}".split())[:120]
-    return EnvironmentFault("workers", f"cannot start a LocalCluster of {workers} worker(s) ({why}); limits in force: "
+    return EnvironmentFault("workers", f"cannot start a LocalCluster of {workers} worker(s) ({why}): not enough "
+                                       f"memory, processes or open files? limits in force: "
                                        f"{', '.join(limits) or 'none'}")
 
 
