@@ -308,3 +308,53 @@ def test_a_worker_refuses_a_store_of_another_map(reference, tmp_path):
         store.write_tile(out / S, out / T, tile, fields, 0.0, "f" * 64)
     with pytest.raises(EnvironmentFault, match="no chaos map store"):
         store.write_tile(tmp_path / "nowhere.zarr", out / T, tile, fields, 0.0, "f" * 64)
+
+
+# ------------------------------------------------------------------------------------------------------------
+# a full disk (ENOSPC), simulated in-process: a tmpfs or loop device would need mount privileges the tests do not
+# assume.  The writers are the real ones with one system call replaced.
+# ------------------------------------------------------------------------------------------------------------
+def _enospc(*a, **k):
+    import errno
+
+    raise OSError(errno.ENOSPC, "No space left on device")
+
+
+def test_full_disk_while_creating_the_store(cluster, tmp_path, monkeypatch, capsys):
+    import zarr.storage._local as local
+
+    monkeypatch.setattr(local, "_put", _enospc)
+    before = _tree(tmp_path)
+    rc, obj, lines = _run(tmp_path / "o", cluster, capsys=capsys)
+    assert rc == 3 and obj["parameter"] == "out" and len(lines) == 1, (obj, lines)
+    assert "no space left" in lines[0] and str(tmp_path / "o" / S) in lines[0]
+    assert _tree(tmp_path) == before  # nothing partial: no store, no temporary, no OUT
+
+
+def test_full_disk_while_writing_the_summary(reference, cluster, tmp_path, monkeypatch, capsys):
+    """The map is complete, the summary cannot be written: exit 3 naming the file, no half file, no temporary,
+    no picture without its summary; the store's finished tiles stay and the next run only writes the summary."""
+    import magrod.core.io as io
+
+    out = _copy(reference, tmp_path)
+    for f in ("chaosmap.json", "chaosmap.png"):
+        (out / f).unlink()
+    real = os.fsync
+
+    def fsync(fd):
+        if os.readlink(f"/proc/self/fd/{fd}").split("/")[-1].startswith(".chaosmap.json."):
+            _enospc()
+        return real(fd)
+
+    monkeypatch.setattr(io.os, "fsync", fsync)
+    rc, obj, lines = _run(out, cluster, capsys=capsys)
+    assert rc == 3 and len(lines) == 1 and "chaosmap.json" in lines[0] and "No space left" in lines[0], lines
+    assert not (out / "chaosmap.json").exists() and not (out / "chaosmap.png").exists()
+    assert not list(out.rglob("*.tmp"))
+    monkeypatch.setattr(io.os, "fsync", real)
+    rc, obj, lines = _run(out, cluster, capsys=capsys)
+    assert rc == 0 and obj["tiles"]["computed"] == 0 and (out / "chaosmap.json").exists()
+
+
+def _tree(root: Path) -> set:
+    return {str(p.relative_to(root)) for p in root.rglob("*")}

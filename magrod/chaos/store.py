@@ -363,8 +363,13 @@ def _spec_diff(other: dict, spec: maps.MapSpec) -> str:
 
 
 def _create(spec, ident, store: Path, tiles_dir: Path) -> StoreState:
+    from ..core.io import resource_fault
+
     store.parent.mkdir(parents=True, exist_ok=True)
-    tmp, skel = _fresh_skeleton(spec, ident, store)
+    try:
+        tmp, skel = _fresh_skeleton(spec, ident, store)
+    except OSError as exc:  # disk full, file-size limit ...: name the store, not our temporary
+        raise resource_fault(exc, "out", store) from None
     try:
         tiles_dir.mkdir(exist_ok=True)
         _install_skeleton(tmp, store)

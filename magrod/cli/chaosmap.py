@@ -147,6 +147,7 @@ def _available_mb():
 def run(args) -> dict:
     import math
     import time
+    from pathlib import Path
 
     spec = spec_from_args(args)
     address, workers = _cluster_from_args(args)
@@ -233,8 +234,14 @@ def run(args) -> dict:
             else:
                 from ..figures.chaos import draw_map
 
-                draw_map(fields, spec, pth["png"], indicator=args.indicator, threshold=threshold)
-                atomic_write_json(pth["json"], {**result, "versions": versions()})
+                written = []
+                try:  # the picture and its summary, or neither
+                    written.append(draw_map(fields, spec, pth["png"], indicator=args.indicator, threshold=threshold))
+                    written.append(atomic_write_json(pth["json"], {**result, "versions": versions()}))
+                except BaseException:
+                    for f in written:
+                        Path(f).unlink(missing_ok=True)
+                    raise
             ok_exit = True
             return result
     except OSError as exc:  # the machine (disk full, file-size limit, ...): one line with the path
