@@ -53,6 +53,8 @@ _API = {
     "chaos_map": "chaos.maps",
     # symbolic checks
     "integrability_report": "integrability.report",
+    # in the browser
+    "explore": "explorer",
 }
 
 __all__ = sorted(_API)

@@ -22,6 +22,7 @@ PUBLIC = {
     "RodParams", "Precision", "ParameterError", "panel",
     "poincare_section", "lyapunov", "chaos_map",
     "integrability_report",
+    "explore",
 }
 
 
