@@ -112,29 +112,29 @@ class Explorer(pn.viewable.Viewer):
         values = {**P.params.as_dict(), "h": P.h, "iterates": self.iterates}
         self.inputs, self.errors = {}, {}
         for name in model.FIELDS:
-            w = pn.widgets.TextInput(name=PARAM_LABELS[name], value=f"{values[name]:g}", width=150,
+            w = pn.widgets.TextInput(label=PARAM_LABELS[name], value=f"{values[name]:g}", width=150,
                                      css_classes=[f"magrod-input-{name}"])
             w.param.watch(self._on_input, "value")
             self.inputs[name] = w
             self.errors[name] = pn.pane.HTML("", css_classes=[f"magrod-error-{name}"], width=150,
                                              styles={"color": "#b00020", "font-size": "11px"}, margin=(0, 10))
-        self.panel_select = pn.widgets.Select(name="paper panel", options=list(PANELS), value=P.key, width=150)
+        self.panel_select = pn.widgets.Select(label="paper panel", options=list(PANELS), value=P.key, width=150)
         self.panel_select.param.watch(self._on_panel, "value")
         self.status = pn.pane.HTML("Click inside the boundary to launch an orbit.", css_classes=["magrod-status"],
                                    sizing_mode="stretch_width", styles={"font-size": "13px"}, min_height=40)
-        self.orbit_list = pn.widgets.Select(name="orbits", options={}, size=8, width=360)
+        self.orbit_list = pn.widgets.Select(label="orbits", options={}, size=8, width=360)
         self.orbit_list.param.watch(self._on_select, "value")
-        self.b_delete = pn.widgets.Button(name="Delete", width=80, css_classes=["magrod-delete"])
-        self.b_clear = pn.widgets.Button(name="Clear", width=80, css_classes=["magrod-clear"])
-        self.b_undo = pn.widgets.Button(name="Undo", width=80, css_classes=["magrod-undo"])
-        self.b_export = pn.widgets.Button(name="Export to --out", width=120, button_type="primary",
+        self.b_delete = pn.widgets.Button(label="Delete", width=80, css_classes=["magrod-delete"])
+        self.b_clear = pn.widgets.Button(label="Clear", width=80, css_classes=["magrod-clear"])
+        self.b_undo = pn.widgets.Button(label="Undo", width=80, css_classes=["magrod-undo"])
+        self.b_export = pn.widgets.Button(label="Export to --out", width=120, color="primary",
                                           css_classes=["magrod-export"], visible=self.out_dir is not None)
         self.b_delete.on_click(lambda e: self.delete(self.orbit_list.value))
         self.b_clear.on_click(lambda e: self.clear())
         self.b_undo.on_click(lambda e: self.undo())
         self.b_export.on_click(lambda e: self._export_clicked())
         self.download = pn.widgets.FileDownload(callback=self._export_zip, filename="magrod-explore.zip",
-                                                label="Download PNG + data (.zip)", button_type="success",
+                                                label="Download PNG + data (.zip)", color="success",
                                                 width=240, css_classes=["magrod-download"])
         self.details = pn.pane.HTML("", sizing_mode="stretch_width", styles={"font-size": "12px"},
                                     css_classes=["magrod-details"])

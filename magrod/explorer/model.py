@@ -139,7 +139,12 @@ def parse_inputs(values: dict) -> tuple[RodParams, float, int]:
 
 
 def check_energy_level(params: RodParams, h: float) -> dict:
-    """The boundary at (params, h); ParameterError("h") if no point of the section psi = 0 is reachable."""
+    """The boundary at (params, h); ParameterError("mu") if the square root sqrt(mu - 2 lam pbar_psi) of Hbar is
+    imaginary for every pbar_psi (the root solver's rule), ParameterError("h") if no point of the section
+    psi = 0 is reachable."""
+    from ..chaos.section import _admissible_interval
+
+    _admissible_interval(params)
     b = energy_boundary(params, h)
     if not b["allowed"].any():
         raise ParameterError("h", f"no point of the section psi = 0 lies on Hbar = {h:g}: min Hbar there is "

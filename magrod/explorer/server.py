@@ -8,8 +8,10 @@ from __future__ import annotations
 
 import errno
 import ipaddress
+import signal
 import socket
 import sys
+import threading
 import time
 
 from ..core.errors import ParameterError
@@ -94,13 +96,21 @@ class ExplorerServer:
             return Explorer(self.panel, iterates=self.iterates, out_dir=self.out_dir, registry=registry)
 
         origins = [f"{self.host}:{self.port}", f"localhost:{self.port}", f"127.0.0.1:{self.port}"]
+        # panel's get_server installs a SIGINT handler that only stops the event loop (the process then exits 0
+        # after a clean-looking shutdown): keep the caller's handler instead (the CLI's raises KeyboardInterrupt,
+        # which stops the computations and exits 130)
+        in_main = threading.current_thread() is threading.main_thread()
+        saved = signal.getsignal(signal.SIGINT) if in_main else None
         try:
             self._server = pn.serve({"/": factory}, address=self.host, port=self.port, show=False, start=False,
                                     title="magrod explore", websocket_origin=origins, threaded=False,
-                                    extra_patterns=[(r"/status", Status)], check_unused_sessions=1000,
-                                    unused_session_lifetime=2000, print_url=False)
+                                    verbose=False, extra_patterns=[(r"/status", Status)],
+                                    check_unused_sessions=1000, unused_session_lifetime=2000)
         except OSError as exc:  # lost the race for the port after check_address
             raise ParameterError("port", f"{self.host}:{self.port}: {exc.strerror or exc}") from None
+        finally:
+            if in_main and saved is not None:
+                signal.signal(signal.SIGINT, saved)
         return self._server
 
     def warm(self) -> None:
@@ -126,7 +136,9 @@ class ExplorerServer:
         try:
             server.io_loop.start()
         finally:
+            t = time.perf_counter()
             self.stop()
+            self.log(f"stopped: every computation cancelled, worker threads joined in {time.perf_counter() - t:.3f} s")
         return {"ok": True, "url": self.url, "panel": self.panel, "served_s": time.perf_counter() - t0,
                 "first_points_s": list(self.registry.latencies)}
 
