@@ -22,7 +22,7 @@ import tempfile
 import threading
 import time
 import zipfile
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -37,8 +37,10 @@ from . import model
 from .worker import Job, Worker, solve_start
 
 POLL_MS = 50
-CLOSE_GRACE_S = 0.3  # a page without a connection for this long is closed (a reload reconnects within it)
+CLOSE_GRACE_S = 0.05  # a session without a connection for this long is closed (Bokeh does not reconnect a
+# session's websocket: a reloaded page is a new session)
 PENDING_COLOUR = "#555555"
+N_SLOTS = 24  # orbit renderers made with the page (see _build_plot)
 PARAM_LABELS = {"m": "m", "mu": "μ", "gamma": "γ", "delta": "δ", "lam": "λ̄", "h": "h (level H̄ = h)",
                 "iterates": "iterates per orbit"}
 
@@ -52,8 +54,9 @@ class Orbit:
     ptheta0: float
     start: object = None  # worker.Start (None: no energy root at the current parameters)
     job: Job | None = None
-    source: ColumnDataSource = field(default_factory=lambda: ColumnDataSource({"x": [], "y": []}))
+    source: ColumnDataSource | None = None
     renderer: object = None
+    legend_item: object = None
     result: object = None  # PoincareResult when finished
     indicator: object = None  # LyapunovResult
     status: str = "pending"
@@ -61,6 +64,8 @@ class Orbit:
     n_points: int = 0
     max_abs_dH: float = 0.0
     t_launch: float = 0.0  # perf_counter at the click (latency of the first points)
+    rod_figure: object = None  # plotly figure of the rod, computed in the background
+    rod_for: object = None  # the Start it was computed for
 
     def label(self, threshold: float) -> str:
         g = getattr(self.indicator, "growth_exponent", None)
@@ -88,6 +93,10 @@ class Explorer(pn.viewable.Viewer):
         self.orbits: list[Orbit] = []
         self._undo: list[tuple] = []
         self._next_id = 1
+        self._pending_select = None
+        self._served = False
+        self._lost_wall = None
+        self.closed_wall = None
         self._job_ids = itertools.count(1)
         self._queue: queue.SimpleQueue = queue.SimpleQueue()
         self._worker = Worker(max_workers=max_workers)
@@ -97,6 +106,9 @@ class Explorer(pn.viewable.Viewer):
         self._no_connection_since = None
         self._callback = None
         self.latencies: list[float] = []  # click -> first chunk handed to the page (s), for the status endpoint
+        self.tap_handler_s: list[float] = []  # time spent in the click handler on the event loop (s)
+        self.tap_wall: list[float] = []  # wall-clock times the click handler started
+        self.stream_wall: list[float] = []  # wall-clock times first points were streamed
         self._registry = registry
         if registry is not None:
             registry.add(self)
@@ -104,6 +116,7 @@ class Explorer(pn.viewable.Viewer):
         self._build_plot()
         self._set_boundary()
         self._layout = self._build_layout()
+        self.warmed = self._worker.warm(solve_start(P.params, P.h, P.theta0, P.ptheta0, P.psi0), direction)
 
     # ------------------------------------------------------------------------------------------------------
     # widgets and plot
@@ -114,30 +127,29 @@ class Explorer(pn.viewable.Viewer):
         for name in model.FIELDS:
             w = pn.widgets.TextInput(label=PARAM_LABELS[name], value=f"{values[name]:g}", width=150,
                                      css_classes=[f"magrod-input-{name}"])
-            w.param.watch(self._on_input, "value")
+            w.param.watch(self._deferred(self._on_input), "value")
             self.inputs[name] = w
-            self.errors[name] = pn.pane.HTML("", css_classes=[f"magrod-error-{name}"], width=150,
-                                             styles={"color": "#b00020", "font-size": "11px"}, margin=(0, 10))
+            self.errors[name] = _Text("", f"magrod-error-{name}", width=150,
+                                      styles={"color": "#b00020", "font-size": "11px"}, margin=(0, 10, 0, 10))
         self.panel_select = pn.widgets.Select(label="paper panel", options=list(PANELS), value=P.key, width=150)
-        self.panel_select.param.watch(self._on_panel, "value")
-        self.status = pn.pane.HTML("Click inside the boundary to launch an orbit.", css_classes=["magrod-status"],
-                                   sizing_mode="stretch_width", styles={"font-size": "13px"}, min_height=40)
+        self.panel_select.param.watch(self._deferred(self._on_panel), "value")
+        self.status = _Text("Click inside the boundary to launch an orbit.", "magrod-status",
+                            sizing_mode="stretch_width", styles={"font-size": "13px"}, min_height=40)
         self.orbit_list = pn.widgets.Select(label="orbits", options={}, size=8, width=360)
-        self.orbit_list.param.watch(self._on_select, "value")
+        self.orbit_list.param.watch(self._deferred(self._on_select), "value")
         self.b_delete = pn.widgets.Button(label="Delete", width=80, css_classes=["magrod-delete"])
         self.b_clear = pn.widgets.Button(label="Clear", width=80, css_classes=["magrod-clear"])
         self.b_undo = pn.widgets.Button(label="Undo", width=80, css_classes=["magrod-undo"])
         self.b_export = pn.widgets.Button(label="Export to --out", width=120, color="primary",
                                           css_classes=["magrod-export"], visible=self.out_dir is not None)
-        self.b_delete.on_click(lambda e: self.delete(self.orbit_list.value))
-        self.b_clear.on_click(lambda e: self.clear())
-        self.b_undo.on_click(lambda e: self.undo())
-        self.b_export.on_click(lambda e: self._export_clicked())
+        self.b_delete.on_click(self._deferred(lambda e: self.delete(self.orbit_list.value)))
+        self.b_clear.on_click(self._deferred(lambda e: self.clear()))
+        self.b_undo.on_click(self._deferred(lambda e: self.undo()))
+        self.b_export.on_click(self._deferred(lambda e: self._export_clicked()))
         self.download = pn.widgets.FileDownload(callback=self._export_zip, filename="magrod-explore.zip",
                                                 label="Download PNG + data (.zip)", color="success",
                                                 width=240, css_classes=["magrod-download"])
-        self.details = pn.pane.HTML("", sizing_mode="stretch_width", styles={"font-size": "12px"},
-                                    css_classes=["magrod-details"])
+        self.details = _Text("", "magrod-details", sizing_mode="stretch_width", styles={"font-size": "12px"})
         self.rod_pane = pn.pane.Plotly(None, height=360, sizing_mode="stretch_width", visible=False)
 
     def _build_plot(self):
@@ -167,21 +179,57 @@ class Explorer(pn.viewable.Viewer):
                              location="top_left", label_text_font_size="10px", background_fill_alpha=0.7,
                              click_policy="hide", spacing=0, padding=4)
         f.add_layout(self.legend, "below")
+        # Renderers made before the page exists: adding a renderer to a live document makes Bokeh walk every
+        # model (~0.3 s, on the event loop, before the first points could be sent); a slot only changes data,
+        # colour and visibility.  Orbits beyond N_SLOTS get new renderers (the slow path).
+        self._free_slots = [self._new_slot(f, k) for k in range(N_SLOTS)]
         f.on_event(Tap, self._on_tap)
         self.fig = f
         self.plot_pane = pn.pane.Bokeh(f, css_classes=["magrod-section"])
 
+    def _new_slot(self, f, k):
+        src = ColumnDataSource({"x": [], "y": []}, name=f"slot-src-{k}")
+        r = f.scatter("x", "y", source=src, size=2.5, line_width=0, color=PENDING_COLOUR, visible=False)
+        item = LegendItem(label=" ", renderers=[r], visible=False)
+        self.legend.items.append(item)
+        return src, r, item
+
+    def _take_slot(self, o: Orbit):
+        if self._free_slots:
+            o.source, o.renderer, o.legend_item = self._free_slots.pop(0)
+        else:
+            o.source, o.renderer, o.legend_item = self._new_slot(self.fig, f"extra-{o.id}")
+        o.source.name = f"orbit-src-{o.id}"
+        o.renderer.visible = o.legend_item.visible = True
+
     def _build_layout(self):
         side = pn.Column("### Parameters (eq:nondim_1)", self.panel_select,
-                         *[pn.Column(self.inputs[k], self.errors[k], margin=0) for k in model.FIELDS], width=200)
+                         *[pn.Column(self.inputs[k], self.errors[k].pane, margin=0) for k in model.FIELDS], width=200)
         orbits = pn.Column("### Orbits", self.orbit_list, pn.Row(self.b_delete, self.b_clear, self.b_undo),
-                           pn.Row(self.download, self.b_export), self.details, self.rod_pane, width=420)
+                           pn.Row(self.download, self.b_export), self.details.pane, self.rod_pane, width=420)
         return pn.Column(pn.pane.HTML("<b>magrod explore</b>: Poincaré section sin ψ = 0 of the conducting rod "
                                       "(Sinden &amp; van der Heijden, sec. 8). Click to launch an orbit from "
                                       "(θ, p̄θ); p̄ψ solves H̄ = h.", styles={"font-size": "14px"}),
-                         self.status, pn.Row(side, self.plot_pane, orbits), sizing_mode="stretch_width")
+                         self.status.pane, pn.Row(side, self.plot_pane, orbits), sizing_mode="stretch_width")
+
+    def _deferred(self, fn):
+        """A Panel widget callback that edits the page's Bokeh models.  Served, Panel runs widget callbacks
+        without the document lock, and Bokeh refuses model changes made there: the call is queued and run by
+        poll() (a periodic callback, which holds the lock) within POLL_MS.  Unserved (tests, Jupyter) it runs
+        at once."""
+
+        def handler(*args, **kwargs):
+            if self._served:
+                self._queue.put(("call", None, None, lambda: fn(*args, **kwargs)))
+            else:
+                fn(*args, **kwargs)
+
+        return handler
 
     def __panel__(self):
+        doc = pn.state.curdoc
+        if doc is not None and getattr(doc, "session_context", None) is not None:
+            self._served = True
         if self._callback is None and not self._closed:
             self._callback = pn.state.add_periodic_callback(self.poll, period=POLL_MS)
             pn.state.on_session_destroyed(lambda ctx: self.close())
@@ -255,7 +303,10 @@ class Explorer(pn.viewable.Viewer):
     # orbits
     # ------------------------------------------------------------------------------------------------------
     def _on_tap(self, event):
+        self.tap_wall.append(time.time())
+        t = time.perf_counter()
         self.launch(event.x, event.y)
+        self.tap_handler_s.append(time.perf_counter() - t)
 
     def launch(self, theta0: float, ptheta0: float) -> Orbit | None:
         """Launch an orbit from (theta0, pbar_theta0) on the section (what a click does).  Returns the Orbit, or
@@ -268,7 +319,7 @@ class Explorer(pn.viewable.Viewer):
         self._next_id += 1
         self.orbits.append(o)
         self._undo.append(("add", o))
-        self._refresh_list(select=o.id)
+        self._pending_select = o.id  # the list is refreshed by the next poll, after the first points went out
         self.start_marker.data = {"x": [o.theta0], "y": [o.ptheta0]}
         return o
 
@@ -283,19 +334,17 @@ class Explorer(pn.viewable.Viewer):
             msg = self._no_root_message(exc, o)
             if o in self.orbits:  # a relaunch at new parameters: keep the start, say why it has no points
                 o.start, o.status, o.message, o.n_points, o.result, o.indicator = None, "no root", msg, 0, None, None
-                o.source.data = {"x": [], "y": []}
+                if o.source is not None:
+                    o.source.data = {"x": [], "y": []}
                 self._style(o)
             else:
                 self._say(msg, error=True)
             return False
         o.start, o.status, o.message, o.result, o.indicator, o.n_points = start, "running", start.describe(), None, \
             None, 0
-        o.source.data = {"x": [], "y": []}
         if o.renderer is None:
-            o.renderer = self.fig.scatter("x", "y", source=o.source, size=2.5, line_width=0, color=PENDING_COLOUR,
-                                          name=f"orbit-{o.id}")
-            o.source.name = f"orbit-src-{o.id}"
-            self.legend.items = [*self.legend.items, LegendItem(label=o.label(self.threshold), renderers=[o.renderer])]
+            self._take_slot(o)
+        o.source.data = {"x": [], "y": []}
         self._style(o)
         job = Job(next(self._job_ids), start, self.iterates, self.direction)
         job.submitted = o.t_launch
@@ -320,25 +369,21 @@ class Explorer(pn.viewable.Viewer):
         if o.renderer is not None:
             o.renderer.glyph.fill_color = colour
             o.renderer.glyph.line_color = colour
-        for item in self.legend.items:
-            if o.renderer is not None and item.renderers == [o.renderer]:
-                item.label = o.label(self.threshold)
+            o.legend_item.label = o.label(self.threshold)
 
     def _remove(self, o: Orbit):
         if o.job is not None:
             self._worker.cancel(o.job.id)
             if o.status == "running":
                 o.status = "cancelled"
-        if o.renderer is not None:
-            o.renderer.visible = False
-            self.legend.items = [i for i in self.legend.items if i.renderers != [o.renderer]]
+        if o.renderer is not None:  # the slot stays with the orbit: undo shows it again
+            o.renderer.visible = o.legend_item.visible = False
         self.orbits.remove(o)
 
     def _restore(self, o: Orbit, index: int):
         self.orbits.insert(min(index, len(self.orbits)), o)
         if o.renderer is not None:
-            o.renderer.visible = True
-            self.legend.items = [*self.legend.items, LegendItem(label=o.label(self.threshold), renderers=[o.renderer])]
+            o.renderer.visible = o.legend_item.visible = True
         if o.start is None or o.start.params != self.params or o.start.h != self.h or o.status == "cancelled":
             self._launch(o)
 
@@ -400,19 +445,34 @@ class Explorer(pn.viewable.Viewer):
         Returns the number of messages handled."""
         self._watch_connection()
         n = 0
-        relabel = False
+        relabel = streamed_first = False
         while True:
             try:
                 kind, o, job, payload = self._queue.get_nowait()
             except queue.Empty:
                 break
             n += 1
+            if kind == "call":
+                payload()
+                continue
+            if kind == "rod":
+                if job is not o.start:
+                    continue
+                if isinstance(payload, Exception):  # a drawing problem is a message, never a broken page
+                    self.details.object += f"<br>rod not drawn: {_escape(str(payload))}"
+                    continue
+                o.rod_figure, o.rod_for = payload, job
+                if self.selected() is o:
+                    self.rod_pane.object, self.rod_pane.visible = payload, True
+                continue
             if o.job is not job:  # output of a cancelled, superseded run
                 continue
             if kind == "chunk":
                 o.source.stream({"x": payload.theta, "y": payload.ptheta})
                 if o.n_points == 0:
                     self.latencies.append(time.perf_counter() - job.submitted)
+                    streamed_first = True
+                    self.stream_wall.append(time.time())
                 o.n_points, o.max_abs_dH = payload.n_total, payload.max_abs_dH
             else:
                 res, ind = payload
@@ -435,6 +495,9 @@ class Explorer(pn.viewable.Viewer):
                     self._say(f"#{o.id}: {o.n_points} iterates in {res.wall_s:.2f} s, max |H̄ − h| = "
                               f"{res.max_abs_dH:.1e}; growth exponent {g:.3g} "
                               f"({'chaotic' if g > self.threshold else 'regular'}: threshold {self.threshold:g}).")
+        if self._pending_select is not None and not streamed_first:  # not in the poll that sends first points
+            select, self._pending_select = self._pending_select, None
+            self._refresh_list(select=select)
         if relabel:
             self._refresh_list()
             self._show_details()
@@ -469,6 +532,8 @@ class Explorer(pn.viewable.Viewer):
             self._connected_once, self._no_connection_since = True, None
         elif self._connected_once:
             now = time.perf_counter()
+            if self._no_connection_since is None:
+                self._lost_wall = time.time()
             self._no_connection_since = self._no_connection_since or now
             if now - self._no_connection_since > CLOSE_GRACE_S:
                 self.close()
@@ -478,6 +543,7 @@ class Explorer(pn.viewable.Viewer):
         if self._closed:
             return
         self._closed = True
+        self.closed_wall = (self._lost_wall, time.time())
         if self._callback is not None:
             try:
                 self._callback.stop()
@@ -517,17 +583,17 @@ class Explorer(pn.viewable.Viewer):
         self._show_rod(o)
 
     def _show_rod(self, o: Orbit):
-        if o.start is None:
+        """Compute the rod of `o` on a worker thread (it integrates the frame: never on the page's event loop);
+        poll() shows it when it arrives, if `o` is still the selected orbit."""
+        if o.start is None or o.status != "done":  # not while the orbit computes: its first points come first
             self.rod_pane.visible = False
             return
-        try:
-            fig = rod_figure(o.start, self.rod_length)
-        except Exception as exc:  # a drawing problem is a message, never a broken page
-            self.details.object += f"<br>rod not drawn: {exc}"
-            self.rod_pane.visible = False
+        if getattr(o, "rod_figure", None) is not None and o.rod_for is o.start:
+            self.rod_pane.object, self.rod_pane.visible = o.rod_figure, True
             return
-        self.rod_pane.object = fig
-        self.rod_pane.visible = True
+        start = o.start
+        self._worker.call(lambda: rod_figure(start, self.rod_length),
+                          lambda fig: self._queue.put(("rod", o, start, fig)))
 
     # ------------------------------------------------------------------------------------------------------
     # export
@@ -547,7 +613,8 @@ class Explorer(pn.viewable.Viewer):
                 for p in sorted(Path(d).iterdir()):
                     z.write(p, p.name)
         buf.seek(0)
-        self._say(f"Prepared {len(paths['files'])} file(s) for download.")
+        self._queue.put(("call", None, None, lambda: self._say(f"Prepared {len(paths['files'])} file(s) for "
+                                                               f"download.")))
         return buf
 
     def _export_clicked(self):
@@ -572,6 +639,27 @@ class Explorer(pn.viewable.Viewer):
     def __repr__(self) -> str:
         return (f"Explorer(panel={self.panel_key!r}, params={self.params}, h={self.h:g}, "
                 f"orbits={len(self.orbits)}, running={self.running})")
+
+
+class _Text:
+    """A text line of the page as a bare Bokeh Div: setting `.object` changes one string property.  (A Panel HTML
+    pane re-renders its model, and Bokeh then re-walks the whole document: ~0.3-2 s on the event loop.)"""
+
+    def __init__(self, text, css_class, **kw):
+        from bokeh.models import Div
+
+        margin = kw.pop("margin", None)
+        self.div = Div(text=text, css_classes=[css_class], **({"margin": margin} if margin else {}),
+                       **{k: v for k, v in kw.items()})
+        self.pane = pn.pane.Bokeh(self.div, sizing_mode=kw.get("sizing_mode"))
+
+    @property
+    def object(self) -> str:
+        return self.div.text
+
+    @object.setter
+    def object(self, text: str) -> None:
+        self.div.text = text
 
 
 def _escape(s: str) -> str:
@@ -611,6 +699,7 @@ class Registry:
         self._items: set = set()
         self._lock = threading.Lock()
         self.latencies: list[float] = []
+        self.closed: list = []  # (connection seen lost, closed) wall-clock times of closed sessions
 
     def add(self, e: Explorer):
         with self._lock:
@@ -618,6 +707,7 @@ class Registry:
 
     def discard(self, e: Explorer):
         with self._lock:
+            self.closed.append(e.closed_wall)
             self.latencies.extend(e.latencies)
             self._items.discard(e)
 
@@ -626,8 +716,12 @@ class Registry:
             items = list(self._items)
         threads = [t.name for t in threading.enumerate() if t.name.startswith("magrod-explore")]
         return {"sessions": len(items), "running": sum(e.running for e in items),
+                "warm": bool(items) and all(e.warmed.is_set() for e in items),
                 "worker_threads_alive": len(threads), "first_points_s": self.latencies + [x for e in items
-                                                                                       for x in e.latencies]}
+                                                                                       for x in e.latencies],
+                "tap_handler_s": [x for e in items for x in e.tap_handler_s],
+                "tap_wall": [x for e in items for x in e.tap_wall],
+                "stream_wall": [x for e in items for x in e.stream_wall], "closed": list(self.closed)}
 
     def close_all(self, timeout: float = 0.8) -> None:
         with self._lock:

@@ -230,6 +230,41 @@ class Worker:
             job.future = self._pool.submit(run)
         return job
 
+    def call(self, fn, on_done) -> Future:
+        """Run fn() on a worker thread (e.g. the rod of the selected orbit); on_done(value or exception)."""
+
+        def run():
+            try:
+                out = fn()
+            except Exception as exc:  # reported to the page, never raised into the pool
+                out = exc
+            on_done(out)
+
+        return self._pool.submit(run)
+
+    def warm(self, start: Start, direction: str = "positive") -> threading.Event:
+        """Build, in every worker thread, the integrators a click needs (they are cached per thread): the section
+        integrator, the indicator's tangent integrator and the rod's frame integrator.  From heyoka's disk cache
+        this takes ~0.1 s per thread; afterwards the first points of a click come within milliseconds."""
+        done = threading.Event()
+        barrier = threading.Barrier(self._pool._max_workers, action=done.set, timeout=60)
+
+        def one():
+            from ..core.systems import rod_frame_integrator
+
+            _section_integrator(direction)
+            stream_section(start, 2, direction=direction)
+            growth_indicator(start, 20.0)
+            rod_frame_integrator()
+            try:
+                barrier.wait()  # hold this thread until every thread has warmed: each gets its own copy
+            except threading.BrokenBarrierError:
+                pass
+
+        for _ in range(self._pool._max_workers):
+            self._pool.submit(one)
+        return done
+
     def cancel(self, job_id: int) -> None:
         with self._lock:
             job = self._jobs.get(job_id)
