@@ -15,12 +15,16 @@ from .build import build
 GENERATED = Path(__file__).resolve().parent.parent / "generated"
 
 
-def check(target: Path) -> int:
-    with tempfile.TemporaryDirectory() as tmp:
-        fresh = build(Path(tmp), verbose=True)
+def checked_in(target: Path) -> set:
+    """Every file of generated/ (compiled bytecode aside): a file the derivation does not write is an orphan."""
+    return {p.name for p in target.glob("*") if p.is_file() and p.suffix != ".pyc"}
+
+
+def stale_files(fresh: dict, target: Path) -> list:
+    """Names whose checked-in text differs from the fresh build, is missing, or is not written by it (orphans);
+    prints a diff of each."""
     stale = []
-    names = sorted(set(fresh) | {p.name for p in target.glob("*") if p.is_file() and p.suffix in (".py", ".json", ".md")})
-    for name in names:
+    for name in sorted(set(fresh) | checked_in(target)):
         new = fresh.get(name)
         old_path = target / name
         old = old_path.read_text() if old_path.exists() else None
@@ -29,6 +33,15 @@ def check(target: Path) -> int:
             diff = difflib.unified_diff((old or "").splitlines(True), (new or "").splitlines(True),
                                         f"generated/{name} (checked in)", f"generated/{name} (fresh)", n=2)
             sys.stdout.writelines(list(diff)[:200])
+            if new is None:
+                print(f"generated/{name}: not written by the derivation (an orphan): delete it")
+    return stale
+
+
+def check(target: Path) -> int:
+    with tempfile.TemporaryDirectory() as tmp:
+        fresh = build(Path(tmp), verbose=True)
+    stale = stale_files(fresh, target)
     if stale:
         print(f"\nderive --check: generated/ is stale ({', '.join(stale)}). Run `python -m derive` and commit.")
         return 1

@@ -51,6 +51,14 @@ _API = {
     "poincare_section": "chaos.section",
     "lyapunov": "chaos.lyapunov",
     "chaos_map": "chaos.maps",
+    # saddles and orbits
+    "saddle": "orbits.shooting",
+    "homoclinic_orbit": "orbits.homoclinic",
+    "multipulse_orbits": "orbits.multipulse",
+    "continue_branch": "orbits.continuation",
+    "rod_shape": "orbits.rod",
+    # the separatrix
+    "splitting": "separatrix.splitting",
     # symbolic checks
     "integrability_report": "integrability.report",
     # in the browser

@@ -30,6 +30,24 @@ def test_generated_is_fresh(derivation):
                                                      f"generated/{name}", "fresh", n=1))[:60])
             stale.append(f"{name}:\n{diff}")
     assert not stale, "generated/ is stale; run `python -m derive` and commit:\n" + "\n".join(stale)
+    from magrod.derive.__main__ import stale_files
+
+    assert stale_files(derivation, gen) == [], "generated/ holds files the derivation does not write (orphans)"
+
+
+def test_check_catches_orphans_and_edits(derivation, tmp_path, capsys):
+    """`python -m derive --check`'s comparison: a copy of the fresh tree is clean; an extra file (an orphan left
+    by a renamed generator) and a hand edit are both reported."""
+    from magrod.derive.__main__ import stale_files
+
+    for name, text in derivation.items():
+        (tmp_path / name).write_text(text)
+    assert stale_files(derivation, tmp_path) == []
+    (tmp_path / "old_module.py").write_text("# written by a generator that no longer exists\n")
+    name = sorted(derivation)[0]
+    (tmp_path / name).write_text(derivation[name] + "# edited by hand\n")
+    assert stale_files(derivation, tmp_path) == sorted(["old_module.py", name])
+    assert "orphan" in capsys.readouterr().out
 
 
 def test_generated_files_have_do_not_edit_header():

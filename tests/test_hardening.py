@@ -194,6 +194,7 @@ BATTERY = [
     (["splitting", "--eps", "0.1,nan"], "eps", 2),
     (["splitting", "--m", "3"], "m", 2),
     (["splitting", "--precision", "foo"], "precision", 2),
+    (["splitting", "--precision", "long"], "precision", 2),  # the Precision values: "long double"
     (["splitting", "--a", "4", "--phases", "1e12"], "phases", 2),
     (["splitting", "--out", "/proc/magrod-test"], "out", 2),
     # --- chaosmap

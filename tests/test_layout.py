@@ -21,7 +21,8 @@ NUMERICS = ("core", "orbits", "chaos", "separatrix", "integrability")  # the num
 PUBLIC = {
     "RodParams", "Precision", "ParameterError", "panel",
     "poincare_section", "lyapunov", "chaos_map",
-    "integrability_report",
+    "saddle", "homoclinic_orbit", "multipulse_orbits", "continue_branch", "rod_shape",
+    "splitting", "integrability_report",
     "explore",
 }
 

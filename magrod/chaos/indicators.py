@@ -50,6 +50,8 @@ import heyoka as hy
 import numpy as np
 
 from ..core import systems
+from ..core.tolerances import DRIFT_LIMIT
+from .fields import KEYS
 
 GROWTH_THRESHOLD = 3.0
 DEFAULT_RENORM_DT = 10.0
@@ -57,10 +59,8 @@ DEFAULT_RENORM_DT = 10.0
 OK, NO_ROOT, UNPHYSICAL, LEFT_RANGE, FAILED = 0, 1, 2, 3, 4
 REASONS = {OK: "ok", NO_ROOT: "no_energy_root", UNPHYSICAL: "unphysical_parameters",
            LEFT_RANGE: "left_physical_range", FAILED: "integration_failed"}
-# An orbit whose first integrals drift by more than this has left its invariant set (the integration is not
-# trustworthy there); the paper's runs keep them to ~1e-13.
-DRIFT_LIMIT = 1e-8
-_KEYS = ("lyap", "fli", "fli_half", "growth_exponent", "max_abs_dH", "casimir_drift", "min_stretch")
+# An orbit whose first integrals drift by more than DRIFT_LIMIT (magrod.core.tolerances) has left its invariant set
+_KEYS = KEYS  # the per-orbit outputs, described in magrod/chaos/fields.py
 _W0_SEED = 11  # the fixed generic direction of w0 (before projection): same on every worker and machine
 
 

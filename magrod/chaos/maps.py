@@ -17,6 +17,7 @@ from ..core.params import RodParams
 from ..core.results import Result
 from ..core.tolerances import DRIFT_LIMIT
 from ..generated.names import BODY_STATE, PARAMS
+from .fields import MAP_EXTRA_FIELDS
 from .indicators import (_KEYS, DEFAULT_RENORM_DT, FAILED, GROWTH_THRESHOLD, NO_ROOT, OK, REASONS, UNPHYSICAL,
                          body_indicators)
 
@@ -218,7 +219,7 @@ def tile_of(spec: MapSpec, key: str) -> Tile:
     return Tile(iy, ix, slice(iy * t, min((iy + 1) * t, spec.y.n)), slice(ix * t, min((ix + 1) * t, spec.x.n)))
 
 
-MAP_FIELDS = _KEYS + ("p_psi0",)
+MAP_FIELDS = _KEYS + tuple(f.name for f in MAP_EXTRA_FIELDS)
 
 
 def compute_tile(spec: MapSpec, tile: Tile) -> dict:

@@ -26,18 +26,12 @@ from pathlib import Path
 import numpy as np
 
 from . import indicators as chaos, maps
+from .fields import BY_NAME
 from ..core.errors import ParameterError
 from ..core.io import atomic_write_json
 
-UNITS = {"lyap": "1/length (scaled arclength of eq:nondim_1)", "fli": "1 (ln |w|)", "fli_half": "1 (ln |w|)",
-         "growth_exponent": "1", "max_abs_dH": "1", "casimir_drift": "1", "min_stretch": "1", "p_psi0": "1",
-         "status": "code"}
-LONG = {"lyap": "finite-time maximal Lyapunov exponent L(T)/T",
-        "fli": "Fast Lyapunov Indicator max_{t<=T} ln|w(t)|", "fli_half": "FLI at T/2",
-        "growth_exponent": "(FLI(T) - FLI(T/2))/ln 2: power of tangent growth over [T/2, T]",
-        "max_abs_dH": "max |H - H(0)| along the orbit", "casimir_drift": "max |C - C(0)| (Casimirs)",
-        "min_stretch": "min axial stretch v3 = dH/dn3 at the sample times",
-        "p_psi0": "start pbar_psi (root of Hbar = h)",
+UNITS = {**{k: f.unit for k, f in BY_NAME.items()}, "status": "code"}
+LONG = {**{k: f.long for k, f in BY_NAME.items()},
         "status": "0 ok; " + "; ".join(f"{c} {r}" for c, r in chaos.REASONS.items() if c)}
 
 

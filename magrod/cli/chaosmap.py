@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
+from ..chaos.fields import MAPPABLE
 from .options import integer, number, out_dir, stem
 
 _OVERRIDES = (*PARAMS, "h", "theta0", "ptheta0", "psi0")
@@ -23,7 +24,7 @@ def add_arguments(p):
     for name in _OVERRIDES:
         g.add_argument(f"--{name}", default=None)
     p.add_argument("--root", default="smallest", choices=["smallest", "largest"], help="root pbar_psi of Hbar = h")
-    p.add_argument("--indicator", default="growth", choices=["growth", "fli", "lyap"],
+    p.add_argument("--indicator", default="growth", choices=sorted(MAPPABLE),
                    help="field drawn in the PNG (the store holds all; chaos is classified by the growth exponent)")
     p.add_argument("--t-max", default="3000", help="integration length T per orbit")
     p.add_argument("--tol", default="0", help="Taylor tolerance (0 = machine epsilon)")

@@ -5,7 +5,7 @@ from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from .options import add_params, integer, number, out_dir, params_from
 
-FREE = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))  # = magrod.orbits.shooting.FREE_PARAMETERS
+FREE = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))  # = magrod.orbits.multipulse.FREE_PARAMETERS
 
 
 def add_arguments(p):
@@ -24,6 +24,7 @@ def run(args) -> dict:
     from ..generated import scalars
     from ..core.params import RodParams
     from ..core.printed import MULTIPULSE
+    from ..core.tolerances import MU_TOL
 
     base = MULTIPULSE[args.figure]["params"].as_dict() if args.figure else {}
     vals = params_from(args, base)
@@ -31,13 +32,13 @@ def run(args) -> dict:
         raise ParameterError("figure", "give --figure 6|7 or all of " + " ".join(f"--{k}" for k in PARAMS))
     params = RodParams(**vals)
     max_pulses = integer("max_pulses", args.max_pulses)
-    if abs(params.mu - scalars.straight_rod_mu(**vals)) > 64 * 2.220446049250313e-16 * max(1.0, abs(params.mu)):
+    if abs(params.mu - scalars.straight_rod_mu(**vals)) > MU_TOL * max(1.0, abs(params.mu)):
         # mu != 2 lam: orbits to the periodic saddle (helical rod) are generic, found at the given parameters
-        from ..figures.continuation import write_periodic_multipulse
+        from ..figures.multipulse import periodic_multipulse
 
         samples = integer("samples", args.samples, minimum=3)
         out_dir("out", args.out)
-        return write_periodic_multipulse(params, args.out, max_pulses=max_pulses, samples=samples,
+        return periodic_multipulse(params, args.out, max_pulses=max_pulses, samples=samples,
                                          progress=not args.quiet)
     span = number("span", args.span)
     if not (0 < span < 1):

@@ -147,19 +147,46 @@ def atomic_savefig(fig, path, **kw) -> Path:
     return atomic_write_bytes(path, buf.getvalue())
 
 
-ORBIT_KEYS = ("x0", "T", "pars", "t", "tau", "x")
+# The one orbit-file schema (every orbit file magrod writes, `write_orbit`; `magrod rod --from` reads them all):
+# arrays of the sampled symmetric orbit, t in [0, 2T] (n,), body states x (n, N), chart coordinates, Hbar, the
+# scaled arclength tau of the plotted window, and what reproduces it: launch point x0, time T to the symmetric
+# point, launch distance eps, angle, parameters pars (PARAMS order) and the reversor at the symmetric point.
+ORBIT_ARRAYS = ("t", "x", "theta", "psi", "ptheta", "ppsi", "H", "tau", "x0", "T", "eps", "pars", "reversor",
+                "angle")
+ORBIT_KEYS = ("x0", "T", "pars", "t", "tau", "x")  # what load_orbit_file requires (and validates)
+ORBIT_SCALE = "B = C = m3 = 1 (derive/numeric_scale.py): t = s, lengths in units of B/m3"
+
+
+def write_orbit(out_dir, stem: str, orbit, *, samples: dict | None = None, meta: dict | None = None) -> list[str]:
+    """The one orbit-file writer: `orbit` (a converged magrod.orbits.shooting.MultipulseOrbit, to either saddle)
+    as <stem>.npz (ORBIT_ARRAYS) and <stem>.json (meta, the orbit's scalar fields under "shooting", its Newton
+    history, versions), atomically.  samples: orbit.sample() if already computed.  Returns the two paths."""
+    orb = samples if samples is not None else orbit.sample()
+    if "tau" not in orb:
+        raise ValueError("samples must contain the scaled arclength tau (MultipulseOrbit.sample)")
+    out = Path(out_dir)
+    arrays = {"t": orb["t"], "x": orb["x"], "theta": orb["theta"], "psi": orb["psi"], "ptheta": orb["ptheta"],
+              "ppsi": orb["ppsi"], "H": orb["H"], "tau": orb["tau"], "x0": orbit.x0, "T": orbit.T, "eps": orbit.eps,
+              "pars": orbit.params.array(), "reversor": orb["reversor"]}
+    if orbit.kind != "equilibrium":  # the straight rod's angle is a symmetry (always 0): its files omit it
+        arrays["angle"] = orbit.angle
+    npz = atomic_savez(out / f"{stem}.npz", **arrays)
+    side = {**(meta or {}), "shooting": orbit.as_dict(), "history": orbit.history, "versions": versions(),
+            "scale": ORBIT_SCALE, "arrays": sorted(arrays)}
+    js = atomic_write_json(out / f"{stem}.json", side)
+    return [str(npz), str(js)]
 
 
 def load_orbit_file(path) -> dict:
-    """The arrays of an orbit .npz written by `magrod multipulse`, validated: ParameterError naming `from` if the
-    file is missing, empty, truncated, not such a file, or holds non-finite or inconsistent data.  Never
-    unpickles (allow_pickle=False)."""
+    """The arrays of an orbit .npz written by magrod (`write_orbit`: `magrod multipulse` for either saddle, the
+    figures), validated: ParameterError naming `from` if the file is missing, empty, truncated, not such a file,
+    or holds non-finite or inconsistent data.  Never unpickles (allow_pickle=False)."""
     import zipfile
 
     path = Path(path)
     if not path.is_file():
         raise ParameterError("from", f"no such file: {str(path)!r}")
-    bad = f"{str(path)!r} is not an orbit file of magrod multipulse"
+    bad = f"{str(path)!r} is not a magrod orbit file (magrod multipulse)"
     try:
         with np.load(path, allow_pickle=False) as d:
             out = {k: np.asarray(d[k]) for k in ORBIT_KEYS}
@@ -187,6 +214,10 @@ def load_orbit_file(path) -> dict:
 
 
 def _jsonable(o):
+    from enum import Enum
+
+    if isinstance(o, Enum):
+        return o.value
     if isinstance(o, (np.floating, np.integer)):
         return o.item()
     if isinstance(o, np.ndarray):

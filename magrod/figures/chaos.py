@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..chaos import indicators as chaos, maps
+from ..chaos.fields import MAPPABLE
 from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import PANELS
 from ..core.progress import bar
@@ -40,9 +41,8 @@ def panel_marks(spec: maps.MapSpec) -> list[tuple]:
     return marks
 
 
-FIELD_LABELS = {"growth": "growth exponent (FLI(T) - FLI(T/2))/ln 2", "fli": "FLI = max ln|w(t)|, t <= T",
-                "lyap": "finite-time Lyapunov exponent L(T)/T"}
-FIELD_NAMES = {"growth": "growth_exponent", "fli": "fli", "lyap": "lyap"}
+FIELD_LABELS = {k: f.label for k, f in MAPPABLE.items()}
+FIELD_NAMES = {k: f.name for k, f in MAPPABLE.items()}
 
 
 def growth_norm(vmax: float, threshold: float):

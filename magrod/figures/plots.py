@@ -14,6 +14,15 @@ PLOTTERS: dict[str, str] = {
     "LyapunovResult": "chaos:plot_lyapunov",
     "ChaosMap": "chaos:plot_map",
     "IntegrabilityReport": "integrability:plot_involution",
+    "Splitting": "splitting:plot_splitting",
+    # orbits (magrod/figures/orbits.py)
+    "StraightRod": "orbits:plot_saddle",
+    "PeriodicSaddle": "orbits:plot_saddle",
+    "HomoclinicOrbit": "orbits:plot_homoclinic",
+    "MultipulseOrbit": "orbits:plot_orbit",
+    "MultipulseSearch": "orbits:plot_search",
+    "Branch": "orbits:plot_branch",
+    "RodShape": "orbits:plot_rod_shape",
 }
 
 

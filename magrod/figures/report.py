@@ -275,7 +275,7 @@ def _continuation(out, quick):
 
 @_claim
 def _branch_table(out, quick):
-    """Issue 13: the branch table -- lam* per N (Figs 6, 7; two eps x two precisions, magrod.orbits.shooting.uncertainty)
+    """Issue 13: the branch table -- lam* per N (Figs 6, 7; two eps x two precisions, magrod.orbits.multipulse.uncertainty)
     and the folds of the continued branches (continuation sidecars)."""
     rows = []
     for fig in (6, 7):
