@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 import panel as pn
+from bokeh.core.properties import value
 from bokeh.events import Tap
 from bokeh.models import (ColorBar, ColumnDataSource, FixedTicker, Legend, LegendItem, LinearColorMapper, Range1d)
 from bokeh.plotting import figure
@@ -190,7 +191,7 @@ class Explorer(pn.viewable.Viewer):
     def _new_slot(self, f, k):
         src = ColumnDataSource({"x": [], "y": []}, name=f"slot-src-{k}")
         r = f.scatter("x", "y", source=src, size=2.5, line_width=0, color=PENDING_COLOUR, visible=False)
-        item = LegendItem(label=" ", renderers=[r], visible=False)
+        item = LegendItem(label=value(" "), renderers=[r], visible=False)
         self.legend.items.append(item)
         return src, r, item
 
@@ -369,7 +370,7 @@ class Explorer(pn.viewable.Viewer):
         if o.renderer is not None:
             o.renderer.glyph.fill_color = colour
             o.renderer.glyph.line_color = colour
-            o.legend_item.label = o.label(self.threshold)
+            o.legend_item.label = value(o.label(self.threshold))  # a value: a bare string would name a column
 
     def _remove(self, o: Orbit):
         if o.job is not None:
