@@ -23,6 +23,7 @@ PUBLIC = {
     "poincare_section", "section_portrait", "orbit_diagram", "lyapunov", "chaos_map",
     "saddle", "homoclinic_orbit", "multipulse_orbits", "continue_branch", "rod_shape",
     "splitting", "integrability_report",
+    "explore",
 }
 
 

@@ -40,6 +40,7 @@ SUBCOMMANDS = {
     "chaosmap": ("magrod.cli.chaosmap", "chaos map (Lyapunov/FLI indicators) over a parameter plane or a section"),
     "prove": ("magrod.cli.prove", "computer-assisted proof of transverse homoclinic orbits (certificate, --verify)"),
     "orbitdiagram": ("magrod.cli.orbitdiagram", "orbit diagram: Poincare section points against a model parameter"),
+    "explore": ("magrod.cli.explore", "interactive Poincare-section explorer in the browser (127.0.0.1)"),
 }
 
 
