@@ -1,6 +1,6 @@
 """magrod.proof.saddle (Krawczyk enclosures of the tilted saddle and its eigenpairs) and magrod.proof.manifold
 (cone/slab conditions for the local unstable manifold).  References: magrod's own float64 / long-double saddle
-(magrod.separatrix.splitting.saddle), numpy's eigenvalues, and heyoka long-double points of W^u."""
+(magrod.separatrix.splitting.working_saddle), numpy's eigenvalues, and heyoka long-double points of W^u."""
 from __future__ import annotations
 
 from fractions import Fraction
@@ -20,10 +20,10 @@ PREC = 128
 def setup():
     p = fields.ExactParams.from_values(**TARGET)
     out = {"p": p}
-    out["float"] = {pr: splitting.saddle(RodParams(*p.floats()), pr) for pr in ("double", "long")}
+    out["float"] = {pr: splitting.working_saddle(RodParams(*p.floats()), pr) for pr in ("double", "long double")}
     with ball.workprec(PREC):
         fld = fields.chart_field(p)
-        xhat = saddle.refine(fld, [float(v) for v in out["float"]["long"].q])
+        xhat = saddle.refine(fld, [float(v) for v in out["float"]["long double"].q])
         J = ball.to_floats(fld.df(xhat).mid())
         w, Vc = np.linalg.eig(J)
         iu = next(i for i in range(len(w)) if w[i].real > 0 and w[i].imag > 0)
@@ -42,7 +42,7 @@ def test_krawczyk_box_contains_the_float_saddle(setup):
         q = [Fraction(*v.as_integer_ratio()) for v in sd.q]  # exact values of the floats
         assert all(ball.bounds(X)[0] <= v <= ball.bounds(X)[1] for X, v in zip(E.X, q)), pr
         # and the (much tighter) Krawczyk image is within the float's own error (|q| ~ 1, a few ulp)
-        ulp = {"double": Fraction(1, 2**52), "long": Fraction(1, 2**63)}[pr]
+        ulp = {"double": Fraction(1, 2**52), "long double": Fraction(1, 2**63)}[pr]
         for K, v in zip(E.K, q):
             assert abs(ball.fraction(K.mid()) - v) <= 64 * ulp, pr
     # psi = pbar_theta = 0 exactly is inside K (the saddle lies on Fix(R))
@@ -73,7 +73,7 @@ def test_krawczyk_rejects_a_box_without_the_zero(setup):
 
 
 def test_enclosure_does_not_contain_the_saddle_of_a_mutated_parameter(setup):
-    sd = splitting.saddle(RodParams(1.7, 0.0401, 1.0, 1.0, 0.01), "long")
+    sd = splitting.working_saddle(RodParams(1.7, 0.0401, 1.0, 1.0, 0.01), "long double")
     E = setup["E"]
     assert not E.K[fields.THETA].contains(ball.q(Fraction(*sd.q[0].as_integer_ratio())))
 

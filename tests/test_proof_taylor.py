@@ -229,3 +229,40 @@ def test_heyoka_trajectories_lie_inside_the_chart_enclosures(precision):
                 assert v.contains(hq), (float(S.t), v, hv)
             rows.append((S.t, max(S.widths())))
     _table(f"chart, heyoka {precision} inside, box {float(rad):.0e}", rows[:: max(1, len(rows) // 8)])
+
+
+def test_heyoka_variational_matrix_lies_inside_the_c1_enclosure():
+    """The C^1 part in the body frame: DPhi_t from heyoka's variational equations in long double (from the centre
+    of a 1e-15 box at the lifted target state) lies inside the enclosure Wbar + B E at t = 3."""
+    from magrod.core import systems
+
+    p = fields.ExactParams.from_values(m="1.7", mu="0.04", gamma=1, delta=1, lam="0.01")
+    q0 = [0.1433, 0.0004, -0.0002, 0.99]
+    with ball.workprec(PREC):
+        x0 = [v.mid() for v in fields.lift(p, [ball.dyadic(v) for v in q0])]
+        x0 = [ball.dyadic(float(v)) for v in x0]  # an exact double start, shared with heyoka
+        S = taylor.initial_set(x0, radii=[Fraction(1, 10**15)] * len(x0))
+        S = taylor.propagate(fields.body_field(p), S, 3, order=20)
+        W = S.W()
+    pars = np.array([np.longdouble(Fraction(v).numerator) / Fraction(v).denominator for v in p.as_json().values()])
+    ta = systems.variational_integrator("body", wrt_pars=False, fp_type=np.longdouble)
+    systems.reset_variational(ta, np.array([np.longdouble(float(v)) for v in x0]), pars)
+    ta.propagate_until(np.longdouble(3))
+    _, D, _ = systems.variational_blocks(ta)
+    n = len(x0)
+    # variational_blocks reads the long-double matrix out as float64: allow that rounding, 2^-52 max |D|
+    tol = Fraction(2.0**-52 * float(np.abs(D).max()))
+    inside = [[W[i, j].overlaps(ball.dyadic(float(D[i, j])) + ball.interval(-tol, tol)) for j in range(n)]
+              for i in range(n)]
+    assert all(all(r) for r in inside), inside
+    # the check can fail: heyoka's DPhi at lambdabar (1 + 1e-6) is not inside
+    lam = list(fields.PARAMS).index("lam")
+    pm = pars.copy()
+    pm[lam] *= np.longdouble(1 + 1e-6)
+    systems.reset_variational(ta, np.array([np.longdouble(float(v)) for v in x0]), pm)
+    ta.propagate_until(np.longdouble(3))
+    Dm = systems.variational_blocks(ta)[1]
+    assert not all(W[i, j].overlaps(ball.dyadic(float(Dm[i, j])) + ball.interval(-tol, tol))
+                   for i in range(n) for j in range(n))
+    print(f"\nbody DPhi(3): enclosure width {max(ball.width(v) for v in ball.entries(W)):.2e}, "
+          f"max |DPhi| {float(np.abs(D).max()):.2e}, read-out tolerance {float(tol):.1e}")

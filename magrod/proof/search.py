@@ -6,7 +6,7 @@ manifold W^u crosses Sigma = {pbar_theta = 0} through Fix(R) = {psi in {0, pi}} 
 two transverse symmetric homoclinic orbits to q* (at psi = 0 and psi = pi).
 
 Pipeline (every step that decides something is rigorous; the search only chooses where to look):
-  1. saddle      float Newton (magrod.splitting), refined in Arb, Krawczyk box (R-symmetric), eigenpairs (saddle.py)
+  1. saddle      float Newton (magrod.separatrix.splitting), refined in Arb, Krawczyk box (R-symmetric), eigenpairs (saddle.py)
   2. manifold    cone/slab conditions on a block around q* in eigen-coordinates (manifold.py)
   3. search      heyoka (float64, magrod.systems) from the circle |u| = r: the phases phi* where the first crossing
                  of Sigma has psi = 0 (mod 2 pi) and psi = pi, and the crossing times
@@ -120,7 +120,7 @@ def _float_saddle(p: fields.ExactParams):
 
     rp = RodParams(*p.floats())
     try:
-        return splitting.saddle(rp, "long")
+        return splitting.working_saddle(rp, "long double")
     except ParameterError as err:  # not hyperbolic: a failed proof, not bad input
         raise ProofFailure(f"saddle: {err.message}") from None
 
@@ -290,11 +290,48 @@ class ProofResult:
     wall_time_s: float = 0.0
 
 
-def prove(params: fields.ExactParams, settings: ProofSettings | None = None, *, module=gen, progress=None,
-          require_certified_field: bool = True) -> ProofResult:
-    """Run the proof (module docstring).  Returns ProofResult(ok, certificate | None, reason, checks).  Never a
-    certificate unless every check holds.  `module`: the generated field module (a mutated copy for controls).
-    `progress(msg)`: optional callable for stage messages.  Cost at the target: ~1-2 min on one core."""
+def prove(params: fields.ExactParams, settings: ProofSettings | None = None, *, module=gen,
+          progress=None) -> ProofResult:
+    """Prove (or fail to prove) two transverse symmetric homoclinic orbits of the tilted saddle-focus.
+
+    Parameters
+    ----------
+    params : ExactParams
+        Exact rational (m, mu, gamma, delta, lambdabar), from `validate_params`.
+    settings : ProofSettings, optional
+        Numerical choices (precision, Taylor order, circle radius, phase arc, targets psi = 0 and/or pi).
+    module : module, optional
+        The generated field module (generated/validated.py); a mutated copy (`fields.mutated_module`) for
+        controls.  A certificate is only issued for the derive-generated module.
+    progress : callable, optional
+        progress(stage: str), called at each stage.
+
+    Returns
+    -------
+    ProofResult
+        ok, certificate (a JSON-able dict, None unless every check holds), reason (one line: the first check
+        that could not be established), checks (name, holds, how), wall_time_s.
+
+    Raises
+    ------
+    ParameterError
+        Never for a failed proof (that is ok = False); only from `validate_params` before.
+
+    Examples
+    --------
+    >>> from magrod.proof import search
+    >>> p = search.validate_params("1.7", "0.04", "1", "1", "0.01")
+    >>> res = search.prove(p)  # doctest: +SKIP
+    >>> res.ok, res.certificate["crossings"][0]["dtheta_dpsi"]["mid"][:8]  # doctest: +SKIP
+    (True, '-0.00229')
+
+    Notes
+    -----
+    Method: module docstring (saddle by Krawczyk, local manifold by cone conditions, C^1 Lohner flight in the
+    body frame to Sigma, interval Newton in the phase).  Cost at the target: ~35-50 s on one core (benchmarks/
+    prove_target.py).  Accuracy: every decision is an exact comparison of ball bounds (128-bit Arb).
+    References: docs/nonintegrability.md, "Theorem (computer-assisted)".
+    """
     st = settings or ProofSettings()
     t0 = time.perf_counter()
     checks: list = []

@@ -66,7 +66,39 @@ def load(path) -> dict:
 
 
 def verify(cert: dict, *, module=fields.gen) -> VerifyResult:
-    """Re-check a certificate (module docstring).  Cost: about the prover's rigorous part (~30 s at the target)."""
+    """Re-check a proof certificate with code separate from the prover.
+
+    Parameters
+    ----------
+    cert : dict
+        The certificate (`load(path)` or the prover's dict).
+    module : module, optional
+        The generated field module; its SHA-256 must equal the certificate's and the installed one's.
+
+    Returns
+    -------
+    VerifyResult
+        ok, reason (one line: "certificate verified ..." or "certificate rejected: <check>: <why>"), checks.
+
+    Raises
+    ------
+    CertificateError
+        (a ParameterError naming "verify") if a field is missing or malformed.
+
+    Examples
+    --------
+    >>> from magrod.proof import verify
+    >>> res = verify.verify(verify.load("out/certificate.json"))  # doctest: +SKIP
+    >>> res.ok  # doctest: +SKIP
+    True
+
+    Notes
+    -----
+    Recomputes the saddle's Krawczyk image, the eigenpairs, the cone conditions, both flights with the stored
+    exact steps, the section crossings, the Newton step and dtheta_u/dpsi; every recomputed enclosure must lie in
+    the certificate's ball and every claim must hold on the certificate's balls.  Cost: about the prover's
+    rigorous part (~30-40 s at the target).
+    """
     t0 = time.perf_counter()
     checks: list = []
 
