@@ -274,6 +274,6 @@ def test_ctrl_c_stops_everything(server, browser):
     rc = server.proc.wait(30)
     print(f"Ctrl-C -> computations stopped in {stopped:.3f} s, process exited after {time.perf_counter() - t:.2f} s")
     assert stopped <= 1.0
-    assert rc == 130 and server.stderr().strip().splitlines()[-1] == "magrod explore: error: interrupted"
+    assert rc == 130 and server.stderr().strip().splitlines()[-1].startswith("magrod explore: error: interrupted")
     with socket.socket() as s:  # nothing listens any more
         assert s.connect_ex(("127.0.0.1", server.port)) != 0
