@@ -5,6 +5,8 @@ Public API
 solve_p_psi(params, h, theta0, ptheta0, psi0=0)  -> every real root pbar_psi of Hbar(theta0, psi0, ptheta0, .) = h
 poincare_section(params, h, theta0, ptheta0, psi0=0, *, iterates=10_000, root="smallest", direction="positive",
              branch="any", formulation="body", ...) -> PoincareResult
+poincare_section([panels...] | params, h, starts=(N, 2..4) array, ...) -> [PoincareResult] (many orbits: SIMD lanes of
+             heyoka's batch integrator, magrod/chaos/batch.py)
 run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.core.printed.PANELS), threads
 orbit_stretch(res, dt=0.05)             -> the axial stretch v3 along the orbit (min, fraction <= 0; two forms)
 (figures: magrod/figures/poincare.py; files: PoincareResult.arrays()/summary())
