@@ -12,6 +12,8 @@ import sympy as sp
 from . import numeric_scale as ns
 from . import homoclinic, melnikov, poisson, reduction, splitting, symmetry
 from . import floquet  # issue 13
+from . import validated  # issue 21
+from . import first_integrals  # issue 20
 from .codegen import HeyokaPrinter, function_source, module_source
 from .model import X, phi, psi, theta
 from .paper import delta, gamma, lambar, m, mu, pps, pth
@@ -215,6 +217,7 @@ def all_results():
     results += symmetry.derive_all()
     results += floquet.derive_all()  # issue 13
     results += splitting.derive_all()  # issue 12
+    results += first_integrals.derive_all()  # issue 20
     return results, {}
 
 
@@ -243,18 +246,22 @@ def build(out_dir: Path, verbose=True) -> dict:
     """Write every generated file into out_dir; returns {filename: text}."""
     t0 = time.perf_counter()
     files = {}
-    src, _ = reduced_module()
+    src, red = reduced_module()
     files["reduced.py"] = src
-    src, _ = body_module()
+    src, bod = body_module()
     files["body.py"] = src
+    files["validated.py"] = validated.module(red, bod)  # issue 21
     files["homoclinic.py"] = homoclinic.module()
     files["melnikov.py"] = melnikov.module()
     files["symmetry.py"] = symmetry.module()
     files["floquet.py"] = floquet.module()  # issue 13
     files["splitting.py"] = splitting.module()  # issue 12
+    files["splitting_ball.py"] = splitting.ball_module()  # issue 20: S in ball arithmetic
+    files["first_integrals.py"] = first_integrals.module()  # issue 20: exact first-integral search data
     files["names.py"] = names_module()
     files["scalars.py"] = scalars_module()
     results, _ = all_results()
+    results += validated.derive_all(red, bod)  # issue 21
     files["report.json"] = json.dumps({"results": [r.as_dict() for r in results]}, indent=1, sort_keys=True,
                                       default=str) + "\n"
     files["report.md"] = report_markdown(results)

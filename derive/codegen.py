@@ -4,6 +4,8 @@ Generated modules are deterministic (sorted, no dates) and start with a "do not 
 derive module that wrote them.  Numbers are printed as Python float literals (repr round-trips exactly)."""
 from __future__ import annotations
 
+import itertools
+
 import sympy as sp
 
 HEADER = '''"""{doc}
@@ -197,3 +199,30 @@ def module_source(doc: str, source: str, parts: list[str], constants: dict | Non
         out.append("")
         out.append(p)
     return "\n".join(out).rstrip() + "\n"
+
+
+def cse_function_source(name: str, args: list[str], exprs, printer: HeyokaPrinter, doc: str) -> str:
+    """Like function_source, but common subexpressions (sympy.cse) become local variables _x0, _x1, ... first, so a
+    long generated formula (e.g. an integrand and its parameter gradient) evaluates each shared piece once.  The
+    printer's names are extended by the local names; nothing else changes (BallPrinter stays rigorous: the locals
+    are balls like the inputs)."""
+    single = not isinstance(exprs, (list, tuple))
+    items = [sp.sympify(x, strict=True) for x in ([exprs] if single else list(exprs))]
+    gen = (sp.Symbol(f"_x{i}") for i in itertools.count())
+    reps, red = sp.cse(items, symbols=gen, order="canonical")
+    names = dict(printer.names)
+    lines = [f"def {name}({', '.join(args)}):", f'    """{doc}"""']
+    local = type(printer).__new__(type(printer))
+    local.__dict__.update(printer.__dict__)
+    local.names = names
+    for sym, e in reps:
+        names[sym] = str(sym)
+        lines.append(f"    {sym} = {local.wrap(local(e))}")
+    body = [local.wrap(local(x)) for x in red]
+    if single:
+        lines.append(f"    return {body[0]}")
+    else:
+        lines.append("    return [")
+        lines.extend(f"        {b}," for b in body)
+        lines.append("    ]")
+    return "\n".join(lines) + "\n"

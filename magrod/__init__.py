@@ -63,6 +63,8 @@ _API = {
     "splitting": "separatrix.splitting",
     # symbolic checks
     "integrability_report": "integrability.report",
+    # in the browser
+    "explore": "explorer",
 }
 
 __all__ = sorted(_API)

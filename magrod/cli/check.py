@@ -1,5 +1,6 @@
 """`magrod check`: the integrability report (magrod.integrability.report), from generated/report.json, re-derived
-(--rederive) or for a modified model (--subs).  Imports neither heyoka nor matplotlib."""
+(--rederive) or for a modified model (--subs); with --integrals, the exact search for polynomial first integrals
+(magrod.integrability.first_integrals).  Imports neither heyoka nor matplotlib."""
 from __future__ import annotations
 
 
@@ -10,13 +11,37 @@ def add_arguments(p):
     p.add_argument("--subs", metavar="NAME=VALUE,...",
                    help="compute the involution table of H, I1, I2 and the Casimirs live for a modified model, e.g. "
                         "'B2=B1,c_J=c_H,lambda=0' (symbols: B1 B2 C c_H c_J c_K lambda; c = 1/stiffness, so "
-                        "c_H=0,c_J=0,c_K=0 is the inextensible, unshearable rod); needs sympy")
+                        "c_H=0,c_J=0,c_K=0 is the inextensible, unshearable rod); needs sympy.  With --integrals: "
+                        "the model searched (default B2=B1,c_J=c_H, the paper's rod)")
+    p.add_argument("--integrals", action="store_true",
+                   help="exact search for polynomial first integrals of degree <= --degree in the 9 body variables "
+                        "(kernel of F -> {F, H} mod a prime against the algebra of the known integrals), with the "
+                        "controls lambda = 0, inextensible, anisotropic, extensible")
+    p.add_argument("--degree", type=str, default=None, help="maximum degree D of the search, 1 <= D <= 12 (default 4; "
+                                                             "D = 6 takes minutes)")
+    p.add_argument("--seed", type=str, default=None, help="seed of the random rational parameter values (default 20)")
 
 
 def run(args) -> dict:
-    from ..integrability.report import custom_involution, summary
-
     from ..core.errors import ParameterError
+    from . import options
+
+    if args.integrals:
+        if args.rederive or args.all:
+            raise ParameterError("integrals", "searches first integrals: do not combine it with --rederive or --all")
+        from ..integrability.first_integrals import DEFAULT_SEED, MAX_DEGREE
+
+        degree = options.integer("degree", "4" if args.degree is None else args.degree, 1, MAX_DEGREE)
+        seed = options.integer("seed", DEFAULT_SEED if args.seed is None else args.seed, 0, 2**62)
+        if args.subs is not None and not args.subs.strip():
+            raise ParameterError("subs", "is empty")
+        from ..integrability.first_integrals import first_integral_search
+
+        return first_integral_search(degree, args.subs, seed=seed).to_dict()
+    if args.degree is not None or args.seed is not None:
+        raise ParameterError("degree" if args.degree is not None else "seed", "applies only with --integrals")
+
+    from ..integrability.report import custom_involution, summary
 
     if args.subs is not None:
         if args.rederive or args.all:
@@ -26,6 +51,10 @@ def run(args) -> dict:
 
 
 def format_text(out: dict) -> str:
+    if "controls" in out:
+        from ..integrability.first_integrals import format_text as fmt_integrals
+
+        return fmt_integrals(out)
     from ..integrability.report import format_text as fmt
 
     return fmt(out)

@@ -80,8 +80,13 @@ def run(args) -> dict:
     t0 = time.perf_counter()
     if args.mu2lam:
         r = mp.shoot(base, N)
-        if not r.success:
-            return {"ok": False, "error": f"no {N}-pulse orbit on mu = 2 lam near lam = {base.lam}: {r.message}"}
+        if not r.success:  # Newton from the default guess did not converge: scan lam and bisect, as multipulse does
+            found = mp.find_orbits(base, free="lam", max_pulses=N)
+            if not found[N - 1]["success"]:
+                return {"ok": False, "error": f"no {N}-pulse orbit on mu = 2 lam near lam = {base.lam}: "
+                                              f"{r.message}; scan: {found[N - 1]['message']} (near Figure 6 the "
+                                              f"orbits on mu = 2 lam have 2 and 4 pulses: try --pulses 2)"}
+            r = found[N - 1]["result"]
         F, params_of = C.mu2lam_problem(r.params, name)
         u0 = [r.T, r.params.lam, getattr(r.params, name)]
         names, par, scale = ("T", "lam", name), 2, [r.T, 1e-3, max(1.0, abs(u0[2]))]

@@ -11,10 +11,12 @@ FREE = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))  # = magrod
 def add_arguments(p):
     p.add_argument("--figure", type=int, choices=(6, 7), help="parameters of fig:multimodal1 (6) / fig:multimodal2 (7)")
     add_params(p, help_suffix=" (free-parameter form; overrides --figure)")
-    p.add_argument("--free", default="lam", choices=FREE,
-                   help="parameter solved for together with T (mu follows it: mu = 2 lam)")
+    p.add_argument("--free", default=None, choices=FREE,
+                   help="parameter solved for together with T (mu follows it: mu = 2 lam; default lam; mu = 2 lam "
+                        "only)")
     p.add_argument("--max-pulses", default="6", help="look for N-pulse orbits, N = 1..max")
-    p.add_argument("--span", default="0.5", help="relative scan range of the free parameter")
+    p.add_argument("--span", default=None,
+                   help="relative scan range of the free parameter, in (0, 1) (default 0.5; mu = 2 lam only)")
     p.add_argument("--samples", default="81", help="scan samples")
     p.add_argument("--out", default="out/multipulse", help="output directory")
 
@@ -32,7 +34,15 @@ def run(args) -> dict:
         raise ParameterError("figure", "give --figure 6|7 or all of " + " ".join(f"--{k}" for k in PARAMS))
     params = RodParams(**vals)
     max_pulses = integer("max_pulses", args.max_pulses)
+    span = number("span", args.span if args.span is not None else "0.5")  # validated whenever given
+    if not (0 < span < 1):
+        raise ParameterError("span", f"must be in (0, 1) (a relative range around the nominal value), got {span}")
     if abs(params.mu - scalars.straight_rod_mu(**vals)) > MU_TOL * max(1.0, abs(params.mu)):
+        for opt in ("span", "free"):  # these shape the mu = 2 lam scan only: given here they would be ignored
+            if getattr(args, opt) is not None:
+                raise ParameterError(opt, f"applies to mu = 2 lam only (a scan of the free parameter); at mu = "
+                                          f"{params.mu:g} != 2 lam = {2 * params.lam:g} the orbits to the periodic "
+                                          f"saddle are found at the given parameters: drop --{opt}")
         # mu != 2 lam: orbits to the periodic saddle (helical rod) are generic, found at the given parameters
         from ..figures.multipulse import periodic_multipulse
 
@@ -40,12 +50,9 @@ def run(args) -> dict:
         out_dir("out", args.out)
         return periodic_multipulse(params, args.out, max_pulses=max_pulses, samples=samples,
                                          progress=not args.quiet)
-    span = number("span", args.span)
-    if not (0 < span < 1):
-        raise ParameterError("span", f"must be in (0, 1), got {span}")
     samples = integer("samples", args.samples, minimum=3)
     out_dir("out", args.out)
-    summary, _ = multipulse(params, args.out, free=args.free, max_pulses=max_pulses, span=span, samples=samples,
+    summary, _ = multipulse(params, args.out, free=args.free or "lam", max_pulses=max_pulses, span=span, samples=samples,
                             stem=f"figure{args.figure}" if args.figure else "multipulse", progress=not args.quiet)
     return summary
 

@@ -41,12 +41,28 @@ def _eps_list(s):
     return vals
 
 
+def _check_resolvable(eps, precision) -> None:
+    """The splitting d scales like eps^4 at a = 2b (d/eps^4 -> b^2 S/m^2, derived and measured to 8 digits in
+    docs/nonintegrability.md; psi_u ~ eps^2) and no faster in the tilted case: an eps whose eps^4 is below the working
+    precision's machine epsilon measures nothing but rounding (e.g. eps = 1e-300, where b eps^2 underflows)."""
+    from ..core.precision import Precision
+
+    prec = Precision.parse(precision)
+    lo = prec.eps ** 0.25
+    small = [e for e in eps if e < lo]
+    if small:
+        raise ParameterError("eps", f"must be >= {lo:.2g} in {prec.value} precision (eps^4 >= its machine epsilon "
+                                    f"2^-{prec.bits - 1}: the splitting ~ eps^4 is below rounding otherwise), got "
+                                    f"{min(small):g}")
+
+
 def run(args) -> dict:
     from ..separatrix import splitting as S
     from ..core.progress import bar
 
     vals = {k: number(k, getattr(args, k)) for k in ("m", "gamma", "delta", "a", "b")}
     eps = _eps_list(args.eps)
+    _check_resolvable(eps, args.precision)
     S._check(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], min(eps), args.precision)
     n = integer("phases", args.phases, minimum=8, maximum=4096)
     dest = out_dir("out", args.out) if args.out is not None else None

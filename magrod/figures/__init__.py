@@ -24,6 +24,8 @@ FIGURES = {
                      "orbit diagram: section points vs lambdabar 0.12..0.2 at Figure 4's start, its panels marked"),
     "splitting": ("magrod.figures.splitting", "build",
                   "splitting of the separatrix vs eps (a = 2b and a > 2b) with the integrable controls"),
+    "proof": ("magrod.figures.proof", "build",
+              "computer-assisted proof: transverse homoclinic orbits of the tilted saddle-focus, verified certificate"),
 }
 
 

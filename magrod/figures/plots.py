@@ -14,6 +14,8 @@ PLOTTERS: dict[str, str] = {
     "LyapunovResult": "chaos:plot_lyapunov",
     "ChaosMap": "chaos:plot_map",
     "IntegrabilityReport": "integrability:plot_involution",
+    "RegimeSearch": "integrability:plot_regime_search",
+    "FirstIntegralSearch": "integrability:plot_first_integrals",
     "Splitting": "splitting:plot_splitting",
     # orbits (magrod/figures/orbits.py)
     "StraightRod": "orbits:plot_saddle",

@@ -191,14 +191,18 @@ def fix_residual(x) -> np.ndarray:
 @systems.per_thread
 def crossing_integrator(precision: Precision):
     """The body-frame integrator stopping at sin(theta) pbar_theta = 0 (generated event ptheta_sin, either
-    direction) in `precision`, one per thread: every crossing loop of magrod uses it."""
-    return systems.integrator("body", events=["ptheta_sin"], fp_type=precision.fp_type, prec=precision.prec)
+    direction) in `precision`, one per thread: every crossing loop of magrod uses it.  Multiprecision (hy.real)
+    is compiled in compact mode: the unrolled hy.real code took > 4 GB and minutes of LLVM time (issue 17)."""
+    return systems.integrator("body", events=["ptheta_sin"], fp_type=precision.fp_type, prec=precision.prec,
+                              compact_mode=precision is Precision.MP)
 
 
 @systems.per_thread
 def body_integrator(precision: Precision):
-    """The plain body-frame integrator (no events) in `precision`, one per thread."""
-    return systems.integrator("body", fp_type=precision.fp_type, prec=precision.prec)
+    """The plain body-frame integrator (no events) in `precision`, one per thread (compact mode for hy.real, as
+    crossing_integrator)."""
+    return systems.integrator("body", fp_type=precision.fp_type, prec=precision.prec,
+                              compact_mode=precision is Precision.MP)
 
 
 def propagate(x0, pars, T, precision=Precision.DOUBLE) -> np.ndarray:

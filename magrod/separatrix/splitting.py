@@ -580,6 +580,7 @@ class LeadingTerm:
     C_d: float
     T: float
     wall_time_s: float
+    S_reference_text: str | None = None  # the real128 value in full (str of hy.real128), for exact comparisons
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -602,9 +603,10 @@ def leading_coefficient(m, gamma, delta, *, reference=True, theta_tail=1e-20) ->
     orbit = homoclinic(m, gamma)
     T = orbit.time_at_theta(theta_tail)
     s64 = float(_leading_run(orbit.m, orbit.gamma, delta, T))
-    sref = qerr = err = None
+    sref = qerr = err = sref_text = None
     if reference:
-        sref = float(_leading_run(orbit.m, orbit.gamma, delta, T, hy.real128))
+        s128 = _leading_run(orbit.m, orbit.gamma, delta, T, hy.real128)
+        sref, sref_text = float(s128), str(s128)
         qerr = abs(s64 - sref)
     k = orbit.saddle_rate
     q0 = (0.25 + k * k) / 2
@@ -615,7 +617,7 @@ def leading_coefficient(m, gamma, delta, *, reference=True, theta_tail=1e-20) ->
     s = sref if reference else s64
     tan_half = math.sqrt((1.0 - orbit.u_plus) / (1.0 + orbit.u_plus))
     return LeadingTerm(orbit.m, orbit.gamma, delta, s64, sref, qerr, tail, err, orbit.theta_max, s / tan_half,
-                       s / m2, T, time.perf_counter() - t0)
+                       s / m2, T, time.perf_counter() - t0, sref_text)
 
 
 def digits_agreeing(x, ref) -> float:
