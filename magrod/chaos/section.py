@@ -43,8 +43,10 @@ printed) and a monotone break-up of a closed curve (d) into a chaotic sea (a) as
 the text describes; the larger root gives 57.7k-76.4k and regular islands in (b)-(d).
 
 Cost (float64, tol = eps, one core): ~0.2 ms per iterate in the body frame, ~0.5 ms with formulation="reduced";
-the 8 paper panels (80 000 iterates) take ~8-12 s wall on 2 cores with a warm JIT cache (benchmarks/).  The first process compiles each integrator (~1 s), later
-processes load it from heyoka's on-disk cache.
+the 8 paper panels (80 000 iterates) take ~8-12 s wall on 2 cores with a warm JIT cache (benchmarks/).  The first
+process compiles each integrator (~1 s), later processes load it from heyoka's on-disk cache.  Many starts run in
+the SIMD lanes of heyoka's batch integrator (magrod/chaos/batch.py): the 8 panels 2.7-3.0x faster than with
+`run_panels` in the same run (benchmarks/README.md, issue 18).
 """
 from __future__ import annotations
 
