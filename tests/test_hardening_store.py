@@ -358,3 +358,14 @@ def test_full_disk_while_writing_the_summary(reference, cluster, tmp_path, monke
 
 def _tree(root: Path) -> set:
     return {str(p.relative_to(root)) for p in root.rglob("*")}
+
+
+def test_a_map_with_no_computed_point_is_a_failure(cluster, tmp_path, capsys):
+    """Every start impossible (no energy root anywhere at h = -50): exit 1, one line, ok false, no picture and no
+    summary -- never an ok map of NaNs.  The store itself is complete and says the same on a re-run."""
+    out = tmp_path / "o"
+    for _ in range(2):
+        rc, obj, lines = _run(out, cluster, "--h", "-50", capsys=capsys)
+        assert rc == 1 and obj["ok"] is False and "no point of the map could be computed" in obj["error"], obj
+        assert len(lines) == 1 and "no_energy_root" in lines[0], lines
+        assert not (out / "chaosmap.png").exists() and not (out / "chaosmap.json").exists()
