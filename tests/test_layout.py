@@ -220,3 +220,21 @@ def test_cli_main_restores_the_process_settings():
     before = (signal.getsignal(signal.SIGINT), warnings.showwarning)
     assert cli.main(["check", "--json"]) == 0
     assert (signal.getsignal(signal.SIGINT), warnings.showwarning) == before
+
+
+def test_every_package_is_installed():
+    """CI installs magrod non-editably (`pip install .`): a subpackage missing from pyproject's list is absent there
+    although every test passes in an editable checkout. That happened once (magrod.proof); this keeps it from recurring."""
+    import tomllib
+
+    repo = Path(__file__).resolve().parents[1]  # the checkout, not the installed package
+    conf = tomllib.loads((repo / "pyproject.toml").read_text())["tool"]["setuptools"]
+    listed = set(conf["packages"])
+    dirs = {v: k for k, v in conf["package-dir"].items()}  # folder -> package name
+    found = set()
+    for top, name in dirs.items():
+        for init in (repo / top).rglob("__init__.py"):
+            rel = init.parent.relative_to(repo / top)
+            found.add(".".join([name, *rel.parts]))
+    assert found - listed == set(), f"packages with an __init__.py that pyproject.toml does not install: {found - listed}"
+    assert listed - found == set(), f"pyproject.toml lists packages that do not exist: {listed - found}"
