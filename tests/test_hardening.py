@@ -606,6 +606,8 @@ def test_chaosmap_under_resource_limits(tmp_path, case, limit, words):
     assert words in line, line
     if case == "ulimit -f 2":
         assert str(out) in line  # the path
+    if case == "ulimit -v 1 GB":  # refused before any worker starts (and prints its own start-up traceback)
+        assert "ulimit -v" in line and "1024 MB" in line, line
     assert not out.exists()  # nothing partial: no tile finished, so the store this run made is gone with OUT
 
 

@@ -310,6 +310,26 @@ def test_a_worker_refuses_a_store_of_another_map(reference, tmp_path):
         store.write_tile(tmp_path / "nowhere.zarr", out / T, tile, fields, 0.0, "f" * 64)
 
 
+def test_a_worker_out_of_memory_is_not_called_another_filesystem(reference, tmp_path, monkeypatch):
+    """Only a store that is not there means "the workers need a shared filesystem"; a worker that runs out of memory
+    opening it must say so, not send the user looking for a filesystem problem."""
+    import zarr
+
+    from magrod.chaos import maps, store
+
+    out = _copy(reference, tmp_path)
+    spec = maps.MapSpec.from_dict(json.loads((reference / T / "store.record").read_text())["spec"])
+    tile = maps.tile_of(spec, "0_0")
+    fields = store.read_tile(out / S, tile)
+
+    def no_memory(*a, **k):
+        raise MemoryError("cannot allocate")
+
+    monkeypatch.setattr(zarr, "open_group", no_memory)
+    with pytest.raises(MemoryError):
+        store.write_tile(out / S, out / T, tile, fields, 0.0, "f" * 64)
+
+
 # ------------------------------------------------------------------------------------------------------------
 # a full disk (ENOSPC), simulated in-process: a tmpfs or loop device would need mount privileges the tests do not
 # assume.  The writers are the real ones with one system call replaced.

@@ -478,7 +478,9 @@ def write_tile(store: Path, tiles_dir: Path, tile: maps.Tile, fields: dict, wall
     try:
         g = zarr.open_group(str(store), mode="r+")
         found = g.attrs.get("identity")
-    except Exception as exc:  # noqa: BLE001
+    except Exception as exc:  # noqa: BLE001 - only "not there" means another filesystem; anything else (out of
+        if not (isinstance(exc, FileNotFoundError) or "NotFound" in type(exc).__name__):  # memory ...) is itself
+            raise
         raise EnvironmentFault("out", f"no chaos map store at {str(store)!r} on this worker "
                                       f"({type(exc).__name__}): the workers need the same --out path as the client "
                                       f"(a shared filesystem)") from None

@@ -173,6 +173,7 @@ def run(args) -> dict:
     if workers is not None:
         maps.check_cost(spec, workers)
         _check_open_files(workers)
+        _check_address_space()
     client = cluster = None
     pids: list = []
     state = None
@@ -275,6 +276,23 @@ def _check_open_files(workers: int) -> None:
     if soft != resource.RLIM_INFINITY and soft < need:
         raise EnvironmentFault("workers", f"the open-file limit (ulimit -n) is {soft}; a LocalCluster of {workers} "
                                           f"worker(s) needs about {need} open files: raise it (e.g. ulimit -n 1024)")
+
+
+WORKER_VM_MB = 1800  # virtual memory of a LocalCluster worker: VmPeak 904 MB measured after a tile, x 2 margin
+
+
+def _check_address_space() -> None:
+    """Under an address-space limit (ulimit -v) too small for a worker, the worker dies at start-up and prints its
+    own traceback: refuse before that, in one line."""
+    import resource
+
+    from ..core.errors import EnvironmentFault
+
+    soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    if soft != resource.RLIM_INFINITY and soft < WORKER_VM_MB * 2 ** 20:
+        raise EnvironmentFault("workers", f"the address-space limit (ulimit -v) is {soft // 2 ** 20} MB; a LocalCluster "
+                                          f"worker needs about {WORKER_VM_MB} MB of virtual memory (heyoka's JIT): "
+                                          f"raise it or remove it (ulimit -v unlimited)")
 
 
 def _start_failure(exc, workers: int):
