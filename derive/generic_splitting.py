@@ -235,9 +235,14 @@ def ball_module() -> str:
     up, omk, kap, *_ = S.orbit_constants()
     Wy = (transverse_integrand(sp.Integer(0))[1])
     s, c, TH, D, Ps = S.orbit_point(S.t_)
-    # W_y in the s-form: sin theta = 2 s c, cos theta = 1 - 2 s^2, pbar_theta = s Ptil (splitting.s_form_checks)
-    Pt = -2 * (1 - omk) * kap * TH / (D * c)
-    e = sp.expand_trig(Wy).subs({sp.sin(theta): 2 * s * c, sp.cos(theta): 1 - 2 * s**2, pth: s * Pt, psi: Ps})
+    # W_y in the s-form: sin theta = 2 s c, cos theta = 1 - 2 s^2, pbar_theta = s Ptil (splitting.s_form_checks),
+    # cancelled in the symbols s, c first so that no 1 - cos theta is formed (it would lose all digits as s -> 0)
+    sy, cy, Ty, Dy, Py = S.s_, S.c_, S.TH_, S.D_, sp.Symbol("Psi_y")
+    Pt = -2 * (1 - omk) * kap * Ty / (Dy * cy)
+    e = sp.expand_trig(Wy).subs({sp.sin(theta): 2 * sy * cy, sp.cos(theta): 1 - 2 * sy**2, pth: sy * Pt, psi: Py})
+    e = sp.expand(e)
+    e = sp.cos(Py) * sp.factor(sp.cancel(e.coeff(sp.cos(Py)))) + sp.sin(Py) * sp.factor(sp.cancel(e.coeff(sp.sin(Py))))
+    e = e.subs({sy: s, cy: c, Ty: TH, Dy: D, Py: Ps})
     e = e.subs(S.t_, S.tau_ / kap) / kap
     pr = BallPrinter({S.tau_: "tau", m: "m", gamma: "gamma", delta: "delta"})
     parts = [
