@@ -12,7 +12,7 @@ import sympy as sp
 from . import numeric_scale as ns
 from . import homoclinic, melnikov, poisson, reduction, splitting, symmetry
 from . import floquet  # issue 13
-from . import first_integrals, generic_splitting  # issue 20
+from . import audit, first_integrals, generic_splitting  # issue 20
 from .codegen import HeyokaPrinter, function_source, module_source
 from .model import X, phi, psi, theta
 from .paper import delta, gamma, lambar, m, mu, pps, pth
@@ -218,6 +218,7 @@ def all_results():
     results += splitting.derive_all()  # issue 12
     results += first_integrals.derive_all()  # issue 20
     results += generic_splitting.derive_all()  # issue 20
+    results += audit.derive_all()  # issue 20: the authors' Fortran
     return results, {}
 
 
