@@ -25,3 +25,23 @@ def plot_involution(rep, ax=None, **kw):
     ax.set_yticks(range(len(regimes)), regimes, fontsize=8)
     ax.set_title(f"involution brackets ({rep.source})", fontsize=9)
     return ax
+
+
+def plot_kernel(res, ax=None, **kw):
+    """RegimeSearch / FirstIntegralSearch .plot: dim ker L (polynomial first integrals of degree <= d, mod p) against
+    the dimension of the algebra of the known integrals, per degree d (a certificate where the two coincide)."""
+    from .plots import axes
+
+    r = getattr(res, "main", res)
+    d = np.arange(len(r.kernel_dims))
+    ax = axes(ax)
+    ax.plot(d, r.kernel_dims, "o-", label="dim ker L (mod p)", **kw)
+    ax.plot(d, r.algebra_dims, "s--", label="known algebra (" + ", ".join(r.known) + ")")
+    if r.candidates_found:
+        ax.plot(d, r.algebra_with_candidates_dims, "^:", label="with " + ", ".join(r.candidates_found))
+    ax.set_yscale("log")
+    ax.set_xlabel("degree d")
+    ax.set_ylabel("dimension (degree <= d)")
+    ax.set_title(f"{r.name}: {'certified' if r.certified else 'not certified'}", fontsize=9)
+    ax.legend(fontsize=7)
+    return ax

@@ -14,6 +14,11 @@ PLOTTERS: dict[str, str] = {
     "LyapunovResult": "chaos:plot_lyapunov",
     "ChaosMap": "chaos:plot_map",
     "IntegrabilityReport": "integrability:plot_involution",
+    "RegimeSearch": "integrability:plot_kernel",
+    "FirstIntegralSearch": "integrability:plot_kernel",
+    "GenericTerm": "splitting:plot_generic_term",
+    "GenericComparison": "splitting:plot_generic_comparison",
+    "CirclePrediction": "splitting:plot_circle",
 }
 
 
