@@ -6,11 +6,11 @@ import time
 import numpy as np
 
 from magrod.orbits import continuation as C
-from magrod.orbits import shooting
+from magrod.orbits import multipulse
 from magrod.core.params import RodParams
 
 LAM = 0.00126208079536
-r = shooting.shoot(RodParams(1.7, 2 * LAM, 1.0, 1.0, LAM), 2)
+r = multipulse.shoot(RodParams(1.7, 2 * LAM, 1.0, 1.0, LAM), 2)
 F, _ = C.mu2lam_problem(r.params, "m")
 t0 = time.perf_counter()
 b = C.pseudo_arclength(F, [r.T, r.params.lam, 1.7], scale=[r.T, 1e-3, 1.0], ds=0.01, ds_max=0.02, steps=199, par=2,

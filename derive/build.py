@@ -12,6 +12,7 @@ import sympy as sp
 from . import numeric_scale as ns
 from . import homoclinic, melnikov, poisson, reduction, splitting, symmetry
 from . import floquet  # issue 13
+from . import validated  # issue 21
 from . import audit, first_integrals, generic_splitting  # issue 20
 from .codegen import HeyokaPrinter, function_source, module_source
 from .model import X, phi, psi, theta
@@ -247,10 +248,11 @@ def build(out_dir: Path, verbose=True) -> dict:
     """Write every generated file into out_dir; returns {filename: text}."""
     t0 = time.perf_counter()
     files = {}
-    src, _ = reduced_module()
+    src, red = reduced_module()
     files["reduced.py"] = src
-    src, _ = body_module()
+    src, bod = body_module()
     files["body.py"] = src
+    files["validated.py"] = validated.module(red, bod)  # issue 21
     files["homoclinic.py"] = homoclinic.module()
     files["melnikov.py"] = melnikov.module()
     files["symmetry.py"] = symmetry.module()
@@ -262,6 +264,7 @@ def build(out_dir: Path, verbose=True) -> dict:
     files["names.py"] = names_module()
     files["scalars.py"] = scalars_module()
     results, _ = all_results()
+    results += validated.derive_all(red, bod)  # issue 21
     files["report.json"] = json.dumps({"results": [r.as_dict() for r in results]}, indent=1, sort_keys=True,
                                       default=str) + "\n"
     files["report.md"] = report_markdown(results)

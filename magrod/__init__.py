@@ -49,10 +49,22 @@ _API = {
     "panel": "core.printed",
     # chaos: sections, indicators, maps
     "poincare_section": "chaos.section",
+    "section_portrait": "chaos.portrait",
+    "orbit_diagram": "chaos.portrait",
     "lyapunov": "chaos.lyapunov",
     "chaos_map": "chaos.maps",
+    # saddles and orbits
+    "saddle": "orbits.shooting",
+    "homoclinic_orbit": "orbits.homoclinic",
+    "multipulse_orbits": "orbits.multipulse",
+    "continue_branch": "orbits.continuation",
+    "rod_shape": "orbits.rod",
+    # the separatrix
+    "splitting": "separatrix.splitting",
     # symbolic checks
     "integrability_report": "integrability.report",
+    # in the browser
+    "explore": "explorer",
 }
 
 __all__ = sorted(_API)

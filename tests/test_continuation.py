@@ -6,8 +6,11 @@ import numpy as np
 import pytest
 
 from magrod.orbits import continuation as C
-from magrod.orbits import periodic_homoclinic as hp
+from magrod.orbits import multipulse
+from magrod.orbits import periodic_multipulse as hp
 from magrod.orbits import shooting
+from magrod.orbits.equilibrium import straight_rod
+from magrod.orbits.periodic import periodic_saddle
 from magrod.generated import scalars
 from magrod.core.params import RodParams
 
@@ -37,7 +40,7 @@ def test_folds_of_a_circle_located_and_reproduced_back_and_forth():
 
 @pytest.fixture(scope="module")
 def fig6_n2():
-    r = shooting.shoot(RodParams(1.7, 2 * LAM_STAR_FIG6_N2, 1.0, 1.0, LAM_STAR_FIG6_N2), 2)
+    r = multipulse.shoot(RodParams(1.7, 2 * LAM_STAR_FIG6_N2, 1.0, 1.0, LAM_STAR_FIG6_N2), 2)
     assert r.success
     return r
 
@@ -191,7 +194,7 @@ def test_primaries_tend_to_the_mu_2lam_limits():
         angle0) to leading order, psi0 = psi at the straight rod's turning point, c = |psi0| / A.  The two
         primaries merge at the midpoint when sqrt(gap) = c (the fold reported in docs/errata.md)."""
     mu0 = scalars.straight_rod_mu(**P.as_dict())
-    turn = shooting.unstable_branch(P.replace(mu=mu0), crossings=1, eps=1e-7)[0]
+    turn = shooting.unstable_branch(straight_rod(P.replace(mu=mu0)), crossings=1, eps=1e-7)[0]
     prim = [(26.4567663389, 1.298695337565), (26.4567330589, 4.440084038851)]  # docs/errata.md table, gap 1e-4
     rows = {}
     for gap in (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10):
@@ -209,7 +212,7 @@ def test_primaries_tend_to_the_mu_2lam_limits():
     c = {g: math.sin(-spread[g] / 2) * math.sqrt(g) for g in (1e-7, 1e-8, 1e-9, 1e-10)}
     assert all(abs(c[g] / c[1e-9] - 1) <= 1e-2 for g in c)  # the sqrt(gap) law, c = 8.30e-7
     # c = |psi0| / A with A from the range of sin psi over a launch-angle scan at gap = 1e-8 (half-width / sqrt(gap))
-    _, _, sp = hp.scan_angles(P.replace(mu=mu0 + 1e-8), 1, 61, eps=1e-7)
+    _, _, sp = hp.scan_angles(periodic_saddle(P.replace(mu=mu0 + 1e-8)), 1, 61, eps=1e-7)
     A = (np.nanmax(sp) - np.nanmin(sp)) / 2 / math.sqrt(1e-8)
     assert abs(c[1e-9] * A / abs(turn.psi) - 1) <= 2e-2
 
@@ -227,6 +230,7 @@ def test_three_pulse_orbits_to_the_periodic_saddle():
         a = math.log(abs(r.saddle.unstable_multiplier)) / r.saddle.T
         shift = math.log(100.0) / a  # 6.929
         b = math.atan2(r.saddle.unstable_multiplier.imag, r.saddle.unstable_multiplier.real) / r.saddle.T
-        r7 = hp.shoot(P, 3, r.angle - math.remainder(b * shift, math.pi), r.T - shift, eps=1e-7, precision="double")
+        r7 = hp.shoot(P, 3, r.angle - math.remainder(b * shift, math.pi), r.T - shift, eps=1e-7, precision="double",
+                      saddle=r.saddle)
         assert r7.success and hp.count_pulses(r7) == 3
         assert abs((r.T - r7.T) / shift - 1) <= 1e-3  # O(eps) corrections to the linear launch

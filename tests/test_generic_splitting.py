@@ -22,7 +22,7 @@ QUICK = [(1.7, 1.0, 1.0, 4.0, 1.0), (1.7, 0.0, 1.0, 4.0, 1.0)]  # all eight case
 
 @pytest.fixture(scope="module")
 def quick_comparison():
-    return G.compare_generic(QUICK, precisions=("double", "long"))
+    return G.compare_generic(QUICK, precisions=("double", "long double"))
 
 
 def test_derived_matches_measured(quick_comparison):
@@ -30,7 +30,7 @@ def test_derived_matches_measured(quick_comparison):
     assert r.success, r.message
     assert r.max_rel_difference <= G.TOLERANCE
     for row in r.rows:
-        assert set(row["measured"]) == {"double", "long"}
+        assert set(row["measured"]) == {"double", "long double"}
         for meas in row["measured"].values():
             assert all(g.startswith("passed") for g in meas["guards"])  # every curve passed the fit guard
 
@@ -40,7 +40,7 @@ def test_derived_matches_measured(quick_comparison):
 def test_a_wrong_guess_fails(quick_comparison, wrong, why):
     """The same measurement against a wrong coefficient: the check fails (relative difference >> 1e-4)."""
     row = quick_comparison.rows[0]  # a = 4, b = 1: sqrt(a)/sqrt(a - 2b) = sqrt(2)
-    rel = abs(row["measured"]["long"]["C0"] / (row["derived"] * wrong) - 1.0)
+    rel = abs(row["measured"]["long double"]["C0"] / (row["derived"] * wrong) - 1.0)
     assert rel > 100 * G.TOLERANCE, why
 
 
@@ -98,9 +98,9 @@ def test_guard_refuses_a_clustered_curve_and_reports_fit_and_coverage():
     """The curve the audit found wrong: (a, b) = (2.05, 1), eps = 1.25e-3, long double (clustered psi, residual 1e-9
     > |s1|).  With guard=False it is returned, marked refused, with both numbers stated."""
     with pytest.raises(ParameterError) as ei:
-        SPL.tilted_curve(1.7, 1, 1, 2.05, 1, 1.25e-3, "long")
+        SPL.tilted_curve(1.7, 1, 1, 2.05, 1, 1.25e-3, "long double")
     assert ei.value.name == "eps" and "guard" in str(ei.value)
-    raw = SPL.tilted_curve(1.7, 1, 1, 2.05, 1, 1.25e-3, "long", guard=False)
+    raw = SPL.tilted_curve(1.7, 1, 1, 2.05, 1, 1.25e-3, "long double", guard=False)
     assert raw.guard.startswith("refused") and raw.psi_max_gap > raw.coverage_bound
     ok = SPL.tilted_curve(1.7, 1, 1, 4, 1, 0.01, "double")
     assert ok.guard.startswith("passed") and ok.psi_max_gap <= ok.coverage_bound and ok.fit_residual <= ok.fit_bound

@@ -194,6 +194,7 @@ BATTERY = [
     (["splitting", "--eps", "0.1,nan"], "eps", 2),
     (["splitting", "--m", "3"], "m", 2),
     (["splitting", "--precision", "foo"], "precision", 2),
+    (["splitting", "--precision", "long"], "precision", 2),  # the Precision values: "long double"
     (["splitting", "--a", "4", "--phases", "1e12"], "phases", 2),
     (["splitting", "--out", "/proc/magrod-test"], "out", 2),
     # --- chaosmap
@@ -211,6 +212,41 @@ BATTERY = [
     (["chaosmap", "--stem", "../x", "--out", "{tmp}/o"], "stem", 2),
     (["chaosmap", "--out", "/proc/magrod-test"], "out", 2),
     (["chaosmap"], "out", 2),
+    # --- chaosmap (issue 17): duplicate and conflicting options, impossible starts, what cannot finish, clusters
+    (["chaosmap", "--x", "lam:0:1:4", "--x", "lam:0:1:5", "--out", "{tmp}/o"], "x", 2),
+    (["chaosmap", "--stem", "a", "--stem", "b", "--out", "{tmp}/o"], "stem", 2),
+    (["chaosmap", "--out", "{tmp}/o", "--out", "{tmp}/p"], "out", 2),
+    (["chaosmap", "--t-max", "100", "--t-max", "200", "--out", "{tmp}/o"], "t_max", 2),
+    (["chaosmap", "--lam", "0.5", "--x", "lam:0.1:0.2:4", "--out", "{tmp}/o"], "lam", 2),
+    (["chaosmap", "--gamma", "3", "--out", "{tmp}/o"], "gamma", 2),  # the default --y varies gamma
+    (["chaosmap", "--theta0", "0", "--out", "{tmp}/o"], "theta0", 2),
+    (["chaosmap", "--theta0", "3.14159265358979", "--out", "{tmp}/o"], "theta0", 2),
+    (["chaosmap", "--x", "theta0:0:1.5:4", "--out", "{tmp}/o"], "x", 2),
+    (["chaosmap", "--y", "theta0:0.1:3.5:4", "--out", "{tmp}/o"], "y", 2),
+    (["chaosmap", "--x", "delta:-3:-1:4", "--out", "{tmp}/o"], "delta", 2),
+    (["chaosmap", "--renorm-dt", "1e-9", "--out", "{tmp}/o"], "renorm_dt", 2),
+    (["chaosmap", "--renorm-dt", "2.3e-308", "--out", "{tmp}/o"], "renorm_dt", 2),
+    (["chaosmap", "--renorm-dt", "2000", "--out", "{tmp}/o"], "renorm_dt", 2),
+    (["chaosmap", "--renorm-dt", "0", "--out", "{tmp}/o"], "renorm_dt", 2),
+    (["chaosmap", "--renorm-dt", "nan", "--out", "{tmp}/o"], "renorm_dt", 2),
+    (["chaosmap", "--x", "lam:0:0.3:4096", "--y", "gamma:0:3:4096", "--out", "{tmp}/o"], "t_max", 2),
+    (["chaosmap", "--x", "lam:0:0.3:1024", "--y", "gamma:0:3:1024", "--t-max", "1e5", "--out", "{tmp}/o"],
+     "t_max", 2),
+    (["chaosmap", "--workers", "64", "--out", "{tmp}/o"], "workers", 2),
+    (["chaosmap", "--workers", str(len(os.sched_getaffinity(0)) + 1), "--out", "{tmp}/o"], "workers", 2),
+    (["chaosmap", "--workers", "2", "--scheduler", "tcp://127.0.0.1:1", "--out", "{tmp}/o"], "workers", 2),
+    (["chaosmap", "--workers", "1", "--scheduler-file", "{tmp}/file", "--out", "{tmp}/o"], "workers", 2),
+    (["chaosmap", "--scheduler", "127.0.0.1:1", "--scheduler-file", "{tmp}/file", "--out", "{tmp}/o"],
+     "scheduler_file", 2),
+    (["chaosmap", "--scheduler-file", "{tmp}/missing.json", "--out", "{tmp}/o"], "scheduler_file", 2),
+    (["chaosmap", "--scheduler-file", "{tmp}/file", "--out", "{tmp}/o"], "scheduler_file", 2),  # not JSON
+    (["chaosmap", "--scheduler", "inproc://x/1/2", "--out", "{tmp}/o"], "scheduler", 2),
+    (["chaosmap", "--scheduler", "tls://127.0.0.1:1", "--out", "{tmp}/o"], "scheduler", 2),
+    (["chaosmap", "--scheduler", "127.0.0.1:0", "--out", "{tmp}/o"], "scheduler", 2),
+    (["chaosmap", "--scheduler", "tcp://127.0.0.1:1", "--out", "{tmp}/o"], "scheduler", 2),  # refused
+    (["chaosmap", "--connect-timeout", "0", "--out", "{tmp}/o"], "connect_timeout", 2),
+    (["chaosmap", "--worker-timeout", "-1", "--out", "{tmp}/o"], "worker_timeout", 2),
+    (["chaosmap", "--out", "{tmp}/file/sub"], "out", 2),
 ]
 
 
@@ -432,16 +468,40 @@ def test_workers_die_with_their_parent(tmp_path):
     assert not any(_alive(w) for w in workers)
 
 
-@pytest.mark.parametrize("delay", [0.05, 0.5, 1.0, 2.0])
-def test_ctrl_c_exits_130_with_one_line(tmp_path, delay):
-    p = _start_reproduce(tmp_path / "o", "--only", "4,5", "--jobs", "2", "--force")
-    time.sleep(delay)
-    os.kill(p.pid, signal.SIGINT)
+def _start_paused(out: Path, marker: Path, point: str, *extra):
+    """reproduce with the test hook MAGROD_TEST_PAUSE: it writes `marker` on reaching `point` and waits there."""
+    return subprocess.Popen([sys.executable, "-m", "magrod.cli", "reproduce", "--quick", "--out", str(out),
+                             "--quiet", *extra], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            cwd=tempfile.gettempdir(), start_new_session=True,
+                            env={**os.environ, "MAGROD_TEST_PAUSE": f"{point}:{marker}"})
+
+
+def _wait_for(marker: Path, p, timeout=300):
+    deadline = time.time() + timeout
+    while not marker.exists() and time.time() < deadline and p.poll() is None:
+        time.sleep(0.02)
+    assert marker.exists(), p.communicate()
+
+
+@pytest.mark.parametrize("sig,code", [(signal.SIGINT, 130), (signal.SIGTERM, 143), (signal.SIGHUP, 129)],
+                         ids=["SIGINT", "SIGTERM", "SIGHUP"])
+def test_ctrl_c_exits_130_with_one_line(tmp_path, sig, code):
+    """Deterministic: the signal is sent while both workers are running figures (the test hook says when), to the
+    whole process group as a terminal does.  One line, exit 128 + signum, workers gone, no temporary left."""
+    marker = tmp_path / "running"
+    p = _start_paused(tmp_path / "o", marker, "reproduce-running", "--only", "4,5", "--jobs", "2", "--force")
+    _wait_for(marker, p)
+    workers = [c for c in _children(p.pid) if _alive(c)]
+    os.killpg(p.pid, sig)
     t0 = time.time()
     out, err = p.communicate(timeout=60)
-    assert p.returncode == 130, err
+    assert p.returncode == code, err
     assert time.time() - t0 < 20
-    assert "interrupted" in _one_line(err)[0]
+    assert "interrupted" in _one_line(err)[0] and signal.Signals(sig).name in err
+    deadline = time.time() + 15
+    while time.time() < deadline and any(_alive(w) for w in workers):
+        time.sleep(0.1)
+    assert workers and not any(_alive(w) for w in workers)
     leftovers = [q for q in (tmp_path / "o").rglob("*.tmp")] if (tmp_path / "o").exists() else []
     assert not leftovers
 
@@ -484,6 +544,69 @@ def test_concurrent_run_into_one_directory_is_refused(fig3_run, capsys):
     cap = capsys.readouterr()
     assert rc == 3 and json.loads(cap.out)["parameter"] == "out"
     assert "another magrod reproduce" in _one_line(cap.err)[0]
+
+
+def test_signal_after_the_result_was_printed_changes_nothing(fig3_run, tmp_path):
+    """Ctrl-C (or SIGTERM) just after the result was printed: the process ends quietly with the result's own exit
+    code (0 here), the JSON on stdout is whole, nothing on stderr, no KeyboardInterrupt at shutdown."""
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        marker = tmp_path / f"printed-{sig}"
+        p = subprocess.Popen([sys.executable, "-m", "magrod.cli", "reproduce", "--quick", "--only", "3", "--jobs",
+                              "2", "--out", str(fig3_run), "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True, cwd=tempfile.gettempdir(), start_new_session=True,
+                             env={**os.environ, "MAGROD_TEST_PAUSE": f"printed:{marker}"})
+        _wait_for(marker, p)
+        os.killpg(p.pid, sig)
+        out, err = p.communicate(timeout=60)
+        assert p.returncode == 0 and err.strip() == "", err
+        assert json.loads(out)["ok"] is True
+
+
+def test_a_killed_run_leaves_no_temporary_behind(fig3_run):
+    """kill -9 cannot clean up: the temporary a killed writer left (its pid is dead) is removed by the next run,
+    a live writer's is not."""
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True,
+                          text=True).stdout.strip()
+    live = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(120)"])
+    try:
+        stale = fig3_run / f".fig3.npz.{dead}.k9k9k9k9.tmp"
+        kept = fig3_run / f".fig3.png.{live.pid}.abcdefgh.tmp"
+        stale.write_bytes(b"half")
+        kept.write_bytes(b"being written")
+        assert cli.main(["reproduce", "--quick", "--only", "3", "--out", str(fig3_run), "--quiet"]) == 0
+        assert not stale.exists() and kept.exists()
+    finally:
+        live.kill()
+        live.wait()
+        kept.unlink(missing_ok=True)
+
+
+# resource limits: exit 3, one line naming the limit or the path, nothing left behind
+CHAOS_SMALL = ["chaosmap", "--x", "lam:0.12:0.2:4", "--y", "gamma:2:4:4", "--tile", "2", "--t-max", "50",
+               "--workers", "1", "--json", "--quiet"]
+
+
+def _rlimit(which, value):
+    def f():
+        resource.setrlimit(which, (value, value))
+    return f
+
+
+@pytest.mark.parametrize("case,limit,words", [
+    ("ulimit -n 24", _rlimit(resource.RLIMIT_NOFILE, 24), "open-file limit"),
+    ("ulimit -f 2", _rlimit(resource.RLIMIT_FSIZE, 2048), "file too large"),
+    ("ulimit -v 1 GB", _rlimit(resource.RLIMIT_AS, 1 << 30), "memory"),
+], ids=["nofile", "fsize", "address-space"])
+def test_chaosmap_under_resource_limits(tmp_path, case, limit, words):
+    out = tmp_path / "o"
+    r = magrod(*CHAOS_SMALL, "--out", str(out), preexec_fn=limit, timeout=300)
+    assert r.returncode == 3, r.stderr
+    assert json.loads(r.stdout)["ok"] is False
+    line = _one_line(r.stderr)[0]
+    assert words in line, line
+    if case == "ulimit -f 2":
+        assert str(out) in line  # the path
+    assert not out.exists()  # nothing partial: no tile finished, so the store this run made is gone with OUT
 
 
 def test_report_on_a_full_disk_is_one_line(fig3_run):

@@ -16,12 +16,14 @@ import pytest
 import magrod
 
 ROOT = Path(magrod.__file__).resolve().parent
-NUMERICS = ("core", "orbits", "chaos", "separatrix", "integrability")  # the numerics wing (subpackages)
+NUMERICS = ("core", "orbits", "chaos", "separatrix", "integrability", "proof")  # the numerics wing (subpackages)
 
 PUBLIC = {
     "RodParams", "Precision", "ParameterError", "panel",
-    "poincare_section", "lyapunov", "chaos_map",
-    "integrability_report",
+    "poincare_section", "section_portrait", "orbit_diagram", "lyapunov", "chaos_map",
+    "saddle", "homoclinic_orbit", "multipulse_orbits", "continue_branch", "rod_shape",
+    "splitting", "integrability_report",
+    "explore",
 }
 
 

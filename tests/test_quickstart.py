@@ -20,6 +20,8 @@ def test_quickstart_runs_from_the_repository_root():
     assert "section: True (2000, 4)" in out
     assert "chaotic = True" in out  # Fig 4(a) at T = 3000: growth exponent 11.9 (magrod.chaos.indicators)
     assert "chaos map: True" in out and "integrability: holds" in out
+    assert "homoclinic: True" in out and "saddle: periodic" in out and "multipulse: True" in out
+    assert "branch: True" in out and "rod: True" in out and "splitting: equilibrium" in out
     imported = subprocess.run([sys.executable, "-c", "import magrod, magrod.chaos.section as s; print(s.__file__)"],
                               cwd=REPO, capture_output=True, text=True, timeout=120)
     assert imported.returncode == 0, imported.stderr  # from the root: ./magrod, with generated/ mapped in

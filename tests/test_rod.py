@@ -22,10 +22,10 @@ def test_straight_rod_centreline(gamma, delta):
 
 
 def test_frame_orthonormal_on_multipulse_orbit(tmp_path):
-    from magrod.orbits import shooting
+    from magrod.orbits import multipulse
 
     p = RodParams(1.7, 0.0025, 1.0, 1.0, 0.00125)
-    res = shooting.shoot(p, 2)
+    res = multipulse.shoot(p, 2)
     assert res.success
     s = np.linspace(0.0, 2 * res.T, 2001)
     r = rod.reconstruct(res.x0, res.params.array(), s)

@@ -2,10 +2,12 @@
 import numpy as np
 import pytest
 
-from magrod.orbits import shooting
 from magrod.core.errors import ParameterError
 from magrod.core.params import RodParams
-from magrod.orbits.equilibrium import straight_rod
+from magrod.core.precision import Precision
+from magrod.core.tolerances import FLOOR_CAP, FLOOR_FACTOR, LAUNCH_DISTANCE, SHOOTING_TOL
+from magrod.orbits import multipulse, shooting
+from magrod.orbits.equilibrium import on_level, straight_rod
 
 EPS = np.finfo(float).eps
 FIG6 = RodParams(1.7, 0.002, 1.0, 1.0, 0.001)
@@ -18,9 +20,9 @@ def test_primary_orbit_equals_closed_form():
     from magrod.generated import homoclinic
 
     p = RodParams(1.7, 0.0, 1.0, 1.0, 0.0)
-    r = shooting.shoot(p, 1, free=None)
-    assert r.success and r.residual <= shooting.DEFAULT_TOL
-    orb = shooting.orbit(r)
+    r = multipulse.shoot(p, 1, free=None)
+    assert r.success and r.residual <= SHOOTING_TOL
+    orb = multipulse.orbit(r)
     t, m, g = hy.make_vars("t", "m", "gamma")
     cf = hy.cfunc(homoclinic.closed_form(t, m, g), vars=[t, m, g])
     tt = orb["t"] - r.T
@@ -36,13 +38,13 @@ def test_primary_orbit_equals_closed_form():
 
 def test_phase_is_a_symmetry():
     # different launch phases on the unstable circle give the same reduced orbit (first crossing: double precision)
-    assert shooting.phase_independence(FIG6, crossings=1) <= 1e-9
+    assert shooting.phase_independence(straight_rod(FIG6), crossings=1, eps=LAUNCH_DISTANCE[Precision.DOUBLE]) <= 1e-9
 
 
 def test_two_pulse_orbit_reversible_and_on_level():
-    res = shooting.shoot(RodParams(1.7, 0.0025, 1.0, 1.0, 0.00125), 2)
-    assert res.success and res.residual <= shooting.DEFAULT_TOL
-    orb = shooting.orbit(res)
+    res = multipulse.shoot(RodParams(1.7, 0.0025, 1.0, 1.0, 0.00125), 2)
+    assert res.success and res.residual <= SHOOTING_TOL
+    orb = multipulse.orbit(res)
     assert shooting.count_pulses(orb["theta"]) == 2
     assert abs(res.params.mu - 2 * res.params.lam) <= 4 * EPS * res.params.mu
     assert np.max(np.abs(orb["H"] - res.saddle_H)) <= 1e-13
@@ -53,24 +55,24 @@ def test_two_pulse_orbit_reversible_and_on_level():
     systems.reset(ta, res.x0, 0.0, res.params.array())
     s = np.linspace(res.T, res.T + 0.5 * res.T, 201)
     fwd = ta.propagate_grid(np.concatenate([[0.0], s]))[5][1:]
-    back = shooting.orbit(res, n=4001)
+    back = multipulse.orbit(res, n=4001)
     mirrored = np.array([np.interp(s, back["t"], back["x"][:, i]) for i in range(9)]).T
     assert np.max(np.abs(fwd - mirrored)) <= 1e-6  # interpolation of the 4001-point orbit dominates (h^2 ~ 1e-4^2)
 
 
 def test_eps_insensitivity():
     p = RodParams(1.7, 0.0025, 1.0, 1.0, 0.00125)
-    a = shooting.shoot(p, 2, eps=1e-9)
-    b = shooting.shoot(p, 2, eps=1e-8)
+    a = multipulse.shoot(p, 2, eps=1e-9)
+    b = multipulse.shoot(p, 2, eps=1e-8)
     assert a.success and b.success
     assert abs(a.params.lam - b.params.lam) <= 1e-9 * a.params.lam
 
 
 def test_non_converged_returns_no_orbit():
-    r = shooting.shoot(RodParams(1.7, 0.0025, 1.0, 1.0, 0.00125), 2, max_iter=1, precision="double")
-    assert not r.success and "not converged" in r.message and r.residual > shooting.DEFAULT_TOL
+    r = multipulse.shoot(RodParams(1.7, 0.0025, 1.0, 1.0, 0.00125), 2, max_iter=1, precision="double")
+    assert not r.success and "not converged" in r.message and r.residual > SHOOTING_TOL
     with pytest.raises(ValueError):
-        shooting.orbit(r)
+        multipulse.orbit(r)
 
 
 def test_bad_parameters():
@@ -81,7 +83,7 @@ def test_bad_parameters():
         straight_rod(RodParams(3.0, 0.0, 1.0, 1.0, 0.0))  # m >= m_c = 2 sqrt(2)
     assert e.value.name == "m"
     with pytest.raises(ParameterError):
-        shooting.shoot(FIG6, 2, free=None)
+        multipulse.shoot(FIG6, 2, free=None)
 
 
 def test_cli_exit_codes(tmp_path):
@@ -103,8 +105,8 @@ def test_figures_full(tmp_path):
 
 def test_significant_digits_format():
     # the bracketed digit is the uncertainty of the last shown digit, rounded up
-    assert shooting.significant(0.0012620807954259, 3.3e-14) == "0.00126208079543(4)"
-    assert shooting.significant(0.40401385557147707, 2.07e-12) == "0.404013855571(3)"
+    assert multipulse.significant(0.0012620807954259, 3.3e-14) == "0.00126208079543(4)"
+    assert multipulse.significant(0.40401385557147707, 2.07e-12) == "0.404013855571(3)"
 
 
 def test_six_pulse_found_by_bisection_then_newton():
@@ -112,15 +114,15 @@ def test_six_pulse_found_by_bisection_then_newton():
     at the 6th crossing in long double, then Newton; the noise floor of long double after five near-saddle
     passages (~1e-9) is above tol, so the result is accepted at the measured floor and says so."""
     p = FIG6
-    r = shooting.free_star(p, "lam", 6, 0.001125, 0.0011375, eps=shooting.EXTENDED_EPS, precision="long double")
+    r = multipulse.free_star(p, "lam", 6, 0.001125, 0.0011375, eps=LAUNCH_DISTANCE[Precision.LONG_DOUBLE], precision="long double")
     assert r is not None and r.success
-    assert r.residual <= max(shooting.DEFAULT_TOL, shooting.FLOOR_FACTOR * r.noise_floor)
-    assert r.residual <= shooting.FLOOR_CAP
+    assert r.residual <= max(SHOOTING_TOL, FLOOR_FACTOR * r.noise_floor)
+    assert r.residual <= FLOOR_CAP
     # the same orbit from an independent start (the one that converged by hand, issue 13) to its resolution
-    r2 = shooting.shoot(shooting._with_free(p, "lam", 0.0011352), 6)
+    r2 = multipulse.shoot(on_level(p, lam=0.0011352), 6)
     assert r2.success
     assert abs(r.params.lam - r2.params.lam) <= 2 * max(r.resolution, r2.resolution)
-    assert shooting.count_pulses(shooting.orbit(r)["theta"]) == 6
+    assert shooting.count_pulses(multipulse.orbit(r)["theta"]) == 6
 
 
 def test_branch_table_rows_read_the_sidecar(tmp_path):

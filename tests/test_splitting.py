@@ -8,10 +8,12 @@ import pytest
 
 from magrod.separatrix import splitting as S
 from magrod.cli import main
+from magrod.core.precision import Precision
+from magrod.orbits.equilibrium import straight_rod
 from magrod.orbits.shooting import unstable_branch
 
 M, G, DL = 1.7, 1.0, 1.0
-ULP = {"double": np.finfo(float).eps, "long": float(np.finfo(np.longdouble).eps), "quad": 2.0**-112}
+ULP = {"double": np.finfo(float).eps, "long double": float(np.finfo(np.longdouble).eps), "quad": 2.0**-112}
 
 
 @pytest.mark.parametrize("eps", [0.1, 0.01])
@@ -19,13 +21,13 @@ def test_equilibrium_two_precisions_and_independent_path(eps):
     p = S.scaled_params(M, G, DL, 2.0, 1.0, eps)
     assert p.mu == 2 * p.lam
     q = S.first_crossing(p, "quad", eps=eps)
-    lo = S.first_crossing(p, "long", eps=eps)
+    lo = S.first_crossing(p, "long double", eps=eps)
     # psi is the angle of the transverse force rho = O(eps^2): absolute error ~ ulp / rho
     rho = math.hypot(q.d, q.rho_cos)
-    assert abs(lo.psi - q.psi) <= 1e4 * ULP["long"] / rho
-    assert abs(lo.d - q.d) <= 1e4 * ULP["long"] * abs(q.d) / rho
+    assert abs(lo.psi - q.psi) <= 1e4 * ULP["long double"] / rho
+    assert abs(lo.d - q.d) <= 1e4 * ULP["long double"] * abs(q.d) / rho
     # shooting.unstable_branch: float64, other launch distance and event code, psi from float64 chart map
-    c = unstable_branch(p, crossings=1, eps=1e-7)[0]
+    c = unstable_branch(straight_rod(p), crossings=1, eps=1e-7)[0]
     assert abs(c.theta - q.theta) <= 1e-12
     assert abs(c.psi - q.psi) <= 1e4 * ULP["double"] / rho
     assert abs(q.H_drift) <= 1e3 * ULP["quad"] and q.casimir_drift <= 1e3 * ULP["quad"]
@@ -33,10 +35,10 @@ def test_equilibrium_two_precisions_and_independent_path(eps):
 
 def test_launch_phase_is_a_symmetry_for_the_straight_rod():
     p = S.scaled_params(M, G, DL, 2.0, 1.0, 0.05)
-    a = S.first_crossing(p, "long", phase=0.0)
-    b = S.first_crossing(p, "long", phase=2.0)
+    a = S.first_crossing(p, "long double", phase=0.0)
+    b = S.first_crossing(p, "long double", phase=2.0)
     rho = math.hypot(a.d, a.rho_cos)
-    assert abs(a.psi - b.psi) <= 1e4 * ULP["long"] / rho
+    assert abs(a.psi - b.psi) <= 1e4 * ULP["long double"] / rho
 
 
 @pytest.mark.parametrize("eps", [0.1, 0.01, 0.001])
@@ -52,20 +54,20 @@ def test_integrable_control_gamma_delta_zero(eps):
 
 def test_equilibrium_fit_p2_stable():
     eps = [0.1, 0.03, 0.01, 0.003, 0.001]
-    r = S.scan(M, G, DL, 2.0, 1.0, eps, ("long", "quad"))
+    r = S.scan(M, G, DL, 2.0, 1.0, eps, ("long double", "quad"))
     f = r.fit_psi
     assert abs(f.p - 2) < 0.01 and abs(f.p_drop_smallest - 2) < 0.01 and abs(f.p_drop_largest - 2) < 0.01
     assert abs(r.fit_d.p - 4) < 0.01
     # C0 extrapolated in eps^2 agrees with psi/eps^2 at the smallest eps to O(eps^2)
-    last = r.crossings["quad"][-1]
+    last = r.crossings[Precision.QUAD][-1]
     assert abs(last.psi / last.eps**2 - f.C0) <= 2 * abs(f.C0_slope) * last.eps**2 + 1e-9
-    assert r.agreement_psi["long"] < 1e-6
+    assert r.agreement_psi[Precision.LONG_DOUBLE] < 1e-6
 
 
 def test_tilted_saddle_on_fix_and_hyperbolic():
     p = S.scaled_params(M, G, DL, 4.0, 1.0, 0.03)
-    sd = S.saddle(p, "long")
-    assert sd.kind == "tilted" and sd.newton_residual <= 1e3 * ULP["long"]
+    sd = S.working_saddle(p, "long double")
+    assert sd.kind == "periodic" and isinstance(sd, S.TiltedSaddle) and sd.newton_residual <= 1e3 * ULP["long double"]
     assert float(sd.q[1]) == 0.0 and float(sd.q[2]) == 0.0  # on Fix(R)
     assert sd.eigenvalue.real > 0.5 and abs(sd.eigenvalue.imag) > 0.1  # saddle-focus
     # leading order tilt theta0 = eps sqrt(a - 2b)
@@ -93,7 +95,7 @@ def test_cli_bad_input(argv, name, capsys):
 
 
 def test_cli_json(capsys):
-    assert main(["splitting", "--json", "--eps", "0.1,0.05,0.02,0.01", "--precision", "long"]) == 0
+    assert main(["splitting", "--json", "--eps", "0.1,0.05,0.02,0.01", "--precision", "long double"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert abs(out["fit_psi"]["p"] - 2) < 0.02 and len(out["rows"]) == 4
 

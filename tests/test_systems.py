@@ -131,10 +131,11 @@ def test_scalars_agree_with_heyoka_expressions():
 
 
 def test_long_double_straight_rod_is_exact_in_extended_precision():
+    from magrod.core.precision import Precision
     from magrod.orbits.equilibrium import straight_rod_state
 
     p = RodParams(m=1.7, mu=0.002, gamma=1.0, delta=1.0, lam=0.001)
-    x = straight_rod_state(p, np.longdouble)
+    x = straight_rod_state(p, Precision.LONG_DOUBLE)
     assert x.dtype == np.longdouble and x[5] == np.longdouble(1) / np.longdouble(1.7) ** 2
 
 

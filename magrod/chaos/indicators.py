@@ -170,22 +170,35 @@ def _run_batch(ta, x, w, p, nsteps, dt, project, check, history=False) -> dict:
     fli_half = np.zeros(b)
     status = np.zeros(b, np.int8)
     drift = np.full((3, b), -np.inf)
-    ok_outcome = hy.taylor_outcome.time_limit
     hist = np.empty((nsteps, b)) if history else None
+    # the body system's check and projection from ONE compiled call per renormalisation (values bit-identical
+    # to the separate functions: systems.body_renorm_functions); other systems call check and project
+    fused = isinstance(check, _BodyCheck) and project is project_neutral
+    tv = ta.time  # read-only view: a lane reached k dt exactly iff its propagation did not fail
     for k in range(1, nsteps + 1):
-        ta.propagate_until(k * dt)
-        failed = np.array([r[0] != ok_outcome for r in ta.propagate_res]) | ~np.all(np.isfinite(ta.state), axis=0)
-        xs = np.array(ta.state[:n])
-        if check is not None:
-            in_range, d = check(np.where(failed, x, xs), p)
+        t_k = k * dt
+        ta.propagate_until(t_k)
+        st = np.array(ta.state)
+        failed = (tv != t_k) | ~np.all(np.isfinite(st), axis=0)
+        xs, ws = st[:n], st[n:]
+        if failed.any():  # restart dead lanes from their start so the batch keeps going; results discarded
+            xs[:, failed], ws[:, failed] = x[:, failed], w[:, failed]
+            ta.state[:] = st
+        if fused:
+            vals = systems.body_renorm_functions()(xs, p)
+            in_range, d = check.judge(vals[0], vals[1:4], vals[4])
             drift = np.maximum(drift, d)
             status[(status == OK) & ~in_range] = LEFT_RANGE
+            wk = _project(vals[5:], xs, ws)
+            nrm = np.linalg.norm(wk, axis=0)
+            wk = wk / nrm
+        else:
+            if check is not None:
+                in_range, d = check(xs, p)
+                drift = np.maximum(drift, d)
+                status[(status == OK) & ~in_range] = LEFT_RANGE
+            wk, nrm = _normalise(xs, ws, p, project)
         status[(status == OK) & failed] = FAILED
-        if failed.any():  # restart dead lanes from their start so the batch keeps going; results discarded
-            st = np.array(ta.state)
-            st[:n, failed], st[n:, failed] = x[:, failed], w[:, failed]
-            ta.state[:] = st
-        wk, nrm = _normalise(np.array(ta.state[:n]), np.array(ta.state[n:]), p, project)
         ta.state[n:] = wk
         L += np.log(nrm)
         if history:
@@ -213,7 +226,11 @@ def generic_w0(n: int, N: int) -> np.ndarray:
 def project_neutral(x, w, p) -> np.ndarray:
     """Orthogonal projection of the columns of w onto ker G(x): the tangent space of the level set of the first
     integrals (C1, C2, C3, H, m3) through x (see the module docstring)."""
-    G = systems.body_neutral_gradients()(x, p)  # (k*9, N)
+    return _project(systems.body_neutral_gradients()(x, p), x, w)
+
+
+def _project(G, x, w) -> np.ndarray:
+    """project_neutral with the stacked gradients G (k*9, N) already evaluated at x."""
     n = x.shape[0]
     G = G.reshape(-1, n, x.shape[1]).transpose(2, 0, 1)  # (N, k, n)
     Gw = np.einsum("bkn,nb->bk", G, w)
@@ -249,9 +266,12 @@ class _BodyCheck:
 
     def __call__(self, x, p):
         f = systems.body_functions()
-        dH = np.abs(f["H"](x, p)[0] - self.H0)
-        dC = np.max(np.abs(f["casimirs"](x, p) - self.C0), axis=0)
-        v3 = systems.body_stretch()(x, p)[0]
+        return self.judge(f["H"](x, p)[0], f["casimirs"](x, p), systems.body_stretch()(x, p)[0])
+
+    def judge(self, H, C, v3):
+        """(in range (N,), [|H - H0|, Casimir drift, -v3] (3, N)) from H, the Casimirs (3, N) and v3 at x."""
+        dH = np.abs(H - self.H0)
+        dC = np.max(np.abs(C - self.C0), axis=0)
         ok = (dH <= DRIFT_LIMIT) & (dC <= DRIFT_LIMIT)
         return ok, np.vstack([dH, dC, -v3])
 

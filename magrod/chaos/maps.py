@@ -30,6 +30,15 @@ DEFAULT_TILE = 16
 
 
 MAX_AXIS_POINTS = 4096  # 4096^2 orbits at ~5 ms each is a day on 2 cores: the largest map worth refusing later
+# Bounds that make a map finish (issue 17).  Cost per orbit: COST_PER_TIME per unit of T (the tangent system in
+# SIMD batches, benchmarks/README.md: 5.6 us at T = 2000, batch mode) plus COST_PER_START for the energy root
+# (magrod.chaos.indicators: ~1.3 ms).  A map whose estimated wall time on its workers exceeds MAX_WALL_HOURS is
+# refused with the estimate; so is a renormalisation interval below T / MAX_RENORMALISATIONS (each one is a
+# Python-level step per batch) or above T/2 (T/2 must be a sample time of the growth exponent).
+COST_PER_TIME = 5.6e-6
+COST_PER_START = 1.3e-3
+MAX_WALL_HOURS = 24.0
+MAX_RENORMALISATIONS = 100_000
 
 
 @dataclass(frozen=True)
@@ -126,14 +135,24 @@ class MapSpec:
             raise ParameterError("t_max", f"must be > 0, got {self.t_max}")
         if require_finite("tol", self.tol) < 0:
             raise ParameterError("tol", f"must be >= 0 (0 = machine epsilon), got {self.tol}")
-        if require_finite("renorm_dt", self.renorm_dt) <= 0:
+        dt = require_finite("renorm_dt", self.renorm_dt)
+        if dt <= 0:
             raise ParameterError("renorm_dt", f"must be > 0, got {self.renorm_dt}")
+        if dt > t / 2:
+            raise ParameterError("renorm_dt", f"must be <= t_max/2 = {t / 2:g} (T/2 is a sample time of the growth "
+                                              f"exponent), got {self.renorm_dt}")
+        if t / dt > MAX_RENORMALISATIONS:
+            raise ParameterError("renorm_dt", f"must be >= t_max/{MAX_RENORMALISATIONS} = "
+                                              f"{t / MAX_RENORMALISATIONS:.3g} (at most {MAX_RENORMALISATIONS} "
+                                              f"renormalisations per orbit), got {self.renorm_dt}")
         require_positive_int("tile", self.tile)
         if self.root not in ("smallest", "largest"):
             raise ParameterError("root", f"must be 'smallest' or 'largest', got {self.root!r}")
         missing = [k for k in AXIS_NAMES if k not in self.base and k not in (self.x.name, self.y.name)]
         if missing:
             raise ParameterError(missing[0], "no value: give it or choose a --panel")
+        _check_theta0(self)
+        _check_some_point_physical(self)
         if not self.batch_size:
             object.__setattr__(self, "batch_size", systems.recommended_batch_size())
 
@@ -157,6 +176,57 @@ class MapSpec:
         v[self.x.name] = float(self.x.values()[ix])
         v[self.y.name] = float(self.y.values()[iy])
         return v
+
+
+def _check_theta0(spec: "MapSpec") -> None:
+    """Every start angle inside (0, pi), away from the Euler-angle singularity sin(theta) = 0 of Hbar (as
+    magrod.chaos.section requires of one start): a fixed theta0 or both ends of a theta0 axis."""
+    def bad(v):
+        return not (0.0 < v < math.pi) or math.sin(v) < 1e-8
+
+    for ax in (spec.x, spec.y):
+        if ax.name == "theta0" and (bad(ax.lo) or bad(ax.hi)):
+            which = "x" if ax is spec.x else "y"
+            raise ParameterError(which, f"theta0 must lie strictly inside (0, pi) (sin(theta) = 0 is the Euler-angle "
+                                        f"singularity of Hbar), got {ax.lo:g}..{ax.hi:g}")
+    if "theta0" not in (spec.x.name, spec.y.name) and "theta0" in spec.base and bad(float(spec.base["theta0"])):
+        raise ParameterError("theta0", f"must lie strictly inside (0, pi) (sin(theta) = 0 is the Euler-angle "
+                                       f"singularity of Hbar), got {spec.base['theta0']!r}")
+
+
+def _check_some_point_physical(spec: "MapSpec") -> None:
+    """Points with unphysical parameters are marked missing, but a map with none physical is an input error
+    (RodParams' complaint).  The constraints (m > 0, delta >= 0, gamma + delta >= 0) are linear, so the grid's
+    corners decide."""
+    err = None
+    for xv in (spec.x.lo, spec.x.hi):
+        for yv in (spec.y.lo, spec.y.hi):
+            v = {**spec.base, spec.x.name: xv, spec.y.name: yv}
+            try:
+                RodParams(**{k: v[k] for k in PARAMS})
+                return
+            except ParameterError as exc:
+                err = exc
+    raise err
+
+
+def estimated_cpu_s(spec: "MapSpec") -> float:
+    """Estimated CPU seconds of the whole map: points x (T x COST_PER_TIME + COST_PER_START)."""
+    return spec.x.n * spec.y.n * (spec.t_max * COST_PER_TIME + COST_PER_START)
+
+
+def check_cost(spec: "MapSpec", workers: int = 1, name: str = "t_max") -> float:
+    """Refuse (ParameterError naming `name`) a map whose estimated wall time on `workers` exceeds MAX_WALL_HOURS;
+    returns the estimate in seconds."""
+    cpu = estimated_cpu_s(spec)
+    wall = cpu / max(1, int(workers))
+    if wall > MAX_WALL_HOURS * 3600:
+        raise ParameterError(name, f"the map cannot finish in {MAX_WALL_HOURS:g} h: {spec.y.n} x {spec.x.n} points x "
+                                   f"(T = {spec.t_max:g} x {COST_PER_TIME * 1e6:.1f} us + "
+                                   f"{COST_PER_START * 1e3:.1f} ms) = an estimated {cpu / 3600:.3g} CPU-hours, "
+                                   f"{wall / 3600:.3g} h on {workers} worker(s); use fewer points, a shorter T or "
+                                   f"more workers")
+    return wall
 
 
 def panel_base(key: str) -> dict:
@@ -384,7 +454,9 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     ------
     ParameterError
         Naming x, y or the value: unknown name, empty range, the same name on both axes, a value both on an
-        axis and given explicitly, bad t_max/tol/renorm_dt/tile.
+        axis and given explicitly, bad t_max/tol/renorm_dt/tile, renorm_dt outside [t_max/MAX_RENORMALISATIONS,
+        t_max/2], a start angle theta0 outside (0, pi), a map estimated to take longer than MAX_WALL_HOURS
+        (named t_max, with the estimate).
 
     Examples
     --------
@@ -402,6 +474,7 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     if isinstance(x, MapSpec):
         if y is not None or values:
             raise ParameterError("y", "give a MapSpec alone, or two axes")
+        check_cost(x, _n_workers(client))
         return compute_map(x, progress=progress, client=client)
     if y is None:
         raise ParameterError("y", "missing: give two axes (name, lo, hi, n)")
@@ -414,7 +487,17 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
             raise ParameterError(k, f"is varied on the {'x' if k == ax.name else 'y'} axis: do not also fix it")
         base[k] = require_finite(k, v, MAX_MAGNITUDE)
     spec = MapSpec(ax, ay, base=base, panel=panel, root=root, t_max=t_max, tol=tol, renorm_dt=renorm_dt, tile=tile)
+    check_cost(spec, _n_workers(client))
     return compute_map(spec, progress=progress, client=client)
+
+
+def _n_workers(client) -> int:
+    if client is None:
+        return 1
+    try:
+        return max(1, len(client.scheduler_info().get("workers", {})))
+    except Exception:  # noqa: BLE001 - not a Client: compute_map says so when it uses it
+        return 1
 
 
 def panel_indicators(keys=("4a", "4b", "4c", "4d"), *, t_max=3000.0, tol=None, root="smallest") -> dict:

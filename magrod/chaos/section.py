@@ -5,6 +5,8 @@ Public API
 solve_p_psi(params, h, theta0, ptheta0, psi0=0)  -> every real root pbar_psi of Hbar(theta0, psi0, ptheta0, .) = h
 poincare_section(params, h, theta0, ptheta0, psi0=0, *, iterates=10_000, root="smallest", direction="positive",
              branch="any", formulation="body", ...) -> PoincareResult
+poincare_section([panels...] | params, h, starts=(N, 2..4) array, ...) -> [PoincareResult] (many orbits: SIMD lanes of
+             heyoka's batch integrator, magrod/chaos/batch.py)
 run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.core.printed.PANELS), threads
 orbit_stretch(res, dt=0.05)             -> the axial stretch v3 along the orbit (min, fraction <= 0; two forms)
 (figures: magrod/figures/poincare.py; files: PoincareResult.arrays()/summary())
@@ -41,11 +43,14 @@ printed) and a monotone break-up of a closed curve (d) into a chaotic sea (a) as
 the text describes; the larger root gives 57.7k-76.4k and regular islands in (b)-(d).
 
 Cost (float64, tol = eps, one core): ~0.2 ms per iterate in the body frame, ~0.5 ms with formulation="reduced";
-the 8 paper panels (80 000 iterates) take ~8-12 s wall on 2 cores with a warm JIT cache (benchmarks/).  The first process compiles each integrator (~1 s), later
-processes load it from heyoka's on-disk cache.
+the 8 paper panels (80 000 iterates) take ~8-12 s wall on 2 cores with a warm JIT cache (benchmarks/).  The first
+process compiles each integrator (~1 s), later processes load it from heyoka's on-disk cache.  Many starts run in
+the SIMD lanes of heyoka's batch integrator (magrod/chaos/batch.py): the 8 panels 2.7-3.0x faster than with
+`run_panels` in the same run (benchmarks/README.md, issue 18).
 """
 from __future__ import annotations
 
+import os
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -61,7 +66,7 @@ from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.printed import Panel, panel, panel_kwargs
 from ..core.results import Result
-from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL
+from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, START_LEVEL_TOL
 
 DIRECTIONS = systems.DIRECTIONS
 BRANCHES = ("any", "0", "pi")
@@ -119,15 +124,22 @@ def solve_p_psi(params: RodParams, h, theta0, ptheta0, psi0=0.0) -> np.ndarray:
     level of Hbar.
     Raises ParameterError("h") if there is no root, ParameterError("mu") if no pbar_psi is admissible."""
     theta0, ptheta0, psi0, h = _check_start(theta0, ptheta0, psi0, h)
-    H = systems.reduced_functions()["H"]
-    pars = params.array()
+    cf = systems.reduced_functions()["H"]._cf
+    p = np.ascontiguousarray(params.array()[: cf.nparams])
     lo, hi = _admissible_interval(params)
+    fixed = (theta0, psi0, ptheta0)  # the chart state (theta, psi, pbar_theta, pbar_psi) with pbar_psi = q
 
     def f(q):
+        # the compiled Hbar on columns (theta0, psi0, pbar_theta0, q) with the parameters in every column:
+        # the same inputs as CFunc.__call__ builds with vstack/repeat, filled in place (3x cheaper)
         q = np.atleast_1d(np.asarray(q, dtype=float))
-        x = np.ascontiguousarray(np.vstack([np.full_like(q, theta0), np.full_like(q, psi0),
-                                            np.full_like(q, ptheta0), q]))
-        return H(x, pars)[0] - h
+        x = np.empty((len(fixed) + 1, q.size))
+        for i, v in enumerate(fixed):
+            x[i] = v
+        x[len(fixed)] = q
+        P = np.empty((p.size, q.size))
+        P[:] = p[:, None]
+        return cf(x, pars=P)[0] - h
 
     # bracket [a, b] of the level set: on each unbounded side walk outwards (doubling) until Hbar > h and
     # still increasing outwards, beyond which the quadratic term keeps it increasing
@@ -372,20 +384,27 @@ def resolve_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=N
 def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
                      root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION,
                      precision=Precision.DOUBLE, tol=None, t_max=None, verify=True, pole_switch=(0.05, 0.1),
-                     radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None) -> PoincareResult:
-    """Poincare section sin(psi) = 0 of one orbit of the reduced system (paper sec. 8, fig:poincare1/2).
+                     radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None, starts=None, workers=None):
+    """Poincare section sin(psi) = 0 of one orbit of the reduced system (paper sec. 8, fig:poincare1/2), or of
+    many orbits at once in the SIMD lanes of heyoka's batch integrator.
 
     Parameters
     ----------
-    params : RodParams, Panel or str
+    params : RodParams, Panel or str, or a list of them
         The rod, or a paper panel ("4a" .. "5d", or `magrod.panel("4a")`), whose parameters and start are used
-        unless h, theta0, ptheta0, psi0 are given.
+        unless h, theta0, ptheta0, psi0 are given.  A list (of panels, or of RodParams sharing the start given)
+        runs one orbit per entry and returns a list of results.
     h : float, optional
         Energy level Hbar = h; pbar_psi0 is solved for (all real roots are reported, `root` picks one).
-    theta0, ptheta0, psi0 : float
-        Start on the chart; 0 < theta0 < pi, psi0 defaults to 0.
+    theta0, ptheta0, psi0 : float or array of shape (N,)
+        Start on the chart; 0 < theta0 < pi, psi0 defaults to 0.  Arrays give N orbits (broadcast together).
     p_psi0 : float, optional
         Give pbar_psi0 directly instead of h (then h = Hbar at the start).
+    starts : array of shape (N, 2), (N, 3) or (N, 4), optional
+        N starts (theta0, ptheta0[, psi0[, p_psi0]]) sharing params and h; with a p_psi0 column each start must
+        lie on the level Hbar = h (within START_LEVEL_TOL) or, without h, defines its own level.  Returns a list.
+    workers : int, optional
+        Threads for many orbits (default: all cores).
     iterates : int
         Number of recorded section crossings (the paper: 10 000).
     root : {"smallest", "largest"} or int
@@ -414,13 +433,15 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
 
     Returns
     -------
-    PoincareResult
+    PoincareResult, or a list of them (one per start, in order) for many starts
         points (N, 4) in (theta, psi, pbar_theta, pbar_psi), times (N,), dH (N,), accuracy, success/message.
 
     Raises
     ------
     ParameterError
-        Naming the argument: no energy root, theta0 outside (0, pi), an imaginary square root at the start, ...
+        Naming the argument: no energy root, theta0 outside (0, pi), an imaginary square root at the start, ...;
+        for many starts `starts` (or `params`) with the index of the offending start: an empty list, more than
+        MAX_ORBITS orbits, a start without an energy root or off the level.
 
     Examples
     --------
@@ -428,6 +449,9 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     >>> sec = mr.poincare_section("4a", iterates=200)
     >>> sec.success, sec.points.shape, bool(sec.max_abs_dH < 1e-12)
     (True, (200, 4), True)
+    >>> secs = mr.poincare_section(["4a", "4b", "5a"], iterates=100)
+    >>> [s.panel for s in secs], all(s.success and s.n_points == 100 for s in secs)
+    (['4a', '4b', '5a'], True)
 
     Notes
     -----
@@ -436,7 +460,19 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     docstring).  Cost: ~0.2 ms per iterate (body frame, float64, tol = eps, one core); max |Hbar - h| ~ 1e-13
     over 10 000 iterates.  Integrators are cached per thread and reused; nothing visible to the caller is
     mutated (verify=True may switch off heyoka's disk cache for the process after a failed check).
+
+    Many starts (body formulation, double precision, no stretch sampling) run in the lanes of heyoka's SIMD
+    batch integrator (magrod/chaos/batch.py): one section event per lane, a lane refilled with the next start as
+    soon as its orbit ends, one batch integrator per core.  Each lane takes the scalar integrator's steps, so a
+    batched orbit equals its scalar run (tests/test_batch.py: to round-off over the first crossings, until
+    chaotic divergence).  Other configurations run the scalar path per start on `workers` threads.
     """
+    if _is_many(params, theta0, ptheta0, psi0, starts):
+        return _many_sections(params, h, theta0, ptheta0, psi0, starts=starts, p_psi0=p_psi0, iterates=iterates,
+                              root=root, direction=direction, branch=branch, formulation=formulation,
+                              precision=precision, tol=tol, t_max=t_max, verify=verify, pole_switch=pole_switch,
+                              radicand_switch=radicand_switch, progress=progress, stretch_dt=stretch_dt,
+                              workers=workers)
     params, key, h, theta0, ptheta0, psi0 = resolve_start(params, h, theta0, ptheta0, psi0, p_psi0)
     precision = Precision.parse(precision)
     if precision not in (Precision.DOUBLE, Precision.LONG_DOUBLE):
@@ -462,6 +498,204 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
                        f"Casimir drift {res.casimir_drift if res.casimir_drift is not None else 0:.3g} "
                        f"(tol {acc['casimir_tol']:g})")
     return res
+
+
+# ----------------------------------------------------------------------------------------------------------
+# many starts: SIMD lanes (magrod/chaos/batch.py)
+# ----------------------------------------------------------------------------------------------------------
+MAX_ORBITS = 1_000_000  # a million orbits of 1000 iterates is ~10 h on 2 cores: the largest request worth taking
+
+
+def _is_many(params, theta0, ptheta0, psi0, starts) -> bool:
+    return (isinstance(params, (list, tuple)) or starts is not None
+            or any(v is not None and np.ndim(v) > 0 for v in (theta0, ptheta0, psi0)))
+
+
+def _count_check(n: int, name: str) -> None:
+    if n == 0:
+        raise ParameterError(name, "is empty: give at least one start")
+    if n > MAX_ORBITS:
+        raise ParameterError(name, f"{n} orbits requested; at most {MAX_ORBITS} (MAX_ORBITS) in one call")
+
+
+def start_table(starts, name="starts") -> np.ndarray:
+    """starts as a float array (N, 4) of (theta0, ptheta0, psi0, p_psi0) with NaN where p_psi0 is to be solved
+    for; from an (N, 2), (N, 3) or (N, 4) array-like.  ParameterError(name) on a wrong shape, non-finite values
+    (NaN only in the p_psi0 column), an empty table or more than MAX_ORBITS rows."""
+    try:
+        a = np.asarray(starts, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(name, "must be an array of numbers of shape (N, 2), (N, 3) or (N, 4)") from None
+    if a.ndim == 1 and a.size in (2, 3, 4):
+        a = a[None, :]
+    if a.ndim != 2 or a.shape[1] not in (2, 3, 4):
+        raise ParameterError(name, f"must have shape (N, 2), (N, 3) or (N, 4) = (theta0, ptheta0[, psi0[, "
+                                   f"p_psi0]]), got shape {a.shape}")
+    _count_check(a.shape[0], name)
+    fin = np.isfinite(a)
+    if a.shape[1] == 4:
+        fin[:, 3] |= np.isnan(a[:, 3])  # NaN p_psi0: solve for it
+    if not np.all(fin):
+        i = int(np.nonzero(~np.all(fin, axis=1))[0][0])
+        raise ParameterError(name, f"start {i} has a non-finite value: {a[i].tolist()}")
+    out = np.full((a.shape[0], 4), np.nan)
+    out[:, 2] = 0.0
+    out[:, : a.shape[1]] = a
+    return out
+
+
+def _job_specs(params, h, theta0, ptheta0, psi0, starts, p_psi0):
+    """[(name for errors, index, params, key, h, theta0, ptheta0, psi0, p_psi0 or None)] of a many-start call."""
+    if isinstance(params, (list, tuple)):
+        if starts is not None:
+            raise ParameterError("starts", "give either a list of panels/params or starts, not both")
+        _count_check(len(params), "params")
+        specs = []
+        for i, item in enumerate(params):
+            try:
+                pr, key, hh, th, pt, ps = resolve_start(item, h, theta0, ptheta0, psi0, p_psi0)
+            except ParameterError as exc:
+                raise ParameterError("params", f"entry {i}: {exc.name}: {exc.message}") from None
+            specs.append(("params", i, pr, key, hh, th, pt, ps, p_psi0))
+        return specs
+    if starts is None:  # theta0 / ptheta0 / psi0 arrays, broadcast together
+        if theta0 is None or ptheta0 is None:
+            pr, key, hh, th, pt, ps = resolve_start(params, h, theta0, ptheta0, psi0, p_psi0)
+        else:
+            th, pt, ps = theta0, ptheta0, 0.0 if psi0 is None else psi0
+        try:
+            cols = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (th, pt, ps)))
+        except ValueError:
+            raise ParameterError("theta0", "theta0, ptheta0 and psi0 must broadcast to one shape (N,)") from None
+        table = start_table(np.column_stack([c.ravel() for c in cols]), "theta0")
+        name = "theta0"
+    else:
+        if any(v is not None and np.ndim(v) > 0 for v in (theta0, ptheta0, psi0)):
+            raise ParameterError("starts", "give the starts either as `starts` or as theta0/ptheta0 arrays")
+        table = start_table(starts)
+        name = "starts"
+    if p_psi0 is not None:
+        raise ParameterError("p_psi0", "with many starts give p_psi0 as the fourth column of `starts`")
+    pr, key, hh, *_ = resolve_start(params, h, 0.5, 0.0, 0.0)  # the rod and level (a panel fills in h)
+    return [(name, i, pr, key, hh, row[0], row[1], row[2], None if np.isnan(row[3]) else float(row[3]))
+            for i, row in enumerate(table)]
+
+
+def _job(spec, root):
+    """A batch.Job from one spec: validated start, energy roots (or the given p_psi0 checked against h)."""
+    from .batch import Job
+
+    name, i, params, key, h, theta0, ptheta0, psi0, p_psi0 = spec
+    try:
+        theta0, ptheta0, psi0, _ = _check_start(theta0, ptheta0, psi0)
+        pars = params.array()
+        if p_psi0 is not None:
+            lo, hi = _admissible_interval(params)
+            if not lo < p_psi0 < hi:
+                raise ParameterError("p_psi0", f"the square root sqrt(mu - 2 lam pbar_psi) of Hbar is imaginary or "
+                                               f"zero at the start: mu - 2 lam pbar_psi0 = "
+                                               f"{_radicand(params, p_psi0):.6g}")
+            h_start = float(systems.reduced_functions()["H"]([theta0, psi0, ptheta0, p_psi0], pars)[0])
+            if h is not None and not abs(h_start - float(h)) <= START_LEVEL_TOL:
+                raise ParameterError("h", f"the start is off the level: Hbar(start) - h = {h_start - float(h):.3g} "
+                                          f"(tolerance {START_LEVEL_TOL:g})")
+            roots, ridx, h = np.array([p_psi0]), 0, h_start if h is None else float(h)
+        else:
+            if h is None:
+                raise ParameterError("h", "give an energy level h (or p_psi0 as the fourth column of starts)")
+            h = require_finite("h", h)
+            roots = solve_p_psi(params, h, theta0, ptheta0, psi0)
+            ridx = choose_root(roots, root)
+            p_psi0 = float(roots[ridx])
+    except ParameterError as exc:
+        if exc.name == "root":
+            raise
+        what = f"entry {i}" if name == "params" else f"start {i}"
+        raise ParameterError(name, f"{what} (theta0={float(theta0)!r}, ptheta0={float(ptheta0)!r}, "
+                                   f"psi0={float(psi0)!r}): {exc.name}: {exc.message}") from None
+    x0 = systems.euler_to_body(theta0, psi0, ptheta0, p_psi0, pars)
+    return Job(index=i, params=params, h=float(h), theta0=float(theta0), ptheta0=float(ptheta0), psi0=float(psi0),
+               p_psi0=float(p_psi0), roots=np.asarray(roots, dtype=float), root_index=int(ridx), x0=x0, key=key)
+
+
+def _run_jobs(jobs, *, iterates, t_max, direction, branch, tol_eff, workers, progress) -> list:
+    from . import batch
+
+    out = [None] * len(jobs)
+    pos = {id(j): k for k, j in enumerate(jobs)}
+
+    def finish(job, raw, times, final_time, success, message, wall):
+        res = _assemble(job.params, job.pars, job.h, job.theta0, job.ptheta0, job.psi0, job.p_psi0, job.roots,
+                        job.root_index, "body", direction, branch, tol_eff, iterates, t_max(job), raw, times,
+                        np.full(raw.shape[0], FRAME_BODY, np.int8), final_time, 0, success, message, float)
+        res.panel, res.wall_s = job.key, wall
+        out[pos[id(job)]] = res
+
+    batch.run(jobs, finish, iterates=iterates, t_max=t_max, direction=direction, branch=branch, tol=tol_eff,
+              workers=workers, progress=progress)
+    return out
+
+
+def _many_sections(params, h, theta0, ptheta0, psi0, *, starts, p_psi0, iterates, root, direction, branch,
+                   formulation, precision, tol, t_max, verify, pole_switch, radicand_switch, progress, stretch_dt,
+                   workers) -> list:
+    precision = Precision.parse(precision)
+    if precision not in (Precision.DOUBLE, Precision.LONG_DOUBLE):
+        raise ParameterError("precision", f"must be 'double' or 'long double' for sections, got {precision.value!r}")
+    iterates = _validate_options(iterates, root, direction, branch, formulation, pole_switch, radicand_switch)
+    if workers is not None:
+        workers = require_positive_int("workers", workers)
+    if t_max is not None and not require_finite("t_max", t_max) > 0:
+        raise ParameterError("t_max", f"must be > 0, got {t_max}")
+    specs = _job_specs(params, h, theta0, ptheta0, psi0, starts, p_psi0)
+    if not (formulation == "body" and precision is Precision.DOUBLE and stretch_dt is None):
+        # no batch kernel for this configuration: the scalar path per start, on `workers` threads
+        kw = dict(iterates=iterates, root=root, direction=direction, branch=branch, formulation=formulation,
+                  precision=precision, tol=tol, t_max=t_max, verify=verify, pole_switch=pole_switch,
+                  radicand_switch=radicand_switch, progress=progress, stretch_dt=stretch_dt)
+        for s in specs:
+            _job(s, root)  # validates every start before anything runs
+
+        def one(spec):
+            _, _, pr, key, hh, th, pt, ps, pp = spec
+            r = poincare_section(pr, None if pp is not None else hh, th, pt, ps, p_psi0=pp, **kw)
+            r.panel = key
+            return r
+
+        with ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 1) as ex:
+            return list(ex.map(one, specs))
+    jobs = [_job(s, root) for s in specs]
+    tol_eff = float(tol) if tol else float(np.finfo(float).eps)
+
+    def limit(job):
+        return float(100.0 * iterates if t_max is None else t_max)
+
+    kw = dict(iterates=iterates, t_max=limit, direction=direction, branch=branch, tol_eff=tol_eff, workers=workers)
+    out = _run_jobs(jobs, progress=progress, **kw)
+    if verify:
+        bad = [k for k, r in enumerate(out) if r.success and not r.accuracy_checks()["passed"]]
+        if bad:  # as in the scalar path: do not trust the compiled code from the disk cache, run those again
+            systems.bypass_disk_cache()
+            again = _run_jobs([jobs[k] for k in bad], progress=None, **kw)
+            for k, r in zip(bad, again):
+                r.retried_without_jit_cache = True
+                out[k] = r
+            if all(r.accuracy_checks()["passed"] for r in again):
+                systems.bypass_disk_cache(clear=True)
+                systems._warn("the on-disk JIT cache gave an integrator that failed its accuracy checks; the cache "
+                              "was cleared and the run repeated with freshly compiled code")
+        for r in out:
+            if r.success and not r.accuracy_checks()["passed"]:
+                _refuse(r)
+    return out
+
+
+def _refuse(res) -> None:
+    acc = res.accuracy_checks()
+    res.success = False
+    res.message = (f"accuracy check failed: max |Hbar - h| = {res.max_abs_dH:.3g} (tol {acc['energy_tol']:g}), "
+                   f"Casimir drift {res.casimir_drift if res.casimir_drift is not None else 0:.3g} "
+                   f"(tol {acc['casimir_tol']:g})")
 
 
 def _iterate(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *, p_psi0=None, iterates=10_000,

@@ -1,34 +1,58 @@
-"""Chaos maps on disk and on a Dask cluster (I/O; the numerics are in magrod.chaos.indicators).
+"""Chaos maps on disk and on a Dask cluster (I/O; the numerics are in magrod.chaos.maps and .indicators).
 
 Layout of OUT (stem "chaosmap" by default):
-  OUT/<stem>.zarr        chunked zarr store, one chunk per tile, readable as an xarray Dataset (open_map)
-                         with coordinates (y-parameter, x-parameter), units and provenance attributes
-  OUT/<stem>.tiles/      one done-marker <iy>_<ix>.json per finished tile (written after its chunk)
+  OUT/<stem>.zarr          chunked zarr store (consolidated metadata: a plain xr.open_zarr opens it without a
+                           warning), one chunk per tile, an xarray Dataset with coordinates (y-parameter,
+                           x-parameter), units and provenance attributes, among them `spec` and `identity`
+  OUT/<stem>.tiles/        the store's record and one done-marker per finished tile:
+    store.record           identity (sha256 of the spec, the store format and the versions of magrod, heyoka and
+                           numpy), the sha256 of every file the creation wrote (metadata and coordinates), and,
+                           once a run has finished every tile, the content hash of every tile (written last,
+                           atomically)
+    <iy>_<ix>.json         {tile, identity, sha256, wall_s, points}: written atomically after the tile's chunk
+  OUT/.<stem>.lock         held (flock) for the whole run: a second run into the same store fails at once
 
-A tile is done iff its marker exists (the marker is written atomically after the chunk, so a killed task leaves
-no marker and is recomputed).  A resumed run checks that the store was made by the same MapSpec and skips
-done tiles.  Each tile writes only its own chunk (zarr region write), so workers never touch the same file.
+Integrity.  A tile is done iff a record of it (its marker, or the final list in store.record) carries this store's
+identity and the sha256 of its content (every field's dtype, shape and bytes, read back from the store) equals
+the recorded one.  A re-run verifies every done tile before trusting it: a deleted, truncated or corrupted chunk,
+an edited marker, a missing store, are found, recomputed and counted ("repaired").  Damaged metadata (the files
+the creation wrote) is rewritten from the spec when the rewrite reproduces the recorded hashes (the chunks are
+then verified as usual); otherwise the store is rebuilt.  A store of another map (other grid, parameters,
+tolerances, code version) is refused (ParameterError "out"; force=True starts over).  Nothing is deleted that
+magrod did not write: starting over removes the files of the store layout (metadata, chunk files, zarr's
+half-written `.partial` files, our markers and temporaries) and leaves anything else where it is.  A store path
+that is a symbolic link is refused.
 
-Dask: run_tiles starts a LocalCluster (processes, threads_per_worker=1, no dashboard) unless a scheduler
-address is given.  Every tile is a pure function of (spec, tile) computed by magrod.chaos.indicators.compute_tile, so the
-result is bit-identical whatever the number of workers or the order the tiles run in (on one CPU type: workers
-on other machines compile heyoka for their own instruction set, e.g. with or without FMA, and may differ in the
-last bits; the batch size is part of the spec, so it is the same everywhere).
+Dask.  run_tiles starts a LocalCluster (processes, threads_per_worker=1, no dashboard) unless a client (connect()
+to a running scheduler) is given.  Every tile is a pure function of (spec, tile) computed by
+magrod.chaos.maps.compute_tile, so the result is bit-identical whatever the number of workers or the order the
+tiles run in (on one CPU type: workers on other machines compile heyoka for their own instruction set, e.g. with
+or without FMA, and may differ in the last bits; the batch size is part of the spec, so it is the same
+everywhere).  Workers write into the store at the absolute path they are given, so they need that same path (a
+shared filesystem); a worker refuses to write into a store whose identity is not the map's, and the client reads
+every tile back and checks its hash, so a worker writing elsewhere is an error, never a silent NaN map.
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import logging
 import os
+import re
 import time
+import warnings
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from . import indicators as chaos, maps
 from .fields import BY_NAME
-from ..core.errors import ParameterError
+from ..core.errors import EnvironmentFault, ParameterError
 from ..core.io import atomic_write_json
+
+STORE_FORMAT = 2  # 1: markers without hashes (before issue 17)
+FIELDS = tuple(maps.MAP_FIELDS) + ("status",)  # the order of the content hash
 
 UNITS = {**{k: f.unit for k, f in BY_NAME.items()}, "status": "code"}
 LONG = {**{k: f.long for k, f in BY_NAME.items()},
@@ -38,37 +62,186 @@ LONG = {**{k: f.long for k, f in BY_NAME.items()},
 def paths(out: Path, stem: str) -> dict:
     out = Path(out)
     return {"store": out / f"{stem}.zarr", "tiles": out / f"{stem}.tiles", "png": out / f"{stem}.png",
-            "json": out / f"{stem}.json"}
+            "json": out / f"{stem}.json", "lock": out / f".{stem}.lock"}
 
 
+# ------------------------------------------------------------------------------------------------------------
+# identity and content hashes
+# ------------------------------------------------------------------------------------------------------------
 def _spec_json(spec: maps.MapSpec) -> str:
     return json.dumps(spec.as_dict(), sort_keys=True)
 
 
-def create_or_open(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, force=False) -> None:
-    """Create the empty store (metadata + coordinates only) or check that an existing one holds this spec.
-    ParameterError("out") if OUT holds a store of a different map (pass force=True to overwrite it)."""
+def code_versions() -> dict:
+    """The versions whose change can change a map's numbers (part of the identity: tiles of two are not mixed)."""
+    from importlib.metadata import version
+
+    from .. import __version__
+
+    return {"magrod": __version__, "heyoka": version("heyoka"), "numpy": version("numpy")}
+
+
+def identity(spec: maps.MapSpec) -> str:
+    """sha256 of what a map is: spec (grid, parameters, tolerances, tile, batch size), store format, code."""
+    doc = {"spec": spec.as_dict(), "format": STORE_FORMAT, "code": code_versions()}
+    return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
+
+
+def tile_hash(fields: dict) -> str:
+    """sha256 of one tile's content: every field (FIELDS order) as name, dtype, shape and C-order bytes."""
+    h = hashlib.sha256()
+    for k in FIELDS:
+        a = np.ascontiguousarray(fields[k])
+        h.update(f"{k}|{a.dtype.str}|{a.shape}|".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def _store_dtypes(fields: dict) -> dict:
+    return {k: np.asarray(v, dtype=np.int8 if k == "status" else np.float64) for k, v in fields.items()}
+
+
+def read_tile(store: Path, tile: maps.Tile, group=None) -> dict:
+    """One tile's fields as stored (raises on an unreadable chunk or metadata)."""
     import zarr
 
-    if store.exists() and not force:
-        try:
-            attrs = dict(zarr.open_group(str(store), mode="r").attrs)
-        except Exception:  # an unreadable or half-created store: start it again
-            attrs = {}
-        if attrs.get("spec") == _spec_json(spec):
-            tiles_dir.mkdir(exist_ok=True)
-            return
-        if attrs:
-            raise ParameterError("out", f"{store} holds a different chaos map (other grid or options); use another "
-                                        f"--out/--stem or --force to overwrite it")
-    _create(spec, store)
-    if tiles_dir.exists():
-        for p in tiles_dir.glob("*.json"):
+    g = group if group is not None else zarr.open_group(str(store), mode="r")
+    return {k: np.asarray(g[k][tile.ys, tile.xs]) for k in FIELDS}
+
+
+def _hash_of_stored(store: Path, tile: maps.Tile, group=None) -> str | None:
+    try:
+        return tile_hash(read_tile(store, tile, group))
+    except Exception:  # noqa: BLE001 - a missing, truncated or corrupt chunk (zstd error, ...) is damage
+        return None
+
+
+def _file_sha(path: Path) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _skeleton_hashes(root: Path) -> dict:
+    """{relative path: sha256} of every file under root (the files a store's creation writes)."""
+    return {str(p.relative_to(root)): _file_sha(p) for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+# ------------------------------------------------------------------------------------------------------------
+# what magrod writes, and nothing else, may be removed
+# ------------------------------------------------------------------------------------------------------------
+_CHUNK = re.compile(r"^\d+$")
+_PARTIAL = re.compile(r"^\d+\.[0-9a-f]{32}\.partial$")  # zarr's LocalStore temporary of a chunk write
+_MARKER = re.compile(r"^\d+_\d+\.json$")
+
+
+def _refuse_symlink(p: Path) -> None:
+    if p.is_symlink():
+        raise ParameterError("out", f"{str(p)!r} is a symbolic link: refusing to write through it (give --out a real "
+                                    f"directory, or remove the link)")
+
+
+def check_paths(pth: dict) -> None:
+    """ParameterError("out") if the store, its tile directory, the record or the lock is a symbolic link or the
+    store/tile path exists and is not a directory."""
+    for k in ("store", "tiles", "lock"):
+        _refuse_symlink(pth[k])
+    _refuse_symlink(pth["tiles"] / "store.record")
+    for k in ("store", "tiles"):
+        if pth[k].exists() and not pth[k].is_dir():
+            raise ParameterError("out", f"{str(pth[k])!r} exists and is not a directory")
+
+
+def _remove_store_files(store: Path, names) -> None:
+    """Remove the files of the store layout (root zarr.json; per variable in `names` its zarr.json, chunk files
+    c/I[/J] and zarr's .partial temporaries) and the directories left empty; keep anything else."""
+    if not store.is_dir() or store.is_symlink():
+        return
+    _unlink(store / "zarr.json")
+    for v in names:
+        d = store / v
+        if not d.is_dir() or d.is_symlink():
+            continue
+        _unlink(d / "zarr.json")
+        c = d / "c"
+        if c.is_dir() and not c.is_symlink():
+            for p in sorted(c.rglob("*"), key=lambda q: -len(q.parts)):
+                if p.is_symlink():
+                    continue
+                if p.is_file() and (_CHUNK.match(p.name) or _PARTIAL.match(p.name)):
+                    _unlink(p)
+                elif p.is_dir():
+                    _rmdir(p)
+            _rmdir(c)
+        _rmdir(d)
+    _rmdir(store)
+
+
+def _remove_markers(tiles_dir: Path) -> None:
+    if tiles_dir.is_dir() and not tiles_dir.is_symlink():
+        for p in tiles_dir.iterdir():
+            if _MARKER.match(p.name) and p.is_file() and not p.is_symlink():
+                _unlink(p)
+        _unlink(tiles_dir / "store.record")
+
+
+def _unlink(p: Path) -> None:
+    try:
+        if p.is_file() and not p.is_symlink():
             p.unlink()
-    tiles_dir.mkdir(exist_ok=True)
+    except OSError:
+        pass
 
 
-def _create(spec: maps.MapSpec, store: Path) -> None:
+def _rmdir(p: Path) -> None:
+    try:
+        p.rmdir()
+    except OSError:  # not empty (something we did not write is in it) or gone
+        pass
+
+
+def remove_temporaries(pth: dict, pids=()) -> None:
+    """Temporaries of interrupted writes: our atomic-write temporaries (OUT, the tile directory) and zarr's
+    `.partial` chunk files in the store (only called while the lock is held and no worker of ours runs)."""
+    from ..core.io import remove_stale_temporaries
+
+    remove_stale_temporaries(pth["store"].parent, pids)
+    remove_stale_temporaries(pth["tiles"], pids)
+    store = pth["store"]
+    if store.is_dir() and not store.is_symlink():
+        for v in FIELDS:
+            c = store / v / "c"
+            if c.is_dir() and not c.is_symlink():
+                for p in c.rglob("*.partial"):
+                    if _PARTIAL.match(p.name) and p.is_file() and not p.is_symlink():
+                        _unlink(p)
+
+
+# ------------------------------------------------------------------------------------------------------------
+# creating, opening and verifying a store
+# ------------------------------------------------------------------------------------------------------------
+@dataclass
+class StoreState:
+    """What a run found in the store: `done` tiles verified, `repaired` tiles that were recorded as done but failed
+    verification (to be recomputed), `created` if this run made the store."""
+
+    store: Path
+    tiles_dir: Path
+    identity: str
+    done: set = field(default_factory=set)
+    repaired: list = field(default_factory=list)
+    created: bool = False
+    metadata_rewritten: list = field(default_factory=list)
+
+
+def _read_json(p: Path):
+    try:
+        return json.loads(Path(p).read_text())
+    except (OSError, ValueError, UnicodeDecodeError):
+        return None
+
+
+def _write_skeleton(spec: maps.MapSpec, ident: str, target: Path) -> None:
+    """Metadata, coordinates and attributes of an empty store, written (consolidated) into the new directory
+    `target`; the data chunks are written tile by tile."""
     import dask.array as da
     import xarray as xr
 
@@ -85,13 +258,16 @@ def _create(spec: maps.MapSpec, store: Path) -> None:
               spec.y.name: (spec.y.name, spec.y.values(), {"units": "1", "long_name": _axis_label(spec.y.name)})}
     ds = xr.Dataset(data, coords=coords, attrs={
         "title": "magrod chaos map (Sinden & van der Heijden, spatial chaos of a conducting rod)",
-        "spec": _spec_json(spec), "criterion": f"chaotic iff growth_exponent > {chaos.GROWTH_THRESHOLD:g}",
+        "spec": _spec_json(spec), "identity": ident, "store_format": STORE_FORMAT,
+        "criterion": f"chaotic iff growth_exponent > {chaos.GROWTH_THRESHOLD:g}",
         "tolerance": "machine epsilon" if not spec.tol else repr(spec.tol),
         "formulation": "body (9-D, generated/body.py)",
         "tangent_vectors": "projected onto the level set of C1, C2, C3, H, m3 (magrod.chaos.indicators)",
         "versions": json.dumps(versions(), sort_keys=True)})
-    # compute=False writes metadata and coordinates; the data chunks are written tile by tile
-    ds.to_zarr(str(store), mode="w", compute=False, consolidated=False)
+    with warnings.catch_warnings():  # "consolidated metadata is not part of the zarr v3 spec": we know
+        warnings.simplefilter("ignore")
+        # compute=False writes metadata and coordinates; the data chunks are written tile by tile
+        ds.to_zarr(str(target), mode="w-", compute=False, consolidated=True)
 
 
 def _axis_label(name: str) -> str:
@@ -99,31 +275,236 @@ def _axis_label(name: str) -> str:
             "theta0": "theta at the start", "ptheta0": "pbar_theta at the start", "psi0": "psi at the start"}[name]
 
 
-def done_tiles(tiles_dir: Path) -> set:
-    return {p.stem for p in Path(tiles_dir).glob("*.json")}
+def _fresh_skeleton(spec, ident, store: Path) -> tuple[Path, dict]:
+    """A complete skeleton in a temporary sibling directory of the store, and its file hashes."""
+    import tempfile
+
+    tmp = Path(tempfile.mkdtemp(dir=store.parent, prefix=f".{store.name}.{os.getpid()}.", suffix=".new"))
+    target = tmp / "s.zarr"
+    try:
+        _write_skeleton(spec, ident, target)
+    except BaseException:
+        _remove_tree_we_made(tmp)
+        raise
+    return tmp, _skeleton_hashes(target)
 
 
-def write_tile(store: Path, tiles_dir: Path, tile: maps.Tile, fields: dict, wall_s: float) -> str:
-    """Region write of one tile's chunk, then its done-marker (atomically)."""
+def _remove_tree_we_made(tmp: Path) -> None:
+    import shutil
+
+    if tmp.is_dir() and not tmp.is_symlink():
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _install_skeleton(tmp: Path, store: Path, only=None) -> None:
+    """Move the skeleton's files into the store (all, or the relative paths in `only`), each by rename."""
+    src = tmp / "s.zarr"
+    if only is None and not store.exists():
+        os.rename(src, store)  # a new store appears whole
+        return
+    for p in sorted(src.rglob("*")):
+        rel = str(p.relative_to(src))
+        if p.is_file() and (only is None or rel in only):
+            dst = store / rel
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            os.replace(p, dst)
+
+
+def create_or_open(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, force=False) -> StoreState:
+    """Create the empty store, or open and verify an existing one that holds this map.
+
+    Raises ParameterError("out") if the store holds a different map (other grid, parameters, tolerances or
+    code version), was not written by this version of magrod's store code, or a path is a symbolic link (pass
+    force=True to start over: only the files of the store layout are removed).  Returns the StoreState: the
+    verified done tiles and the damaged ones (recorded as done, failed verification), which are recomputed."""
+    store, tiles_dir = Path(store), Path(tiles_dir)
+    pth = {"store": store, "tiles": tiles_dir, "lock": store.parent / f".{store.stem}.lock"}
+    check_paths(pth)
+    ident = identity(spec)
+    rec = _read_json(tiles_dir / "store.record")
+    rec = rec if isinstance(rec, dict) and isinstance(rec.get("skeleton"), dict) else None
+    names = list(FIELDS) + [spec.x.name, spec.y.name]
+    has_store = store.exists() and any(store.iterdir())
+    if rec is not None and rec.get("identity") != ident and not force:
+        other = rec.get("spec")
+        raise ParameterError("out", f"{str(store)!r} holds a different chaos map (other grid, parameters, tolerances or "
+                                    f"code version{'' if other is None else ': ' + _spec_diff(other, spec)}); use "
+                                    f"another --out/--stem or --force to overwrite it")
+    if rec is None and has_store and not force:
+        attrs = _read_json(store / "zarr.json")
+        attrs = (attrs.get("attributes") or {}) if isinstance(attrs, dict) else {}
+        if attrs.get("identity") != ident:  # this very map's store with its record gone is started again below
+            raise ParameterError("out", f"{str(store)!r} " + (
+                "is a chaos map store without an integrity record (written before store format 2, or by another "
+                f"map; its record {str(tiles_dir / 'store.record')!r} is missing)" if "spec" in attrs else
+                "exists and is not a magrod chaos map store")
+                + "; use another --out/--stem or --force to start over (only the files of a magrod store are "
+                  "removed)")
+    if force or rec is None or rec.get("identity") != ident:
+        if rec is not None:
+            names += [a["name"] for a in (rec.get("spec") or {}).values() if isinstance(a, dict) and "name" in a
+                      and isinstance(a["name"], str) and "/" not in a["name"]]
+        _remove_store_files(store, set(names))
+        _remove_markers(tiles_dir)
+        return _create(spec, ident, store, tiles_dir)
+    return _open(spec, ident, store, tiles_dir, rec)
+
+
+def _spec_diff(other: dict, spec: maps.MapSpec) -> str:
+    mine = spec.as_dict()
+    keys = [k for k in sorted(set(mine) | set(other)) if mine.get(k) != other.get(k)]
+    return "differs in " + ", ".join(keys) if keys else "same spec, other code version"
+
+
+def _create(spec, ident, store: Path, tiles_dir: Path) -> StoreState:
+    from ..core.io import resource_fault
+
+    store.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        tmp, skel = _fresh_skeleton(spec, ident, store)
+    except OSError as exc:  # disk full, file-size limit ...: name the store, not our temporary
+        raise resource_fault(exc, "out", store) from None
+    try:
+        tiles_dir.mkdir(exist_ok=True)
+        _install_skeleton(tmp, store)
+    finally:
+        _remove_tree_we_made(tmp)
+    _write_record(spec, ident, tiles_dir, skel, tiles=None)
+    return StoreState(store, tiles_dir, ident, created=True)
+
+
+def _write_record(spec, ident, tiles_dir: Path, skeleton: dict, tiles: dict | None) -> None:
+    atomic_write_json(tiles_dir / "store.record", {
+        "identity": ident, "format": STORE_FORMAT, "spec": spec.as_dict(), "code": code_versions(),
+        "skeleton": skeleton, "complete": tiles is not None, "tiles": tiles or {}})
+
+
+def _open(spec, ident, store: Path, tiles_dir: Path, rec: dict) -> StoreState:
+    state = StoreState(store, tiles_dir, ident)
+    skel = rec["skeleton"]
+    have = _skeleton_hashes(store) if store.is_dir() else {}
+    bad = sorted(k for k, v in skel.items() if have.get(k) != v)
+    if bad:  # metadata or coordinates damaged or missing: rewrite them from the spec if that reproduces them
+        tmp, fresh = _fresh_skeleton(spec, ident, store)
+        try:
+            if fresh == skel:
+                store.mkdir(exist_ok=True)
+                _install_skeleton(tmp, store, only=set(bad))
+                state.metadata_rewritten = bad
+            else:  # this environment writes other metadata bytes: rebuild the store from scratch
+                recorded = _recorded_tiles(spec, ident, tiles_dir, rec)
+                _remove_store_files(store, set(FIELDS) | {spec.x.name, spec.y.name})
+                _remove_markers(tiles_dir)
+                st = _create(spec, ident, store, tiles_dir)
+                st.repaired = sorted(recorded)
+                return st
+        finally:
+            _remove_tree_we_made(tmp)
+    tiles_dir.mkdir(exist_ok=True)
+    recorded = _recorded_tiles(spec, ident, tiles_dir, rec)
     import zarr
 
-    g = zarr.open_group(str(store), mode="r+")
-    for k, v in fields.items():
-        g[k][tile.ys, tile.xs] = v
-    atomic_write_json(Path(tiles_dir) / f"{tile.key}.json", {"tile": tile.key, "wall_s": wall_s,
-                                                             "points": int(np.asarray(fields["status"]).size)})
-    return tile.key
+    try:
+        group = zarr.open_group(str(store), mode="r")
+    except Exception:  # noqa: BLE001 - unreadable although the skeleton matched: every tile is suspect
+        group = None
+    for key, digest in sorted(recorded.items()):
+        tile = maps.tile_of(spec, key)
+        if digest is not None and group is not None and _hash_of_stored(store, tile, group) == digest:
+            state.done.add(key)
+        else:
+            state.repaired.append(key)
+            _unlink(tiles_dir / f"{key}.json")
+    return state
 
 
-def tile_task(spec_dict: dict, tile_key: str, store: str, tiles_dir: str) -> tuple:
-    """The Dask task: compute one tile and write it.  Takes plain data (picklable, no shared state)."""
+def _recorded_tiles(spec, ident, tiles_dir: Path, rec: dict) -> dict:
+    """{tile key: recorded sha256, or None if its records disagree or are malformed} over markers and the final
+    list of store.record."""
+    n_y, n_x = -(-spec.y.n // spec.tile), -(-spec.x.n // spec.tile)
+    out: dict = {}
+
+    def note(key, digest):
+        try:
+            iy, ix = (int(v) for v in str(key).split("_"))
+        except ValueError:
+            return
+        if not (0 <= iy < n_y and 0 <= ix < n_x) or str(key) != f"{iy}_{ix}":
+            return
+        ok = isinstance(digest, str) and len(digest) == 64
+        if key in out and out[key] != digest:
+            ok = False
+        out[key] = digest if ok and out.get(key, digest) is not None else None
+
+    for key, digest in (rec.get("tiles") or {}).items() if isinstance(rec.get("tiles"), dict) else ():
+        note(key, digest)
+    if tiles_dir.is_dir():
+        for p in tiles_dir.iterdir():
+            if not _MARKER.match(p.name):
+                continue
+            m = _read_json(p) if p.is_file() and not p.is_symlink() else None
+            good = isinstance(m, dict) and m.get("identity") == ident and m.get("tile") == p.stem
+            note(p.stem, m.get("sha256") if good else None)
+    return out
+
+
+def done_tiles(tiles_dir: Path) -> set:
+    """Tiles with a marker (unverified: use create_or_open for the verified set)."""
+    return {p.stem for p in Path(tiles_dir).glob("*.json") if _MARKER.match(p.name)}
+
+
+def finish(spec: maps.MapSpec, state: StoreState) -> None:
+    """Record every tile's hash in store.record (written last and atomically): the store is complete."""
+    rec = _read_json(state.tiles_dir / "store.record") or {}
+    tiles = {}
+    for t in maps.tiles(spec):
+        m = _read_json(state.tiles_dir / f"{t.key}.json")
+        if not isinstance(m, dict) or m.get("identity") != state.identity:
+            return  # not complete (or damaged since): nothing to record
+        tiles[t.key] = m["sha256"]
+    _write_record(spec, state.identity, state.tiles_dir, rec.get("skeleton") or {}, tiles)
+
+
+# ------------------------------------------------------------------------------------------------------------
+# the work: one tile per task
+# ------------------------------------------------------------------------------------------------------------
+def write_tile(store: Path, tiles_dir: Path, tile: maps.Tile, fields: dict, wall_s: float, ident: str | None = None
+               ) -> str:
+    """Region write of one tile's chunk, then its done-marker with the content hash (atomically).  Refuses (an
+    EnvironmentFault naming "out") a store at this path whose identity is not `ident`: a worker that sees another
+    filesystem than the client must not fill some other store.  Returns the content hash."""
+    import zarr
+
+    try:
+        g = zarr.open_group(str(store), mode="r+")
+        found = g.attrs.get("identity")
+    except Exception as exc:  # noqa: BLE001
+        raise EnvironmentFault("out", f"no chaos map store at {str(store)!r} on this worker "
+                                      f"({type(exc).__name__}): the workers need the same --out path as the client "
+                                      f"(a shared filesystem)") from None
+    if ident is not None and found != ident:
+        raise EnvironmentFault("out", f"the store at {str(store)!r} on this worker is another map: the workers need "
+                                      f"the same --out path as the client (a shared filesystem)")
+    fields = _store_dtypes(fields)
+    for k in FIELDS:
+        g[k][tile.ys, tile.xs] = fields[k]
+    digest = tile_hash(fields)
+    atomic_write_json(Path(tiles_dir) / f"{tile.key}.json", {
+        "tile": tile.key, "identity": found, "sha256": digest, "wall_s": wall_s,
+        "points": int(np.asarray(fields["status"]).size)})
+    return digest
+
+
+def tile_task(spec_dict: dict, tile_key: str, store: str, tiles_dir: str, ident: str | None = None) -> tuple:
+    """The Dask task: compute one tile and write it.  Takes plain data (picklable, no shared state).  Returns
+    (key, wall seconds, content hash)."""
     spec = maps.MapSpec.from_dict(spec_dict)
     tile = maps.tile_of(spec, tile_key)
     t0 = time.perf_counter()
     fields = maps.compute_tile(spec, tile)
     wall = time.perf_counter() - t0
-    write_tile(Path(store), Path(tiles_dir), tile, fields, wall)
-    return tile_key, wall
+    digest = write_tile(Path(store), Path(tiles_dir), tile, fields, wall, ident)
+    return tile_key, wall, digest
 
 
 def _worker_env() -> None:
@@ -132,59 +513,345 @@ def _worker_env() -> None:
         os.environ[k] = "1"
 
 
-def run_tiles(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, scheduler=None, progress=None,
-              max_tiles=None) -> dict:
-    """Compute the tiles that are not done, on Dask.  workers: LocalCluster size (ignored with scheduler, a
-    tcp://HOST:PORT address of a running cluster).  max_tiles limits this call (tests: a 'killed' run).
-    Returns {"computed": [...], "skipped": [...], "task_wall_s": total seconds inside tasks}."""
-    from dask.distributed import Client, LocalCluster, as_completed
+class quiet_distributed:
+    """Context manager: Dask's loggers at CRITICAL while a map runs (progress is ours, and a cluster shutting down
+    after an interruption would otherwise print several lines); restored afterwards."""
 
-    all_tiles = maps.tiles(spec)
-    done = done_tiles(tiles_dir)
-    todo = [t.key for t in all_tiles if t.key not in done][:max_tiles]
-    res = {"computed": [], "skipped": sorted(done), "task_wall_s": 0.0}
+    NAMES = ("distributed", "tornado", "asyncio", "bokeh")
+
+    def __enter__(self):
+        self._old = {n: logging.getLogger(n).level for n in self.NAMES}
+        for n in self.NAMES:
+            logging.getLogger(n).setLevel(logging.CRITICAL)
+        return self
+
+    def __exit__(self, *exc):
+        for n, lvl in self._old.items():
+            logging.getLogger(n).setLevel(lvl)
+        return False
+
+
+def start_local_cluster(workers: int):
+    """(cluster, client, worker pids) of a LocalCluster of `workers` single-threaded processes.  The workers are
+    started with the terminal's signals ignored (magrod.cli.children_immune when called from the CLI), so that
+    stopping them is the parent's job."""
+    from dask.distributed import Client, LocalCluster
+
+    _worker_env()
+    # dashboard off; the scheduler still serves its health routes over HTTP: on a free port (":0"), not 8787,
+    # so that concurrent maps do not fight over it
+    cluster = LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True, dashboard_address=None,
+                           scheduler_kwargs={"dashboard": False, "dashboard_address": ":0"},
+                           silence_logs=logging.CRITICAL)
+    try:
+        client = Client(cluster)
+        pids = sorted(client.run(os.getpid).values())
+    except BaseException:
+        cluster.close()
+        raise
+    return cluster, client, pids
+
+
+def stop_local_cluster(cluster, client, pids, *, interrupted=False) -> None:
+    """Close client and cluster; after an interruption kill the worker processes first (they ignore the terminal's
+    signals, and a running tile would otherwise finish first)."""
+    import signal
+
+    if interrupted:
+        for pid in pids:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except OSError:
+                pass
+    for closer in (client, cluster):
+        if closer is None:
+            continue
+        try:
+            closer.close(timeout=5) if interrupted else closer.close()
+        except BaseException:  # noqa: BLE001 - closing after an interruption: nothing more to say
+            if not interrupted:
+                raise
+
+
+def run_tiles(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, scheduler=None, progress=None,
+              max_tiles=None, client=None, state: StoreState | None = None, on_submitted=None,
+              worker_timeout: float = 60.0) -> dict:
+    """Compute the tiles that are not done, on Dask, and verify each as it arrives.
+
+    workers: LocalCluster size (ignored with `client`, a Client of a running cluster, or `scheduler`, its address).
+    max_tiles limits this call (tests: a 'killed' run).  `state` is create_or_open's (verified) StoreState; without
+    it the store is opened and verified here.  on_submitted() is called once every task is submitted.  Returns {"computed": [...], "skipped": [...], "repaired": [...],
+    "task_wall_s": total seconds inside tasks}.  Raises EnvironmentFault("out") if a tile the workers wrote does
+    not read back with its hash (the workers see another filesystem)."""
+    store, tiles_dir = Path(store).absolute(), Path(tiles_dir).absolute()
+    if state is None:
+        state = create_or_open(spec, store, tiles_dir)
+    done = state.done
+    todo = [t.key for t in maps.tiles(spec) if t.key not in done][:max_tiles]
+    res = {"computed": [], "skipped": sorted(done), "repaired": list(state.repaired), "task_wall_s": 0.0}
     if not todo:
         return res
-    _worker_env()
-    logging.getLogger("distributed").setLevel(logging.ERROR)  # progress is ours; the cluster's INFO is noise
-    cluster = None
-    if scheduler is None:
-        # dashboard off; the scheduler still serves its health routes over HTTP: on a free port (":0"), not 8787,
-        # so that concurrent maps do not fight over it
-        cluster = LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True,
-                               dashboard_address=None, scheduler_kwargs={"dashboard": False, "dashboard_address": ":0"},
-                               silence_logs=logging.ERROR)
-        client = Client(cluster)
-    else:
+    cluster, pids, own = None, [], client is None
+    with quiet_distributed():
+        if client is None and scheduler is not None:
+            client = connect(scheduler)
+        elif client is None:
+            cluster, client, pids = start_local_cluster(workers)
+        interrupted = False
         try:
-            client = Client(scheduler, timeout="10s")
-        except (OSError, TimeoutError) as exc:
-            raise ParameterError("scheduler", f"cannot connect to {scheduler}: {exc}") from None
-    try:
-        client.run(_worker_env)
-        sd = spec.as_dict()
-        futs = [client.submit(tile_task, sd, k, str(store), str(tiles_dir), pure=False)
-                for k in todo]
-        for fut in as_completed(futs):
-            key, wall = fut.result()
-            res["computed"].append(key)
-            res["task_wall_s"] += wall
-            if progress is not None:
-                progress(1)
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+            client.run(_worker_env)
+            sd = spec.as_dict()
+            futs = {client.submit(tile_task, sd, k, str(store), str(tiles_dir), state.identity, pure=False): k
+                    for k in todo}
+            if on_submitted is not None:
+                on_submitted()
+            _collect(client, futs, spec, state, res, progress, worker_timeout)
+        except BaseException:
+            interrupted = True
+            raise
+        finally:
+            if own:
+                if cluster is None:
+                    _close_quietly(client)
+                else:
+                    stop_local_cluster(cluster, client, pids, interrupted=interrupted)
+            if interrupted:
+                remove_temporaries({"store": store, "tiles": tiles_dir}, pids)
     return res
 
 
+def _close_quietly(client) -> None:
+    try:
+        client.close(timeout=5)
+    except BaseException:  # noqa: BLE001
+        pass
+
+
+POLL_S = 2.0  # how often a waiting client asks the scheduler whether it still has workers
+
+
+def _collect(client, futs, spec, state: StoreState, res: dict, progress, worker_timeout: float = 60.0) -> None:
+    """Wait for the tasks ({future: tile key}); verify each tile the workers wrote by reading it back here.  A
+    cluster left without workers for worker_timeout seconds, or a scheduler that stops answering, is an
+    EnvironmentFault("scheduler"), not an endless wait."""
+    import zarr
+    from dask.distributed import wait
+
+    group = None
+    pending = set(futs)
+    idle_since = None
+    try:
+        while pending:
+            try:
+                finished, pending = wait(list(pending), timeout=POLL_S, return_when="FIRST_COMPLETED")
+            except TimeoutError:
+                idle_since = _check_cluster(client, idle_since, worker_timeout)
+                continue
+            for fut in finished:
+                try:
+                    key, wall, digest = fut.result()
+                except (ParameterError, EnvironmentFault):
+                    raise
+                except Exception as exc:  # noqa: BLE001 - a task or the cluster failed: one line saying which
+                    raise TileFailure(futs.get(fut), exc) from None
+                if group is None:
+                    group = zarr.open_group(str(state.store), mode="r")
+                here = _hash_of_stored(state.store, maps.tile_of(spec, key), group)
+                if here != digest:
+                    raise EnvironmentFault("out", f"tile {key} written by a worker does not read back here from "
+                                                  f"{str(state.store)!r} (content hash differs): the workers need the "
+                                                  f"same --out path as the client (a shared filesystem)")
+                state.done.add(key)
+                res["computed"].append(key)
+                res["task_wall_s"] += wall
+                if progress is not None:
+                    progress(1)
+    except BaseException:
+        try:
+            client.cancel(list(futs))
+        except BaseException:  # noqa: BLE001
+            pass
+        raise
+
+
+def _check_cluster(client, idle_since, worker_timeout):
+    """While waiting: the scheduler must answer and have a worker at least every worker_timeout seconds."""
+    try:
+        n = len(client.nthreads())
+    except Exception as exc:  # noqa: BLE001 - the scheduler is gone or unreachable
+        raise EnvironmentFault("scheduler", f"lost the Dask scheduler ({type(exc).__name__}: "
+                                            f"{' '.join(str(exc).split())[:120]})") from None
+    if n:
+        return None
+    now = time.monotonic()
+    if idle_since is None:
+        return now
+    if now - idle_since > worker_timeout:
+        raise EnvironmentFault("scheduler", f"the Dask cluster has had no worker for {worker_timeout:g} s while tiles "
+                                            f"were waiting (workers died or were stopped)")
+    return idle_since
+
+
+class TileFailure(RuntimeError):
+    """A Dask task failed (an exception in the worker, a worker that died, the scheduler lost)."""
+
+    def __init__(self, key, exc):
+        self.key = key
+        self.exc = exc
+        kind = type(exc).__name__
+        text = " ".join(str(exc).split())[:300]
+        super().__init__(f"{kind}: {text}" if text else kind)
+
+
+# ------------------------------------------------------------------------------------------------------------
+# a running cluster
+# ------------------------------------------------------------------------------------------------------------
+def normalise_address(text: str) -> str:
+    """tcp://HOST:PORT, tls://HOST:PORT or HOST:PORT (taken as tcp://) -> the address; ParameterError("scheduler")
+    for anything else (inproc:// exists only inside one Python process; other protocols are not supported)."""
+    s = str(text).strip()
+    if "://" in s:
+        proto, rest = s.split("://", 1)
+    else:
+        proto, rest = "tcp", s
+    if proto == "inproc":
+        raise ParameterError("scheduler", f"{s!r}: inproc:// addresses exist only inside one Python process; give "
+                                          "tcp://HOST:PORT (or HOST:PORT) of a running scheduler")
+    if proto not in ("tcp", "tls"):
+        raise ParameterError("scheduler", f"{s!r}: protocol {proto}:// is not supported; give tcp://HOST:PORT, "
+                                          "HOST:PORT or tls://HOST:PORT")
+    host, sep, port = rest.rpartition(":")
+    host = host[1:-1] if host.startswith("[") and host.endswith("]") else host
+    if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536 or "/" in rest:
+        raise ParameterError("scheduler", f"expected tcp://HOST:PORT or HOST:PORT (port 1-65535), got {s!r}")
+    return f"{proto}://{rest}"
+
+
+def read_scheduler_file(path) -> str:
+    """The address in a scheduler file (`dask scheduler --scheduler-file PATH`); ParameterError("scheduler_file")
+    if it is missing, unreadable or has no address."""
+    p = Path(path)
+    try:
+        d = json.loads(p.read_text())
+    except FileNotFoundError:
+        raise ParameterError("scheduler_file", f"no such file: {str(p)!r}") from None
+    except (OSError, ValueError, UnicodeDecodeError) as exc:
+        raise ParameterError("scheduler_file", f"{str(p)!r} is not a Dask scheduler file "
+                                               f"({type(exc).__name__})") from None
+    addr = d.get("address") if isinstance(d, dict) else None
+    if not isinstance(addr, str):
+        raise ParameterError("scheduler_file", f"{str(p)!r} is not a Dask scheduler file (no \"address\")")
+    try:
+        return normalise_address(addr)
+    except ParameterError as exc:
+        raise ParameterError("scheduler_file", f"{str(p)!r}: {exc.message}") from None
+
+
+def _tls_security():
+    """Dask's TLS settings from its configuration (distributed.comm.tls.*), or None if none are given."""
+    import dask
+
+    tls = dask.config.get("distributed.comm.tls", default={}) or {}
+    client = tls.get("client") or {}
+    if not (tls.get("ca-file") and client.get("cert")):
+        return None
+    from distributed.security import Security
+
+    return Security()
+
+
+def probe(address: str, timeout: float) -> None:
+    """Fail fast and clearly if nothing Dask listens at `address`: a TCP connect and the scheduler's greeting
+    (a Dask server sends its handshake first) within `timeout` seconds.  ParameterError("scheduler") naming what
+    was found: nothing (refused, unreachable), a silent TCP service, an HTTP server (e.g. the dashboard port), or
+    another service."""
+    import socket
+
+    proto, rest = address.split("://", 1)
+    host, _, port = rest.rpartition(":")
+    host = host.strip("[]")
+    try:
+        sock = socket.create_connection((host, int(port)), timeout=timeout)
+    except socket.timeout:
+        raise ParameterError("scheduler", f"no answer from {address} within {timeout:g} s (host down or port "
+                                          "filtered)") from None
+    except OSError as exc:
+        raise ParameterError("scheduler", f"cannot connect to {address}: {exc.strerror or exc}") from None
+    if proto == "tls":  # the TLS handshake is the client's to start: the connect is all we can check here
+        sock.close()
+        return
+    try:
+        sock.settimeout(timeout)
+        try:
+            data = sock.recv(4096)
+        except socket.timeout:
+            data = None
+        if data is None:  # silent: perhaps an HTTP server waiting for a request
+            try:
+                sock.sendall(b"GET / HTTP/1.0\r\n\r\n")
+                sock.settimeout(min(timeout, 2.0))
+                reply = sock.recv(64)
+            except OSError:
+                reply = b""
+            if reply.startswith(b"HTTP/"):
+                raise ParameterError("scheduler", f"{address} is an HTTP server, not a Dask scheduler (the "
+                                                  "dashboard's port? the scheduler listens on 8786 by default)")
+            raise ParameterError("scheduler", f"{address} accepts connections but sent no Dask handshake within "
+                                              f"{timeout:g} s: not a Dask scheduler (or one too busy to answer)")
+        if b"compression" not in data and b"pickle-protocol" not in data:
+            what = "an HTTP server" if data.startswith(b"HTTP/") else f"a service that said {data[:24]!r}"
+            raise ParameterError("scheduler", f"{address} is {what}, not a Dask scheduler")
+    except OSError as exc:
+        raise ParameterError("scheduler", f"lost the connection to {address}: {exc.strerror or exc}") from None
+    finally:
+        sock.close()
+
+
+def connect(address: str, *, timeout: float = 5.0, worker_timeout: float = 60.0, min_workers: int = 1):
+    """A Client of the running scheduler at `address`, checked before anything is written: probe() (fails in
+    `timeout` s on a dead address or a non-Dask listener), the connection, then at least `min_workers` workers
+    within `worker_timeout` s.  ParameterError("scheduler") for an address that is not a usable scheduler,
+    EnvironmentFault("scheduler") for a scheduler without workers."""
+    from dask.distributed import Client
+
+    address = normalise_address(address)
+    security = None
+    if address.startswith("tls://"):
+        security = _tls_security()
+        if security is None:
+            raise ParameterError("scheduler", f"{address}: tls:// needs TLS certificates, and none are configured: "
+                                              "set distributed.comm.tls.ca-file, .client.cert and .client.key in "
+                                              "the Dask configuration (or DASK_DISTRIBUTED__COMM__TLS__* variables)")
+    probe(address, timeout)
+    try:
+        client = Client(address, timeout=f"{timeout}s", security=security)
+    except (OSError, TimeoutError) as exc:
+        raise ParameterError("scheduler", f"cannot connect to {address}: "
+                                          f"{' '.join(str(exc).split())[:200] or type(exc).__name__}") from None
+    try:
+        client.wait_for_workers(min_workers, timeout=worker_timeout)
+    except (TimeoutError, OSError) as exc:
+        _close_quietly(client)
+        if isinstance(exc, TimeoutError) or "timed out" in str(exc).lower():
+            raise EnvironmentFault("scheduler", f"no Dask worker joined the scheduler at {address} within "
+                                                f"{worker_timeout:g} s (start one: dask worker {address})") from None
+        raise EnvironmentFault("scheduler", f"lost the scheduler at {address}: {exc}") from None
+    except BaseException:
+        _close_quietly(client)
+        raise
+    return client
+
+
+# ------------------------------------------------------------------------------------------------------------
+# reading
+# ------------------------------------------------------------------------------------------------------------
 def open_map(store: Path):
-    """The store as an xarray Dataset (lazy, dask-backed)."""
+    """The store as an xarray Dataset (lazy, dask-backed; consolidated metadata)."""
     import xarray as xr
 
-    return xr.open_zarr(str(store), consolidated=False)
+    return xr.open_zarr(str(store), consolidated=True)
 
 
 def load_fields(store: Path) -> dict:
     ds = open_map(store)
-    return {k: ds[k].values for k in list(maps.MAP_FIELDS) + ["status"]}
+    return {k: ds[k].values for k in FIELDS}

@@ -1,7 +1,9 @@
 """`magrod` command line.  Every subcommand accepts --json and then prints exactly one JSON object on stdout
 (progress goes to stderr).  Exit codes: 0 success, 1 computation failed (including a result that fails its own
 accuracy checks), 2 invalid input (one line naming the parameter and the violated condition), 3 environment
-fault (disk full, unwritable path, closed output pipe; one line with the path), 130 interrupted.  Never a
+fault (disk full, unwritable path, closed output pipe, a resource limit; one line with the path), 128 + N for
+signal N (130 Ctrl-C, 143 SIGTERM, 129 SIGHUP: one line; a signal that arrives once the result is being printed
+changes nothing).  Never a
 traceback (set MAGROD_DEBUG=1 to get one for an internal error); nothing is left behind by a failed run.
 
 One module per subcommand in this package, each with add_arguments(parser), run(args) -> dict and
@@ -21,7 +23,7 @@ import warnings
 
 from ..core.errors import EnvironmentFault, ParameterError
 
-EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_ENVIRONMENT, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_ENVIRONMENT, EXIT_INTERRUPTED = 0, 1, 2, 3, 130  # 128 + signal number
 
 # subcommand -> (module, help)
 SUBCOMMANDS = {
@@ -36,6 +38,9 @@ SUBCOMMANDS = {
     "continue": ("magrod.cli.continuation", "pseudo-arclength continuation of symmetric homoclinic orbits"),
     "splitting": ("magrod.cli.splitting", "splitting of the separatrix along mu = a eps^2, lam = b eps^2"),
     "chaosmap": ("magrod.cli.chaosmap", "chaos map (Lyapunov/FLI indicators) over a parameter plane or a section"),
+    "prove": ("magrod.cli.prove", "computer-assisted proof of transverse homoclinic orbits (certificate, --verify)"),
+    "orbitdiagram": ("magrod.cli.orbitdiagram", "orbit diagram: Poincare section points against a model parameter"),
+    "explore": ("magrod.cli.explore", "interactive Poincare-section explorer in the browser (127.0.0.1)"),
 }
 
 
@@ -63,8 +68,25 @@ def _param_of(message: str) -> str:
     return "arguments"
 
 
+class _StoreOnce(argparse._StoreAction):
+    """argparse's `store`, refusing an option given twice (argparse keeps the last silently)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        given = namespace.__dict__.setdefault("_given", set())
+        if self.dest in given:
+            parser.error(f"argument {option_string}: given twice (give each option once)")
+        given.add(self.dest)
+        super().__call__(parser, namespace, values, option_string)
+
+
 class Parser(argparse.ArgumentParser):
-    """argparse without the multi-line usage dump on error: errors raise UsageError instead."""
+    """argparse without the multi-line usage dump on error: errors raise UsageError instead; an option that takes
+    a value may be given only once."""
+
+    def __init__(self, *a, **kw):
+        super().__init__(*a, **kw)
+        self.register("action", None, _StoreOnce)
+        self.register("action", "store", _StoreOnce)
 
     def error(self, message):
         raise UsageError(_param_of(message), message)
@@ -83,12 +105,65 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-_INTERRUPTED: list = []
+# Signals that end a run: SIGINT (Ctrl-C), SIGTERM (a job queue, `timeout`, `kill`), SIGHUP (the terminal closed).
+# The first one raises Interrupted (a KeyboardInterrupt, so libraries that clean up on Ctrl-C do so); later ones,
+# and any that arrive once the result is being printed, are only recorded, so that cleanup is never interrupted
+# and a finished run ends with its own exit code.
+SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n))
+_STATE = {"signals": [], "armed": False}
 
 
-def _on_sigint(signum, frame):
-    _INTERRUPTED.append(signum)
-    raise KeyboardInterrupt
+class Interrupted(KeyboardInterrupt):
+    """The run was stopped by a signal; exit code 128 + signum (130 SIGINT, 143 SIGTERM, 129 SIGHUP)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _on_signal(signum, frame):
+    _STATE["signals"].append(signum)
+    if _STATE["armed"]:
+        _STATE["armed"] = False  # one exception per run
+        raise Interrupted(signum)
+
+
+def _after_exit(signum, frame):
+    """Installed by console_main around main(): a signal while the interpreter shuts down changes nothing."""
+    _STATE["signals"].append(signum)
+
+
+def _interrupt_code() -> int:
+    return 128 + (_STATE["signals"][0] if _STATE["signals"] else signal.SIGINT)
+
+
+def _interrupt_message() -> str:
+    signum = _STATE["signals"][0] if _STATE["signals"] else signal.SIGINT
+    try:
+        return f"interrupted ({signal.Signals(signum).name})"
+    except ValueError:  # pragma: no cover
+        return "interrupted"
+
+
+PAUSE_ENV = "MAGROD_TEST_PAUSE"
+
+
+def pause_point(point: str) -> None:
+    """Test hook: with MAGROD_TEST_PAUSE=POINT:MARKER in the environment, reaching POINT writes the file MARKER and
+    waits (at most 60 s) until a signal arrives or the test removes MARKER, so that tests act at a known moment
+    rather than after a sleep.  Without the variable (always, outside the tests) it does nothing."""
+    spec = os.environ.get(PAUSE_ENV, "")
+    want, _, marker = spec.partition(":")
+    if not marker or want != point:
+        return
+    import time
+
+    n = len(_STATE["signals"])
+    with open(marker, "w") as fh:
+        fh.write(str(os.getpid()))
+    deadline = time.monotonic() + 60.0
+    while time.monotonic() < deadline and len(_STATE["signals"]) == n and os.path.exists(marker):
+        time.sleep(0.005)  # an armed signal raises Interrupted out of this sleep
 
 
 def _command_of(argv) -> str:
@@ -96,21 +171,40 @@ def _command_of(argv) -> str:
 
 
 def main(argv=None) -> int:
-    """Run one command; returns its exit code.  The process-wide settings a command line tool owns (SIGINT and
-    SIGXFSZ handlers, how warnings are printed, heyoka's logger via MAGROD_QUIET_HEYOKA) are installed here and
-    restored on return, so that calling main() from Python (tests, notebooks) leaves the process as it was."""
+    """Run one command; returns its exit code.  The process-wide settings a command line tool owns (SIGINT,
+    SIGTERM, SIGHUP and SIGXFSZ handlers, how warnings are printed, heyoka's logger via MAGROD_QUIET_HEYOKA) are
+    installed here and restored on return, so that calling main() from Python (tests, notebooks) leaves the
+    process as it was."""
     saved = _install_process_settings()
     try:
-        return _main(argv)
+        try:
+            return _main(argv)
+        except KeyboardInterrupt:  # a signal that hit an error path before it disarmed: still one line
+            _STATE["armed"] = False
+            argv_ = list(sys.argv[1:] if argv is None else argv)
+            command = _command_of(argv_) if _command_of(argv_) in SUBCOMMANDS else ""
+            return _fail(command, "--json" in argv_, _interrupt_code(), _interrupt_message(), None)
     finally:
+        _STATE["armed"] = False
         _restore_process_settings(saved)
 
 
+def console_main() -> None:
+    """The `magrod` script and `python -m magrod.cli`: main(), and the process ends with its exit code even if a
+    signal arrives while the interpreter shuts down (no KeyboardInterrupt reaches interpreter shutdown)."""
+    for s in SIGNALS:
+        signal.signal(s, _after_exit)
+    code = main()
+    sys.exit(code)
+
+
 def _install_process_settings() -> dict:
-    saved = {"SIGINT": signal.getsignal(signal.SIGINT), "showwarning": warnings.showwarning,
+    saved = {"signals": {s: signal.getsignal(s) for s in SIGNALS}, "showwarning": warnings.showwarning,
              "env": os.environ.get(QUIET_ENV)}
-    _INTERRUPTED.clear()
-    signal.signal(signal.SIGINT, _on_sigint)  # from here on Ctrl-C is a KeyboardInterrupt (and remembered)
+    _STATE["signals"].clear()
+    _STATE["armed"] = True
+    for s in SIGNALS:  # from here on a signal is an Interrupted exception (and remembered)
+        signal.signal(s, _on_signal)
     if hasattr(signal, "SIGXFSZ"):  # a file-size limit (ulimit -f) must be an OSError, not a kill
         saved["SIGXFSZ"] = signal.getsignal(signal.SIGXFSZ)
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
@@ -128,7 +222,28 @@ def _restore_process_settings(saved: dict) -> None:
         os.environ[QUIET_ENV] = saved["env"]
     if "SIGXFSZ" in saved:
         signal.signal(signal.SIGXFSZ, saved["SIGXFSZ"])
-    signal.signal(signal.SIGINT, saved["SIGINT"] if saved["SIGINT"] is not None else signal.SIG_DFL)
+    for s, h in saved["signals"].items():
+        signal.signal(s, h if h is not None else signal.SIG_DFL)
+
+
+class children_immune:
+    """Context manager around starting worker processes (a Dask LocalCluster, a process pool): the signals of
+    SIGNALS are ignored while the children are created, so they start with SIG_IGN (kept across exec; Python
+    then installs no KeyboardInterrupt handler) and a Ctrl-C in the terminal, which reaches the whole process
+    group, or a closed terminal's SIGHUP, is the parent's alone to handle: the parent stops its workers.  The
+    signals are blocked meanwhile, so one that arrives is delivered (to the parent's handler) on exit, not lost."""
+
+    def __enter__(self):
+        self._mask = signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS) if hasattr(signal, "pthread_sigmask") else None
+        self._old = {s: signal.signal(s, signal.SIG_IGN) for s in SIGNALS}
+        return self
+
+    def __exit__(self, *exc):
+        for s, h in self._old.items():
+            signal.signal(s, h if h is not None else signal.SIG_DFL)
+        if self._mask is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, self._mask)  # a pending signal is delivered here
+        return False
 
 
 QUIET_ENV = "MAGROD_QUIET_HEYOKA"  # = magrod.core.systems.QUIET_ENV (not imported: that would load heyoka)
@@ -159,15 +274,19 @@ def _main(argv=None) -> int:
         result = mod.run(args)
         ok = bool(result.get("ok", True))
         text = json.dumps(_clean(result), sort_keys=True, allow_nan=False) if want_json else mod.format_text(result)
+        _STATE["armed"] = False  # from here on the run is finished: a signal ends it quietly with this exit code
         _emit(text)
         if not ok:  # a computation that failed (or failed its own accuracy checks) says so once on stderr
             _stderr(command, f"error: {result.get('error') or result.get('message') or 'computation failed'}")
+        pause_point("printed")
         return EXIT_OK if ok else EXIT_FAILED
     except ParameterError as exc:
         return _fail(command, want_json, EXIT_INPUT, str(exc), exc.name)
     except KeyboardInterrupt:
-        return _fail(command, want_json, EXIT_INTERRUPTED, "interrupted", None)
+        _STATE["armed"] = False
+        return _fail(command, want_json, _interrupt_code(), _interrupt_message(), None)
     except BrokenPipeError:
+        _STATE["armed"] = False
         # the reader went away (e.g. `| head -c 10`): stop writing to it, say so once on stderr
         try:
             devnull = os.open(os.devnull, os.O_WRONLY)
@@ -185,8 +304,9 @@ def _main(argv=None) -> int:
     except MemoryError:
         return _fail(command, want_json, EXIT_ENVIRONMENT, "out of memory", None)
     except Exception as exc:  # an internal error: one line (MAGROD_DEBUG=1 re-raises for the traceback)
-        if _INTERRUPTED:  # Ctrl-C landed inside a library (e.g. half-way through an import) and came out as this
-            return _fail(command, want_json, EXIT_INTERRUPTED, "interrupted", None)
+        if _STATE["signals"]:  # a signal landed inside a library (e.g. half-way through an import) and came out as this
+            _STATE["armed"] = False
+            return _fail(command, want_json, _interrupt_code(), _interrupt_message(), None)
         if os.environ.get("MAGROD_DEBUG"):
             raise
         msg = " ".join(f"internal error: {type(exc).__name__}: {exc}".split())
@@ -215,6 +335,7 @@ def _cleanup() -> None:
 
 
 def _fail(command, want_json, code, message, parameter) -> int:
+    _STATE["armed"] = False  # the run is over: a further signal must not interrupt the error report
     _cleanup()
     if want_json:
         try:

@@ -1,6 +1,4 @@
 """python -m magrod.cli ..."""
-import sys
+from . import console_main
 
-from . import main
-
-sys.exit(main())
+console_main()

@@ -1,8 +1,12 @@
 """`magrod chaosmap`: a chaos map over two of (m, mu, gamma, delta, lam, h, theta0, ptheta0, psi0) -- a parameter
 plane at a paper panel's start rule, or initial conditions on one panel's energy level -- computed in tiles on
-Dask (a LocalCluster of --workers processes, or --scheduler tcp://HOST:PORT), stored as a chunked zarr store
-(OUT/<stem>.zarr, an xarray Dataset), drawn as OUT/<stem>.png with a JSON summary OUT/<stem>.json.  Re-running
-the same command resumes: finished tiles are not recomputed.
+Dask (a LocalCluster of --workers processes, or a running scheduler: --scheduler tcp://HOST:PORT or HOST:PORT,
+--scheduler-file PATH), stored as a chunked zarr store (OUT/<stem>.zarr, an xarray Dataset), drawn as
+OUT/<stem>.png with a JSON summary OUT/<stem>.json.  Re-running the same command resumes: finished tiles whose
+content hash verifies are not recomputed, damaged or missing ones are (and counted); a different map into the
+same store is refused (--force starts over); a second run into the same store is refused while the first runs.
+--out is made absolute: Dask workers must see that path (a shared filesystem).  Everything is validated, and a
+scheduler reached with a worker, before anything is created; a map with no computed point is a failure (exit 1).
 
 Examples:  magrod chaosmap --x lam:0:0.3:128 --y gamma:0:3:128 --t-max 1000 --out DIR
            magrod chaosmap --panel 4a --x theta0:0.05:1.5:64 --y ptheta0:-1:1:64 --out DIR"""
@@ -31,11 +35,22 @@ def add_arguments(p):
     p.add_argument("--renorm-dt", default="10", help="renormalisation interval of the tangent vector")
     p.add_argument("--threshold", default="3", help="chaotic iff growth exponent > threshold")
     p.add_argument("--tile", default="16", help="tile edge in grid points (one Dask task, one zarr chunk)")
-    p.add_argument("--workers", default=None, help="LocalCluster worker processes (1 thread each; default 2)")
-    p.add_argument("--scheduler", default=None, help="tcp://HOST:PORT of a running Dask scheduler instead")
-    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--workers", default=None,
+                   help="LocalCluster worker processes (1 thread and ~300 MB each; default 2, at most the CPUs "
+                        "this process may use)")
+    p.add_argument("--scheduler", default=None,
+                   help="a running Dask scheduler instead: tcp://HOST:PORT, HOST:PORT or tls://HOST:PORT (TLS "
+                        "certificates from the Dask configuration); the workers must see --out at the same "
+                        "absolute path (a shared filesystem)")
+    p.add_argument("--scheduler-file", default=None,
+                   help="the scheduler's address from this file (dask scheduler --scheduler-file PATH), as on HPC "
+                        "systems")
+    p.add_argument("--connect-timeout", default="5", help="seconds to reach the scheduler before giving up")
+    p.add_argument("--worker-timeout", default="60", help="seconds to wait for a worker to join the scheduler")
+    p.add_argument("--out", required=True, help="output directory (made absolute: Dask workers write there)")
     p.add_argument("--stem", default="chaosmap", help="file name stem")
-    p.add_argument("--force", action="store_true", help="overwrite a store of a different map")
+    p.add_argument("--force", action="store_true",
+                   help="start over in a store of a different map (only the store's own files are removed)")
 
 
 def spec_from_args(args):
@@ -52,6 +67,11 @@ def spec_from_args(args):
     for name in _OVERRIDES:
         v = getattr(args, name)
         if v is not None:
+            if name in (x.name, y.name):
+                axis = "x" if name == x.name else "y"
+                raise ParameterError(name, f"is varied on the --{axis} axis ({name} from "
+                                           f"{(x if axis == 'x' else y).lo:g} to {(x if axis == 'x' else y).hi:g}): "
+                                           f"do not also fix it")
             base[name] = number(name, v)
     _some_point_physical(x, y, base)
     return MapSpec(x, y, base=base, panel=str(args.panel).lower(), root=args.root,
@@ -76,58 +96,278 @@ def _some_point_physical(x, y, base):
     raise err
 
 
-def _check_scheduler(s):
-    if s is None:
-        return None
-    if not str(s).startswith(("tcp://", "tls://", "inproc://")) or ":" not in str(s).split("://", 1)[1]:
-        raise ParameterError("scheduler", f"expected tcp://HOST:PORT, got {s!r}")
-    return str(s)
+def _cluster_from_args(args):
+    """(scheduler address or None, LocalCluster size or None), validated; nothing is contacted yet."""
+    from ..chaos.store import normalise_address, read_scheduler_file
+
+    given = [o for o, v in (("scheduler", args.scheduler), ("scheduler_file", args.scheduler_file)) if v is not None]
+    if len(given) == 2:
+        raise ParameterError("scheduler_file", "give --scheduler or --scheduler-file, not both")
+    if given and args.workers is not None:  # given at all, even as "2" or "2.0"
+        raise ParameterError("workers", f"sizes the LocalCluster that --{given[0].replace('_', '-')} replaces: give "
+                                        f"one of them")
+    if args.scheduler is not None:
+        return normalise_address(args.scheduler), None
+    if args.scheduler_file is not None:
+        return read_scheduler_file(args.scheduler_file), None
+    return None, _check_workers(2 if args.workers is None else args.workers)
+
+
+WORKER_MB = 300  # RSS of a LocalCluster worker after a tile (heyoka + LLVM + dask): 253 MB measured, rounded up
+
+
+def _check_workers(value) -> int:
+    """At most the CPUs this process may use (one single-threaded process each: more only cost memory) and what
+    the available memory holds at WORKER_MB each."""
+    import os
+
+    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    n = integer("workers", value, maximum=64)
+    if n > cpus:
+        raise ParameterError("workers", f"must be <= {cpus}, the CPUs this process may use (each worker is one "
+                                        f"single-threaded process of ~{WORKER_MB} MB; more only cost memory), got "
+                                        f"{value!r}")
+    avail = _available_mb()
+    if avail is not None and n * WORKER_MB > avail:
+        raise ParameterError("workers", f"{n} workers need ~{n * WORKER_MB} MB ({WORKER_MB} MB each) but only "
+                                        f"{avail:.0f} MB are available: use fewer")
+    return n
+
+
+def _available_mb():
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return None
 
 
 def run(args) -> dict:
+    import math
     import time
+    from pathlib import Path
 
     spec = spec_from_args(args)
-    workers = integer("workers", 2 if args.workers is None else args.workers, maximum=64)
-    if args.scheduler is not None and args.workers is not None:  # given at all, even as "2" or "2.0"
-        raise ParameterError("workers", "sizes the LocalCluster that --scheduler replaces: give one of them")
-    scheduler = _check_scheduler(args.scheduler)
+    address, workers = _cluster_from_args(args)
+    connect_timeout = number("connect_timeout", args.connect_timeout, bound=3600)
+    worker_timeout = number("worker_timeout", args.worker_timeout, bound=86400)
+    for k, v in (("connect_timeout", connect_timeout), ("worker_timeout", worker_timeout)):
+        if v <= 0:
+            raise ParameterError(k, f"must be > 0 seconds, got {v:g}")
     threshold = number("threshold", args.threshold)
+    if not math.isfinite(threshold):  # pragma: no cover - number() refuses it
+        raise ParameterError("threshold", "must be finite")
     name = stem("stem", args.stem)
-    out = out_dir("out", args.out)
+    out = out_dir("out", args.out).absolute()  # workers may run in another directory: they get the absolute path
 
     from ..chaos import maps, store as chaos_store
-    from ..figures.chaos import draw_map
-    from ..core.io import atomic_write_json, ensure_writable_dir, versions
+    from ..core.io import DirectoryLock, atomic_write_json, ensure_writable_dir, versions
     from ..core.progress import bar
+    from . import children_immune, pause_point
 
-    out = ensure_writable_dir(out)
     pth = chaos_store.paths(out, name)
-    chaos_store.create_or_open(spec, pth["store"], pth["tiles"], force=args.force)
-    n_tiles = len(maps.tiles(spec))
-    todo = n_tiles - len(chaos_store.done_tiles(pth["tiles"]))
-    t0 = time.perf_counter()
-    with bar(todo, "chaosmap", not args.quiet, unit="tile") as update:
-        res = chaos_store.run_tiles(spec, pth["store"], pth["tiles"], workers=workers, scheduler=scheduler,
-                                    progress=update)
-    wall = time.perf_counter() - t0
-    fields = chaos_store.load_fields(pth["store"])
-    draw_map(fields, spec, pth["png"], indicator=args.indicator, threshold=threshold)
-    summary = maps.map_summary(spec, fields, wall, threshold)
-    computed = set(res["computed"])  # a set once, not per tile: a 4096^2 map has 65 536 tiles
-    pts = sum(int(((t.ys.stop - t.ys.start) * (t.xs.stop - t.xs.start))) for t in maps.tiles(spec)
-              if t.key in computed)
-    summary.update(orbits_computed=pts, orbits_per_s=pts / wall if pts and wall > 0 else None,
-                   tiles={"total": n_tiles, "computed": len(res["computed"]), "skipped": len(res["skipped"])},
-                   workers=None if scheduler else workers, scheduler=scheduler or "LocalCluster",
-                   task_wall_s=res["task_wall_s"])
-    result = {"ok": True, "spec": spec.as_dict(), **summary,
-              "output": {k: str(v) for k, v in pth.items() if k != "tiles"}}
-    atomic_write_json(pth["json"], {**result, "versions": versions()})
-    return result
+    chaos_store.check_paths(pth)  # a symbolic link for the store: refused before anything is made
+    if workers is not None:
+        maps.check_cost(spec, workers)
+        _check_open_files(workers)
+    client = cluster = None
+    pids: list = []
+    state = None
+    ok_exit = False
+    try:
+        if address is not None:  # reach the scheduler and a worker before anything is created
+            with chaos_store.quiet_distributed():
+                client = chaos_store.connect(address, timeout=connect_timeout, worker_timeout=worker_timeout)
+            maps.check_cost(spec, max(1, len(client.scheduler_info().get("workers", {}))))
+        out = ensure_writable_dir(out)
+        busy = (f"another magrod chaosmap is writing {str(pth['store'])!r}; wait for it to finish (its tiles are then "
+                f"reused) or choose another --out/--stem")
+        with DirectoryLock(pth["lock"], "out", busy):
+            chaos_store.remove_temporaries(pth)  # what a killed run left (we hold the lock: no writer is alive)
+            state = chaos_store.create_or_open(spec, pth["store"], pth["tiles"], force=args.force)
+            if state.repaired or state.metadata_rewritten:  # one line: what was found damaged and is repaired
+                import warnings
+
+                from ..core.errors import MagrodWarning
+
+                what = [f"{len(state.repaired)} damaged or missing tile(s) failed their content hash and are "
+                        f"recomputed"] if state.repaired else []
+                if state.metadata_rewritten:
+                    what.append(f"{len(state.metadata_rewritten)} damaged metadata file(s) rewritten from the spec")
+                warnings.warn(f"{str(pth['store'])!r}: {'; '.join(what)}", MagrodWarning, stacklevel=1)
+            n_tiles = len(maps.tiles(spec))
+            todo = n_tiles - len(state.done)
+            t0 = time.perf_counter()
+            if todo and client is None:
+                with chaos_store.quiet_distributed(), children_immune():
+                    try:
+                        cluster, client, pids = chaos_store.start_local_cluster(workers)
+                    except (RuntimeError, OSError, TimeoutError) as exc:
+                        raise _start_failure(exc, workers) from None
+            try:
+                with bar(todo, "chaosmap", not args.quiet, unit="tile") as update, chaos_store.quiet_distributed():
+                    res = chaos_store.run_tiles(spec, pth["store"], pth["tiles"], client=client, state=state,
+                                                progress=update, on_submitted=lambda: pause_point("chaosmap-running"),
+                                                worker_timeout=worker_timeout)
+            except chaos_store.TileFailure as exc:  # finished tiles keep their markers for the next run
+                return _tile_failure(exc, address, len(state.done), n_tiles)
+            chaos_store.finish(spec, state)
+            wall = time.perf_counter() - t0
+            fields = chaos_store.load_fields(pth["store"])
+            summary = maps.map_summary(spec, fields, wall, threshold)
+            computed = set(res["computed"])  # a set once, not per tile: a 4096^2 map has 65 536 tiles
+            pts = sum(int(((t.ys.stop - t.ys.start) * (t.xs.stop - t.xs.start))) for t in maps.tiles(spec)
+                      if t.key in computed)
+            summary.update(orbits_computed=pts, orbits_per_s=pts / wall if pts and wall > 0 else None,
+                           tiles={"total": n_tiles, "computed": len(res["computed"]), "skipped": len(res["skipped"]),
+                                  "repaired": len(res["repaired"])},
+                           repaired_tiles=res["repaired"], metadata_rewritten=state.metadata_rewritten,
+                           workers=workers, scheduler=address or "LocalCluster",
+                           task_wall_s=res["task_wall_s"])
+            result = {"ok": True, "spec": spec.as_dict(), **summary, "store_identity": state.identity,
+                      "output": {k: str(v) for k, v in pth.items() if k in ("store", "png", "json")}}
+            problem = _check_fields(fields, summary)
+            if problem:  # never hand back a map we cannot vouch for: no PNG, no summary file
+                result.update(ok=False, error=problem, output={"store": str(pth["store"])})
+            else:
+                from ..figures.chaos import draw_map
+
+                written = []
+                try:  # the picture and its summary, or neither
+                    written.append(draw_map(fields, spec, pth["png"], indicator=args.indicator, threshold=threshold))
+                    written.append(atomic_write_json(pth["json"], {**result, "versions": versions()}))
+                except BaseException:
+                    for f in written:
+                        Path(f).unlink(missing_ok=True)
+                    raise
+            ok_exit = True
+            return result
+    except OSError as exc:  # the machine (disk full, file-size limit, ...): one line with the path
+        from ..core.io import resource_fault
+
+        raise resource_fault(exc, "out", exc.filename if exc.filename is not None else pth["store"]) from None
+    finally:
+        interrupted = not ok_exit
+        if cluster is not None:
+            chaos_store.stop_local_cluster(cluster, client, pids, interrupted=interrupted)
+        elif client is not None:
+            chaos_store._close_quietly(client)
+        if interrupted and state is not None:
+            _clean_after_failure(chaos_store, pth, state, pids)
+
+
+def _files_needed(workers: int) -> int:
+    """Open files the parent needs for a LocalCluster: ~31 + 10 per worker measured (sockets, pipes, the JIT
+    cache, zarr), with a margin."""
+    return 40 + 12 * workers
+
+
+def _check_open_files(workers: int) -> None:
+    import resource
+
+    from ..core.errors import EnvironmentFault
+
+    soft, _ = resource.getrlimit(resource.RLIMIT_NOFILE)
+    need = _files_needed(workers)
+    if soft != resource.RLIM_INFINITY and soft < need:
+        raise EnvironmentFault("workers", f"the open-file limit (ulimit -n) is {soft}; a LocalCluster of {workers} "
+                                          f"worker(s) needs about {need} open files: raise it (e.g. ulimit -n 1024)")
+
+
+def _start_failure(exc, workers: int):
+    """The LocalCluster did not start: the machine's limits (memory, processes, files) say why, in one line."""
+    import resource
+
+    from ..core.errors import EnvironmentFault
+
+    limits = []
+    for name, rl, unit in (("ulimit -v", "RLIMIT_AS", "kB"), ("ulimit -u", "RLIMIT_NPROC", ""),
+                           ("ulimit -n", "RLIMIT_NOFILE", "")):
+        soft = resource.getrlimit(getattr(resource, rl))[0]
+        if soft != resource.RLIM_INFINITY:
+            limits.append(f"{name} {soft // 1024 if unit else soft}")
+    why = " ".join(f"{type(exc).__name__}: {exc}".split())[:120]
+    return EnvironmentFault("workers", f"cannot start a LocalCluster of {workers} worker(s) ({why}): not enough "
+                                       f"memory, processes or open files? limits in force: "
+                                       f"{', '.join(limits) or 'none'}")
+
+
+def _tile_failure(exc, address, done: int, total: int) -> dict:
+    """A failed task as one line: the machine (a worker killed, out of memory, the scheduler lost, a full disk)
+    is an EnvironmentFault (exit 3); an exception raised by the computation is a failed run (exit 1)."""
+    from ..core.errors import EnvironmentFault
+    from ..core.io import resource_fault
+
+    inner = exc.exc
+    kept = f"{done} of {total} tiles finished" + (" and kept; re-run to resume" if done else "")
+    where = f"the scheduler at {address}" if address else "the LocalCluster"
+    kind = type(inner).__name__
+    if isinstance(inner, OSError) and inner.errno is not None:
+        f = resource_fault(inner, "out")
+        raise EnvironmentFault("out", f"{f.message} ({kept})") from None
+    text = str(inner)
+    if isinstance(inner, MemoryError) or "bad_alloc" in text or "can't start new thread" in text \
+            or "Cannot allocate memory" in text:
+        raise EnvironmentFault("workers", f"a worker ran out of memory or threads on tile {exc.key} ({kind}: "
+                                          f"{' '.join(text.split())[:80]}; a memory limit such as ulimit -v?); {kept}"
+                               ) from None
+    if kind in ("KilledWorker", "CommClosedError", "FutureCancelledError", "CancelledError", "TimeoutError") \
+            or isinstance(inner, (OSError, TimeoutError)):
+        raise EnvironmentFault("scheduler", f"lost a worker or {where} ({kind}: "
+                                            f"{' '.join(str(inner).split())[:160]}; {kept})") from None
+    return {"ok": False, "error": f"tile task failed in a worker: {exc} ({kept})", "tiles": {"total": total,
+                                                                                           "done": done}}
+
+
+def _check_fields(fields, summary) -> str | None:
+    """Why the map is not a result (None if it is): no point computed, or computed points without finite
+    indicators (what workers wrote is inconsistent)."""
+    import numpy as np
+
+    from ..chaos import indicators
+
+    ok = np.asarray(fields["status"]) == indicators.OK
+    if not ok.any():
+        why = ", ".join(f"{v} {k}" for k, v in summary["missing"].items()) or "none"
+        return f"no point of the map could be computed (status of the {summary['points']} points: {why})"
+    for k in ("lyap", "fli", "growth_exponent", "max_abs_dH"):
+        if not np.all(np.isfinite(np.asarray(fields[k])[ok])):
+            return f"points marked ok have non-finite {k}: the store's content is inconsistent"
+    return None
+
+
+def _clean_after_failure(chaos_store, pth, state, pids) -> None:
+    """After a failure or a signal: temporaries of interrupted writes go; a store this run created in which no tile
+    finished goes too (nothing partial is left); finished tiles keep their markers for the next run."""
+    chaos_store.remove_temporaries(pth, pids)
+    if state.created and not state.done and not chaos_store.done_tiles(pth["tiles"]):  # a marker not yet verified
+        # here is kept too: the next run verifies it
+        chaos_store._remove_store_files(pth["store"], set(chaos_store.FIELDS) | _axis_names(state))
+        chaos_store._remove_markers(pth["tiles"])
+        try:
+            pth["tiles"].rmdir()
+        except OSError:
+            pass
+
+
+def _axis_names(state) -> set:
+    import json
+
+    try:
+        rec = json.loads((state.tiles_dir / "store.record").read_text())
+        return {rec["spec"]["x"]["name"], rec["spec"]["y"]["name"]}
+    except (OSError, ValueError, KeyError, TypeError):
+        from ..chaos.maps import AXIS_NAMES
+
+        return set(AXIS_NAMES)
 
 
 def format_text(r: dict) -> str:
+    if "grid" not in r:  # a failed run: the error line says it
+        return f"chaos map: FAILED ({r.get('error')})"
     g = r["grid"]
     lines = [f"chaos map {g['x']['name']} [{g['x']['lo']:g}, {g['x']['hi']:g}] x {g['y']['name']} "
              f"[{g['y']['lo']:g}, {g['y']['hi']:g}], {g['x']['n']} x {g['y']['n']} points, T = {r['t_max']:g}",

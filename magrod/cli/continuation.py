@@ -31,18 +31,15 @@ def add_arguments(p):
 
 
 def _check_range(params, name: str, rng, mu2lam: bool):
+    from ..orbits.equilibrium import on_level, straight_rod
     from ..orbits.periodic import periodic_saddle
-    from ..generated import scalars
-    from ..core.params import RodParams
-    from ..orbits.equilibrium import straight_rod
 
     for v in rng:
-        kw = {**params.as_dict(), name: v}
-        if mu2lam:
-            kw["mu"] = scalars.straight_rod_mu(**kw)
         try:
-            q = RodParams(**kw)
-            straight_rod(q) if mu2lam else periodic_saddle(q)
+            if mu2lam:
+                straight_rod(on_level(params, **{name: v}))
+            else:
+                periodic_saddle(params.replace(**{name: v}))
         except ParameterError as exc:
             raise ParameterError("range", f"{name} = {v:g} is beyond a stability boundary of the saddle ({exc.message}); "
                                           "pass --allow-boundary to continue anyway") from None
@@ -53,10 +50,10 @@ def run(args) -> dict:
 
     import numpy as np
 
-    from ..orbits import continuation as C
-    from ..orbits import periodic_homoclinic as hp
-    from ..orbits import shooting
     from ..figures.continuation import write_branch
+    from ..orbits import continuation as C
+    from ..orbits import multipulse as mp
+    from ..orbits import periodic_multipulse as pm
     from ..generated import scalars
     from ..core.params import RodParams
     from ..core.progress import bar
@@ -82,14 +79,19 @@ def run(args) -> dict:
     out = out_dir("out", args.out)
     t0 = time.perf_counter()
     if args.mu2lam:
-        r = shooting.shoot(base, N)
-        if not r.success:
-            return {"ok": False, "error": f"no {N}-pulse orbit on mu = 2 lam near lam = {base.lam}: {r.message}"}
+        r = mp.shoot(base, N)
+        if not r.success:  # Newton from the default guess did not converge: scan lam and bisect, as multipulse does
+            found = mp.find_orbits(base, free="lam", max_pulses=N)
+            if not found[N - 1]["success"]:
+                return {"ok": False, "error": f"no {N}-pulse orbit on mu = 2 lam near lam = {base.lam}: "
+                                              f"{r.message}; scan: {found[N - 1]['message']} (near Figure 6 the "
+                                              f"orbits on mu = 2 lam have 2 and 4 pulses: try --pulses 2)"}
+            r = found[N - 1]["result"]
         F, params_of = C.mu2lam_problem(r.params, name)
         u0 = [r.T, r.params.lam, getattr(r.params, name)]
         names, par, scale = ("T", "lam", name), 2, [r.T, 1e-3, max(1.0, abs(u0[2]))]
     else:
-        found = hp.find(base, N, samples=121)
+        found = pm.find(base, N, samples=121)
         if not found:
             return {"ok": False, "error": f"no symmetric {N}-pulse homoclinic orbit to the periodic saddle at {base.as_dict()}"}
         r = found[0]

@@ -5,16 +5,18 @@ from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from .options import add_params, integer, number, out_dir, params_from
 
-FREE = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))  # = magrod.orbits.shooting.FREE_PARAMETERS
+FREE = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))  # = magrod.orbits.multipulse.FREE_PARAMETERS
 
 
 def add_arguments(p):
     p.add_argument("--figure", type=int, choices=(6, 7), help="parameters of fig:multimodal1 (6) / fig:multimodal2 (7)")
     add_params(p, help_suffix=" (free-parameter form; overrides --figure)")
-    p.add_argument("--free", default="lam", choices=FREE,
-                   help="parameter solved for together with T (mu follows it: mu = 2 lam)")
+    p.add_argument("--free", default=None, choices=FREE,
+                   help="parameter solved for together with T (mu follows it: mu = 2 lam; default lam; mu = 2 lam "
+                        "only)")
     p.add_argument("--max-pulses", default="6", help="look for N-pulse orbits, N = 1..max")
-    p.add_argument("--span", default="0.5", help="relative scan range of the free parameter")
+    p.add_argument("--span", default=None,
+                   help="relative scan range of the free parameter, in (0, 1) (default 0.5; mu = 2 lam only)")
     p.add_argument("--samples", default="81", help="scan samples")
     p.add_argument("--out", default="out/multipulse", help="output directory")
 
@@ -24,6 +26,7 @@ def run(args) -> dict:
     from ..generated import scalars
     from ..core.params import RodParams
     from ..core.printed import MULTIPULSE
+    from ..core.tolerances import MU_TOL
 
     base = MULTIPULSE[args.figure]["params"].as_dict() if args.figure else {}
     vals = params_from(args, base)
@@ -31,20 +34,25 @@ def run(args) -> dict:
         raise ParameterError("figure", "give --figure 6|7 or all of " + " ".join(f"--{k}" for k in PARAMS))
     params = RodParams(**vals)
     max_pulses = integer("max_pulses", args.max_pulses)
-    if abs(params.mu - scalars.straight_rod_mu(**vals)) > 64 * 2.220446049250313e-16 * max(1.0, abs(params.mu)):
+    span = number("span", args.span if args.span is not None else "0.5")  # validated whenever given
+    if not (0 < span < 1):
+        raise ParameterError("span", f"must be in (0, 1) (a relative range around the nominal value), got {span}")
+    if abs(params.mu - scalars.straight_rod_mu(**vals)) > MU_TOL * max(1.0, abs(params.mu)):
+        for opt in ("span", "free"):  # these shape the mu = 2 lam scan only: given here they would be ignored
+            if getattr(args, opt) is not None:
+                raise ParameterError(opt, f"applies to mu = 2 lam only (a scan of the free parameter); at mu = "
+                                          f"{params.mu:g} != 2 lam = {2 * params.lam:g} the orbits to the periodic "
+                                          f"saddle are found at the given parameters: drop --{opt}")
         # mu != 2 lam: orbits to the periodic saddle (helical rod) are generic, found at the given parameters
-        from ..figures.continuation import write_periodic_multipulse
+        from ..figures.multipulse import periodic_multipulse
 
         samples = integer("samples", args.samples, minimum=3)
         out_dir("out", args.out)
-        return write_periodic_multipulse(params, args.out, max_pulses=max_pulses, samples=samples,
+        return periodic_multipulse(params, args.out, max_pulses=max_pulses, samples=samples,
                                          progress=not args.quiet)
-    span = number("span", args.span)
-    if not (0 < span < 1):
-        raise ParameterError("span", f"must be in (0, 1), got {span}")
     samples = integer("samples", args.samples, minimum=3)
     out_dir("out", args.out)
-    summary, _ = multipulse(params, args.out, free=args.free, max_pulses=max_pulses, span=span, samples=samples,
+    summary, _ = multipulse(params, args.out, free=args.free or "lam", max_pulses=max_pulses, span=span, samples=samples,
                             stem=f"figure{args.figure}" if args.figure else "multipulse", progress=not args.quiet)
     return summary
 

@@ -1,6 +1,11 @@
 """`magrod poincare`: one orbit's Poincare section sin(psi) = 0, either a paper panel (--figure 4a .. 5d) or free
 parameters (--m --mu --gamma --delta --lam --h --theta0 --ptheta0 [--psi0]).  Options given explicitly override
-the panel's values.  With --out DIR the section is written as DIR/<stem>.npz, .json and .png (atomically)."""
+the panel's values.  With --out DIR the section is written as DIR/<stem>.npz, .json and .png (atomically).
+
+With --starts FILE|GRID many orbits run on the same level (SIMD lanes on all cores) as a section portrait, each
+orbit coloured by the chaos indicator of its start (--indicator): FILE holds rows theta0 ptheta0 [psi0
+[p_psi0]] (whitespace or commas, # comments; .npy too), GRID is theta0:LO:HI:N,ptheta0:LO:HI:N (the grid points
+that reach the level).  Example:  magrod poincare --figure 4a --starts theta0:0.1:3:8,ptheta0:-1:1:8 --out DIR"""
 from __future__ import annotations
 
 from ..core.errors import ParameterError
@@ -33,6 +38,13 @@ def add_arguments(p):
                    help="body: 9-D body frame; reduced: the paper's 4-D system (body frame near chart singularities)")
     p.add_argument("--t-max", type=str, default=None, help=f"max-time guard (default 100 x iterates, at most "
                                                            f"{100 * LIMITS['iterates']:.0e})")
+    p.add_argument("--starts", default=None, metavar="FILE|GRID",
+                   help="many orbits on the level: a file of rows theta0 ptheta0 [psi0 [p_psi0]], or "
+                        "theta0:LO:HI:N,ptheta0:LO:HI:N (grid points that reach the level)")
+    p.add_argument("--indicator", default="growth_exponent", choices=("growth_exponent", "lyap", "fli", "none"),
+                   help="with --starts: colour of each orbit (chaos indicator of its start)")
+    p.add_argument("--t-indicator", default="1000", help="with --starts: integration time of the indicator")
+    p.add_argument("--workers", default=None, help="with --starts: threads (default: all cores)")
     p.add_argument("--out", default=None, help="write <stem>.npz/.json/.png into this directory")
     p.add_argument("--stem", default=None, help="file name stem (default: fig<PANEL> or poincare)")
 
@@ -68,6 +80,109 @@ def _inputs(args) -> tuple[dict, str | None]:
     return vals, key
 
 
+def parse_starts(value):
+    """--starts: ("grid", (theta0 axis, ptheta0 axis)) for THETA0:LO:HI:N,PTHETA0:LO:HI:N, else ("file", array)
+    read from the file (ParameterError("starts") if unreadable, of the wrong shape, empty or non-finite)."""
+    import os
+
+    text = str(value)
+    parts = text.split(",")
+    if all(q.count(":") == 3 for q in parts) and not os.path.exists(text):
+        axes = {}
+        for q in parts:
+            name, lo, hi, n = q.split(":")
+            if name not in ("theta0", "ptheta0") or name in axes:
+                raise ParameterError("starts", f"a GRID is theta0:LO:HI:N,ptheta0:LO:HI:N, got {text[:80]!r}")
+            axes[name] = (number("starts", lo), number("starts", hi), integer("starts", n, maximum=4096))
+        if set(axes) != {"theta0", "ptheta0"}:
+            raise ParameterError("starts", f"a GRID needs both theta0:LO:HI:N and ptheta0:LO:HI:N, got {text[:80]!r}")
+        return "grid", (axes["theta0"], axes["ptheta0"])
+    import numpy as np
+
+    if not os.path.isfile(text):
+        raise ParameterError("starts", f"no such file {text[:120]!r} (and not a GRID theta0:LO:HI:N,ptheta0:LO:HI:N)")
+    try:
+        if text.endswith(".npy"):
+            a = np.load(text, allow_pickle=False)
+        else:
+            with open(text) as fh:
+                rows = [ln.split("#")[0].replace(",", " ").split() for ln in fh]
+            rows = [r for r in rows if r]
+            a = np.array([[float(x) for x in r] for r in rows]) if rows else np.zeros((0, 2))
+    except (OSError, ValueError) as exc:
+        raise ParameterError("starts", f"cannot read {text[:120]!r}: {str(exc)[:120]}") from None
+    from ..chaos.section import start_table
+
+    return "file", start_table(a, "starts")
+
+
+def _run_portrait(args, vals, key, params) -> dict:
+    from ..chaos.portrait import grid_starts, section_portrait
+    from ..core.progress import bar
+
+    for name in ("theta0", "ptheta0", "psi0", "ppsi0"):
+        if getattr(args, name) is not None:
+            raise ParameterError(name, "the starts come from --starts: do not also give --" + name)
+    if "h" not in vals:
+        raise ParameterError("h", "missing: give --h (or --figure) for the level of the portrait")
+    kind, what = parse_starts(args.starts)
+    iterates = integer("iterates", args.iterates)
+    t_ind = number("t_indicator", args.t_indicator, bound=1e7)
+    if t_ind <= 0:
+        raise ParameterError("t_indicator", f"must be > 0, got {t_ind}")
+    workers = None if args.workers is None else integer("workers", args.workers, maximum=256)
+    t_max = None if args.t_max is None else number("t_max", args.t_max, bound=100.0 * LIMITS["iterates"])
+    if t_max is not None and t_max <= 0:
+        raise ParameterError("t_max", f"must be > 0, got {t_max}")
+    if args.stem is not None and args.out is None:
+        raise ParameterError("stem", "names the files written into --out: give --out too")
+    name = stem("stem", args.stem) if args.stem is not None else (f"portrait{key}" if key else "portrait")
+    out = out_dir("out", args.out) if args.out is not None else None
+    if args.root not in ("largest", "smallest"):
+        raise ParameterError("root", "with --starts give largest or smallest")
+    if args.formulation != "body" or args.branch != "any":
+        raise ParameterError("starts", "portraits run the body formulation with branch any")
+    starts = grid_starts(params, vals["h"], theta0=what[0], ptheta0=what[1], psi0=0.0) if kind == "grid" else what
+    if starts.shape[0] * iterates > 10 * LIMITS["iterates"]:
+        raise ParameterError("starts", f"{starts.shape[0]} orbits x {iterates} iterates: at most "
+                                       f"{10 * LIMITS['iterates']} section points in one command")
+    indicator = None if args.indicator == "none" else args.indicator
+    with bar(starts.shape[0] * iterates, "portrait", not args.quiet) as update:
+        res = section_portrait(params, vals["h"], starts=starts, iterates=iterates, indicator=indicator,
+                               t_indicator=t_ind, root=args.root, direction=args.direction, t_max=t_max,
+                               workers=workers, progress=update)
+    res.panel = key
+    paths = {}
+    if res.success and out is not None:
+        from ..core.io import ensure_writable_dir
+        from ..figures.portrait import save_portrait
+
+        paths = save_portrait(res, ensure_writable_dir(out), name)
+    d = {"ok": bool(res.success), "panel": key, "portrait": True, **res.summary(), "output": paths}
+    if not res.success:
+        d["error"] = res.message + ("; nothing written" if out is not None else "")
+    return d
+
+
+def _inputs_portrait(args) -> tuple[dict, str | None]:
+    from ..core.printed import PANELS, panel
+
+    vals, key = {}, None
+    if args.figure is not None:
+        try:
+            P = panel(args.figure)
+        except ParameterError as exc:
+            raise ParameterError("figure", exc.message) from None
+        key, vals = P.key, dict(P.params.as_dict(), h=P.h)
+    vals = params_from(args, vals)
+    if args.h is not None:
+        vals["h"] = number("h", args.h)
+    for name in PARAMS:
+        if name not in vals:
+            raise ParameterError(name, f"missing: give --{name} (or --figure one of {', '.join(PANELS)})")
+    return vals, key
+
+
 def run(args) -> dict:
     """Parse, call magrod.chaos.section.poincare_section (which validates the start and checks its own accuracy),
     write the files of a successful run."""
@@ -75,6 +190,9 @@ def run(args) -> dict:
     from ..core.params import RodParams
     from ..core.progress import bar
 
+    if args.starts is not None:
+        vals, key = _inputs_portrait(args)
+        return _run_portrait(args, vals, key, RodParams(**{k: vals[k] for k in PARAMS}))
     vals, key = _inputs(args)
     params = RodParams(**{k: vals[k] for k in PARAMS})
     iterates = integer("iterates", args.iterates)
@@ -112,6 +230,21 @@ def run(args) -> dict:
 
 
 def format_text(r: dict) -> str:
+    if r.get("portrait"):
+        p = r["parameters"]
+        lines = [f"Section portrait sin(psi) = 0{' (Fig. ' + r['panel'] + ')' if r.get('panel') else ''}: "
+                 + ", ".join(f"{k} = {v:g}" for k, v in p.items()) + f", h = {r['h']:.12g}",
+                 f"  {r['n_orbits']} orbits, {min(r['iterates'])}..{max(r['iterates'])} iterates each, wall "
+                 f"{r['wall_s']:.2f} s, max |Hbar - h| = {r['accuracy']['max_abs_dH']:.2e}"]
+        if r.get("indicator"):
+            fc = r.get("fraction_chaotic")
+            lines.append(f"  indicator {r['indicator']} (T = {r['t_indicator']:g})"
+                         + (f": fraction chaotic {fc:.2f}" if fc is not None else ""))
+        if not r["success"]:
+            lines.append(f"  FAILED: {r['message']}")
+        for kind, path in (r.get("output") or {}).items():
+            lines.append(f"  wrote {kind}: {path}")
+        return "\n".join(lines)
     p = r["parameters"]
     lines = [f"Poincare section sin(psi) = 0{' (Fig. ' + r['panel'] + ')' if r.get('panel') else ''}: "
              + ", ".join(f"{k} = {v:g}" for k, v in p.items()) + f", h = {r['h']:.12g}",

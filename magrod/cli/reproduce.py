@@ -3,9 +3,11 @@
 Nothing symbolic is re-derived (generated/ is used as is).  Figures run as independent tasks in worker
 processes (--jobs), each task writing its files atomically; a task whose stamp (same quick flag, same
 package versions, every file present with its recorded content hash) is found in OUT/.state/ is skipped, so an
-interrupted run resumes.  Ctrl-C stops the workers at once, keeps the stamps of finished figures, leaves no
-half-written file and exits 130; workers die with their parent even on kill -9; a second run into the same
-directory is refused while the first holds its lock."""
+interrupted run resumes.  Ctrl-C (exit 130), SIGTERM (143) and SIGHUP (129) stop the workers at once (they
+ignore the terminal's signals: stopping them is the parent's job), keep the stamps of finished figures, remove
+the temporaries of half-written files and print one line; workers die with their parent even on kill -9 (and
+the next run removes what they left); a second run into the same directory is refused while the first holds its
+lock."""
 from __future__ import annotations
 
 import json
@@ -75,7 +77,9 @@ def _worker_init(parent_pid: int) -> None:
     import signal
     import threading
 
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for name in ("SIGINT", "SIGTERM", "SIGHUP"):  # the terminal's signals reach the whole group: ours to handle
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), signal.SIG_IGN)
     try:
         import ctypes
 
@@ -120,16 +124,10 @@ def _tasks(only: str) -> list:
 def _lock(out: Path):
     """An exclusive lock on OUT/.state/lock for the whole run: a second `magrod reproduce` into the same
     directory fails at once instead of computing everything again."""
-    import fcntl
+    from ..core.io import DirectoryLock
 
-    fh = open(out / ".state" / "lock", "a+")
-    try:
-        fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        fh.close()
-        raise EnvironmentFault("out", f"another magrod reproduce is writing into {str(out)!r}; wait for it to "
-                                      "finish (finished figures are then reused) or choose another --out") from None
-    return fh
+    return DirectoryLock(out / ".state" / "lock", "out", f"another magrod reproduce is writing into {str(out)!r}; "
+                         "wait for it to finish (finished figures are then reused) or choose another --out").acquire()
 
 
 def run(args) -> dict:
@@ -138,8 +136,9 @@ def run(args) -> dict:
     import os
 
     from ..figures.report import claims, report_markdown
-    from ..core.io import atomic_write_json, atomic_write_text, ensure_writable_dir, versions
+    from ..core.io import atomic_write_json, atomic_write_text, ensure_writable_dir, remove_stale_temporaries, versions
     from ..core.progress import bar
+    from . import children_immune, pause_point
     from .options import out_dir
 
     jobs = integer("jobs", args.jobs)
@@ -150,6 +149,8 @@ def run(args) -> dict:
     except OSError as exc:
         raise EnvironmentFault("out", f"cannot create {str(out / '.state')!r}: {exc.strerror}") from None
     lock = _lock(out)
+    remove_stale_temporaries(out)  # what a killed run left behind (its writer is dead; we hold the lock)
+    remove_stale_temporaries(out / ".state")
     t0 = time.perf_counter()
     done, todo = {}, []
     for t in tasks:
@@ -160,12 +161,20 @@ def run(args) -> dict:
             todo.append(t)
     failures = {}
     # spawn, not fork: workers build their own LLVM/heyoka state (the on-disk JIT cache makes this cheap)
-    ex = cf.ProcessPoolExecutor(max_workers=min(jobs, max(1, len(todo))), mp_context=multiprocessing.get_context("spawn"),
-                                initializer=_worker_init, initargs=(os.getpid(),))
+    # multiprocessing's resource tracker starts with the pool's first queue: it too must not die of the terminal's
+    # SIGHUP (it ignores only SIGINT and SIGTERM itself)
+    with children_immune():
+        ex = cf.ProcessPoolExecutor(max_workers=min(jobs, max(1, len(todo))),
+                                    mp_context=multiprocessing.get_context("spawn"), initializer=_worker_init,
+                                    initargs=(os.getpid(),))
     interrupted = False
+    pids = set()
     try:
         with bar(len(todo), "reproduce", not args.quiet, unit="figure") as update:
-            futs = {ex.submit(_run_task, t, str(out), args.quick): t for t in todo}
+            with children_immune():  # the workers are started by submit: they inherit SIG_IGN
+                futs = {ex.submit(_run_task, t, str(out), args.quick): t for t in todo}
+            pids = set(getattr(ex, "_processes", {}) or {})
+            pause_point("reproduce-running")
             for fut in cf.as_completed(futs):
                 t = futs[fut]
                 try:
@@ -180,12 +189,19 @@ def run(args) -> dict:
                 update(1)
     except BaseException:
         interrupted = True
-        for proc in list(getattr(ex, "_processes", {}).values()):  # stop now, not after the running figures
+        procs = list((getattr(ex, "_processes", None) or {}).values())
+        for proc in procs:  # stop now, not after the running figures
+            pids.add(proc.pid)
             proc.kill()
+        for proc in procs:
+            proc.join(5)
         raise
     finally:
         ex.shutdown(wait=not interrupted, cancel_futures=True)
-        lock.close()
+        if interrupted:  # a worker killed mid-write leaves its temporary: remove it (stamps of finished figures stay)
+            remove_stale_temporaries(out, pids)
+            remove_stale_temporaries(out / ".state", pids)
+        lock.release()
     report_path = out / "REPORT.md"
     rows = claims(out, args.quick)
     atomic_write_text(report_path, report_markdown(rows, done, failures, args.quick, time.perf_counter() - t0))

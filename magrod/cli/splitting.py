@@ -3,13 +3,15 @@ the separatrix of the straight rod along mu = a eps^2, lambdabar = b eps^2 (eq:c
 measured at the first turning point of the unstable manifold (magrod/splitting.py, docs/nonintegrability.md).
 a = 2b: the saddle is the straight rod (an equilibrium); D = psi_u and d = rho sin psi_u.  a > 2b: the saddle is
 the tilted straight rod (a saddle-focus of the reduced chart); D(psi) = theta_u(psi) - theta_u(-psi) ~ 2 s1 sin psi.
-The result is computed in --precision and checked in the next lower precision."""
+The result is computed in --precision (a magrod Precision: double, "long double", quad, mp) and checked in the next
+lower precision."""
 from __future__ import annotations
 
 from ..core.errors import ParameterError
 from .options import integer, number, out_dir
 
-CHECK = {"mp": "quad", "quad": "long", "long": "double", "double": None}
+# the check precision of each working precision: the next lower one
+CHECK = {"mp": "quad", "quad": "long double", "long double": "double", "double": None}
 
 
 def add_arguments(p):
@@ -19,7 +21,7 @@ def add_arguments(p):
     p.add_argument("--a", default="2", help="mu = a eps^2 (a >= 2b)")
     p.add_argument("--b", default="1", help="lambdabar = b eps^2 (b >= 0)")
     p.add_argument("--eps", default="0.3,0.1,0.03,0.01,0.003,0.001", help="comma-separated eps > 0")
-    p.add_argument("--precision", default="quad", choices=("double", "long", "quad", "mp"),
+    p.add_argument("--precision", default="quad", choices=tuple(CHECK),
                    help="working precision of the reference values (checked in the next lower one)")
     p.add_argument("--phases", default="64", help="launch phases on the unstable eigenplane (a > 2b only)")
     p.add_argument("--out", default=None, help="write splitting.json/.npz/.png into this directory")
@@ -39,12 +41,28 @@ def _eps_list(s):
     return vals
 
 
+def _check_resolvable(eps, precision) -> None:
+    """The splitting d scales like eps^4 at a = 2b (d/eps^4 -> b^2 S/m^2, derived and measured to 8 digits in
+    docs/nonintegrability.md; psi_u ~ eps^2) and no faster in the tilted case: an eps whose eps^4 is below the working
+    precision's machine epsilon measures nothing but rounding (e.g. eps = 1e-300, where b eps^2 underflows)."""
+    from ..core.precision import Precision
+
+    prec = Precision.parse(precision)
+    lo = prec.eps ** 0.25
+    small = [e for e in eps if e < lo]
+    if small:
+        raise ParameterError("eps", f"must be >= {lo:.2g} in {prec.value} precision (eps^4 >= its machine epsilon "
+                                    f"2^-{prec.bits - 1}: the splitting ~ eps^4 is below rounding otherwise), got "
+                                    f"{min(small):g}")
+
+
 def run(args) -> dict:
     from ..separatrix import splitting as S
     from ..core.progress import bar
 
     vals = {k: number(k, getattr(args, k)) for k in ("m", "gamma", "delta", "a", "b")}
     eps = _eps_list(args.eps)
+    _check_resolvable(eps, args.precision)
     S._check(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], min(eps), args.precision)
     n = integer("phases", args.phases, minimum=8, maximum=4096)
     dest = out_dir("out", args.out) if args.out is not None else None

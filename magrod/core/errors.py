@@ -51,6 +51,8 @@ def require_finite(name: str, value, bound: float | None = None) -> float:
     import math
     import sys
 
+    if type(value).__name__ in ("bool", "bool_"):  # True is 1.0 to float(): a flag where a number belongs is a bug
+        raise ParameterError(name, f"must be a number, got {value!r}")
     try:
         v = float(value)
     except (TypeError, ValueError, OverflowError):

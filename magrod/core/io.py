@@ -1,16 +1,20 @@
 """Atomic file output: data as .npz plus a JSON sidecar with parameters, tolerances, versions and timings.
 
-Every file is written to a temporary name in the target directory and renamed into place, so an interrupted
-run never leaves a half-written file; files get the permissions of the umask (like any file the user creates).
+Every file is written to a temporary name in the target directory (".NAME.PID.XXXXXXXX.tmp", PID = the writing
+process) and renamed into place, so an interrupted run never leaves a half-written file; a temporary left by a
+killed process is recognised by its name and removed by the next run (remove_stale_temporaries).  Files get the
+permissions of the umask (like any file the user creates).
 A write that fails because of the machine (disk full, file-size limit, read-only filesystem) raises
 EnvironmentFault naming the path.  Directories created by a command are tracked so that a failed run removes
 the ones it left empty."""
 from __future__ import annotations
 
+import errno
 import io as _io
 import json
 import os
 import platform
+import re
 import tempfile
 from pathlib import Path
 
@@ -102,7 +106,7 @@ def ensure_writable_dir(path, name: str = "out") -> Path:
 def atomic_write_bytes(path, data: bytes) -> Path:
     path = Path(path)
     try:
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name[:200]}.", suffix=".tmp")
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name[:200]}.{os.getpid()}.", suffix=".tmp")
     except OSError as exc:
         raise EnvironmentFault("out", f"cannot write in {str(path.parent)!r}: {exc.strerror}") from None
     try:
@@ -121,6 +125,109 @@ def atomic_write_bytes(path, data: bytes) -> Path:
             raise EnvironmentFault("out", f"cannot write {str(path)!r}: {exc.strerror or exc}") from None
         raise
     return path
+
+
+_TEMP = re.compile(r"^\.(?P<name>.+)\.(?P<pid>\d+)\.[A-Za-z0-9_]{8}\.tmp$")
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # another user's process
+        return True
+    return True
+
+
+def remove_stale_temporaries(directory, pids=()) -> list:
+    """Remove the temporaries of atomic_write_bytes in `directory` (not recursive) whose writer is `pids`, this
+    process, or no longer alive: what an interrupted or killed run left behind.  A live writer's temporary
+    (another magrod command writing there now) is kept.  Returns the removed paths."""
+    removed = []
+    own = {os.getpid(), *map(int, pids)}
+    try:
+        entries = list(os.scandir(directory))
+    except OSError:
+        return removed
+    for e in entries:
+        m = _TEMP.match(e.name)
+        if not m or not e.is_file(follow_symlinks=False):
+            continue
+        pid = int(m.group("pid"))
+        if pid in own or not _alive(pid):
+            try:
+                os.unlink(e.path)
+                removed.append(e.path)
+            except OSError:
+                pass
+    return removed
+
+
+class DirectoryLock:
+    """An exclusive advisory lock (flock) on the file `path` for the duration of a run, so that a second run into
+    the same output fails at once (EnvironmentFault naming `name`) instead of mixing its files with the first's.
+    The lock file is removed on release; a holder checks after locking that the path still names the file it
+    locked (a run that removed it in between would otherwise leave two holders)."""
+
+    def __init__(self, path, name: str, busy: str):
+        self.path, self.name, self.busy = Path(path), name, busy
+        self.fh = None
+
+    def acquire(self) -> "DirectoryLock":
+        import fcntl
+
+        for _ in range(20):
+            try:
+                fh = open(self.path, "a+")
+            except OSError as exc:
+                raise EnvironmentFault(self.name, f"cannot create the lock {str(self.path)!r}: "
+                                                  f"{exc.strerror or exc}") from None
+            try:
+                fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                fh.close()
+                raise EnvironmentFault(self.name, self.busy) from None
+            try:
+                same = os.stat(self.path).st_ino == os.fstat(fh.fileno()).st_ino
+            except FileNotFoundError:
+                same = False
+            if same:
+                self.fh = fh
+                return self
+            fh.close()  # removed by a holder that just finished: lock the new file instead
+        raise EnvironmentFault(self.name, self.busy)
+
+    def release(self) -> None:
+        if self.fh is None:
+            return
+        try:
+            os.unlink(self.path)
+        except OSError:
+            pass
+        self.fh.close()
+        self.fh = None
+
+    def __enter__(self):
+        return self.acquire()
+
+    def __exit__(self, *exc):
+        self.release()
+        return False
+
+
+# errno values that mean "the machine is out of something", not "the input is wrong"
+RESOURCE_ERRNOS = {errno.ENOSPC: "no space left on the device", errno.EDQUOT: "disk quota exceeded",
+                   errno.EFBIG: "file too large (file-size limit, ulimit -f)",
+                   errno.EMFILE: "too many open files (ulimit -n)", errno.ENFILE: "too many open files in the system",
+                   errno.ENOMEM: "out of memory", errno.EROFS: "read-only file system"}
+
+
+def resource_fault(exc: OSError, name: str = "out", path=None) -> EnvironmentFault:
+    """The EnvironmentFault (exit 3, one line with the path) for an OSError raised by the machine."""
+    what = RESOURCE_ERRNOS.get(exc.errno) or exc.strerror or str(exc)
+    where = path if path is not None else (exc.filename if exc.filename is not None else None)
+    return EnvironmentFault(name, f"{what}" + (f": {str(where)!r}" if where is not None else ""))
 
 
 def atomic_write_text(path, text: str) -> Path:
@@ -147,19 +254,46 @@ def atomic_savefig(fig, path, **kw) -> Path:
     return atomic_write_bytes(path, buf.getvalue())
 
 
-ORBIT_KEYS = ("x0", "T", "pars", "t", "tau", "x")
+# The one orbit-file schema (every orbit file magrod writes, `write_orbit`; `magrod rod --from` reads them all):
+# arrays of the sampled symmetric orbit, t in [0, 2T] (n,), body states x (n, N), chart coordinates, Hbar, the
+# scaled arclength tau of the plotted window, and what reproduces it: launch point x0, time T to the symmetric
+# point, launch distance eps, angle, parameters pars (PARAMS order) and the reversor at the symmetric point.
+ORBIT_ARRAYS = ("t", "x", "theta", "psi", "ptheta", "ppsi", "H", "tau", "x0", "T", "eps", "pars", "reversor",
+                "angle")
+ORBIT_KEYS = ("x0", "T", "pars", "t", "tau", "x")  # what load_orbit_file requires (and validates)
+ORBIT_SCALE = "B = C = m3 = 1 (derive/numeric_scale.py): t = s, lengths in units of B/m3"
+
+
+def write_orbit(out_dir, stem: str, orbit, *, samples: dict | None = None, meta: dict | None = None) -> list[str]:
+    """The one orbit-file writer: `orbit` (a converged magrod.orbits.shooting.MultipulseOrbit, to either saddle)
+    as <stem>.npz (ORBIT_ARRAYS) and <stem>.json (meta, the orbit's scalar fields under "shooting", its Newton
+    history, versions), atomically.  samples: orbit.sample() if already computed.  Returns the two paths."""
+    orb = samples if samples is not None else orbit.sample()
+    if "tau" not in orb:
+        raise ValueError("samples must contain the scaled arclength tau (MultipulseOrbit.sample)")
+    out = Path(out_dir)
+    arrays = {"t": orb["t"], "x": orb["x"], "theta": orb["theta"], "psi": orb["psi"], "ptheta": orb["ptheta"],
+              "ppsi": orb["ppsi"], "H": orb["H"], "tau": orb["tau"], "x0": orbit.x0, "T": orbit.T, "eps": orbit.eps,
+              "pars": orbit.params.array(), "reversor": orb["reversor"]}
+    if orbit.kind != "equilibrium":  # the straight rod's angle is a symmetry (always 0): its files omit it
+        arrays["angle"] = orbit.angle
+    npz = atomic_savez(out / f"{stem}.npz", **arrays)
+    side = {**(meta or {}), "shooting": orbit.as_dict(), "history": orbit.history, "versions": versions(),
+            "scale": ORBIT_SCALE, "arrays": sorted(arrays)}
+    js = atomic_write_json(out / f"{stem}.json", side)
+    return [str(npz), str(js)]
 
 
 def load_orbit_file(path) -> dict:
-    """The arrays of an orbit .npz written by `magrod multipulse`, validated: ParameterError naming `from` if the
-    file is missing, empty, truncated, not such a file, or holds non-finite or inconsistent data.  Never
-    unpickles (allow_pickle=False)."""
+    """The arrays of an orbit .npz written by magrod (`write_orbit`: `magrod multipulse` for either saddle, the
+    figures), validated: ParameterError naming `from` if the file is missing, empty, truncated, not such a file,
+    or holds non-finite or inconsistent data.  Never unpickles (allow_pickle=False)."""
     import zipfile
 
     path = Path(path)
     if not path.is_file():
         raise ParameterError("from", f"no such file: {str(path)!r}")
-    bad = f"{str(path)!r} is not an orbit file of magrod multipulse"
+    bad = f"{str(path)!r} is not a magrod orbit file (magrod multipulse)"
     try:
         with np.load(path, allow_pickle=False) as d:
             out = {k: np.asarray(d[k]) for k in ORBIT_KEYS}
@@ -187,6 +321,10 @@ def load_orbit_file(path) -> dict:
 
 
 def _jsonable(o):
+    from enum import Enum
+
+    if isinstance(o, Enum):
+        return o.value
     if isinstance(o, (np.floating, np.integer)):
         return o.item()
     if isinstance(o, np.ndarray):

@@ -34,6 +34,10 @@ class Precision(str, Enum):
     def __str__(self) -> str:
         return self.value
 
+    # a str-valued enum member equals its value; hash it like the value too, so that {"quad": ...}[Precision.QUAD]
+    # and {Precision.QUAD: ...}["quad"] both work (Enum's own __hash__ hashes the member name)
+    __hash__ = str.__hash__
+
     @property
     def bits(self) -> int:
         """Significand bits (53, 64, 113, MP_BITS)."""

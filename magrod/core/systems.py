@@ -34,6 +34,7 @@ import numpy as np
 
 from ..generated import body, names, reduced
 from .errors import MagrodWarning
+from .precision import Precision
 
 PARAMS = names.PARAMS
 STATE = {"body": names.BODY_STATE, "reduced": names.REDUCED_STATE}
@@ -44,7 +45,6 @@ EVENTS = {"body": {k: getattr(body, k) for k in names.BODY_EVENTS},
           "reduced": {"section": reduced.section, "sin_theta": reduced.sin_theta, "radicand": reduced.radicand}}
 DIRECTIONS = {"positive": hy.event_direction.positive, "negative": hy.event_direction.negative,
               "any": hy.event_direction.any}
-PRECISIONS = {"double": float, "long double": np.longdouble, "quad": hy.real128, "mp": hy.real}
 
 
 # --------------------------------------------------------------------------------------------------------------
@@ -122,12 +122,27 @@ def bypass_disk_cache(clear: bool = False) -> None:
             _warn(f"could not clear the heyoka JIT cache: {exc}")
     hy.llvm_state.set_diskcache_enabled(False)
     hy.llvm_state.clear_memcache()
+    clear_caches()
+
+
+_GENERATION = [0]  # bumped by clear_caches: per-thread caches (of every thread) then build afresh
+_CACHES: list = []  # every process-wide cache of compiled objects (`cache`); clear_caches empties them all
+
+
+def cache(fn):
+    """functools.lru_cache(maxsize=None) of fn, registered so that `clear_caches` (and `bypass_disk_cache`)
+    empties it: every cache of compiled heyoka objects (cfuncs, expressions) in magrod is made with this."""
+    cached = lru_cache(maxsize=None)(fn)
+    _CACHES.append(cached)
+    return cached
+
+
+def clear_caches() -> None:
+    """Forget every compiled object magrod holds: the `cache` caches of every module and the `per_thread`
+    integrators of every thread (by generation: a thread's next call builds afresh)."""
     _GENERATION[0] += 1
-    for f in (reduced_functions, body_functions, variables):
-        f.cache_clear()
-
-
-_GENERATION = [0]  # bumped by bypass_disk_cache: per-thread caches then build afresh
+    for c in _CACHES:
+        c.cache_clear()
 
 
 def build(constructor, *args, **kwargs):
@@ -169,7 +184,8 @@ def dim(formulation: str) -> int:
 
 
 def per_thread(fn):
-    """Cache fn(*key) once per thread: integrators are mutable, so threads must not share them."""
+    """Cache fn(*key) once per thread: integrators are mutable, so threads must not share them.  `clear_caches`
+    invalidates every thread's entries (the key includes the cache generation)."""
     local = threading.local()
 
     @wraps(fn)
@@ -187,7 +203,7 @@ def per_thread(fn):
 # --------------------------------------------------------------------------------------------------------------
 # expressions
 # --------------------------------------------------------------------------------------------------------------
-@lru_cache(maxsize=None)
+@cache
 def variables(formulation: str) -> tuple:
     return tuple(hy.make_vars(*STATE[formulation]))
 
@@ -252,9 +268,9 @@ def taylor(sys, state, pars=(), *, fp_type=float, tol=None, prec=None, t_events=
                               fp_type=fp_type, compact_mode=compact_mode, **kw)
 
 
-def _events(formulation, events, fp_type, batch=False):
-    return [t_event(formulation, *ev, fp_type=fp_type, batch=batch) if isinstance(ev, tuple)
-            else t_event(formulation, ev, fp_type=fp_type, batch=batch) for ev in events]
+def _events(formulation, events, fp_type, batch=False, prec=None):
+    return [t_event(formulation, *ev, fp_type=fp_type, batch=batch, prec=prec) if isinstance(ev, tuple)
+            else t_event(formulation, ev, fp_type=fp_type, batch=batch, prec=prec) for ev in events]
 
 
 def _unit_state(formulation):
@@ -262,11 +278,12 @@ def _unit_state(formulation):
     return [0, 0, 1, 0, 0, 1, 0, 0, 1] if formulation == "body" else [1, 0, 0, 0]
 
 
-def integrator(formulation: str = "body", *, events=(), fp_type=float, tol=None, compact_mode=False):
+def integrator(formulation: str = "body", *, events=(), fp_type=float, tol=None, compact_mode=False, prec=None):
     """Scalar Taylor integrator of a formulation.  events: names, or tuples (name, direction[, offset]), in the
-    order of the event indices heyoka reports (-1 - index).  State and pars are placeholders: call `reset`."""
+    order of the event indices heyoka reports (-1 - index).  State and pars are placeholders: call `reset`
+    (`reset_any` for hy.real).  fp_type hy.real runs at `prec` bits."""
     return taylor(system(formulation), _unit_state(formulation), [1.0] * len(PARAMS), fp_type=fp_type, tol=tol,
-                  t_events=_events(formulation, events, fp_type), compact_mode=compact_mode)
+                  prec=prec, t_events=_events(formulation, events, fp_type, prec=prec), compact_mode=compact_mode)
 
 
 def recommended_batch_size() -> int:
@@ -313,6 +330,17 @@ def reset(ta, state=None, t=0.0, pars=None):
         ta.state[: st.shape[0]] = st
     if pars is not None:
         ta.pars[:] = pars
+    if ta.with_events:
+        ta.reset_cooldowns()
+
+
+def reset_any(ta, state, pars, precision, t=0.0):
+    """`reset` for an integrator of any Precision (hy.real included: time, state and pars are converted at the
+    integrator's bits, which a plain `reset` cannot do)."""
+    fp, prec = precision.fp_type, precision.prec
+    ta.time = _fp(fp, t, prec)
+    ta.state[:] = state
+    ta.pars[:] = fp_array(pars, fp, prec)
     if ta.with_events:
         ta.reset_cooldowns()
 
@@ -390,7 +418,7 @@ class CFunc:
         return self._cf(x, pars=np.ascontiguousarray(np.repeat(p[:, None], x.shape[1], axis=1)))
 
 
-@lru_cache(maxsize=None)
+@cache
 def reduced_functions() -> dict:
     """Compiled Hbar, I2bar, radicand, section, the vector field and the axial stretch v3 (chart form) of the
     reduced system."""
@@ -401,7 +429,7 @@ def reduced_functions() -> dict:
             "rhs": CFunc(reduced.rhs(*x, *p), x), "stretch": CFunc([reduced.stretch(*x, *p)], x)}
 
 
-@lru_cache(maxsize=None)
+@cache
 def body_functions() -> dict:
     """Compiled body-frame H - offset (= Hbar on the chart), Casimirs, the vector field, its Jacobian (hy.diff)
     and the two chart maps."""
@@ -431,6 +459,11 @@ def body_to_euler(x, pars_) -> np.ndarray:
     return body_functions()["to_euler"](x, pars_)
 
 
+def n_casimirs() -> int:
+    """Number of Casimirs of the body system (generated body.casimir_values)."""
+    return len(body.casimir_values(*[1.0] * len(PARAMS)))
+
+
 def chart_index(name: str) -> int:
     return names.CHART.index(name)
 
@@ -438,14 +471,19 @@ def chart_index(name: str) -> int:
 # --------------------------------------------------------------------------------------------------------------
 # periodic saddle, homoclinic orbits to it, continuation: cached builders
 # --------------------------------------------------------------------------------------------------------------
+def cached_variational(precision=Precision.DOUBLE):
+    """The one body-frame variational integrator (w.r.t. the 9 initial values and the 5 parameters, tol = eps of
+    the precision) per thread and Precision (DOUBLE or LONG_DOUBLE; a value of Precision is accepted); reset with
+    `reset_variational`, never rebuilt per orbit.  Every Newton and monodromy computation of magrod.orbits uses it."""
+    return _cached_variational(Precision.parse(precision))
+
+
 @per_thread
-def cached_variational(precision: str = "double"):
-    """One body-frame variational integrator (w.r.t. the 9 initial values and the 5 parameters) per thread and
-    precision ("double" or "long double"); reset with `reset_variational`, never rebuilt per orbit."""
-    return variational_integrator("body", wrt_pars=True, fp_type=PRECISIONS[precision])
+def _cached_variational(precision):
+    return variational_integrator("body", wrt_pars=True, fp_type=precision.fp_type)
 
 
-@lru_cache(maxsize=None)
+@cache
 def body_casimir_gradients() -> CFunc:
     """Gradients of the Casimirs C1, C2, C3 (3 x 9, row-major) by hy.diff of the generated expressions."""
     x = variables("body")
@@ -483,7 +521,7 @@ class PrecisionCFunc:
         return self._cf(x)
 
 
-@lru_cache(maxsize=None)
+@cache
 def splitting_functions(fp_type=float, prec=None) -> dict:
     """Body-frame functions evaluated in the working precision at a section crossing, and the reduced chart's
     vector field, its Jacobian (hy.diff) and the chart -> body map, all compiled for fp_type:
@@ -540,7 +578,7 @@ def body_tangent_batch(batch_size=None, tol=None):
     return tangent_batch(system("body"), len(PARAMS), batch_size=batch_size, tol=tol)
 
 
-@lru_cache(maxsize=None)
+@cache
 def body_neutral_gradients() -> CFunc:
     """Gradients of the body system's first integrals, stacked row-wise (k x 9 outputs): the Casimirs C1..C3,
     H, and every state component whose generated right-hand side is identically 0 (m3 = I1, the twist, for
@@ -553,7 +591,23 @@ def body_neutral_gradients() -> CFunc:
     return CFunc([hy.diff(g, xj) for g in integrals for xj in x], x)
 
 
-@lru_cache(maxsize=None)
+@cache
+def body_renorm_functions() -> CFunc:
+    """One compiled function with everything a chaos indicator evaluates at a renormalisation (one call instead
+    of four): rows [H - offset, C1, C2, C3, v3 = dH/dn3, then the k x 9 gradients of body_neutral_gradients].
+    Each output is the same expression as in body_functions / body_stretch / body_neutral_gradients, compiled
+    together: the values are bit-identical to those of the separate functions (tests/test_chaos_speed.py)."""
+    x = variables("body")
+    p = pars()
+    H = body.hamiltonian(*x, *p)
+    f = [r for _, r in system("body")]
+    integrals = list(body.casimirs(*x, *p)) + [H]
+    integrals += [x[i] for i, fi in enumerate(f) if fi == hy.expression(0.0)]
+    return CFunc([H - body.hamiltonian_offset(*p), *body.casimirs(*x, *p),
+                  hy.diff(H, x[state_index("body", "n3")]), *[hy.diff(g, xj) for g in integrals for xj in x]], x)
+
+
+@cache
 def body_stretch() -> CFunc:
     """The axial stretch v3 = dH/dn3 of the constitutive law (eq:hyperelastic); a physical rod has v3 > 0."""
     x = variables("body")

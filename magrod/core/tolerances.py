@@ -17,6 +17,10 @@ EPS = 2.0**-52  # float64 machine epsilon (np.finfo(float).eps), spelled out so 
 # (e.g. a damaged compiled integrator from the JIT cache) and the result is refused.
 ENERGY_TOL = 1e-10
 CASIMIR_TOL = 1e-10
+# A start given with its pbar_psi0 (a chart point) belongs to the level Hbar = h of a section portrait if
+# |Hbar(start) - h| <= START_LEVEL_TOL: the same bound the result's own gate puts on every section point, so a
+# start that passes cannot make its orbit fail the gate at t = 0.
+START_LEVEL_TOL = ENERGY_TOL
 # A chaos-indicator orbit whose first integrals drift by more than this has left its invariant set: nothing
 # computed on it is trusted (the paper's runs keep them to ~1e-13).
 DRIFT_LIMIT = 1e-8

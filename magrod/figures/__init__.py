@@ -20,8 +20,12 @@ FIGURES = {
     "continuation": ("magrod.figures.continuation", "build",
                      "Fig 6 2-pulse orbit as a curve in (lam, m) on mu = 2 lam; primaries to the periodic saddle vs mu"),
     "chaos": ("magrod.figures.chaos", "build", "chaos map (growth exponent) in lambdabar x gamma at Figure 4's start"),
+    "orbitdiagram": ("magrod.figures.portrait", "build",
+                     "orbit diagram: section points vs lambdabar 0.12..0.2 at Figure 4's start, its panels marked"),
     "splitting": ("magrod.figures.splitting", "build",
                   "splitting of the separatrix vs eps (a = 2b and a > 2b) with the integrable controls"),
+    "proof": ("magrod.figures.proof", "build",
+              "computer-assisted proof: transverse homoclinic orbits of the tilted saddle-focus, verified certificate"),
 }
 
 

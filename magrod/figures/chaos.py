@@ -8,6 +8,7 @@ draw_map(fields, spec, path, *, title=None) -> Path
 """
 from __future__ import annotations
 
+import textwrap
 import time
 from pathlib import Path
 
@@ -96,19 +97,26 @@ def map_axes(ax, fields: dict, spec: maps.MapSpec, *, indicator="growth", thresh
                    colors="k" if indicator == "growth" else "c")
     if colorbar:
         cb = ax.figure.colorbar(im, ax=ax, ticks=growth_ticks(norm.vmax, threshold) if norm is not None else None)
+        # the label runs along the bar: wrapped to the figure's height, so that it is never cut off
+        chars = max(20, int(0.8 * ax.figure.get_figheight() * 72 / (0.55 * 8)))
         if indicator == "growth":
             cb.ax.axhline(threshold, color="k", lw=1.2)
-            cb.set_label(f"growth exponent (FLI(T) - FLI(T/2))/ln 2\nchaotic > {threshold:g} (log scale above); "
-                         "grey: missing", fontsize=8)
+            nb = "\u00a0"  # no line break inside "chaotic > 3"
+            text = (f"growth exponent (FLI(T) - FLI(T/2))/ln 2; chaotic{nb}>{nb}{threshold:g} (log scale above); "
+                    "grey: missing")
         else:
-            cb.set_label(FIELD_LABELS[indicator] + "\ngrey: missing", fontsize=8)
+            text = FIELD_LABELS[indicator] + "; grey: missing"
+        cb.set_label(textwrap.fill(text, chars), fontsize=8)
     for key, x, y in panel_marks(spec):
         ax.plot(x, y, "k*", ms=10, mec="w")
         ax.annotate(key, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=9)
     ax.set_xlabel(spec.x.name)
     ax.set_ylabel(spec.y.name)
     fixed = ", ".join(f"{k} = {v:g}" for k, v in sorted(spec.base.items()) if k not in (spec.x.name, spec.y.name))
-    ax.set_title(title or f"chaos map, T = {spec.t_max:g}\n{fixed}", fontsize=8)
+    # the fixed values wrapped to the width the axes get (~70% of the figure beside the colour bar), so that the
+    # title is never cut off at the figure's edge (tests/test_figure_labels.py)
+    chars = max(24, int(0.7 * ax.figure.get_figwidth() * 72 / (0.6 * 8)))
+    ax.set_title(title or f"chaos map, T = {spec.t_max:g}\n" + textwrap.fill(fixed, chars), fontsize=8)
     return im
 
 

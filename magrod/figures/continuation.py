@@ -14,12 +14,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..orbits import continuation as C
-from ..orbits import periodic_homoclinic as hp
-from ..orbits import shooting
 from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..generated import scalars
 from ..core.params import RodParams
+from ..orbits import continuation as C
+from ..orbits import multipulse as mp
+from ..orbits import periodic_multipulse as pm
+from ..orbits.equilibrium import on_level
 from ..core.printed import MULTIPULSE
 from .common import pyplot
 
@@ -52,7 +52,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     t0 = time.perf_counter()
     base = MULTIPULSE[6]["params"]
     lam0 = 0.0012620808  # Newton start near the Fig 6 2-pulse orbit (docs/errata.md); shoot() solves for lam
-    r = shooting.shoot(base.replace(lam=lam0, mu=scalars.straight_rod_mu(**{**base.as_dict(), "lam": lam0})), 2)
+    r = mp.shoot(on_level(base, lam=lam0), 2)
     F, _ = C.mu2lam_problem(r.params, "m")
     scale = [r.T, 1e-3, 1.0]
     steps = 8 if quick else 60
@@ -85,7 +85,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     # --- periodic saddle: the two primaries at lam = 0.001 continued in mu -> 2 lam
     t0 = time.perf_counter()
     P = RodParams(1.7, 0.0021, 1.0, 1.0, 0.001)
-    prim = hp.find(P, 1, samples=91)
+    prim = pm.find(P, 1, samples=91)
     fig, axs = plt.subplots(1, 2, figsize=(9, 3.4))
     data = {}
     for k, rr in enumerate(prim):
@@ -144,20 +144,3 @@ def write_branch(branch, meta: dict, out_dir, stem: str) -> list[str]:
     paths = [str(npz), str(out / f"{stem}.json"), str(png)]
     atomic_write_json(out / f"{stem}.json", {**meta, "paths": paths, "versions": versions()})
     return paths
-
-
-def write_periodic_multipulse(params, out_dir, *, max_pulses: int = 3, samples: int = 121,
-                              progress: bool = False) -> dict:
-    """`magrod multipulse` for mu != 2 lam: hp.multipulse_rows plus one .npz/.json per orbit found."""
-    out = ensure_writable_dir(out_dir) if out_dir is not None else None
-    summary, found = hp.multipulse_rows(params, max_pulses=max_pulses, samples=samples)
-    for row, r in found:
-        if out is None:
-            continue
-        orb = hp.orbit(r)
-        stem = f"multipulse_periodic_N{row['pulses']}_{row['index']}"
-        row["paths"] = [str(atomic_savez(out / f"{stem}.npz", t=orb["t"], x=orb["x"], theta=orb["theta"],
-                                         psi=orb["psi"], H=orb["H"], x0=r.x0)),
-                        str(out / f"{stem}.json")]
-        atomic_write_json(out / f"{stem}.json", {**row, "versions": versions()})
-    return summary

@@ -1,39 +1,36 @@
 """Figures of sec. 8, symmetric multipulse homoclinic orbits: fig:multimodal1 (Figure 6) and fig:multimodal2
-(Figure 7), and the files of `magrod multipulse` (one .npz/.json per orbit, a table of all N)."""
+(Figure 7), and the files of `magrod multipulse` for either saddle (one orbit file per orbit, magrod.core.io
+.write_orbit; a table of all N)."""
 from __future__ import annotations
 
 import time
 from pathlib import Path
 
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.io import atomic_savefig, atomic_write_json, ensure_writable_dir, versions, write_orbit
 from ..core.printed import MULTIPULSE
 from ..core.progress import bar
+from ..core.tolerances import LAUNCH_DISTANCES
 from ..orbits.equilibrium import straight_rod
-from ..orbits.shooting import LAUNCH_DISTANCES, THETA_CUT, find_orbits, scaled_arclength
+from ..orbits.multipulse import find_orbits
+from ..orbits.shooting import THETA_CUT, scaled_arclength
 from .common import pyplot
 from .rod import plot_rod, rod_from_orbit_file
 
+TAU = f"(s - T)/L, L = T - s(theta first >= {THETA_CUT})"
 
-def write_orbit(entry: dict, out_dir, stem: str, extra: dict | None = None):
-    """Orbit data as .npz (t, body states, reduced coordinates, launch point, pars) + JSON sidecar."""
-    orb, r = entry["orbit"], entry["result"]
-    tau, _ = scaled_arclength(orb)
-    npz = atomic_savez(Path(out_dir) / f"{stem}.npz", t=orb["t"], x=orb["x"], theta=orb["theta"], psi=orb["psi"],
-                       ptheta=orb["ptheta"], ppsi=orb["ppsi"], H=orb["H"], tau=tau, x0=r.x0, T=r.T, eps=r.eps,
-                       pars=r.params.array(), reversor=orb["reversor"])
+
+def write_entry(entry: dict, out_dir, stem: str, extra: dict | None = None) -> list[str]:
+    """One find_orbits entry as an orbit file (magrod.core.io.write_orbit) with the entry's summary as metadata."""
     meta = {k: v for k, v in entry.items() if k not in ("result", "orbit")}
-    meta.update({"shooting": r.as_dict(), "history": r.history, "versions": versions(),
-                 "scale": "B = C = m3 = 1 (derive/numeric_scale.py): t = s, lengths in units of B/m3",
-                 "tau": f"(s - T)/L, L = T - s(theta first >= {THETA_CUT})", **(extra or {})})
-    js = atomic_write_json(Path(out_dir) / f"{stem}.json", meta)
-    return [str(npz), str(js)]
+    meta.update({"tau": TAU, **(extra or {})})
+    return write_orbit(out_dir, stem, entry["result"], samples=entry["orbit"], meta=meta)
 
 
 def multipulse(params, out_dir=None, *, free: str = "lam", max_pulses: int = 6, span: float = 0.5,
                samples: int = 81, stem: str = "multipulse", progress: bool = False,
                with_uncertainty: bool = True) -> tuple:
     """find_orbits + files: one .npz/.json per orbit found and a table (JSON) of all N <= max_pulses, each
-    found orbit with the free parameter at two eps and two precisions (shooting.uncertainty: value, uncertainty,
+    found orbit with the free parameter at two eps and two precisions (multipulse.uncertainty: value, uncertainty,
     significant digits) unless with_uncertainty is False.  Returns (summary dict, the find_orbits entries)."""
     straight_rod(params)  # bad input fails before any file is written
     if out_dir is not None:
@@ -46,7 +43,7 @@ def multipulse(params, out_dir=None, *, free: str = "lam", max_pulses: int = 6, 
     for e in found:
         row = {k: v for k, v in e.items() if k not in ("result", "orbit")}
         if e["success"] and out_dir is not None:
-            row["paths"] = write_orbit(e, out_dir, f"{stem}_N{e['pulses']}",
+            row["paths"] = write_entry(e, out_dir, f"{stem}_N{e['pulses']}",
                                        {"nominal_params": params.as_dict(), "free": free})
         rows.append(row)
     out = {"ok": True, "params": params.as_dict(), "free": free, "span": span, "samples": samples,
@@ -61,6 +58,22 @@ def multipulse(params, out_dir=None, *, free: str = "lam", max_pulses: int = 6, 
     if out_dir is not None:
         out["table"] = str(atomic_write_json(Path(out_dir) / f"{stem}_table.json", {**out, "versions": versions()}))
     return out, found
+
+
+def periodic_multipulse(params, out_dir, *, max_pulses: int = 3, samples: int = 121,
+                         progress: bool = False) -> dict:
+    """`magrod multipulse` for mu != 2 lam: periodic_multipulse.multipulse_rows plus one orbit file per orbit found
+    (magrod.core.io.write_orbit: the schema `magrod rod --from` reads)."""
+    from ..orbits import periodic_multipulse as pm
+
+    out = ensure_writable_dir(out_dir) if out_dir is not None else None
+    summary, found = pm.multipulse_rows(params, max_pulses=max_pulses, samples=samples)
+    for row, r in found:
+        if out is None:
+            continue
+        stem = f"multipulse_periodic_N{row['pulses']}_{row['index']}"
+        row["paths"] = write_orbit(out, stem, r, meta=dict(row))
+    return summary
 
 
 def _lam_text(e: dict) -> str:

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.precision import Precision
 from ..separatrix import splitting as S
 from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from .common import pyplot
@@ -67,9 +68,9 @@ LEADING_CASES = [(1.7, 1.0, 1.0, 2.0, 1.0), (1.7, 1.0, 0.0, 2.0, 1.0), (1.7, 0.0
 def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     plt = pyplot()
     out = ensure_writable_dir(out_dir)
-    eps = S.DEFAULT_EPS[::2] if quick else S.DEFAULT_EPS
+    eps = S.EPS_SCAN[::2] if quick else S.EPS_SCAN
     eps_t = [0.1, 0.03, 0.01] if quick else [0.1, 0.0541, 0.0292, 0.0158, 0.00855, 0.00462, 0.0025]
-    prec = ("double", "long") if quick else ("long", "quad")
+    prec = (Precision.DOUBLE, Precision.LONG_DOUBLE) if quick else (Precision.LONG_DOUBLE, Precision.QUAD)
     eq = S.scan(**FIGURE, a=2.0, b=1.0, eps=eps, precisions=prec)
     ctl = S.scan(1.7, 0.0, 0.0, 2.0, 1.0, eps, prec, fit=False)
     ti = S.tilted_scan(**FIGURE, a=4.0, b=1.0, eps=eps_t)
@@ -190,4 +191,25 @@ def plot_circle(p, ax=None, nu=None, **kw):
     ax.set_ylabel(r"$\rho\sin\psi$")
     ax.set_title(rf"$\bar\lambda$ = {p.lam:g}, $\nu$ = {nu:.2g} ($\nu^*$ = {p.nu_merge:.2g})", fontsize=8)
     ax.set_aspect("equal", adjustable="datalim")
+    return ax
+def plot_splitting(res, ax=None, **kw):
+    """Splitting.plot: |measure| against eps (log-log) in the reference precision, the power-law fit and, at
+    a = 2b, the derived leading term b C_psi eps^2."""
+    from .plots import axes
+
+    ax = axes(ax)
+    e = np.asarray(res.eps, float)
+    ax.loglog(e, np.abs(res.measure), "ko", ms=4, label=("|psi_u|" if res.kind == "equilibrium" else "|s1|")
+              + f" ({res.precisions[-1]})", **kw)
+    grid = np.geomspace(e.min(), e.max(), 50)
+    if res.fit is not None:
+        ax.loglog(grid, abs(res.fit["C"]) * grid ** res.fit["p"], "k:", lw=1, label=f"fit eps^{res.fit['p']:.3f}")
+    if res.leading is not None:
+        ax.loglog(grid, abs(res.leading["derived_psi_over_eps2"]) * grid**2, "C3-", lw=1,
+                  label=f"derived b C_psi eps^2 ({res.leading['digits']:.1f} digits)")
+    ax.set_xlabel(r"$\varepsilon$")
+    ax.set_ylabel("splitting")
+    ax.set_title(f"m={res.m:g}, $\\gamma$={res.gamma:g}, $\\delta$={res.delta:g}, a={res.a:g}, b={res.b:g} "
+                 f"({res.kind})", fontsize=8)
+    ax.legend(fontsize=7)
     return ax

@@ -9,26 +9,25 @@ chart is singular exactly at the saddle, which is why everything here is done in
 Spectrum (Jacobian of x' = J grad H from heyoka's symbolic differentiation, hy.diff): three zeros (Casimirs),
 one centre pair +-i w and a complex quartet +-a +-i b.  The rotations about the body 3-axis (phi shifts,
 derive/symmetry.py) fix the saddle, so its 2-D unstable eigenspace is a single complex line on which they act
-as the phase: the unstable manifold is ONE orbit modulo this symmetry (see magrod/shooting.py).
+as the phase: the unstable manifold is ONE orbit modulo this symmetry (see magrod.orbits.shooting).
 
-For mu != 2 lambdabar the saddle-type set is a periodic orbit of the reduced system (paper sec. 3, "a periodic
-solution in the four-dimensional system"); that case is not implemented and raises ParameterError."""
+For mu != 2 lambdabar the straight rod is off the chart's level and the saddle-type set is a periodic orbit of
+the body frame (a uniform helix, paper sec. 3): magrod.orbits.periodic.  Both implement the saddle protocol of
+magrod.orbits.shooting (params, H, kind, launch_point, at), which the one shooting engine uses."""
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..core import systems
 from ..core.errors import ParameterError
-from ..generated import scalars
 from ..core.params import RodParams
+from ..core.precision import Precision
+from ..core.results import Result
 from ..core.systems import body_functions, state_index
-
-# mu = 2 lam is a condition on the input; accept the rounding of a decimal input, nothing more
-MU_TOL = 64 * np.finfo(float).eps
-# Re(eigenvalue) below this is not hyperbolic: the Jacobian is computed to ~eps, eigenvalues of the
-# (defective at m = m_c) quartet split like sqrt(eps)
-HYPERBOLIC_TOL = 1e3 * np.sqrt(np.finfo(float).eps)
+from ..core.tolerances import HYPERBOLIC_TOL, MU_TOL
+from ..generated import scalars
 
 
 _E31 = state_index("body", "e31")
@@ -40,16 +39,28 @@ def jacobian(x, pars) -> np.ndarray:
     return body_functions()["jacobian"](x, pars).reshape(x.size, x.size)
 
 
-def straight_rod_state(params: RodParams, fp_type=float) -> np.ndarray:
-    """The straight rod (generated scalars.straight_rod_state) in fp_type arithmetic."""
-    return np.array(scalars.straight_rod_state(*[fp_type(v) for v in params.array()]), dtype=fp_type)
+def straight_rod_state(params: RodParams, precision=Precision.DOUBLE) -> np.ndarray:
+    """The straight rod (generated scalars.straight_rod_state) computed in `precision` arithmetic (1/m^2 is
+    rounded there, not in double)."""
+    prec = Precision.parse(precision)
+    fp, bits = prec.fp_type, prec.prec
+    return systems.fp_array(scalars.straight_rod_state(*systems.fp_array(params.array(), fp, bits)), fp, bits)
 
 
-@dataclass(frozen=True)
-class Saddle:
-    """The straight rod: state x (9,), Jacobian (9, 9), eigenvalues (9,), the unstable eigenvalue a + i b
-    (a > 0, b >= 0), its complex eigenvector (unit norm, phase fixed so that its e31 entry is real > 0), and the
-    level Hbar = H_body - offset (the chart's Hbar)."""
+def on_level(params: RodParams, **changes) -> RodParams:
+    """params with `changes` and mu on the straight rod's level (generated straight_rod_mu: mu = 2 lam), where the
+    straight rod is the saddle: the one helper that moves a parameter with mu following it."""
+    kw = {**params.as_dict(), **{k: float(v) for k, v in changes.items()}}
+    kw["mu"] = scalars.straight_rod_mu(**kw)
+    return RodParams(**kw)
+
+
+@dataclass(frozen=True, repr=False)
+class StraightRod(Result):
+    """The straight rod as the saddle (mu = 2 lam): state x (9,), Jacobian (9, 9), eigenvalues (9,), the unstable
+    eigenvalue a + i b (a > 0, b >= 0), its complex eigenvector (unit norm, phase fixed so that its e31 entry is
+    real > 0), and the level H = H_body - offset (the chart's Hbar).  Implements the saddle protocol of
+    magrod.orbits.shooting (kind "equilibrium": the launch angle is a symmetry direction)."""
 
     params: RodParams
     x: np.ndarray
@@ -58,14 +69,29 @@ class Saddle:
     unstable_eigenvalue: complex
     unstable_vector: np.ndarray
     H: float
+    success: bool = True
+    message: str = "straight rod: a hyperbolic equilibrium on the chart's level (mu = 2 lam)"
 
-    def launch_point(self, eps: float, phase: float = 0.0, fp_type=float) -> np.ndarray:
-        """x_eq + eps * Re(e^{-i phase} v) / |Re(...)|: a point at distance eps on the linear unstable manifold
-        (the O(eps^2) error of the linearisation is the launch error; fp_type np.longdouble keeps x_eq exact
-        in extended precision)."""
-        d = np.real(np.exp(-1j * phase) * self.unstable_vector)
-        d = (d / np.linalg.norm(d)).astype(fp_type)
-        return straight_rod_state(self.params, fp_type) + fp_type(eps) * d
+    kind = "equilibrium"
+    _repr_fields = ("kind", "params", "unstable_eigenvalue", "H")
+
+    def launch_point(self, eps: float, angle: float = 0.0, precision=Precision.DOUBLE) -> np.ndarray:
+        """x_eq + eps Re(e^{-i angle} v)/|Re(e^{-i angle} v)|: a point at distance eps on the linear unstable
+        manifold, formed in `precision` (x_eq computed there too, so that it is exact in that arithmetic; the
+        O(eps^2) error of the linearisation is the launch error).  The angle is a symmetry direction: the
+        rotations about the body 3-axis act on the unstable plane as this phase."""
+        prec = Precision.parse(precision)
+        d = np.real(np.exp(-1j * angle) * self.unstable_vector)
+        d = d / np.linalg.norm(d)
+        if prec in (Precision.DOUBLE, Precision.LONG_DOUBLE):
+            fp = prec.fp_type
+            return straight_rod_state(self.params, prec) + fp(eps) * d.astype(fp)
+        fp, bits = prec.fp_type, prec.prec
+        return straight_rod_state(self.params, prec) + systems._fp(fp, eps, bits) * systems.fp_array(d, fp, bits)
+
+    def at(self, params: RodParams) -> "StraightRod":
+        """The straight-rod saddle at other parameters (ParameterError where there is none)."""
+        return straight_rod(params)
 
     def summary(self) -> dict:
         lam_u = self.unstable_eigenvalue
@@ -74,15 +100,15 @@ class Saddle:
                 "unstable_eigenvalue": [float(lam_u.real), float(lam_u.imag)]}
 
 
-def straight_rod(params: RodParams) -> Saddle:
+def straight_rod(params: RodParams) -> StraightRod:
     """The saddle at `params` (requires mu = 2 lam and a hyperbolic straight rod; ParameterError otherwise)."""
     p = params
     mu_level = scalars.straight_rod_mu(**p.as_dict())
     if abs(p.mu - mu_level) > MU_TOL * max(1.0, abs(p.mu)):
-        raise ParameterError("mu", f"only mu = 2 lam is supported (got mu = {p.mu}, 2 lam = {mu_level}): for "
-                                   "mu != 2 lam the straight rod aligned with the field is not on the chart's "
-                                   "Casimir level and the saddle-type set is a periodic orbit of the reduced system, "
-                                   "which is not implemented")
+        raise ParameterError("mu", f"the straight rod is the saddle only at mu = 2 lam (got mu = {p.mu}, 2 lam = "
+                                   f"{mu_level}): for mu > 2 lam the saddle is the periodic (helical) one, "
+                                   "magrod.orbits.periodic.periodic_saddle (or magrod.orbits.shooting.saddle, which "
+                                   "chooses)")
     pars = p.array()
     x = straight_rod_state(p)
     # equilibrium and Casimir level, to rounding
@@ -106,4 +132,4 @@ def straight_rod(params: RodParams) -> Saddle:
     j = _E31 if abs(v[_E31]) > 1e-3 else int(np.argmax(np.abs(v)))
     v = v * np.exp(-1j * np.angle(v[j]))
     H = float(f["H"](x, pars)[0])
-    return Saddle(p, x, Jm, w, complex(w[k]), v, H)
+    return StraightRod(p, x, Jm, w, complex(w[k]), v, H)

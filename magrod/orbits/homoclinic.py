@@ -42,7 +42,6 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from functools import lru_cache
 
 import heyoka as hy
 import numpy as np
@@ -53,6 +52,7 @@ from ..generated import homoclinic as gen
 from ..generated import scalars
 from ..generated.names import CLOSED_FORM_REGULAR
 from ..core.params import M_MIN
+from ..core.results import Result
 
 _PREC = 256  # bits of the multiprecision verification run (see module docstring)
 
@@ -90,14 +90,14 @@ def stable_expressions(t, m, gamma) -> dict:
 _KEYS = CLOSED_FORM_REGULAR
 
 
-@lru_cache(maxsize=None)
+@systems.cache
 def _stable_cfunc():
     t = hy.make_vars("t")
     e = stable_expressions(t, hy.par[0], hy.par[1])
     return systems.build(hy.cfunc, [e[k] for k in _KEYS], vars=[t])
 
 
-@lru_cache(maxsize=None)
+@systems.cache
 def _constants_cfunc():
     m, g = hy.par[0], hy.par[1]
     c0 = constant_expressions(m, g)
@@ -105,7 +105,7 @@ def _constants_cfunc():
                      gen.m_critical(g)], vars=[])
 
 
-@lru_cache(maxsize=None)
+@systems.cache
 def _potential_cfunc(fp_type=float, prec=0):
     th = hy.make_vars("theta")
     kw = {"fp_type": fp_type, "prec": prec} if fp_type is hy.real else ({} if fp_type is float else
@@ -120,10 +120,12 @@ def _call(cf, x, m, gamma):
     return cf(x, pars=pars)
 
 
-@dataclass(frozen=True)
-class HomoclinicOrbit:
+@dataclass(frozen=True, repr=False)
+class HomoclinicOrbit(Result):
     """The homoclinic orbit of theta = 0 at lambdabar = mu = 0, pbar_psi = 1 (t = 0 at the turning point,
-    pbar_theta < 0 for t > 0).  Constants from generated.homoclinic (u_minus = -inf, k = 1 for gamma = 0)."""
+    pbar_theta < 0 for t > 0).  Constants from generated.homoclinic (u_minus = -inf, k = 1 for gamma = 0).
+    `evaluate(t)`, `psibar(t)`, `time_at_theta`, and `verify()` (the independent multiprecision check);
+    `.plot()` draws theta and pbar_theta against t."""
 
     m: float
     gamma: float
@@ -134,6 +136,15 @@ class HomoclinicOrbit:
     h: float  # homoclinic level V(0) = (1 + gamma/2)/m^2
     m_c: float  # 2 sqrt(1 + gamma), eq:buckling_load_2
     extra: dict = field(default_factory=dict, compare=False)
+    success: bool = True
+    message: str = "closed form (derive/homoclinic.py); verify() compares an independent integration"
+
+    _repr_fields = ("m", "gamma", "kappa", "theta_max", "h", "m_c")
+
+    def verify(self, theta_stop: float = 1e-8, n: int = 201) -> dict:
+        """The independent check of the closed form (module function `verify`: multiprecision integration of
+        generated.field from the turning point), ~0.6 s."""
+        return verify(self, theta_stop=theta_stop, n=n)
 
     @property
     def kirchhoff(self) -> bool:
@@ -172,7 +183,11 @@ class HomoclinicOrbit:
         (Taylor integration of psibar' = psi'(t) with t = hy.time, tol = eps by default)."""
         t = np.asarray(t, dtype=float)
         grid, inv = np.unique(np.abs(t.ravel()), return_inverse=True)  # strictly increasing, psibar odd
-        ta = _psibar_integrator()
+        if tol is not None:
+            tol = require_finite("tol", tol)
+            if not 0 < tol < 1:
+                raise ParameterError("tol", f"must be in (0, 1) (None: machine epsilon), got {tol!r}")
+        ta = _psibar_integrator(tol)
         ta.time = 0.0
         ta.state[:] = 0.0
         ta.pars[:] = [self.m, self.gamma]
@@ -191,10 +206,58 @@ class HomoclinicOrbit:
 
 
 @systems.per_thread
-def _psibar_integrator():
+def _psibar_integrator(tol=None):
+    """psibar' = psi'(t) with t = hy.time; one per thread and tolerance (None: machine epsilon)."""
     psib = hy.make_vars("psibar")
     e = stable_expressions(hy.time, hy.par[0], hy.par[1])
-    return systems.taylor([(psib, e["psidot"])], [0.0], [1.0, 1.0])
+    return systems.taylor([(psib, e["psidot"])], [0.0], [1.0, 1.0], tol=tol)
+
+
+def homoclinic_orbit(m, gamma) -> HomoclinicOrbit:
+    """The closed-form homoclinic orbit of the straight rod at lambdabar = mu = 0 (paper sec. 6, fig:angles).
+
+    Parameters
+    ----------
+    m : float
+        m = m3/sqrt(B C2) > 0 (>= 1e-3), below the buckling value m_c = 2 sqrt(1 + gamma).
+    gamma : float
+        Extensibility gamma >= 0 (gamma = 0 is the inextensible Kirchhoff rod, eq:Kirchhoff_homoclinic).
+
+    Returns
+    -------
+    HomoclinicOrbit
+        Constants u_+, u_-, k, kappa (the saddle rate), h (the homoclinic level), m_c, theta_max; the orbit's
+        `evaluate(t)` (theta, pbar_theta, cos theta, sin theta, psi'), `psibar(t)`, `time_at_theta(theta)`,
+        `verify()` and `.plot()`.
+
+    Raises
+    ------
+    ParameterError
+        "m" if m <= 0, m < 1e-3 or m >= m_c (no homoclinic orbit: V''(0) >= 0); "gamma" if gamma < 0; either if
+        not finite or beyond 1e6.
+
+    Examples
+    --------
+    >>> from magrod.orbits.homoclinic import homoclinic_orbit
+    >>> orb = homoclinic_orbit(m=1.7, gamma=1.0)
+    >>> round(orb.theta_max, 12), round(orb.kappa, 12)
+    (1.598491574827, 0.664862032674)
+    >>> t = orb.time_at_theta(1e-3)
+    >>> abs(float(orb.evaluate(t)["theta"]) - 1e-3) < 1e-15
+    True
+    >>> chk = orb.verify(n=21)
+    >>> chk["max_dev_theta"] < 1e-12
+    True
+
+    Notes
+    -----
+    Method: the closed form cos theta = u_- + (u_+ - u_-)/D, D = 1 - (1 - k) tanh^2(kappa t) derived by SymPy
+    (derive/homoclinic.py), evaluated in a gamma-regular, tail-stable compiled form (relative accuracy a few ulp
+    times 1 + kappa |t|).  Cost: microseconds per evaluation; psibar is a heyoka quadrature; `verify()`
+    integrates generated.field in 256-bit arithmetic (~0.6 s) and compares.  Reference: Sinden & van der
+    Heijden, sec. 6, eq:extensible_ham, fig:angles.
+    """
+    return homoclinic(m, gamma)
 
 
 def homoclinic(m, gamma) -> HomoclinicOrbit:
@@ -233,7 +296,7 @@ def _field_integrator(prec: int):
                           compact_mode=True)
 
 
-@lru_cache(maxsize=None)
+@systems.cache
 def _closed_form_hp(prec: int, kirchhoff: bool):
     """The generated closed form (theta, pbar_theta, psi') in multiprecision (gamma = 0: theta, psi')."""
     t = hy.make_vars("t")
@@ -246,7 +309,7 @@ def _closed_form_hp(prec: int, kirchhoff: bool):
     return systems.build(hy.cfunc, ex, vars=[t], fp_type=hy.real, prec=prec)
 
 
-@lru_cache(maxsize=None)
+@systems.cache
 def _energy_hp(prec: int):
     th, pt = hy.make_vars("theta", "ptheta")
     return systems.build(hy.cfunc, [0.5 * pt**2 + gen.potential(th, hy.par[0], hy.par[1]) - gen.energy(hy.par[0], hy.par[1])],

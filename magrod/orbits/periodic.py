@@ -34,15 +34,18 @@ import numpy as np
 
 from ..core import systems
 from ..core.errors import ParameterError
+from ..core.params import RodParams
+from ..core.precision import Precision
+from ..core.results import Result
+from ..core.tolerances import HYPERBOLIC_TOL, MU_TOL
 from ..generated import floquet as gfl
 from ..generated import scalars
-from ..core.params import RodParams
 
 N = systems.dim("body")
+NC = systems.n_casimirs()  # the Casimirs C1, C2, C3 (systems.body_casimir_gradients: NC x N)
 XI = np.array(gfl.ROTATION_GENERATOR, dtype=float).reshape(N, N)
-MU_TOL = 64 * np.finfo(float).eps
-# Re(exponent) below this is not hyperbolic (the quartet splits like sqrt(eps) at a Hamiltonian-Hopf collision)
-HYPERBOLIC_TOL = 1e3 * math.sqrt(np.finfo(float).eps)
+# the relative-equilibrium equations: f(x) - omega xi x (N), Casimirs (NC), m3 = 1, e32 = 0; unknowns (x, omega)
+N_EQUATIONS, N_UNKNOWNS = N + NC + 2, N + 1
 
 
 def _poisson_matrix(x, lam_body):
@@ -53,15 +56,15 @@ def _poisson_matrix(x, lam_body):
 
 def _re_equations(z, pars, cv):
     F = systems.body_functions()
-    x, w = z[:9], z[9]
+    x, w = z[:N], z[N]
     i_m3, i_e32 = systems.state_index("body", "m3"), systems.state_index("body", "e32")
     r = np.r_[F["rhs"](x, pars) - w * XI @ x, F["casimirs"](x, pars) - cv, x[i_m3] - 1.0, x[i_e32]]
-    J = np.zeros((14, 10))
+    J = np.zeros((N_EQUATIONS, N_UNKNOWNS))
     J[:N, :N] = F["jacobian"](x, pars).reshape(N, N) - w * XI
-    J[:9, 9] = -XI @ x
-    J[9:12, :9] = systems.body_casimir_gradients()(x, pars).reshape(3, 9)
-    J[12, i_m3] = 1.0
-    J[13, i_e32] = 1.0
+    J[:N, N] = -XI @ x
+    J[N:N + NC, :N] = systems.body_casimir_gradients()(x, pars).reshape(NC, N)
+    J[N + NC, i_m3] = 1.0
+    J[N + NC + 1, i_e32] = 1.0
     return r, J
 
 
@@ -128,15 +131,24 @@ def relative_equilibrium(params: RodParams, *, tol: float = 1e-13):
     if z is None or res > tol:
         raise ParameterError("mu", f"no periodic saddle (helical relative equilibrium) found at {p.as_dict()} "
                                    f"(Gauss-Newton residual {res:.2e})")
-    x0 = z[:9].copy()
+    x0 = z[:N].copy()
     if x0[systems.state_index("body", "e31")] > 0:  # G_pi: the same orbit, the phi = 0 representative
-        x0 = np.diag([-1, -1, 1] * 3) @ x0
-    return x0, float(z[9]), res
+        x0 = _rotation_by_pi() @ x0
+    return x0, float(z[N]), res
 
 
-@dataclass(frozen=True)
-class PeriodicSaddle:
-    """The helical relative equilibrium and its Floquet data.
+def _rotation_by_pi() -> np.ndarray:
+    """G_pi = expm(pi xi) (the rotation by pi about the body 3-axis, acting on every body vector of the state):
+    diag(-1, -1, 1) on each of m, n, e3, from the generated generator (exact up to rounding, then rounded)."""
+    from scipy.linalg import expm
+
+    return np.round(expm(math.pi * XI))
+
+
+@dataclass(frozen=True, repr=False)
+class PeriodicSaddle(Result):
+    """The helical relative equilibrium and its Floquet data; implements the saddle protocol of
+    magrod.orbits.shooting (kind "periodic": the launch angle on the unstable plane is a genuine unknown).
 
     x (9,): point of the periodic orbit with e32 = 0 (phi = 0); omega: rotation rate (x(t) = G_{omega t} x);
     period T = 2 pi/|omega|; monodromy (9, 9) = d x(T)/d x(0); multipliers (9,) (eigenvalues of the monodromy);
@@ -164,6 +176,11 @@ class PeriodicSaddle:
     symplectic_defect: float
     reciprocal_defect: float
     hyperbolic: bool
+    success: bool = True
+    message: str = "periodic saddle: the helical relative equilibrium (mu > 2 lam)"
+
+    kind = "periodic"
+    _repr_fields = ("kind", "params", "T", "unstable_multiplier", "H", "hyperbolic")
 
     @property
     def quartet(self) -> np.ndarray:
@@ -171,11 +188,22 @@ class PeriodicSaddle:
         idx = np.argsort(-np.abs(np.log(np.abs(self.multipliers))))
         return self.multipliers[idx[:4]]
 
-    def launch_point(self, eps: float, angle: float = 0.0) -> np.ndarray:
+    def launch_point(self, eps: float, angle: float = 0.0, precision=Precision.DOUBLE) -> np.ndarray:
         """x + eps Re(e^{-i angle} v)/|Re(e^{-i angle} v)|: a point at distance eps on the linear unstable
-        fibre of the periodic orbit at phase 0 (the O(eps^2) error of the linearisation is the launch error)."""
+        fibre of the periodic orbit at phase 0, formed in `precision` (the O(eps^2) error of the linearisation
+        is the launch error; x itself is the double-precision relative equilibrium, exact in every wider type).
+        The angle is a genuine unknown of the shooting problem (module docstring of magrod.orbits.shooting)."""
+        prec = Precision.parse(precision)
         d = np.real(np.exp(-1j * angle) * self.unstable_vector)
-        return self.x + eps * d / np.linalg.norm(d)
+        if prec is Precision.DOUBLE:
+            return self.x + eps * d / np.linalg.norm(d)
+        fp, bits = prec.fp_type, prec.prec
+        return (systems.fp_array(self.x, fp, bits)
+                + systems._fp(fp, eps, bits) * systems.fp_array(d / np.linalg.norm(d), fp, bits))
+
+    def at(self, params: RodParams) -> "PeriodicSaddle":
+        """The periodic saddle at other parameters (ParameterError where there is none)."""
+        return periodic_saddle(params)
 
     def summary(self) -> dict:
         q = self.quartet
@@ -198,11 +226,12 @@ def _phase_fix(v):
     return v * np.exp(-1j * np.angle(v[j]))
 
 
-def monodromy(x0, pars, T, precision: str = "double", as_float: bool = True):
+def monodromy(x0, pars, T, precision=Precision.DOUBLE, as_float: bool = True):
     """d x(T)/d x(0) along the orbit of x0 (heyoka variational equations, tol = eps of the precision); returns
     (x(T), M) (float64 unless as_float=False)."""
+    precision = Precision.parse(precision)
     ta = systems.cached_variational(precision)
-    ftype = systems.PRECISIONS[precision]
+    ftype = precision.fp_type
     systems.reset_variational(ta, np.asarray(x0, dtype=ftype), np.asarray(pars, dtype=ftype))
     ta.propagate_until(ftype(T))
     if not as_float:
@@ -213,7 +242,7 @@ def monodromy(x0, pars, T, precision: str = "double", as_float: bool = True):
     return x.astype(float), Phi
 
 
-def reciprocal_defect_backward(ps: "PeriodicSaddle", precision: str = "long double") -> float:
+def reciprocal_defect_backward(ps: "PeriodicSaddle", precision=Precision.LONG_DOUBLE) -> float:
     """Reciprocal pairing checked with the backward monodromy M_b = d x(-T)/d x(0) = M^{-1}, integrated
     independently: spec(M) is closed under z -> 1/z iff the dominant (unstable) multipliers of M and M_b
     coincide.  Returns max |Lambda_i(M)/Lambda_i(M_b) - 1| over the two unstable members of the quartet
@@ -278,10 +307,8 @@ def hamiltonian_hopf_scan(params: RodParams, name: str, values) -> dict:
     relative equilibrium was found)."""
     out = np.full(len(values), np.nan)
     for i, v in enumerate(values):
-        kw = params.as_dict()
-        kw[name] = float(v)
         try:
-            q = RodParams(**kw)
+            q = params.replace(**{name: float(v)})
             x0, omega, _ = relative_equilibrium(q)
         except ParameterError:
             continue

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from flint import arb, ctx
 
 from ..core.errors import ParameterError
+from ..core.precision import Precision
 from ..core.results import Result
 from ..generated import generic_splitting as _gen
 from ..generated import splitting_ball as _sball
@@ -58,7 +59,8 @@ def precisions_for(case) -> tuple:
     where float64 curves near a = 2b fail the fit guard at eps <= 0.01 (measured: residual 1e-7 at (2.05, 1),
     eps = 0.01, against 2.5e-10 at eps = 0.02 and 2.4e-13 in long double at eps = 0.005)."""
     a, b = float(case[3]), float(case[4])
-    return ("long", "quad") if b > 0 and a / b < 2.5 else ("double", "long")
+    return ((Precision.LONG_DOUBLE, Precision.QUAD) if b > 0 and a / b < 2.5 else
+            (Precision.DOUBLE, Precision.LONG_DOUBLE))
 
 
 def _ball_dict(x: arb) -> dict:
@@ -150,14 +152,15 @@ def generic_coefficient(m, gamma, delta, a, b, *, prec: int = DEFAULT_PREC) -> G
 # --------------------------------------------------------------------------------------------------------------
 # the measurement and the comparison
 # --------------------------------------------------------------------------------------------------------------
-def measured_coefficient(m, gamma, delta, a, b, eps=DEFAULT_EPS, precision: str = "long") -> dict:
+def measured_coefficient(m, gamma, delta, a, b, eps=DEFAULT_EPS, precision=Precision.LONG_DOUBLE) -> dict:
     """s1/eps^3 measured by tilted_curve (guarded) at each eps and extrapolated in eps^2 (fit_power's C0)."""
     from .splitting import fit_power, tilted_curve
 
+    precision = Precision.parse(precision)
     curves = [tilted_curve(m, gamma, delta, a, b, e, precision) for e in eps]
     s1 = [c.sin_coeffs[0] for c in curves]
     fit = fit_power(list(eps), s1)
-    return {"precision": precision, "eps": list(eps), "s1_over_eps3": [v / e**3 for v, e in zip(s1, eps)],
+    return {"precision": precision.value, "eps": list(eps), "s1_over_eps3": [v / e**3 for v, e in zip(s1, eps)],
             "C0": fit.C0, "C0_fit_max_rel_residual": fit.C0_fit_max_rel_residual, "p": fit.p,
             "max_fit_residual": max(c.fit_residual for c in curves), "max_psi_gap": max(c.psi_max_gap for c in curves),
             "guards": [c.guard for c in curves]}
@@ -226,10 +229,11 @@ def compare_generic(cases=CASES, eps=DEFAULT_EPS, precisions=None, *, tolerance:
         row = {"case": list(case), "derived": derived, "derived_ball": g.coefficient.str(radius=True),
                "S": float(g.S.mid()), "measured": {}, "rel_difference": {}}
         for pr in (precisions or precisions_for(case)):
+            pr = Precision.parse(pr)
             meas = measured_coefficient(*case, eps=eps, precision=pr)
             rel = abs(meas["C0"] / derived - 1.0)
-            row["measured"][pr] = meas
-            row["rel_difference"][pr] = rel
+            row["measured"][pr.value] = meas
+            row["rel_difference"][pr.value] = rel
             worst = max(worst, rel)
         rows.append(row)
         if progress is not None:

@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import time
 from dataclasses import asdict, dataclass
-from functools import lru_cache
 
 import heyoka as hy
 import numpy as np
@@ -147,13 +146,13 @@ def melnikov_function(psi0, amp) -> np.ndarray:
     return a * np.sin(np.asarray(psi0, dtype=float))
 
 
-@lru_cache(maxsize=None)
+@systems.cache
 def _primitive_cfunc():
     th, pt, ps = hy.make_vars("theta", "ptheta", "psi")
     return systems.build(hy.cfunc, [gen.primitive(th, pt, ps, hy.par[0], hy.par[1])], vars=[th, pt, ps])
 
 
-@lru_cache(maxsize=None)
+@systems.cache
 def _two_phi_cfunc(fp_type):
     """2 Phi(t) at psi0 = pi/2 on the closed-form orbit, as a function of (t, psibar(t))."""
     t, psib = hy.make_vars("t", "psibar")

@@ -18,13 +18,15 @@ symmetry) is used to put e3 in the (d1, d3) plane.  d = 0 iff x_u lies on Fix(R)
 is an angle around the small transverse force rho (rho = O(eps) at the turning point) and is computed from the
 state with absolute error ~ ulp/rho, which is why the crossing is evaluated in the working precision.
 
-Cases.
-  a = 2b   the saddle is the straight rod, an equilibrium (magrod/saddle.py); its 2-D unstable manifold is a
-           single orbit modulo the rotations about d3 (the launch phase is a symmetry, magrod/shooting.py), so
-           the splitting is ONE number d(eps) per eps.
+Cases (both saddles implement the saddle protocol of magrod.orbits.shooting, whose crossing loop is used).
+  a = 2b   the saddle is the straight rod, an equilibrium (`EquilibriumSaddle`: magrod.orbits.equilibrium's
+           straight rod with its state in the working precision); its 2-D unstable manifold is a single orbit
+           modulo the rotations about d3 (the launch phase is a symmetry), so the splitting is ONE number d(eps)
+           per eps.
   a > 2b   the saddle is the relative equilibrium "straight rod tilted by theta0 = O(eps) from the field" (a
-           periodic orbit in the body frame, an equilibrium (theta0, psi = 0, 0, pbar_psi0) on Fix(R) of the
-           reduced chart, computed here by Newton in the working precision).  It is a saddle-focus of the chart:
+           periodic orbit in the body frame -- the same relative equilibrium as magrod.orbits.periodic's
+           PeriodicSaddle -- seen here as an equilibrium (theta0, psi = 0, 0, pbar_psi0) on Fix(R) of the reduced
+           chart and computed by Newton in the working precision: `TiltedSaddle`, kind "periodic").  It is a saddle-focus of the chart:
            its unstable manifold is 2-D, parametrised by a genuine phase phi on the unstable eigenplane, and
            its trace on Sigma is a closed curve x_u(phi).  The splitting is the odd part of that curve:
            D(psi) = theta_u(psi) - theta_u(-psi) (W^s on Sigma is the mirror image psi -> -psi of W^u), computed
@@ -32,9 +34,9 @@ Cases.
   a < 2b   the radicand mu - 2 lambdabar pbar_psi is negative near the straight rod (the aligned side): not a
            saddle of the chart, ParameterError.
 
-Precisions (PRECISIONS): double (float64), long (x87 80-bit), quad (IEEE binary128, hy.real128), mp (hy.real,
-MP_BITS bits).  Launch distance eta per precision (LAUNCH_ETA): the linear launch is off the manifold by
-O(eta^2), which is below the rounding error of each precision.  Parameters are the float64 numbers
+Precisions (magrod.core.precision.Precision): double (float64), long double (x87 80-bit), quad (IEEE binary128,
+hy.real128), mp (hy.real, MP_BITS bits).  Launch distance eta per precision (tolerances.SPLITTING_LAUNCH): the
+linear launch is off the manifold by O(eta^2), which is below the rounding error of each precision.  Parameters are the float64 numbers
 b eps^2 and a eps^2 (mu = 2 lambdabar exactly when a = 2b) in every precision, so all precisions solve the same
 problem and their difference is the numerical error.
 """
@@ -47,16 +49,15 @@ from dataclasses import asdict, dataclass, field
 import heyoka as hy
 import numpy as np
 
+from ..core import systems
 from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
 from ..core.params import RodParams
+from ..core.precision import Precision
+from ..core.results import Result
+from ..core.tolerances import HYPERBOLIC_TOL, SPLITTING_LAUNCH
 from ..generated import scalars
-from ..core import systems
+from ..orbits.shooting import Crossing, crossing_events
 
-MP_BITS = 192
-PRECISIONS = {"double": (float, None), "long": (np.longdouble, None), "quad": (hy.real128, None),
-              "mp": (hy.real, MP_BITS)}
-# launch distance from the saddle (relative to theta0 when the saddle is tilted): eta^2 < rounding unit
-LAUNCH_ETA = {"double": 1e-8, "long": 1e-10, "quad": 1e-17, "mp": 1e-30}
 THETA_TURN_MIN = 0.3  # a zero of pbar_theta counts as the turning point only where theta exceeds this
 T_MAX = 2000.0
 
@@ -75,8 +76,7 @@ def _check(m, gamma, delta, a, b, eps, precision):
     m, gamma, delta, a, b = (require_finite(k, v, MAX_MAGNITUDE) for k, v in
                              (("m", m), ("gamma", gamma), ("delta", delta), ("a", a), ("b", b)))
     eps = require_finite("eps", eps)
-    if precision not in PRECISIONS:
-        raise ParameterError("precision", f"must be one of {sorted(PRECISIONS)}, got {precision!r}")
+    Precision.parse(precision)
     if a < 0:
         raise ParameterError("a", f"must be >= 0 (mu = a eps^2 >= 0), got {a}")
     if b < 0:
@@ -106,42 +106,102 @@ def scaled_params(m, gamma, delta, a, b, eps) -> RodParams:
 # --------------------------------------------------------------------------------------------------------------
 # the saddle and its unstable directions
 # --------------------------------------------------------------------------------------------------------------
-@dataclass
-class SaddleData:
-    """The saddle in the working precision.  kind "equilibrium" (a = 2b, body state x_body) or "tilted" (a > 2b,
-    chart state q = (theta0, 0, 0, pbar_psi0) on Fix(R)); the unstable eigenvalue and eigenvector (float64)
-    of the body (equilibrium) or chart (tilted) Jacobian; H_saddle the chart energy Hbar of the saddle."""
+def _launch_offset(vector, eta, angle, fp, prec):
+    """eta Re(e^{-i angle} v)/|.| formed in double and then converted to the working precision.  This is the
+    splitting's launch convention (StraightRod.launch_point forms the product in the working precision instead):
+    the eigenvector is a float64 quantity either way, and the measured splitting digits of REPORT.md (derived vs
+    measured leading term, 8.4 digits and more) were established with this rounding, which the long double runs
+    are sensitive to at their noise level (~1e-9 relative)."""
+    d = np.real(np.exp(-1j * angle) * vector)
+    d = d / np.linalg.norm(d)
+    return systems.fp_array(eta * d, fp, prec)
 
-    kind: str
-    x_body: np.ndarray | None
-    q: np.ndarray | None
+
+@dataclass
+class EquilibriumSaddle:
+    """The straight rod (a = 2b) in the working precision: body state x_body computed there (1/m^2 rounded in
+    that precision), the unstable eigenvalue and eigenvector of magrod.orbits.equilibrium.straight_rod (float64),
+    H the chart energy Hbar of the saddle.  Implements the saddle protocol of magrod.orbits.shooting in its own
+    precision (kind "equilibrium": the launch angle is a symmetry direction)."""
+
+    params: RodParams
+    precision: Precision
+    x_body: np.ndarray
+    eigenvalue: complex
+    vector: np.ndarray
+    H: object
+    newton_residual: float = 0.0
+
+    kind = "equilibrium"
+
+    def launch_point(self, eps: float, angle: float = 0.0, precision=None) -> np.ndarray:
+        """x_body + eps Re(e^{-i angle} v)/|.| (`_launch_offset`), in the saddle's working precision."""
+        _same_precision(self, precision)
+        return self.x_body + _launch_offset(self.vector, eps, angle, self.precision.fp_type, self.precision.prec)
+
+    def at(self, params: RodParams) -> "EquilibriumSaddle":
+        return working_saddle(params, self.precision)
+
+
+def _same_precision(sd, precision):
+    if precision is not None and Precision.parse(precision) is not sd.precision:
+        raise ParameterError("precision", f"this saddle was computed in {sd.precision.value}; got "
+                                          f"{Precision.parse(precision).value}")
+
+
+@dataclass
+class TiltedSaddle:
+    """The tilted straight rod (a > 2b) in the working precision: chart state q = (theta0, 0, 0, pbar_psi0) on
+    Fix(R), an equilibrium of the reduced chart (a relative equilibrium, i.e. a periodic orbit, of the body frame:
+    kind "periodic"); the unstable eigenvalue and unit eigenvector (float64, phase: first entry real > 0) of the
+    chart Jacobian; H the chart energy Hbar there; newton_residual max |chart field| at q.  Implements the saddle
+    protocol of magrod.orbits.shooting, in its own precision only."""
+
+    params: RodParams
+    precision: Precision
+    q: np.ndarray
     eigenvalue: complex
     vector: np.ndarray
     H: object
     newton_residual: float
 
+    kind = "periodic"
 
-def saddle(params: RodParams, precision: str = "double") -> SaddleData:
-    fp, prec = PRECISIONS[precision]
+    def launch_point(self, eps: float, angle: float = 0.0, precision=None) -> np.ndarray:
+        """Body state of q + eps theta0 Re(e^{-i angle} v)/|.| (the distance relative to the tilt theta0, on the
+        chart's linear unstable manifold), formed in the saddle's working precision."""
+        _same_precision(self, precision)
+        fp, prec = self.precision.fp_type, self.precision.prec
+        q = self.q + _launch_offset(self.vector, eps * float(self.q[0]), angle, fp, prec)
+        return systems.splitting_functions(fp, prec)["to_body"](q, self.params.array())
+
+    def at(self, params: RodParams) -> "TiltedSaddle":
+        return working_saddle(params, self.precision)
+
+
+def working_saddle(params: RodParams, precision=Precision.DOUBLE):
+    """The saddle at `params` in the working precision: the straight rod (`EquilibriumSaddle`) when mu = 2 lam
+    exactly, else the `TiltedSaddle`."""
+    precision = Precision.parse(precision)
+    fp, prec = precision.fp_type, precision.prec
     F = systems.splitting_functions(fp, prec)
     pars = params.array()
     mu_level = scalars.straight_rod_mu(**params.as_dict())  # mu = 2 lam
     if params.mu == mu_level:
-        from ..orbits.equilibrium import straight_rod
+        from ..orbits.equilibrium import straight_rod, straight_rod_state
 
         s = straight_rod(params)
-        # the straight rod in the working precision (1/m^2 rounded there, not in double)
-        x = systems.fp_array(scalars.straight_rod_state(*systems.fp_array(pars, fp, prec)), fp, prec)
-        H = F["H"](x, pars)[0]
-        return SaddleData("equilibrium", x, None, s.unstable_eigenvalue, s.unstable_vector, H, 0.0)
+        x = straight_rod_state(params, precision)
+        return EquilibriumSaddle(params, precision, x, s.unstable_eigenvalue, s.unstable_vector, F["H"](x, pars)[0])
     # tilted straight rod: Newton on (theta, pbar_psi) for theta' = pbar_theta'... = 0 at psi = pbar_theta = 0
     # (psi' = 0 and pbar_theta' = 0; psi = 0 and pbar_theta = 0 make theta' = pbar_psi' = 0 by the reversibility)
     th0 = math.sqrt(params.mu - mu_level)  # leading order: the tilt of the force from the field
     q = systems.fp_array([th0, 0.0, 0.0, math.cos(th0)], fp, prec)
+    nq = systems.dim("reduced")
     res = math.inf
     for _ in range(60):
         r = F["reduced_rhs"](q, pars)
-        Jm = F["reduced_jacobian"](q, pars).reshape(4, 4)
+        Jm = F["reduced_jacobian"](q, pars).reshape(nq, nq)
         A = np.array([[float(Jm[i, j]) for j in (0, 3)] for i in (1, 2)])
         rr = np.array([float(r[1]), float(r[2])])
         res = float(np.max(np.abs(rr)))
@@ -152,49 +212,32 @@ def saddle(params: RodParams, precision: str = "double") -> SaddleData:
             break
     r = F["reduced_rhs"](q, pars)
     res = float(max(abs(float(v)) for v in r))
-    Jm = np.array([float(v) for v in F["reduced_jacobian"](q, pars)]).reshape(4, 4)
+    Jm = np.array([float(v) for v in F["reduced_jacobian"](q, pars)]).reshape(nq, nq)
     w, V = np.linalg.eig(Jm)
-    k = max(range(4), key=lambda i: (round(w[i].real, 12), w[i].imag))
-    if w[k].real <= 1e3 * math.sqrt(np.finfo(float).eps):
+    k = max(range(nq), key=lambda i: (round(w[i].real, 12), w[i].imag))
+    if w[k].real <= HYPERBOLIC_TOL:
         raise ParameterError("m", f"the tilted straight rod is not hyperbolic (eigenvalues {w})")
     v = V[:, k] / np.linalg.norm(V[:, k])
     v = v * np.exp(-1j * np.angle(v[0]))
-    H = None
-    return SaddleData("tilted", None, q, complex(w[k]), v, H, res)
-
-
-def launch(sd: SaddleData, params: RodParams, precision: str, phase: float = 0.0, eta: float | None = None):
-    """Body state at distance eta (relative to theta0 for the tilted saddle) on the linearised unstable manifold,
-    at `phase` on the unstable eigenplane (e^{-i phase} v)."""
-    fp, prec = PRECISIONS[precision]
-    eta = LAUNCH_ETA[precision] if eta is None else eta
-    d = np.real(np.exp(-1j * phase) * sd.vector)
-    d = d / np.linalg.norm(d)
-    if sd.kind == "equilibrium":
-        return sd.x_body + systems.fp_array(eta * d, fp, prec)
-    scale = float(sd.q[0])
-    q = sd.q + systems.fp_array(eta * scale * d, fp, prec)
-    F = systems.splitting_functions(fp, prec)
-    return F["to_body"](q, params.array())
+    H = F["H"](F["to_body"](q, pars), pars)[0]
+    return TiltedSaddle(params, precision, q, complex(w[k]), v, H, res)
 
 
 # --------------------------------------------------------------------------------------------------------------
 # the first turning point
 # --------------------------------------------------------------------------------------------------------------
 @dataclass
-class Crossing:
-    """The first point x_u of W^u on Sigma = {pbar_theta = 0} with theta > THETA_TURN_MIN.  d = rho sin psi (the
-    splitting measure, module docstring), rho_cos = rho cos psi; H_drift = Hbar(x_u) - Hbar(launch);
-    casimir_drift = max |C_i(x_u) - C_i(chart)|.  Floats (rounded from the working precision)."""
+class SplittingCrossing(Crossing):
+    """The first point x_u of W^u on Sigma = {pbar_theta = 0} with theta > THETA_TURN_MIN (a Crossing, index its
+    number among all zeros of sin(theta) pbar_theta) and the splitting measure there: d = rho sin psi (module
+    docstring), rho_cos = rho cos psi; H_drift = Hbar(x_u) - Hbar(launch); casimir_drift = max |C_i(x_u) -
+    C_i(chart)|; eps the perturbation parameter, phase the launch angle, eta the launch distance.  Floats
+    (rounded from the working precision)."""
 
     eps: float
     phase: float
-    precision: str
+    precision: Precision
     eta: float
-    t: float
-    theta: float
-    psi: float
-    ppsi: float
     d: float
     rho_cos: float
     H_drift: float
@@ -202,56 +245,45 @@ class Crossing:
     wall_time_s: float
 
 
-@systems.per_thread
-def _integrator(precision):
-    fp, prec = PRECISIONS[precision]
-    ev = systems.t_event("body", "ptheta_sin", fp_type=fp, prec=prec)
-    x0 = systems.fp_array([0, 0, 1, 0, 0, 1, 0, 0, 1], fp, prec)
-    return systems.taylor(systems.system("body"), x0, [1.0] * len(systems.PARAMS), fp_type=fp, prec=prec,
-                          t_events=[ev])
-
-
-def first_crossing(params: RodParams, precision: str = "double", *, phase: float = 0.0, eta: float | None = None,
-                   sd: SaddleData | None = None, eps: float = math.nan) -> Crossing:
+def first_crossing(params: RodParams, precision=Precision.DOUBLE, *, phase: float = 0.0, eta: float | None = None,
+                   sd=None, eps: float = math.nan) -> SplittingCrossing:
     """Integrate W^u from the launch point to its first turning point (a stopping event on e32 m1 - e31 m2 =
-    sin(theta) pbar_theta = 0) in the working precision and evaluate the crossing there.  Reuses one integrator
-    per precision (reset time/state/pars).  Guard: T_MAX."""
-    fp, prec = PRECISIONS[precision]
+    sin(theta) pbar_theta = 0, the crossing loop of magrod.orbits.shooting) in the working precision and evaluate
+    the crossing there.  sd: the saddle (`working_saddle`) if already computed.  Guard: T_MAX."""
+    precision = Precision.parse(precision)
+    fp, prec = precision.fp_type, precision.prec
     t0 = time.perf_counter()
-    sd = sd or saddle(params, precision)
-    eta = LAUNCH_ETA[precision] if eta is None else eta
-    x0 = launch(sd, params, precision, phase, eta)
-    ta = _integrator(precision)
-    ta.time = systems._fp(fp, 0.0, prec)
-    ta.state[:] = x0
-    ta.pars[:] = systems.fp_array(params.array(), fp, prec)
-    ta.reset_cooldowns()
+    sd = sd or working_saddle(params, precision)
+    eta = SPLITTING_LAUNCH[precision] if eta is None else eta
+    x0 = sd.launch_point(eta, phase, precision)
     F = systems.splitting_functions(fp, prec)
     pars = params.array()
     H0 = F["H"](x0, pars)[0]
-    while True:
-        oc, *_ = ta.propagate_until(systems._fp(fp, T_MAX, prec))
-        if int(oc) != -1:
-            raise RuntimeError(f"no turning point of theta before t = {T_MAX} (outcome {oc})")
-        x = ta.state.copy()
+    found = None
+    for index, (t, x) in enumerate(crossing_events(x0, pars, precision, t_max=T_MAX), start=1):
         ch = F["chart"](x)
         if float(ch[0]) > THETA_TURN_MIN:
+            found = (index, t, x, ch)
             break
+    if found is None:
+        raise RuntimeError(f"no turning point of theta before t = {T_MAX}")
+    index, t, x, ch = found
     fix = F["fix"](x)[0]
     # rho cos psi from psi and d: evaluated in the working precision by the chart map (atan2 of the two parts)
     H = F["H"](x, pars)[0]
     cas = F["casimirs"](x, pars)
     psi = float(ch[1])
     d = float(fix)
-    return Crossing(eps, phase, precision, eta, float(ta.time), float(ch[0]), psi, float(ch[4]), d,
-                    d / math.tan(psi) if psi != 0 else math.inf, float(H - H0),
-                    max(abs(float(c)) for c in cas), time.perf_counter() - t0)
+    return SplittingCrossing(index=index, t=float(t), theta=float(ch[0]), psi=psi, ppsi=float(ch[4]),
+                             sinpsi=math.sin(psi), eps=eps, phase=phase, precision=precision, eta=eta, d=d,
+                             rho_cos=d / math.tan(psi) if psi != 0 else math.inf, H_drift=float(H - H0),
+                             casimir_drift=max(abs(float(c)) for c in cas), wall_time_s=time.perf_counter() - t0)
 
 
 # --------------------------------------------------------------------------------------------------------------
 # eps scan (a = 2b) and power-law fit
 # --------------------------------------------------------------------------------------------------------------
-DEFAULT_EPS = tuple(float(f"{x:.3g}") for x in np.geomspace(0.3, 1e-3, 11))
+EPS_SCAN = tuple(float(f"{x:.3g}") for x in np.geomspace(0.3, 1e-3, 11))  # perturbation parameters eps of a scan
 
 
 @dataclass
@@ -327,7 +359,8 @@ class SplittingScan:
     notes: list = field(default_factory=list)
 
     def table(self, precision=None):
-        pr = precision or self.precisions[-1]
+        """The crossings of one precision (a Precision or its value; default the reference) as dicts."""
+        pr = Precision.parse(precision) if precision is not None else self.precisions[-1]
         return [asdict(c) for c in self.crossings[pr]]
 
     def as_dict(self):
@@ -335,12 +368,13 @@ class SplittingScan:
         return d
 
 
-def scan(m, gamma, delta, a, b, eps=DEFAULT_EPS, precisions=("long", "quad"), *, progress=None,
+def scan(m, gamma, delta, a, b, eps=EPS_SCAN, precisions=(Precision.LONG_DOUBLE, Precision.QUAD), *, progress=None,
          fit: bool = True) -> SplittingScan:
     """D(eps) for the straight-rod saddle (a = 2b) in each precision; the last precision is the reference.
     Cost: ~1 ms (double), ~10 ms (long), ~0.1 s (quad) per eps; mp (hy.real) is ~100x slower than quad."""
     t0 = time.perf_counter()
     eps = [require_finite("eps", e) for e in eps]
+    precisions = [Precision.parse(pr) for pr in precisions]
     for pr in precisions:
         _check(m, gamma, delta, a, b, min(eps) if eps else 1.0, pr)
     if not eps or min(eps) <= 0:
@@ -368,7 +402,7 @@ def scan(m, gamma, delta, a, b, eps=DEFAULT_EPS, precisions=("long", "quad"), *,
         fp = fit_power(eps, [c.psi for c in ref])
         fd = fit_power(eps, [c.d for c in ref])
     elif fit:
-        notes.append("no fit: b = 0 (lambdabar = 0)")
+        notes.append("no fit: b = 0 (lambdabar = 0)" if b <= 0 else f"no power-law fit: {len(eps)} eps (< 4)")
     return SplittingScan(m, gamma, delta, a, b, list(eps), list(precisions), cr, ag_psi, ag_d, fp, fd, max_psi,
                          max_d, time.perf_counter() - t0, notes)
 
@@ -386,7 +420,7 @@ class TiltedCurve:
     eps: float
     a: float
     b: float
-    precision: str
+    precision: Precision
     theta0: float
     eigenvalue: complex
     phases: list
@@ -423,7 +457,7 @@ def _psi_max_gap(psi) -> float:
     return float(np.max(np.diff(np.concatenate([ps, [ps[0] + 2 * np.pi]]))))
 
 
-def tilted_curve(m, gamma, delta, a, b, eps, precision="double", *, n_phases=64, harmonics=4,
+def tilted_curve(m, gamma, delta, a, b, eps, precision=Precision.DOUBLE, *, n_phases=64, harmonics=4,
                  guard: bool = True) -> TiltedCurve:
     """Trace of W^u of the tilted saddle (a > 2b) on Sigma over n_phases launch phases, and its odd part D(psi).
     guard (default True): refuse the curve, with ParameterError('eps', ...), if its psi coverage or Fourier-fit
@@ -431,10 +465,11 @@ def tilted_curve(m, gamma, delta, a, b, eps, precision="double", *, n_phases=64,
     fit residual, the largest psi gap and both bounds.  Cost: n_phases first crossings (~1 ms each in double, ~10 ms
     in long)."""
     m, gamma, delta, a, b, eps = _check(m, gamma, delta, a, b, eps, precision)
+    precision = Precision.parse(precision)
     if is_equilibrium_case(a, b):
         raise ParameterError("a", "a = 2b is the straight-rod equilibrium: use scan()")
     p = scaled_params(m, gamma, delta, a, b, eps)
-    sd = saddle(p, precision)
+    sd = working_saddle(p, precision)
     ph = np.linspace(0, 2 * np.pi, int(n_phases), endpoint=False)
     cs = [first_crossing(p, precision, phase=float(x), sd=sd, eps=eps) for x in ph]
     th = np.array([c.theta for c in cs])
@@ -459,7 +494,7 @@ def tilted_curve(m, gamma, delta, a, b, eps, precision="double", *, n_phases=64,
         f"passed: gap {gap:.3g} <= {gap_bound:.3g}" + (f", residual {res:.3g} <= {fit_bound:.3g}" if fit_bound is not None
                                                        else ", residual not bounded (b = 0: it bounds |D|)"))
     if bad and guard:
-        raise ParameterError("eps", f"the W^u curve on Sigma at eps = {eps:g} ({precision}) fails the fit guard: "
+        raise ParameterError("eps", f"the W^u curve on Sigma at eps = {eps:g} ({precision.value}) fails the fit guard: "
                                     f"{'; '.join(bad)}; use a larger eps, a higher precision or more phases")
     return TiltedCurve(eps, a, b, precision, float(sd.q[0]), sd.eigenvalue, ph.tolist(), th.tolist(), ps.tolist(),
                        [c.d for c in cs], ck, sk, res, float(np.max(np.abs(D))), gap, gap_bound, fit_bound, text)
@@ -491,9 +526,10 @@ class TiltedScan:
                 "fit_s1": self.fit_s1.as_dict() if self.fit_s1 else None}
 
 
-def tilted_scan(m, gamma, delta, a, b, eps, precisions=("double", "long"), *, n_phases=64, harmonics=4,
-                progress=None) -> TiltedScan:
+def tilted_scan(m, gamma, delta, a, b, eps, precisions=(Precision.DOUBLE, Precision.LONG_DOUBLE), *, n_phases=64,
+                harmonics=4, progress=None) -> TiltedScan:
     t0 = time.perf_counter()
+    precisions = [Precision.parse(pr) for pr in precisions]
     ref, chk = [], []
     for e in eps:
         ref.append(tilted_curve(m, gamma, delta, a, b, e, precisions[-1], n_phases=n_phases, harmonics=harmonics))
@@ -627,7 +663,7 @@ def digits_agreeing(x, ref) -> float:
 
 
 def compare_leading(m, gamma, delta, a, b, eps=(0.02, 0.014, 0.01, 0.007, 0.005, 0.0035),
-                    precisions=("double", "long")) -> dict:
+                    precisions=(Precision.DOUBLE, Precision.LONG_DOUBLE)) -> dict:
     """Derived leading term (leading_coefficient) against the measured one (scan: C0 of the eps^2 extrapolation
     of psi_u/eps^2 and d/eps^4) at a = 2b.  Cost ~0.5 s."""
     if not is_equilibrium_case(a, b):
@@ -639,3 +675,147 @@ def compare_leading(m, gamma, delta, a, b, eps=(0.02, 0.014, 0.01, 0.007, 0.005,
             "derived_psi": dp, "measured_psi": sc.fit_psi.C0, "digits_psi": digits_agreeing(sc.fit_psi.C0, dp),
             "derived_d": dd, "measured_d": sc.fit_d.C0, "digits_d": digits_agreeing(sc.fit_d.C0, dd),
             "measured_fit_rel_residual": sc.fit_psi.C0_fit_max_rel_residual, "leading": lt.as_dict()}
+
+
+# --------------------------------------------------------------------------------------------------------------
+# the public face
+# --------------------------------------------------------------------------------------------------------------
+@dataclass(repr=False)
+class Splitting(Result):
+    """The splitting of the separatrix along mu = a eps^2, lambdabar = b eps^2 (what `splitting` returns).
+
+    kind "equilibrium" (a = 2b: the straight rod; `measure` = psi_u, the chart angle of W^u at its first turning
+    point, `d` = rho sin psi_u) or "tilted" (a > 2b: the tilted saddle-focus; `measure` = s1, the first sine
+    coefficient of D(psi) = theta_u(psi) - theta_u(-psi), `d` = max_psi |D|), one value per eps, in the reference
+    (last) precision.  agreement: max relative difference of `measure` between the precisions (the numerical
+    error evidence).  fit: power law measure ~ C eps^p (>= 4 eps).  leading (a = 2b): the derived second-order
+    Mel'nikov coefficient b C_psi against the measured eps^2-extrapolation, with the digits they share."""
+
+    success: bool
+    message: str
+    kind: str
+    m: float
+    gamma: float
+    delta: float
+    a: float
+    b: float
+    eps: np.ndarray
+    precisions: list
+    measure: np.ndarray
+    d: np.ndarray
+    agreement: float
+    fit: dict | None
+    leading: dict | None
+    wall_s: float
+    scan: object = field(default=None, repr=False)
+
+    _repr_fields = ("kind", "eps", "measure", "agreement", "fit_exponent", "leading_digits")
+
+    @property
+    def fit_exponent(self):
+        return None if self.fit is None else self.fit["p"]
+
+    @property
+    def leading_digits(self):
+        return None if self.leading is None else self.leading["digits"]
+
+    @property
+    def accuracy(self) -> dict:
+        return {"agreement_between_precisions": self.agreement, "precisions": self.precisions}
+
+    def to_dict(self) -> dict:
+        from ..core.results import jsonable
+
+        d = {k: getattr(self, k) for k in ("success", "message", "kind", "m", "gamma", "delta", "a", "b", "eps",
+                                           "precisions", "measure", "d", "agreement", "fit", "leading", "wall_s")}
+        return jsonable(d)
+
+
+def splitting(m, gamma, delta, a, b, eps=EPS_SCAN, *, precisions=None, n_phases=64, harmonics=4,
+              progress=None) -> Splitting:
+    """The splitting of the stable and unstable manifolds of the saddle under mu = a eps^2, lambdabar = b eps^2
+    (the paper's scaling eq:condition_unperturbed_1), measured in two precisions.
+
+    Parameters
+    ----------
+    m, gamma, delta : float
+        The rod (0 < m < m_c = 2 sqrt(1 + gamma), gamma, delta >= 0).
+    a, b : float
+        mu = a eps^2, lambdabar = b eps^2, a >= 2b; a = 2b is the straight-rod saddle (an equilibrium), a > 2b the
+        tilted saddle-focus.
+    eps : sequence of float
+        The perturbation parameters (> 0); >= 4 values give a power-law fit.
+    precisions : sequence of Precision or str, optional
+        The last one is the reference; default ("long double", "quad") for a = 2b, ("double", "long double")
+        for a > 2b.
+    n_phases, harmonics : int
+        a > 2b: launch phases on the unstable eigenplane and Fourier harmonics of the fit of theta_u(psi).
+    progress : callable, optional
+        progress(n_eps_done).
+
+    Returns
+    -------
+    Splitting
+        measure (psi_u or s1) and d per eps, agreement between precisions, fit, derived leading term (a = 2b).
+
+    Raises
+    ------
+    ParameterError
+        Naming the argument: m >= m_c, a < 2b, eps <= 0 or empty, an unknown precision.
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> spl = mr.splitting(m=1.7, gamma=1, delta=1, a=2, b=1, eps=[0.1, 0.03, 0.01])
+    >>> spl.kind, bool(spl.agreement < 1e-8), bool(all(spl.measure < 0))
+    ('equilibrium', True, True)
+
+    Notes
+    -----
+    The first-order Mel'nikov function vanishes identically (docs/errata.md), so the splitting is measured
+    directly: the first turning point of W^u on Sigma = {pbar_theta = 0}, integrated in the body frame in each
+    precision (docs/nonintegrability.md).  At a = 2b the leading term psi_u ~ b C_psi eps^2 is derived as a
+    second-order Mel'nikov integral (leading_coefficient) and agrees with the measurement to 8-9 digits.  Status:
+    numerical (floating point, two precisions); the rigorous statements are in docs/nonintegrability.md.  Cost:
+    ~0.1 s per eps in quad (a = 2b); n_phases first crossings per eps for a > 2b.
+    """
+    t0 = time.perf_counter()
+    eps = [require_finite("eps", e) for e in (eps if not np.isscalar(eps) else [eps])]
+    if not eps or min(eps) <= 0:
+        raise ParameterError("eps", f"need a non-empty list of eps > 0, got {eps}")
+    equilibrium = is_equilibrium_case(a, b)
+    if precisions is None:
+        precisions = (Precision.LONG_DOUBLE, Precision.QUAD) if equilibrium else (Precision.DOUBLE,
+                                                                                   Precision.LONG_DOUBLE)
+    precisions = [Precision.parse(p) for p in precisions]
+    notes = []
+    if equilibrium:
+        sc = scan(m, gamma, delta, a, b, eps, precisions, progress=progress)
+        ref = sc.crossings[precisions[-1]]
+        measure = np.array([c.psi for c in ref])
+        d = np.array([c.d for c in ref])
+        agreement = max(sc.agreement_psi.values(), default=0.0)
+        fit = sc.fit_psi.as_dict() if sc.fit_psi else None
+        leading = None
+        if sc.fit_psi is not None and b > 0:
+            lt = leading_coefficient(m, gamma, delta)
+            derived = b * lt.C_psi
+            leading = {"derived_psi_over_eps2": derived, "measured_psi_over_eps2": sc.fit_psi.C0,
+                       "digits": digits_agreeing(sc.fit_psi.C0, derived), "S": lt.S_reference, "S_error": lt.error}
+        notes += sc.notes
+    else:
+        sc = tilted_scan(m, gamma, delta, a, b, eps, precisions, n_phases=n_phases, harmonics=harmonics,
+                         progress=progress)
+        measure = np.array([c.sin_coeffs[0] for c in sc.curves])
+        d = np.array([c.D_amplitude for c in sc.curves])
+        agreement = sc.agreement_s1 / max(float(np.max(np.abs(measure))), 1e-300)
+        fit = sc.fit_s1.as_dict() if sc.fit_s1 else None
+        leading = None
+    if not equilibrium and fit is None:
+        notes.append("no power-law fit: b = 0 or fewer than 4 eps")
+    if b == 0 or (gamma == 0 and delta == 0):
+        notes.append("integrable control: the splitting vanishes to the working precision")
+    return Splitting(True, "; ".join(notes) or "ok", "equilibrium" if equilibrium else "tilted", float(m),
+                     float(gamma), float(delta), float(a), float(b), np.asarray(eps, float),
+                     [p.value for p in precisions], measure, d, float(agreement), fit, leading,
+                     time.perf_counter() - t0, sc)

@@ -1,189 +1,89 @@
 """Symmetric homoclinic orbits to the periodic saddle (mu > 2 lambdabar): shooting from the linear unstable
-manifold of the helical relative equilibrium (magrod/floquet.py) to Fix(R) (derive/symmetry.py).
+manifold of the helical relative equilibrium (magrod.orbits.periodic) to Fix(R) (derive/symmetry.py).
 
 Unknowns.  The periodic orbit is a G-orbit (rotations about the body 3-axis), so a launch at phase s along it
 is the G_{omega s}-image of a launch at phase 0 with the unstable-plane coordinate multiplied by
-exp(-s (a + i b)) (d Phi_s = G_{omega s} exp(s A), floquet.py).  Fix(R) = {pbar_theta = 0, sin psi = 0} is
+exp(-s (a + i b)) (d Phi_s = G_{omega s} exp(s A), magrod.orbits.periodic).  Fix(R) = {pbar_theta = 0, sin psi = 0} is
 G-invariant, so the phase along the periodic orbit and the launch angle on the unstable plane are one unknown:
 we launch at phase 0, distance eps, angle `angle` (x_L = x_p + eps Re(e^{-i angle} v)/|.|, v the monodromy's
 unstable eigenvector) -- the phase along the periodic orbit s corresponds to angle = b s at distance
 eps e^{a s}.  With the time T to the symmetric point this gives two unknowns for the two conditions
 r = (pbar_theta, sin psi)(x(T)) = 0: symmetric homoclinic orbits to the periodic saddle are generic (isolated
 at fixed parameters, in one-parameter branches), unlike those of the straight rod at mu = 2 lambdabar
-(magrod/shooting.py), which are of codimension one.
+(magrod.orbits.multipulse), which are of codimension one.
 
-Newton on (T, angle): dr/dT = grad r . f(x(T)), dr/d angle = grad r . Phi(T) dx_L/d angle (heyoka variational
-equations, systems.cached_variational; d x_L/d angle by a central difference of the closed-form launch).
-dr/d par (for continuation, magrod/continuation.py) = grad r . (Phi dx_L/dpar + Psi e_par), dx_L/dpar by a
-central difference of the periodic saddle (relative equilibrium + monodromy eigenvector) at par +- h.
-Precision: double for the first crossing; long double from the second on, as in magrod/shooting.py (after a
-passage near the saddle psi inherits the launch error divided by the small transverse force).
+Newton on (T, angle) with the one engine (magrod.orbits.shooting.residual_and_jacobian: dr/dT = grad r . f(x(T)),
+dr/d angle = grad r . Phi(T) dx_L/d angle; dr/d par for continuation, magrod.orbits.continuation).  Precision:
+double for the first crossing; long double from the second on, as for the straight rod (after a passage near
+the saddle psi inherits the launch error divided by the small transverse force); the launch point is formed in
+that precision (PeriodicSaddle.launch_point).
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
-import heyoka as hy
 import numpy as np
 
 from ..core import systems
-from ..core.errors import ParameterError, require_positive_int
-from .periodic import PeriodicSaddle, periodic_saddle
-from ..generated import scalars
+from ..core.errors import require_positive_int
 from ..core.params import RodParams
-
-DEFAULT_EPS = 1e-7
-EXTENDED_EPS = 1e-9
-DEFAULT_TOL = 1e-10
-PAR_NAMES = ("m", "mu", "gamma", "delta", "lam")
-
-
-@dataclass
-class PeriodicHomoclinic:
-    """A symmetric homoclinic orbit to the periodic saddle: launch angle, time T to the symmetric point,
-    crossing = the number of pulses it was shot for, residual, energy error |H(x(T)) - H_saddle|."""
-
-    success: bool
-    message: str
-    params: RodParams
-    crossing: int
-    angle: float
-    T: float
-    eps: float
-    residual: float
-    energy_error: float
-    x0: np.ndarray
-    xT: np.ndarray
-    saddle: PeriodicSaddle
-    iterations: int
-    precision: str
-    history: list = field(default_factory=list)
-
-    def as_dict(self) -> dict:
-        return {"success": self.success, "message": self.message, "params": self.params.as_dict(),
-                "crossing": self.crossing, "angle": self.angle, "T": self.T, "eps": self.eps,
-                "residual": self.residual, "energy_error": self.energy_error, "iterations": self.iterations,
-                "precision": self.precision, "saddle_H": self.saddle.H, "saddle_T": self.saddle.T}
-
-
-# --- compiled pieces -----------------------------------------------------------------------------------------
-def _fix():
-    """The Fix(R) conditions and their gradients, shared with the straight-rod shooting."""
-    from .shooting import fix_functions
-
-    return fix_functions()
-
-
-@systems.per_thread
-def _crossing_integrator():
-    return systems.integrator("body", events=[("ptheta_sin", "any")])
-
-
-def _precision(crossing: int, precision: str) -> str:
-    if precision not in ("auto", "double", "long double"):
-        raise ParameterError("precision", f"must be auto, double or 'long double', got {precision!r}")
-    if precision == "auto":
-        return "double" if crossing == 1 else "long double"
-    return precision
-
+from ..core.precision import Precision
+from ..core.tolerances import LAUNCH_DISTANCE, SHOOTING_TOL
+from .multipulse import shooting_precision
+from .periodic import PeriodicSaddle, periodic_saddle
+from .shooting import MultipulseOrbit, crossing_events, fix_residual, residual_and_jacobian, symmetric_orbit
 
 THETA_GATE = 0.3  # a zero of pbar_theta with theta above this is a pulse maximum; below it, a near-saddle one
 
 
-def crossings(saddle: PeriodicSaddle, angle: float, pulses: int, *, eps: float = DEFAULT_EPS, t_max: float = 3000.0,
-              gate: float = THETA_GATE, max_events: int = 400):
+def crossings(saddle: PeriodicSaddle, angle: float, pulses: int, *, eps: float = LAUNCH_DISTANCE[Precision.DOUBLE],
+              t_max: float = 3000.0, gate: float = THETA_GATE, max_events: int = 400):
     """Candidate symmetric points for a `pulses`-pulse orbit on the unstable branch launched at `angle`: list of
     (t, sin psi) at zeros of pbar_theta sin(theta).  Odd pulses = 2j - 1: the j-th zero with theta > gate (the
     middle pulse's maximum).  Even pulses = 2j: every zero with theta < gate between the j-th and (j+1)-th pulse
     maxima (the near-saddle passage spirals around the periodic orbit, so there are several; each gives its own
-    family of orbits).  Empty if the branch does not get there before t_max.  Reuses the event integrator."""
-    ta = _crossing_integrator()
+    family of orbits).  Empty if the branch does not get there before t_max.  Double precision (the crossing
+    loop of magrod.orbits.shooting)."""
     pars = saddle.params.array()
-    systems.reset(ta, saddle.launch_point(eps, angle), 0.0, pars)
-    fcond, _ = _fix()
     j = (pulses + 1) // 2
     big, out = 0, []
-    for _ in range(max_events):
-        oc, *_ = ta.propagate_until(t_max)
-        if int(oc) != -1:
-            break
-        x = ta.state.copy()
+    for t, x in crossing_events(saddle.launch_point(eps, angle), pars, t_max=t_max, max_events=max_events):
         th = float(systems.body_to_euler(x, pars)[0])
         if th > gate:
             big += 1
             if pulses % 2 == 1 and big == j:
-                return [(float(ta.time), float(fcond(x, [])[1]))]
+                return [(float(t), float(fix_residual(x)[1]))]
             if pulses % 2 == 0 and big > j:
                 return out
         elif pulses % 2 == 0 and big == j:
-            out.append((float(ta.time), float(fcond(x, [])[1])))
+            out.append((float(t), float(fix_residual(x)[1])))
     return [] if pulses % 2 == 1 else out
 
 
-def _propagate(x0, pars, T, precision):
-    ta = systems.cached_variational(precision)
-    ft = systems.PRECISIONS[precision]
-    systems.reset_variational(ta, np.asarray(x0, dtype=ft), np.asarray(pars, dtype=ft))
-    oc, *_ = ta.propagate_until(ft(T))
-    if oc != hy.taylor_outcome.time_limit:
-        raise RuntimeError(f"variational integration stopped with outcome {oc}")
-    return systems.variational_blocks(ta)
-
-
-def _with(params: RodParams, name: str, value: float) -> RodParams:
-    kw = params.as_dict()
-    kw[name] = float(value)
-    return RodParams(**kw)
-
-
-def residual_and_jacobian(params: RodParams, crossing_T: float, angle: float, *, eps: float, precision: str,
-                          free: tuple = (), saddle: PeriodicSaddle | None = None, h_rel: float = 1e-6):
-    """r = (pbar_theta, sin psi)(x(T)) and its Jacobian w.r.t. (T, angle, *free) (2 x (2 + len(free))).
-    Also returns the saddle, x0 and x(T).  free: parameter names (PARAMS)."""
-    s = saddle or periodic_saddle(params)
-    pars = params.array()
-    x0 = s.launch_point(eps, angle)
-    x, Phi, Psi = _propagate(x0, pars, crossing_T, precision)
-    fcond, fgrad = _fix()
-    r = fcond(x, [])
-    G = fgrad(x, []).reshape(-1, x.size)
-    f = systems.body_functions()["rhs"](x, pars)
-    ha = 1e-6
-    dxa = (s.launch_point(eps, angle + ha) - s.launch_point(eps, angle - ha)) / (2 * ha)
-    cols = [G @ f, G @ (Phi @ dxa)]
-    for name in free:
-        v = getattr(params, name)
-        h = h_rel * max(1.0, abs(v))
-        if name in ("mu", "lam"):  # stay on the side mu > 2 lam where the periodic saddle exists
-            gap = params.mu - scalars.straight_rod_mu(**params.as_dict())
-            h = min(h, 0.25 * gap / (2.0 if name == "lam" else 1.0))
-        xp = periodic_saddle(_with(params, name, v + h)).launch_point(eps, angle)
-        xm = periodic_saddle(_with(params, name, v - h)).launch_point(eps, angle)
-        cols.append(G @ (Phi @ ((xp - xm) / (2 * h)) + Psi[:, systems.par_index(name)]))
-    return r, np.column_stack(cols), s, x0, x
-
-
 def shoot(params: RodParams, pulses: int, angle: float, T: float, *, eps: float | None = None,
-          tol: float = DEFAULT_TOL, max_iter: int = 20, precision: str = "auto") -> PeriodicHomoclinic:
-    """Newton on (T, angle) at fixed parameters from the guess (angle, T) of a `pulses`-pulse orbit."""
+          tol: float = SHOOTING_TOL, max_iter: int = 20, precision=None,
+          saddle: PeriodicSaddle | None = None) -> MultipulseOrbit:
+    """Newton on (T, angle) at fixed parameters from the guess (angle, T) of a `pulses`-pulse orbit (precision
+    None: double for one pulse, long double from two on; eps None: LAUNCH_DISTANCE of that precision).  saddle:
+    the periodic saddle at `params` if already computed."""
     crossing = require_positive_int("pulses", pulses)
-    prec = _precision(crossing, precision)
-    eps = eps if eps is not None else (DEFAULT_EPS if prec == "double" else EXTENDED_EPS)
-    s = periodic_saddle(params)
+    prec = shooting_precision(crossing, precision)
+    eps = eps if eps is not None else LAUNCH_DISTANCE[prec]
+    s = saddle if saddle is not None else periodic_saddle(params)
     hist = []
     res = math.inf
-    x0 = xT = np.full(9, np.nan)
+    x0 = xT = np.full(systems.dim("body"), np.nan)
     for it in range(max_iter + 1):
-        r, J, _, x0, xT = residual_and_jacobian(params, T, angle, eps=eps, precision=prec, saddle=s)
+        ev = residual_and_jacobian(s, T, angle, eps=eps, precision=prec)
+        r, J, x0, xT = ev.r, ev.J, ev.x0, ev.xT
         res = float(np.max(np.abs(r)))
         hist.append({"iteration": it, "T": T, "angle": angle, "residual": res})
         if not np.isfinite(res):
             break
         if res <= tol:
             H = float(systems.body_functions()["H"](xT, params.array())[0])
-            return PeriodicHomoclinic(True, f"converged in {it} Newton steps", params, crossing, angle, T, eps, res,
-                                      abs(H - s.H), x0, xT, s, it, prec, hist)
+            return MultipulseOrbit(True, f"converged in {it} Newton steps", params, s, crossing, T, x0, res, it, eps,
+                                   prec, angle=angle, history=hist, xT=xT, energy_error=abs(H - s.H))
         try:
             step = -np.linalg.solve(J, r)
         except np.linalg.LinAlgError:
@@ -192,15 +92,16 @@ def shoot(params: RodParams, pulses: int, angle: float, T: float, *, eps: float 
         if abs(step[1]) > lim:  # damp angle jumps (a wrong crossing index otherwise)
             step *= lim / abs(step[1])
         T, angle = T + step[0], angle + step[1]
-    return PeriodicHomoclinic(False, f"not converged after {len(hist)} evaluations (last residual {res:.3e} > "
-                                     f"tol {tol:.1e})", params, crossing, angle, T, eps, res, math.nan, x0, xT, s,
-                              len(hist), prec, hist)
+    return MultipulseOrbit(False, f"not converged after {len(hist)} evaluations (last residual {res:.3e} > "
+                                  f"tol {tol:.1e})", params, s, crossing, T, x0, res, len(hist), eps, prec,
+                           angle=angle, history=hist, xT=xT)
 
 
-def scan_angles(params: RodParams, pulses: int, samples: int = 181, *, eps: float = DEFAULT_EPS, k: int = 1):
+def scan_angles(saddle: PeriodicSaddle, pulses: int, samples: int = 181, *,
+                eps: float = LAUNCH_DISTANCE[Precision.DOUBLE], k: int = 1):
     """sin psi at the candidate symmetric point (the k-th near-saddle zero for even pulses) for launch angles on
     [0, 2 pi): (angles, t, sinpsi), nan where the branch has no such point."""
-    s = periodic_saddle(params)
+    s = saddle
     ang = np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
     t = np.full(samples, np.nan)
     sp_ = np.full(samples, np.nan)
@@ -244,7 +145,8 @@ def bisect_angle(saddle: PeriodicSaddle, pulses: int, a: float, b: float, *, eps
 
 
 def find(params: RodParams, pulses: int, *, samples: int = 181, eps: float | None = None, k: int = 1,
-         tol: float = DEFAULT_TOL, max_orbits: int | None = None, precision: str = "auto") -> list[PeriodicHomoclinic]:
+         tol: float = SHOOTING_TOL, max_orbits: int | None = None, precision=None,
+         saddle: PeriodicSaddle | None = None) -> list[MultipulseOrbit]:
     """Symmetric homoclinic orbits with `pulses` pulses (symmetric point chosen as in `crossings`, k-th
     near-saddle zero for even pulses) from sign changes of sin psi over a launch-angle scan, each narrowed by
     bisection (`bisect_angle`) and refined by Newton on (T, angle) in `precision` (auto: long double from 2 pulses
@@ -253,10 +155,10 @@ def find(params: RodParams, pulses: int, *, samples: int = 181, eps: float | Non
     and a Newton started from the other eps's angle slides to a neighbouring symmetric point (it used to: 3-pulse
     searches ended on 2-pulse orbits)."""
     pulses = require_positive_int("pulses", pulses)
-    prec = _precision(pulses, precision)
-    eps = eps if eps is not None else (DEFAULT_EPS if prec == "double" else EXTENDED_EPS)
-    s = periodic_saddle(params)
-    ang, t, sp_ = scan_angles(params, pulses, samples, k=k, eps=eps)
+    prec = shooting_precision(pulses, precision)
+    eps = eps if eps is not None else LAUNCH_DISTANCE[prec]
+    s = saddle if saddle is not None else periodic_saddle(params)
+    ang, t, sp_ = scan_angles(s, pulses, samples, k=k, eps=eps)
     out = []
     n = len(ang)
     for i in range(n):
@@ -270,8 +172,10 @@ def find(params: RodParams, pulses: int, *, samples: int = 181, eps: float | Non
         start = bisect_angle(s, pulses, a_i, a_j, eps=eps, k=k)
         if start is None:
             continue
-        r = shoot(params, pulses, start[0], start[1], eps=eps, tol=tol, precision=prec)
-        if r.success and count_pulses(r) != pulses:
+        r = shoot(params, pulses, start[0], start[1], eps=eps, tol=tol, precision=prec, saddle=s)
+        if r.success:
+            r.pulses_counted = count_pulses(r)
+        if r.success and r.pulses_counted != pulses:
             continue  # Newton slid to a neighbouring symmetric point
         if r.success and not any(abs(math.remainder(r.angle - o.angle, 2 * math.pi)) < 1e-6 for o in out):
             out.append(r)
@@ -280,17 +184,16 @@ def find(params: RodParams, pulses: int, *, samples: int = 181, eps: float | Non
     return out
 
 
-def count_pulses(res: PeriodicHomoclinic) -> int:
-    """Pulses of the converged orbit: local maxima of theta above THETA_GATE."""
-    th = orbit(res, 2001)["theta"]
-    inner = (th[1:-1] > th[:-2]) & (th[1:-1] >= th[2:]) & (th[1:-1] > THETA_GATE)
-    return int(np.count_nonzero(inner))
+def count_pulses(res: MultipulseOrbit) -> int:
+    """Pulses of the orbit: local maxima of theta above THETA_GATE (on 2001 samples)."""
+    from .shooting import count_pulses as count
+
+    return count(orbit(res, 2001)["theta"], THETA_GATE)
 
 
-def orbit(res: PeriodicHomoclinic, n: int = 4001) -> dict:
-    """The symmetric orbit on [0, 2T] (magrod.orbits.shooting.symmetric_orbit): body states, reduced coordinates, Hbar."""
-    from .shooting import symmetric_orbit
-
+def orbit(res: MultipulseOrbit, n: int = 4001) -> dict:
+    """The symmetric orbit on [0, 2T] (magrod.orbits.shooting.symmetric_orbit): body states, reduced coordinates,
+    Hbar (also for an unconverged result: it is the orbit at its (T, angle))."""
     return symmetric_orbit(res.x0, res.T, res.params.array(), n)
 
 
@@ -304,7 +207,7 @@ def multipulse_rows(params: RodParams, *, max_pulses: int = 3, samples: int = 12
     t0 = time.perf_counter()
     rows, found_all = [], []
     for N in range(1, max_pulses + 1):
-        found = find(params, N, samples=samples)
+        found = find(params, N, samples=samples, saddle=s)
         if not found:
             rows.append({"pulses_target": N, "success": False, "message": "no sign change of sin psi over the "
                          f"launch-angle scan ({samples} angles) converged to a {N}-pulse orbit"})

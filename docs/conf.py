@@ -1,0 +1,74 @@
+"""Sphinx configuration of the magrod documentation (issue 19).
+
+Build (the command in README.md):  python -m sphinx -W --keep-going -b html docs docs/_build/html
+-W turns every warning into an error (tests/test_docs.py builds it so).  The notebooks in docs/notebooks are
+executed during the build by myst-nb and rendered from their executed cells; a cell that raises fails the build.
+The API reference (api.md) is written here from magrod.__all__ at build time, the CLI reference (cli.md) by
+sphinx-argparse from magrod.cli.build_parser(): neither is typed by hand.
+"""
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))  # a source checkout documents itself (magrod/__init__.py maps derive/generated)
+
+import magrod  # noqa: E402
+
+project = "magrod"
+author = "the magrod developers"
+copyright = "the magrod developers"
+release = version = magrod.__version__
+
+extensions = [
+    "myst_nb",
+    "sphinx.ext.autodoc",
+    "numpydoc",
+    "sphinx.ext.mathjax",
+    "sphinxarg.ext",
+]
+exclude_patterns = ["_build", "_generated_cache", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store"]
+html_theme = "pydata_sphinx_theme"
+html_title = f"magrod {release}"
+html_theme_options = {"navigation_with_keys": False, "show_toc_level": 2}
+html_static_path = []
+
+# myst / myst-nb: notebooks executed at build time, rendered from their executed cells
+myst_enable_extensions = ["dollarmath", "colon_fence"]
+myst_heading_anchors = 3
+nb_execution_mode = os.environ.get("MAGROD_NB_EXECUTION", "force")
+nb_execution_timeout = 300
+nb_execution_raise_on_error = True
+nb_execution_show_tb = True
+nb_merge_streams = True
+nb_execution_in_temp = True  # notebooks write their files into a temporary directory, never into docs/
+
+# numpydoc renders the Parameters/Returns/Raises/Examples/Notes sections of the public docstrings
+numpydoc_show_class_members = False
+numpydoc_class_members_toctree = False
+numpydoc_validation_checks = set()
+autodoc_typehints = "none"
+autodoc_member_order = "bysource"
+suppress_warnings = ["myst.header", "mystnb.unknown_mime_type"]
+nitpicky = False
+
+
+def _write_api_page() -> None:
+    """api.md from magrod.__all__ (the pinned public names, tests/test_layout.py): one entry per name."""
+    lines = ["# API reference", "",
+             "The public API is the flat namespace `import magrod as mr`; these are the names in `magrod.__all__`, "
+             "documented from their docstrings (numpydoc).", ""]
+    for name in magrod.__all__:
+        obj = getattr(magrod, name)
+        kind = "autoclass" if isinstance(obj, type) else "autofunction"
+        module = obj.__module__
+        lines += [f"## `mr.{name}`", "", f"```{{{kind}}} {module}.{obj.__qualname__}", "```", ""]
+    text = "\n".join(lines)
+    path = HERE / "api.md"
+    if not path.exists() or path.read_text() != text:
+        path.write_text(text)
+
+
+_write_api_page()

@@ -1,0 +1,124 @@
+"""`magrod orbitdiagram`: section points sin(psi) = 0 against a model parameter -- one orbit per value, all from
+the same chart start on the same level (a paper panel's, --figure, default 4a; overridable), run in SIMD lanes on
+all cores.  The panels of the base figure that vary the same parameter are marked.  With --out DIR the diagram is
+written as DIR/<stem>.npz, .json and .png (atomically).
+
+Examples:  magrod orbitdiagram --parameter lam --values 0.12:0.2:200 --iterates 500 --out DIR
+           magrod orbitdiagram --figure 5a --parameter gamma --values 0.15,0.205,0.208,0.24 --coordinate ptheta"""
+from __future__ import annotations
+
+from ..core.errors import ParameterError
+from ..generated.names import PARAMS
+from .options import LIMITS, add_params, integer, number, out_dir, params_from, stem
+
+COORDINATES = ("theta", "ptheta", "psi", "ppsi")  # checked against magrod.chaos.portrait in the tests
+MAX_VALUES = 1_000_000  # = magrod.chaos.section.MAX_ORBITS (not imported: that would load heyoka)
+
+
+def add_arguments(p):
+    from ..core.printed import PANELS
+
+    p.add_argument("--parameter", required=True, help=f"the model parameter varied: {', '.join(PARAMS)}")
+    p.add_argument("--values", required=True,
+                   help="LO:HI:N (N values, LO to HI) or a comma-separated, strictly monotone list")
+    p.add_argument("--figure", default="4a", metavar="PANEL",
+                   help=f"panel giving the rod, level and start: {', '.join(PANELS)}")
+    add_params(p, help_suffix=" (overrides the panel's)")
+    g = p.add_argument_group("level and start (override the panel's)")
+    for name in ("h", "theta0", "ptheta0", "psi0"):
+        g.add_argument(f"--{name}", default=None)
+    p.add_argument("--iterates", default="500", help="section points per value (after --transient)")
+    p.add_argument("--transient", default="0", help="section points dropped first")
+    p.add_argument("--coordinate", default="theta", choices=COORDINATES, help="plotted against the parameter")
+    p.add_argument("--root", default="smallest", choices=("smallest", "largest"), help="root pbar_psi of Hbar = h")
+    p.add_argument("--direction", default="positive", choices=("any", "negative", "positive"),
+                   help="sign of d/dt sin(psi) at recorded crossings")
+    p.add_argument("--workers", default=None, help="threads (default: all cores)")
+    p.add_argument("--out", default=None, help="write <stem>.npz/.json/.png into this directory")
+    p.add_argument("--stem", default="orbitdiagram", help="file name stem")
+
+
+def parse_values(text: str) -> list:
+    """LO:HI:N -> N evenly spaced values; A,B,C -> the list (monotonicity is checked by the library)."""
+    t = str(text).strip()
+    if ":" in t:
+        parts = t.split(":")
+        if len(parts) != 3:
+            raise ParameterError("values", f"expected LO:HI:N or a comma-separated list, got {t[:60]!r}")
+        lo, hi = number("values", parts[0]), number("values", parts[1])
+        n = integer("values", parts[2], maximum=MAX_VALUES)
+        if n > 1 and lo == hi:
+            raise ParameterError("values", f"empty range {lo:g}:{hi:g} with {n} values")
+        return [lo + (hi - lo) * i / (n - 1) for i in range(n)] if n > 1 else [lo]
+    items = [s for s in t.split(",") if s.strip()]
+    if not items:
+        raise ParameterError("values", "is empty: give LO:HI:N or a comma-separated list")
+    if len(items) > MAX_VALUES:
+        raise ParameterError("values", f"{len(items)} values; at most {MAX_VALUES}")
+    return [number("values", s) for s in items]
+
+
+def run(args) -> dict:
+    from ..core.printed import PANELS, panel
+
+    if args.parameter not in PARAMS:
+        raise ParameterError("parameter", f"must be a model parameter ({', '.join(PARAMS)}), got {args.parameter!r}")
+    values = parse_values(args.values)
+    try:
+        P = panel(args.figure)
+    except ParameterError as exc:
+        raise ParameterError("figure", exc.message) from None
+    base = P.params.replace(**{k: v for k, v in params_from(args).items()})
+    start = {k: (number(k, getattr(args, k)) if getattr(args, k) is not None else getattr(P, k))
+             for k in ("h", "theta0", "ptheta0", "psi0")}
+    iterates = integer("iterates", args.iterates)
+    transient = integer("transient", args.transient, minimum=0, maximum=LIMITS["iterates"])
+    if len(values) * (iterates + transient) > 10 * LIMITS["iterates"]:
+        raise ParameterError("values", f"{len(values)} values x {iterates + transient} iterates: at most "
+                                       f"{10 * LIMITS['iterates']} section points in one command")
+    workers = None if args.workers is None else integer("workers", args.workers, maximum=256)
+    name = stem("stem", args.stem)
+    out = out_dir("out", args.out) if args.out is not None else None
+    # the paper's panels of the same figure that vary this parameter (and share everything else)
+    marks = {}
+    for k, d in PANELS.items():
+        var, val = d["vary"]
+        if k[0] == P.key[0] and var == args.parameter and all(
+                getattr(d["params"], q) == getattr(base, q) for q in PARAMS if q != var) and \
+                (d["h"], d["theta0"], d["ptheta0"], d["psi0"]) == tuple(start[q] for q in ("h", "theta0", "ptheta0",
+                                                                                            "psi0")):
+            marks[f"{k[0]}({k[1]})"] = val
+
+    from ..chaos.portrait import orbit_diagram
+    from ..core.progress import bar
+
+    with bar(len(values) * (iterates + transient), "orbit diagram", not args.quiet) as update:
+        res = orbit_diagram(args.parameter, values, base=base, iterates=iterates, transient=transient,
+                            coordinate=args.coordinate, root=args.root, direction=args.direction, marks=marks,
+                            workers=workers, progress=update, **start)
+    res.base = P.key
+    paths = {}
+    if res.success and out is not None:
+        from ..core.io import ensure_writable_dir
+        from ..figures.portrait import save_orbit_diagram
+
+        paths = save_orbit_diagram(res, ensure_writable_dir(out), name)
+    d = {"ok": bool(res.success), **res.summary(), "output": paths}
+    if not res.success:
+        d["error"] = res.message + ("; nothing written" if out is not None else "")
+    return d
+
+
+def format_text(r: dict) -> str:
+    v = r["values"]
+    lines = [f"Orbit diagram: {r['parameter']} from {v['first']:g} to {v['last']:g} ({v['n']} values), h = "
+             f"{r['h']:g}, start theta0 = {r['start']['theta0']:g}, pbar_theta0 = {r['start']['ptheta0']:g}",
+             f"  {r['iterates']} iterates per value (after {r['transient']} dropped), {r['points']} points, "
+             f"coordinate {r['coordinate']}, max |Hbar - h| = {r['max_abs_dH']:.2e}, wall {r['wall_s']:.2f} s"]
+    if r.get("marks"):
+        lines.append("  marked: " + ", ".join(f"{k} = {x:g}" for k, x in r["marks"].items()))
+    if not r["success"]:
+        lines.append(f"  FAILED: {r['message']}")
+    for kind, path in (r.get("output") or {}).items():
+        lines.append(f"  wrote {kind}: {path}")
+    return "\n".join(lines)

@@ -1,0 +1,90 @@
+"""`magrod prove --m 1.7 --gamma 1 --delta 1 --mu 0.04 --lam 0.01 --out DIR`: a computer-assisted proof that the
+tilted saddle-focus of the reduced chart (mu > 2 lambdabar) has two transverse symmetric homoclinic orbits
+(psi = 0 and psi = pi on Sigma = {pbar_theta = 0}), written as DIR/certificate.json (magrod/proof/search.py;
+docs/nonintegrability.md, "Theorem (computer-assisted)").  Parameters are read as exact rationals ("0.04" is
+1/25).  `magrod prove --verify CERT` re-checks a certificate with the separate verifier (magrod/proof/verify.py).
+
+Exit codes: 0 proved / verified; 1 a step could not be established (one line: which, and why) or a certificate
+was rejected; 2 bad input (mu <= 2 lambdabar, m >= m_c, a non-finite value, an unreadable certificate).  Nothing
+is written unless the proof holds.  `--mutate K` is a control: it flips the sign of the K-th term of the generated
+chart field, and the run must fail."""
+from __future__ import annotations
+
+from ..core.errors import ParameterError
+from .options import integer, out_dir
+
+DEFAULTS = {"m": "1.7", "mu": "0.04", "gamma": "1", "delta": "1", "lam": "0.01"}
+
+
+def add_arguments(p):
+    for k, h in (("m", "m = m3/sqrt(B C2), 0 < m < m_c = 2 sqrt(1 + gamma)"), ("mu", "mu > 2 lambdabar"),
+                 ("gamma", "extensibility gamma >= 0"), ("delta", "shear compliance delta >= 0"),
+                 ("lam", "lambdabar (field strength x current)")):
+        p.add_argument(f"--{k}", default=DEFAULTS[k], help=f"{h} (exact decimal or p/q; default {DEFAULTS[k]})")
+    p.add_argument("--out", default=None, help="directory for certificate.json (required unless --verify)")
+    p.add_argument("--verify", default=None, metavar="CERT", help="re-check the certificate CERT instead")
+    p.add_argument("--targets", default="0,pi", help="which symmetric orbits: 0, pi or 0,pi (default both)")
+    p.add_argument("--mutate", default=None, metavar="K",
+                   help="control: flip the sign of the K-th term of the generated chart field (must fail)")
+
+
+def run(args) -> dict:
+    if args.verify is not None:
+        return _verify(args)
+    from ..proof import fields, search
+
+    p = search.validate_params(args.m, args.mu, args.gamma, args.delta, args.lam)
+    targets = tuple(t.strip() for t in str(args.targets).split(",") if t.strip())
+    if not targets or any(t not in search.TARGETS for t in targets) or len(set(targets)) != len(targets):
+        raise ParameterError("targets", f"must be 0, pi or 0,pi, got {args.targets!r}")
+    if args.out is None:
+        raise ParameterError("out", "an output directory is required (or --verify CERT)")
+    dest = out_dir("out", args.out)
+    module = fields.gen
+    if args.mutate is not None:
+        module = fields.mutated_module(integer("mutate", args.mutate, minimum=0, maximum=1000))
+    say = None if args.quiet else _stage
+    res = search.prove(p, search.ProofSettings(targets=targets), module=module, progress=say)
+    out = {"ok": res.ok, "params": p.as_json(), "wall_time_s": round(res.wall_time_s, 3),
+           "checks": res.checks, "reason": res.reason}
+    if not res.ok:
+        out["error"] = res.reason
+        return out
+    from ..core import io
+
+    io.ensure_writable_dir(dest, "out")
+    path = io.atomic_write_json(dest / "certificate.json", res.certificate)
+    out["certificate"] = str(path)
+    out["crossings"] = [{"target": c["target"], "dtheta_dpsi": c["dtheta_dpsi"], "phi_star": c["newton"]}
+                        for c in res.certificate["crossings"]]
+    return out
+
+
+def _stage(msg):
+    import sys
+
+    print(f"magrod prove: {msg}", file=sys.stderr, flush=True)
+
+
+def _verify(args) -> dict:
+    from ..proof import verify
+
+    cert = verify.load(args.verify)
+    res = verify.verify(cert)
+    out = {"ok": res.ok, "certificate": str(args.verify), **res.as_dict()}
+    if not res.ok:
+        out["error"] = res.reason
+    return out
+
+
+def format_text(d) -> str:
+    if "certificate" in d and "crossings" not in d:  # --verify
+        head = f"{d['certificate']}: {d['reason']} ({len(d['checks'])} checks, {d['wall_time_s']:.1f} s)"
+        return head
+    if not d["ok"]:
+        return f"not proved: {d['reason']}"
+    lines = [f"proved: {len(d['checks'])} checks hold ({d['wall_time_s']:.1f} s); certificate {d['certificate']}"]
+    for c in d["crossings"]:
+        lines.append(f"  psi = {c['target']}: phi* in [{c['phi_star']['mid']} +- {c['phi_star']['rad']}], "
+                     f"dtheta_u/dpsi in [{c['dtheta_dpsi']['mid']} +- {c['dtheta_dpsi']['rad']}]")
+    return "\n".join(lines)

@@ -1,0 +1,735 @@
+"""The explorer page: a Panel app with a Bokeh section plot (issue 19).
+
+Layout: parameter widgets (m, mu, gamma, delta, lambdabar, h, iterates; each validated as `magrod poincare`
+validates it, the message shown under the widget) | the section sin(psi) = 0 in (theta, pbar_theta) with the
+energy-level boundary, orbits coloured by their growth exponent on the chaos map's scale, the colour bar stating
+the threshold | the orbit list (delete, clear, undo, export) and, for the selected orbit, its conservation errors
+and the 3-D rod.
+
+Threads: a click runs on the server's event loop (with the document lock): it solves Hbar = h for pbar_psi (a few
+ms) and submits the orbit to the session's Worker.  The worker threads never touch the document: they put chunks
+into a queue, which a periodic callback (every POLL_MS) drains into the plot's data sources.  Cancelling: every
+job checks its event after each section crossing; a session whose page is closed (no websocket connection for
+CLOSE_GRACE_S) cancels all its jobs, and the server cancels every session's jobs on Ctrl-C.
+"""
+from __future__ import annotations
+
+import io
+import itertools
+import json
+import queue
+import tempfile
+import threading
+import time
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import panel as pn
+from bokeh.core.properties import value
+from bokeh.events import Tap
+from bokeh.models import (ColorBar, ColumnDataSource, FixedTicker, Legend, LegendItem, LinearColorMapper, Range1d)
+from bokeh.plotting import figure
+
+from ..core.errors import ParameterError
+from ..core.printed import PANELS, panel as paper_panel
+from . import model
+from .worker import Job, Worker, solve_start
+
+POLL_MS = 50
+CLOSE_GRACE_S = 0.05  # a session without a connection for this long is closed (Bokeh does not reconnect a
+# session's websocket: a reloaded page is a new session)
+PENDING_COLOUR = "#555555"
+N_SLOTS = 24  # orbit renderers made with the page (see _build_plot)
+PARAM_LABELS = {"m": "m", "mu": "μ", "gamma": "γ", "delta": "δ", "lam": "λ̄", "h": "h (level H̄ = h)",
+                "iterates": "iterates per orbit"}
+
+
+@dataclass
+class Orbit:
+    """One launched orbit as the page shows it."""
+
+    id: int
+    theta0: float
+    ptheta0: float
+    start: object = None  # worker.Start (None: no energy root at the current parameters)
+    job: Job | None = None
+    source: ColumnDataSource | None = None
+    renderer: object = None
+    legend_item: object = None
+    result: object = None  # PoincareResult when finished
+    indicator: object = None  # LyapunovResult
+    status: str = "pending"
+    message: str = ""
+    n_points: int = 0
+    max_abs_dH: float = 0.0
+    t_launch: float = 0.0  # perf_counter at the click (latency of the first points)
+    rod_figure: object = None  # plotly figure of the rod, computed in the background
+    rod_for: object = None  # the Start it was computed for
+
+    def label(self, threshold: float) -> str:
+        g = getattr(self.indicator, "growth_exponent", None)
+        verdict = "" if g is None else f", growth {g:.3g} → {'chaotic' if g > threshold else 'regular'}"
+        state = "" if self.status == "done" else f" [{self.status}]"
+        return f"#{self.id}: θ₀={self.theta0:.4f}, p̄θ₀={self.ptheta0:.4f}{verdict}{state}"
+
+
+class Explorer(pn.viewable.Viewer):
+    """The interactive section explorer of one page (session); see `magrod.explore`."""
+
+    def __init__(self, panel: str = "4a", *, iterates: int = 1000, psi0: float = 0.0, direction: str = "positive",
+                 rod_length: float = 100.0, max_workers: int = 2, out_dir=None, registry=None, **params):
+        super().__init__(**params)
+        P = paper_panel(panel)
+        from ..chaos.indicators import GROWTH_THRESHOLD
+
+        self.threshold = GROWTH_THRESHOLD
+        self.panel_key = P.key
+        self.psi0 = float(psi0)
+        self.direction = direction
+        self.rod_length = float(rod_length)
+        self.out_dir = Path(out_dir) if out_dir is not None else None
+        self.params, self.h, self.iterates = P.params, P.h, int(iterates)
+        self.orbits: list[Orbit] = []
+        self._undo: list[tuple] = []
+        self._next_id = 1
+        self._pending_select = None
+        self._served = False
+        self._lost_wall = None
+        self.closed_wall = None
+        self._job_ids = itertools.count(1)
+        self._queue: queue.SimpleQueue = queue.SimpleQueue()
+        self._worker = Worker(max_workers=max_workers)
+        self._lock = threading.Lock()
+        self._closed = False
+        self._connected_once = False
+        self._no_connection_since = None
+        self._callback = None
+        self.latencies: list[float] = []  # click -> first chunk handed to the page (s), for the status endpoint
+        self.tap_handler_s: list[float] = []  # time spent in the click handler on the event loop (s)
+        self.tap_wall: list[float] = []  # wall-clock times the click handler started
+        self.stream_wall: list[float] = []  # wall-clock times first points were streamed
+        self._registry = registry
+        if registry is not None:
+            registry.add(self)
+        self._build_widgets(P)
+        self._build_plot()
+        self._set_boundary()
+        self._layout = self._build_layout()
+        self.warmed = self._worker.warm(solve_start(P.params, P.h, P.theta0, P.ptheta0, P.psi0), direction)
+
+    # ------------------------------------------------------------------------------------------------------
+    # widgets and plot
+    # ------------------------------------------------------------------------------------------------------
+    def _build_widgets(self, P):
+        values = {**P.params.as_dict(), "h": P.h, "iterates": self.iterates}
+        self.inputs, self.errors = {}, {}
+        for name in model.FIELDS:
+            w = pn.widgets.TextInput(label=PARAM_LABELS[name], value=f"{values[name]:g}", width=150,
+                                     css_classes=[f"magrod-input-{name}"])
+            w.param.watch(self._deferred(self._on_input), "value")
+            self.inputs[name] = w
+            self.errors[name] = _Text("", f"magrod-error-{name}", width=150,
+                                      styles={"color": "#b00020", "font-size": "11px"}, margin=(0, 10, 0, 10))
+        self.panel_select = pn.widgets.Select(label="paper panel", options=list(PANELS), value=P.key, width=150)
+        self.panel_select.param.watch(self._deferred(self._on_panel), "value")
+        self.status = _Text("Click inside the boundary to launch an orbit.", "magrod-status",
+                            sizing_mode="stretch_width", styles={"font-size": "13px"}, min_height=40)
+        self.orbit_list = pn.widgets.Select(label="orbits", options={}, size=8, width=360)
+        self.orbit_list.param.watch(self._deferred(self._on_select), "value")
+        self.b_delete = pn.widgets.Button(label="Delete", width=80, css_classes=["magrod-delete"])
+        self.b_clear = pn.widgets.Button(label="Clear", width=80, css_classes=["magrod-clear"])
+        self.b_undo = pn.widgets.Button(label="Undo", width=80, css_classes=["magrod-undo"])
+        self.b_export = pn.widgets.Button(label="Export to --out", width=120, color="primary",
+                                          css_classes=["magrod-export"], visible=self.out_dir is not None)
+        self.b_delete.on_click(self._deferred(lambda e: self.delete(self.orbit_list.value)))
+        self.b_clear.on_click(self._deferred(lambda e: self.clear()))
+        self.b_undo.on_click(self._deferred(lambda e: self.undo()))
+        self.b_export.on_click(self._deferred(lambda e: self._export_clicked()))
+        self.download = pn.widgets.FileDownload(callback=self._export_zip, filename="magrod-explore.zip",
+                                                label="Download PNG + data (.zip)", color="success",
+                                                width=240, css_classes=["magrod-download"])
+        self.details = _Text("", "magrod-details", sizing_mode="stretch_width", styles={"font-size": "12px"})
+        self.rod_pane = pn.pane.Plotly(None, height=360, sizing_mode="stretch_width", visible=False)
+
+    def _build_plot(self):
+        f = figure(width=760, height=600, x_range=Range1d(0.0, np.pi), y_range=Range1d(-1.5, 1.5),
+                   tools="tap,pan,wheel_zoom,box_zoom,reset,save", active_scroll="wheel_zoom",
+                   output_backend="webgl", x_axis_label="θ", y_axis_label="p̄θ", name="section")
+        f.toolbar.logo = None
+        f.title.text_font_size = "12px"
+        f.axis.axis_label_text_font_size = "16px"
+        f.axis.major_label_text_font_size = "12px"
+        self.forbidden = ColumnDataSource({"x": [], "top": [], "up": [], "lo": [], "bottom": []})
+        f.varea("x", "up", "top", source=self.forbidden, fill_color="#dddddd", fill_alpha=0.9)
+        f.varea("x", "bottom", "lo", source=self.forbidden, fill_color="#dddddd", fill_alpha=0.9)
+        b_up = f.line("x", "up", source=self.forbidden, color="black", line_width=1.5)
+        f.line("x", "lo", source=self.forbidden, color="black", line_width=1.5)
+        self.start_marker = ColumnDataSource({"x": [], "y": []})
+        f.scatter("x", "y", source=self.start_marker, marker="x", size=12, line_width=2, color="black")
+        mapper = LinearColorMapper(palette=model.palette(self.threshold), low=0.0, high=1.0)
+        ticks = model.colorbar_ticks(self.threshold)
+        cb = ColorBar(color_mapper=mapper, ticker=FixedTicker(ticks=list(ticks)),
+                      major_label_overrides={k: v for k, v in ticks.items()}, width=14, label_standoff=6,
+                      title=f"growth exponent (FLI(T)−FLI(T/2))/ln 2: chaotic > {self.threshold:g} "
+                            "(linear below, log above)", title_text_font_size="11px",
+                      major_label_text_font_size="10px")
+        f.add_layout(cb, "right")
+        self.legend = Legend(items=[LegendItem(label="H̄ = h boundary (grey: no energy root)", renderers=[b_up])],
+                             location="top_left", label_text_font_size="10px", background_fill_alpha=0.7,
+                             click_policy="hide", spacing=0, padding=4)
+        f.add_layout(self.legend, "below")
+        # Renderers made before the page exists: adding a renderer to a live document makes Bokeh walk every
+        # model (~0.3 s, on the event loop, before the first points could be sent); a slot only changes data,
+        # colour and visibility.  Orbits beyond N_SLOTS get new renderers (the slow path).
+        self._free_slots = [self._new_slot(f, k) for k in range(N_SLOTS)]
+        f.on_event(Tap, self._on_tap)
+        self.fig = f
+        self.plot_pane = pn.pane.Bokeh(f, css_classes=["magrod-section"])
+
+    def _new_slot(self, f, k):
+        src = ColumnDataSource({"x": [], "y": []}, name=f"slot-src-{k}")
+        r = f.scatter("x", "y", source=src, size=2.5, line_width=0, color=PENDING_COLOUR, visible=False)
+        item = LegendItem(label=value(" "), renderers=[r], visible=False)
+        self.legend.items.append(item)
+        return src, r, item
+
+    def _take_slot(self, o: Orbit):
+        if self._free_slots:
+            o.source, o.renderer, o.legend_item = self._free_slots.pop(0)
+        else:
+            o.source, o.renderer, o.legend_item = self._new_slot(self.fig, f"extra-{o.id}")
+        o.source.name = f"orbit-src-{o.id}"
+        o.renderer.visible = o.legend_item.visible = True
+
+    def _build_layout(self):
+        side = pn.Column("### Parameters (eq:nondim_1)", self.panel_select,
+                         *[pn.Column(self.inputs[k], self.errors[k].pane, margin=0) for k in model.FIELDS], width=200)
+        orbits = pn.Column("### Orbits", self.orbit_list, pn.Row(self.b_delete, self.b_clear, self.b_undo),
+                           pn.Row(self.download, self.b_export), self.details.pane, self.rod_pane, width=420)
+        return pn.Column(pn.pane.HTML("<b>magrod explore</b>: Poincaré section sin ψ = 0 of the conducting rod "
+                                      "(Sinden &amp; van der Heijden, sec. 8). Click to launch an orbit from "
+                                      "(θ, p̄θ); p̄ψ solves H̄ = h.", styles={"font-size": "14px"}),
+                         self.status.pane, pn.Row(side, self.plot_pane, orbits), sizing_mode="stretch_width")
+
+    def _deferred(self, fn):
+        """A Panel widget callback that edits the page's Bokeh models.  Served, Panel runs widget callbacks
+        without the document lock, and Bokeh refuses model changes made there: the call is queued and run by
+        poll() (a periodic callback, which holds the lock) within POLL_MS.  Unserved (tests, Jupyter) it runs
+        at once."""
+
+        def handler(*args, **kwargs):
+            if self._served:
+                self._queue.put(("call", None, None, lambda: fn(*args, **kwargs)))
+            else:
+                fn(*args, **kwargs)
+
+        return handler
+
+    def __panel__(self):
+        doc = pn.state.curdoc
+        if doc is not None and getattr(doc, "session_context", None) is not None:
+            self._served = True
+        if self._callback is None and not self._closed:
+            self._callback = pn.state.add_periodic_callback(self.poll, period=POLL_MS)
+            pn.state.on_session_destroyed(lambda ctx: self.close())
+        return self._layout
+
+    # ------------------------------------------------------------------------------------------------------
+    # the energy level
+    # ------------------------------------------------------------------------------------------------------
+    def _set_boundary(self):
+        b = model.energy_boundary(self.params, self.h, psi=self.psi0)
+        pmax = b["pmax"]
+        top = max(1.15 * float(pmax.max()), 0.1)
+        self.fig.y_range.start, self.fig.y_range.end = -top, top
+        x = np.concatenate([[0.0], b["theta"], [np.pi]])
+        up = np.concatenate([[pmax[0]], pmax, [pmax[-1]]])
+        self.forbidden.data = {"x": x, "top": np.full_like(x, 10 * top), "up": up, "lo": -up,
+                               "bottom": np.full_like(x, -10 * top)}
+        p = self.params
+        self.fig.title.text = (f"m = {p.m:g}, μ = {p.mu:g}, γ = {p.gamma:g}, δ = {p.delta:g}, λ̄ = {p.lam:g}, "
+                               f"h = {self.h:g};  section sin ψ = 0 (ψ₀ = {self.psi0:g}), crossings with d/ds sin ψ "
+                               f"{'> 0' if self.direction == 'positive' else self.direction}")
+
+    # ------------------------------------------------------------------------------------------------------
+    # inputs
+    # ------------------------------------------------------------------------------------------------------
+    def _values(self) -> dict:
+        return {k: w.value for k, w in self.inputs.items()}
+
+    def _on_panel(self, event):
+        P = paper_panel(event.new)
+        self.panel_key = P.key
+        vals = {**P.params.as_dict(), "h": P.h}
+        self._suspend = True
+        try:
+            for k, v in vals.items():
+                self.inputs[k].value = f"{v:g}"
+        finally:
+            self._suspend = False
+        self._on_input(None)
+
+    def _on_input(self, event):
+        if getattr(self, "_suspend", False):
+            return
+        for e in self.errors.values():
+            e.object = ""
+        try:
+            params, h, iterates = model.parse_inputs(self._values())
+            model.check_energy_level(params, h)
+        except ParameterError as exc:
+            target = exc.name if exc.name in self.errors else "h"
+            self.errors[target].object = f"⚠ {exc}"
+            self._say(f"Not applied: {exc}", error=True)
+            return
+        changed = (params, h) != (self.params, self.h)
+        self.iterates = iterates
+        if changed:
+            self.params, self.h = params, h
+            self._set_boundary()
+            self._say(f"Parameters applied; relaunching {len(self.orbits)} orbit(s) from their starts.")
+            for o in self.orbits:
+                self._launch(o)
+        else:
+            self._say(f"iterates per orbit = {iterates} (new orbits)")
+
+    def set_input(self, name: str, value) -> str:
+        """Type `value` into the widget `name` (as a user would); returns the message shown next to it."""
+        self.inputs[name].value = str(value)
+        return self.errors[name].object
+
+    # ------------------------------------------------------------------------------------------------------
+    # orbits
+    # ------------------------------------------------------------------------------------------------------
+    def _on_tap(self, event):
+        self.tap_wall.append(time.time())
+        t = time.perf_counter()
+        self.launch(event.x, event.y)
+        self.tap_handler_s.append(time.perf_counter() - t)
+
+    def launch(self, theta0: float, ptheta0: float) -> Orbit | None:
+        """Launch an orbit from (theta0, pbar_theta0) on the section (what a click does).  Returns the Orbit, or
+        None with the reason in the status line (no energy root, theta0 outside (0, pi), ...)."""
+        if self._closed:
+            return None
+        o = Orbit(self._next_id, float(theta0), float(ptheta0), t_launch=time.perf_counter())
+        if not self._launch(o):
+            return None
+        self._next_id += 1
+        self.orbits.append(o)
+        self._undo.append(("add", o))
+        self._pending_select = o.id  # the list is refreshed by the next poll, after the first points went out
+        self.start_marker.data = {"x": [o.theta0], "y": [o.ptheta0]}
+        return o
+
+    def _launch(self, o: Orbit) -> bool:
+        """(Re)start `o` at the current parameters; False (and a message) if its start has no energy root."""
+        if o.job is not None:
+            self._worker.cancel(o.job.id)
+            o.t_launch = time.perf_counter()
+        try:
+            start = solve_start(self.params, self.h, o.theta0, o.ptheta0, self.psi0)
+        except ParameterError as exc:
+            msg = self._no_root_message(exc, o)
+            if o in self.orbits:  # a relaunch at new parameters: keep the start, say why it has no points
+                o.start, o.status, o.message, o.n_points, o.result, o.indicator = None, "no root", msg, 0, None, None
+                if o.source is not None:
+                    o.source.data = {"x": [], "y": []}
+                self._style(o)
+            else:
+                self._say(msg, error=True)
+            return False
+        o.start, o.status, o.message, o.result, o.indicator, o.n_points = start, "running", start.describe(), None, \
+            None, 0
+        if o.renderer is None:
+            self._take_slot(o)
+        o.source.data = {"x": [], "y": []}
+        self._style(o)
+        job = Job(next(self._job_ids), start, self.iterates, self.direction)
+        job.submitted = o.t_launch
+        o.job = job
+        self._worker.submit(job, on_chunk=lambda j, c: self._queue.put(("chunk", o, j, c)),
+                            on_done=lambda j, r, ind: self._queue.put(("done", o, j, (r, ind))))
+        self._say(f"#{o.id}: {start.describe()}; integrating {self.iterates} iterates in the background …")
+        return True
+
+    def _no_root_message(self, exc: ParameterError, o: Orbit) -> str:
+        where = f"(θ, p̄θ) = ({o.theta0:.4f}, {o.ptheta0:.4f})"
+        if exc.name == "h":
+            return (f"No orbit at {where}: H̄ = {self.h:g} has no real root p̄ψ there (the point lies outside the "
+                    f"energy-level boundary, in the grey region). {exc.message}")
+        if exc.name == "mu":
+            return f"No orbit at {where}: the radicand μ − 2λ̄p̄ψ of H̄ is negative for every p̄ψ. {exc.message}"
+        return f"No orbit at {where}: {exc}"
+
+    def _style(self, o: Orbit):
+        g = getattr(o.indicator, "growth_exponent", None)
+        colour = PENDING_COLOUR if g is None or not np.isfinite(g) else model.growth_colour(g, self.threshold)
+        if o.renderer is not None:
+            o.renderer.glyph.fill_color = colour
+            o.renderer.glyph.line_color = colour
+            o.legend_item.label = value(o.label(self.threshold))  # a value: a bare string would name a column
+
+    def _remove(self, o: Orbit):
+        if o.job is not None:
+            self._worker.cancel(o.job.id)
+            if o.status == "running":
+                o.status = "cancelled"
+        if o.renderer is not None:  # the slot stays with the orbit: undo shows it again
+            o.renderer.visible = o.legend_item.visible = False
+        self.orbits.remove(o)
+
+    def _restore(self, o: Orbit, index: int):
+        self.orbits.insert(min(index, len(self.orbits)), o)
+        if o.renderer is not None:
+            o.renderer.visible = o.legend_item.visible = True
+        if o.start is None or o.start.params != self.params or o.start.h != self.h or o.status == "cancelled":
+            self._launch(o)
+
+    def delete(self, orbit_id) -> None:
+        """Delete an orbit (undoable)."""
+        o = next((o for o in self.orbits if o.id == orbit_id), None)
+        if o is None:
+            self._say("Select an orbit in the list to delete it.")
+            return
+        i = self.orbits.index(o)
+        self._remove(o)
+        self._undo.append(("delete", o, i))
+        self._refresh_list()
+        self._say(f"Deleted #{o.id} (Undo restores it).")
+
+    def clear(self) -> None:
+        """Delete every orbit (undoable)."""
+        if not self.orbits:
+            return
+        gone = list(self.orbits)
+        for o in gone:
+            self._remove(o)
+        self._undo.append(("clear", gone))
+        self._refresh_list()
+        self._say(f"Cleared {len(gone)} orbit(s) (Undo restores them).")
+
+    def undo(self) -> None:
+        """Undo the last launch, delete or clear."""
+        if not self._undo:
+            self._say("Nothing to undo.")
+            return
+        action = self._undo.pop()
+        if action[0] == "add":
+            self._remove(action[1])
+            self._say(f"Undid the launch of #{action[1].id}.")
+        elif action[0] == "delete":
+            self._restore(action[1], action[2])
+            self._say(f"Restored #{action[1].id}.")
+        else:
+            for i, o in enumerate(action[1]):
+                self._restore(o, i)
+            self._say(f"Restored {len(action[1])} orbit(s).")
+        self._refresh_list()
+
+    def _refresh_list(self, select=None):
+        opts = {o.label(self.threshold): o.id for o in self.orbits}
+        keep = select if select is not None else self.orbit_list.value
+        self.orbit_list.options = opts
+        self.orbit_list.value = keep if keep in opts.values() else (next(iter(opts.values())) if opts else None)
+
+    def _on_select(self, event):
+        self._show_details()
+
+    # ------------------------------------------------------------------------------------------------------
+    # data from the workers
+    # ------------------------------------------------------------------------------------------------------
+    def poll(self) -> int:
+        """Move the workers' output onto the page (the periodic callback; call it by hand without a server).
+        Returns the number of messages handled."""
+        self._watch_connection()
+        n = 0
+        relabel = streamed_first = False
+        while True:
+            try:
+                kind, o, job, payload = self._queue.get_nowait()
+            except queue.Empty:
+                break
+            n += 1
+            if kind == "call":
+                payload()
+                continue
+            if kind == "rod":
+                if job is not o.start:
+                    continue
+                if isinstance(payload, Exception):  # a drawing problem is a message, never a broken page
+                    self.details.object += f"<br>rod not drawn: {_escape(str(payload))}"
+                    continue
+                o.rod_figure, o.rod_for = payload, job
+                if self.selected() is o:
+                    self.rod_pane.object, self.rod_pane.visible = payload, True
+                continue
+            if o.job is not job:  # output of a cancelled, superseded run
+                continue
+            if kind == "chunk":
+                o.source.stream({"x": payload.theta, "y": payload.ptheta})
+                if o.n_points == 0:
+                    self.latencies.append(time.perf_counter() - job.submitted)
+                    streamed_first = True
+                    self.stream_wall.append(time.time())
+                o.n_points, o.max_abs_dH = payload.n_total, payload.max_abs_dH
+            else:
+                res, ind = payload
+                o.result = res
+                if res is None:
+                    o.status, o.message = "failed", f"internal error: {ind}"
+                else:
+                    o.status = "done" if res.success else ("cancelled" if "cancelled" in res.message else "failed")
+                    o.n_points = res.n_points
+                    if isinstance(ind, Exception):
+                        o.message = f"indicator not computed: {ind}"
+                    else:
+                        o.indicator = ind
+                self._style(o)
+                relabel = True
+                if o.status == "failed":
+                    self._say(f"#{o.id}: {res.message if res is not None else o.message}", error=True)
+                else:
+                    g = getattr(o.indicator, "growth_exponent", float("nan"))
+                    self._say(f"#{o.id}: {o.n_points} iterates in {res.wall_s:.2f} s, max |H̄ − h| = "
+                              f"{res.max_abs_dH:.1e}; growth exponent {g:.3g} "
+                              f"({'chaotic' if g > self.threshold else 'regular'}: threshold {self.threshold:g}).")
+        if self._pending_select is not None and not streamed_first:  # not in the poll that sends first points
+            select, self._pending_select = self._pending_select, None
+            self._refresh_list(select=select)
+        if relabel:
+            self._refresh_list()
+            self._show_details()
+        return n
+
+    def wait(self, timeout: float = 60.0) -> bool:
+        """Poll until no orbit is computing (for scripts and tests); True if all finished in time."""
+        deadline = time.perf_counter() + timeout
+        while time.perf_counter() < deadline:
+            self.poll()
+            if self._worker.running == 0 and all(o.status != "running" for o in self.orbits):
+                self.poll()
+                return True
+            time.sleep(0.01)
+        return False
+
+    @property
+    def running(self) -> int:
+        return self._worker.running
+
+    def _watch_connection(self):
+        doc = pn.state.curdoc
+        ctx = getattr(doc, "session_context", None) if doc is not None else None
+        session = getattr(ctx, "session", None) if ctx is not None else None
+        if session is None:
+            return
+        try:
+            count = session.connection_count
+        except Exception:  # the session is being destroyed
+            return
+        if count > 0:
+            self._connected_once, self._no_connection_since = True, None
+        elif self._connected_once:
+            now = time.perf_counter()
+            if self._no_connection_since is None:
+                self._lost_wall = time.time()
+            self._no_connection_since = self._no_connection_since or now
+            if now - self._no_connection_since > CLOSE_GRACE_S:
+                self.close()
+
+    def close(self) -> None:
+        """Stop every computation of this page (page closed or server stopping) and the periodic callback."""
+        if self._closed:
+            return
+        self._closed = True
+        self.closed_wall = (self._lost_wall, time.time())
+        if self._callback is not None:
+            try:
+                self._callback.stop()
+            except Exception:
+                pass
+        self._worker.shutdown(timeout=0.5)
+        if self._registry is not None:
+            self._registry.discard(self)
+
+    # ------------------------------------------------------------------------------------------------------
+    # the selected orbit
+    # ------------------------------------------------------------------------------------------------------
+    def selected(self) -> Orbit | None:
+        return next((o for o in self.orbits if o.id == self.orbit_list.value), None)
+
+    def _show_details(self):
+        o = self.selected()
+        if o is None:
+            self.details.object, self.rod_pane.visible = "", False
+            return
+        rows = [f"<b>#{o.id}</b> start θ₀ = {o.theta0:.6f}, p̄θ₀ = {o.ptheta0:.6f}, ψ₀ = {self.psi0:g}",
+                o.message]
+        r = o.result
+        if r is not None:
+            rows.append(f"{r.n_points} iterates to s = {r.final_time:.6g} in {r.wall_s:.2f} s "
+                        f"(body frame, tol = machine ε)")
+            rows.append(f"conservation: max |H̄ − h| = {r.max_abs_dH:.2e}, Casimir drift "
+                        f"{(r.casimir_drift or 0):.2e} (gates {r.accuracy_checks()['energy_tol']:g}); "
+                        f"max |section residual| = {float(np.max(np.abs(r.section_residual))) if r.n_points else 0:.1e}")
+        ind = o.indicator
+        if ind is not None:
+            rows.append(f"chaos indicator (T = {ind.t_max:g}): growth exponent {ind.growth_exponent:.4g} → "
+                        f"{'chaotic' if ind.chaotic else 'regular'} (threshold {ind.threshold:g}); "
+                        f"finite-time Lyapunov exponent {ind.lyap:.3g}; conservation along it "
+                        f"|dH| {ind.max_abs_dH:.1e}, Casimirs {ind.casimir_drift:.1e}")
+        self.details.object = "<br>".join(rows)
+        self._show_rod(o)
+
+    def _show_rod(self, o: Orbit):
+        """Compute the rod of `o` on a worker thread (it integrates the frame: never on the page's event loop);
+        poll() shows it when it arrives, if `o` is still the selected orbit."""
+        if o.start is None or o.status != "done":  # not while the orbit computes: its first points come first
+            self.rod_pane.visible = False
+            return
+        if getattr(o, "rod_figure", None) is not None and o.rod_for is o.start:
+            self.rod_pane.object, self.rod_pane.visible = o.rod_figure, True
+            return
+        start = o.start
+        self._worker.call(lambda: rod_figure(start, self.rod_length),
+                          lambda fig: self._queue.put(("rod", o, start, fig)))
+
+    # ------------------------------------------------------------------------------------------------------
+    # export
+    # ------------------------------------------------------------------------------------------------------
+    def export(self, out_dir) -> dict:
+        """Write the picture (section.png) and, per finished orbit, orbitNN.npz/.json/.png with the schema of
+        `magrod poincare --out` (magrod.figures.poincare.save_result), plus explore.json (the index)."""
+        from .export import export_orbits
+
+        return export_orbits(self, out_dir)
+
+    def _export_zip(self):
+        with tempfile.TemporaryDirectory(prefix="magrod-explore-") as d:
+            paths = self.export(d)
+            buf = io.BytesIO()
+            with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
+                for p in sorted(Path(d).iterdir()):
+                    z.write(p, p.name)
+        buf.seek(0)
+        self._queue.put(("call", None, None, lambda: self._say(f"Prepared {len(paths['files'])} file(s) for "
+                                                               f"download.")))
+        return buf
+
+    def _export_clicked(self):
+        try:
+            paths = self.export(self.out_dir)
+        except (OSError, ParameterError) as exc:
+            self._say(f"Export failed: {exc}", error=True)
+            return
+        self._say(f"Exported {len(paths['files'])} file(s) to {self.out_dir}")
+
+    def _say(self, text: str, error: bool = False):
+        colour = "#b00020" if error else "#222222"
+        self.status.object = f'<span style="color:{colour}">{_escape(text)}</span>'
+
+    def summary(self) -> dict:
+        return {"panel": self.panel_key, "parameters": self.params.as_dict(), "h": self.h, "psi0": self.psi0,
+                "direction": self.direction, "iterates": self.iterates, "threshold": self.threshold,
+                "orbits": [{"id": o.id, "theta0": o.theta0, "ptheta0": o.ptheta0, "status": o.status,
+                            "n_points": o.n_points, "message": o.message,
+                            "growth_exponent": getattr(o.indicator, "growth_exponent", None)} for o in self.orbits]}
+
+    def __repr__(self) -> str:
+        return (f"Explorer(panel={self.panel_key!r}, params={self.params}, h={self.h:g}, "
+                f"orbits={len(self.orbits)}, running={self.running})")
+
+
+class _Text:
+    """A text line of the page as a bare Bokeh Div: setting `.object` changes one string property.  (A Panel HTML
+    pane re-renders its model, and Bokeh then re-walks the whole document: ~0.3-2 s on the event loop.)"""
+
+    def __init__(self, text, css_class, **kw):
+        from bokeh.models import Div
+
+        margin = kw.pop("margin", None)
+        self.div = Div(text=text, css_classes=[css_class], **({"margin": margin} if margin else {}),
+                       **{k: v for k, v in kw.items()})
+        self.pane = pn.pane.Bokeh(self.div, sizing_mode=kw.get("sizing_mode"))
+
+    @property
+    def object(self) -> str:
+        return self.div.text
+
+    @object.setter
+    def object(self, text: str) -> None:
+        self.div.text = text
+
+
+def _escape(s: str) -> str:
+    return s.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+
+
+def rod_figure(start, length: float):
+    """A plotly figure of the rod from `start`: the centreline over [0, length] as a tube (transverse
+    displacements magnified, factor in the title), coloured by arclength."""
+    import plotly.graph_objects as go
+
+    rod = model.rod_of(start, length)
+    c = rod["r_drawn"][:: max(1, len(rod["r_drawn"]) // 800)]
+    s = rod["s"][:: max(1, len(rod["s"]) // 800)]
+    ext = float(np.max(c.max(0) - c.min(0))) or 1.0
+    mesh = model.tube_mesh(c, radius=0.006 * ext)
+    v = mesh["vertices"]
+    k = v.shape[0] // len(c)
+    fig = go.Figure(go.Mesh3d(x=v[:, 0], y=v[:, 1], z=v[:, 2], i=mesh["i"], j=mesh["j"], k=mesh["k"],
+                              intensity=np.repeat(s, k), colorscale="Viridis", showscale=True,
+                              colorbar=dict(title="s", len=0.6), flatshading=False))
+    M = rod["magnification"]
+    fig.update_layout(title=dict(text=f"rod centreline, s ∈ [0, {length:g}] (units B/m3), z along the field; "
+                                      f"transverse displacements magnified ×{M:g}"
+                                      f"{' (true scale)' if M == 1 else ''}<br>frame checks: |DᵀD − I| "
+                                      f"{rod['orthonormality']:.0e}, |Dᵀz − e3| {rod['field_consistency']:.0e}",
+                                 font=dict(size=11)),
+                      scene=dict(aspectmode="data", xaxis_title="x", yaxis_title="y", zaxis_title="z (field)"),
+                      margin=dict(l=0, r=0, t=50, b=0))
+    return fig
+
+
+class Registry:
+    """The live explorer sessions of one server (what /status reports and Ctrl-C stops)."""
+
+    def __init__(self):
+        self._items: set = set()
+        self._lock = threading.Lock()
+        self.latencies: list[float] = []
+        self.closed: list = []  # (connection seen lost, closed) wall-clock times of closed sessions
+
+    def add(self, e: Explorer):
+        with self._lock:
+            self._items.add(e)
+
+    def discard(self, e: Explorer):
+        with self._lock:
+            self.closed.append(e.closed_wall)
+            self.latencies.extend(e.latencies)
+            self._items.discard(e)
+
+    def status(self) -> dict:
+        with self._lock:
+            items = list(self._items)
+        threads = [t.name for t in threading.enumerate() if t.name.startswith("magrod-explore")]
+        return {"sessions": len(items), "running": sum(e.running for e in items),
+                "warm": bool(items) and all(e.warmed.is_set() for e in items),
+                "worker_threads_alive": len(threads), "first_points_s": self.latencies + [x for e in items
+                                                                                       for x in e.latencies],
+                "tap_handler_s": [x for e in items for x in e.tap_handler_s],
+                "tap_wall": [x for e in items for x in e.tap_wall],
+                "stream_wall": [x for e in items for x in e.stream_wall], "closed": list(self.closed)}
+
+    def close_all(self, timeout: float = 0.8) -> None:
+        with self._lock:
+            items = list(self._items)
+        for e in items:
+            e.close()
+
+
+def status_json(registry: Registry) -> str:
+    return json.dumps(registry.status())

@@ -1,0 +1,297 @@
+"""The explorer's background computations: one orbit's section iterates streamed as they are computed, cancellable.
+
+`stream_section` is the section loop of `magrod.poincare_section` for its default configuration (body-frame
+formulation, tol = machine epsilon, branch "any", max-time guard 100 x iterates), with the same integrator (the
+same `systems.integrator` call, so the same compiled code) and the same propagate calls: its points are those of
+`poincare_section` for the same start, to the last bit (tests/test_explorer.py checks it).  It differs in what a
+browser needs: every few milliseconds the points found so far are handed to `emit`, and a `cancel` event is
+checked after every crossing (~0.2 ms apart), so a closed page or Ctrl-C stops it at once.  The finished (or
+cancelled) run is assembled into a genuine `PoincareResult`, which the export writes with the files of
+`magrod poincare --out` (magrod/figures/poincare.py save_result).
+
+`Worker` runs orbit jobs on a small thread pool (heyoka's propagate releases the GIL, so the server's event
+loop stays responsive); each job has its own cancel event and `cancel_all` stops every job of a session.
+"""
+from __future__ import annotations
+
+import threading
+import time
+from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core import systems
+from ..core.errors import ParameterError
+from ..core.params import RodParams
+
+EPS = float(np.finfo(float).eps)
+FIRST_CHUNK = 8  # the first points go out after this many crossings (~2 ms): first light fast
+EMIT_INTERVAL = 0.04  # then at most every 40 ms (the page polls at 50 ms; more often only costs transfers)
+
+
+@systems.per_thread
+def _section_integrator(direction: str):
+    # the same call as magrod.chaos.section._integrators makes for formulation="body" at tol = eps: the same
+    # compiled integrator (and, from the JIT cache, the same object code), hence the same points
+    return systems.integrator("body", events=[("section", direction)], fp_type=float, tol=EPS)
+
+
+@dataclass
+class Start:
+    """A launch point on the section and the energy root chosen for it."""
+
+    params: RodParams
+    h: float
+    theta0: float
+    ptheta0: float
+    psi0: float
+    roots: np.ndarray
+    root_index: int
+
+    @property
+    def p_psi0(self) -> float:
+        return float(self.roots[self.root_index])
+
+    def describe(self) -> str:
+        rs = ", ".join(f"{r:.6g}" for r in self.roots)
+        which = {0: "smallest"}.get(self.root_index, "largest" if self.root_index == len(self.roots) - 1 else
+                                    f"index {self.root_index}")
+        return (f"Hbar = {self.h:g} has {len(self.roots)} root(s) pbar_psi = [{rs}] at theta0 = {self.theta0:.4f}, "
+                f"pbar_theta0 = {self.ptheta0:.4f}: using the {which}, {self.p_psi0:.10g} (the paper's rule, "
+                f"fig:poincare1: the smaller root)")
+
+
+def solve_start(params: RodParams, h: float, theta0: float, ptheta0: float, psi0: float = 0.0,
+                root="smallest") -> Start:
+    """The root pbar_psi of Hbar(theta0, psi0, pbar_theta0, .) = h by the section's rule (magrod.chaos.section:
+    solve_p_psi and choose_root).  Raises ParameterError ("h": no root on the admissible range, "mu": the square
+    root of Hbar is imaginary for every pbar_psi, "theta0": outside (0, pi))."""
+    from ..chaos.section import choose_root, solve_p_psi
+
+    roots = solve_p_psi(params, h, theta0, ptheta0, psi0)
+    return Start(params, float(h), float(theta0), float(ptheta0), float(psi0), roots, choose_root(roots, root))
+
+
+@dataclass
+class Chunk:
+    """Points found since the last chunk: theta (k,), pbar_theta (k,), the running max |Hbar - h| and count."""
+
+    theta: np.ndarray
+    ptheta: np.ndarray
+    n_total: int
+    max_abs_dH: float
+
+
+def _chart(raw: np.ndarray, pars) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    B = systems.body_functions()
+    x = np.ascontiguousarray(raw.T)
+    e = B["to_euler"](x, pars)
+    return e[systems.chart_index("theta")], e[systems.chart_index("ptheta")], B["H"](x, pars)[0]
+
+
+def stream_section(start: Start, iterates: int, *, direction="positive", cancel: threading.Event | None = None,
+                   emit=None, t_max=None):
+    """Iterate the section from `start`, handing Chunks to emit(chunk) as they come; returns the PoincareResult
+    of what was computed (success=False with message "cancelled" if `cancel` was set first)."""
+    import heyoka as hy
+
+    from ..chaos import section
+
+    t0 = time.perf_counter()
+    iterates = int(iterates)
+    params = start.params
+    pars = params.array()
+    t_max = float(100.0 * iterates if t_max is None else t_max)  # poincare_section's default guard
+    ta = _section_integrator(direction)
+    x0 = systems.euler_to_body(start.theta0, start.psi0, start.ptheta0, start.p_psi0, pars)
+    systems.reset(ta, x0, 0.0, pars)
+    n9 = systems.dim("body")
+    raw = np.empty((iterates, n9))
+    times = np.empty(iterates)
+    n = sent = 0
+    max_dH = 0.0
+    last = time.perf_counter()
+    success, message = True, "ok"
+    t_limit = hy.taylor_outcome.time_limit
+
+    def flush():
+        nonlocal sent, max_dH, last
+        if emit is None or n == sent:
+            return
+        th, pt, dH = _chart(raw[sent:n], pars)
+        max_dH = max(max_dH, float(np.max(np.abs(dH - start.h))))
+        emit(Chunk(th, pt, n, max_dH))
+        sent, last = n, time.perf_counter()
+
+    while n < iterates:
+        if cancel is not None and cancel.is_set():
+            success, message = False, f"cancelled after {n} of {iterates} iterates"
+            break
+        oc = ta.propagate_until(t_max)[0]
+        if oc == t_limit:
+            success, message = False, (f"t_max = {t_max:g} reached after {n} of {iterates} iterates (max-time guard; "
+                                       f"the orbit does not cross sin(psi) = 0 in that direction)")
+            break
+        if int(oc) >= 0 or not np.all(np.isfinite(ta.state)):
+            success, message = False, f"integration failed at t = {float(ta.time):g} ({oc}) after {n} iterates"
+            break
+        raw[n] = ta.state
+        times[n] = ta.time
+        n += 1
+        if n == FIRST_CHUNK or time.perf_counter() - last > EMIT_INTERVAL:
+            flush()
+    flush()
+    # the result object of poincare_section, assembled by its own code (section._assemble: dH, Casimir drift,
+    # psi' signs, residuals), so that the export has exactly the schema of `magrod poincare --out`
+    res = section._assemble(params, pars, start.h, start.theta0, start.ptheta0, start.psi0, start.p_psi0,
+                            start.roots, start.root_index, "body", direction, "any", EPS, iterates, t_max, raw[:n],
+                            times[:n], np.full(n, section.FRAME_BODY, dtype=np.int8),
+                            float(ta.time), 0, success, message, float)
+    res.wall_s = time.perf_counter() - t0
+    if res.success and not res.accuracy_checks()["passed"]:
+        acc = res.accuracy_checks()
+        res.success = False
+        res.message = f"accuracy check failed: max |Hbar - h| = {res.max_abs_dH:.3g} (tol {acc['energy_tol']:g})"
+    return res
+
+
+def growth_indicator(start: Start, t_max: float | None = None):
+    """The chaos indicator of the orbit from `start` (magrod.lyapunov at the chosen root): a LyapunovResult."""
+    from ..chaos.lyapunov import DEFAULT_T_MAX, lyapunov
+
+    return lyapunov(start.params, theta0=start.theta0, ptheta0=start.ptheta0, psi0=start.psi0, p_psi0=start.p_psi0,
+                    t_max=DEFAULT_T_MAX if t_max is None else t_max)
+
+
+# ----------------------------------------------------------------------------------------------------------
+# jobs
+# ----------------------------------------------------------------------------------------------------------
+@dataclass
+class Job:
+    """One orbit computation: its cancel event, its future, and what it has produced so far."""
+
+    id: int
+    start: Start
+    iterates: int
+    direction: str
+    cancel: threading.Event = field(default_factory=threading.Event)
+    future: Future | None = None
+    submitted: float = field(default_factory=time.perf_counter)
+    first_points_s: float | None = None  # seconds from submission to the first emitted chunk
+
+
+class Worker:
+    """A thread pool for one explorer session.  `submit(job, on_chunk, on_done)` runs the section (chunks to
+    on_chunk(job, chunk)), then the chaos indicator, then on_done(job, result, indicator or exception).
+    Callbacks run on the worker thread: they must only hand data over (queues), never touch the page."""
+
+    def __init__(self, max_workers: int = 2, name: str = "magrod-explore"):
+        self._pool = ThreadPoolExecutor(max_workers=max_workers, thread_name_prefix=name)
+        self._jobs: dict[int, Job] = {}
+        self._lock = threading.Lock()
+        self._closed = False
+
+    @property
+    def running(self) -> int:
+        """Jobs submitted and not finished (queued or computing)."""
+        with self._lock:
+            return sum(1 for j in self._jobs.values() if j.future is not None and not j.future.done())
+
+    def submit(self, job: Job, on_chunk=None, on_done=None, indicator_t_max=None) -> Job:
+        if self._closed:
+            raise RuntimeError("worker is shut down")
+
+        def emit(chunk):
+            if job.first_points_s is None:
+                job.first_points_s = time.perf_counter() - job.submitted
+            if on_chunk is not None:
+                on_chunk(job, chunk)
+
+        def run():
+            try:
+                res = stream_section(job.start, job.iterates, direction=job.direction, cancel=job.cancel, emit=emit)
+                ind = None
+                if not job.cancel.is_set() and res.n_points:
+                    try:
+                        ind = growth_indicator(job.start, indicator_t_max)
+                    except (ParameterError, RuntimeError) as exc:
+                        ind = exc
+                if on_done is not None:
+                    on_done(job, res, ind)
+                return res
+            except BaseException as exc:  # never a silent dead job: the page is told
+                if on_done is not None:
+                    on_done(job, None, exc)
+                raise
+
+        with self._lock:
+            self._jobs[job.id] = job
+            job.future = self._pool.submit(run)
+        return job
+
+    def call(self, fn, on_done) -> Future:
+        """Run fn() on a worker thread (e.g. the rod of the selected orbit); on_done(value or exception)."""
+
+        def run():
+            try:
+                out = fn()
+            except Exception as exc:  # reported to the page, never raised into the pool
+                out = exc
+            on_done(out)
+
+        return self._pool.submit(run)
+
+    def warm(self, start: Start, direction: str = "positive") -> threading.Event:
+        """Build, in every worker thread, the integrators a click needs (they are cached per thread): the section
+        integrator, the indicator's tangent integrator and the rod's frame integrator.  From heyoka's disk cache
+        this takes ~0.1 s per thread; afterwards the first points of a click come within milliseconds."""
+        done = threading.Event()
+        barrier = threading.Barrier(self._pool._max_workers, action=done.set, timeout=60)
+
+        def one():
+            from ..core.systems import rod_frame_integrator
+
+            _section_integrator(direction)
+            stream_section(start, 2, direction=direction)
+            growth_indicator(start, 20.0)
+            rod_frame_integrator()
+            try:
+                barrier.wait()  # hold this thread until every thread has warmed: each gets its own copy
+            except threading.BrokenBarrierError:
+                pass
+
+        for _ in range(self._pool._max_workers):
+            self._pool.submit(one)
+        return done
+
+    def cancel(self, job_id: int) -> None:
+        with self._lock:
+            job = self._jobs.get(job_id)
+        if job is not None:
+            job.cancel.set()
+            if job.future is not None:
+                job.future.cancel()
+
+    def cancel_all(self) -> int:
+        """Cancel every job; returns how many were still running."""
+        with self._lock:
+            jobs = list(self._jobs.values())
+        n = 0
+        for j in jobs:
+            if j.future is not None and not j.future.done():
+                n += 1
+            j.cancel.set()
+            if j.future is not None:
+                j.future.cancel()
+        return n
+
+    def shutdown(self, timeout: float = 1.0) -> bool:
+        """Cancel everything and wait (at most `timeout` s) for the threads; True if they all stopped."""
+        self._closed = True
+        self.cancel_all()
+        self._pool.shutdown(wait=False, cancel_futures=True)
+        deadline = time.perf_counter() + timeout
+        for t in list(getattr(self._pool, "_threads", ())):
+            t.join(max(0.0, deadline - time.perf_counter()))
+        return not any(t.is_alive() for t in getattr(self._pool, "_threads", ()))

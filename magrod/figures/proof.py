@@ -1,0 +1,68 @@
+"""The computer-assisted proof at the target (issue 21): run `magrod.proof.search.prove`, verify the certificate
+with the separate checker, write proof_certificate.json, proof.json (the sidecar REPORT.md's claim row reads) and
+proof.png: the float trace of W^u on Sigma (theta_u against psi, with its mirror image W^s) and the proved
+tangent slopes at psi = 0 and psi = pi.  quick: one symmetric orbit (psi = pi) and no float trace."""
+from __future__ import annotations
+
+import time
+from fractions import Fraction
+
+import numpy as np
+
+from ..core.io import atomic_savefig, atomic_write_json, ensure_writable_dir, versions
+from .common import pyplot
+
+TARGET = ("1.7", "0.04", "1", "1", "0.01")  # (m, mu, gamma, delta, lambdabar): a = 4, b = 1, eps = 0.1
+
+
+def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
+    import json
+
+    from ..proof import search, verify
+
+    out = ensure_writable_dir(out_dir)
+    t0 = time.perf_counter()
+    p = search.validate_params(*TARGET)
+    res = search.prove(p, search.ProofSettings(targets=("pi",) if quick else ("0", "pi")))
+    side = {"params": p.as_json(), "ok": res.ok, "reason": res.reason, "n_checks": len(res.checks),
+            "quick": quick, "versions": versions()}
+    paths = []
+    if res.ok:
+        paths.append(str(atomic_write_json(out / "proof_certificate.json", res.certificate)))
+        v = verify.verify(json.loads(json.dumps(res.certificate)))
+        side.update(verified=v.ok, verify_reason=v.reason, verify_checks=len(v.checks),
+                    verify_wall_time_s=round(v.wall_time_s, 1),
+                    crossings=[{"target": c["target"], "dtheta_dpsi": c["dtheta_dpsi"], "phi_star": c["newton"]}
+                               for c in res.certificate["crossings"]],
+                    eigenvalue_u=res.certificate["saddle"]["lam_u"])
+    side["wall_time_s"] = round(time.perf_counter() - t0, 1)
+    paths.append(str(atomic_write_json(out / "proof.json", side)))
+    paths.append(str(_figure(out, side, quick)))
+    return paths
+
+
+def _figure(out, side, quick):
+    plt = pyplot()
+    from ..separatrix import splitting
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    c = splitting.tilted_curve(1.7, 1.0, 1.0, 4.0, 1.0, 0.1, "double", n_phases=32 if quick else 96)
+    psi = np.array(c.psi)
+    o = np.argsort(psi)
+    ax.plot(psi[o], np.array(c.theta)[o], ".", ms=3, label=r"$W^u\cap\Sigma$ (float64)")
+    ax.plot(-psi[o], np.array(c.theta)[o], ".", ms=2, alpha=0.6, label=r"$W^s\cap\Sigma$ (mirror image)")
+    ax.set_xlim(-np.pi, np.pi)
+    for cr in side.get("crossings", []):
+        x0 = 0.0 if cr["target"] == "0" else np.pi
+        s = float(Fraction(cr["dtheta_dpsi"]["mid"]))
+        for x in ((0.0,) if x0 == 0 else (-np.pi, np.pi)):
+            ax.axvline(x, color="k", lw=0.4)
+        ax.annotate(rf"$\psi={'0' if x0 == 0 else chr(92) + 'pi'}$: $d\theta_u/d\psi \in$ {s:+.3e} "
+                    rf"$\pm$ {float(Fraction(cr['dtheta_dpsi']['rad'])):.1e} (proved)",
+                    xy=(0.02, 0.95 - 0.07 * (x0 > 0)), xycoords="axes fraction", fontsize=7)
+    ax.set_xlabel(r"$\psi$")
+    ax.set_ylabel(r"$\theta$ on $\Sigma = \{\bar p_\theta = 0\}$")
+    ax.set_title(f"transverse symmetric homoclinic orbits (computer-assisted) at (m, mu, gamma, delta, lam) = "
+                 f"{', '.join(TARGET)}", fontsize=7)
+    ax.legend(fontsize=7, loc="lower right")
+    return atomic_savefig(fig, out / "proof.png", dpi=130)

@@ -1,0 +1,117 @@
+"""The rod's vector fields as ball-evaluable `Field`s (generated/validated.py), and the exact parameters.
+
+Parameters enter the proof as exact rationals (`Fraction`): the CLI string "0.04" is the rational 1/25, not the
+binary double 0.04000000000000000083; the certificate records them as "p/q".  `source_digest` is the SHA-256 of
+the generated module, recorded in a certificate so that the verifier re-checks against the same field.
+"""
+from __future__ import annotations
+
+import hashlib
+import inspect
+from dataclasses import dataclass
+from fractions import Fraction
+
+from ..generated import validated as gen
+from . import ball
+from .taylor import Field
+
+PARAMS = gen.PARAMS
+CHART_STATE = gen.CHART_STATE
+REVERSOR = gen.CHART_REVERSOR
+THETA, PSI, PTHETA, PPSI = (CHART_STATE.index(k) for k in ("theta", "psi", "ptheta", "ppsi"))
+
+
+@dataclass(frozen=True)
+class ExactParams:
+    """(m, mu, gamma, delta, lam) as exact rationals."""
+
+    m: Fraction
+    mu: Fraction
+    gamma: Fraction
+    delta: Fraction
+    lam: Fraction
+
+    @classmethod
+    def from_values(cls, **kw) -> "ExactParams":
+        return cls(**{k: ball.fraction(str(kw[k]) if isinstance(kw[k], float) else kw[k]) for k in PARAMS})
+
+    def balls(self) -> tuple:
+        return tuple(ball.q(getattr(self, k)) for k in PARAMS)
+
+    def floats(self) -> list[float]:
+        return [float(getattr(self, k)) for k in PARAMS]
+
+    def as_json(self) -> dict:
+        return {k: f"{getattr(self, k).numerator}/{getattr(self, k).denominator}" for k in PARAMS}
+
+
+def chart_field(p: ExactParams, module=gen) -> Field:
+    """The reduced chart field of Hbar (4-D) at exact parameters; `module` may be a (mutated) copy of the
+    generated module (controls)."""
+    return Field(module.chart_rhs, module.chart_jacobian, len(CHART_STATE), p.balls(), "chart")
+
+
+def body_field(p: ExactParams, module=gen) -> Field:
+    return Field(module.body_rhs, module.body_jacobian, len(gen.BODY_STATE), p.balls(), "body")
+
+
+BODY_EVENTS = gen.BODY_EVENTS
+EV = {k: i for i, k in enumerate(BODY_EVENTS)}
+E33 = gen.BODY_STATE.index("e33")
+
+
+def lift(p: ExactParams, q, module=gen) -> list:
+    """X(q, phi = 0): body state of the chart state q (balls)."""
+    return list(module.lift(list(q), p.balls()))
+
+
+def lift_jacobian(p: ExactParams, q, module=gen):
+    """dX/dq (9 x 4 arb_mat) at phi = 0 over the chart box q."""
+    from flint import arb_mat
+
+    return arb_mat(len(gen.BODY_STATE), len(CHART_STATE), list(module.lift_jacobian(list(q), p.balls())))
+
+
+def body_events(p: ExactParams, x, module=gen) -> dict:
+    """{g, Gs, Gc, s2, rad, e33} of body_events (derive/validated.py: their chart forms) on the body box x."""
+    return dict(zip(BODY_EVENTS, module.body_events(list(x), p.balls())))
+
+
+def body_event_gradient(p: ExactParams, x, name: str, module=gen) -> list:
+    k, n = EV[name], len(gen.BODY_STATE)
+    g = module.body_events_gradient(list(x), p.balls())
+    return list(g[n * k: n * (k + 1)])
+
+
+def hamiltonian(p: ExactParams, x, module=gen):
+    return module.chart_hamiltonian(list(x), p.balls())[0]
+
+
+def source_digest(module=gen) -> str:
+    """SHA-256 of the vector-field source the proof ran on."""
+    src = inspect.getsource(gen) if module is gen else module.SOURCE
+    return hashlib.sha256(src.encode()).hexdigest()
+
+
+def mutated_module(term: int = 0, function: str = "chart_rhs"):
+    """A copy of generated/validated.py with the sign of one term flipped: the `term`-th ' + ' inside `function`
+    becomes ' - ' (a control: the mutated field is neither the derived one nor, in general, reversible or
+    Hamiltonian; `magrod prove` must fail on it).  Returns a module-like namespace with the mutated source."""
+    import types
+
+    src = inspect.getsource(gen)
+    start = src.index(f"def {function}(")
+    end = src.find("\ndef ", start + 1)
+    end = len(src) if end < 0 else end
+    body = src[start:end]
+    pos = -1
+    for _ in range(term + 1):
+        pos = body.find(" + ", pos + 1)
+        if pos < 0:
+            raise ValueError(f"{function} has fewer than {term + 1} ' + ' terms")
+    body = body[:pos] + " - " + body[pos + 3:]
+    new = src[:start] + body + src[end:]
+    mod = types.ModuleType("magrod.generated.validated_mutated")
+    exec(compile(new, "<mutated generated/validated.py>", "exec"), mod.__dict__)  # noqa: S102 - our own source
+    mod.SOURCE = new
+    return mod

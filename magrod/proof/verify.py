@@ -1,0 +1,379 @@
+"""Independent checker of a proof certificate (`magrod prove --verify CERT`).
+
+It re-runs every rigorous step from the certificate's stored inputs and accepts only if (a) every recomputed
+enclosure lies inside the certificate's ball for it and (b) every claimed inequality holds for the certificate's
+balls.  Separate code from the prover: it imports neither magrod.proof.search nor the prover's saddle / manifold
+modules; the Krawczyk tests, the cone conditions, the lift of the boundary arc, the phase derivatives and the
+interval Newton step are implemented again here.  Shared with the prover are only the generated field
+(generated/validated.py, whose SHA-256 must match the certificate) and the validated integrator
+(magrod.proof.taylor), which the verifier drives with the certificate's exact step sizes.
+
+Failure modes: `CertificateError` (unreadable, wrong format, missing or malformed fields: bad input, exit 2) and
+a result with ok = False and a one-line reason (a check does not hold: exit 1).
+"""
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+from flint import acb, acb_mat, arb, arb_mat
+
+from ..core.errors import ParameterError
+from . import ball, fields, taylor
+
+FORMAT = "magrod-proof-certificate/1"
+
+
+class CertificateError(ParameterError):
+    """The certificate cannot be read (not JSON, wrong format, a missing or malformed field)."""
+
+    def __init__(self, message: str):
+        super().__init__("verify", message)
+
+
+@dataclass
+class VerifyResult:
+    ok: bool
+    reason: str
+    checks: list = field(default_factory=list)
+    wall_time_s: float = 0.0
+
+    def as_dict(self) -> dict:
+        return {"ok": self.ok, "reason": self.reason, "checks": self.checks, "wall_time_s": round(self.wall_time_s, 3)}
+
+
+class _Reject(Exception):
+    pass
+
+
+def load(path) -> dict:
+    """Read a certificate file (CertificateError if unreadable or not a JSON object of the right format)."""
+    try:
+        text = Path(path).read_text()
+    except (OSError, UnicodeDecodeError) as err:
+        raise CertificateError(f"cannot read {str(path)[:200]!r}: {getattr(err, 'strerror', None) or err}") from None
+    try:
+        cert = json.loads(text)
+    except json.JSONDecodeError as err:
+        raise CertificateError(f"{str(path)[:200]!r} is not JSON ({err.msg} at line {err.lineno})") from None
+    if not isinstance(cert, dict) or cert.get("format") != FORMAT:
+        raise CertificateError(f"not a {FORMAT} certificate")
+    return cert
+
+
+def verify(cert: dict, *, module=fields.gen) -> VerifyResult:
+    """Re-check a proof certificate with code separate from the prover.
+
+    Parameters
+    ----------
+    cert : dict
+        The certificate (`load(path)` or the prover's dict).
+    module : module, optional
+        The generated field module; its SHA-256 must equal the certificate's and the installed one's.
+
+    Returns
+    -------
+    VerifyResult
+        ok, reason (one line: "certificate verified ..." or "certificate rejected: <check>: <why>"), checks.
+
+    Raises
+    ------
+    CertificateError
+        (a ParameterError naming "verify") if a field is missing or malformed.
+
+    Examples
+    --------
+    >>> from magrod.proof import verify
+    >>> res = verify.verify(verify.load("out/certificate.json"))  # doctest: +SKIP
+    >>> res.ok  # doctest: +SKIP
+    True
+
+    Notes
+    -----
+    Recomputes the saddle's Krawczyk image, the eigenpairs, the cone conditions, both flights with the stored
+    exact steps, the section crossings, the Newton step and dtheta_u/dpsi; every recomputed enclosure must lie in
+    the certificate's ball and every claim must hold on the certificate's balls.  Cost: about the prover's
+    rigorous part (~30-40 s at the target).
+    """
+    t0 = time.perf_counter()
+    checks: list = []
+
+    def claim(name, holds, how):
+        checks.append({"name": name, "holds": bool(holds), "how": how})
+        if not holds:
+            raise _Reject(f"{name}: {how}")
+
+    try:
+        p, st = _inputs(cert)
+        with ball.workprec(st["prec"], st["series_cap"]):
+            _verify(cert, p, st, module, claim)
+    except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError) as err:
+        if isinstance(err, ParameterError):
+            raise
+        raise CertificateError(f"malformed certificate ({type(err).__name__}: {str(err)[:120]})") from None
+    except _Reject as err:
+        return VerifyResult(False, f"certificate rejected: {err}", checks, time.perf_counter() - t0)
+    return VerifyResult(True, "certificate verified: every enclosure recomputed and every check holds", checks,
+                        time.perf_counter() - t0)
+
+
+def _frac(s) -> Fraction:
+    if not isinstance(s, str):
+        raise TypeError(f"expected an exact rational string, got {s!r}")
+    return Fraction(s)
+
+
+def _inputs(cert):
+    p = fields.ExactParams(**{k: _frac(cert["params"][k]) for k in fields.PARAMS})
+    s = cert["settings"]
+    st = {"prec": int(s["prec"]), "order": int(s["order"]), "series_cap": int(s["series_cap"]),
+          "radius": _frac(cert["saddle"]["radius"]), "eig_rad": _frac(s["eig_rad"])}
+    if not (64 <= st["prec"] <= 1024 and 4 <= st["order"] < st["series_cap"] <= 256):
+        raise CertificateError("settings out of range (prec 64..1024 bits, 4 <= order < series_cap <= 256)")
+    return p, st
+
+
+def _inside(inner: arb, outer: arb) -> bool:
+    lo, hi = ball.bounds(inner)
+    olo, ohi = ball.bounds(outer)
+    return olo < lo and hi < ohi
+
+
+def _recomputed(claim, name, value: arb, stored):
+    claim(f"{name} recomputed", ball.subset(value, stored),
+          f"recomputed {value} {'is' if ball.subset(value, stored) else 'is not'} inside the certificate's ball "
+          f"[{stored['mid']} +- {stored['rad']}]")
+
+
+def _stored_claims(cert, claim):
+    """The theorem's inequalities on the certificate's own balls (cheap; the recomputation follows)."""
+    for c in cert["crossings"]:
+        tgt = c["target"]
+        a = {k: ball.from_json(v) for k, v in c["arc"]["enclosures"].items()}
+        phic, dphi = _frac(c["phi_c"]), _frac(c["dphi"])
+        claim(f"psi={tgt} claims", ball.excludes_zero(a["gdot"]) and ball.excludes_zero(a["dGs"])
+              and (ball.positive if tgt == "0" else ball.negative)(a["Gc"])
+              and _inside(ball.from_json(c["newton"]), ball.interval(phic - dphi, phic + dphi))
+              and ball.excludes_zero(ball.from_json(c["dtheta_dpsi"])),
+              "the certificate's balls satisfy the claims (section transversal, branch, dGs != 0, Newton inside "
+              "the arc, dtheta_u/dpsi excludes 0)")
+
+
+def _verify(cert, p, st, module, claim):
+    _stored_claims(cert, claim)
+    claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
+          "the certificate's vector field is the installed derive-generated one (SHA-256 of generated/validated.py)")
+    claim("parameters", p.mu > 2 * p.lam and p.m > 0 and p.m ** 2 < 4 * (1 + p.gamma) and min(p.gamma, p.delta) >= 0,
+          "mu > 2 lambdabar, 0 < m < m_c = 2 sqrt(1 + gamma), gamma, delta >= 0")
+    fld = fields.chart_field(p, module)
+    xhat, K = _check_saddle(cert, p, st, fld, claim)
+    _check_eigen(cert, fld, K, st, claim)
+    V, rho_eff, L, r = _check_manifold(cert, fld, xhat, K, claim)
+    fb = fields.body_field(p, module)
+    order = st["order"]
+    for c in cert["crossings"]:
+        _check_crossing(c, p, fb, xhat, V, rho_eff, L, r, order, module, claim)
+
+
+# --------------------------------------------------------------------------------------------------------------
+def _check_saddle(cert, p, st, fld, claim):
+    xhat = [ball.q(_frac(v)) for v in cert["saddle"]["xhat"]]
+    n = fld.n
+    rad = st["radius"]
+    sym = (fields.PSI, fields.PTHETA)
+    claim("saddle box R-symmetric", all(ball.fraction(xhat[i]) == 0 for i in sym),
+          "the box centre has psi = pbar_theta = 0, so R(box) = box and the unique zero lies on Fix(R)")
+    X = [ball.interval(ball.fraction(v) - rad, ball.fraction(v) + rad) for v in xhat]
+    # Krawczyk: K = xhat - C F(xhat) + (I - C DF(X)) (X - xhat), any C
+    Cf = np.linalg.inv(ball.to_floats(fld.df(xhat).mid()))
+    C = arb_mat(n, n, [ball.dyadic(v) for v in Cf.flatten()])
+    I = arb_mat(n, n, [arb(int(i == j)) for i in range(n) for j in range(n)])
+    Kv = ball.vec(xhat) - C * ball.vec(fld.f(xhat)) + (I - C * fld.df(X)) * ball.vec([a - b for a, b in zip(X, xhat)])
+    K = ball.column(Kv)
+    claim("saddle Krawczyk", all(_inside(k, x) for k, x in zip(K, X)),
+          "K(X) lies in the interior of the box X: exactly one zero of the chart field in X")
+    for i, (k, s) in enumerate(zip(K, cert["saddle"]["K"])):
+        _recomputed(claim, f"saddle K[{i}]", k, s)
+    return xhat, K
+
+
+def _check_eigen(cert, fld, K, st, claim):
+    A = acb_mat(fld.df(K))
+    n = fld.n
+    for key, want in (("u", (1, 1)), ("s", (-1, 1))):
+        inp = cert["saddle"][f"eig_input_{key}"]
+        lam0 = complex(float(_frac(inp["lam"][0])), float(_frac(inp["lam"][1])))
+        k = int(inp["k"])
+        v0 = [complex(float(_frac(a)), float(_frac(b))) for a, b in inp["v"]]
+        zc = [acb(ball.q(_frac(inp["lam"][0])), ball.q(_frac(inp["lam"][1])))] + \
+             [acb(ball.q(_frac(a)), ball.q(_frac(b))) for j, (a, b) in enumerate(inp["v"]) if j != k]
+        rad = st["eig_rad"]
+        Z = [acb(ball.interval(ball.fraction(z.real.mid()) - rad, ball.fraction(z.real.mid()) + rad),
+                 ball.interval(ball.fraction(z.imag.mid()) - rad, ball.fraction(z.imag.mid()) + rad)) for z in zc]
+        G, DG = _eigen_system(A, n, k)
+        D0 = DG(zc)
+        Cf = np.linalg.inv(np.array([[complex(float(D0[i, j].real.mid()), float(D0[i, j].imag.mid()))
+                                      for j in range(n)] for i in range(n)]))
+        C = acb_mat(n, n, [acb(ball.dyadic(c.real), ball.dyadic(c.imag)) for c in Cf.flatten()])
+        I = acb_mat(n, n, [acb(int(i == j)) for i in range(n) for j in range(n)])
+        Kz = acb_mat(n, 1, zc) - C * acb_mat(n, 1, G(zc)) + (I - C * DG(Z)) * acb_mat(n, 1, [a - b for a, b in zip(Z, zc)])
+        Kl = [Kz[i, 0] for i in range(n)]
+        claim(f"eigenpair {key} Krawczyk", all(_inside(a.real, b.real) and _inside(a.imag, b.imag) for a, b in zip(Kl, Z)),
+              f"Krawczyk image inside the box around (lambda_{key}, v_{key}), v_k = 1, k = {k}")
+        lam = Kl[0]
+        ok = (ball.positive(lam.real) if want[0] > 0 else ball.negative(lam.real)) and ball.positive(lam.imag)
+        claim(f"eigenvalue {key}", ok, f"lambda_{key} = {lam}: Re {'>' if want[0] > 0 else '<'} 0, Im > 0")
+        stored = cert["saddle"][f"lam_{key}"]
+        _recomputed(claim, f"lambda_{key} (re)", lam.real, stored["re"])
+        _recomputed(claim, f"lambda_{key} (im)", lam.imag, stored["im"])
+        del lam0, v0
+
+
+def _eigen_system(A, n, k):
+    """G(lam, v) = (A - lam I) v with v_k = 1 (unknowns: lam and the other n - 1 entries of v), and DG."""
+    idx = [j for j in range(n) if j != k]
+
+    def full(z):
+        v = list(z[1:])
+        v.insert(k, acb(1))
+        return z[0], v
+
+    def G(z):
+        lam, v = full(z)
+        return [sum((A[i, j] * v[j] for j in range(n)), acb(0)) - lam * v[i] for i in range(n)]
+
+    def DG(z):
+        lam, v = full(z)
+        M = acb_mat(n, n)
+        for i in range(n):
+            M[i, 0] = -v[i]
+            for c, j in enumerate(idx, start=1):
+                M[i, c] = A[i, j] - (lam if i == j else 0)
+        return M
+
+    return G, DG
+
+
+def _abs_up(x) -> arb:
+    return ball.q(max(abs(v) for v in ball.bounds(x)))
+
+
+def _norm2(entries) -> Fraction:
+    return ball.bounds(sum((_abs_up(e) * _abs_up(e) for e in entries), arb(0)).sqrt())[1]
+
+
+def _sym2(M):
+    a, d = M[0][0], M[1][1]
+    b = (M[0][1] + M[1][0]) / 2
+    mean = (a + d) / 2
+    rad = (_abs_up((a - d) / 2) * _abs_up((a - d) / 2) + _abs_up(b) * _abs_up(b)).sqrt()
+    return ball.bounds(mean - rad)[0], ball.bounds(mean + rad)[1]
+
+
+def _check_manifold(cert, fld, xhat, K, claim):
+    m = cert["manifold"]
+    n = fld.n
+    V = arb_mat(n, n, [ball.q(_frac(v)) for row in m["V"] for v in row])
+    rb, rho, L, r = (_frac(m[k]) for k in ("r_block", "rho", "L", "r"))
+    Vi = V.inv()
+    ybox = [ball.interval(-rb, rb)] * 2 + [ball.interval(-rho, rho)] * 2
+    G = Vi * fld.df(ball.column(ball.vec(xhat) + V * ball.vec(ybox))) * V
+    blk = {(a, b): [[G[i, j] for j in b] for i in a] for a in ((0, 1), (2, 3)) for b in ((0, 1), (2, 3))}
+    u, s = (0, 1), (2, 3)
+    m_u = _sym2(blk[u, u])[0]
+    M_s = _sym2(blk[s, s])[1]
+    c_us = _norm2([e for row in blk[u, s] for e in row])
+    c_su = _norm2([e for row in blk[s, u] for e in row])
+    N_uu = _norm2([e for row in blk[u, u] for e in row])
+    N_ss = _norm2([e for row in blk[s, s] for e in row])
+    y = ball.column(Vi * ball.vec([a - b for a, b in zip(K, xhat)]))
+    U, S = _norm2(y[:2]), _norm2(y[2:])
+    claim("manifold outflow", m_u * rb > N_uu * U + c_us * (rho + S), "u . u' > 0 on |u| = r_block")
+    claim("manifold inflow", -M_s * rho > c_su * (rb + U) + N_ss * S, "s . s' < 0 on |s| = rho")
+    claim("manifold cone", L * (m_u - M_s) > c_su + L * L * c_us, "the cone |ds| <= L |du| is forward invariant")
+    claim("manifold growth", M_s + c_su / L < 0 and m_u - c_us * L > 0,
+          "outside the cone |ds| grows backwards, inside |du| shrinks backwards")
+    claim("manifold saddle inside", U < rb and S < rho and 0 < r < rb, "the saddle and the circle lie inside the block")
+    rho_eff = min(rho, S + L * (r + U))
+    claim("manifold rho_eff", _frac(m["rho_eff"]) >= rho_eff,
+          "the certificate's C^0 bound of the boundary circle is at least the recomputed min(rho, S + L (r + U))")
+    return V, _frac(m["rho_eff"]), L, r
+
+
+def _lift(p, V, xhat, rho_eff, L, r, lo, hi, module):
+    Phi = ball.interval(lo, hi)
+    rq = ball.q(r)
+    ybox = [rq * Phi.cos(), rq * Phi.sin(), ball.interval(-rho_eff, rho_eff), ball.interval(-rho_eff, rho_eff)]
+    lr = L * r
+    dy = [-rq * Phi.sin(), rq * Phi.cos(), ball.interval(-lr, lr), ball.interval(-lr, lr)]
+    yc = [y.mid() for y in ybox]
+    Q = ball.column(ball.vec(xhat) + V * ball.vec(ybox))
+    qc = ball.column(ball.vec(xhat) + V * ball.vec(yc))
+    JV = fields.lift_jacobian(p, Q, module) * V
+    C0 = JV.mid()
+    dyb = ball.vec([y - c for y, c in zip(ybox, yc)])
+    err = ball.column((JV - C0) * dyb)
+    S = taylor.initial_set([a + e for a, e in zip(fields.lift(p, qc, module), err)], c1=True)
+    S.C, S.r0 = C0, dyb
+    return S, JV * ball.vec(dy)
+
+
+def _check_crossing(c, p, fb, xhat, V, rho_eff, L, r, order, module, claim):
+    tgt = c["target"]
+    phic, dphi, t_a, h = (_frac(c[k]) for k in ("phi_c", "dphi", "t_a", "h_cross"))
+    e33 = fields.E33
+
+    def g(x):
+        return fields.body_events(p, x, module)["g"]
+
+    def dg(x):
+        return fields.body_event_gradient(p, x, "g", module)
+
+    def guard(Y):
+        return [1 - Y[e33], 1 + Y[e33], fields.body_events(p, Y, module)["rad"]]
+
+    vals = {}
+    for kind, lo, hi in (("thin", phic, phic), ("arc", phic - dphi, phic + dphi)):
+        steps = [_frac(s) for s in c[kind]["steps"]]
+        claim(f"psi={tgt} {kind} steps", sum(steps) == t_a and all(s > 0 for s in steps),
+              f"the {len(steps)} exact step sizes add up to t_a = {float(t_a):.9g}")
+        S, tangent = _lift(p, V, xhat, rho_eff, L, r, lo, hi, module)
+        try:
+            S = taylor.propagate(fb, S, steps=steps, order=order, guard=guard)
+            cr = taylor.cross_section(fb, S, g, dg, h, order, guard=guard)
+        except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
+            claim(f"psi={tgt} {kind} flight", False, str(err))
+        ev = fields.body_events(p, cr.x, module)
+        q = {"Gs": ev["Gs"], "Gc": ev["Gc"], "s2": ev["s2"], "gdot": cr.gdot, "tau": cr.tau}
+        u = ball.column(cr.W * tangent)
+        grad = dg(cr.x)
+        gu = sum((a * b for a, b in zip(grad, u)), arb(0))
+        gf = sum((a * b for a, b in zip(grad, cr.fx)), arb(0))
+        v = [ui - fi * gu / gf for ui, fi in zip(u, cr.fx)]
+        q["dGs"] = sum((a * b for a, b in zip(fields.body_event_gradient(p, cr.x, "Gs", module), v)), arb(0))
+        q["de33"] = v[e33]
+        stored = c[kind]["enclosures"]
+        for k, val in q.items():
+            _recomputed(claim, f"psi={tgt} {kind} {k}", val, stored[k])
+        vals[kind] = q
+    thin, arc = vals["thin"], vals["arc"]
+    # the claims are made on the certificate's balls (each contains its recomputation, checked above)
+    sarc = {k: ball.from_json(v) for k, v in c["arc"]["enclosures"].items()}
+    claim(f"psi={tgt} section transversal", ball.excludes_zero(sarc["gdot"]),
+          "d/dt (sin theta pbar_theta) excludes 0 over the crossing step")
+    claim(f"psi={tgt} branch", (ball.positive if tgt == "0" else ball.negative)(sarc["Gc"]),
+          f"sin(theta) rho cos(psi) {'>' if tgt == '0' else '<'} 0 at the crossing")
+    claim(f"psi={tgt} dGs/dphi", ball.excludes_zero(sarc["dGs"]), "dGs/dphi excludes 0 over the arc")
+    N = ball.q(phic) - thin["Gs"] / arc["dGs"]
+    _recomputed(claim, f"psi={tgt} Newton", N, c["newton"])
+    claim(f"psi={tgt} unique zero", _inside(ball.from_json(c["newton"]), ball.interval(phic - dphi, phic + dphi)),
+          "the interval Newton image lies inside the phase arc: one phi* with psi = "
+          + ("0" if tgt == "0" else "pi"))
+    dtdp = -arc["de33"] * arc["Gc"] / (arc["s2"].sqrt() * arc["dGs"])
+    _recomputed(claim, f"psi={tgt} dtheta/dpsi", dtdp, c["dtheta_dpsi"])
+    claim(f"psi={tgt} transversality", ball.excludes_zero(ball.from_json(c["dtheta_dpsi"])),
+          "dtheta_u/dpsi excludes 0 (transverse intersection of W^u and W^s)")

@@ -1,0 +1,279 @@
+"""`magrod explore` in a real browser: Debian's chromium, headless, driven by Playwright through its executable path
+(nothing is downloaded: `playwright install` is never run).
+
+The server is the real command (`python -m magrod.cli explore`) on a free loopback port.  The test loads the page,
+clicks on the canvas at the Fig 4(a) start (theta, pbar_theta) = (0.1, 0.5), waits for points, downloads the
+app's data export (.zip: orbitNN.npz/.json with the schema of `magrod poincare --out`, section.png) and checks it:
+at least 100 points, on the energy level to 1e-12, equal to `mr.poincare_section` at the clicked start.  Then a click
+in the forbidden (grey) region must show a message, an invalid widget value must show a message next to the
+widget, closing the page must stop its computations within 1 s (the server's /status), and Ctrl-C must stop the
+server's computations within 1 s and exit 130.  The screenshot is written to $MAGROD_ARTIFACTS (default
+./test-artifacts) as explore.png.
+"""
+from __future__ import annotations
+
+import io
+import json
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+ARTIFACTS = Path(os.environ.get("MAGROD_ARTIFACTS", "test-artifacts"))
+
+
+def _need_browser():
+    missing = []
+    try:
+        import playwright.sync_api  # noqa: F401
+    except ImportError:
+        missing.append("the playwright package (pip install '.[test]')")
+    if not Path(CHROMIUM).exists():
+        missing.append("Debian's chromium (apt-get install -y chromium; .ci/run installs it)")
+    if missing:
+        if os.environ.get("CI"):
+            pytest.fail("browser test cannot run in CI: missing " + ", ".join(missing))
+        pytest.skip("missing " + ", ".join(missing))
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _status(port) -> dict:
+    with urllib.request.urlopen(f"http://127.0.0.1:{port}/status", timeout=5) as r:
+        return json.loads(r.read())
+
+
+class Server:
+    def __init__(self, tmp):
+        self.port = _free_port()
+        self.err = open(Path(tmp) / "server.err", "w+")
+        self.proc = subprocess.Popen([sys.executable, "-m", "magrod.cli", "explore", "--no-browser", "--port",
+                                      str(self.port), "--iterates", "1000"], stdout=subprocess.PIPE,
+                                     stderr=self.err, text=True)
+        deadline = time.time() + 180
+        while time.time() < deadline:
+            assert self.proc.poll() is None, self.stderr()
+            try:
+                _status(self.port)
+                return
+            except OSError:
+                time.sleep(0.2)
+        raise AssertionError("server did not come up: " + self.stderr())
+
+    @property
+    def url(self):
+        return f"http://127.0.0.1:{self.port}/"
+
+    def stderr(self) -> str:
+        self.err.flush()
+        self.err.seek(0)
+        return self.err.read()
+
+    def kill(self):
+        if self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait(10)
+
+
+@pytest.fixture(scope="module")
+def server():
+    _need_browser()
+    tmp = tempfile.mkdtemp(prefix="magrod-explore-test-")
+    s = Server(tmp)
+    yield s
+    s.kill()
+    shutil.rmtree(tmp, ignore_errors=True)
+
+
+@pytest.fixture(scope="module")
+def browser():
+    _need_browser()
+    from playwright.sync_api import sync_playwright
+
+    profile = tempfile.mkdtemp(prefix="magrod-chromium-")
+    with sync_playwright() as p:
+        ctx = p.chromium.launch_persistent_context(profile, executable_path=CHROMIUM, args=ARGS, headless=True,
+                                                   viewport={"width": 1500, "height": 980}, accept_downloads=True)
+        yield ctx
+        ctx.close()
+    shutil.rmtree(profile, ignore_errors=True)
+
+
+def _open(browser, url):
+    page = browser.new_page()
+    outside = []
+    page.on("request", lambda r: outside.append(r.url) if not r.url.startswith(("http://127.0.0.1", "ws://127.0.0.1",
+                                                                                "data:", "blob:")) else None)
+    page.goto(url)
+    page.wait_for_function("() => window.Bokeh && Bokeh.documents.length > 0 && "
+                           "Bokeh.documents[0].get_model_by_name('section') !== null", timeout=60_000)
+    page.wait_for_selector(".magrod-status", timeout=30_000)
+    page.outside_requests = outside
+    deadline = time.time() + 60  # the session's worker threads have built their integrators ("warm cache")
+    while not _status(int(url.rsplit(":", 1)[1].strip("/")))["warm"]:
+        assert time.time() < deadline
+        time.sleep(0.05)
+    return page
+
+
+def _pixel(page, x, y):
+    """Page coordinates of data point (x, y) on the section plot (Bokeh's own scales of the rendered frame)."""
+    return page.evaluate("""([x, y]) => {
+        const fig = Bokeh.documents[0].get_model_by_name('section');
+        const v = Bokeh.index.find_one(fig);
+        const r = v.canvas_view.el.getBoundingClientRect();
+        return [r.left + v.frame.x_scale.compute(x), r.top + v.frame.y_scale.compute(y)];
+    }""", [x, y])
+
+
+def _n_points(page, orbit_id):
+    return page.evaluate("""(id) => {
+        const s = Bokeh.documents[0].get_model_by_name('orbit-src-' + id);
+        return s === null ? 0 : s.data.x.length;
+    }""", orbit_id)
+
+
+def _text(page, selector) -> str:
+    """Text of a Panel pane: its content lives in the element's shadow root."""
+    return page.locator(selector).first.evaluate(
+        "el => Array.from((el.shadowRoot || el).children).filter(c => !['STYLE', 'LINK'].includes(c.tagName))"
+        ".map(c => c.textContent).join(' ')")
+
+
+def _status_text(page) -> str:
+    return _text(page, ".magrod-status")
+
+
+def _wait_text(page, selector, predicate, timeout=10.0) -> str:
+    """Poll the text of `selector` (Playwright's locators pierce Bokeh's shadow DOM) until predicate(text)."""
+    deadline = time.time() + timeout
+    while True:
+        text = _text(page, selector)
+        if predicate(text):
+            return text
+        assert time.time() < deadline, f"{selector}: {text!r}"
+        time.sleep(0.05)
+
+
+def _type(page, name, value):
+    box = page.locator(f".magrod-input-{name} input")
+    box.fill(str(value))
+    box.press("Enter")
+
+
+def test_click_stream_export_messages(server, browser):
+    import magrod as mr
+
+    page = _open(browser, server.url)
+    x, y = _pixel(page, 0.1, 0.5)
+    t, wall = time.perf_counter(), time.time()
+    page.mouse.click(x, y)
+    page.wait_for_function("() => { const s = Bokeh.documents[0].get_model_by_name('orbit-src-1');"
+                           " return s !== null && s.data.x.length > 0 }", timeout=30_000, polling=10)
+    first = time.perf_counter() - t
+    st = _status(server.port)
+    print(f"click -> handler {st['tap_wall'][0] - wall:.3f} s, -> streamed {st['stream_wall'][0] - wall:.3f} s")
+    page.wait_for_function("() => Bokeh.documents[0].get_model_by_name('orbit-src-1').data.x.length >= 1000",
+                           timeout=60_000)
+    thousand = time.perf_counter() - t
+    _wait_text(page, ".magrod-status", lambda s: "growth exponent" in s, 60)  # the indicator: orbit finished
+    print(f"click -> first points in the browser {first:.3f} s; 1000 iterates {thousand:.3f} s; "
+          f"server-side first points {_status(server.port)['first_points_s']} tap handler {_status(server.port)['tap_handler_s']}; {_status_text(page)}")
+
+    # the app's data export, through the browser's download
+    with page.expect_download(timeout=60_000) as dl:
+        page.locator(".magrod-download").locator("button, a").first.click()
+    data = Path(dl.value.path()).read_bytes()
+    with zipfile.ZipFile(io.BytesIO(data)) as z:
+        names = set(z.namelist())
+        assert {"orbit01.npz", "orbit01.json", "orbit01.png", "section.png", "explore.json"} <= names
+        side = json.loads(z.read("orbit01.json"))
+        with np.load(io.BytesIO(z.read("orbit01.npz"))) as a:
+            points, dH = a["points"], a["dH"]
+    assert points.shape[0] >= 100 and points.shape[0] == side["n_points"] == _n_points(page, 1)
+    assert np.max(np.abs(dH)) <= 1e-12 and side["max_abs_dH"] <= 1e-12
+    # the click landed on the Fig 4(a) start to within a pixel of the plot
+    px = np.pi / 554 * 2  # ~2 pixels in theta
+    assert abs(side["theta0"] - 0.1) < px and abs(side["ptheta0"] - 0.5) < 0.02
+    assert side["parameters"] == mr.panel("4a").params.as_dict() and side["h"] == 0.9
+    ref = mr.poincare_section(mr.panel("4a").params, 0.9, side["theta0"], side["ptheta0"], 0.0,
+                              iterates=points.shape[0])
+    assert ref.p_psi0 == side["p_psi0"] and side["root_index"] == 0
+    np.testing.assert_allclose(points, ref.points, rtol=0, atol=1e-12)
+    assert side["explorer"]["threshold"] == 3.0 and side["explorer"]["growth_exponent"] is not None
+
+    # a click in the forbidden region: a message, no orbit, no worker left busy
+    x, y = _pixel(page, 1.5, 1.4)
+    page.mouse.click(x, y)
+    _wait_text(page, ".magrod-status", lambda s: "No orbit" in s)
+    assert "no real root" in _status_text(page) and _n_points(page, 2) == 0
+    assert _status(server.port)["running"] == 0
+
+    # an invalid widget value: the message next to the widget, nothing applied
+    _type(page, "delta", "-1")
+    _wait_text(page, ".magrod-error-delta", lambda s: "delta: must be >= 0" in s)
+    _type(page, "delta", "3")
+    _wait_text(page, ".magrod-error-delta", lambda s: s.strip() == "")
+
+    ARTIFACTS.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(ARTIFACTS / "explore.png"), full_page=True)
+    (ARTIFACTS / "explore-section.png").write_bytes(zipfile.ZipFile(io.BytesIO(data)).read("section.png"))
+    assert page.outside_requests == [], page.outside_requests  # nothing fetched from outside the machine
+
+    # closing the page stops its computations within 1 s
+    _type(page, "iterates", "2000000")
+    x, y = _pixel(page, 0.1, 0.5)
+    page.mouse.click(x, y)
+    page.wait_for_function("() => { const s = Bokeh.documents[0].get_model_by_name('orbit-src-2');"
+                           " return s !== null && s.data.x.length > 100 }", timeout=30_000)
+    assert _status(server.port)["running"] >= 1
+    t, wall = time.perf_counter(), time.time()
+    page.close()
+    while _status(server.port)["running"] > 0:
+        assert time.perf_counter() - t < 5, _status(server.port)
+        time.sleep(0.02)
+    stopped = time.perf_counter() - t
+    lost, closed = _status(server.port)["closed"][-1]
+    print(f"page closed -> computations stopped in {stopped:.3f} s (server saw the connection lost after "
+          f"{lost - wall:.3f} s, cancelled at {closed - wall:.3f} s)")
+    assert stopped <= 1.0
+    assert _status(server.port)["worker_threads_alive"] == 0
+
+
+def test_ctrl_c_stops_everything(server, browser):
+    page = _open(browser, server.url)
+    _type(page, "iterates", "2000000")
+    x, y = _pixel(page, 0.1, 0.5)
+    page.mouse.click(x, y)
+    page.wait_for_function("() => { const s = Bokeh.documents[0].get_model_by_name('orbit-src-1');"
+                           " return s !== null && s.data.x.length > 100 }", timeout=30_000)
+    assert _status(server.port)["running"] >= 1
+    t = time.perf_counter()
+    server.proc.send_signal(signal.SIGINT)
+    while "stopped: every computation cancelled" not in server.stderr():
+        assert time.perf_counter() - t < 5, server.stderr()
+        time.sleep(0.01)
+    stopped = time.perf_counter() - t
+    rc = server.proc.wait(30)
+    print(f"Ctrl-C -> computations stopped in {stopped:.3f} s, process exited after {time.perf_counter() - t:.2f} s")
+    assert stopped <= 1.0
+    assert rc == 130 and server.stderr().strip().splitlines()[-1].startswith("magrod explore: error: interrupted")
+    with socket.socket() as s:  # nothing listens any more
+        assert s.connect_ex(("127.0.0.1", server.port)) != 0
