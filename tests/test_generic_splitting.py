@@ -70,7 +70,8 @@ def test_circle_predicts_the_primaries_as_mu_to_2lam():
     (an O(lambdabar) correction is expected); the bound 1 % is 4x that."""
     from magrod.core.params import RodParams
     from magrod.generated import scalars
-    from magrod.orbits import periodic_homoclinic as hp
+    from magrod.orbits import periodic_multipulse as hp
+    from magrod.orbits.periodic import periodic_saddle
 
     P = RodParams(1.7, 0.0021, 1.0, 1.0, 0.001)
     mu0 = scalars.straight_rod_mu(**P.as_dict())
@@ -85,7 +86,7 @@ def test_circle_predicts_the_primaries_as_mu_to_2lam():
         assert abs(spread / pred.spread(nu) - 1) <= 1e-2, (nu, spread, pred.spread(nu))
     assert pred.primaries_exist(1e-12) and not pred.primaries_exist(1e-13)  # merge at nu* = 6.8e-13
     # sin(psi) over the launch angle: psi0 + A sqrt(nu) sin(phi + const); least-squares first harmonic of a scan
-    ang, _, sp = hp.scan_angles(P.replace(mu=mu0 + 1e-8), 1, 61, eps=1e-7)
+    ang, _, sp = hp.scan_angles(periodic_saddle(P.replace(mu=mu0 + 1e-8)), 1, 61, eps=1e-7)
     ok = np.isfinite(sp)
     cols = np.column_stack([np.ones(ok.sum()), np.cos(ang[ok]), np.sin(ang[ok])])
     (p0, p1, p2), *_ = np.linalg.lstsq(cols, sp[ok], rcond=None)
