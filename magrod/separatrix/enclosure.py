@@ -129,7 +129,7 @@ def _upper(x: arb) -> float:
 
 def _ball_to_dict(x: arb) -> dict:
     return {"mid": float(x.mid()), "rad": _upper(x.rad()), "lower": float(x.lower().mid()) if x.is_finite() else None,
-            "upper": float(x.upper().mid()) if x.is_finite() else None, "ball": x.str(radius=True)}
+            "upper": float(x.upper().mid()) if x.is_finite() else None, "ball": x.str(20, radius=True)}
 
 
 def _integrand_fn(mod, m, g, d, counter):
