@@ -129,7 +129,7 @@ def _enclosure_and_generic(out, quick: bool) -> list[str]:
     from ..separatrix import enclosure as E
     from ..separatrix import generic as G
 
-    enc = [E.enclose_S(m, g, d).to_dict() for m, g, d, _, _ in LEADING_CASES]
+    enc = [E.enclose_S(repr(m), repr(g), repr(d)).to_dict() for m, g, d, _, _ in LEADING_CASES]  # decimal = exact
     ctl = E.enclose_S(1.7, 0, 0).to_dict()
     box = E.box_theorem(("1.65", "1.75"), ("0.95", "1.05"), ("0.25", "3"), initial=(1, 1, 1))
     paths = [str(atomic_write_json(out / "splitting_enclosure.json",
