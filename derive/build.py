@@ -13,7 +13,7 @@ from . import numeric_scale as ns
 from . import homoclinic, melnikov, poisson, reduction, splitting, symmetry
 from . import floquet  # issue 13
 from . import validated  # issue 21
-from . import first_integrals  # issue 20
+from . import audit, first_integrals, generic_splitting  # issue 20
 from .codegen import HeyokaPrinter, function_source, module_source
 from .model import X, phi, psi, theta
 from .paper import delta, gamma, lambar, m, mu, pps, pth
@@ -218,6 +218,8 @@ def all_results():
     results += floquet.derive_all()  # issue 13
     results += splitting.derive_all()  # issue 12
     results += first_integrals.derive_all()  # issue 20
+    results += generic_splitting.derive_all()  # issue 20
+    results += audit.derive_all()  # issue 20: the authors' Fortran
     return results, {}
 
 
@@ -258,6 +260,7 @@ def build(out_dir: Path, verbose=True) -> dict:
     files["splitting.py"] = splitting.module()  # issue 12
     files["splitting_ball.py"] = splitting.ball_module()  # issue 20: S in ball arithmetic
     files["first_integrals.py"] = first_integrals.module()  # issue 20: exact first-integral search data
+    files["generic_splitting.py"] = generic_splitting.ball_module()  # issue 20: the a > 2b coefficient
     files["names.py"] = names_module()
     files["scalars.py"] = scalars_module()
     results, _ = all_results()

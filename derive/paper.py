@@ -209,3 +209,24 @@ def eq_Mel_ext_integrand():
 
 def eq_Mel_ext_prefactor():
     return -sp.sqrt(a - 2 * b) / m**2 * sp.sin(psi0)
+
+
+def djps_fortran_rhs():
+    """The right-hand side of the authors' shooting code (github.com/djps/homoclinic-orbits, newton.f, USRFUN_N,
+    F(1)..F(6), without the factor xT of the time scaling), transcribed as a comparison target: state (x1..x3) =
+    force, (x4..x6) = moment, quaternion q1..q4; parameters xnu, xrho, xm, xgamma, xsigma, xepsilon, xlambda.  The
+    field direction in body components is read off the quaternion products of F(1)-F(3).  Returns (symbols, E, F)."""
+    nu, rho, mm, gF, sF, eF, lF = sp.symbols("nu_F rho_F m_F gamma_F sigma_F epsilon_F lambda_F", real=True)
+    x1, x2, x3, x4, x5, x6, q1, q2, q3, q4 = sp.symbols("x1:7 q1:5", real=True)
+    E = [2 * (q1 * q3 - q2 * q4), 2 * (q1 * q4 + q2 * q3), q3**2 + q4**2 - q1**2 - q2**2]
+    F = [(1 + nu) * x2 * x6 - x3 * x5 + lF * 2 * (q1 * q4 + q2 * q3) + lF * eF * x3 * (1 + sF) * 2 * (q1 * q4 + q2 * q3)
+         - lF * eF * x2 * (q3**2 + q4**2 - q1**2 - q2**2),
+         (1 + rho) * x3 * x4 - (1 + nu) * x1 * x6 - lF * 2 * (q1 * q3 - q2 * q4)
+         + lF * eF * x1 * (1 + gF) * (q3**2 + q4**2 - q1**2 - q2**2) - lF * eF * x3 * (1 + sF) * 2 * (q1 * q3 - q2 * q4),
+         x1 * x5 - (1 + rho) * x2 * x4 + lF * eF * 2 * x2 * (q1 * q3 - q2 * q4) - lF * eF * (1 + gF) * x1 * 2 * (q1 * q4 + q2 * q3),
+         nu * x5 * x6 + x2 * (1 + eF * gF * x3) / mm**2,
+         (rho - nu) * x4 * x6 - x1 * (1 + eF * (gF - sF) * x3) / mm**2,
+         -rho * x4 * x5 - eF * sF * x1 * x2 / mm**2]
+    syms = dict(nu=nu, rho=rho, m=mm, gamma=gF, sigma=sF, epsilon=eF, lam=lF, x=(x1, x2, x3, x4, x5, x6),
+                q=(q1, q2, q3, q4))
+    return syms, E, F

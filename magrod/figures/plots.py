@@ -28,6 +28,9 @@ PLOTTERS: dict[str, str] = {
     # many orbits (magrod/figures/portrait.py)
     "SectionPortrait": "portrait:plot_portrait",
     "OrbitDiagram": "portrait:plot_orbit_diagram",
+    "GenericTerm": "splitting:plot_generic_term",
+    "GenericComparison": "splitting:plot_generic_comparison",
+    "CirclePrediction": "splitting:plot_circle",
 }
 
 

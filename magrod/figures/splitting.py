@@ -80,6 +80,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     paths = [str(atomic_write_json(out / "splitting_leading.json",
                                    {"cases": lead, "control_gamma_delta_0": control.as_dict(),
                                     "versions": versions()}))]
+    paths += _enclosure_and_generic(out, quick)
     for r, stem in ((eq, "splitting_a2b"), (ctl, "splitting_a2b_control"), (ti, "splitting_tilted"),
                     (ti0, "splitting_tilted_control")):
         paths += write(r, out, stem)
@@ -122,6 +123,75 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     return paths
 
 
+def _enclosure_and_generic(out, quick: bool) -> list[str]:
+    """Sidecars of issue 20: S in ball arithmetic at the six a = 2b cases and the integrable control
+    (splitting_enclosure.json), and the derived a > 2b coefficient against the measurement (splitting_generic.json)."""
+    from ..separatrix import enclosure as E
+    from ..separatrix import generic as G
+
+    enc = [E.enclose_S(repr(m), repr(g), repr(d)).to_dict() for m, g, d, _, _ in LEADING_CASES]  # decimal = exact
+    ctl = E.enclose_S(1.7, 0, 0).to_dict()
+    box = E.box_theorem(("1.65", "1.75"), ("0.95", "1.05"), ("0.25", "3"), initial=(1, 1, 1))
+    paths = [str(atomic_write_json(out / "splitting_enclosure.json",
+                                   {"cases": enc, "control_gamma_delta_0": ctl, "box": box.to_dict(),
+                                    "versions": versions()}))]
+    cmp_ = G.compare_generic(G.CASES[:2] if quick else G.CASES)
+    circle = G.circle_prediction(1.7, 1.0, 1.0, 1e-3).to_dict()
+    paths.append(str(atomic_write_json(out / "splitting_generic.json",
+                                       {**cmp_.to_dict(), "circle_lam_1e-3": circle, "versions": versions()})))
+    return paths
+
+
+def plot_generic_term(g, ax=None, **kw):
+    """GenericTerm.plot: the derived odd part D(psi)/eps^3 = 2 (s1/eps^3) sin(psi) of the a > 2b splitting, with its
+    zeros at psi = 0, pi (the two primary symmetric orbits)."""
+    from .plots import axes
+
+    ax = axes(ax)
+    psi = np.linspace(-np.pi, np.pi, 361)
+    c = float(g.coefficient.mid())
+    ax.plot(psi, 2 * c * np.sin(psi), **kw)
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel(r"$\psi$")
+    ax.set_ylabel(r"$D/\varepsilon^3$")
+    ax.set_title(f"derived, (m, gamma, delta, a, b) = ({g.m}, {g.gamma}, {g.delta}, {g.a}, {g.b})", fontsize=8)
+    return ax
+
+
+def plot_generic_comparison(r, ax=None, **kw):
+    """GenericComparison.plot: measured / derived - 1 per case and precision (the bound as a band)."""
+    from .plots import axes
+
+    ax = axes(ax)
+    for i, row in enumerate(r.rows):
+        for k, (pr, rel) in enumerate(row["rel_difference"].items()):
+            ax.semilogy([i], [max(rel, 1e-12)], "os"[k % 2], label=pr if i == 0 else None, **kw)
+    ax.axhline(r.tolerance, color="r", lw=0.8, label=f"bound {r.tolerance:g}")
+    ax.set_xticks(range(len(r.rows)), [str(tuple(row["case"])) for row in r.rows], rotation=60, ha="right",
+                  fontsize=6)
+    ax.set_ylabel("|measured/derived - 1|")
+    ax.legend(fontsize=7)
+    return ax
+
+
+def plot_circle(p, ax=None, nu=None, **kw):
+    """CirclePrediction.plot: W^u on Sigma in the transverse-force plane (chart units): the circle of radius
+    sqrt(nu) about lambdabar tan(theta_t/2) + i lambdabar^2 S; symmetric orbits where it meets Im = 0."""
+    from .plots import axes
+
+    ax = axes(ax)
+    nu = 4 * p.nu_merge if nu is None else nu
+    x0 = p.lam * p.lam * p.S / p.psi0  # = lambdabar tan(theta_t/2)
+    y0 = p.lam * p.lam * p.S
+    ph = np.linspace(0, 2 * np.pi, 361)
+    ax.plot(x0 + np.sqrt(nu) * np.cos(ph), y0 + np.sqrt(nu) * np.sin(ph), **kw)
+    ax.plot([x0], [y0], "k+")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel(r"$\rho\cos\psi$")
+    ax.set_ylabel(r"$\rho\sin\psi$")
+    ax.set_title(rf"$\bar\lambda$ = {p.lam:g}, $\nu$ = {nu:.2g} ($\nu^*$ = {p.nu_merge:.2g})", fontsize=8)
+    ax.set_aspect("equal", adjustable="datalim")
+    return ax
 def plot_splitting(res, ax=None, **kw):
     """Splitting.plot: |measure| against eps (log-log) in the reference precision, the power-law fit and, at
     a = 2b, the derived leading term b C_psi eps^2."""

@@ -129,7 +129,7 @@ def _upper(x: arb) -> float:
 
 def _ball_to_dict(x: arb) -> dict:
     return {"mid": float(x.mid()), "rad": _upper(x.rad()), "lower": float(x.lower().mid()) if x.is_finite() else None,
-            "upper": float(x.upper().mid()) if x.is_finite() else None, "ball": x.str(radius=True)}
+            "upper": float(x.upper().mid()) if x.is_finite() else None, "ball": x.str(20, radius=True)}
 
 
 def _integrand_fn(mod, m, g, d, counter):
@@ -167,7 +167,11 @@ def _choose_T(mod, m, g, d, tail_tol: float) -> tuple[fmpq, arb]:
         if E.is_finite() and _upper(E) <= tail_tol:
             return tq, E
         tT += 0.5
-    raise ParameterError("m", f"no cut with tail bound <= {tail_tol} up to tau_T = {tT:.3g} (m too close to m_c?)")
+    raise _NoCut(f"no cut with tail bound <= {tail_tol} up to tau_T = {tT:.3g} (m too close to m_c?)")
+
+
+class _NoCut(ArithmeticError):
+    """The tail bound cannot be met (parameter balls too wide, or kappa ~ 0): a box is then split, a point refused."""
 
 
 # --------------------------------------------------------------------------------------------------------------
@@ -291,7 +295,10 @@ def enclose_S(m, gamma, delta, *, prec: int = DEFAULT_PREC, tail_tol: float = DE
     counter = [0]
     with ctx.workprec(prec):
         M, G, Dl = arb(mq), arb(gq), arb(dq)
-        T, E = _choose_T(mod, M, G, Dl, tol)
+        try:
+            T, E = _choose_T(mod, M, G, Dl, tol)
+        except _NoCut as exc:
+            raise ParameterError("m", str(exc)) from None
         res = acb.integral(_integrand_fn(mod, M, G, Dl, counter), 0, arb(T))
         if not res.imag.contains(0):  # the integrand is real on the real axis: a sanity check of the code
             raise RuntimeError(f"imaginary part {res.imag} of a real integral")
@@ -402,7 +409,10 @@ def _enclose_rect(mod, mb, gb, dv: fmpq, tail_tol: float, counter) -> tuple[arb,
     m0, g0 = (mb[0] + mb[1]) / 2, (gb[0] + gb[1]) / 2
     wm, wg = (mb[1] - mb[0]) / 2, (gb[1] - gb[0]) / 2
     Mb, Gb, Dv = _ball(*mb), _ball(*gb), arb(dv)
-    T, E = _choose_T(mod, Mb, Gb, Dv, tail_tol)
+    try:
+        T, E = _choose_T(mod, Mb, Gb, Dv, tail_tol)
+    except _NoCut:  # too wide a box for the tail bound (near m_c): undecided, split it
+        return arb("inf"), {"m": math.inf, "gamma": math.inf, "tail": math.inf, "quad": math.inf, "T": "none"}
     M0, G0 = arb(m0), arb(g0)
     # the centre value needs only a few digits more than the mean value terms it is combined with
     res = acb.integral(_integrand_fn(mod, M0, G0, Dv, counter), 0, arb(T), rel_tol=2.0**-40, abs_tol=tail_tol)
