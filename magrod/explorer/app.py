@@ -104,7 +104,6 @@ class Explorer(pn.viewable.Viewer):
         self._lock = threading.Lock()
         self._closed = False
         self._connected_once = False
-        self._no_connection_since = None
         self._callback = None
         self.latencies: list[float] = []  # click -> first chunk handed to the page (s), for the status endpoint
         self.tap_handler_s: list[float] = []  # time spent in the click handler on the event loop (s)
@@ -530,13 +529,14 @@ class Explorer(pn.viewable.Viewer):
         except Exception:  # the session is being destroyed
             return
         if count > 0:
-            self._connected_once, self._no_connection_since = True, None
+            self._connected_once, self._lost_wall = True, None
         elif self._connected_once:
-            now = time.perf_counter()
-            if self._no_connection_since is None:
-                self._lost_wall = time.time()
-            self._no_connection_since = self._no_connection_since or now
-            if now - self._no_connection_since > CLOSE_GRACE_S:
+            # Bokeh stamps the moment the page's connection went away (monotonic clock); measuring from there,
+            # not from this poll, makes the recorded reaction time include the poll's own delay.
+            gone_s = session.milliseconds_since_last_unsubscribe / 1000
+            if self._lost_wall is None:
+                self._lost_wall = time.time() - gone_s
+            if gone_s > CLOSE_GRACE_S:
                 self.close()
 
     def close(self) -> None:
@@ -544,13 +544,15 @@ class Explorer(pn.viewable.Viewer):
         if self._closed:
             return
         self._closed = True
-        self.closed_wall = (self._lost_wall, time.time())
+        cancelled = time.time()
         if self._callback is not None:
             try:
                 self._callback.stop()
             except Exception:
                 pass
         self._worker.shutdown(timeout=0.5)
+        # (connection lost at the server, cancel issued, worker threads joined): wall-clock times, for /status
+        self.closed_wall = (self._lost_wall, cancelled, time.time())
         if self._registry is not None:
             self._registry.discard(self)
 
@@ -700,7 +702,7 @@ class Registry:
         self._items: set = set()
         self._lock = threading.Lock()
         self.latencies: list[float] = []
-        self.closed: list = []  # (connection seen lost, closed) wall-clock times of closed sessions
+        self.closed: list = []  # (connection lost, cancelled, threads joined) wall-clock times of closed sessions
 
     def add(self, e: Explorer):
         with self._lock:
