@@ -41,6 +41,7 @@ import os
 import re
 import time
 import warnings
+from concurrent.futures import CancelledError
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -522,8 +523,11 @@ class quiet_distributed:
     NAMES = ("distributed", "tornado", "asyncio", "bokeh")
 
     def __enter__(self):
-        self._old = {n: logging.getLogger(n).level for n in self.NAMES}
-        for n in self.NAMES:
+        # Dask's configuration gives child loggers (distributed.client, ...) levels of their own: quiet those too
+        names = set(self.NAMES) | {n for n in list(logging.root.manager.loggerDict)
+                                   if n.split(".")[0] in self.NAMES}
+        self._old = {n: logging.getLogger(n).level for n in names}
+        for n in names:
             logging.getLogger(n).setLevel(logging.CRITICAL)
         return self
 
@@ -649,6 +653,10 @@ def _collect(client, futs, spec, state: StoreState, res: dict, progress, worker_
             except TimeoutError:
                 idle_since = _check_cluster(client, idle_since, worker_timeout)
                 continue
+            except CancelledError as exc:  # distributed cancels every future when it loses the scheduler
+                why = "the connection was lost" if "connection-lost" in str(exc) else type(exc).__name__
+                raise EnvironmentFault("scheduler", f"lost the Dask scheduler while tiles were running ({why}): "
+                                                    f"finished tiles are kept; re-run the command to resume") from None
             for fut in finished:
                 try:
                     key, wall, digest = fut.result()

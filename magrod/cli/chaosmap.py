@@ -252,10 +252,11 @@ def run(args) -> dict:
         raise resource_fault(exc, "out", exc.filename if exc.filename is not None else pth["store"]) from None
     finally:
         interrupted = not ok_exit
-        if cluster is not None:
-            chaos_store.stop_local_cluster(cluster, client, pids, interrupted=interrupted)
-        elif client is not None:
-            chaos_store._close_quietly(client)
+        with chaos_store.quiet_distributed():  # a client whose scheduler is gone logs its reconnection attempts
+            if cluster is not None:
+                chaos_store.stop_local_cluster(cluster, client, pids, interrupted=interrupted)
+            elif client is not None:
+                chaos_store._close_quietly(client)
         if interrupted and state is not None:
             _clean_after_failure(chaos_store, pth, state, pids)
 
