@@ -142,6 +142,11 @@ class BallPrinter(HeyokaPrinter):
             raise TypeError(f"ball arithmetic takes exact numbers only, got the rounded constant {x}")
         return f"_Q({int(x.p)}, {int(x.q)})"
 
+    def pow_int(self, src: str, k: int) -> str:
+        """src**k for an integer k >= 1, as a product (`_pw`): Arb's `**` of a ball that contains 0 is nan --
+        rigorous but useless, e.g. for sin(theta)**2 on a ball around theta = 0."""
+        return src if k == 1 else f"_pw({src}, {k})"
+
     def p(self, e) -> str:
         if e is sp.pi:
             return "arb.pi()"
@@ -150,9 +155,12 @@ class BallPrinter(HeyokaPrinter):
             if x.is_Rational and x.q == 2:
                 inner = f"({self.p(b)}).sqrt()"
                 k = int(x.p)
-                return f"({inner} ** {k})" if k > 0 else f"(_Q(1, 1) / ({inner} ** {-k}))"
+                return self.pow_int(inner, k) if k > 0 else f"(_Q(1, 1) / {self.pow_int(inner, -k)})"
             if x == -1:
                 return f"(_Q(1, 1) / {self.p(b)})"
+            if x.is_Integer:
+                k = int(x)
+                return self.pow_int(self.p(b), k) if k > 0 else f"(_Q(1, 1) / {self.pow_int(self.p(b), -k)})"
         if e.is_Mul and not any(f.is_Pow and f.exp.is_Number and f.exp < 0 for f in e.args) \
                 and all(not (f.is_Rational and not f.is_Integer) for f in e.args):
             c, _ = e.as_coeff_Mul()
@@ -188,7 +196,9 @@ def module_source(doc: str, source: str, parts: list[str], constants: dict | Non
     """A generated module.  lib="hy": builds heyoka expressions; lib="math": plain floats, no heyoka import;
     lib="arb": python-flint balls (BallPrinter); lib=None: constants only.  `imports`: extra import lines (e.g. names from generated/names.py)."""
     head = {"hy": ["import heyoka as hy", "", "_E = hy.expression", ""], "math": ["import math", ""],
-            "arb": ["from flint import arb, fmpq", "", "", "def _Q(p, q):", "    return arb(fmpq(p, q))", ""],
+            "arb": ["from flint import arb, fmpq", "", "", "def _Q(p, q):", "    return arb(fmpq(p, q))", "", "",
+                    "def _pw(x, k):", "    # x**k as a product: Arb's ** of a ball containing 0 is nan",
+                    "    r = x", "    for _ in range(k - 1):", "        r = r * x", "    return r", ""],
             None: []}[lib]
     out = [HEADER.format(doc=doc, source=source), *imports, *([""] if imports else []), *head]
     for k, v in (constants or {}).items():

@@ -12,18 +12,26 @@ from flint import arb, fmpq
 def _Q(p, q):
     return arb(fmpq(p, q))
 
+
+def _pw(x, k):
+    # x**k as a product: Arb's ** of a ball containing 0 is nan
+    r = x
+    for _ in range(k - 1):
+        r = r * x
+    return r
+
 BRANCH_KINDS = ('atan', 'sqrt', 'sqrt')
 
 
 def orbit_constants(m, gamma):
     """(u_+, omega = 1 - k, kappa, A, B, rho, P, q) of the lambdabar = 0 homoclinic orbit (derive/splitting.py orbit_constants; no division by gamma)."""
-    _x0 = (m ** 2)
-    _x1 = (((_Q(1, 1) + (_x0 * gamma))).sqrt() ** 1)
+    _x0 = _pw(m, 2)
+    _x1 = ((_Q(1, 1) + (_x0 * gamma))).sqrt()
     _x2 = (_Q(1, 1) + _x1)
     _x3 = ((_Q(-2, 1) + _x0 - gamma) / ((_x2 + gamma)))
     _x4 = (_x2 + (_Q(2, 1) * gamma))
     _x5 = (_Q(1, 1) - _x3)
-    _x6 = (((_x4 * _x5)).sqrt() ** 1)
+    _x6 = ((_x4 * _x5)).sqrt()
     _x7 = (_x3 / (_Q(2, 1)))
     _x8 = (_Q(1, 2) - _x7)
     _x9 = (_Q(1, 2) + _x7)
@@ -32,9 +40,9 @@ def orbit_constants(m, gamma):
         _x3,
         (_x5 * gamma / (_x4)),
         (_x6 / (_Q(2, 1) * m)),
-        ((_x8).sqrt() ** 1),
-        (_x8 * m / (_x6 * (((_x10 * _x9)).sqrt() ** 1))),
-        (((_x10 / (_x9))).sqrt() ** 1),
+        (_x8).sqrt(),
+        (_x8 * m / (_x6 * ((_x10 * _x9)).sqrt())),
+        ((_x10 / (_x9))).sqrt(),
         _x9,
         _x10,
     ]
@@ -43,24 +51,24 @@ def orbit_constants(m, gamma):
 def phase(t, m, gamma):
     """Psi(t) = t/2 + B atan(rho tanh(kappa t)) = Int_0^t dt/(1 + cos theta0) (report entry splitting_phase_closed_form)."""
     _x0 = (t / (_Q(2, 1)))
-    _x1 = (m ** 2)
-    _x2 = (((_Q(1, 1) + (_x1 * gamma))).sqrt() ** 1)
+    _x1 = _pw(m, 2)
+    _x2 = ((_Q(1, 1) + (_x1 * gamma))).sqrt()
     _x3 = (_Q(1, 1) + _x2)
     _x4 = ((_Q(-2, 1) + _x1 - gamma) / ((_x3 + gamma)))
     _x5 = (_x4 / (_Q(2, 1)))
     _x6 = (_Q(1, 1) - _x4)
-    _x7 = (((_x6 * (_x3 + (_Q(2, 1) * gamma)))).sqrt() ** 1)
+    _x7 = ((_x6 * (_x3 + (_Q(2, 1) * gamma)))).sqrt()
     _x8 = (_Q(1, 2) + _x5)
     _x9 = (_x3 * _x6 / ((_Q(2, 1) + (_Q(2, 1) * _x2) + (_Q(4, 1) * gamma))))
-    return (_x0 + (m * (_Q(1, 2) - _x5) * (((((_x9 / (_x8))).sqrt() ** 1) * ((_x0 * _x7 / (m))).tanh())).atan() / (_x7 * (((_x8 * _x9)).sqrt() ** 1))))
+    return (_x0 + (m * (_Q(1, 2) - _x5) * ((((_x9 / (_x8))).sqrt() * ((_x0 * _x7 / (m))).tanh())).atan() / (_x7 * ((_x8 * _x9)).sqrt())))
 
 
 def integrand(tau, m, gamma, delta):
     """N(tau/kappa)/kappa: S = Int_0^inf of it dtau, tau = kappa t (report entries splitting_leading_term, splitting_integrand_ball).  Same source for arb and acb; with acb, check branch_arguments first."""
     _x0 = (tau).tanh()
-    _x1 = (_x0 ** 2)
-    _x2 = (m ** 2)
-    _x3 = (((_Q(1, 1) + (_x2 * gamma))).sqrt() ** 1)
+    _x1 = _pw(_x0, 2)
+    _x2 = _pw(m, 2)
+    _x3 = ((_Q(1, 1) + (_x2 * gamma))).sqrt()
     _x4 = (_Q(1, 1) + _x3)
     _x5 = ((_Q(-2, 1) + _x2 - gamma) / ((_x4 + gamma)))
     _x6 = (_Q(1, 1) - _x5)
@@ -72,33 +80,33 @@ def integrand(tau, m, gamma, delta):
     _x12 = (_Q(1, 2) - _x11)
     _x13 = (tau).cosh()
     _x14 = (_x6 * _x8)
-    _x15 = ((_x14).sqrt() ** 1)
+    _x15 = (_x14).sqrt()
     _x16 = (_Q(-2, 1) + (_x7 * _x9))
     _x17 = (_Q(1, 1) / _x10)
-    _x18 = (_x12 * _x17 / ((_x13 ** 2)))
+    _x18 = (_x12 * _x17 / (_pw(_x13, 2)))
     _x19 = (_Q(1, 1) - _x18)
-    _x20 = (_Q(1, 1) / ((_x19).sqrt() ** 1))
+    _x20 = (_Q(1, 1) / (_x19).sqrt())
     _x21 = (m / (_x15))
     _x22 = (_Q(1, 2) + _x11)
     _x23 = (_Q(4, 1) * gamma)
     _x24 = (_x4 * _x6 / ((_Q(2, 1) + _x23 + (_Q(2, 1) * _x3))))
-    _x25 = ((_x21 * tau) + (_x12 * _x21 * ((_x0 * (((_x24 / (_x22))).sqrt() ** 1))).atan() / ((((_x22 * _x24)).sqrt() ** 1))))
+    _x25 = ((_x21 * tau) + (_x12 * _x21 * ((_x0 * ((_x24 / (_x22))).sqrt())).atan() / (((_x22 * _x24)).sqrt())))
     _x26 = (_Q(1, 1) / _x2)
     _x27 = (_x26 * delta)
     _x28 = (_Q(1, 1) / _x19)
-    _x29 = (_x28 * (_x28 + (_x1 * _x14 * (_x16 ** 2) * _x26 * _x28 / (_Q(4, 1) * (_x10 ** 2)))) / (_Q(8, 1)))
+    _x29 = (_x28 * (_x28 + (_x1 * _x14 * _pw(_x16, 2) * _x26 * _x28 / (_Q(4, 1) * _pw(_x10, 2)))) / (_Q(8, 1)))
     _x30 = (_Q(2, 1) * _x18)
     _x31 = (_Q(1, 1) - _x30)
-    return (_Q(2, 1) * ((_x12).sqrt() ** 1) * _x21 * ((_x20 * ((-_x27) - (_x26 * (_Q(1, 1) - _x30 + (gamma * (_Q(-1, 1) + (_Q(2, 1) * (_x31 ** 2)))))) - (_x29 * _x31) - (_x18 * _x19 * _x23 * _x26)) * (_x25).cos()) + (_x0 * _x15 * _x16 * _x17 * _x20 * (_x27 + _x29) * (_x25).sin() / (_Q(2, 1) * m))) / (((_x10).sqrt() ** 1) * _x13))
+    return (_Q(2, 1) * (_x12).sqrt() * _x21 * ((_x20 * ((-_x27) - (_x26 * (_Q(1, 1) - _x30 + (gamma * (_Q(-1, 1) + (_Q(2, 1) * _pw(_x31, 2)))))) - (_x29 * _x31) - (_x18 * _x19 * _x23 * _x26)) * (_x25).cos()) + (_x0 * _x15 * _x16 * _x17 * _x20 * (_x27 + _x29) * (_x25).sin() / (_Q(2, 1) * m))) / ((_x10).sqrt() * _x13))
 
 
 def integrand_gradient(tau, m, gamma, delta):
     """d/d(m, gamma, delta) of integrand at fixed tau (for the parameter-box theorem)."""
-    _x0 = (m ** 2)
+    _x0 = _pw(m, 2)
     _x1 = (_Q(1, 1) / _x0)
     _x2 = (_x1 * delta)
     _x3 = (_Q(-2, 1) + _x0 - gamma)
-    _x4 = (((_Q(1, 1) + (_x0 * gamma))).sqrt() ** 1)
+    _x4 = ((_Q(1, 1) + (_x0 * gamma))).sqrt()
     _x5 = (_Q(1, 1) + _x4)
     _x6 = (_x5 + gamma)
     _x7 = (_Q(1, 1) / _x6)
@@ -106,7 +114,7 @@ def integrand_gradient(tau, m, gamma, delta):
     _x9 = (_x8 / (_Q(2, 1)))
     _x10 = (_Q(1, 2) - _x9)
     _x11 = (tau).tanh()
-    _x12 = (_x11 ** 2)
+    _x12 = _pw(_x11, 2)
     _x13 = (_Q(1, 1) - _x8)
     _x14 = (_Q(2, 1) * gamma)
     _x15 = (_x14 + _x5)
@@ -116,15 +124,15 @@ def integrand_gradient(tau, m, gamma, delta):
     _x19 = (_Q(1, 1) - (_x18 * gamma))
     _x20 = (_Q(1, 1) / _x19)
     _x21 = (tau).cosh()
-    _x22 = (_Q(1, 1) / (_x21 ** 2))
+    _x22 = (_Q(1, 1) / _pw(_x21, 2))
     _x23 = (_x20 * _x22)
     _x24 = (_x10 * _x23)
     _x25 = (_Q(1, 1) - _x24)
     _x26 = (_Q(1, 1) / _x25)
     _x27 = (_x13 * _x15)
-    _x28 = (_Q(1, 1) / (_x19 ** 2))
+    _x28 = (_Q(1, 1) / _pw(_x19, 2))
     _x29 = (_Q(-2, 1) + (_x14 * _x17))
-    _x30 = (_x29 ** 2)
+    _x30 = _pw(_x29, 2)
     _x31 = (_x26 * _x28 * _x30)
     _x32 = (_x12 * _x27 * _x31)
     _x33 = (_x1 / (_Q(4, 1)))
@@ -133,8 +141,8 @@ def integrand_gradient(tau, m, gamma, delta):
     _x36 = (_x34 * _x35)
     _x37 = (_x2 + _x36)
     _x38 = (_Q(1, 1) / m)
-    _x39 = ((_x27).sqrt() ** 1)
-    _x40 = (_Q(1, 1) / ((_x25).sqrt() ** 1))
+    _x39 = (_x27).sqrt()
+    _x40 = (_Q(1, 1) / (_x25).sqrt())
     _x41 = (_Q(1, 1) / _x39)
     _x42 = (_x41 * tau)
     _x43 = (_x42 * m)
@@ -144,10 +152,10 @@ def integrand_gradient(tau, m, gamma, delta):
     _x47 = (_Q(1, 1) / _x46)
     _x48 = (_x47 * _x5)
     _x49 = (_x13 * _x48)
-    _x50 = (_Q(1, 1) / (((_x44 * _x49)).sqrt() ** 1))
+    _x50 = (_Q(1, 1) / ((_x44 * _x49)).sqrt())
     _x51 = (_Q(1, 1) / _x44)
     _x52 = (_x49 * _x51)
-    _x53 = (_x11 * ((_x52).sqrt() ** 1))
+    _x53 = (_x11 * (_x52).sqrt())
     _x54 = (_x41 * _x50 * (_x53).atan())
     _x55 = (_x10 * _x54)
     _x56 = (_x55 * m)
@@ -162,19 +170,19 @@ def integrand_gradient(tau, m, gamma, delta):
     _x65 = (_x24 * _x64)
     _x66 = (_Q(2, 1) * _x24)
     _x67 = (_Q(1, 1) - _x66)
-    _x68 = (_x67 ** 2)
+    _x68 = _pw(_x67, 2)
     _x69 = (_Q(1, 1) - _x66 + (gamma * (_Q(-1, 1) + (_Q(2, 1) * _x68))))
     _x70 = ((-_x2) - (_x1 * _x69) - (_x36 * _x67) - (_x45 * _x65))
     _x71 = (_x57).cos()
     _x72 = (_x40 * _x71)
     _x73 = (_x63 + (_x70 * _x72))
-    _x74 = (_Q(1, 1) / ((_x19).sqrt() ** 1))
-    _x75 = ((_x10).sqrt() ** 1)
+    _x74 = (_Q(1, 1) / (_x19).sqrt())
+    _x75 = (_x10).sqrt()
     _x76 = (_Q(1, 1) / _x21)
     _x77 = (_Q(2, 1) * _x41 * _x74 * _x75 * _x76)
     _x78 = (_x73 * _x77)
     _x79 = (_x7 * m)
-    _x80 = (_x3 / ((_x6 ** 2)))
+    _x80 = (_x3 / (_pw(_x6, 2)))
     _x81 = (_Q(1, 1) / _x4)
     _x82 = (_x81 * m)
     _x83 = (_x82 * gamma)
@@ -182,12 +190,12 @@ def integrand_gradient(tau, m, gamma, delta):
     _x85 = (_x41 * m)
     _x86 = (_Q(2, 1) * _x73 * _x76 * _x85)
     _x87 = (_x74 * _x86 / (_x75))
-    _x88 = (gamma ** 2)
-    _x89 = (_Q(1, 1) / (_x15 ** 2))
+    _x88 = _pw(gamma, 2)
+    _x89 = (_Q(1, 1) / _pw(_x15, 2))
     _x90 = (_x13 / (_Q(2, 1)))
     _x91 = (_x89 * _x90)
     _x92 = ((-(_Q(2, 1) * _x79)) + _x84)
-    _x93 = (_x75 * _x86 / (((_x19).sqrt() ** 3)))
+    _x93 = (_x75 * _x86 / (_pw((_x19).sqrt(), 3)))
     _x94 = (_x83 * _x90)
     _x95 = (_x15 / (_Q(2, 1)))
     _x96 = (_x94 + (_x92 * _x95))
@@ -205,7 +213,7 @@ def integrand_gradient(tau, m, gamma, delta):
     _x108 = (_x104 * _x11 * _x29 * _x39)
     _x109 = (_x108 * _x59)
     _x110 = (_x63 * _x99)
-    _x111 = (_Q(1, 1) / ((_x25).sqrt() ** 3))
+    _x111 = (_Q(1, 1) / _pw((_x25).sqrt(), 3))
     _x112 = ((-_x79) + (_x84 / (_Q(2, 1))))
     _x113 = (_x112 * _x23)
     _x114 = (_x10 * _x22)
@@ -218,7 +226,7 @@ def integrand_gradient(tau, m, gamma, delta):
     _x121 = (_x54 * m)
     _x122 = (_x56 * _x99)
     _x123 = (_x44 * _x47)
-    _x124 = (_Q(1, 1) / (_x46 ** 2))
+    _x124 = (_Q(1, 1) / _pw(_x46, 2))
     _x125 = (_x48 * _x90)
     _x126 = (_x48 / (_Q(2, 1)))
     _x127 = (_x126 * _x92)
@@ -227,13 +235,13 @@ def integrand_gradient(tau, m, gamma, delta):
     _x130 = (_x47 * _x51)
     _x131 = (_x124 * _x5)
     _x132 = (_x131 * _x51)
-    _x133 = (_x125 / ((_x44 ** 2)))
+    _x133 = (_x125 / (_pw(_x44, 2)))
     _x134 = (_x10 * _x128 * _x44 * _x50 * _x53 * _x85 / ((_Q(1, 1) + (_x12 * _x52))))
     _x135 = (_x42 + _x55 + (_x112 * _x121) + (_x120 * _x97) + (_x122 * _x97) + (_x129 * ((_x112 * _x125) - (_x123 * _x94) - (_x127 * _x44) + (_x124 * _x13 * _x44 * _x5 * _x81 * gamma * m))) + (_x134 * ((_x112 * _x133) + (_x127 * _x51) + (_x130 * _x94) - (_x13 * _x132 * _x83))))
     _x136 = (_x117 * _x72)
-    _x137 = (_Q(1, 1) / (m ** 3))
+    _x137 = (_Q(1, 1) / _pw(m, 3))
     _x138 = (-(_Q(2, 1) * _x137 * delta))
-    _x139 = (_Q(1, 1) / (_x25 ** 2))
+    _x139 = (_Q(1, 1) / _pw(_x25, 2))
     _x140 = (_x113 + _x115)
     _x141 = (_x139 * _x140)
     _x142 = (_x34 / (_Q(8, 1)))
@@ -244,7 +252,7 @@ def integrand_gradient(tau, m, gamma, delta):
     _x147 = (_x146 * _x15 * _x33)
     _x148 = (_x12 * _x26 * _x27 * _x33)
     _x149 = (_x148 * _x28 * _x29)
-    _x150 = (_x148 * _x30 / ((_x19 ** 3)))
+    _x150 = (_x148 * _x30 / (_pw(_x19, 3)))
     _x151 = (_x12 * _x27 * _x28 * _x30 * _x33)
     _x152 = (_x35 * (_x141 - (_x137 * _x32 / (_Q(2, 1))) + (_x141 * _x151) + (_x147 * _x92) + (_x149 * ((-(_Q(4, 1) * _x103)) + (_Q(4, 1) * _x16 * _x92 * gamma))) + (_x150 * ((-(_Q(2, 1) * _x106)) + (_Q(2, 1) * _x12 * _x16 * _x92 * gamma))) + (_x144 * _x145 * _x31 * _x38 * _x81)))
     _x153 = (_x59 * _x70)
@@ -290,16 +298,16 @@ def integrand_gradient(tau, m, gamma, delta):
 def branch_arguments(tau, m, gamma):
     """Arguments of the t-dependent sqrt/atan of integrand, kinds in BRANCH_KINDS: N is analytic on a complex ball where every 'sqrt' argument has Re > 0 and every 'atan' argument |Im| < 1."""
     _x0 = (tau).tanh()
-    _x1 = (m ** 2)
-    _x2 = (((_Q(1, 1) + (_x1 * gamma))).sqrt() ** 1)
+    _x1 = _pw(m, 2)
+    _x2 = ((_Q(1, 1) + (_x1 * gamma))).sqrt()
     _x3 = (_Q(1, 1) + _x2)
     _x4 = ((_Q(-2, 1) + _x1 - gamma) / ((_x3 + gamma)))
     _x5 = (_Q(1, 1) - _x4)
     _x6 = (_x4 / (_Q(2, 1)))
-    _x7 = (_Q(1, 1) - ((_x0 ** 2) * _x5 * gamma / ((_x3 + (_Q(2, 1) * gamma)))))
+    _x7 = (_Q(1, 1) - (_pw(_x0, 2) * _x5 * gamma / ((_x3 + (_Q(2, 1) * gamma)))))
     return [
-        (_x0 * (((_x3 * _x5 / ((_Q(1, 2) + _x6) * (_Q(2, 1) + (_Q(2, 1) * _x2) + (_Q(4, 1) * gamma))))).sqrt() ** 1)),
-        (_Q(1, 1) - ((_Q(1, 2) - _x6) / (_x7 * ((tau).cosh() ** 2)))),
+        (_x0 * ((_x3 * _x5 / ((_Q(1, 2) + _x6) * (_Q(2, 1) + (_Q(2, 1) * _x2) + (_Q(4, 1) * gamma))))).sqrt()),
+        (_Q(1, 1) - ((_Q(1, 2) - _x6) / (_x7 * _pw((tau).cosh(), 2)))),
         _x7,
     ]
 
@@ -308,51 +316,51 @@ def tail_factors(s, c, TH, D, m, gamma, delta):
     """(Re G/s, Im G/s): |N| <= s (|Re G/s| + |Im G/s|) (evaluate on the tail's ranges)."""
     _x0 = (_Q(1, 1) / c)
     _x1 = (_Q(2, 1) * gamma)
-    _x2 = (m ** 2)
-    _x3 = (_Q(1, 1) + (((_Q(1, 1) + (_x2 * gamma))).sqrt() ** 1))
+    _x2 = _pw(m, 2)
+    _x3 = (_Q(1, 1) + ((_Q(1, 1) + (_x2 * gamma))).sqrt())
     _x4 = (_x1 + _x3)
     _x5 = (_Q(1, 1) - ((_Q(-2, 1) + _x2 - gamma) / ((_x3 + gamma))))
     _x6 = (_x4 * _x5)
     _x7 = (_Q(-2, 1) + (_x1 * _x5 / (_x4)))
     _x8 = (_Q(1, 1) / _x2)
     _x9 = (_x8 * delta)
-    _x10 = (c ** 2)
+    _x10 = _pw(c, 2)
     _x11 = (_Q(1, 1) / _x10)
-    _x12 = (_x11 * (_x11 + ((TH ** 2) * _x11 * _x6 * (_x7 ** 2) * _x8 / (_Q(4, 1) * (D ** 2)))) / (_Q(8, 1)))
-    _x13 = (s ** 2)
+    _x12 = (_x11 * (_x11 + (_pw(TH, 2) * _x11 * _x6 * _pw(_x7, 2) * _x8 / (_Q(4, 1) * _pw(D, 2)))) / (_Q(8, 1)))
+    _x13 = _pw(s, 2)
     _x14 = (_Q(2, 1) * _x13)
     _x15 = (_Q(1, 1) - _x14)
     return [
-        (-(TH * _x0 * ((_x6).sqrt() ** 1) * _x7 * (_x12 + _x9) / (_Q(2, 1) * D * m))),
-        (_x0 * ((-_x9) - (_x12 * _x15) - (_x8 * (_Q(1, 1) - _x14 + (gamma * (_Q(-1, 1) + (_Q(2, 1) * (_x15 ** 2)))))) - (_Q(4, 1) * _x10 * _x13 * _x8 * gamma))),
+        (-(TH * _x0 * (_x6).sqrt() * _x7 * (_x12 + _x9) / (_Q(2, 1) * D * m))),
+        (_x0 * ((-_x9) - (_x12 * _x15) - (_x8 * (_Q(1, 1) - _x14 + (gamma * (_Q(-1, 1) + (_Q(2, 1) * _pw(_x15, 2)))))) - (_Q(4, 1) * _x10 * _x13 * _x8 * gamma))),
     ]
 
 
 def tail_quantities(tau_T, m, gamma):
     """(s_up, c_lo, tanh(tau_T), 1 - omega, D_up, majorant of Int_T^inf s dt) on tau >= tau_T (derive/splitting.py tail_quantities)."""
     _x0 = (tau_T).cosh()
-    _x1 = (m ** 2)
-    _x2 = (_Q(1, 1) + (((_Q(1, 1) + (_x1 * gamma))).sqrt() ** 1))
+    _x1 = _pw(m, 2)
+    _x2 = (_Q(1, 1) + ((_Q(1, 1) + (_x1 * gamma))).sqrt())
     _x3 = (_x2 + (_Q(2, 1) * gamma))
     _x4 = ((_Q(-2, 1) + _x1 - gamma) / ((_x2 + gamma)))
     _x5 = (_Q(1, 1) - _x4)
     _x6 = (_x5 * gamma / (_x3))
     _x7 = (_Q(1, 1) - _x6)
     _x8 = (_Q(1, 2) - (_x4 / (_Q(2, 1))))
-    _x9 = (((_x8).sqrt() ** 1) / (((_x7).sqrt() ** 1)))
+    _x9 = ((_x8).sqrt() / ((_x7).sqrt()))
     _x10 = (tau_T).tanh()
     return [
         (_x9 / (_x0)),
-        (((_Q(1, 1) - (_x8 / ((_x0 ** 2) * _x7)))).sqrt() ** 1),
+        ((_Q(1, 1) - (_x8 / (_pw(_x0, 2) * _x7)))).sqrt(),
         _x10,
         _x7,
-        (_Q(1, 1) - ((_x10 ** 2) * _x6)),
-        (_Q(4, 1) * _x9 * m * (((-tau_T)).exp()).atan() / ((((_x3 * _x5)).sqrt() ** 1))),
+        (_Q(1, 1) - (_pw(_x10, 2) * _x6)),
+        (_Q(4, 1) * _x9 * m * (((-tau_T)).exp()).atan() / (((_x3 * _x5)).sqrt())),
     ]
 
 
 def tan_half_turn(m, gamma):
     """tan(theta_t/2) at the turning point (psi_u = lambdabar S/tan(theta_t/2))."""
-    _x0 = (m ** 2)
-    _x1 = ((_Q(-2, 1) + _x0 - gamma) / ((_Q(1, 1) + gamma + (((_Q(1, 1) + (_x0 * gamma))).sqrt() ** 1))))
-    return ((((_Q(1, 1) - _x1) / ((_Q(1, 1) + _x1)))).sqrt() ** 1)
+    _x0 = _pw(m, 2)
+    _x1 = ((_Q(-2, 1) + _x0 - gamma) / ((_Q(1, 1) + gamma + ((_Q(1, 1) + (_x0 * gamma))).sqrt())))
+    return (((_Q(1, 1) - _x1) / ((_Q(1, 1) + _x1)))).sqrt()

@@ -12,6 +12,14 @@ from flint import arb, fmpq
 def _Q(p, q):
     return arb(fmpq(p, q))
 
+
+def _pw(x, k):
+    # x**k as a product: Arb's ** of a ball containing 0 is nan
+    r = x
+    for _ in range(k - 1):
+        r = r * x
+    return r
+
 CHART_STATE = ('theta', 'psi', 'ptheta', 'ppsi')
 BODY_STATE = ('m1', 'm2', 'm3', 'n1', 'n2', 'n3', 'e31', 'e32', 'e33')
 PARAMS = ('m', 'mu', 'gamma', 'delta', 'lam')
