@@ -128,6 +128,18 @@ def test_box_theorem_small_box():
         assert box.S_lo <= float(v.S.mid()) <= box.S_hi
 
 
+def test_a_box_without_a_tail_bound_is_undecided_never_decided(monkeypatch):
+    """Where no tail cut exists for a box (near m_c), its S is unknown: the box must be split or reported undecided.
+    (The "unknown" ball was once arb('inf'), the point +inf, which compares > 0: such a box came out "S > 0".)"""
+    def no_cut(*a, **k):
+        raise E._NoCut("no cut (test)")
+
+    monkeypatch.setattr(E, "_choose_T", no_cut)
+    r = E.box_theorem(("1.65", "1.75"), ("0.95", "1.05"), ("0.5", "1.5"), initial=(1, 1, 1), min_width=0.6)
+    assert r.decided == [] and len(r.undecided) >= 1 and r.zeros == []
+    assert "1" not in r.signs and "-1" not in r.signs
+
+
 def test_box_theorem_cannot_decide_where_S_vanishes():
     """A box touching the integrable corner gamma = delta = 0 (S = 0 there) must stay undecided."""
     r = E.box_theorem(("1.6", "1.7"), ("0", "0.05"), ("0", "0.05"), initial=(1, 1, 1), min_width=0.3)

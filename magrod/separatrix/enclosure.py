@@ -117,6 +117,11 @@ def _nan():
     return acb(arb("nan"))
 
 
+def _UNKNOWN() -> arb:
+    """A ball containing every real number."""
+    return arb(0, math.inf)
+
+
 def _hull(a, b):
     return arb(a).union(arb(b))
 
@@ -412,7 +417,9 @@ def _enclose_rect(mod, mb, gb, dv: fmpq, tail_tol: float, counter) -> tuple[arb,
     try:
         T, E = _choose_T(mod, Mb, Gb, Dv, tail_tol)
     except _NoCut:  # too wide a box for the tail bound (near m_c): undecided, split it
-        return arb("inf"), {"m": math.inf, "gamma": math.inf, "tail": math.inf, "quad": math.inf, "T": "none"}
+        # the whole real line, [+/- inf]: NOT arb("inf"), which is the point +inf and compares > 0 (a box once
+        # came out "decided, S > 0" that way)
+        return _UNKNOWN(), {"m": math.inf, "gamma": math.inf, "tail": math.inf, "quad": math.inf, "T": "none"}
     M0, G0 = arb(m0), arb(g0)
     # the centre value needs only a few digits more than the mean value terms it is combined with
     res = acb.integral(_integrand_fn(mod, M0, G0, Dv, counter), 0, arb(T), rel_tol=2.0**-40, abs_tol=tail_tol)
@@ -439,7 +446,8 @@ def _decide(mod, mb, gb, db, tail_tol, counter):
     lo_ball, w_lo = _enclose_rect(mod, mb, gb, db[0], tail_tol, counter)
     hi_ball, w_hi = _enclose_rect(mod, mb, gb, db[1], tail_tol, counter)
     hull = lo_ball.union(hi_ball)
-    sign = -1 if hull < 0 else (1 if hull > 0 else None)
+    # a sign only from a finite ball: an infinite end point is no information, whatever the comparison says
+    sign = None if not hull.is_finite() else (-1 if hull < 0 else (1 if hull > 0 else None))
     widths = {k: max(w_lo[k], w_hi[k]) for k in ("m", "gamma", "tail", "quad")}
     return hull, sign, widths, lo_ball, hi_ball
 
