@@ -65,3 +65,12 @@ def test_notebooks_rendered_from_executed_cells(site):
         assert "Traceback" not in html, nb
     assert (site / "errata.html").exists() and (site / "nonintegrability.html").exists()
     assert (site / "architecture.html").exists()
+
+
+def test_no_unfilled_placeholders_in_the_prose():
+    """A template marker such as @@BOXES@@ left in a document is a result that was promised and never written."""
+    pages = [*DOCS.rglob("*.md"), ROOT / "README.md", ROOT / "benchmarks" / "README.md"]
+    marker = re.compile(r"@@[A-Z_]+@@|\bTODO\b|\bTBD\b")
+    found = [f"{p.relative_to(ROOT)}:{i}" for p in pages for i, line in enumerate(p.read_text().splitlines(), 1)
+             if marker.search(line)]
+    assert not found, found
