@@ -178,6 +178,12 @@ def _type(page, name, value):
     box.press("Enter")
 
 
+def _set_iterates(page, n):
+    """Type the iterate count and wait until the server has applied it: under load a click could overtake it."""
+    _type(page, "iterates", str(n))
+    _wait_text(page, ".magrod-status", lambda s: f"iterates per orbit = {n}" in s)
+
+
 def test_click_stream_export_messages(server, browser):
     import magrod as mr
 
@@ -238,8 +244,7 @@ def test_click_stream_export_messages(server, browser):
     assert page.outside_requests == [], page.outside_requests  # nothing fetched from outside the machine
 
     # closing the page stops its computations within 1 s
-    _type(page, "iterates", "2000000")  # the server applies it before the click: under load a click could overtake it
-    _wait_text(page, ".magrod-status", lambda s: "iterates per orbit = 2000000" in s)
+    _set_iterates(page, 2_000_000)
     x, y = _pixel(page, 0.1, 0.5)
     page.mouse.click(x, y)
     page.wait_for_function("() => { const s = Bokeh.documents[0].get_model_by_name('orbit-src-2');"
@@ -264,8 +269,7 @@ def test_click_stream_export_messages(server, browser):
 
 def test_ctrl_c_stops_everything(server, browser):
     page = _open(browser, server.url)
-    _type(page, "iterates", "2000000")  # the server applies it before the click: under load a click could overtake it
-    _wait_text(page, ".magrod-status", lambda s: "iterates per orbit = 2000000" in s)
+    _set_iterates(page, 2_000_000)
     x, y = _pixel(page, 0.1, 0.5)
     page.mouse.click(x, y)
     page.wait_for_function("() => { const s = Bokeh.documents[0].get_model_by_name('orbit-src-1');"

@@ -226,15 +226,16 @@ def test_scheduler_file_problems(tmp_path, capsys):
     assert not (tmp_path / "o").exists()
 
 
-def test_workers_lost_mid_run_is_one_line_not_a_hang(tmp_path):
-    """The only worker is killed while the map's tiles wait: the client notices (no worker for --worker-timeout
-    seconds) and says so in one line, exit 3; no tile finished, so the store it created is removed again."""
+def _kill_mid_run(tmp_path, which):
+    """A 2 x 2 map on a real `dask scheduler` + one `dask worker`; at the marker (tiles submitted) kill `which`
+    ("worker" or "scheduler"), let the client go on.  Returns (returncode, stdout, stderr, OUT, seconds to exit)."""
     d = tmp_path / "c"
     d.mkdir()
     sched, address, sf = _start_scheduler(d)
     worker = _start_worker(sf, d / "w")
     marker = tmp_path / "marker"
     out = tmp_path / "o"
+    p = None
     try:
         _wait_for_worker(address)
         p = subprocess.Popen([sys.executable, "-m", "magrod.cli", "chaosmap", "--x", "lam:0.12:0.2:2", "--y",
@@ -246,55 +247,44 @@ def test_workers_lost_mid_run_is_one_line_not_a_hang(tmp_path):
         while not marker.exists() and time.time() < deadline and p.poll() is None:
             time.sleep(0.05)
         assert marker.exists(), p.communicate()
-        _stop(worker)
-        marker.unlink()  # let the client go on: it must notice that no worker is left
-        o, e = p.communicate(timeout=120)
+        _stop(worker if which == "worker" else sched)
+        marker.unlink()  # let the client go on: it must notice what is gone
+        t = time.perf_counter()
+        o, e = p.communicate(timeout=180)
+        waited = time.perf_counter() - t
     finally:
+        if p is not None and p.poll() is None:
+            p.kill()
         _stop(worker, sched)
-    assert p.returncode == 3, e
+    return p.returncode, o, e, out, waited
+
+
+def _nothing_left(out):
+    return not out.exists() or not any((out / "chaosmap.tiles").glob("*.json")) and not (out / "chaosmap.zarr"
+                                                                                            ).exists()
+
+
+def test_workers_lost_mid_run_is_one_line_not_a_hang(tmp_path):
+    """The only worker is killed while the map's tiles wait: the client notices (no worker for --worker-timeout
+    seconds) and says so in one line, exit 3; no tile finished, so the store it created is removed again."""
+    rc, o, e, out, _ = _kill_mid_run(tmp_path, "worker")
+    assert rc == 3, e
     lines = [ln for ln in e.splitlines() if ln.strip()]
     assert len(lines) == 1 and "no worker" in lines[0], lines
     assert json.loads(o)["parameter"] == "scheduler"
-    assert not out.exists() or not any((out / "chaosmap.tiles").glob("*.json")) and not (out / "chaosmap.zarr"
-                                                                                            ).exists()
+    assert _nothing_left(out)
 
 
 def test_scheduler_lost_mid_run_is_one_line_not_a_hang(tmp_path):
     """The scheduler dies (SIGKILL) while the map's tiles run: the client must not wait forever for futures that no
     one will ever finish.  One line naming the scheduler, exit 3; no tile finished, so nothing is left behind."""
-    d = tmp_path / "c"
-    d.mkdir()
-    sched, address, sf = _start_scheduler(d)
-    worker = _start_worker(sf, d / "w")
-    marker = tmp_path / "marker"
-    out = tmp_path / "o"
-    try:
-        _wait_for_worker(address)
-        p = subprocess.Popen([sys.executable, "-m", "magrod.cli", "chaosmap", "--x", "lam:0.12:0.2:2", "--y",
-                              "gamma:2:4:2", "--tile", "1", "--t-max", "50000", "--out", str(out), "--scheduler",
-                              address, "--worker-timeout", "3", "--json", "--quiet"], stdout=subprocess.PIPE,
-                             stderr=subprocess.PIPE, text=True, cwd=tempfile.gettempdir(),
-                             env={**os.environ, "MAGROD_TEST_PAUSE": f"chaosmap-running:{marker}"})
-        deadline = time.time() + 120
-        while not marker.exists() and time.time() < deadline and p.poll() is None:
-            time.sleep(0.05)
-        assert marker.exists(), p.communicate()
-        _stop(sched)
-        marker.unlink()
-        t = time.perf_counter()
-        o, e = p.communicate(timeout=180)
-        waited = time.perf_counter() - t
-    finally:
-        if p.poll() is None:
-            p.kill()
-        _stop(worker, sched)
+    rc, o, e, out, waited = _kill_mid_run(tmp_path, "scheduler")
     print(f"scheduler killed -> the client exited after {waited:.1f} s")
-    assert p.returncode == 3, e
+    assert rc == 3, e
     lines = [ln for ln in e.splitlines() if ln.strip()]
     assert len(lines) == 1 and "scheduler" in lines[0], lines
     assert json.loads(o)["parameter"] == "scheduler"
-    assert not out.exists() or not any((out / "chaosmap.tiles").glob("*.json")) and not (out / "chaosmap.zarr"
-                                                                                            ).exists()
+    assert _nothing_left(out)
 
 
 def test_http_server_probe_is_fast_even_without_a_timeout_option(http_port, tmp_path, capsys):

@@ -516,27 +516,6 @@ def _worker_env() -> None:
         os.environ[k] = "1"
 
 
-class quiet_distributed:
-    """Context manager: Dask's loggers at CRITICAL while a map runs (progress is ours, and a cluster shutting down
-    after an interruption would otherwise print several lines); restored afterwards."""
-
-    NAMES = ("distributed", "tornado", "asyncio", "bokeh")
-
-    def __enter__(self):
-        # Dask's configuration gives child loggers (distributed.client, ...) levels of their own: quiet those too
-        names = set(self.NAMES) | {n for n in list(logging.root.manager.loggerDict)
-                                   if n.split(".")[0] in self.NAMES}
-        self._old = {n: logging.getLogger(n).level for n in names}
-        for n in names:
-            logging.getLogger(n).setLevel(logging.CRITICAL)
-        return self
-
-    def __exit__(self, *exc):
-        for n, lvl in self._old.items():
-            logging.getLogger(n).setLevel(lvl)
-        return False
-
-
 def start_local_cluster(workers: int):
     """(cluster, client, worker pids) of a LocalCluster of `workers` single-threaded processes.  The workers are
     started with the terminal's signals ignored (magrod.cli.children_immune when called from the CLI), so that
@@ -598,31 +577,30 @@ def run_tiles(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, sc
     if not todo:
         return res
     cluster, pids, own = None, [], client is None
-    with quiet_distributed():
-        if client is None and scheduler is not None:
-            client = connect(scheduler)
-        elif client is None:
-            cluster, client, pids = start_local_cluster(workers)
-        interrupted = False
-        try:
-            client.run(_worker_env)
-            sd = spec.as_dict()
-            futs = {client.submit(tile_task, sd, k, str(store), str(tiles_dir), state.identity, pure=False): k
-                    for k in todo}
-            if on_submitted is not None:
-                on_submitted()
-            _collect(client, futs, spec, state, res, progress, worker_timeout)
-        except BaseException:
-            interrupted = True
-            raise
-        finally:
-            if own:
-                if cluster is None:
-                    _close_quietly(client)
-                else:
-                    stop_local_cluster(cluster, client, pids, interrupted=interrupted)
-            if interrupted:
-                remove_temporaries({"store": store, "tiles": tiles_dir}, pids)
+    if client is None and scheduler is not None:
+        client = connect(scheduler)
+    elif client is None:
+        cluster, client, pids = start_local_cluster(workers)
+    interrupted = False
+    try:
+        client.run(_worker_env)
+        sd = spec.as_dict()
+        futs = {client.submit(tile_task, sd, k, str(store), str(tiles_dir), state.identity, pure=False): k
+                for k in todo}
+        if on_submitted is not None:
+            on_submitted()
+        _collect(client, futs, spec, state, res, progress, worker_timeout)
+    except BaseException:
+        interrupted = True
+        raise
+    finally:
+        if own:
+            if cluster is None:
+                _close_quietly(client)
+            else:
+                stop_local_cluster(cluster, client, pids, interrupted=interrupted)
+        if interrupted:
+            remove_temporaries({"store": store, "tiles": tiles_dir}, pids)
     return res
 
 

@@ -12,6 +12,8 @@ Examples:  magrod chaosmap --x lam:0:0.3:128 --y gamma:0:3:128 --t-max 1000 --ou
            magrod chaosmap --panel 4a --x theta0:0.05:1.5:64 --y ptheta0:-1:1:64 --out DIR"""
 from __future__ import annotations
 
+import logging
+
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from ..chaos.fields import MAPPABLE
@@ -53,6 +55,28 @@ def add_arguments(p):
                    help="start over in a store of a different map (only the store's own files are removed)")
 
 
+class quiet_distributed:
+    """Context manager (the CLI owns the loggers, the library never touches them): Dask's loggers at CRITICAL
+    while a map runs (progress is ours, and a cluster shutting down
+    after an interruption would otherwise print several lines); restored afterwards."""
+
+    NAMES = ("distributed", "tornado", "asyncio", "bokeh")
+
+    def __enter__(self):
+        # Dask's configuration gives child loggers (distributed.client, ...) levels of their own: quiet those too
+        names = set(self.NAMES) | {n for n in list(logging.root.manager.loggerDict)
+                                   if n.split(".")[0] in self.NAMES}
+        self._old = {n: logging.getLogger(n).level for n in names}
+        for n in names:
+            logging.getLogger(n).setLevel(logging.CRITICAL)
+        return self
+
+    def __exit__(self, *exc):
+        for n, lvl in self._old.items():
+            logging.getLogger(n).setLevel(lvl)
+        return False
+
+
 def spec_from_args(args):
     """Validate everything and build the MapSpec; raises ParameterError before anything is written."""
     from ..chaos.maps import MapSpec, panel_base, parse_axis
@@ -73,27 +97,9 @@ def spec_from_args(args):
                                            f"{(x if axis == 'x' else y).lo:g} to {(x if axis == 'x' else y).hi:g}): "
                                            f"do not also fix it")
             base[name] = number(name, v)
-    _some_point_physical(x, y, base)
     return MapSpec(x, y, base=base, panel=str(args.panel).lower(), root=args.root,
                    t_max=number("t_max", args.t_max, bound=1e7), tol=number("tol", args.tol, bound=1.0),
                    renorm_dt=number("renorm_dt", args.renorm_dt), tile=integer("tile", args.tile, maximum=1024))
-
-
-def _some_point_physical(x, y, base):
-    """Points with unphysical parameters are marked missing, but a map with none physical is an input error.
-    The constraints (m > 0, delta >= 0, gamma + delta >= 0) are linear, so the grid's corners decide."""
-    from ..core.params import RodParams
-
-    err = None
-    for xv in (x.lo, x.hi):
-        for yv in (y.lo, y.hi):
-            v = {**base, x.name: xv, y.name: yv}
-            try:
-                RodParams(**{k: v[k] for k in PARAMS})
-                return
-            except ParameterError as exc:
-                err = exc
-    raise err
 
 
 def _cluster_from_args(args):
@@ -180,7 +186,7 @@ def run(args) -> dict:
     ok_exit = False
     try:
         if address is not None:  # reach the scheduler and a worker before anything is created
-            with chaos_store.quiet_distributed():
+            with quiet_distributed():
                 client = chaos_store.connect(address, timeout=connect_timeout, worker_timeout=worker_timeout)
             maps.check_cost(spec, max(1, len(client.scheduler_info().get("workers", {}))))
         out = ensure_writable_dir(out)
@@ -203,13 +209,13 @@ def run(args) -> dict:
             todo = n_tiles - len(state.done)
             t0 = time.perf_counter()
             if todo and client is None:
-                with chaos_store.quiet_distributed(), children_immune():
+                with quiet_distributed(), children_immune():
                     try:
                         cluster, client, pids = chaos_store.start_local_cluster(workers)
                     except (RuntimeError, OSError, TimeoutError) as exc:
                         raise _start_failure(exc, workers) from None
             try:
-                with bar(todo, "chaosmap", not args.quiet, unit="tile") as update, chaos_store.quiet_distributed():
+                with bar(todo, "chaosmap", not args.quiet, unit="tile") as update, quiet_distributed():
                     res = chaos_store.run_tiles(spec, pth["store"], pth["tiles"], client=client, state=state,
                                                 progress=update, on_submitted=lambda: pause_point("chaosmap-running"),
                                                 worker_timeout=worker_timeout)
@@ -252,7 +258,7 @@ def run(args) -> dict:
         raise resource_fault(exc, "out", exc.filename if exc.filename is not None else pth["store"]) from None
     finally:
         interrupted = not ok_exit
-        with chaos_store.quiet_distributed():  # a client whose scheduler is gone logs its reconnection attempts
+        with quiet_distributed():  # a client whose scheduler is gone logs its reconnection attempts
             if cluster is not None:
                 chaos_store.stop_local_cluster(cluster, client, pids, interrupted=interrupted)
             elif client is not None:
