@@ -357,3 +357,50 @@ def test_maps_agree_at_every_width(width):
         clear = np.isfinite(g0) & (np.abs(g0 - I.GROWTH_THRESHOLD) > 0.1 * I.GROWTH_THRESHOLD)
         np.testing.assert_array_equal(g[clear] > I.GROWTH_THRESHOLD, g0[clear] > I.GROWTH_THRESHOLD)
         assert clear.sum() >= 0.75 * np.isfinite(g0).sum()
+
+
+# ----------------------------------------------------------------------------------------------------------
+# other BLAS kernels
+# ----------------------------------------------------------------------------------------------------------
+def numbers() -> dict:
+    """The saddle and orbit numbers compared across BLAS kernels (run in a subprocess by the test below)."""
+    sad = _saddle_numbers()
+    prim, two, sp = _orbit_numbers()
+    ps, sr = sad["periodic"], sad["straight"]
+    return {"T": ps.T, "H": ps.H, "x": ps.x.tolist(), "Lambda": abs(ps.unstable_multiplier),
+            "straight": [sr.unstable_eigenvalue.real, sr.unstable_eigenvalue.imag],
+            "prim_T": sorted(r.T for r in prim), "lam_star": two.params.lam, "psi": sp.psi}
+
+
+# kernels every x86-64 CPU with AVX2 runs (CI's and this machine's kind); OpenBLAS honours OPENBLAS_CORETYPE
+KERNELS = ("Haswell", "Sandybridge")
+
+
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_saddles_and_orbits_under_other_blas_kernels(kernel, reference_saddles, reference_orbits):
+    import json
+    import os
+    import platform
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    if platform.machine() not in ("x86_64", "AMD64"):
+        pytest.skip("OPENBLAS_CORETYPE names x86-64 kernels")
+    here = Path(__file__).resolve().parent
+    code = f"import json, sys; sys.path.insert(0, {str(here)!r}); import test_portability as t; print(json.dumps(t.numbers()))"
+    env = {**os.environ, "OPENBLAS_CORETYPE": kernel, "OPENBLAS_VERBOSE": "2"}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600,
+                         cwd=here.parent.parent)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert f"Core: {kernel}" in out.stdout + out.stderr  # the kernel was really switched
+    got = json.loads(out.stdout.strip().splitlines()[-1])
+    ps, sr = reference_saddles["periodic"], reference_saddles["straight"]
+    prim, two, sp = reference_orbits
+    assert got["T"] == pytest.approx(ps.T, rel=1e-12) and got["H"] == pytest.approx(ps.H, rel=1e-12)
+    np.testing.assert_allclose(got["x"], ps.x, atol=1e-13)
+    assert got["Lambda"] == pytest.approx(abs(ps.unstable_multiplier), rel=1e-8)
+    assert got["straight"] == pytest.approx([sr.unstable_eigenvalue.real, sr.unstable_eigenvalue.imag], abs=1e-12)
+    np.testing.assert_allclose(got["prim_T"], sorted(r.T for r in prim), rtol=1e-9)
+    assert got["lam_star"] == pytest.approx(two.params.lam, rel=1e-9)
+    assert abs(got["psi"] - sp.psi) <= 1e-12
