@@ -62,3 +62,40 @@ def test_status_next_to_success():
     lam = 0.00126208079543  # docs/errata.md: the Fig 6 two-pulse lam*
     bad = multipulse.shoot(mr.RodParams(1.7, 2 * lam, 1.0, 1.0, lam), 2, max_iter=0, tol=1e-300)
     assert not bad.success and bad.status == 1
+
+
+def test_splitting_takes_a_rod_first_and_checks_eps_as_the_command_line_did():
+    p = mr.RodParams(1.7, 0.4, 1.0, 1.0, 0.1)
+    a = mr.splitting(p, a=2, b=1, eps=[0.1, 0.05])
+    b = mr.splitting(1.7, 1.0, 1.0, 2, 1, eps=[0.1, 0.05])
+    np.testing.assert_array_equal(a.measure, b.measure)
+    for eps, words in (([1e-300], "machine epsilon"), ([0.1, 0.1], "distinct"), ([2.0], "(0, 1]"),
+                       ([0.1] * 0, "non-empty"), ([1e-3 * (1 + k / 100) for k in range(65)], "at most 64")):
+        with pytest.raises(mr.ParameterError) as e:
+            mr.splitting(p, a=2, b=1, eps=eps)
+        assert e.value.name == "eps" and words in e.value.message, (eps, e.value.message)
+    with pytest.raises(mr.ParameterError) as e:
+        mr.splitting(p, eps=[0.1])
+    assert e.value.name == "a"
+
+
+def test_chaos_map_takes_a_rod_and_checks_its_fields():
+    """chaos_map(..., panel=RodParams) takes the parameters from the rod and the start values as keywords; the
+    map validity check is the library's (magrod.chaos.maps.check_fields): a map of impossible starts is not a
+    success, and points marked ok without finite indicators are refused."""
+    from magrod.chaos import maps
+
+    P = mr.panel("4a")
+    cm = mr.chaos_map(("lam", 0.13, 0.14, 2), ("gamma", 2.9, 3.0, 2), panel=P.params, t_max=40, h=P.h,
+                      theta0=P.theta0, ptheta0=P.ptheta0, psi0=P.psi0)
+    ref = mr.chaos_map(("lam", 0.13, 0.14, 2), ("gamma", 2.9, 3.0, 2), panel="4a", t_max=40)
+    np.testing.assert_array_equal(cm.fields["growth_exponent"], ref.fields["growth_exponent"])
+    with pytest.raises(mr.ParameterError) as e:
+        mr.chaos_map(("lam", 0.13, 0.14, 2), ("gamma", 2.9, 3.0, 2), panel=P.params, t_max=40)
+    assert "--panel" not in e.value.message.replace("(panel= / --panel)", "")  # library wording, not the CLI's
+    none = mr.chaos_map(("lam", 0.13, 0.14, 2), ("gamma", 2.9, 3.0, 2), panel="4a", t_max=40, h=-50.0)
+    assert not none.success and "no point of the map could be computed" in none.message
+    bad = {k: np.array(v, copy=True) for k, v in ref.fields.items()}
+    bad["lyap"][0, 0] = np.nan
+    assert "non-finite lyap" in maps.check_fields(bad)
+    assert maps.check_fields(ref.fields) is None
