@@ -67,7 +67,7 @@ from ..core.precision import Precision
 from ..core.limits import LIMITS
 from ..core.printed import Panel, panel, panel_kwargs, with_overrides
 from ..core.results import Result
-from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, START_LEVEL_TOL
+from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, ROOT_XTOL, START_LEVEL_TOL
 
 DIRECTIONS = systems.DIRECTIONS
 BRANCHES = ("any", "0", "pi")
@@ -171,7 +171,7 @@ def solve_p_psi(params: RodParams, h, theta0, ptheta0, psi0=0.0) -> np.ndarray:
     for i in np.nonzero(v == 0.0)[0]:
         roots.append(q[i])
     for i in np.nonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0)[0]:
-        r = brentq(lambda s: f(s)[0], q[i], q[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+        r = brentq(lambda s: f(s)[0], q[i], q[i + 1], xtol=ROOT_XTOL, rtol=4 * np.finfo(float).eps, maxiter=200)
         # the last ulp: pick the neighbour with the smaller residual
         cand = np.array([np.nextafter(r, -np.inf), r, np.nextafter(r, np.inf)])
         roots.append(cand[np.argmin(np.abs(f(cand)))])

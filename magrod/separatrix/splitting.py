@@ -54,7 +54,7 @@ from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result
-from ..core.tolerances import HYPERBOLIC_TOL, SPLITTING_LAUNCH
+from ..core.tolerances import HYPERBOLIC_TOL, REAL128_QUADRATURE_TOL, SPLITTING_LAUNCH
 from ..generated import scalars
 from ..orbits.shooting import Crossing, crossing_events
 
@@ -578,7 +578,7 @@ def _leading_integrator(fp_type=float):
     if fp_type is float:
         return systems.taylor(sys, [0.0, 0.0], [1.0, 1.0, 1.0])
     return systems.taylor(sys, [0, 0], [1, 1, 1], fp_type=fp_type, compact_mode=True,
-                          tol="1e-32" if fp_type is hy.real128 else 0)
+                          tol=REAL128_QUADRATURE_TOL if fp_type is hy.real128 else 0)
 
 
 def _leading_run(m, gamma, delta, T, fp_type=float):
