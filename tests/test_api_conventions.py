@@ -99,3 +99,17 @@ def test_chaos_map_takes_a_rod_and_checks_its_fields():
     bad["lyap"][0, 0] = np.nan
     assert "non-finite lyap" in maps.check_fields(bad)
     assert maps.check_fields(ref.fields) is None
+
+
+def test_orbit_diagram_marks_values_without_an_energy_root():
+    """At lambdabar = 0.12 Fig 4(a)'s start is not on the level h = 0.9 (the figure's grey band): the value is
+    marked no_root, nothing computed there, and the other values are the run without it, bit for bit."""
+    od = mr.orbit_diagram("lam", [0.12, 0.135, 0.15], iterates=20)
+    ref = mr.orbit_diagram("lam", [0.135, 0.15], iterates=20)
+    assert od.success and od.no_root.tolist() == [True, False, False] and "no energy root" in od.message
+    assert od.orbits[0] is None and od.n_points[0] == 0 and not od.orbit_success[0]
+    np.testing.assert_array_equal(od.points, ref.points)
+    np.testing.assert_array_equal(od.value_index, ref.value_index + 1)
+    assert od.to_dict()["no_root_values"] == [0.12]
+    none = mr.orbit_diagram("lam", [0.11, 0.12], iterates=20)
+    assert not none.success and none.points.shape == (0, 4)
