@@ -19,7 +19,7 @@ def test_keyword_overrides_equal_the_explicit_rod():
     assert a.params == b.params and a.params.lam == 0.15
     np.testing.assert_array_equal(a.body_points, b.body_points)
     assert a.panel == "4a, lam=0.15" and a.panel != P.key
-    many = mr.poincare_section(["4a", "4b"], iterates=10, gamma=2.5)
+    many = mr.poincare_sections(["4a", "4b"], iterates=10, gamma=2.5)
     assert [r.params.gamma for r in many] == [2.5, 2.5]
     ly = mr.lyapunov("4a", t_max=200, lam=0.15)
     assert ly.params.lam == 0.15
@@ -113,3 +113,17 @@ def test_orbit_diagram_marks_values_without_an_energy_root():
     assert od.to_dict()["no_root_values"] == [0.12]
     none = mr.orbit_diagram("lam", [0.11, 0.12], iterates=20)
     assert not none.success and none.points.shape == (0, 4)
+
+
+def test_one_return_type_per_function():
+    """poincare_section returns one result; poincare_sections a list, always (one orbit too).  The list form of
+    poincare_section still works for one release, with a DeprecationWarning naming the plural."""
+    one = mr.poincare_section("4a", iterates=10)
+    many = mr.poincare_sections("4a", iterates=10)
+    assert not isinstance(one, list) and isinstance(many, list) and len(many) == 1
+    np.testing.assert_array_equal(many[0].body_points, mr.poincare_sections(["4a"], iterates=10)[0].body_points)
+    with pytest.warns(DeprecationWarning, match="poincare_sections"):
+        old = mr.poincare_section(["4a", "4b"], iterates=10)
+    new = mr.poincare_sections(["4a", "4b"], iterates=10)
+    for a, b in zip(old, new):
+        np.testing.assert_array_equal(a.body_points, b.body_points)

@@ -27,7 +27,7 @@ from ..core.printed import Panel, panel
 from ..core.results import Result, jsonable
 from ..generated.names import PARAMS
 from .indicators import GROWTH_THRESHOLD, body_indicators
-from .section import MAX_ORBITS, poincare_section, resolve_start, solve_p_psi, start_table
+from .section import MAX_ORBITS, poincare_sections, resolve_start, solve_p_psi, start_table
 
 INDICATORS = ("growth_exponent", "lyap", "fli")
 DEFAULT_T_INDICATOR = 1000.0  # cost ~5 us per orbit and unit time; Fig 4(a) needs T ~ 3000 to look chaotic
@@ -255,7 +255,7 @@ def section_portrait(params, h=None, *, starts, iterates=1000, indicator="growth
     if h is None and not (np.ndim(starts) == 2 and np.shape(starts)[1] == 4):
         raise ParameterError("h", "give the energy level h of the portrait (or p_psi0 as a fourth column)")
     table = start_table(starts)
-    orbits = poincare_section(params_r, h, starts=table, iterates=iterates, root=root, direction=direction,
+    orbits = poincare_sections(params_r, h, starts=table, iterates=iterates, root=root, direction=direction,
                               t_max=t_max, workers=workers, progress=progress)
     table[:, 3] = [r.p_psi0 for r in orbits]
     values = np.full(len(orbits), np.nan)
@@ -478,7 +478,7 @@ def orbit_diagram(parameter, values, *, base="4a", h=None, theta0=None, ptheta0=
     got = []
     if run:
         try:
-            got = poincare_section(run, iterates=iterates + transient, root=root, direction=direction,
+            got = poincare_sections(run, iterates=iterates + transient, root=root, direction=direction,
                                    t_max=t_max, workers=workers, progress=progress)
         except ParameterError as exc:
             m = re.match(r"entry (\d+) ", exc.message)
