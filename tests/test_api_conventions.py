@@ -127,3 +127,15 @@ def test_one_return_type_per_function():
     new = mr.poincare_sections(["4a", "4b"], iterates=10)
     for a, b in zip(old, new):
         np.testing.assert_array_equal(a.body_points, b.body_points)
+
+
+def test_accuracy_on_every_result_that_integrates_or_solves():
+    """Every result that integrates or solves carries the accuracy it achieved (issue 25)."""
+    ps = mr.saddle(mr.RodParams(1.7, 0.4, 3.0, 3.0, 0.135))
+    assert ps.accuracy["passed"] and ps.accuracy["re_residual"] <= 1e-13 and ps.accuracy["closure"] < 1e-9
+    sr = mr.saddle(mr.RodParams(1.7, 0.27, 3.0, 3.0, 0.135))  # mu = 2 lam: the straight rod
+    assert sr.accuracy["passed"]
+    ho = mr.homoclinic_orbit(1.7, 1.0)
+    assert ho.accuracy["verify"] is None
+    ho.verify(n=21)
+    assert ho.accuracy["verify"] is not None
