@@ -139,3 +139,20 @@ def test_accuracy_on_every_result_that_integrates_or_solves():
     assert ho.accuracy["verify"] is None
     ho.verify(n=21)
     assert ho.accuracy["verify"] is not None
+
+
+def test_the_continue_command_is_the_library_branch(tmp_path, capsys):
+    """`magrod continue` parses, calls continue_branch and prints (issue 25: it rebuilt the branch with its own
+    scale): its first and last points are the library's, bit for bit."""
+    import json
+
+    from magrod import cli
+    from magrod.orbits import periodic_multipulse as pm
+    from magrod.orbits.continuation import continue_branch
+
+    assert cli.main(["continue", "--pulses", "1", "--steps", "2", "--out", str(tmp_path / "o"), "--json",
+                     "--quiet"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    r = pm.find(mr.RodParams(1.7, 0.0021, 1.0, 1.0, 0.001), 1, samples=121)[0]
+    br = continue_branch(r, "mu", 2, ds=0.1)
+    assert list(d["first"].values()) == br.u[0].tolist() and list(d["last"].values()) == br.u[-1].tolist()
