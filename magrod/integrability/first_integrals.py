@@ -149,8 +149,8 @@ def _diff(a: dict, i: int) -> dict:
     return out
 
 
-def _unit(i: int) -> tuple:
-    return tuple(1 if j == i else 0 for j in range(NVAR))
+def _unit(i: int, n: int = NVAR) -> tuple:
+    return tuple(1 if j == i else 0 for j in range(n))
 
 
 def structure(vals: dict) -> list:
@@ -180,7 +180,7 @@ def vector_field(vals: dict) -> list:
 def lie(X: list, F: dict) -> dict:
     """X(F) = {F, H} (exact)."""
     acc: dict = {}
-    for i in range(NVAR):
+    for i in range(len(X)):
         d = _diff(F, i)
         if d and X[i]:
             acc = _add(acc, _mul(d, X[i]))
@@ -191,14 +191,15 @@ def lie(X: list, F: dict) -> dict:
 # symmetry classes and the modular kernel
 # --------------------------------------------------------------------------------------------------------------
 def _chi(mask: int, mono: tuple) -> int:
-    return -1 if sum(mono[i] for i in range(NVAR) if mask >> i & 1) % 2 else 1
+    return -1 if sum(mono[i] for i in range(len(mono)) if mask >> i & 1) % 2 else 1
 
 
 def sign_symmetries(X: list) -> list:
     """[(mask, sigma)]: the sign flips S (bit i of mask set = x_i -> -x_i) with X(Sx) = sigma S X(x), found by
     testing all 2^9 patterns on the exact vector field (sigma = -1: a reversing symmetry, e.g. the reversor)."""
     out = []
-    for mask in range(1, 1 << NVAR):
+    nv = len(X)
+    for mask in range(1, 1 << nv):
         sig = None
         ok = True
         for i, Xi in enumerate(X):
@@ -217,12 +218,12 @@ def sign_symmetries(X: list) -> list:
     return out
 
 
-def monomials(D: int) -> list:
-    """All exponent tuples of total degree <= D, by degree then lexicographically."""
+def monomials(D: int, n: int = NVAR) -> list:
+    """All exponent tuples of total degree <= D (in n variables), by degree then lexicographically."""
     out = []
     for d in range(D + 1):
-        for c in itertools.combinations_with_replacement(range(NVAR), d):
-            e = [0] * NVAR
+        for c in itertools.combinations_with_replacement(range(n), d):
+            e = [0] * n
             for i in c:
                 e[i] += 1
             out.append(tuple(e))
@@ -236,7 +237,7 @@ def _modp(c: Fraction, p: int) -> int:
 def _column(X: list, mono: tuple) -> dict:
     """L(mono) = sum_i mono_i x^(mono - e_i) X_i (exact)."""
     out: dict = {}
-    for i in range(NVAR):
+    for i in range(len(mono)):
         a = mono[i]
         if not a or not X[i]:
             continue
@@ -251,8 +252,7 @@ def _column(X: list, mono: tuple) -> dict:
 def kernel_dimensions(X: list, D: int, p: int, syms: list) -> tuple[list, dict]:
     """dim_p ker L on polynomials of degree <= d, d = 0..D (block by block over the symmetry classes)."""
     gens = _independent(syms)
-    cols = monomials(D)
-    rows = {m: i for i, m in enumerate(monomials(D + 1))}
+    cols = monomials(D, len(X))
 
     def key(mono, twist=False):
         return tuple(_chi(mk, mono) * (sg if twist else 1) for mk, sg in gens)
@@ -289,7 +289,6 @@ def kernel_dimensions(X: list, D: int, p: int, syms: list) -> tuple[list, dict]:
                 if len(members) > stats["largest_block"][1]:
                     stats["largest_block"] = [len(rset), len(members)]
         dims.append(kernel)
-    del rows
     return dims, stats
 
 
@@ -307,11 +306,11 @@ def _independent(syms: list) -> list:
     return out
 
 
-def algebra_dimensions(gens: dict, D: int, p: int) -> list:
+def algebra_dimensions(gens: dict, D: int, p: int, n: int = NVAR) -> list:
     """rank_p of all products of the generators with total degree <= d, d = 0..D (the constant 1 included)."""
     names = list(gens)
     degs = [max(sum(m) for m in gens[n]) for n in names]
-    prods = {(): {tuple([0] * NVAR): Fraction(1)}}
+    prods = {(): {tuple([0] * n): Fraction(1)}}
     frontier = [()]
     while frontier:
         nxt = []
