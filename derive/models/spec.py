@@ -20,7 +20,8 @@ defines, with SymPy:
   optional:
   CANDIDATES  {name: (polynomial, reference)}: integrals claimed in the literature, tested (never assumed)
   SECTION     the Poincare section function (default: STATE[0]), crossed upwards
-  REFERENCE   {state Symbol: number}: a state near which default initial conditions are drawn
+  REFERENCE   {state Symbol: number}: a state near which default initial conditions are drawn (default: a
+              seeded generic state with components in [0.1, 0.9])
 
 Every check below raises ModelError(check, text) naming the check that failed; `load_file` runs all of them
 before anything is written.
@@ -223,6 +224,11 @@ def build_model(ns: dict, origin: str) -> Model:
         except sp.PolynomialError:
             raise ModelError("candidates", f"candidate {k} is not a polynomial in the state") from None
     ref = {sp.Symbol(str(k)) if not isinstance(k, sp.Symbol) else k: v for k, v in dict(ns.get("REFERENCE", {})).items()}
+    if not ref:  # a generic (seeded, non-zero) state: the origin is usually a singular point of the level sets
+        import random
+
+        rng = random.Random(0)
+        ref = {x: round(rng.uniform(0.1, 0.9), 3) for x in X}
     return Model(name, str(ns.get("TITLE", name)), str(ns.get("SOURCE", origin)), X, parameters, Jm, H,
                  sp.sympify(W) if W is not None else None, strains, fixed, cands, section,
                  {x: float(ref.get(x, 0.0)) for x in X}, str(ns.get("NOTES", "")))

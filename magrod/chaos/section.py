@@ -381,10 +381,11 @@ def resolve_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=N
     return params, key, h, theta0, ptheta0, 0.0 if psi0 is None else psi0
 
 
-def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
+def poincare_section(params=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
                      root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION,
                      precision=Precision.DOUBLE, tol=None, t_max=None, verify=True, pole_switch=(0.05, 0.1),
-                     radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None, starts=None, workers=None):
+                     radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None, starts=None, workers=None,
+                     model=None):
     """Poincare section sin(psi) = 0 of one orbit of the reduced system (paper sec. 8, fig:poincare1/2), or of
     many orbits at once in the SIMD lanes of heyoka's batch integrator.
 
@@ -431,6 +432,13 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     stretch_dt : float, optional
         Sample the axial stretch v3 every stretch_dt along the same integration (result.stretch).
 
+    model : str or path, optional
+        A rod model of the family (`magrod models`: kirchhoff, anisotropic, curved, extensible, magnetic,
+        magnetic-extensible) or a model file ./my_rod.py: its energy-level section in the body frame
+        (magrod.chaos.model_chaos.model_section; `params` is then a dict of the model's parameters, `starts` its
+        states of shape (N, dim), and the result a ModelSection).  formulation="reduced" needs the model's S^1
+        symmetry: an error names the model and the reason otherwise.
+
     Returns
     -------
     PoincareResult, or a list of them (one per start, in order) for many starts
@@ -467,6 +475,13 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     batched orbit equals its scalar run (tests/test_batch.py: to round-off over the first crossings, until
     chaotic divergence).  Other configurations run the scalar path per start on `workers` threads.
     """
+    if model is not None:  # issue 26: the model family, in its body frame
+        from .model_chaos import section_for_model
+
+        return section_for_model(model, params, formulation, iterates=iterates, tol=tol, t_max=t_max, verify=verify,
+                                 starts=starts)
+    if params is None:
+        raise ParameterError("params", "required: a RodParams, a panel name or a list of them (or model=...)")
     if _is_many(params, theta0, ptheta0, psi0, starts):
         return _many_sections(params, h, theta0, ptheta0, psi0, starts=starts, p_psi0=p_psi0, iterates=iterates,
                               root=root, direction=direction, branch=branch, formulation=formulation,

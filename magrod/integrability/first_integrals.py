@@ -521,7 +521,7 @@ class FirstIntegralSearch(Result):
 
 
 def first_integral_search(degree: int = 4, subs: str | None = None, *, seed: int = DEFAULT_SEED,
-                          controls: bool = True) -> FirstIntegralSearch:
+                          controls: bool = True, model=None):
     """The exact search for polynomial first integrals with the controls of issue 20.
 
     Parameters
@@ -534,11 +534,14 @@ def first_integral_search(degree: int = 4, subs: str | None = None, *, seed: int
         Seed of the random rational parameters (printed).
     controls : bool, keyword-only
         Also run the four controls (lambda = 0, inextensible, anisotropic, extensible magnetic rod).
+    model : str or path, keyword-only
+        A rod model of the family (`magrod models`) or a model file: the same search on that model
+        (magrod.integrability.model_search; returns a ModelSearch; `subs` and `controls` do not apply).
 
     Returns
     -------
     FirstIntegralSearch
-        success is False if a control does not come out as stated.
+        success is False if a control does not come out as stated (a ModelSearch with `model`).
 
     Raises
     ------
@@ -557,6 +560,12 @@ def first_integral_search(degree: int = 4, subs: str | None = None, *, seed: int
     n.m); for the inextensible, unshearable rod it must find I2 (eq:int2); for the anisotropic rod m3 must not be an
     integral; for the extensible magnetic rod nothing beyond C1-C3, H, m3.  Cost: module docstring.
     """
+    if model is not None:
+        if subs is not None:
+            raise ParameterError("subs", "applies to the paper's rod; a model is searched with its own parameters")
+        from .model_search import model_search
+
+        return model_search(model, degree, seed=seed)
     t0 = time.perf_counter()
     D = _degree(degree)
     main = search(subs or MAIN, D, seed=seed, name=subs or "extensible magnetic rod (default)")
