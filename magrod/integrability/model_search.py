@@ -288,9 +288,9 @@ def model_search(model=None, degree: int = 4, *, values=None, level=None, seed: 
         new = [poly_str(mc, F) for F in new_polys]
         verified = ok
     msg = (f"certified: every polynomial integral of degree <= {D} is a polynomial in {', '.join(known)}"
-           + (f" on the level {lev}" if lev else "") if certified else
+           + (f" on the level {({k: str(v) for k, v in lev.items()})}" if lev else "") if certified else
            f"{kd[-1] - ad[-1]} integral(s) of degree <= {D} beyond {', '.join(known)}"
-           + (f" on the level {lev}" if lev else "") + (f": found exactly and re-checked: {new}" if new else ""))
+           + (f" on the level {({k: str(v) for k, v in lev.items()})}" if lev else "") + (f": found exactly and re-checked: {new}" if new else ""))
     statement = (f"No polynomial first integral of degree <= {D} of the model {mc.name!r} beyond the polynomials in "
                  f"{', '.join(known)}" + (f" on the level {', '.join(f'{k} = {v}' for k, v in lev.items())}" if lev else "")
                  + f", at the rational parameters {({k: str(v) for k, v in vals.items()})} (seed {seed}); generically "
