@@ -217,7 +217,7 @@ def body_module(model: Model, fs: dict) -> str:
         function_source("constraints", args, cons, pr, "(H, C1, ...): the level of a section."),
         function_source("constraint_gradients", args, grads, pr,
                         "Gradients of (H, C1, ...) w.r.t. the state, row by row (flattened)."),
-        f'def pars():\n    """hy.par[i] = PARAMS[i]."""\n    return [hy.par[i] for i in range(len(PARAMS))]\n',
+        'def pars():\n    """hy.par[i] = PARAMS[i]."""\n    return [hy.par[i] for i in range(len(PARAMS))]\n',
         ('def system():\n    """[(variable, rhs)] for hy.taylor_adaptive."""\n    xs = hy.make_vars(*STATE)\n'
          '    return list(zip(xs, rhs(*xs, *pars())))\n'),
     ]

@@ -103,9 +103,10 @@ def _check_W(W, strains, fixed, parameters):
     if P.total_degree() > 2:
         raise ModelError("W polynomial", f"W has degree {P.total_degree()} in the strains; the Legendre transform "
                                          "to a polynomial H needs degree <= 2 (linear elasticity)")
-    for c in P.coeffs():
-        if not c.free_symbols <= set(parameters):
-            raise ModelError("W polynomial", f"a coefficient of W, {c}, is not a function of the parameters only")
+    extra = sorted(str(x) for c in P.coeffs() for x in c.free_symbols - set(parameters))
+    if extra:
+        raise ModelError("parameters", f"missing parameters: {', '.join(dict.fromkeys(extra))} appear in W but not "
+                                       "in PARAMETERS (or are state variables inside W's coefficients)")
     Hess = sp.hessian(W.subs(fixed), free) if free else sp.zeros(0, 0)
     defaults = {p: v[2] for p, v in parameters.items()}
     for k in range(1, len(free) + 1):
@@ -216,7 +217,7 @@ def build_model(ns: dict, origin: str) -> Model:
     if bad:
         (i, j, k), r = bad[0]
         raise ModelError("jacobi", f"the Jacobi identity fails for ({X[i]}, {X[j]}, {X[k]}): cyclic sum {r}")
-    for k, (e, ref) in cands.items():
+    for k, (e, _ref) in cands.items():
         if not isinstance(k, str) or not k.isidentifier():
             raise ModelError("candidates", f"candidate name {k!r} is not an identifier")
         try:

@@ -31,7 +31,7 @@ from flint import fmpz_mat, nmod_mat
 from ..core.errors import ParameterError
 from ..core.results import Result
 from . import first_integrals as fi
-from .first_integrals import (PRIMES, _add, _column, _diff, _independent, _modp, _mul, algebra_dimensions,
+from .first_integrals import (PRIMES, _add, _column, _diff, _modp, _mul, algebra_dimensions,
                               kernel_dimensions, lie, monomials, sign_symmetries)
 
 DEFAULT_SEED = fi.DEFAULT_SEED
