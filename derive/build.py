@@ -300,6 +300,10 @@ def models_files(names=None, verbose=False) -> dict:
         if verbose:
             print(f"derive: model {name}: {time.perf_counter() - t0:.1f} s")
     if names is None:
+        from .models import heavy
+
+        out["models/heavy.json"] = json.dumps({"results": [r.as_dict() for r in heavy.derive_results()]}, indent=1,
+                                              sort_keys=True, default=str) + "\n"
         out["models/__init__.py"] = ('"""Machine-written by derive/build.py (python -m derive) -- DO NOT EDIT BY HAND.\n\n'
                                      'The registered rod models (derive/models/), one package each."""\n\n'
                                      f"MODELS = {tuple(models.NAMES)!r}\nDEFAULT = {models.DEFAULT!r}\n")
