@@ -460,6 +460,8 @@ def poincare_section(params=None, h=None, theta0=None, ptheta0=None, psi0=None, 
     >>> secs = mr.poincare_section(["4a", "4b", "5a"], iterates=100)
     >>> [s.panel for s in secs], all(s.success and s.n_points == 100 for s in secs)
     (['4a', '4b', '5a'], True)
+    >>> mr.poincare_section(model="anisotropic", iterates=20).energy_error < 1e-12   # another rod (issue 26)
+    True
 
     Notes
     -----

@@ -197,6 +197,8 @@ def integrability_report(subs=None, *, rederive: bool = False, everything: bool 
     >>> rep = mr.integrability_report()
     >>> rep.statuses["casimirs"], "melnikov_vanishes" in rep.disagreements_with_paper
     ('holds', True)
+    >>> mr.integrability_report(model="magnetic").row("integrals_found")["details"]["beyond_the_algebra"]
+    ['B*e33*lam + m1*n1 + m2*n2 + m3*n3']
 
     Notes
     -----
