@@ -179,3 +179,24 @@ def test_steps_that_need_the_s1_symmetry_name_the_model_and_the_reason():
         mr.poincare_section(model="kirchhoff", params={"B": -1.0})
     with pytest.raises(mr.ParameterError, match="unknown model"):
         mr.integrability_report(model="heavy")
+
+
+def test_chaos_map_over_a_models_parameters_has_its_integrable_line():
+    """mr.chaos_map(model=...): along B2 = B1 = 1 (isotropic: m3 is an integral) the orbit is regular, at B2 = 3 it
+    is chaotic (the same start on each point's level); conservation is part of success."""
+    import magrod as mr
+
+    cm = mr.chaos_map(("B2", 1.0, 3.0, 2), ("C", 0.5, 0.5, 1), model="anisotropic", t_max=500.0)
+    assert cm.success and cm.lyap.shape == (1, 2) and cm.chaotic.tolist() == [[False, True]]
+
+
+def test_poincare_command_with_a_model_writes_its_files(tmp_path, capsys):
+    import json
+
+    from magrod import cli
+
+    assert cli.main(["poincare", "--model", "curved", "--model-params", "k1=0.3", "--iterates", "30",
+                     "--out", str(tmp_path), "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["model"] == "curved" and d["counts"] == [30] * 4 and d["energy_error"] <= 1e-12
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["curved.json", "curved.npz"]

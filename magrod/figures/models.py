@@ -53,6 +53,19 @@ def plot_model_search(r, ax=None, **kw):
     return ax
 
 
+def plot_model_chaos_map(cm, ax=None, **kw):
+    """ModelChaosMap.plot: the Lyapunov estimate over the parameter plane."""
+    from .plots import axes
+
+    ax = axes(ax)
+    im = ax.pcolormesh(cm.x, cm.y, cm.lyap, shading="nearest", cmap="viridis", **kw)
+    ax.figure.colorbar(im, ax=ax, label=f"lyap (t = {cm.t_max:g})")
+    ax.set_xlabel(cm.x_name)
+    ax.set_ylabel(cm.y_name)
+    ax.set_title(f"{cm.model}: {int(cm.chaotic.sum())} of {cm.lyap.size} chaotic", fontsize=8)
+    return ax
+
+
 def plot_landscape(land, ax=None, **kw):
     """Landscape.plot: one row per line of sec. 1: the claim (integrable or not) and magrod's verdict."""
     from .plots import axes

@@ -36,6 +36,7 @@ PLOTTERS: dict[str, str] = {
     "ModelLyapunov": "models:plot_model_lyapunov",
     "ModelSearch": "models:plot_model_search",
     "Landscape": "models:plot_landscape",
+    "ModelChaosMap": "models:plot_model_chaos_map",
 }
 
 
