@@ -36,18 +36,20 @@ PERTURBATION = 0.05  # size of the seeded perturbations of the reference state
 
 
 def _cfuncs(mc):
+    """Compiled (H, C1, ...) and their gradients for the model (one per model and process, systems.cache)."""
+    _BY_DIR[mc.directory] = mc
+    return _cfuncs_dir(mc.directory)
+
+
+@systems.cache
+def _cfuncs_dir(directory: str):
     import heyoka as hy
 
-    key = ("model_cfuncs", mc.directory)
-    if key not in _CF:
-        xs = hy.make_vars(*mc.names.STATE)
-        pars = mc.body.pars()
-        _CF[key] = (systems.CFunc(mc.body.constraints(*xs, *pars), xs),
-                    systems.CFunc(mc.body.constraint_gradients(*xs, *pars), xs))
-    return _CF[key]
-
-
-_CF: dict = {}
+    mc = resolve_dir(directory)
+    xs = hy.make_vars(*mc.names.STATE)
+    pars = mc.body.pars()
+    return (systems.CFunc(mc.body.constraints(*xs, *pars), xs),
+            systems.CFunc(mc.body.constraint_gradients(*xs, *pars), xs))
 
 
 @systems.per_thread
