@@ -120,3 +120,35 @@ def test_models_lists_every_model_with_its_parameters(capsys):
     assert names == ["kirchhoff", "anisotropic", "curved", "extensible", "magnetic", "magnetic-extensible"]
     aniso = out["models"][1]
     assert [p["name"] for p in aniso["parameters"]] == ["B1", "B2", "C"] and not aniso["s1_symmetric"]
+
+
+EULER_TOP = '''
+import sympy as sp
+m1, m2, m3 = sp.symbols("m1 m2 m3", real=True)
+I1, I2, I3 = sp.symbols("I1 I2 I3", positive=True)
+NAME = "euler-top"
+STATE = [m1, m2, m3]
+PARAMETERS = {I1: ("moment 1", (0, sp.oo), 1), I2: ("moment 2", (0, sp.oo), 2), I3: ("moment 3", (0, sp.oo), 3)}
+J = sp.Matrix([[0, -m3, m2], [m3, 0, -m1], [-m2, m1, 0]])
+H = m1**2 / (2 * I1) + m2**2 / (2 * I2) + m3**2 / (2 * I3)
+REFERENCE = {m1: 0.3, m2: 0.2, m3: 0.9}
+'''
+
+
+def test_a_model_given_by_H_on_another_algebra(cache, tmp_path):
+    """Not only rods: the free rigid body on so(3)* given by H directly; the pipeline finds |m|^2 as the one Casimir,
+    no S^1 symmetry (I1 != I2), nothing beyond H and |m|^2 up to degree 4, and a section that conserves both."""
+    import magrod as mr
+
+    f = tmp_path / "euler_top.py"
+    f.write_text(EULER_TOP)
+    rep = mr.integrability_report(model=str(f))
+    assert rep.row("hamiltonian")["title"] == "H as given"
+    assert rep.row("casimirs")["details"]["basis_found"] == {"C1": "m1**2 + m2**2 + m3**2"}
+    assert rep.statuses["s1_symmetry"] == "absent"
+    from magrod.integrability.model_search import model_search
+
+    r = model_search(str(f), 4)
+    assert r.certified and r.known == ["C1", "H"]
+    sec = mr.poincare_section(model=str(f), iterates=10)
+    assert sec.success and sec.energy_error <= 1e-12 and sec.casimir_error <= 1e-12

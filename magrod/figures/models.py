@@ -77,6 +77,7 @@ def plot_landscape(land, ax=None, **kw):
         ax.barh(i, 1, color=col, alpha=0.35)
         ax.text(0.01, i, f"{r['model']}: cited {'integrable' if r['claim_integrable'] else 'non-integrable'} "
                          f"[{r['reference']}]; magrod: {r['verdict']}", va="center", fontsize=7)
+    ax.set_xlim(0, 1)
     ax.set_yticks([])
     ax.set_xticks([])
     ax.invert_yaxis()
@@ -98,11 +99,11 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     land = landscape(4, quick=quick)
     iters = 150 if quick else 600
     secs = [model_section(m, n_orbits=6, iterates=iters) for m in ("kirchhoff", "anisotropic")]
-    fig = plt.figure(figsize=(13, 4.2))
-    gs = fig.add_gridspec(1, 3, width_ratios=[1.6, 1, 1])
-    plot_landscape(land, fig.add_subplot(gs[0]))
+    fig = plt.figure(figsize=(12, 8.5))
+    gs = fig.add_gridspec(2, 2, height_ratios=[1, 1.3])
+    plot_landscape(land, fig.add_subplot(gs[0, :]))
     for k, s in enumerate(secs):
-        plot_model_section(s, fig.add_subplot(gs[k + 1]), x="m2", y="n2")
+        plot_model_section(s, fig.add_subplot(gs[1, k]), x="m2", y="n2")
     fig.tight_layout()
     d = land.to_dict()
     d["sections"] = [{"model": s.model, "counts": s.counts, "energy_error": s.energy_error,

@@ -234,8 +234,8 @@ def _landscape(out, quick):
         return _not_run("sec:intro (landscape)", "the integrability landscape of sec. 1")
     rows = []
     for ln in d["lines"]:
-        ev = "; ".join(f"{e['label']}: {e['what']}" for e in ln["evidence"] if e["label"] != "proved (symbolic)"
-                       or "Liouville" in e["what"])
+        ev = "; ".join(f"{e['label']}: {e['detail']}" for e in ln["evidence"]
+                       if not e["what"].startswith("Casimirs found"))
         rows.append({"label": f"sec:intro [{ln['reference']}]", "paper": ln["claim"],
                      "computed": f"{ln['model']}: {ln['verdict']} ({ev})" + (f". {ln['note']}" if ln.get("note") else ""),
                      "verdict": {"agrees": "reproduced", "disagrees": "differs",
