@@ -84,10 +84,22 @@ class ModelCode:
                                           f"model {self.name!r} does not have it: its H is not invariant under "
                                           "rotations of the body frame about d3 (report entry s1_symmetry)")
         if self.name != DEFAULT:
-            raise ParameterError("model", f"{step}: the model {self.name!r} has the S^1 symmetry, but the "
-                                          "Euler-angle reduction is generated only for the paper's rod "
-                                          f"({DEFAULT!r}); use the body frame")
+            raise ParameterError("model", f"{step}: the model {self.name!r} has the S^1 symmetry, but "
+                                          + CHART_NOTES.get(self.name, "the Euler-angle reduction is generated only "
+                                                            f"for the paper's rod ({DEFAULT!r})") + "; use the body frame")
 
+
+# Why the S^1-symmetric models other than the paper's have no chart of their own here
+CHART_NOTES = {
+    "kirchhoff": "the chart about the force direction makes both Euler angles psi, phi cyclic (p_psi = m.n/|n|, "
+                 "p_phi = m3): one degree of freedom in (theta, p_theta), integrable by quadrature, no section to "
+                 "draw",
+    "extensible": "the chart about the force direction makes both Euler angles psi, phi cyclic (p_psi = m.n/|n|, "
+                  "p_phi = m3): one degree of freedom in (theta, p_theta), integrable by quadrature, no section to "
+                  "draw",
+    "magnetic": "its chart is the paper's reduced system at zero extensibility and shear: "
+                "mr.poincare_section(mr.RodParams(..., gamma=0, delta=0), ...)",
+}
 
 _LOADED: dict = {}
 
