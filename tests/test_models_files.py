@@ -152,3 +152,19 @@ def test_a_model_given_by_H_on_another_algebra(cache, tmp_path):
     assert r.certified and r.known == ["C1", "H"]
     sec = mr.poincare_section(model=str(f), iterates=10)
     assert sec.success and sec.energy_error <= 1e-12 and sec.casimir_error <= 1e-12
+
+
+def test_check_model_imports_neither_heyoka_nor_matplotlib(tmp_path):
+    """`magrod check --model NAME [--integrals]` stays light, as `magrod check` does (the body code is imported on
+    first use, by the numerics)."""
+    import subprocess
+    import sys
+
+    code = ("import sys, io, contextlib\nfrom magrod import cli\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n"
+            "    assert cli.main(['check', '--model', 'curved', '--json']) == 0\n"
+            "    assert cli.main(['check', '--model', 'curved', '--integrals', '--degree', '2', '--json']) == 0\n"
+            "print(sorted({m.split('.')[0] for m in sys.modules} & {'heyoka', 'matplotlib'}))\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == "[]", r.stdout

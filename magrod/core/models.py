@@ -43,10 +43,17 @@ class ModelCode:
     name: str
     origin: str  # "registry" or the model file's path
     names: ModuleType
-    body: ModuleType
     fi: ModuleType
     report: dict
     directory: str
+    body_module: str  # imported on first use of .body (it imports heyoka: `magrod check --model` never does)
+
+    @property
+    def body(self) -> ModuleType:
+        """The body-frame heyoka expressions (generated body.py), imported on first use."""
+        if self.body_module.endswith(".py"):
+            return _import_file(f"magrod_model_{Path(self.directory).name}_body", Path(self.body_module))
+        return importlib.import_module(self.body_module)
 
     @property
     def dim(self) -> int:
@@ -107,24 +114,19 @@ _LOADED: dict = {}
 def _load_registered(name: str) -> ModelCode:
     ident = name.replace("-", "_")
     pkg = f"magrod.generated.models.{ident}"
-    names, body, fi = (importlib.import_module(f"{pkg}.{m}") for m in ("names", "body", "first_integrals"))
+    names, fi = (importlib.import_module(f"{pkg}.{m}") for m in ("names", "first_integrals"))
     d = Path(names.__file__).parent
-    return ModelCode(name, "registry", names, body, fi, json.loads((d / "report.json").read_text()), str(d))
+    return ModelCode(name, "registry", names, fi, json.loads((d / "report.json").read_text()), str(d), f"{pkg}.body")
 
 
-def _import_dir(d: Path, key: str) -> tuple:
-    mods = []
-    for m in ("names", "body", "first_integrals"):
-        modname = f"magrod_model_{key}_{m}"
-        if modname in sys.modules:
-            mods.append(sys.modules[modname])
-            continue
-        spec = importlib.util.spec_from_file_location(modname, d / f"{m}.py")
-        mod = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(mod)
-        sys.modules[modname] = mod
-        mods.append(mod)
-    return tuple(mods)
+def _import_file(modname: str, path: Path) -> ModuleType:
+    if modname in sys.modules:
+        return sys.modules[modname]
+    spec = importlib.util.spec_from_file_location(modname, path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    sys.modules[modname] = mod
+    return mod
 
 
 def cache_root() -> Path:
@@ -171,8 +173,9 @@ def resolve(model=None) -> ModelCode:
         from ..integrability.model_files import compile_file
 
         d, name = compile_file(path, cache_root() / key)
-        names, body, fi = _import_dir(d, key)
-        mc = ModelCode(name, str(path), names, body, fi, json.loads((d / "report.json").read_text()), str(d))
+        names, fi = (_import_file(f"magrod_model_{key}_{m}", d / f"{m}.py") for m in ("names", "first_integrals"))
+        mc = ModelCode(name, str(path), names, fi, json.loads((d / "report.json").read_text()), str(d),
+                       str(d / "body.py"))
         _LOADED[key] = mc
         return mc
     if not isinstance(model, str) or model not in registered():
