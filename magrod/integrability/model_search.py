@@ -21,6 +21,7 @@ Cost: 6-D models, D = 4: ~0.1-0.5 s; 9-D, D = 4: a few seconds (benchmarks/bench
 """
 from __future__ import annotations
 
+import math
 import random
 import time
 from dataclasses import dataclass, field
@@ -48,7 +49,8 @@ def _frac(name, v) -> Fraction:
 
 def parameter_values(mc, values=None, seed: int = DEFAULT_SEED) -> dict:
     """{parameter: Fraction}: `values` where given (exact; inside the model's range), every other parameter a
-    seeded random rational p/q (1 <= p, q <= 997) inside its range (negative as well where the range allows)."""
+    seeded random rational inside its open range: p/q (1 <= p, q <= 997) offset from a finite end (of either sign on
+    (-inf, inf)), or lo + (hi - lo) p/997 on a bounded range."""
     rng = random.Random(seed)
     out = {}
     values = dict(values or {})
@@ -57,13 +59,18 @@ def parameter_values(mc, values=None, seed: int = DEFAULT_SEED) -> dict:
             raise ParameterError(str(k), f"is not a parameter of the model {mc.name!r} ({', '.join(mc.names.PARAMS)})")
     for k, (lo, hi) in zip(mc.names.PARAMS, mc.names.RANGES):
         r = Fraction(rng.randint(1, 997), rng.randint(1, 997))
-        if float(lo) < 0:
-            r = r if rng.random() < 0.5 else -r
+        flo, fhi = float(lo), float(hi)
+        if math.isfinite(flo) and math.isfinite(fhi):
+            r = Fraction(flo) + (Fraction(fhi) - Fraction(flo)) * Fraction(rng.randint(1, 996), 997)
+        elif math.isfinite(flo):
+            r = Fraction(flo) + r
+        elif math.isfinite(fhi):
+            r = Fraction(fhi) - r
+        elif rng.random() < 0.5:
+            r = -r
         v = _frac(k, values[k]) if k in values else r
-        if not float(lo) < v < float(hi):
-            if k in values:
-                raise ParameterError(k, f"= {v} is outside the admissible range ({lo}, {hi})")
-            v = Fraction(1)
+        if not flo < v < fhi:
+            raise ParameterError(k, f"= {v} is outside the admissible range ({lo}, {hi})")
         out[k] = v
     return out
 
@@ -137,7 +144,7 @@ def _exact_kernel(cols: list, rowset: list) -> list:
     for j, col in enumerate(cols):
         den = 1
         for c in col.values():
-            den = den * c.denominator // __import__("math").gcd(den, c.denominator)
+            den = math.lcm(den, c.denominator)
         scale.append(den)
         for r, c in col.items():
             M[ridx[r], j] = int(c * den)
