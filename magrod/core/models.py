@@ -137,13 +137,24 @@ def cache_root() -> Path:
     return base / "magrod" / "models"
 
 
+PIPELINE_SOURCES = ("models/pipeline.py", "models/spec.py", "codegen.py", "first_integrals.py", "results.py")
+
+
 def content_key(path: Path) -> str:
-    """sha256 of the file's bytes and of the pipeline's version: a changed file, or a changed magrod, compiles
-    afresh."""
+    """sha256 of the file's bytes, magrod's version and the source of the pipeline that compiles it
+    (PIPELINE_SOURCES of magrod.derive): a changed file, or a changed pipeline, compiles afresh."""
+    from importlib import resources
+
     from .. import __version__
 
     h = hashlib.sha256(path.read_bytes())
     h.update(b"\0magrod " + __version__.encode())
+    root = resources.files("magrod.derive")
+    for rel in PIPELINE_SOURCES:
+        try:
+            h.update(b"\0" + root.joinpath(rel).read_bytes())
+        except (FileNotFoundError, OSError):  # an installation without derive/: keyed by the version alone
+            h.update(b"\0-")
     return h.hexdigest()[:24]
 
 
