@@ -261,3 +261,15 @@ def test_model_integrator_round_trip():
     ta.propagate_until(50.0)
     ta.propagate_until(0.0)
     assert np.max(np.abs(ta.state[:n] - x0[0])) < 1e-9
+
+
+def test_chaosmap_command_with_a_model(tmp_path, capsys):
+    import json
+
+    from magrod import cli
+
+    assert cli.main(["chaosmap", "--model", "anisotropic", "--x", "B2:1:3:2", "--y", "C:0.5:0.5:1", "--t-max", "500",
+                     "--out", str(tmp_path), "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["model"] == "anisotropic" and d["fraction_chaotic"] == 0.5  # regular at B2 = B1, chaotic at B2 = 3
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["chaosmap.json", "chaosmap.npz"]

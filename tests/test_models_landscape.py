@@ -48,15 +48,20 @@ def test_scan_finds_lagrange_kovalevskaya_goryachev_chaplygin_and_nothing_else()
     (["check", "--model", "nope"], "model"),
     (["check", "--level", "C2=0"], "level"),
     (["models", "--model", "nope"], "model"),
+    (["chaosmap", "--model", "kirchhoff", "--out", "OUT"], "x"),
+    (["chaosmap", "--model", "kirchhoff", "--x", "B:1:2:2", "--y", "C:1:2:0", "--out", "OUT"], "y"),
+    (["poincare", "--model", "kirchhoff", "--model-params", "Q=1"], "model-params"),
 ])
-def test_bad_input_of_the_model_commands(argv, param, capsys):
-    rc = cli.main(argv + ["--json"])
+def test_bad_input_of_the_model_commands(argv, param, capsys, tmp_path):
+    out = tmp_path / "out"
+    rc = cli.main([str(out) if a == "OUT" else a for a in argv] + ["--json"])
     cap = capsys.readouterr()
     assert rc == 2, cap
     obj = json.loads(cap.out)
     assert obj["ok"] is False and param in obj["parameter"]
     lines = [ln for ln in cap.err.splitlines() if ln.strip()]
     assert len(lines) == 1 and param in lines[0] and "Traceback" not in cap.err
+    assert not out.exists() or not any(out.iterdir())  # nothing written
 
 
 @pytest.mark.parametrize("module", ["magrod.integrability.model_search", "magrod.chaos.model_chaos",
