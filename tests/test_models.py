@@ -273,3 +273,33 @@ def test_chaosmap_command_with_a_model(tmp_path, capsys):
     d = json.loads(capsys.readouterr().out)
     assert d["model"] == "anisotropic" and d["fraction_chaotic"] == 0.5  # regular at B2 = B1, chaotic at B2 = 3
     assert sorted(p.name for p in tmp_path.iterdir()) == ["chaosmap.json", "chaosmap.npz"]
+
+
+def test_magnetic_model_equals_the_papers_body_system_at_zero_extensibility():
+    """Two pipelines, one rod: the paper's body system (generated/body.py, numeric scale B = C = m3 = 1, lambda =
+    lambdabar / m^4) at gamma = delta = 0 is the `magnetic` model of the registry with B = C = 1.  The same start,
+    integrated by both for t = 20 (a chaotic-range panel's parameters), agrees to round-off; the mutation lambda =
+    lambdabar / m^2 (a wrong scale) does not."""
+    from magrod.chaos.model_chaos import _integrator, _model
+    from magrod.core import systems
+
+    m, mu, lambar = 1.7, 0.4, 0.135
+    pars = np.zeros(len(systems.PARAMS))
+    for k, v in (("m", m), ("mu", mu), ("gamma", 0.0), ("delta", 0.0), ("lam", lambar)):
+        pars[systems.par_index(k)] = v
+    x0 = systems.euler_to_body(0.1, 0.0, 0.5, 0.9, pars)
+    ta = systems.integrator("body")
+    systems.reset(ta, x0, 0.0, pars)
+    ta.propagate_until(20.0)
+    ref = ta.state.copy()
+    mc = _model("magnetic")
+    tb = _integrator(mc.directory, "tangent")
+    n = mc.dim
+
+    def run(lam):
+        systems.reset(tb, np.concatenate([x0, np.eye(n)[0]]), 0.0, mc.parameters({"B": 1, "C": 1, "lam": lam}))
+        tb.propagate_until(20.0)
+        return tb.state[:n].copy()
+
+    assert np.max(np.abs(run(lambar / m**4) - ref)) < 1e-10
+    assert np.max(np.abs(run(lambar / m**2) - ref)) > 1e-4
