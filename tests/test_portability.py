@@ -352,7 +352,7 @@ def test_maps_agree_at_every_width(width):
         out[b] = maps.chaos_map(spec).fields
     ref = out[WIDTHS[-1]]
     for b, f in out.items():
-        np.testing.assert_array_equal(f["status"], ref["status"])
+        np.testing.assert_array_equal(f["status"], ref["status"], err_msg=f"width {b}")
         g, g0 = f["growth_exponent"], ref["growth_exponent"]
         clear = np.isfinite(g0) & (np.abs(g0 - I.GROWTH_THRESHOLD) > 0.1 * I.GROWTH_THRESHOLD)
         np.testing.assert_array_equal(g[clear] > I.GROWTH_THRESHOLD, g0[clear] > I.GROWTH_THRESHOLD)

@@ -194,7 +194,7 @@ def summarize(result: MultipulseOrbit, orb: dict | None = None) -> dict:
     """pulses, residual, arclength (between the two eps-points: 2 T), H (and its deviation from the saddle's)."""
     orb = orb or orbit(result)
     return {"pulses": count_pulses(orb["theta"]), "crossing": result.pulses, "residual": result.residual,
-            "iterations": result.iterations, "arclength": 2 * result.T, "eps": result.eps,
+            "noise_floor": result.noise_floor, "iterations": result.iterations, "arclength": 2 * result.T, "eps": result.eps,
             "H": float(np.mean(orb["H"])), "H_saddle": result.saddle_H,
             "max_abs_H_minus_saddle": float(np.max(np.abs(orb["H"] - result.saddle_H))),
             "theta_max": float(np.max(orb["theta"])), "free": result.free,
