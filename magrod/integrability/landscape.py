@@ -2,8 +2,8 @@
 
 Each line of sec. 1 is a claim with a citation.  For each, magrod's evidence from the model's own W and J:
   integrable     -- proved: the Casimirs found (k of them on the n-D state) and (n - k)/2 integrals in involution
-                    (every bracket expands to 0: the model's report) whose gradients with the Casimirs' are
-                    independent (rank n - k/2... checked exactly at a seeded rational point, so generically);
+                    (every bracket expands to 0: the model's report) whose gradients together with the Casimirs'
+                    have rank k + (n - k)/2 (exact, at a seeded rational point: then on an open dense set);
   not integrable -- the strongest evidence available, labelled: the candidate integral lost (symbolic bracket),
                     no polynomial integral beyond H and the Casimirs up to degree D (certified exact search,
                     generic parameters), a chaotic orbit (numerical: Lyapunov estimate above the regular bound, H
@@ -140,7 +140,8 @@ def line(model: str, integrable_claim: bool, reference: str, sentence: str, *, d
                                                  .read_text())["results"]}
         for key in PAPER_SPLITTING_KEYS:
             if key in paper:
-                ev.append({"label": f"{paper[key]['status']} (generated/report.json: {key})", "what": paper[key]["title"],
+                ev.append({"label": f"derived (generated/report.json: {key}; against the printed paper: "
+                                    f"{paper[key]['status']})", "what": paper[key]["title"],
                            "detail": paper[key]["method"]})
         note = ("The paper's own first-order Mel'nikov integral vanishes identically (melnikov_vanishes, docs/errata.md); "
                 "the non-integrability rests on the second-order splitting S (computer-verified non-zero) and "
