@@ -303,3 +303,42 @@ def test_magnetic_model_equals_the_papers_body_system_at_zero_extensibility():
 
     assert np.max(np.abs(run(lambar / m**4) - ref)) < 1e-10
     assert np.max(np.abs(run(lambar / m**2) - ref)) > 1e-4
+
+
+def test_magnetic_euler_chart_is_the_papers_chart_at_zero_extensibility():
+    """mr.poincare_section(model="magnetic", formulation="reduced") runs the paper's 4-D chart at gamma = delta = 0
+    (chaos/model_chaos.py magnetic_to_paper: scaling to B = C = m3 = 1).  Cross-check with the model's own body
+    frame (B = 1 != C = 0.75, m3 = 0.5): integrated for s = (B/m3) t_k, its state has the chart coordinates of the
+    k-th section point to ~1e-9.  Mutation: s = t_k (the scale forgotten) does not."""
+    import magrod as mr
+    from magrod.chaos.model_chaos import _integrator, _model, magnetic_to_paper
+    from magrod.core import systems
+
+    sec = mr.poincare_section(model="magnetic", formulation="reduced", iterates=3)
+    assert sec.success and sec.points.shape == (3, 4)
+    mc = _model("magnetic")
+    pars = np.array(mc.parameters())
+    x0 = np.array(mc.names.REFERENCE)
+    rp, _, c = magnetic_to_paper(mc, x0, pars)
+    tb = _integrator(mc.directory, "tangent")
+    n = mc.dim
+    idx = [systems.chart_index(k) for k in ("theta", "psi", "ptheta", "ppsi")]
+
+    def chart_at(s):
+        systems.reset(tb, np.concatenate([x0, np.eye(n)[0]]), 0.0, pars)
+        tb.propagate_until(float(s))
+        _, q, _ = magnetic_to_paper(mc, tb.state[:n].copy(), pars)
+        q = q[idx]
+        q[1] = np.angle(np.exp(1j * q[1]))  # psi modulo 2 pi
+        return q
+
+    def diff(q, p):
+        d = np.abs(q - p)
+        d[1] = abs(np.angle(np.exp(1j * (q[1] - p[1]))))
+        return float(np.max(d))
+
+    for k in range(3):
+        assert diff(chart_at(c * sec.times[k]), sec.points[k]) < 1e-9
+    assert diff(chart_at(sec.times[1]), sec.points[1]) > 1e-3
+    with pytest.raises(mr.ParameterError, match="m3 > 0"):
+        mr.poincare_section(model="magnetic", formulation="reduced", starts=[[0.2, 0.1, -0.5, 0.3, 0.1, 0.9, 0.6, 0, 0.8]])

@@ -333,6 +333,8 @@ def section_for_model(model, params, formulation, *, iterates, tol, t_max, verif
     """mr.poincare_section(model=...): the body-frame section of the model (formulation "reduced" needs the S^1
     symmetry; ModelCode.require_s1 says why not)."""
     mc = _model(model)
+    if formulation == "reduced" and mc.name == "magnetic" and mc.origin == "registry":
+        return magnetic_chart_section(mc, params, starts, iterates=iterates, tol=tol, t_max=t_max, verify=verify)
     if formulation == "reduced":
         mc.require_s1("the reduced (Euler-angle) formulation")
     elif formulation != "body":
@@ -430,3 +432,51 @@ def model_chaos_map(model, x, y, *, t_max: float = 500.0, renorm_dt: float = 1.0
     msg = (f"{lyap.size} orbits, {int(np.sum(lyap > bound))} chaotic (lyap > {bound:.3g}); max |H - h| = {eH:.1e}"
            if ok else f"conservation check failed: max |H - h| = {eH:.1e}, max |C - C0| = {eC:.1e}")
     return ModelChaosMap(ok, msg, mc.name, xn, xs, yn, ys, lyap, lyap > bound, float(t_max), eH, eC)
+
+
+def magnetic_to_paper(mc, x, pars) -> tuple:
+    """The `magnetic` model's state x (parameters B, C, lam) as the paper's rod at gamma = delta = 0: (RodParams,
+    chart coordinates (theta, psi, phi, pbar_theta, pbar_psi), arclength scale c).
+
+    The scaling m = m3 m~, n = (m3^2/B) n~, s = (B/m3) s~ maps the rod with B = C to the numeric scale of
+    derive/numeric_scale.py (B = C = m3 = 1, lambda~ = lambda B^2/m3^3); there C2~ = e3.n~ = 1/m^2,
+    lambda~ = lambdabar/m^4 and 2 C1~ = (mu + 1)/m^4.  C != B adds the uniform rotation m3 (1/C - 1/B) about d3,
+    i.e. phi' only: (theta, psi, pbar_theta, pbar_psi) are those of the B = C rod."""
+    from ..core.params import RodParams
+
+    B, lam = (pars[mc.names.PARAMS.index(k)] for k in ("B", "lam"))
+    i = {k: mc.names.STATE.index(k) for k in mc.names.STATE}
+    m3 = x[i["m3"]]
+    mv = np.array([x[i["m1"]], x[i["m2"]], m3])
+    nv = np.array([x[i["n1"]], x[i["n2"]], x[i["n3"]]])
+    ev = np.array([x[i["e31"]], x[i["e32"]], x[i["e33"]]])
+    if not m3 > 0:
+        raise ParameterError("x0", f"the chart needs m3 > 0 (p_phi = m3 is the unit of the scale), got {m3:g}")
+    if abs(ev @ ev - 1.0) > 1e-12:
+        raise ParameterError("x0", f"the chart needs |e3| = 1 (the field direction), got {np.sqrt(ev @ ev):.15g}")
+    nt = nv * B / m3**2
+    C2 = float(ev @ nt)
+    if not C2 > 0:
+        raise ParameterError("x0", f"the chart needs e3.n > 0 (m = m3/sqrt(B e3.n)), got e3.n = {ev @ nv:g}")
+    m = C2 ** -0.5
+    lt = lam * B**2 / m3**3
+    C1 = 0.5 * float(nt @ nt) + lt * float((mv / m3) @ ev)
+    rp = RodParams(m=float(m), mu=float(2 * C1 * m**4 - 1), gamma=0.0, delta=0.0, lam=float(lt * m**4))
+    xs = np.concatenate([mv / m3, nt, ev])
+    q = systems.body_to_euler(xs, rp.array())
+    return rp, np.asarray(q, dtype=float), B / m3
+
+
+def magnetic_chart_section(mc, params, starts, *, iterates, tol, t_max, verify):
+    """The reduced (Euler-angle) section of the `magnetic` model: the paper's chart at gamma = delta = 0
+    (magnetic_to_paper), computed by magrod.chaos.section.poincare_section(formulation="reduced").  The start is
+    the model's reference state (or starts[0]); the result is the paper's PoincareResult (section sin psi = 0)."""
+    from .section import poincare_section
+
+    pars = np.array(mc.parameters(params))
+    x0 = np.array(mc.names.REFERENCE if starts is None else np.atleast_2d(starts)[0], dtype=float)
+    rp, q, _ = magnetic_to_paper(mc, x0, pars)
+    ci = {k: systems.chart_index(k) for k in ("theta", "psi", "ptheta", "ppsi")}
+    return poincare_section(rp, theta0=float(q[ci["theta"]]), ptheta0=float(q[ci["ptheta"]]),
+                            psi0=float(q[ci["psi"]]), p_psi0=float(q[ci["ppsi"]]), iterates=iterates,
+                            formulation="reduced", tol=tol, t_max=t_max, verify=verify)

@@ -104,8 +104,8 @@ CHART_NOTES = {
     "extensible": "the chart about the force direction makes both Euler angles psi, phi cyclic (p_psi = m.n/|n|, "
                   "p_phi = m3): one degree of freedom in (theta, p_theta), integrable by quadrature, no section to "
                   "draw",
-    "magnetic": "its chart is the paper's reduced system at zero extensibility and shear: "
-                "mr.poincare_section(mr.RodParams(..., gamma=0, delta=0), ...)",
+    "magnetic": "its chart is the paper's reduced system at zero extensibility and shear (poincare_section(model="
+                "'magnetic', formulation='reduced') runs it; magrod.chaos.model_chaos.magnetic_to_paper)",
 }
 
 _LOADED: dict = {}
