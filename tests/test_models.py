@@ -342,3 +342,15 @@ def test_magnetic_euler_chart_is_the_papers_chart_at_zero_extensibility():
     assert diff(chart_at(sec.times[1]), sec.points[1]) > 1e-3
     with pytest.raises(mr.ParameterError, match="m3 > 0"):
         mr.poincare_section(model="magnetic", formulation="reduced", starts=[[0.2, 0.1, -0.5, 0.3, 0.1, 0.9, 0.6, 0, 0.8]])
+
+
+def test_model_parameters_as_keyword_overrides_or_a_dict():
+    """The face's one calling convention (issue 25) holds for models: keyword overrides are the model's parameters,
+    the same as `params` as a dict; an unknown one is named."""
+    import magrod as mr
+
+    a = mr.poincare_section(model="anisotropic", B2=3.0, iterates=10)
+    b = mr.poincare_section(model="anisotropic", params={"B2": 3.0}, iterates=10)
+    assert a.params["B2"] == 3.0 and np.array_equal(a.points, b.points, equal_nan=True)
+    with pytest.raises(mr.ParameterError, match="Q"):
+        mr.lyapunov(model="kirchhoff", Q=1.0)

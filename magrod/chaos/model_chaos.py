@@ -329,6 +329,17 @@ def model_lyapunov(model=None, *, params=None, x0=None, seed: int = 0, t_max: fl
                          lyap > bound, np.array(times), np.array(hist), eH, eC)
 
 
+def model_parameters(params, overrides: dict):
+    """A model's parameters from the face's two spellings: `params` as a dict and/or keyword overrides
+    (``poincare_section(model="anisotropic", B2=3)``, issue 25's calling convention)."""
+    if params is None:
+        return dict(overrides) or None
+    if not isinstance(params, dict):
+        raise ParameterError("params", f"with model= a dict of the model's parameters or keyword overrides, got "
+                                       f"{type(params).__name__}")
+    return {**params, **overrides}
+
+
 def section_for_model(model, params, formulation, *, iterates, tol, t_max, verify, starts):
     """mr.poincare_section(model=...): the body-frame section of the model (formulation "reduced" needs the S^1
     symmetry; ModelCode.require_s1 says why not)."""

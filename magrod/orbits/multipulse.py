@@ -30,7 +30,8 @@ from ..core.tolerances import FLOOR_CAP, FLOOR_FACTOR, LAUNCH_DISTANCE, LAUNCH_D
 from ..generated.names import PARAMS
 from . import shooting
 from .equilibrium import StraightRod, on_level, straight_rod
-from .shooting import MultipulseOrbit, count_pulses, fix_functions, residual_and_jacobian, unstable_branch
+from .shooting import (MultipulseOrbit, count_pulses, fix_functions, residual_and_jacobian,
+                       shooting_precision, unstable_branch)
 
 MAX_DIGITS = 15  # significant digits a float64 value is printed with (`significant`)
 # the free-parameter scan: this many intervals over value * [1 - span, 1 + span] (1.25 % of the value each at
@@ -39,15 +40,6 @@ SCAN_INTERVALS = 80
 ANGLE_SAMPLES = 121  # launch angles of the periodic saddle's scan (3 degrees apart)
 # mu is not free: it follows the free parameter so that the straight rod stays on the chart's level (mu = 2 lam)
 FREE_PARAMETERS = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))
-
-
-def shooting_precision(crossing: int, precision=None) -> Precision:
-    """The precision of a shot at the `crossing`-th zero: `precision` if given (a Precision or its value), else
-    double for the first crossing (no passage near the saddle before it) and long double from the second on
-    (after a near-saddle passage psi inherits the launch error divided by the small transverse force)."""
-    if precision is None:
-        return Precision.DOUBLE if crossing == 1 else Precision.LONG_DOUBLE
-    return Precision.parse(precision)
 
 
 # --- Newton ------------------------------------------------------------------------------------------------
