@@ -52,7 +52,7 @@ def sympy_peer() -> dict:
     import sympy as sp
 
     from magrod.core.models import resolve
-    from magrod.integrability.first_integrals import _column, monomials
+    from magrod.integrability.exact import _column, monomials
     from magrod.integrability.model_search import parameter_values, vector_field
 
     mc = resolve("anisotropic")

@@ -344,8 +344,6 @@ def section_for_model(model, params, formulation, *, iterates, tol, t_max, verif
     """mr.poincare_section(model=...): the body-frame section of the model (formulation "reduced" needs the S^1
     symmetry; ModelCode.require_s1 says why not)."""
     mc = _model(model)
-    if formulation == "reduced" and mc.name == "magnetic" and mc.origin == "registry":
-        return magnetic_chart_section(mc, params, starts, iterates=iterates, tol=tol, t_max=t_max, verify=verify)
     if formulation == "reduced":
         mc.require_s1("the reduced (Euler-angle) formulation")
     elif formulation != "body":
@@ -478,16 +476,16 @@ def magnetic_to_paper(mc, x, pars) -> tuple:
     return rp, np.asarray(q, dtype=float), B / m3
 
 
-def magnetic_chart_section(mc, params, starts, *, iterates, tol, t_max, verify):
-    """The reduced (Euler-angle) section of the `magnetic` model: the paper's chart at gamma = delta = 0
-    (magnetic_to_paper), computed by magrod.chaos.section.poincare_section(formulation="reduced").  The start is
-    the model's reference state (or starts[0]); the result is the paper's PoincareResult (section sin psi = 0)."""
-    from .section import poincare_section
-
+def magnetic_chart_start(model, params, starts):
+    """For mr.poincare_section(model="magnetic", formulation="reduced"): (RodParams, start keywords) of the paper's
+    chart at gamma = delta = 0 (magnetic_to_paper) for the model's reference state (or starts[0]); None for every
+    other model.  chaos/section.py then runs its own reduced section on them (so this module never imports it)."""
+    mc = _model(model)
+    if mc.name != "magnetic" or mc.origin != "registry":
+        return None
     pars = np.array(mc.parameters(params))
     x0 = np.array(mc.names.REFERENCE if starts is None else np.atleast_2d(starts)[0], dtype=float)
     rp, q, _ = magnetic_to_paper(mc, x0, pars)
     ci = {k: systems.chart_index(k) for k in ("theta", "psi", "ptheta", "ppsi")}
-    return poincare_section(rp, theta0=float(q[ci["theta"]]), ptheta0=float(q[ci["ptheta"]]),
-                            psi0=float(q[ci["psi"]]), p_psi0=float(q[ci["ppsi"]]), iterates=iterates,
-                            formulation="reduced", tol=tol, t_max=t_max, verify=verify)
+    return rp, {"theta0": float(q[ci["theta"]]), "ptheta0": float(q[ci["ptheta"]]), "psi0": float(q[ci["psi"]]),
+                "p_psi0": float(q[ci["ppsi"]])}

@@ -487,10 +487,15 @@ def poincare_section(params=None, h=None, theta0=None, ptheta0=None, psi0=None, 
     chaotic divergence).  Other configurations run the scalar path per start on `workers` threads.
     """
     if model is not None:  # issue 26: the model family; keyword overrides are the model's own parameters
-        from .model_chaos import model_parameters, section_for_model
+        from .model_chaos import magnetic_chart_start, model_parameters, section_for_model
 
-        return section_for_model(model, model_parameters(params, overrides), formulation, iterates=iterates, tol=tol,
-                                 t_max=t_max, verify=verify, starts=starts)
+        mp = model_parameters(params, overrides)
+        chart = magnetic_chart_start(model, mp, starts) if formulation == "reduced" else None
+        if chart is not None:  # the magnetic rod's Euler chart is the paper's at gamma = delta = 0
+            return poincare_section(chart[0], **chart[1], iterates=iterates, formulation="reduced", tol=tol,
+                                    t_max=t_max, verify=verify)
+        return section_for_model(model, mp, formulation, iterates=iterates, tol=tol, t_max=t_max, verify=verify,
+                                 starts=starts)
     if params is None:
         raise ParameterError("params", "required: a RodParams, a panel name or a list of them (or model=...)")
     params = with_overrides(params, overrides)

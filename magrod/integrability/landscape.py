@@ -55,7 +55,7 @@ def _gradient_rank(mc, polys: dict, names: list, seed: int) -> int:
     """Rank over Q of the gradients of `names` at a seeded random rational point (exact, python-flint)."""
     from flint import fmpq, fmpq_mat
 
-    from .first_integrals import _diff
+    from .exact import _diff
 
     rng = random.Random(seed)
     x = [Fraction(rng.randint(1, 97), rng.randint(1, 97)) for _ in range(mc.dim)]
@@ -261,7 +261,7 @@ def landscape(degree: int = 4, *, quick: bool = False, scan: bool = True, t_max:
     Evidence labels and method: module docstring.
     """
     from ..core.errors import ParameterError
-    from .first_integrals import _degree
+    from .exact import _degree
 
     t0 = time.perf_counter()
     D = _degree(degree)

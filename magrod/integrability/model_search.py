@@ -31,11 +31,9 @@ from flint import fmpz_mat, nmod_mat
 
 from ..core.errors import ParameterError
 from ..core.results import Result
-from . import first_integrals as fi
-from .first_integrals import (PRIMES, _add, _column, _diff, _modp, _mul, algebra_dimensions,
-                              kernel_dimensions, lie, monomials, sign_symmetries)
+from .exact import (DEFAULT_SEED, PRIMES, _add, _column, _degree, _diff, _modp, _mul, algebra_dimensions, kernel_dimensions,
+                    lie, monomials, sign_symmetries)
 
-DEFAULT_SEED = fi.DEFAULT_SEED
 
 
 def _frac(name, v) -> Fraction:
@@ -255,7 +253,7 @@ def model_search(model=None, degree: int = 4, *, values=None, level=None, seed: 
     from ..core.models import resolve
 
     t0 = time.perf_counter()
-    D = fi._degree(degree)
+    D = _degree(degree)
     if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**63:
         raise ParameterError("seed", f"must be an integer in [0, 2^63), got {seed!r}")
     mc = resolve(model)
