@@ -29,9 +29,9 @@ from ..core import systems
 from ..core.errors import ParameterError
 from ..core.models import resolve
 from ..core.results import Result
-from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, EPS
+from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, EPS, MODEL_LEVEL_TOL
 
-LEVEL_TOL = 64 * EPS  # Gauss-Newton projection of the starts onto the level (a few ulp of O(1) values)
+LEVEL_TOL = MODEL_LEVEL_TOL  # Gauss-Newton projection of the starts onto the level (core/tolerances.py)
 PERTURBATION = 0.05  # size of the seeded perturbations of the reference state
 
 
