@@ -1,6 +1,7 @@
-"""python -m derive            regenerate generated/
+"""python -m derive            regenerate generated/ (the paper's model and generated/models/<name>/ per model)
 python -m derive --check    regenerate into a temporary directory and fail (exit 1) with a diff if generated/
-                            is stale."""
+                            is stale (an orphan file, in generated/ or under generated/models/, counts as stale)
+python -m derive --model NAME [--check]   only that model's generated/models/<name>/ (issue 26)"""
 from __future__ import annotations
 
 import argparse
@@ -9,7 +10,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from .build import build
+from .build import build, models_files, write_files
 
 # derive/ and generated/ are siblings both in the source tree and when installed (magrod/derive, magrod/generated)
 GENERATED = Path(__file__).resolve().parent.parent / "generated"
@@ -38,10 +39,37 @@ def stale_files(fresh: dict, target: Path) -> list:
     return stale
 
 
-def check(target: Path) -> int:
+def stale_model_files(fresh: dict, target: Path, only: str | None = None) -> list:
+    """Like stale_files for generated/models/ (paths relative to generated/, recursive): every file under
+    generated/models/ (or only under generated/models/<only>/) that differs, is missing or is an orphan."""
+    base = target / "models" / only if only else target / "models"
+    have = {str(p.relative_to(target)) for p in base.rglob("*") if p.is_file() and p.suffix != ".pyc"
+            and "__pycache__" not in p.parts} if base.exists() else set()
+    stale = []
+    for rel in sorted(set(fresh) | have):
+        new = fresh.get(rel)
+        old = (target / rel).read_text() if (target / rel).exists() else None
+        if new != old:
+            stale.append(rel)
+            diff = difflib.unified_diff((old or "").splitlines(True), (new or "").splitlines(True),
+                                        f"generated/{rel} (checked in)", f"generated/{rel} (fresh)", n=2)
+            sys.stdout.writelines(list(diff)[:200])
+            if new is None:
+                print(f"generated/{rel}: not written by the derivation (an orphan): delete it")
+    return stale
+
+
+def check(target: Path, model: str | None = None) -> int:
+    if model is not None:
+        from .models import get
+
+        stale = stale_model_files(models_files([model]), target, get(model).ident)
+        print(f"derive --check: generated/models/{get(model).ident}/ is "
+              + (f"stale ({', '.join(stale)})" if stale else "up to date"))
+        return 1 if stale else 0
     with tempfile.TemporaryDirectory() as tmp:
         fresh = build(Path(tmp), verbose=True)
-    stale = stale_files(fresh, target)
+    stale = stale_files(fresh, target) + stale_model_files(models_files(verbose=True), target)
     if stale:
         print(f"\nderive --check: generated/ is stale ({', '.join(stale)}). Run `python -m derive` and commit.")
         return 1
@@ -53,10 +81,18 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m derive", description=__doc__)
     ap.add_argument("--check", action="store_true", help="fail with a diff if generated/ is stale")
     ap.add_argument("--out", type=Path, default=GENERATED, help="output directory")
+    ap.add_argument("--model", default=None, help="only this registered model (generated/models/<name>/)")
     a = ap.parse_args(argv)
+    if a.model is not None:
+        from .models import NAMES
+
+        if a.model not in NAMES:
+            ap.error(f"--model: unknown model {a.model!r}; registered: {', '.join(NAMES)}")
     if a.check:
-        return check(a.out)
-    build(a.out)
+        return check(a.out, a.model)
+    if a.model is None:
+        build(a.out)
+    write_files(a.out, models_files(None if a.model is None else [a.model], verbose=True))
     return 0
 
 

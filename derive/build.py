@@ -279,3 +279,39 @@ def build(out_dir: Path, verbose=True) -> dict:
         print(f"derive: wrote {len(files)} files to {out_dir} in {time.perf_counter() - t0:.1f} s; "
               f"{len(results)} results, disagreements with the paper: {bad or 'none'}")
     return files
+
+
+# --------------------------------------------------------------------------------------------------------------
+# the model family (issue 26): generated/models/<ident>/ per registered model
+# --------------------------------------------------------------------------------------------------------------
+def models_files(names=None, verbose=False) -> dict:
+    """{relative path under generated/: text} for the registered models (all, or `names`), plus
+    generated/models/__init__.py (the list of models).  The paper's own files above are not touched."""
+    from . import models
+    from .models import pipeline
+
+    out = {}
+    chosen = models.NAMES if names is None else names
+    for name in chosen:
+        t0 = time.perf_counter()
+        m = models.get(name)
+        for fname, text in pipeline.model_files(m).items():
+            out[f"models/{m.ident}/{fname}"] = text
+        if verbose:
+            print(f"derive: model {name}: {time.perf_counter() - t0:.1f} s")
+    if names is None:
+        from .models import heavy
+
+        out["models/heavy.json"] = json.dumps({"results": [r.as_dict() for r in heavy.derive_results()]}, indent=1,
+                                              sort_keys=True, default=str) + "\n"
+        out["models/__init__.py"] = ('"""Machine-written by derive/build.py (python -m derive) -- DO NOT EDIT BY HAND.\n\n'
+                                     'The registered rod models (derive/models/), one package each."""\n\n'
+                                     f"MODELS = {tuple(models.NAMES)!r}\nDEFAULT = {models.DEFAULT!r}\n")
+    return out
+
+
+def write_files(out_dir: Path, files: dict) -> None:
+    for rel, text in sorted(files.items()):
+        p = out_dir / rel
+        p.parent.mkdir(parents=True, exist_ok=True)
+        p.write_text(text)

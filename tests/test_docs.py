@@ -59,7 +59,8 @@ def test_cli_reference_lists_every_subcommand(site):
 
 def test_notebooks_rendered_from_executed_cells(site):
     for nb, needle in (("quickstart", "points equal to poincare_section: True"), ("chaos", "single orbit"),
-                       ("homoclinic", "figure6_N2.npz"), ("splitting", "log-log slope")):
+                       ("homoclinic", "figure6_N2.npz"), ("splitting", "log-log slope"),
+                       ("your_own_rod", "re-checked exactly")):
         html = (site / "notebooks" / f"{nb}.html").read_text()
         assert needle in html, nb
         assert "Traceback" not in html, nb

@@ -73,8 +73,9 @@ class LyapunovResult(Result):
         return f"chaotic iff growth_exponent = (FLI(T) - FLI(T/2))/ln 2 > {self.threshold:g}"
 
 
-def lyapunov(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
-             t_max=DEFAULT_T_MAX, renorm_dt=DEFAULT_RENORM_DT, tol=None, project=True, **overrides) -> LyapunovResult:
+def lyapunov(params=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
+             t_max=DEFAULT_T_MAX, renorm_dt=DEFAULT_RENORM_DT, tol=None, project=True, model=None, x0=None,
+             **overrides) -> LyapunovResult:
     """Maximal Lyapunov exponent, Fast Lyapunov Indicator and growth exponent of one orbit, with the history.
 
     Parameters
@@ -94,6 +95,12 @@ def lyapunov(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=Non
         between neighbouring leaves, which is not the orbit's own instability).
     **overrides : float
         Model parameters replacing those of `params`: ``lyapunov("4a", lam=0.15)``.
+    model : str or path, keyword-only
+        A rod model of the family (`magrod models`) or a model file: the exponent of one of its orbits in the body
+        frame (magrod.chaos.model_chaos.model_lyapunov; the overrides, or `params` as a dict, are its parameters:
+        ``lyapunov(model="anisotropic", B2=3)``; `x0` its start; returns a ModelLyapunov).
+    x0 : array, keyword-only
+        With `model`: the start (default a seeded perturbation of the model's reference state).
 
     Returns
     -------
@@ -111,6 +118,8 @@ def lyapunov(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=Non
     >>> ly = mr.lyapunov("4a", t_max=1000)
     >>> ly.success, ly.times.shape, bool(ly.lyap > 0)
     (True, (100,), True)
+    >>> mr.lyapunov(model="kirchhoff", t_max=200).chaotic   # the integrable Kirchhoff rod (issue 26)
+    False
 
     Notes
     -----
@@ -118,6 +127,13 @@ def lyapunov(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=Non
     chaotic once lyap T/(2 ln 2) > 3.  Cost: ~5 us per unit time in a SIMD batch (one lane used here; for many
     orbits use `chaos_map`).  References: Benettin et al. 1980; Froeschle, Lega & Gonczi 1997.
     """
+    if model is not None:  # issue 26: the model family; keyword overrides are the model's own parameters
+        from .model_chaos import model_lyapunov, model_parameters
+
+        return model_lyapunov(model, params=model_parameters(params, overrides), x0=x0, t_max=t_max,
+                              renorm_dt=renorm_dt)
+    if params is None:
+        raise ParameterError("params", "required: a RodParams or a panel name (or model=...)")
     params = with_overrides(params, overrides)
     params, key, h, theta0, ptheta0, psi0 = resolve_start(params, h, theta0, ptheta0, psi0, p_psi0)
     t_max = require_finite("t_max", t_max)

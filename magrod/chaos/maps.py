@@ -444,7 +444,7 @@ def _tile_task(spec_dict: dict, tile_key: str) -> dict:
 
 
 def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_dt=DEFAULT_RENORM_DT,
-              root="smallest", tile=DEFAULT_TILE, client=None, progress=None, **values) -> ChaosMap:
+              root="smallest", tile=DEFAULT_TILE, client=None, progress=None, model=None, **values) -> ChaosMap:
     """Chaos indicators over a plane of two parameters or start values, around a paper panel.
 
     Parameters
@@ -465,6 +465,11 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
         progress(n_tiles_done).
     **values
         Values overriding the panel's (e.g. lam=0.15, h=0.9).
+
+    model : str or path, keyword-only
+        A rod model of the family (`magrod models`) or a model file: Lyapunov estimates over two of its parameters,
+        (name, lo, hi, n) each (magrod.chaos.model_chaos.model_chaos_map; the other parameters in `values`;
+        returns a ModelChaosMap).
 
     Returns
     -------
@@ -493,6 +498,11 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     SIMD batches, plus the energy root per point.  Results are bit-identical for any tile order and worker
     count.  For maps too large for memory, or resumable runs, use `magrod chaosmap --out DIR` (a zarr store).
     """
+    if model is not None:  # issue 26: the model family
+        from .model_chaos import model_chaos_map
+
+        return model_chaos_map(model, x, y, t_max=t_max, renorm_dt=renorm_dt,
+                               params=values or None)
     if isinstance(x, MapSpec):
         if y is not None or values:
             raise ParameterError("y", "give a MapSpec alone, or two axes")

@@ -385,11 +385,11 @@ def resolve_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=N
     return params, key, h, theta0, ptheta0, 0.0 if psi0 is None else psi0
 
 
-def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
+def poincare_section(params=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
                      root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION,
                      precision=Precision.DOUBLE, tol=None, t_max=None, verify=True, pole_switch=(0.05, 0.1),
                      radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None, starts=None, workers=None,
-                     **overrides):
+                     model=None, **overrides):
     """Poincare section sin(psi) = 0 of one orbit of the reduced system (paper sec. 8, fig:poincare1/2), or of
     many orbits at once in the SIMD lanes of heyoka's batch integrator.
 
@@ -440,6 +440,14 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     stretch_dt : float, optional
         Sample the axial stretch v3 every stretch_dt along the same integration (result.stretch).
 
+    model : str or path, optional
+        A rod model of the family (`magrod models`: kirchhoff, anisotropic, curved, extensible, magnetic,
+        magnetic-extensible) or a model file ./my_rod.py: its energy-level section in the body frame
+        (magrod.chaos.model_chaos.model_section; the keyword overrides, or `params` as a dict, are then the model's
+        parameters, e.g. ``poincare_section(model="anisotropic", B2=3)``, `starts` its states of shape (N, dim), and
+        the result a ModelSection).  formulation="reduced" needs the model's S^1
+        symmetry: an error names the model and the reason otherwise.
+
     Returns
     -------
     PoincareResult
@@ -462,6 +470,8 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     >>> sec = mr.poincare_section("4a", iterates=100, lam=0.15)  # the panel's start on another rod
     >>> sec.panel, sec.params.lam
     ('4a, lam=0.15', 0.15)
+    >>> mr.poincare_section(model="anisotropic", iterates=20).energy_error < 1e-12   # another rod model (issue 26)
+    True
 
     Many orbits: `poincare_sections` (a list, always).
 
@@ -479,6 +489,18 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     batched orbit equals its scalar run (tests/test_batch.py: to round-off over the first crossings, until
     chaotic divergence).  Other configurations run the scalar path per start on `workers` threads.
     """
+    if model is not None:  # issue 26: the model family; keyword overrides are the model's own parameters
+        from .model_chaos import magnetic_chart_start, model_parameters, section_for_model
+
+        mp = model_parameters(params, overrides)
+        chart = magnetic_chart_start(model, mp, starts) if formulation == "reduced" else None
+        if chart is not None:  # the magnetic rod's Euler chart is the paper's at gamma = delta = 0
+            return poincare_section(chart[0], **chart[1], iterates=iterates, formulation="reduced", tol=tol,
+                                    t_max=t_max, verify=verify)
+        return section_for_model(model, mp, formulation, iterates=iterates, tol=tol, t_max=t_max, verify=verify,
+                                 starts=starts)
+    if params is None:
+        raise ParameterError("params", "required: a RodParams, a panel name or a list of them (or model=...)")
     params = with_overrides(params, overrides)
     if _is_many(params, theta0, ptheta0, psi0, starts):
         import warnings

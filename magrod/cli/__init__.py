@@ -42,6 +42,8 @@ SUBCOMMANDS = {
     "prove": ("magrod.cli.prove", "computer-assisted proof of transverse homoclinic orbits (certificate, --verify)"),
     "orbitdiagram": ("magrod.cli.orbitdiagram", "orbit diagram: Poincare section points against a model parameter"),
     "explore": ("magrod.cli.explore", "interactive Poincare-section explorer in the browser (127.0.0.1)"),
+    "models": ("magrod.cli.models", "the rod models (registry and model files) with their parameters"),
+    "landscape": ("magrod.cli.landscape", "the integrability landscape of sec. 1 re-derived from the rod models"),
 }
 
 

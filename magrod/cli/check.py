@@ -20,11 +20,26 @@ def add_arguments(p):
     p.add_argument("--degree", type=str, default=None, help="maximum degree D of the search, 1 <= D <= 12 (default 4; "
                                                              "D = 6 takes minutes)")
     p.add_argument("--seed", type=str, default=None, help="seed of the random rational parameter values (default 20)")
+    p.add_argument("--model", default=None, metavar="NAME|FILE.py",
+                   help="a rod model of the family (`magrod models`) or a model file ./my_rod.py (code you run on "
+                        "purpose: executed, checked, compiled into the cache): its derivation report; with "
+                        "--integrals the exact search on it (default: the paper's rod, as without --model)")
+    p.add_argument("--model-params", default=None, metavar="NAME=VALUE,...",
+                   help="with --model --integrals: exact parameter values (integer, decimal or p/q); the others are "
+                        "seeded random rationals")
+    p.add_argument("--level", default=None, metavar="CASIMIR=VALUE,...",
+                   help="with --model --integrals: search on a special Casimir level, e.g. C2=0 (m.n = 0)")
 
 
 def run(args) -> dict:
     from ..core.errors import ParameterError
     from . import options
+
+    if args.model is not None:
+        return _run_model(args)
+    for opt in ("model_params", "level"):
+        if getattr(args, opt, None) is not None:
+            raise ParameterError(opt.replace("_", "-"), "applies only with --model")
 
     if args.integrals:
         if args.rederive or args.all:
@@ -50,7 +65,52 @@ def run(args) -> dict:
     return summary(args.rederive, args.all)
 
 
+def _run_model(args) -> dict:
+    """`check --model NAME|FILE [--integrals --degree D --model-params ... --level ...]`."""
+    from ..core.errors import ParameterError
+    from ..core.models import resolve
+    from . import options
+    from .models import parse_assignments
+
+    for opt in ("subs", "rederive", "all"):
+        if getattr(args, opt):
+            raise ParameterError(opt, "applies to the paper's rod, not with --model")
+    mc = resolve(args.model)
+    if not args.integrals:
+        for opt in ("model_params", "level", "degree", "seed"):
+            if getattr(args, opt) is not None:
+                raise ParameterError(opt.replace("_", "-"), "applies only with --integrals")
+        from ..integrability.report import model_report
+
+        rep = model_report(mc)
+        return {"ok": rep.success, "model": mc.name, "source": rep.source, "results": rep.rows,
+                "statuses": rep.statuses, "disagreements_with_paper": []}
+    from ..integrability.first_integrals import DEFAULT_SEED, MAX_DEGREE
+    from ..integrability.model_search import model_search
+
+    degree = options.integer("degree", "4" if args.degree is None else args.degree, 1, MAX_DEGREE)
+    seed = options.integer("seed", DEFAULT_SEED if args.seed is None else args.seed, 0, 2**62)
+    values = parse_assignments("model-params", args.model_params, mc.names.PARAMS)
+    level = parse_assignments("level", args.level, mc.names.CASIMIRS)
+    r = model_search(mc, degree, values=values, level=level, seed=seed)
+    d = r.to_dict()
+    d["ok"] = True
+    d["search"] = True
+    return d
+
+
 def format_text(out: dict) -> str:
+    if out.get("search"):
+        lines = [f"[{'certified' if out['certified'] else 'NOT certified'}] model {out['model']}: polynomial first "
+                 f"integrals of degree <= {out['degree']}" + (f" on the level {out['level']}" if out["level"] else ""),
+                 f"    parameters: {out['values']}",
+                 f"    known: {', '.join(out['known'])}; candidates lost: {', '.join(out['candidates_lost']) or '-'}",
+                 f"    dim ker L, degree <= 0..{out['degree']}: {out['kernel_dims']}",
+                 f"    dim known algebra:           {out['algebra_dims']}"]
+        for f, ok in zip(out["new_integrals"], out["new_verified"]):
+            lines.append(f"    NEW integral ({'{F, H} = 0 re-checked exactly' if ok else 'RE-CHECK FAILED'}): {f}")
+        lines += [f"    {out['message']}  ({out['wall_time_s']:.2f} s)", "", out["statement"]]
+        return "\n".join(lines)
     if "controls" in out:
         from ..integrability.first_integrals import format_text as fmt_integrals
 

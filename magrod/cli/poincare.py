@@ -47,6 +47,11 @@ def add_arguments(p):
     p.add_argument("--workers", default=None, help="with --starts: threads (default: all cores)")
     p.add_argument("--out", default=None, help="write <stem>.npz/.json/.png into this directory")
     p.add_argument("--stem", default=None, help="file name stem (default: fig<PANEL> or poincare)")
+    p.add_argument("--model", default=None, metavar="NAME|FILE.py",
+                   help="a rod model of the family (`magrod models`) or a model file: its energy-level section in "
+                        "the body frame (the paper's options above do not apply; default: the paper's rod)")
+    p.add_argument("--model-params", default=None, metavar="NAME=VALUE,...",
+                   help="with --model: the model's parameters (the others at their defaults)")
 
 
 def _inputs(args) -> tuple[dict, str | None]:
@@ -190,6 +195,10 @@ def run(args) -> dict:
     from ..core.params import RodParams
     from ..core.progress import bar
 
+    if args.model is not None:
+        return _run_model(args)
+    if args.model_params is not None:
+        raise ParameterError("model-params", "applies only with --model")
     if args.starts is not None:
         vals, key = _inputs_portrait(args)
         return _run_portrait(args, vals, key, RodParams(**{k: vals[k] for k in PARAMS}))
@@ -229,7 +238,44 @@ def run(args) -> dict:
     return out_d
 
 
+def _run_model(args) -> dict:
+    """`poincare --model NAME|FILE`: the model's section (magrod.chaos.model_chaos), files <stem>.npz/.json."""
+    import magrod as mr
+
+    from ..core.io import atomic_savez, atomic_write_json, versions
+    from ..core.models import resolve
+    from .models import parse_assignments
+
+    for opt in ("figure", "starts", *PARAMS, *_START, "ppsi0"):
+        if getattr(args, opt, None) is not None:
+            raise ParameterError(opt, "is an option of the paper's rod: with --model give --model-params")
+    mc = resolve(args.model)
+    params = {k: float(v) for k, v in parse_assignments("model-params", args.model_params, mc.names.PARAMS).items()}
+    iterates = integer("iterates", args.iterates)
+    t_max = None if args.t_max is None else number("t_max", args.t_max, bound=100.0 * LIMITS["iterates"])
+    if args.stem is not None and args.out is None:
+        raise ParameterError("stem", "names the files written into --out: give --out too")
+    name = stem("stem", args.stem) if args.stem is not None else mc.name.replace("-", "_")
+    out = out_dir("out", args.out) if args.out is not None else None
+    res = mr.poincare_section(model=mc, params=params, iterates=iterates, t_max=t_max,
+                              formulation=args.formulation)
+    d = res.to_dict()
+    d["model_section"] = True
+    if not res.success:
+        raise ParameterError("model", res.message)
+    if out is not None:
+        d["files"] = [str(atomic_savez(out / f"{name}.npz", points=res.points)),
+                      str(atomic_write_json(out / f"{name}.json", {**d, "versions": versions()}))]
+    d["ok"] = True
+    return d
+
+
 def format_text(r: dict) -> str:
+    if r.get("model_section"):
+        return (f"model {r['model']}: section {r['state_names'][0]} ... , level {r['level']}\n"
+                f"  {r['points_shape'][0]} orbits x {r['points_shape'][1]} crossings (counts {r['counts']}); "
+                f"max |H - h| = {r['energy_error']:.1e}, max |C - C0| = {r['casimir_error']:.1e}"
+                + ("".join(f"\n  wrote {f}" for f in r.get("files", []))))
     if r.get("portrait"):
         p = r["parameters"]
         lines = [f"Section portrait sin(psi) = 0{' (Fig. ' + r['panel'] + ')' if r.get('panel') else ''}: "

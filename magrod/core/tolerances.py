@@ -82,3 +82,8 @@ FOLD_BRANCH_TOL = 2e-12
 REAL128_QUADRATURE_TOL = "1e-32"
 # derived vs measured a > 2b splitting coefficient: the issue's relative bound (magrod.separatrix.generic)
 GENERIC_AGREEMENT = 1e-4
+
+# The starts of a model's section (magrod/chaos/model_chaos.py, issue 26) are put on the level of H and the Casimirs
+# by Gauss-Newton steps until |g(x) - g0| <= MODEL_LEVEL_TOL: a few ulp of the O(1) values, far inside the
+# conservation gates ENERGY_TOL and CASIMIR_TOL the sections are then held to.
+MODEL_LEVEL_TOL = 64 * EPS

@@ -26,6 +26,8 @@ FIGURES = {
                   "splitting of the separatrix vs eps (a = 2b and a > 2b) with the integrable controls"),
     "proof": ("magrod.figures.proof", "build",
               "computer-assisted proof: transverse homoclinic orbits of the tilted saddle-focus, verified certificate"),
+    "landscape": ("magrod.figures.models", "build",
+                  "the landscape of sec. 1 re-derived from the rod models (issue 26), the anisotropic B1:B2:C scan"),
 }
 
 

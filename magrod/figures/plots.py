@@ -31,6 +31,12 @@ PLOTTERS: dict[str, str] = {
     "GenericTerm": "splitting:plot_generic_term",
     "GenericComparison": "splitting:plot_generic_comparison",
     "CirclePrediction": "splitting:plot_circle",
+    # the rod family (magrod/figures/models.py, issue 26)
+    "ModelSection": "models:plot_model_section",
+    "ModelLyapunov": "models:plot_model_lyapunov",
+    "ModelSearch": "models:plot_model_search",
+    "Landscape": "models:plot_landscape",
+    "ModelChaosMap": "models:plot_model_chaos_map",
 }
 
 

@@ -38,24 +38,20 @@ Cost: D = 4 ~1 s per regime; D = 6 ~1-2 min per regime on one core.
 """
 from __future__ import annotations
 
-import itertools
 import random
 import time
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from flint import nmod_mat
 
 from ..core.errors import ParameterError
 from ..core.results import Result
 from ..generated import first_integrals as gen
 from ..generated.names import BODY_STATE
+from .exact import (DEFAULT_SEED, MAX_DEGREE, PRIME, PRIMES, _add, _chi, _column, _degree, _diff, _independent, _modp,  # noqa: F401
+                    _mul, _unit, algebra_dimensions, kernel_dimensions, lie, monomials, sign_symmetries)
 
-PRIME = 2305843009213693951  # 2^61 - 1 (Mersenne prime); another is used if it divides a denominator
-PRIMES = (PRIME, 4611686018427387847, 9223372036854775783)
-MAX_DEGREE = 12
 NVAR = len(BODY_STATE)
-DEFAULT_SEED = 20
 
 # the regimes of the controls (issue 20): name -> (substitution, what must be found)
 MAIN = "B2=B1,c_J=c_H"  # the paper's rod: isotropic (B1 = B2), equal shear compliances, extensible (c_K free)
@@ -123,42 +119,12 @@ def _poly(name: str, vals: dict) -> dict:
     return {m: Fraction(c) for m, c in zip(monos, coefs) if c != 0}
 
 
-def _mul(a: dict, b: dict) -> dict:
-    out: dict = {}
-    for ma, ca in a.items():
-        for mb, cb in b.items():
-            k = tuple(x + y for x, y in zip(ma, mb))
-            out[k] = out.get(k, 0) + ca * cb
-    return {k: v for k, v in out.items() if v != 0}
-
-
-def _add(a: dict, b: dict, s=1) -> dict:
-    out = dict(a)
-    for k, v in b.items():
-        out[k] = out.get(k, 0) + s * v
-    return {k: v for k, v in out.items() if v != 0}
-
-
-def _diff(a: dict, i: int) -> dict:
-    out = {}
-    for mono, c in a.items():
-        if mono[i]:
-            k = list(mono)
-            k[i] -= 1
-            out[tuple(k)] = c * mono[i]
-    return out
-
-
-def _unit(i: int) -> tuple:
-    return tuple(1 if j == i else 0 for j in range(NVAR))
-
-
 def structure(vals: dict) -> list:
     """J as a 9 x 9 list of exact linear polynomials."""
     Jm = [[{} for _ in range(NVAR)] for _ in range(NVAR)]
     for (i, j, k), c in zip(gen.STRUCTURE_TERMS, gen.structure(*(vals[p] for p in gen.PARAMETERS))):
         if c != 0:
-            Jm[i][j] = _add(Jm[i][j], {_unit(k): Fraction(c)})
+            Jm[i][j] = _add(Jm[i][j], {_unit(k, NVAR): Fraction(c)})
     return Jm
 
 
@@ -177,166 +143,9 @@ def vector_field(vals: dict) -> list:
     return X
 
 
-def lie(X: list, F: dict) -> dict:
-    """X(F) = {F, H} (exact)."""
-    acc: dict = {}
-    for i in range(NVAR):
-        d = _diff(F, i)
-        if d and X[i]:
-            acc = _add(acc, _mul(d, X[i]))
-    return acc
-
-
 # --------------------------------------------------------------------------------------------------------------
 # symmetry classes and the modular kernel
 # --------------------------------------------------------------------------------------------------------------
-def _chi(mask: int, mono: tuple) -> int:
-    return -1 if sum(mono[i] for i in range(NVAR) if mask >> i & 1) % 2 else 1
-
-
-def sign_symmetries(X: list) -> list:
-    """[(mask, sigma)]: the sign flips S (bit i of mask set = x_i -> -x_i) with X(Sx) = sigma S X(x), found by
-    testing all 2^9 patterns on the exact vector field (sigma = -1: a reversing symmetry, e.g. the reversor)."""
-    out = []
-    for mask in range(1, 1 << NVAR):
-        sig = None
-        ok = True
-        for i, Xi in enumerate(X):
-            si = -1 if mask >> i & 1 else 1
-            for mono in Xi:
-                s = _chi(mask, mono) * si
-                if sig is None:
-                    sig = s
-                elif s != sig:
-                    ok = False
-                    break
-            if not ok:
-                break
-        if ok and sig is not None:
-            out.append((mask, sig))
-    return out
-
-
-def monomials(D: int) -> list:
-    """All exponent tuples of total degree <= D, by degree then lexicographically."""
-    out = []
-    for d in range(D + 1):
-        for c in itertools.combinations_with_replacement(range(NVAR), d):
-            e = [0] * NVAR
-            for i in c:
-                e[i] += 1
-            out.append(tuple(e))
-    return out
-
-
-def _modp(c: Fraction, p: int) -> int:
-    return c.numerator % p * pow(c.denominator, -1, p) % p
-
-
-def _column(X: list, mono: tuple) -> dict:
-    """L(mono) = sum_i mono_i x^(mono - e_i) X_i (exact)."""
-    out: dict = {}
-    for i in range(NVAR):
-        a = mono[i]
-        if not a or not X[i]:
-            continue
-        base = list(mono)
-        base[i] -= 1
-        for nu, c in X[i].items():
-            k = tuple(b + n for b, n in zip(base, nu))
-            out[k] = out.get(k, 0) + a * c
-    return {k: v for k, v in out.items() if v != 0}
-
-
-def kernel_dimensions(X: list, D: int, p: int, syms: list) -> tuple[list, dict]:
-    """dim_p ker L on polynomials of degree <= d, d = 0..D (block by block over the symmetry classes)."""
-    gens = _independent(syms)
-    cols = monomials(D)
-    rows = {m: i for i, m in enumerate(monomials(D + 1))}
-
-    def key(mono, twist=False):
-        return tuple(_chi(mk, mono) * (sg if twist else 1) for mk, sg in gens)
-
-    col_data = [_column(X, mu) for mu in cols]
-    dims = []
-    stats = {"blocks": 0, "largest_block": [0, 0], "entries": 0}
-    for d in range(D + 1):
-        sel = [k for k, mu in enumerate(cols) if sum(mu) <= d]
-        blocks: dict = {}
-        for k in sel:
-            blocks.setdefault(key(cols[k]), []).append(k)
-        kernel = 0
-        for ck, members in blocks.items():
-            target = tuple(c * sg for c, (_, sg) in zip(ck, gens))
-            rset = sorted({r for k in members for r in col_data[k]})
-            for k in members:  # every entry of the block's columns must lie in its predicted row class
-                for r in col_data[k]:
-                    if key(r) != target:
-                        raise AssertionError(f"symmetry classes violated by column {cols[k]} at row {r}")
-            if not rset:
-                kernel += len(members)
-                continue
-            ridx = {r: i for i, r in enumerate(rset)}
-            M = nmod_mat(len(rset), len(members), p)
-            for j, k in enumerate(members):
-                for r, c in col_data[k].items():
-                    M[ridx[r], j] = _modp(c, p)
-                    if d == D:
-                        stats["entries"] += 1
-            kernel += len(members) - M.rank()
-            if d == D:
-                stats["blocks"] += 1
-                if len(members) > stats["largest_block"][1]:
-                    stats["largest_block"] = [len(rset), len(members)]
-        dims.append(kernel)
-    del rows
-    return dims, stats
-
-
-def _independent(syms: list) -> list:
-    """A generating set of the sign-symmetry group (masks independent over Z/2)."""
-    basis, out = [], []
-    for mk, sg in syms:
-        v = mk
-        for b in basis:
-            v = min(v, v ^ b)
-        if v:
-            basis.append(v)
-            basis.sort(reverse=True)
-            out.append((mk, sg))
-    return out
-
-
-def algebra_dimensions(gens: dict, D: int, p: int) -> list:
-    """rank_p of all products of the generators with total degree <= d, d = 0..D (the constant 1 included)."""
-    names = list(gens)
-    degs = [max(sum(m) for m in gens[n]) for n in names]
-    prods = {(): {tuple([0] * NVAR): Fraction(1)}}
-    frontier = [()]
-    while frontier:
-        nxt = []
-        for e in frontier:
-            start = e[-1] if e else 0
-            for k in range(start, len(names)):
-                idx = e + (k,)
-                if sum(degs[j] for j in idx) <= D:
-                    prods[idx] = _mul(prods[e], gens[names[k]])
-                    nxt.append(idx)
-        frontier = nxt
-    dims = []
-    for d in range(D + 1):
-        polys = [q for idx, q in prods.items() if sum(degs[j] for j in idx) <= d]
-        monos = sorted({m for q in polys for m in q})
-        if not monos:
-            dims.append(0)
-            continue
-        mi = {m: i for i, m in enumerate(monos)}
-        M = nmod_mat(len(polys), len(monos), p)
-        for i, q in enumerate(polys):
-            for m, c in q.items():
-                M[i, mi[m]] = _modp(c, p)
-        dims.append(M.rank())
-    return dims
 
 
 def recheck_columns(vals: dict, X: list, D: int, p: int, seed: int, n_points: int = 3) -> float:
@@ -359,7 +168,7 @@ def recheck_columns(vals: dict, X: list, D: int, p: int, seed: int, n_points: in
         return tot
 
     checked = 0
-    cols = monomials(min(D, 3))
+    cols = monomials(min(D, 3), NVAR)
     for _ in range(n_points):
         x = [rng.randrange(1, p) for _ in range(NVAR)]
         gH = [ev(g, x) for g in gradH]
@@ -463,8 +272,8 @@ def search(subs: str | None = MAIN, degree: int = 4, *, seed: int = DEFAULT_SEED
     p = next(q for q in PRIMES if all(c.denominator % q for X_i in X for c in X_i.values()))
     syms = sign_symmetries(X)
     kd, stats = kernel_dimensions(X, D, p, syms)
-    ad = algebra_dimensions(known, D, p)
-    adc = algebra_dimensions({**known, **cand}, D, p) if cand else ad
+    ad = algebra_dimensions(known, D, p, NVAR)
+    adc = algebra_dimensions({**known, **cand}, D, p, NVAR) if cand else ad
     full = adc
     certified = kd == full
     new = kd[-1] - ad[-1]
@@ -483,18 +292,6 @@ def search(subs: str | None = MAIN, degree: int = 4, *, seed: int = DEFAULT_SEED
                 for mk, sg in _independent(syms)]
     return RegimeSearch(True, msg, name or (subs or "general"), subs, shown, D, p, known_names, list(cand), kd, ad,
                         adc, certified, new, sym_text, stats, rc, time.perf_counter() - t0, expectation)
-
-
-def _degree(degree) -> int:
-    if isinstance(degree, bool):
-        raise ParameterError("degree", f"must be an integer in [1, {MAX_DEGREE}], got {degree!r}")
-    try:
-        f = float(degree)
-    except (TypeError, ValueError, OverflowError):
-        raise ParameterError("degree", f"must be an integer in [1, {MAX_DEGREE}], got {str(degree)[:40]!r}") from None
-    if f != f or f != int(f) or not 1 <= f <= MAX_DEGREE:
-        raise ParameterError("degree", f"must be an integer in [1, {MAX_DEGREE}], got {str(degree)[:40]!r}")
-    return int(f)
 
 
 @dataclass(repr=False)
@@ -522,7 +319,7 @@ class FirstIntegralSearch(Result):
 
 
 def first_integral_search(degree: int = 4, subs: str | None = None, *, seed: int = DEFAULT_SEED,
-                          controls: bool = True) -> FirstIntegralSearch:
+                          controls: bool = True, model=None):
     """The exact search for polynomial first integrals with the controls of issue 20.
 
     Parameters
@@ -535,11 +332,14 @@ def first_integral_search(degree: int = 4, subs: str | None = None, *, seed: int
         Seed of the random rational parameters (printed).
     controls : bool, keyword-only
         Also run the four controls (lambda = 0, inextensible, anisotropic, extensible magnetic rod).
+    model : str or path, keyword-only
+        A rod model of the family (`magrod models`) or a model file: the same search on that model
+        (magrod.integrability.model_search; returns a ModelSearch; `subs` and `controls` do not apply).
 
     Returns
     -------
     FirstIntegralSearch
-        success is False if a control does not come out as stated.
+        success is False if a control does not come out as stated (a ModelSearch with `model`).
 
     Raises
     ------
@@ -558,6 +358,12 @@ def first_integral_search(degree: int = 4, subs: str | None = None, *, seed: int
     n.m); for the inextensible, unshearable rod it must find I2 (eq:int2); for the anisotropic rod m3 must not be an
     integral; for the extensible magnetic rod nothing beyond C1-C3, H, m3.  Cost: module docstring.
     """
+    if model is not None:
+        if subs is not None:
+            raise ParameterError("subs", "applies to the paper's rod; a model is searched with its own parameters")
+        from .model_search import model_search
+
+        return model_search(model, degree, seed=seed)
     t0 = time.perf_counter()
     D = _degree(degree)
     main = search(subs or MAIN, D, seed=seed, name=subs or "extensible magnetic rod (default)")

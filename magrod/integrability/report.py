@@ -64,14 +64,26 @@ def format_text(out: dict) -> str:
         lines.append(f"[{r['status']}] {r['label']}: {r['title']}")
         lines.append(f"    shown by: {r['method']}")
         d = r["details"]
-        if r["key"] == "casimirs":
+        if r["key"] == "casimirs" and "basis_found (lambda = 0)" in d:
             lines.append("    basis found (lambda generic): " + "; ".join(d["basis_found"]))
             lines.append("    basis found (lambda = 0):     " + "; ".join(d["basis_found (lambda = 0)"]))
-        elif r["key"].startswith("involution"):
+        elif r["key"].startswith("involution") and "tables" in d:
             for reg, table in d["tables"].items():
                 nz = {k: v for k, v in table.items() if v != "0"}
                 lines.append(f"    {reg}: " + ("all brackets vanish" if not nz else
                                                  "non-zero: " + "; ".join(f"{k} = {v}" for k, v in nz.items())))
+        elif r["key"] == "involution" and "table" in d:
+            nz = {k: v for k, v in d["table"].items() if v != "0"}
+            lines.append("    " + ("all brackets vanish" if not nz else "non-zero: " + "; ".join(
+                f"{k} = {v}" for k, v in nz.items())))
+        elif r["key"] == "casimirs" and "basis_found" in d and isinstance(d["basis_found"], dict):
+            lines.append("    found: " + "; ".join(f"{k} = {v}" for k, v in d["basis_found"].items()))
+        elif r["key"] == "integrals_found":
+            lines.append(f"    dim ker {d['dim_kernel']} vs known algebra {d['dim_known_algebra']}; beyond: "
+                         + ("; ".join(d["beyond_the_algebra"]) or "none"))
+        elif r["key"] == "candidates":
+            lines.append("    " + "; ".join(f"{k}: {'integral' if v else 'NOT an integral'} ({d['references'][k]})"
+                                            for k, v in d["first_integral"].items()))
         elif r["key"] == "I2bar_conservation":
             for case, v in d["cases"].items():
                 lines.append(f"    {{I2bar, Hbar}} at {case}: {'0 (conserved)' if v == '0' else 'non-zero'}")
@@ -134,7 +146,23 @@ def _subs_text(subs) -> str:
     return ",".join(parts)
 
 
-def integrability_report(subs=None, *, rederive: bool = False, everything: bool = False) -> IntegrabilityReport:
+def model_report(model) -> IntegrabilityReport:
+    """The derivation report of a rod model of the family (generated/models/<name>/report.json, or a model file's
+    cache entry: derive/models/pipeline.py), as an IntegrabilityReport."""
+    from ..core.models import resolve
+
+    mc = resolve(model)
+    rows = mc.report["results"]
+    statuses = {r["key"]: r["status"] for r in rows}
+    bad = [r["key"] for r in rows if r["status"] == "disagrees"]
+    src = (f"generated/models/{mc.name.replace('-', '_')}/report.json" if mc.origin == "registry"
+           else f"{mc.origin} (compiled into {mc.directory})")
+    return IntegrabilityReport(not bad, "ok" if not bad else f"checks that fail: {', '.join(bad)}", src, rows,
+                               statuses, [], None)
+
+
+def integrability_report(subs=None, *, rederive: bool = False, everything: bool = False,
+                         model=None) -> IntegrabilityReport:
     """The symbolic integrability checks: Casimirs, Jacobi identity, involution of H, I1, I2, the Poisson map of
     the reduction and when I2bar is conserved.
 
@@ -148,6 +176,10 @@ def integrability_report(subs=None, *, rederive: bool = False, everything: bool 
         Re-run the whole SymPy derivation instead of reading generated/report.json (~1 min).
     everything : bool
         Every derived result, not only the integrability ones.
+    model : str or path, keyword-only
+        A rod model of the family (`magrod models`) or a model file: its derivation report (equations, Jacobi
+        identity, Casimirs found, S^1 symmetry, involution table, candidate integrals, integrals found by the
+        degree-2 ansatz).  None: the paper's rod, as above.
 
     Returns
     -------
@@ -165,6 +197,8 @@ def integrability_report(subs=None, *, rederive: bool = False, everything: bool 
     >>> rep = mr.integrability_report()
     >>> rep.statuses["casimirs"], "melnikov_vanishes" in rep.disagreements_with_paper
     ('holds', True)
+    >>> mr.integrability_report(model="magnetic").row("integrals_found")["details"]["beyond_the_algebra"]
+    ['B*e33*lam + m1*n1 + m2*n2 + m3*n3']
 
     Notes
     -----
@@ -174,6 +208,11 @@ def integrability_report(subs=None, *, rederive: bool = False, everything: bool 
     """
     from ..core.errors import ParameterError
 
+    if model is not None:
+        if subs is not None or rederive or everything:
+            raise ParameterError("model", "a model's report is read as derived: do not combine it with subs, "
+                                          "rederive or everything (those apply to the paper's rod)")
+        return model_report(model)
     if subs is not None:
         if rederive or everything:
             raise ParameterError("subs", "computes one custom table: do not combine it with rederive or everything")

@@ -1,0 +1,102 @@
+"""Costs of the rod family (issue 26), measured in one run on this machine:
+
+  regenerate   the symbolic pipeline + code generation of one model (`python -m derive --model NAME`)
+  search       the exact degree-4 first-integral search per model (target <= 30 s for a 6-D model), with a peer:
+               SymPy's exact rank of the same matrix L (degree <= 4, the same rational parameters) for a 6-D model
+  landscape    `magrod landscape` (quick and full), in a fresh process
+
+python benchmarks/models.py [--out benchmarks/models.json]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+
+def regenerate() -> dict:
+    from magrod.derive import models
+    from magrod.derive.build import models_files
+
+    out = {}
+    for name in models.NAMES:
+        t0 = time.perf_counter()
+        models_files([name])
+        out[name] = round(time.perf_counter() - t0, 2)
+    return out
+
+
+def search() -> dict:
+    from magrod.integrability.model_search import model_search
+
+    out = {}
+    for name in ("kirchhoff", "anisotropic", "curved", "extensible", "magnetic", "magnetic-extensible"):
+        model_search(name, 2)  # imports and first compile out of the timing
+        t0 = time.perf_counter()
+        r = model_search(name, 4)
+        out[name] = {"s": round(time.perf_counter() - t0, 3), "certified": r.certified}
+    t0 = time.perf_counter()
+    r = model_search("anisotropic", 4, values={"B1": 1, "B2": 4, "C": 4}, level={"C2": 0})
+    out["anisotropic 1:4:4 on C2 = 0 (Goryachev-Chaplygin)"] = {"s": round(time.perf_counter() - t0, 3),
+                                                                 "new": r.new_integrals}
+    return out
+
+
+def sympy_peer() -> dict:
+    """SymPy's exact rank of L (all monomials of degree <= 4, 6-D anisotropic rod) against magrod's modular
+    kernel dimension on the same matrix."""
+    import sympy as sp
+
+    from magrod.core.models import resolve
+    from magrod.integrability.exact import _column, monomials
+    from magrod.integrability.model_search import parameter_values, vector_field
+
+    mc = resolve("anisotropic")
+    vals = parameter_values(mc, None, 20)
+    X = vector_field(mc, vals)
+    cols = [_column(X, mu) for mu in monomials(4, mc.dim)]
+    rows = sorted({r for c in cols for r in c})
+    ri = {r: i for i, r in enumerate(rows)}
+    M = sp.zeros(len(rows), len(cols))
+    for j, c in enumerate(cols):
+        for r, v in c.items():
+            M[ri[r], j] = sp.Rational(v.numerator, v.denominator)
+    t0 = time.perf_counter()
+    rank = M.rank()
+    t_sympy = time.perf_counter() - t0
+    from magrod.integrability.model_search import model_search
+
+    t0 = time.perf_counter()
+    r = model_search(mc, 4, exact_new=False)
+    t_magrod = time.perf_counter() - t0
+    return {"matrix": [len(rows), len(cols)], "sympy_rank_s": round(t_sympy, 3), "magrod_search_s": round(t_magrod, 3),
+            "ratio": round(t_sympy / t_magrod, 1), "kernel_sympy": len(cols) - rank, "kernel_magrod": r.kernel_dims[-1]}
+
+
+def landscape_cli() -> dict:
+    out = {}
+    for label, extra in (("quick", ["--quick"]), ("full", [])):
+        t0 = time.perf_counter()
+        p = subprocess.run([sys.executable, "-m", "magrod.cli", "landscape", "--json", *extra], capture_output=True,
+                           text=True, env={**os.environ, "PYTHONWARNINGS": "ignore"})
+        out[label] = {"s": round(time.perf_counter() - t0, 1), "exit": p.returncode,
+                      "message": json.loads(p.stdout)["message"] if p.returncode == 0 else p.stderr[-200:]}
+    return out
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", type=Path, default=Path(__file__).with_name("models.json"))
+    a = ap.parse_args(argv)
+    res = {"regenerate_s": regenerate(), "search_degree4": search(), "peer_sympy_rank": sympy_peer(),
+           "landscape": landscape_cli(), "load_average": os.getloadavg()}
+    a.out.write_text(json.dumps(res, indent=1) + "\n")
+    print(json.dumps(res, indent=1))
+
+
+if __name__ == "__main__":
+    main()

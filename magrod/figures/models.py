@@ -1,0 +1,113 @@
+"""Pictures of the rod family (issue 26): a model's section, its Lyapunov history, its first-integral search, and
+the landscape of sec. 1 (magrod/integrability/landscape.py) with its figure builder."""
+from __future__ import annotations
+
+import numpy as np
+
+
+def plot_model_section(sec, ax=None, x=None, y=None, **kw):
+    """ModelSection.plot: the crossings projected on two state coordinates (default: the two after the section's
+    own), one colour per orbit."""
+    from .plots import axes
+
+    ax = axes(ax)
+    names = list(sec.state_names)
+    i = names.index(x) if x else 1
+    j = names.index(y) if y else 2
+    for k in range(sec.points.shape[0]):
+        p = sec.points[k, : sec.counts[k]]
+        ax.plot(p[:, i], p[:, j], ".", ms=1.5, **kw)
+    ax.set_xlabel(names[i])
+    ax.set_ylabel(names[j])
+    ax.set_title(f"{sec.model}: section, |dH| <= {sec.energy_error:.1e}, |dC| <= {sec.casimir_error:.1e}", fontsize=8)
+    return ax
+
+
+def plot_model_lyapunov(ly, ax=None, **kw):
+    """ModelLyapunov.plot: the running estimate against t, with the regular bound 10 ln t / t."""
+    from .plots import axes
+
+    ax = axes(ax)
+    ax.loglog(ly.times, np.abs(ly.lyap_history), "k-", lw=1, **kw)
+    t = ly.times
+    ax.loglog(t, 10 * np.log(np.maximum(t, 2.0)) / t, "r--", lw=0.8, label="10 ln t / t")
+    ax.set_xlabel("t")
+    ax.set_ylabel("lyapunov estimate")
+    ax.set_title(f"{ly.model}: lyap = {ly.lyap:.3g} ({'chaotic' if ly.chaotic else 'regular'})", fontsize=8)
+    ax.legend(fontsize=7)
+    return ax
+
+
+def plot_model_search(r, ax=None, **kw):
+    """ModelSearch.plot: dim of the integrals of degree <= d against the known algebra's."""
+    from .plots import axes
+
+    ax = axes(ax)
+    d = np.arange(len(r.kernel_dims))
+    ax.plot(d, r.kernel_dims, "o-", color="k", label="dim ker {F, H}")
+    ax.plot(d, r.algebra_dims, "s--", color="C3", mfc="none", label="known algebra")
+    ax.set_xlabel("degree")
+    ax.set_ylabel("dimension")
+    ax.set_title(f"{r.model} {r.level or ''}: new {len(r.new_integrals)} (certified: {r.certified})", fontsize=8)
+    ax.legend(fontsize=7)
+    return ax
+
+
+def plot_model_chaos_map(cm, ax=None, **kw):
+    """ModelChaosMap.plot: the Lyapunov estimate over the parameter plane."""
+    from .plots import axes
+
+    ax = axes(ax)
+    im = ax.pcolormesh(cm.x, cm.y, cm.lyap, shading="nearest", cmap="viridis", **kw)
+    ax.figure.colorbar(im, ax=ax, label=f"lyap (t = {cm.t_max:g})")
+    ax.set_xlabel(cm.x_name)
+    ax.set_ylabel(cm.y_name)
+    ax.set_title(f"{cm.model}: {int(cm.chaotic.sum())} of {cm.lyap.size} chaotic", fontsize=8)
+    return ax
+
+
+def plot_landscape(land, ax=None, **kw):
+    """Landscape.plot: one row per line of sec. 1: the claim (integrable or not) and magrod's verdict."""
+    from .plots import axes
+
+    rows = land.lines
+    ax = axes(ax, figsize=(8.0, 0.6 + 0.45 * len(rows)))
+    for i, r in enumerate(rows):
+        col = {"agrees": "C2", "disagrees": "C3"}.get(r["agreement"], "0.6")
+        ax.barh(i, 1, color=col, alpha=0.35)
+        ax.text(0.01, i, f"{r['model']}: cited {'integrable' if r['claim_integrable'] else 'non-integrable'} "
+                         f"[{r['reference']}]; magrod: {r['verdict']}", va="center", fontsize=7)
+    ax.set_xlim(0, 1)
+    ax.set_yticks([])
+    ax.set_xticks([])
+    ax.invert_yaxis()
+    ax.set_title(f"the landscape of sec. 1, re-derived (exact search to degree {land.degree})", fontsize=9)
+    return ax
+
+
+def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
+    """The landscape figure (issue 26): (a) every line of sec. 1 and magrod's verdict, (b) a section of the
+    integrable Kirchhoff rod, (c) one of the anisotropic rod on the same kind of level; sidecar landscape.json
+    (every line's labelled evidence and the anisotropic scan)."""
+    from ..chaos.model_chaos import model_section
+    from ..core.io import atomic_savefig, atomic_write_json, ensure_writable_dir, versions
+    from ..integrability.landscape import landscape
+    from .common import pyplot
+
+    plt = pyplot()
+    out = ensure_writable_dir(out_dir)
+    land = landscape(4, quick=quick)
+    iters = 150 if quick else 600
+    secs = [model_section(m, n_orbits=6, iterates=iters) for m in ("kirchhoff", "anisotropic")]
+    fig = plt.figure(figsize=(12, 8.5))
+    gs = fig.add_gridspec(2, 2, height_ratios=[1, 1.3])
+    plot_landscape(land, fig.add_subplot(gs[0, :]))
+    for k, s in enumerate(secs):
+        plot_model_section(s, fig.add_subplot(gs[1, k]), x="m2", y="n2")
+    fig.tight_layout()
+    d = land.to_dict()
+    d["sections"] = [{"model": s.model, "counts": s.counts, "energy_error": s.energy_error,
+                      "casimir_error": s.casimir_error, "success": s.success} for s in secs]
+    d["quick"] = bool(quick)
+    d["versions"] = versions()
+    return [str(atomic_write_json(out / "landscape.json", d)), str(atomic_savefig(fig, out / "landscape.png", dpi=110))]
