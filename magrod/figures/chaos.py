@@ -90,6 +90,14 @@ def map_axes(ax, fields: dict, spec: maps.MapSpec, *, indicator="growth", thresh
         norm = growth_norm(vmax, threshold)
     im = ax.pcolormesh(spec.x.values(), spec.y.values(), np.ma.masked_invalid(g), cmap=cmap, shading="nearest",
                        norm=norm)
+    inferred = np.asarray(fields["inferred"]) != 0 if "inferred" in fields else None
+    if inferred is not None and inferred.any():
+        # a refined map (issue 28): the points never computed under a white veil, so that what was integrated and
+        # what was inferred from its cell can be told apart (the class is the same; the shade is paler)
+        from matplotlib.colors import ListedColormap
+
+        ax.pcolormesh(spec.x.values(), spec.y.values(), np.ma.masked_where(~inferred, np.ones(inferred.shape)),
+                      cmap=ListedColormap([(1, 1, 1, 0.55)]), shading="nearest", vmin=0, vmax=1)
     ge = np.ma.masked_invalid(np.asarray(fields["growth_exponent"], float))
     if spec.x.n > 1 and spec.y.n > 1 and (ge > threshold).any() and (ge <= threshold).any():
         # the classification boundary (masked where missing), whatever indicator is coloured
@@ -106,6 +114,8 @@ def map_axes(ax, fields: dict, spec: maps.MapSpec, *, indicator="growth", thresh
                     "grey: missing")
         else:
             text = FIELD_LABELS[indicator] + "; grey: missing"
+        if inferred is not None and inferred.any():
+            text += f"; pale: inferred ({100 * inferred.mean():.0f} % of the points, never computed)"
         cb.set_label(textwrap.fill(text, chars), fontsize=8)
     for key, x, y in panel_marks(spec):
         ax.plot(x, y, "k*", ms=10, mec="w")
