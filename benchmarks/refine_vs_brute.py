@@ -89,7 +89,7 @@ def main():
         out["brute"] = {"wall_s": wall, "grid_points_per_s": a.n * a.n / wall,
                         "fraction_chaotic": brute.fraction_chaotic, "missing": brute.summary()["missing"]}
         print(f"brute force: {wall:.1f} s", flush=True)
-        for L, r in out["refined"].items():
+        for r in out["refined"].values():
             r.update(compare(brute, r["_map"]), wall_ratio=r["wall_s"] / wall,
                      throughput_ratio=r["grid_points_per_s"] / out["brute"]["grid_points_per_s"])
     for r in out["refined"].values():

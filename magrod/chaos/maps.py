@@ -374,6 +374,27 @@ def round_tiles(spec: MapSpec, iy, ix) -> dict:
     return out
 
 
+TASK_BATCHES = 8  # a refinement task integrates at least this many full SIMD batches (when the round has them)
+
+
+def round_tasks(spec: MapSpec, groups: dict) -> list:
+    """A round's tile parts ({key: (iy, ix)}, row-major) grouped into tasks: consecutive parts until a task holds
+    TASK_BATCHES x batch_size points.  A round touches few points per tile (the coarse lattice of a 256^2 map with
+    L = 3: ~4 per tile), and a task per tile part would leave most SIMD lanes of its batches empty.  The grouping
+    changes no number (every orbit has its own lane), only how full the batches are."""
+    want = TASK_BATCHES * spec.batch_size
+    tasks, cur, n = [], [], 0
+    for k, (gy, _) in groups.items():
+        cur.append(k)
+        n += int(gy.size)
+        if n >= want:
+            tasks.append(cur)
+            cur, n = [], 0
+    if cur:
+        tasks.append(cur)
+    return tasks
+
+
 def compute_refined(spec: MapSpec, *, progress=None, client=None, on_round=None) -> "ChaosMap":
     """A refined map in memory (magrod.chaos.refine): round by round, each round's points cut into tiles, in this
     process or as one Dask task per tile.  on_round(round, n_points) after each round (tests, progress)."""
@@ -389,16 +410,19 @@ def compute_refined(spec: MapSpec, *, progress=None, client=None, on_round=None)
     while not ref.done:
         iy, ix = ref.points()
         groups = round_tiles(spec, iy, ix)
+        tasks = round_tasks(spec, groups)
+        pts = [(np.concatenate([groups[k][0] for k in ks]), np.concatenate([groups[k][1] for k in ks]))
+               for ks in tasks]
         if client is None:
-            done = ((k, compute_points(spec, *groups[k])) for k in groups)
+            done = ((j, compute_points(spec, *pts[j])) for j in range(len(tasks)))
         else:
             from dask.distributed import as_completed
 
-            futs = {client.submit(_points_task, sd, gy.tolist(), gx.tolist(), pure=False): k
-                    for k, (gy, gx) in groups.items()}
+            futs = {client.submit(_points_task, sd, gy.tolist(), gx.tolist(), pure=False): j
+                    for j, (gy, gx) in enumerate(pts)}
             done = ((futs[f], f.result()) for f in as_completed(futs))
-        for k, res in done:
-            gy, gx = groups[k]
+        for j, res in done:
+            gy, gx = pts[j]
             for name, v in res.items():
                 fields[name][gy, gx] = v
             if progress is not None:

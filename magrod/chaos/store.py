@@ -563,20 +563,30 @@ def _empty_tile(spec: maps.MapSpec, tile: maps.Tile) -> dict:
     return f
 
 
-def refine_task(spec_dict: dict, rnd: int, tile_key: str, iy: list, ix: list, store: str, tiles_dir: str,
-                ident: str | None = None) -> tuple:
-    """The Dask task of one tile in one refinement round: compute the points (iy, ix) (global indices inside the
-    tile), write them into the tile's chunk (read, update those points, write back: no other task of the round
-    touches this chunk), then the round's marker with the points' hash.  An unreadable chunk starts from the empty
-    tile (the points of earlier rounds it held are found missing when their round is verified, and recomputed).
-    Returns (key, wall seconds, content hash of the whole tile as written)."""
+def refine_task(spec_dict: dict, rnd: int, parts: list, store: str, tiles_dir: str, ident: str | None = None
+                ) -> list:
+    """The Dask task of some tiles' parts in one refinement round (maps.round_tasks): compute the points of every
+    part [(tile key, iy, ix), ...] in one run (full SIMD batches), then per tile write them into its chunk (read,
+    update those points, write back: no other task of the round touches this chunk) and the round's marker with
+    the points' hash.  An unreadable chunk starts from the empty tile (the points of earlier rounds it held are
+    found missing when their round is verified, and recomputed).  Returns [(key, wall seconds, content hash of the
+    whole tile as written), ...]."""
+    spec = maps.MapSpec.from_dict(spec_dict)
+    t0 = time.perf_counter()
+    allv = maps.compute_points(spec, [y for _, iy, _ in parts for y in iy], [x for _, _, ix in parts for x in ix])
+    wall = (time.perf_counter() - t0) / max(1, len(parts))
+    out, at = [], 0
+    for key, iy, ix in parts:
+        vals = {k: v[at:at + len(iy)] for k, v in allv.items()}
+        at += len(iy)
+        out.append(_write_part(spec, rnd, key, iy, ix, vals, wall, store, tiles_dir, ident))
+    return out
+
+
+def _write_part(spec, rnd, tile_key, iy, ix, vals, wall, store, tiles_dir, ident) -> tuple:
     import zarr
 
-    spec = maps.MapSpec.from_dict(spec_dict)
     tile = maps.tile_of(spec, tile_key)
-    t0 = time.perf_counter()
-    vals = maps.compute_points(spec, iy, ix)
-    wall = time.perf_counter() - t0
     try:
         g = zarr.open_group(str(store), mode="r")
         cur = {k: np.array(g[k][tile.ys, tile.xs]) for k in ALL_FIELDS}
@@ -677,8 +687,10 @@ def run_refined(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, 
                     else:
                         cluster, client, pids = start_local_cluster(workers)
                     client.run(_worker_env)
-                futs = {client.submit(refine_task, sd, rnd, k, groups[k][0].tolist(), groups[k][1].tolist(),
-                                      str(store), str(tiles_dir), state.identity, pure=False): k for k in todo}
+                tasks = maps.round_tasks(spec, {k: groups[k] for k in todo})
+                futs = {client.submit(refine_task, sd, rnd, [(k, groups[k][0].tolist(), groups[k][1].tolist())
+                                                             for k in ks], str(store), str(tiles_dir),
+                                      state.identity, pure=False): ks for ks in tasks}
                 part = {"computed": [], "task_wall_s": 0.0}
                 _collect(client, futs, spec, state, part, progress, worker_timeout, mark_done=False)
                 import zarr
@@ -843,24 +855,25 @@ def _collect(client, futs, spec, state: StoreState, res: dict, progress, worker_
                                                     f"finished tiles are kept; re-run the command to resume") from None
             for fut in finished:
                 try:
-                    key, wall, digest = fut.result()
+                    got = fut.result()
                 except (ParameterError, EnvironmentFault):
                     raise
                 except Exception as exc:  # noqa: BLE001 - a task or the cluster failed: one line saying which
                     raise TileFailure(futs.get(fut), exc) from None
-                if group is None:
-                    group = zarr.open_group(str(state.store), mode="r")
-                here = _hash_of_stored(state.store, maps.tile_of(spec, key), group, names_of(spec))
-                if here != digest:
-                    raise EnvironmentFault("out", f"tile {key} written by a worker does not read back here from "
-                                                  f"{str(state.store)!r} (content hash differs): the workers need the "
-                                                  f"same --out path as the client (a shared filesystem)")
-                if mark_done:
-                    state.done.add(key)
-                res["computed"].append(key)
-                res["task_wall_s"] += wall
-                if progress is not None:
-                    progress(1)
+                for key, wall, digest in (got if isinstance(got, list) else [got]):  # a refinement task: parts
+                    if group is None:
+                        group = zarr.open_group(str(state.store), mode="r")
+                    here = _hash_of_stored(state.store, maps.tile_of(spec, key), group, names_of(spec))
+                    if here != digest:
+                        raise EnvironmentFault("out", f"tile {key} written by a worker does not read back here from "
+                                                      f"{str(state.store)!r} (content hash differs): the workers need "
+                                                      f"the same --out path as the client (a shared filesystem)")
+                    if mark_done:
+                        state.done.add(key)
+                    res["computed"].append(key)
+                    res["task_wall_s"] += wall
+                    if progress is not None:
+                        progress(1)
     except BaseException:
         try:
             client.cancel(list(futs))
