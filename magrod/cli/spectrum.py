@@ -69,9 +69,10 @@ def run(args) -> dict:
     if g is not None:
         res["gali"] = {"final": g.final, "decay": {str(k): v for k, v in g.decay().items()}, "message": g.message}
     if out is not None:
-        from ..core.io import atomic_write_json, versions
+        from ..core.io import atomic_write_json, ensure_writable_dir, versions
         from ..figures.chaos import draw_spectrum
 
+        out = ensure_writable_dir(out)
         png = draw_spectrum(sp, g, out / f"{name}.png")
         res["output"] = {"png": str(png), "json": str(out / f"{name}.json")}
         from ..core.results import jsonable
