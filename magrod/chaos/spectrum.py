@@ -220,7 +220,7 @@ def _prepare(params, h, theta0, ptheta0, psi0, p_psi0, root, t_max, renorm_dt, t
     t_max, renorm_dt = check_run(t_max, renorm_dt)
     if system == "body":
         params, key, *_, x0, pars = body_start(params, h, theta0, ptheta0, psi0, p_psi0, root)
-        return (_body_variational(tol), 9 if x0.size == 9 else x0.size, x0, pars, params, key,
+        return (_body_variational(tol), systems.dim("body"), x0, pars, params, key,
                 _body_check(x0, pars), t_max, renorm_dt)
     if system not in ("lorenz", "henon_heiles"):
         raise ParameterError("system", f"unknown system {system!r}; choose body (the rod), lorenz or henon_heiles")
@@ -285,7 +285,7 @@ def lyapunov_spectrum(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p
     if fail is None:
         order = np.argsort(-ex, kind="stable")  # QR keeps them ordered in the limit; sorted for a finite T
         ex, hist = ex[order], hist[:, order]
-    ok = fail is None and (system != "body" or max(drift) <= DRIFT_LIMIT)
+    ok = bool(fail is None and (system != "body" or max(drift) <= DRIFT_LIMIT))
     msg = "ok" if ok else (fail or f"conservation beyond DRIFT_LIMIT (|dH| {drift[0]:.1e}, Casimirs {drift[1]:.1e})")
     return LyapunovSpectrum(ok, msg, system, params, key, np.asarray(x0, float), float(t_max), float(times[0]), ex,
                             times, hist, float(drift[0]) if system == "body" else math.nan,
@@ -344,7 +344,7 @@ def gali(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, r
     W0 /= np.linalg.norm(W0, axis=0)
     times, hist, drift, fail = _run(ta, n, x0, pars, t_max=t_max, renorm_dt=renorm_dt, W0=W0, mode="gali",
                                     check=check)
-    ok = fail is None and (system != "body" or max(drift) <= DRIFT_LIMIT)
+    ok = bool(fail is None and (system != "body" or max(drift) <= DRIFT_LIMIT))
     msg = "ok" if ok else (fail or f"conservation beyond DRIFT_LIMIT (|dH| {drift[0]:.1e}, Casimirs {drift[1]:.1e})")
     return GaliResult(ok, msg, system, params, key, np.asarray(x0, float), float(t_max), float(times[0]),
                       GALI_ORDERS, times, hist, float(drift[0]) if system == "body" else math.nan,
