@@ -158,7 +158,7 @@ class MapSpec:
         _check_some_point_physical(self)
         _check_refine(self)
         if not self.batch_size:
-            object.__setattr__(self, "batch_size", systems.recommended_batch_size())
+            object.__setattr__(self, "batch_size", systems.batch_width())
 
     @property
     def shape(self) -> tuple:
