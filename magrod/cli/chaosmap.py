@@ -429,6 +429,10 @@ def format_text(r: dict) -> str:
              + (f" ({r['orbits_per_s']:.0f} orbits/s)" if r["orbits_per_s"] else "")
              + (f"; max |dH| {r['max_abs_dH']:.1e}, Casimir drift {r['max_casimir_drift']:.1e}"
                 if r["max_abs_dH"] is not None else "")]
+    if r.get("refine"):
+        f = r["refine"]
+        lines.append(f"  refined (L = {f['levels']}): {f['points_computed']} points computed, {f['points_inferred']} "
+                     f"inferred from their cells; points per round {f['points_per_round']}")
     for k, v in r["output"].items():
         lines.append(f"  {k}: {v}")
     return "\n".join(lines)
