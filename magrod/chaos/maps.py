@@ -593,7 +593,7 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     panel : str or None
         Paper panel whose parameters and start fill in every value not on an axis (None: give them all).
     t_max, tol, renorm_dt, root
-        As in `lyapunov` (tol 0 = machine epsilon).
+        As in `lyapunov` (tol 0 = machine epsilon, the default: see Notes for the evidence).
     tile : int
         Tile edge (one task per tile; in a refined map, one task per tile and round).
     refine : int
@@ -639,6 +639,16 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     Criterion: chaotic iff growth_exponent > 3 (magrod.chaos.indicators).  Cost ~5 us per orbit per unit time in
     SIMD batches, plus the energy root per point.  Results are bit-identical for any tile order and worker
     count.  For maps too large for memory, or resumable runs, use `magrod chaosmap --out DIR` (a zarr store).
+
+    The default tolerance stays machine epsilon, by the work-precision study of the classification
+    (benchmarks/classification_precision.py, benchmarks/README.md "Issue 28"): on the 64 x 64 map lam x gamma =
+    [0, 0.3] x [0, 3] at T = 1000, tol = 1e-12 and 1e-10 classify every one of the 2700 computed points as
+    tol = eps does, and tol = 1e-8 as well on the 2691 points it keeps -- but it loses 9 points (0.3 %) to
+    left_physical_range, because its energy error exceeds the map's conservation budget DRIFT_LIMIT = 1e-8, the
+    check that makes a computed point trustworthy.  So a looser tolerance does not change the answer, and the
+    saving is at most the integration's share of a point's cost (issue 18: tol = 1e-10 halves the cost of an
+    exponent); tol = 1e-10 is a sound choice for a large exploratory map, while the default keeps every existing
+    store's identity and the numbers of REPORT.md (its map runs at the default).
 
     A refined map (`refine` = L) computes each point it computes exactly as the brute-force map does (the same
     bits), in rounds (one Dask wave each); what it can miss is an island of another class inside one coarse cell
