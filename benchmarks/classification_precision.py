@@ -119,15 +119,21 @@ def plot(path_json, path_png):
             x = [c[f"T{T:g}"][f"{r['tol']:g}"] / c[f"T{T:g}"]["eps"] for r in rows]
         else:
             x = [r["wall_s"] / ref["wall_s"] for r in rows]
-        y = [max(r["fraction_misclassified"], 0.5 / r["computed_both"]) for r in rows]
-        ax.loglog(x, y, mk + "-", label=f"T = {T:g}")
-        for xi, yi, r in zip(x, y, rows):
-            ax.annotate(f"tol {r['tol']:g}" + (" (0)" if r["misclassified"] == 0 else ""), (xi, yi), fontsize=7,
-                        textcoords="offset points", xytext=(4, 2))
+        # what differs from the eps map: a class, or a point lost (status), as a fraction of the eps map's points;
+        # none differing is drawn as a down-triangle at the resolution 1/(points)
+        n_ref = ref["computed_both"]
+        frac = [(r["misclassified"] + r["status_differs"]) / n_ref for r in rows]
+        floor = 1.0 / n_ref
+        ax.loglog(x, [max(f, floor) for f in frac], mk + "-", label=f"T = {T:g}", mfc="none")
+        for xi, f, r in zip(x, frac, rows):
+            if f == 0:
+                ax.plot([xi], [floor], "v", color=ax.lines[-1].get_color())
+            ax.annotate(f"{r['tol']:g}: {r['misclassified']} misclassified, {r['status_differs']} lost", (xi, max(f, floor)),
+                        fontsize=6, textcoords="offset points", xytext=(4, 4 if T == 1000 else -10))
     ax.set_xlabel("cost per orbit / cost at tol = eps (same T)" if c is not None else
                   "wall time / wall time at tol = eps (same T)")
-    ax.set_ylabel("fraction classified differently from tol = eps")
-    ax.set_title(f"{d['grid']}^2 map lam x gamma, Fig 4 start rule (0 misclassified drawn at 1/2 point)", fontsize=8)
+    ax.set_ylabel("fraction differing from tol = eps (class or lost)")
+    ax.set_title(f"{d['grid']}^2 map lam x gamma, Fig 4 start rule; v: nothing differs (below 1/points)", fontsize=8)
     ax.legend(fontsize=8)
     fig.savefig(path_png, dpi=120)
 
