@@ -53,6 +53,8 @@ _API = {
     "section_portrait": "chaos.portrait",
     "orbit_diagram": "chaos.portrait",
     "lyapunov": "chaos.lyapunov",
+    "lyapunov_spectrum": "chaos.spectrum",
+    "gali": "chaos.spectrum",
     "chaos_map": "chaos.maps",
     # saddles and orbits
     "saddle": "orbits.shooting",

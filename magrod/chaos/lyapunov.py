@@ -73,6 +73,39 @@ class LyapunovResult(Result):
         return f"chaotic iff growth_exponent = (FLI(T) - FLI(T/2))/ln 2 > {self.threshold:g}"
 
 
+def check_run(t_max, renorm_dt) -> tuple:
+    """(t_max, renorm_dt) of a tangent-vector run, validated: t_max > 0, 0 < renorm_dt <= t_max/2, at most 1e7
+    renormalisations; ParameterError names the argument."""
+    t_max = require_finite("t_max", t_max)
+    if t_max <= 0:
+        raise ParameterError("t_max", f"must be > 0, got {t_max}")
+    renorm_dt = require_finite("renorm_dt", renorm_dt)
+    if not 0 < renorm_dt <= t_max / 2:
+        raise ParameterError("renorm_dt", f"must satisfy 0 < renorm_dt <= t_max/2 = {t_max / 2:g}, got {renorm_dt}")
+    if t_max / renorm_dt > 1e7:
+        raise ParameterError("renorm_dt", f"t_max/renorm_dt = {t_max / renorm_dt:.3g} renormalisations: at most 1e7")
+    return t_max, renorm_dt
+
+
+def body_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=None, root=DEFAULT_ROOT) -> tuple:
+    """(params, panel key, h, theta0, ptheta0, psi0, p_psi0, x0 (9,), pars (5,)) of one orbit's start: a paper panel
+    or RodParams with a chart start, pbar_psi0 the root of Hbar = h chosen by `root` (or given, h then computed),
+    mapped to the body frame.  Shared by lyapunov, lyapunov_spectrum and gali."""
+    params, key, h, theta0, ptheta0, psi0 = resolve_start(params, h, theta0, ptheta0, psi0, p_psi0)
+    theta0, ptheta0, psi0, h = _check_start(theta0, ptheta0, psi0, h)
+    pars = params.array()
+    if p_psi0 is None:
+        if h is None:
+            raise ParameterError("h", "give an energy level h (or p_psi0)")
+        roots = solve_p_psi(params, h, theta0, ptheta0, psi0)
+        p_psi0 = float(roots[choose_root(roots, root)])
+    else:
+        p_psi0 = require_finite("p_psi0", p_psi0)
+        h = float(systems.reduced_functions()["H"]([theta0, psi0, ptheta0, p_psi0], pars)[0])
+    x0 = systems.euler_to_body(theta0, psi0, ptheta0, p_psi0, pars)
+    return params, key, h, theta0, ptheta0, psi0, p_psi0, x0, pars
+
+
 def lyapunov(params=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
              t_max=DEFAULT_T_MAX, renorm_dt=DEFAULT_RENORM_DT, tol=None, project=True, model=None, x0=None,
              **overrides) -> LyapunovResult:
@@ -135,26 +168,9 @@ def lyapunov(params=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi
     if params is None:
         raise ParameterError("params", "required: a RodParams or a panel name (or model=...)")
     params = with_overrides(params, overrides)
-    params, key, h, theta0, ptheta0, psi0 = resolve_start(params, h, theta0, ptheta0, psi0, p_psi0)
-    t_max = require_finite("t_max", t_max)
-    if t_max <= 0:
-        raise ParameterError("t_max", f"must be > 0, got {t_max}")
-    renorm_dt = require_finite("renorm_dt", renorm_dt)
-    if not 0 < renorm_dt <= t_max / 2:
-        raise ParameterError("renorm_dt", f"must satisfy 0 < renorm_dt <= t_max/2 = {t_max / 2:g}, got {renorm_dt}")
-    if t_max / renorm_dt > 1e7:
-        raise ParameterError("renorm_dt", f"t_max/renorm_dt = {t_max / renorm_dt:.3g} renormalisations: at most 1e7")
-    theta0, ptheta0, psi0, h = _check_start(theta0, ptheta0, psi0, h)
-    pars = params.array()
-    if p_psi0 is None:
-        if h is None:
-            raise ParameterError("h", "give an energy level h (or p_psi0)")
-        roots = solve_p_psi(params, h, theta0, ptheta0, psi0)
-        p_psi0 = float(roots[choose_root(roots, root)])
-    else:
-        p_psi0 = require_finite("p_psi0", p_psi0)
-        h = float(systems.reduced_functions()["H"]([theta0, psi0, ptheta0, p_psi0], pars)[0])
-    x0 = systems.euler_to_body(theta0, psi0, ptheta0, p_psi0, pars)
+    t_max, renorm_dt = check_run(t_max, renorm_dt)
+    params, key, h, theta0, ptheta0, psi0, p_psi0, x0, pars = body_start(params, h, theta0, ptheta0, psi0, p_psi0,
+                                                                         root)
     ind = body_indicators(x0[:, None], pars, t_max=t_max, tol=tol, renorm_dt=renorm_dt, project=project,
                           history=True)
     status = int(ind.status[0])

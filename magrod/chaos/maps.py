@@ -126,6 +126,9 @@ class MapSpec:
     renorm_dt: float = DEFAULT_RENORM_DT
     tile: int = DEFAULT_TILE
     batch_size: int = 0
+    refine: int = 0
+    refine_bound: float | None = None
+    refine_threshold: float = GROWTH_THRESHOLD
 
     def __post_init__(self):
         if self.x.name == self.y.name:
@@ -153,6 +156,7 @@ class MapSpec:
             raise ParameterError(missing[0], "no value: give it, or a panel that sets it (panel= / --panel)")
         _check_theta0(self)
         _check_some_point_physical(self)
+        _check_refine(self)
         if not self.batch_size:
             object.__setattr__(self, "batch_size", systems.batch_width())
 
@@ -163,6 +167,9 @@ class MapSpec:
     def as_dict(self) -> dict:
         d = asdict(self)
         d["base"] = {k: float(v) for k, v in sorted(self.base.items())}
+        if not self.refine:  # a brute-force map's dict (and so its store identity) is what it was before issue 28
+            for k in REFINE_KEYS:
+                d.pop(k)
         return d
 
     @classmethod
@@ -176,6 +183,28 @@ class MapSpec:
         v[self.x.name] = float(self.x.values()[ix])
         v[self.y.name] = float(self.y.values()[iy])
         return v
+
+
+REFINE_KEYS = ("refine", "refine_bound", "refine_threshold")
+
+
+def _check_refine(spec: "MapSpec") -> None:
+    """refine 0 (brute force) or a number of levels (magrod.chaos.refine); bound None or > 0; threshold finite."""
+    from .refine import check_levels
+
+    if spec.refine not in (0, None):
+        object.__setattr__(spec, "refine", check_levels(spec.refine))
+    else:
+        object.__setattr__(spec, "refine", 0)
+    if spec.refine_bound is not None:
+        b = require_finite("refine_bound", spec.refine_bound)
+        if b <= 0:
+            raise ParameterError("refine_bound", f"must be > 0 (or None: refine on the class only), got {b:g}")
+        object.__setattr__(spec, "refine_bound", b)
+    object.__setattr__(spec, "refine_threshold", require_finite("refine_threshold", spec.refine_threshold))
+    if not spec.refine and (spec.refine_bound is not None or spec.refine_threshold != GROWTH_THRESHOLD):
+        raise ParameterError("refine_bound" if spec.refine_bound is not None else "refine_threshold",
+                             "applies to a refined map only: give refine = a number of levels")
 
 
 def _check_theta0(spec: "MapSpec") -> None:
@@ -317,6 +346,118 @@ def compute_tile(spec: MapSpec, tile: Tile) -> dict:
     return out
 
 
+REFINE_FIELDS = ("inferred", "level")  # what a refined map adds per grid point (magrod.chaos.refine)
+
+
+def compute_points(spec: MapSpec, iy, ix) -> dict:
+    """Indicators of the grid points (iy[k], ix[k]) (1-D index arrays): {field: (k,) array, "status": int8}.  The
+    same numbers as compute_tile gives at those points (each orbit has its own batch lane and the same start
+    tangent vector), so a refined map's computed points are the brute-force map's."""
+    iy, ix = np.asarray(iy, int), np.asarray(ix, int)
+    starts = [start_point(spec.point(int(x), int(y)), spec.root) for y, x in zip(iy, ix)]
+    x0 = np.array([s[0] for s in starts]).T.reshape(len(BODY_STATE), -1)
+    p = np.array([s[1] for s in starts]).T.reshape(len(PARAMS), -1)
+    st0 = np.array([s[2] for s in starts], np.int8)
+    ind = body_indicators(np.nan_to_num(x0), np.nan_to_num(p, nan=1.0), t_max=spec.t_max, tol=spec.tol or None,
+                          renorm_dt=spec.renorm_dt, batch_size=spec.batch_size, valid=st0 == OK)
+    out = {k: np.asarray(getattr(ind, k), float) for k in _KEYS}
+    out["p_psi0"] = np.array([s[3] for s in starts], float)
+    out["status"] = np.where(st0 == OK, ind.status, st0).astype(np.int8)
+    return out
+
+
+def round_tiles(spec: MapSpec, iy, ix) -> dict:
+    """{tile key: (iy, ix) of the round's points in that tile, row-major}: a refinement round cut into tasks."""
+    iy, ix = np.asarray(iy, int), np.asarray(ix, int)
+    t = spec.tile
+    keys = (iy // t) * (-(-spec.x.n // t)) + ix // t
+    order = np.lexsort((ix, iy, keys))
+    out = {}
+    ks = keys[order]
+    for k in np.unique(ks):
+        sel = order[ks == k]
+        out[f"{int(k) // (-(-spec.x.n // t))}_{int(k) % (-(-spec.x.n // t))}"] = (iy[sel], ix[sel])
+    return out
+
+
+TASK_BATCHES = 8  # a refinement task integrates at least this many full SIMD batches (when the round has them)
+
+
+def round_tasks(spec: MapSpec, groups: dict) -> list:
+    """A round's tile parts ({key: (iy, ix)}, row-major) grouped into tasks: consecutive parts until a task holds
+    TASK_BATCHES x batch_size points.  A round touches few points per tile (the coarse lattice of a 256^2 map with
+    L = 3: ~4 per tile), and a task per tile part would leave most SIMD lanes of its batches empty.  The grouping
+    changes no number (every orbit has its own lane), only how full the batches are."""
+    want = TASK_BATCHES * spec.batch_size
+    tasks, cur, n = [], [], 0
+    for k, (gy, _) in groups.items():
+        cur.append(k)
+        n += int(gy.size)
+        if n >= want:
+            tasks.append(cur)
+            cur, n = [], 0
+    if cur:
+        tasks.append(cur)
+    return tasks
+
+
+def compute_refined(spec: MapSpec, *, progress=None, client=None, on_round=None) -> "ChaosMap":
+    """A refined map in memory (magrod.chaos.refine): round by round, each round's points cut into tiles, in this
+    process or as one Dask task per tile.  on_round(round, n_points) after each round (tests, progress)."""
+    import time
+
+    from .refine import Refinement, point_class
+
+    t0 = time.perf_counter()
+    fields = empty_fields(spec)
+    ref = Refinement(spec.shape, spec.refine, spec.refine_bound)
+    sd = spec.as_dict()
+    n_computed = 0
+    while not ref.done:
+        iy, ix = ref.points()
+        groups = round_tiles(spec, iy, ix)
+        tasks = round_tasks(spec, groups)
+        pts = [(np.concatenate([groups[k][0] for k in ks]), np.concatenate([groups[k][1] for k in ks]))
+               for ks in tasks]
+        if client is None:
+            done = ((j, compute_points(spec, *pts[j])) for j in range(len(tasks)))
+        else:
+            from dask.distributed import as_completed
+
+            futs = {client.submit(_points_task, sd, gy.tolist(), gx.tolist(), pure=False): j
+                    for j, (gy, gx) in enumerate(pts)}
+            done = ((futs[f], f.result()) for f in as_completed(futs))
+        for j, res in done:
+            gy, gx = pts[j]
+            for name, v in res.items():
+                fields[name][gy, gx] = v
+            if progress is not None:
+                progress(1)
+        ref.add(iy, ix, point_class(fields["status"][iy, ix], fields["growth_exponent"][iy, ix],
+                                    spec.refine_threshold), fields["growth_exponent"][iy, ix])
+        n_computed += iy.size
+        if on_round is not None:
+            on_round(ref.round - 1, int(iy.size))
+    fields = finish_refined(ref, fields)
+    n_ok = int(((fields["status"] == OK) & (fields["inferred"] == 0)).sum())
+    msg = "ok" if n_ok else "no point of the map could be computed (see the status field)"
+    return ChaosMap(n_ok > 0, msg, spec, fields, time.perf_counter() - t0)
+
+
+def finish_refined(ref, fields: dict) -> dict:
+    """The finished refinement's fields: inferred points filled (refine.Refinement.infer), plus "inferred" (int8:
+    1 never computed, class from its cell) and "level" (int8: the round a point was computed in, -1 inferred)."""
+    out = ref.infer(fields, MAP_FIELDS)
+    out["inferred"] = ref.inferred().astype(np.int8)
+    out["level"] = ref.level.copy()
+    return out
+
+
+def _points_task(spec_dict: dict, iy: list, ix: list) -> dict:
+    """Some points of one tile from plain data (a Dask task of a refinement round)."""
+    return compute_points(MapSpec.from_dict(spec_dict), iy, ix)
+
+
 @dataclass(repr=False)
 class ChaosMap(Result):
     """A chaos map: fields (ny, nx) as in compute_tile ("status" int8, NaN indicators where status != OK), the
@@ -388,7 +529,22 @@ def map_summary(spec: MapSpec, fields: dict, wall_s: float, threshold=GROWTH_THR
             "max_abs_dH": float(np.max(np.asarray(fields["max_abs_dH"])[ok])) if n_ok else None,
             "max_casimir_drift": float(np.max(np.asarray(fields["casimir_drift"])[ok])) if n_ok else None,
             "fraction_compressed": float((np.asarray(fields["min_stretch"])[ok] <= 0).mean()) if n_ok else None,
-            "t_max": spec.t_max, "wall_s": wall_s, "orbits_per_s": st.size / wall_s if wall_s > 0 else None}
+            "t_max": spec.t_max, "wall_s": wall_s, "orbits_per_s": st.size / wall_s if wall_s > 0 else None,
+            **_refined_summary(spec, fields, wall_s)}
+
+
+def _refined_summary(spec: MapSpec, fields: dict, wall_s: float) -> dict:
+    """What a refined map adds to its summary (nothing for a brute-force map): how many points were computed
+    and inferred, per round, and the requested grid points per second."""
+    if "inferred" not in fields:
+        return {}
+    inf = np.asarray(fields["inferred"]) != 0
+    lev = np.asarray(fields["level"])
+    rounds = [int((lev == r).sum()) for r in range(int(lev.max()) + 1)] if (lev >= 0).any() else []
+    return {"refine": {"levels": spec.refine, "bound": spec.refine_bound, "threshold": spec.refine_threshold,
+                       "points_computed": int((~inf).sum()), "points_inferred": int(inf.sum()),
+                       "fraction_computed": float((~inf).mean()), "points_per_round": rounds,
+                       "grid_points_per_s": inf.size / wall_s if wall_s > 0 else None}}
 
 
 def empty_fields(spec: MapSpec) -> dict:
@@ -401,6 +557,8 @@ def compute_map(spec: MapSpec, *, progress=None, client=None) -> ChaosMap:
     """The whole map in memory: tile by tile in this process, or as one task per tile on a Dask `client`."""
     import time
 
+    if spec.refine:
+        return compute_refined(spec, progress=progress, client=client)
     t0 = time.perf_counter()
     fields = empty_fields(spec)
     all_tiles = tiles(spec)
@@ -444,7 +602,8 @@ def _tile_task(spec_dict: dict, tile_key: str) -> dict:
 
 
 def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_dt=DEFAULT_RENORM_DT,
-              root="smallest", tile=DEFAULT_TILE, client=None, progress=None, model=None, **values) -> ChaosMap:
+              root="smallest", tile=DEFAULT_TILE, refine=0, refine_bound=None, client=None, progress=None,
+              model=None, **values) -> ChaosMap:
     """Chaos indicators over a plane of two parameters or start values, around a paper panel.
 
     Parameters
@@ -456,9 +615,16 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
         Paper panel whose parameters and start fill in every value not on an axis (a RodParams gives the
         parameters only: the start values then come as keywords; None: give them all).
     t_max, tol, renorm_dt, root
-        As in `lyapunov` (tol 0 = machine epsilon).
+        As in `lyapunov` (tol 0 = machine epsilon, the default: see Notes for the evidence).
     tile : int
-        Tile edge (one task per tile).
+        Tile edge (one task per tile; in a refined map, one task per tile and round).
+    refine : int
+        0 (default): brute force, every grid point integrated.  L >= 1: adaptive (magrod.chaos.refine): the
+        lattice of every 2^L-th point first, then only the cells whose computed points disagree in class
+        (regular, chaotic, or the reason a point is missing), halved round by round down to the grid; the other
+        points are inferred from their cell and flagged in the fields "inferred" (1) and "level" (-1).
+    refine_bound : float, optional
+        With `refine`: also split a cell of regular or chaotic points whose growth exponents span more than this.
     client : dask.distributed.Client, optional
         Run the tiles on this cluster (the workers need magrod installed); None: in this process.
     progress : callable, optional
@@ -475,7 +641,7 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     -------
     ChaosMap
         fields (ny, nx) of lyap, fli, fli_half, growth_exponent, max_abs_dH, casimir_drift, min_stretch, p_psi0,
-        status; `summary()`, `to_xarray()`, `plot()`.
+        status (and, refined, inferred and level); `summary()`, `to_xarray()`, `plot()`.
 
     Raises
     ------
@@ -491,12 +657,30 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     >>> cm = mr.chaos_map(("lam", 0.12, 0.2, 2), ("gamma", 2.0, 3.5, 2), t_max=200)
     >>> cm.success, cm.shape, cm.to_xarray()["growth_exponent"].dims
     (True, (2, 2), ('gamma', 'lam'))
+    >>> rm = mr.chaos_map(("lam", 0.12, 0.2, 5), ("gamma", 2.0, 3.5, 5), t_max=200, refine=2)
+    >>> rm.fields["inferred"].shape, int(rm.fields["inferred"].sum()) <= 25 - 4
+    ((5, 5), True)
 
     Notes
     -----
     Criterion: chaotic iff growth_exponent > 3 (magrod.chaos.indicators).  Cost ~5 us per orbit per unit time in
     SIMD batches, plus the energy root per point.  Results are bit-identical for any tile order and worker
     count.  For maps too large for memory, or resumable runs, use `magrod chaosmap --out DIR` (a zarr store).
+
+    The default tolerance stays machine epsilon, by the work-precision study of the classification
+    (benchmarks/classification_precision.py, benchmarks/README.md "Issue 28"): on the 64 x 64 map lam x gamma =
+    [0, 0.3] x [0, 3] at T = 1000, tol = 1e-12 and 1e-10 classify every one of the 2700 computed points as
+    tol = eps does, and tol = 1e-8 as well on the 2691 points it keeps -- but it loses 9 points (0.3 %) to
+    left_physical_range, because its energy error exceeds the map's conservation budget DRIFT_LIMIT = 1e-8, the
+    check that makes a computed point trustworthy.  So a looser tolerance does not change the answer, and the
+    saving is at most the integration's share of a point's cost (issue 18: tol = 1e-10 halves the cost of an
+    exponent); tol = 1e-10 is a sound choice for a large exploratory map, while the default keeps every existing
+    store's identity and the numbers of REPORT.md (its map runs at the default).
+
+    A refined map (`refine` = L) computes each point it computes exactly as the brute-force map does (the same
+    bits), in rounds (one Dask wave each); what it can miss is an island of another class inside one coarse cell
+    that touches none of the cell's computed points (magrod.chaos.refine).  benchmarks/refine_vs_brute.py measures
+    its agreement with and its cost against the brute-force map.
     """
     if model is not None:  # issue 26: the model family
         from .model_chaos import model_chaos_map
@@ -518,7 +702,8 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
         if k in (ax.name, ay.name):
             raise ParameterError(k, f"is varied on the {'x' if k == ax.name else 'y'} axis: do not also fix it")
         base[k] = require_finite(k, v, MAX_MAGNITUDE)
-    spec = MapSpec(ax, ay, base=base, panel=panel, root=root, t_max=t_max, tol=tol, renorm_dt=renorm_dt, tile=tile)
+    spec = MapSpec(ax, ay, base=base, panel=panel, root=root, t_max=t_max, tol=tol, renorm_dt=renorm_dt, tile=tile,
+                   refine=refine, refine_bound=refine_bound)
     check_cost(spec, _n_workers(client))
     return compute_map(spec, progress=progress, client=client)
 

@@ -54,10 +54,20 @@ from ..core.io import atomic_write_json
 
 STORE_FORMAT = 2  # 1: markers without hashes (before issue 17)
 FIELDS = tuple(maps.MAP_FIELDS) + ("status",)  # the order of the content hash
+ALL_FIELDS = FIELDS + maps.REFINE_FIELDS  # every array a store may hold (what starting over may remove)
 
-UNITS = {**{k: f.unit for k, f in BY_NAME.items()}, "status": "code"}
+
+def names_of(spec: maps.MapSpec) -> tuple:
+    """The arrays of this map's store, in the order of the content hash: FIELDS, and for a refined map (issue 28)
+    "inferred" and "level" after them (a brute-force store is what it was before)."""
+    return ALL_FIELDS if spec.refine else FIELDS
+
+UNITS = {**{k: f.unit for k, f in BY_NAME.items()}, "status": "code", "inferred": "flag", "level": "round"}
 LONG = {**{k: f.long for k, f in BY_NAME.items()},
-        "status": "0 ok; " + "; ".join(f"{c} {r}" for c, r in chaos.REASONS.items() if c)}
+        "status": "0 ok; " + "; ".join(f"{c} {r}" for c, r in chaos.REASONS.items() if c),
+        "inferred": "1: never computed, class (status, growth exponent) inferred from its refinement cell and the "
+                    "indicators interpolated from the cell's corners; 0: computed",
+        "level": "refinement round in which the point was computed (0 the coarse lattice); -1 inferred"}
 
 
 def paths(out: Path, stem: str) -> dict:
@@ -88,31 +98,34 @@ def identity(spec: maps.MapSpec) -> str:
     return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
 
 
-def tile_hash(fields: dict) -> str:
-    """sha256 of one tile's content: every field (FIELDS order) as name, dtype, shape and C-order bytes."""
+def tile_hash(fields: dict, names=FIELDS) -> str:
+    """sha256 of one tile's content: every field (`names` order) as name, dtype, shape and C-order bytes."""
     h = hashlib.sha256()
-    for k in FIELDS:
+    for k in names:
         a = np.ascontiguousarray(fields[k])
         h.update(f"{k}|{a.dtype.str}|{a.shape}|".encode())
         h.update(a.tobytes())
     return h.hexdigest()
 
 
+_INT8 = ("status",) + maps.REFINE_FIELDS
+
+
 def _store_dtypes(fields: dict) -> dict:
-    return {k: np.asarray(v, dtype=np.int8 if k == "status" else np.float64) for k, v in fields.items()}
+    return {k: np.asarray(v, dtype=np.int8 if k in _INT8 else np.float64) for k, v in fields.items()}
 
 
-def read_tile(store: Path, tile: maps.Tile, group=None) -> dict:
+def read_tile(store: Path, tile: maps.Tile, group=None, names=FIELDS) -> dict:
     """One tile's fields as stored (raises on an unreadable chunk or metadata)."""
     import zarr
 
     g = group if group is not None else zarr.open_group(str(store), mode="r")
-    return {k: np.asarray(g[k][tile.ys, tile.xs]) for k in FIELDS}
+    return {k: np.asarray(g[k][tile.ys, tile.xs]) for k in names}
 
 
-def _hash_of_stored(store: Path, tile: maps.Tile, group=None) -> str | None:
+def _hash_of_stored(store: Path, tile: maps.Tile, group=None, names=FIELDS) -> str | None:
     try:
-        return tile_hash(read_tile(store, tile, group))
+        return tile_hash(read_tile(store, tile, group, names), names)
     except Exception:  # noqa: BLE001 - a missing, truncated or corrupt chunk (zstd error, ...) is damage
         return None
 
@@ -132,6 +145,7 @@ def _skeleton_hashes(root: Path) -> dict:
 _CHUNK = re.compile(r"^\d+$")
 _PARTIAL = re.compile(r"^\d+\.[0-9a-f]{32}\.partial$")  # zarr's LocalStore temporary of a chunk write
 _MARKER = re.compile(r"^\d+_\d+\.json$")
+_ROUND_MARKER = re.compile(r"^r\d+_\d+_\d+\.json$")  # a refinement round's part of one tile (issue 28)
 
 
 def _refuse_symlink(p: Path) -> None:
@@ -179,7 +193,7 @@ def _remove_store_files(store: Path, names) -> None:
 def _remove_markers(tiles_dir: Path) -> None:
     if tiles_dir.is_dir() and not tiles_dir.is_symlink():
         for p in tiles_dir.iterdir():
-            if _MARKER.match(p.name) and p.is_file() and not p.is_symlink():
+            if (_MARKER.match(p.name) or _ROUND_MARKER.match(p.name)) and p.is_file() and not p.is_symlink():
                 _unlink(p)
         _unlink(tiles_dir / "store.record")
 
@@ -208,7 +222,7 @@ def remove_temporaries(pth: dict, pids=()) -> None:
     remove_stale_temporaries(pth["tiles"], pids)
     store = pth["store"]
     if store.is_dir() and not store.is_symlink():
-        for v in FIELDS:
+        for v in ALL_FIELDS:
             c = store / v / "c"
             if c.is_dir() and not c.is_symlink():
                 for p in c.rglob("*.partial"):
@@ -255,6 +269,12 @@ def _write_skeleton(spec: maps.MapSpec, ident: str, target: Path) -> None:
     data["status"] = (dims, da.full(spec.shape, chaos.FAILED, dtype=np.int8, chunks=chunks),
                       {"units": UNITS["status"], "long_name": LONG["status"], "flag_values": list(chaos.REASONS),
                        "flag_meanings": " ".join(chaos.REASONS.values())})
+    if spec.refine:  # issue 28: which points were computed, and in which round
+        data["inferred"] = (dims, da.full(spec.shape, 0, dtype=np.int8, chunks=chunks),
+                            {"units": UNITS["inferred"], "long_name": LONG["inferred"], "flag_values": [0, 1],
+                             "flag_meanings": "computed inferred"})
+        data["level"] = (dims, da.full(spec.shape, -1, dtype=np.int8, chunks=chunks),
+                         {"units": UNITS["level"], "long_name": LONG["level"]})
     coords = {spec.x.name: (spec.x.name, spec.x.values(), {"units": "1", "long_name": _axis_label(spec.x.name)}),
               spec.y.name: (spec.y.name, spec.y.values(), {"units": "1", "long_name": _axis_label(spec.y.name)})}
     ds = xr.Dataset(data, coords=coords, attrs={
@@ -325,7 +345,7 @@ def create_or_open(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, force=Fa
     rec = _read_json(tiles_dir / "store.record")
     rec = rec if isinstance(rec, dict) and isinstance(rec.get("skeleton"), dict) else None
     inconsistent = rec is not None and rec.get("identity") == ident and not _record_is_consistent(rec)
-    names = list(FIELDS) + [spec.x.name, spec.y.name]
+    names = list(ALL_FIELDS) + [spec.x.name, spec.y.name]
     has_store = store.exists() and any(store.iterdir())
     if rec is not None and rec.get("identity") != ident and not force:
         other = rec.get("spec")
@@ -439,7 +459,7 @@ def _open(spec, ident, store: Path, tiles_dir: Path, rec: dict) -> StoreState:
                 state.metadata_rewritten = bad
             else:  # this environment writes other metadata bytes: rebuild the store from scratch
                 recorded = _recorded_tiles(spec, ident, tiles_dir, rec)
-                _remove_store_files(store, set(FIELDS) | {spec.x.name, spec.y.name})
+                _remove_store_files(store, set(ALL_FIELDS) | {spec.x.name, spec.y.name})
                 _remove_markers(tiles_dir)
                 st = _create(spec, ident, store, tiles_dir)
                 st.repaired = sorted(recorded)
@@ -456,7 +476,8 @@ def _open(spec, ident, store: Path, tiles_dir: Path, rec: dict) -> StoreState:
         group = None
     for key, digest in sorted(recorded.items()):
         tile = maps.tile_of(spec, key)
-        if digest is not None and group is not None and _hash_of_stored(store, tile, group) == digest:
+        if digest is not None and group is not None and _hash_of_stored(store, tile, group,
+                                                                         names_of(spec)) == digest:
             state.done.add(key)
         else:
             state.repaired.append(key)
@@ -495,8 +516,8 @@ def _recorded_tiles(spec, ident, tiles_dir: Path, rec: dict) -> dict:
 
 
 def done_tiles(tiles_dir: Path) -> set:
-    """Tiles with a marker (unverified: use create_or_open for the verified set)."""
-    return {p.stem for p in Path(tiles_dir).glob("*.json") if _MARKER.match(p.name)}
+    """Tiles with a marker, or a refinement round's marker (unverified: use create_or_open for the verified set)."""
+    return {p.stem for p in Path(tiles_dir).glob("*.json") if _MARKER.match(p.name) or _ROUND_MARKER.match(p.name)}
 
 
 def finish(spec: maps.MapSpec, state: StoreState) -> None:
@@ -514,8 +535,8 @@ def finish(spec: maps.MapSpec, state: StoreState) -> None:
 # ------------------------------------------------------------------------------------------------------------
 # the work: one tile per task
 # ------------------------------------------------------------------------------------------------------------
-def write_tile(store: Path, tiles_dir: Path, tile: maps.Tile, fields: dict, wall_s: float, ident: str | None = None
-               ) -> str:
+def write_tile(store: Path, tiles_dir: Path, tile: maps.Tile, fields: dict, wall_s: float, ident: str | None = None,
+               marker: bool = True) -> str:
     """Region write of one tile's chunk, then its done-marker with the content hash (atomically).  Refuses (an
     EnvironmentFault naming "out") a store at this path whose identity is not `ident`: a worker that sees another
     filesystem than the client must not fill some other store.  Returns the content hash."""
@@ -534,12 +555,14 @@ def write_tile(store: Path, tiles_dir: Path, tile: maps.Tile, fields: dict, wall
         raise EnvironmentFault("out", f"the store at {str(store)!r} on this worker is another map: the workers need "
                                       f"the same --out path as the client (a shared filesystem)")
     fields = _store_dtypes(fields)
-    for k in FIELDS:
+    names = ALL_FIELDS if "inferred" in fields else FIELDS
+    for k in names:
         g[k][tile.ys, tile.xs] = fields[k]
-    digest = tile_hash(fields)
-    atomic_write_json(Path(tiles_dir) / f"{tile.key}.json", {
-        "tile": tile.key, "identity": found, "sha256": digest, "wall_s": wall_s,
-        "points": int(np.asarray(fields["status"]).size)})
+    digest = tile_hash(fields, names)
+    if marker:  # a refinement round writes its own marker (refine_task): the tile is not done yet
+        atomic_write_json(Path(tiles_dir) / f"{tile.key}.json", {
+            "tile": tile.key, "identity": found, "sha256": digest, "wall_s": wall_s,
+            "points": int(np.asarray(fields["status"]).size)})
     return digest
 
 
@@ -553,6 +576,200 @@ def tile_task(spec_dict: dict, tile_key: str, store: str, tiles_dir: str, ident:
     wall = time.perf_counter() - t0
     digest = write_tile(Path(store), Path(tiles_dir), tile, fields, wall, ident)
     return tile_key, wall, digest
+
+
+# ------------------------------------------------------------------------------------------------------------
+# a refined map (issue 28): rounds of points, each round one task per tile
+# ------------------------------------------------------------------------------------------------------------
+def _round_marker(tiles_dir: Path, rnd: int, key: str) -> Path:
+    return Path(tiles_dir) / f"r{rnd}_{key}.json"
+
+
+def points_hash(values: dict, iy, ix, names) -> str:
+    """sha256 of some points of a map: their global indices, then every field (`names` order) at them as name,
+    dtype and bytes.  A round's marker records it: later rounds write into the same tile, so the tile's hash
+    changes, while the values of the points a round computed never do."""
+    h = hashlib.sha256()
+    h.update(np.ascontiguousarray(np.asarray(iy, np.int64)).tobytes())
+    h.update(np.ascontiguousarray(np.asarray(ix, np.int64)).tobytes())
+    for k in names:
+        a = np.ascontiguousarray(values[k])
+        h.update(f"{k}|{a.dtype.str}|{a.shape}|".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def _empty_tile(spec: maps.MapSpec, tile: maps.Tile) -> dict:
+    shape = (tile.ys.stop - tile.ys.start, tile.xs.stop - tile.xs.start)
+    f = {k: np.full(shape, np.nan) for k in maps.MAP_FIELDS}
+    f["status"] = np.full(shape, chaos.FAILED, np.int8)
+    f["inferred"] = np.zeros(shape, np.int8)
+    f["level"] = np.full(shape, -1, np.int8)
+    return f
+
+
+def refine_task(spec_dict: dict, rnd: int, parts: list, store: str, tiles_dir: str, ident: str | None = None
+                ) -> list:
+    """The Dask task of some tiles' parts in one refinement round (maps.round_tasks): compute the points of every
+    part [(tile key, iy, ix), ...] in one run (full SIMD batches), then per tile write them into its chunk (read,
+    update those points, write back: no other task of the round touches this chunk) and the round's marker with
+    the points' hash.  An unreadable chunk starts from the empty tile (the points of earlier rounds it held are
+    found missing when their round is verified, and recomputed).  Returns [(key, wall seconds, content hash of the
+    whole tile as written), ...]."""
+    spec = maps.MapSpec.from_dict(spec_dict)
+    t0 = time.perf_counter()
+    allv = maps.compute_points(spec, [y for _, iy, _ in parts for y in iy], [x for _, _, ix in parts for x in ix])
+    wall = (time.perf_counter() - t0) / max(1, len(parts))
+    out, at = [], 0
+    for key, iy, ix in parts:
+        vals = {k: v[at:at + len(iy)] for k, v in allv.items()}
+        at += len(iy)
+        out.append(_write_part(spec, rnd, key, iy, ix, vals, wall, store, tiles_dir, ident))
+    return out
+
+
+def _write_part(spec, rnd, tile_key, iy, ix, vals, wall, store, tiles_dir, ident) -> tuple:
+    import zarr
+
+    tile = maps.tile_of(spec, tile_key)
+    try:
+        g = zarr.open_group(str(store), mode="r")
+        cur = {k: np.array(g[k][tile.ys, tile.xs]) for k in ALL_FIELDS}
+    except Exception:  # noqa: BLE001 - a damaged chunk: write_tile below says so if the store itself is missing
+        cur = _empty_tile(spec, tile)
+    ly, lx = np.asarray(iy) - tile.ys.start, np.asarray(ix) - tile.xs.start
+    for k, v in vals.items():
+        cur[k][ly, lx] = v
+    cur["level"][ly, lx] = rnd
+    cur["inferred"][ly, lx] = 0
+    digest = write_tile(Path(store), Path(tiles_dir), tile, cur, wall, ident, marker=False)
+    pts = _store_dtypes({k: cur[k][ly, lx] for k in ALL_FIELDS})
+    atomic_write_json(_round_marker(tiles_dir, rnd, tile_key), {
+        "tile": tile_key, "round": rnd, "identity": ident, "points": len(iy),
+        "sha256": points_hash(pts, iy, ix, ALL_FIELDS), "wall_s": wall})
+    return tile_key, wall, digest
+
+
+def _load_tolerant(spec: maps.MapSpec, store: Path) -> dict:
+    """Every array of a refined store in memory; a tile whose chunk cannot be read is the empty tile there."""
+    import zarr
+
+    out = {}
+    try:
+        g = zarr.open_group(str(store), mode="r")
+    except Exception:  # noqa: BLE001 - nothing readable: every round is recomputed
+        g = None
+    for k in ALL_FIELDS:
+        try:
+            out[k] = np.array(g[k][...])
+            continue
+        except Exception:  # noqa: BLE001 - some chunk is damaged: read tile by tile
+            pass
+        out[k] = np.full(spec.shape, np.nan) if k in maps.MAP_FIELDS else np.full(
+            spec.shape, {"status": chaos.FAILED, "inferred": 0, "level": -1}[k], np.int8)
+        for t in maps.tiles(spec):
+            try:
+                out[k][t.ys, t.xs] = np.asarray(g[k][t.ys, t.xs])
+            except Exception:  # noqa: BLE001 - the damaged chunk stays empty
+                pass
+    return out
+
+
+def run_refined(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, scheduler=None, progress=None,
+                client=None, state: StoreState | None = None, on_round=None, max_rounds=None,
+                worker_timeout: float = 60.0) -> dict:
+    """A refined map into the store (magrod.chaos.refine), resumable.
+
+    The rounds are replayed from what the store holds: a round's points are a function of the earlier rounds'
+    values, so for each round the points are found again, every tile's part of the round is verified against its
+    round marker (r<round>_<iy>_<ix>.json: identity and the points' hash) and only the missing or damaged parts
+    are computed (one Dask task per tile: refine_task).  After the last round the never-computed points are
+    inferred and every tile is written whole with its final marker (the tile's hash over names_of(spec)), as in a
+    brute-force store; store.record then lists them (finish).  A store whose tiles are all done is not touched.
+    on_round(round, points, computed_tiles) after each round; max_rounds stops early (tests: a killed run).
+    Returns {"computed": tile parts computed, "skipped": verified ones, "repaired": damaged parts and tiles,
+    "rounds": [points per round], "points_computed": points this call computed, "task_wall_s"}."""
+    from .refine import Refinement, point_class
+
+    store, tiles_dir = Path(store).absolute(), Path(tiles_dir).absolute()
+    if state is None:
+        state = create_or_open(spec, store, tiles_dir)
+    all_tiles = maps.tiles(spec)
+    res = {"computed": [], "skipped": [], "repaired": list(state.repaired), "rounds": [], "points_computed": 0,
+           "task_wall_s": 0.0}
+    if all(t.key in state.done for t in all_tiles):
+        res["skipped"] = sorted(state.done)
+        return res
+    fields = _load_tolerant(spec, store)
+    ref = Refinement(spec.shape, spec.refine, spec.refine_bound)
+    cluster, pids, own = None, [], client is None
+    interrupted = False
+    sd = spec.as_dict()
+    try:
+        while not ref.done:
+            if max_rounds is not None and ref.round >= max_rounds:
+                return res
+            rnd = ref.round
+            iy, ix = ref.points()
+            groups = maps.round_tiles(spec, iy, ix)
+            todo = []
+            for key, (gy, gx) in groups.items():
+                m = _read_json(_round_marker(tiles_dir, rnd, key))
+                ok = (isinstance(m, dict) and m.get("identity") == state.identity and m.get("tile") == key
+                      and m.get("round") == rnd and m.get("sha256") == points_hash(
+                          _store_dtypes({k: fields[k][gy, gx] for k in ALL_FIELDS}), gy, gx, ALL_FIELDS))
+                if ok:
+                    res["skipped"].append(f"r{rnd}_{key}")
+                    continue
+                if m is not None:
+                    res["repaired"].append(f"r{rnd}_{key}")
+                    _unlink(_round_marker(tiles_dir, rnd, key))
+                todo.append(key)
+            if todo:
+                if client is None:
+                    if scheduler is not None:
+                        client = connect(scheduler)
+                    else:
+                        cluster, client, pids = start_local_cluster(workers)
+                    client.run(_worker_env)
+                tasks = maps.round_tasks(spec, {k: groups[k] for k in todo})
+                futs = {client.submit(refine_task, sd, rnd, [(k, groups[k][0].tolist(), groups[k][1].tolist())
+                                                             for k in ks], str(store), str(tiles_dir),
+                                      state.identity, pure=False): ks for ks in tasks}
+                part = {"computed": [], "task_wall_s": 0.0}
+                _collect(client, futs, spec, state, part, progress, worker_timeout, mark_done=False)
+                import zarr
+
+                g = zarr.open_group(str(store), mode="r")
+                for key in part["computed"]:
+                    t = maps.tile_of(spec, key)
+                    for k in ALL_FIELDS:
+                        fields[k][t.ys, t.xs] = np.asarray(g[k][t.ys, t.xs])
+                    res["points_computed"] += int(groups[key][0].size)
+                res["computed"] += [f"r{rnd}_{k}" for k in part["computed"]]
+                res["task_wall_s"] += part["task_wall_s"]
+            ref.add(iy, ix, point_class(fields["status"][iy, ix], fields["growth_exponent"][iy, ix],
+                                        spec.refine_threshold), fields["growth_exponent"][iy, ix])
+            res["rounds"].append(int(iy.size))
+            if on_round is not None:
+                on_round(rnd, int(iy.size), len(todo))
+        final = maps.finish_refined(ref, {k: fields[k] for k in FIELDS})
+        for t in all_tiles:  # the inferred points, and each tile's final marker (client side: I/O only)
+            if t.key not in state.done:
+                write_tile(store, tiles_dir, t, {k: final[k][t.ys, t.xs] for k in ALL_FIELDS}, 0.0, state.identity)
+                state.done.add(t.key)
+    except BaseException:
+        interrupted = True
+        raise
+    finally:
+        if own and client is not None:
+            if cluster is None:
+                _close_quietly(client)
+            else:
+                stop_local_cluster(cluster, client, pids, interrupted=interrupted)
+        if interrupted:
+            remove_temporaries({"store": store, "tiles": tiles_dir}, pids)
+    return res
 
 
 def _worker_env() -> None:
@@ -659,7 +876,8 @@ def _close_quietly(client) -> None:
 POLL_S = 2.0  # how often a waiting client asks the scheduler whether it still has workers
 
 
-def _collect(client, futs, spec, state: StoreState, res: dict, progress, worker_timeout: float = 60.0) -> None:
+def _collect(client, futs, spec, state: StoreState, res: dict, progress, worker_timeout: float = 60.0,
+             mark_done: bool = True) -> None:
     """Wait for the tasks ({future: tile key}); verify each tile the workers wrote by reading it back here.  A
     cluster left without workers for worker_timeout seconds, or a scheduler that stops answering, is an
     EnvironmentFault("scheduler"), not an endless wait."""
@@ -682,23 +900,25 @@ def _collect(client, futs, spec, state: StoreState, res: dict, progress, worker_
                                                     f"finished tiles are kept; re-run the command to resume") from None
             for fut in finished:
                 try:
-                    key, wall, digest = fut.result()
+                    got = fut.result()
                 except (ParameterError, EnvironmentFault):
                     raise
                 except Exception as exc:  # noqa: BLE001 - a task or the cluster failed: one line saying which
                     raise TileFailure(futs.get(fut), exc) from None
-                if group is None:
-                    group = zarr.open_group(str(state.store), mode="r")
-                here = _hash_of_stored(state.store, maps.tile_of(spec, key), group)
-                if here != digest:
-                    raise EnvironmentFault("out", f"tile {key} written by a worker does not read back here from "
-                                                  f"{str(state.store)!r} (content hash differs): the workers need the "
-                                                  f"same --out path as the client (a shared filesystem)")
-                state.done.add(key)
-                res["computed"].append(key)
-                res["task_wall_s"] += wall
-                if progress is not None:
-                    progress(1)
+                for key, wall, digest in (got if isinstance(got, list) else [got]):  # a refinement task: parts
+                    if group is None:
+                        group = zarr.open_group(str(state.store), mode="r")
+                    here = _hash_of_stored(state.store, maps.tile_of(spec, key), group, names_of(spec))
+                    if here != digest:
+                        raise EnvironmentFault("out", f"tile {key} written by a worker does not read back here from "
+                                                      f"{str(state.store)!r} (content hash differs): the workers need "
+                                                      f"the same --out path as the client (a shared filesystem)")
+                    if mark_done:
+                        state.done.add(key)
+                    res["computed"].append(key)
+                    res["task_wall_s"] += wall
+                    if progress is not None:
+                        progress(1)
     except BaseException:
         try:
             client.cancel(list(futs))
@@ -891,4 +1111,4 @@ def load_fields(store: Path) -> dict:
     import xarray as xr
 
     ds = xr.open_zarr(str(store), consolidated=True, chunks=None)
-    return {k: np.asarray(ds[k].values) for k in FIELDS}
+    return {k: np.asarray(ds[k].values) for k in ALL_FIELDS if k in FIELDS or k in ds}

@@ -39,6 +39,7 @@ SUBCOMMANDS = {
     "continue": ("magrod.cli.continuation", "pseudo-arclength continuation of symmetric homoclinic orbits"),
     "splitting": ("magrod.cli.splitting", "splitting of the separatrix along mu = a eps^2, lam = b eps^2"),
     "chaosmap": ("magrod.cli.chaosmap", "chaos map (Lyapunov/FLI indicators) over a parameter plane or a section"),
+    "spectrum": ("magrod.cli.spectrum", "Lyapunov spectrum (all exponents) and GALI indices of one orbit"),
     "prove": ("magrod.cli.prove", "computer-assisted proof of transverse homoclinic orbits (certificate, --verify)"),
     "orbitdiagram": ("magrod.cli.orbitdiagram", "orbit diagram: Poincare section points against a model parameter"),
     "explore": ("magrod.cli.explore", "interactive Poincare-section explorer in the browser (127.0.0.1)"),

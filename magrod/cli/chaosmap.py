@@ -37,6 +37,12 @@ def add_arguments(p):
     p.add_argument("--renorm-dt", default="10", help="renormalisation interval of the tangent vector")
     p.add_argument("--threshold", default="3", help="chaotic iff growth exponent > threshold")
     p.add_argument("--tile", default="16", help="tile edge in grid points (one Dask task, one zarr chunk)")
+    p.add_argument("--refine", default="0",
+                   help="adaptive map: LEVELS >= 1 computes every 2^LEVELS-th point first, then only the cells whose "
+                        "points disagree in class, halved round by round; the other points are inferred and "
+                        "flagged (store arrays 'inferred', 'level'); 0 = every point (default)")
+    p.add_argument("--refine-bound", default=None,
+                   help="with --refine: also split a cell whose growth exponents span more than this")
     p.add_argument("--workers", default=None,
                    help="LocalCluster worker processes (1 thread and ~300 MB each; default 2, at most the CPUs "
                         "this process may use)")
@@ -103,9 +109,15 @@ def spec_from_args(args):
                                            f"{(x if axis == 'x' else y).lo:g} to {(x if axis == 'x' else y).hi:g}): "
                                            f"do not also fix it")
             base[name] = number(name, v)
+    from ..chaos.refine import MAX_LEVELS
+
+    refine = integer("refine", args.refine, minimum=0, maximum=MAX_LEVELS) if args.refine != "0" else 0
+    bound = None if args.refine_bound is None else number("refine_bound", args.refine_bound)
+    threshold = number("threshold", args.threshold)
     return MapSpec(x, y, base=base, panel=str(args.panel).lower(), root=args.root,
                    t_max=number("t_max", args.t_max, bound=1e7), tol=number("tol", args.tol, bound=1.0),
-                   renorm_dt=number("renorm_dt", args.renorm_dt), tile=integer("tile", args.tile, maximum=1024))
+                   renorm_dt=number("renorm_dt", args.renorm_dt), tile=integer("tile", args.tile, maximum=1024),
+                   refine=refine, refine_bound=bound, **({"refine_threshold": threshold} if refine else {}))
 
 
 def _cluster_from_args(args):
@@ -259,10 +271,18 @@ def run(args) -> dict:
                     except (RuntimeError, OSError, TimeoutError) as exc:
                         raise _start_failure(exc, workers) from None
             try:
-                with bar(todo, "chaosmap", not args.quiet, unit="tile") as update, quiet_distributed():
-                    res = chaos_store.run_tiles(spec, pth["store"], pth["tiles"], client=client, state=state,
-                                                progress=update, on_submitted=lambda: pause_point("chaosmap-running"),
-                                                worker_timeout=worker_timeout)
+                if spec.refine:  # rounds of tile parts: their number is known round by round only
+                    with bar(None, "chaosmap (refined)", not args.quiet, unit="tile part") as update, \
+                            quiet_distributed():
+                        res = chaos_store.run_refined(spec, pth["store"], pth["tiles"], client=client, state=state,
+                                                      progress=update, worker_timeout=worker_timeout,
+                                                      on_round=lambda *a: pause_point("chaosmap-round"))
+                else:
+                    with bar(todo, "chaosmap", not args.quiet, unit="tile") as update, quiet_distributed():
+                        res = chaos_store.run_tiles(spec, pth["store"], pth["tiles"], client=client, state=state,
+                                                    progress=update,
+                                                    on_submitted=lambda: pause_point("chaosmap-running"),
+                                                    worker_timeout=worker_timeout)
             except chaos_store.TileFailure as exc:  # finished tiles keep their markers for the next run
                 return _tile_failure(exc, address, len(state.done), n_tiles, pth["store"])
             chaos_store.finish(spec, state)
@@ -270,14 +290,20 @@ def run(args) -> dict:
             fields = chaos_store.load_fields(pth["store"])
             summary = maps.map_summary(spec, fields, wall, threshold)
             computed = set(res["computed"])  # a set once, not per tile: a 4096^2 map has 65 536 tiles
-            pts = sum(int(((t.ys.stop - t.ys.start) * (t.xs.stop - t.xs.start))) for t in maps.tiles(spec)
-                      if t.key in computed)
+            if spec.refine:
+                pts = res["points_computed"]
+            else:
+                pts = sum(int(((t.ys.stop - t.ys.start) * (t.xs.stop - t.xs.start))) for t in maps.tiles(spec)
+                          if t.key in computed)
             summary.update(orbits_computed=pts, orbits_per_s=pts / wall if pts and wall > 0 else None,
                            tiles={"total": n_tiles, "computed": len(res["computed"]), "skipped": len(res["skipped"]),
                                   "repaired": len(res["repaired"])},
                            repaired_tiles=res["repaired"], metadata_rewritten=state.metadata_rewritten,
                            workers=workers, scheduler=address or "LocalCluster",
                            task_wall_s=res["task_wall_s"])
+            if spec.refine:  # tile parts (one per tile and round) rather than tiles
+                summary["tiles"].update(parts_computed=len(res["computed"]), parts_skipped=len(res["skipped"]),
+                                        rounds=res["rounds"])
             result = {"ok": True, "spec": spec.as_dict(), **summary, "store_identity": state.identity,
                       "output": {k: str(v) for k, v in pth.items() if k in ("store", "png", "json")}}
             problem = maps.check_fields(fields)
@@ -398,7 +424,7 @@ def _clean_after_failure(chaos_store, pth, state, pids) -> None:
     chaos_store.remove_temporaries(pth, pids)
     if state.created and not state.done and not chaos_store.done_tiles(pth["tiles"]):  # a marker not yet verified
         # here is kept too: the next run verifies it
-        chaos_store._remove_store_files(pth["store"], set(chaos_store.FIELDS) | _axis_names(state))
+        chaos_store._remove_store_files(pth["store"], set(chaos_store.ALL_FIELDS) | _axis_names(state))
         chaos_store._remove_markers(pth["tiles"])
         try:
             pth["tiles"].rmdir()
@@ -435,6 +461,10 @@ def format_text(r: dict) -> str:
              + (f" ({r['orbits_per_s']:.0f} orbits/s)" if r["orbits_per_s"] else "")
              + (f"; max |dH| {r['max_abs_dH']:.1e}, Casimir drift {r['max_casimir_drift']:.1e}"
                 if r["max_abs_dH"] is not None else "")]
+    if r.get("refine"):
+        f = r["refine"]
+        lines.append(f"  refined (L = {f['levels']}): {f['points_computed']} points computed, {f['points_inferred']} "
+                     f"inferred from their cells; points per round {f['points_per_round']}")
     for k, v in r["output"].items():
         lines.append(f"  {k}: {v}")
     return "\n".join(lines)

@@ -90,6 +90,14 @@ def map_axes(ax, fields: dict, spec: maps.MapSpec, *, indicator="growth", thresh
         norm = growth_norm(vmax, threshold)
     im = ax.pcolormesh(spec.x.values(), spec.y.values(), np.ma.masked_invalid(g), cmap=cmap, shading="nearest",
                        norm=norm)
+    inferred = np.asarray(fields["inferred"]) != 0 if "inferred" in fields else None
+    if inferred is not None and inferred.any():
+        # a refined map (issue 28): the points never computed under a white veil, so that what was integrated and
+        # what was inferred from its cell can be told apart (the class is the same; the shade is paler)
+        from matplotlib.colors import ListedColormap
+
+        ax.pcolormesh(spec.x.values(), spec.y.values(), np.ma.masked_where(~inferred, np.ones(inferred.shape)),
+                      cmap=ListedColormap([(1, 1, 1, 0.55)]), shading="nearest", vmin=0, vmax=1)
     ge = np.ma.masked_invalid(np.asarray(fields["growth_exponent"], float))
     if spec.x.n > 1 and spec.y.n > 1 and (ge > threshold).any() and (ge <= threshold).any():
         # the classification boundary (masked where missing), whatever indicator is coloured
@@ -106,6 +114,8 @@ def map_axes(ax, fields: dict, spec: maps.MapSpec, *, indicator="growth", thresh
                     "grey: missing")
         else:
             text = FIELD_LABELS[indicator] + "; grey: missing"
+        if inferred is not None and inferred.any():
+            text += f"; pale: inferred ({100 * inferred.mean():.0f} % of the points, never computed)"
         cb.set_label(textwrap.fill(text, chars), fontsize=8)
     for key, x, y in panel_marks(spec):
         ax.plot(x, y, "k*", ms=10, mec="w")
@@ -172,3 +182,49 @@ def build(out_dir, *, quick=False, progress=False) -> list[str]:
         "panels": panels, "panel_t_max": PANEL_T_MAX[bool(quick)], "quick": bool(quick),
         "wall_s": res.wall_s + time.perf_counter() - t0, "versions": versions()})
     return [str(png), str(npz), str(side)]
+
+
+def plot_spectrum(res, ax=None, **kw):
+    """LyapunovSpectrum.plot: every running exponent lambda_i(t) against t (log t), the final values in the legend."""
+    from .plots import axes
+
+    ax = axes(ax)
+    for i in range(res.history.shape[1]):
+        ax.plot(res.times, res.history[:, i], lw=1, label=f"$\\lambda_{i + 1}$ = {res.exponents[i]:+.3g}", **kw)
+    ax.axhline(0.0, color="0.5", lw=0.6)
+    ax.set_xscale("log")
+    ax.set_xlabel("t (scaled arclength)")
+    ax.set_ylabel(r"running exponent $\lambda_i(t)$")
+    where = f"panel {res.panel}" if res.panel else res.system
+    ax.set_title(f"Lyapunov spectrum, {where}, T = {res.t_max:g}\nmax |lambda_i + lambda_(n+1-i)| = "
+                 f"{res.accuracy['max_pairing']:.2g}, sum = {res.accuracy['sum']:.1e}", fontsize=8)
+    ax.legend(fontsize=6, ncol=3)
+    return ax
+
+
+def plot_gali(res, ax=None, **kw):
+    """GaliResult.plot: GALI_k against t, log-log (a power law is a line; an exponential decay bends down)."""
+    from .plots import axes
+
+    ax = axes(ax)
+    for i, k in enumerate(res.orders):
+        g = np.where(res.gali[:, i] > 0, res.gali[:, i], np.nan)
+        ax.loglog(res.times, g, lw=1, label=f"GALI$_{k}$", **kw)
+    ax.axhline(1e-15, color="0.5", lw=0.6, ls=":")
+    ax.set_xlabel("t (scaled arclength)")
+    ax.set_ylabel("GALI$_k$")
+    where = f"panel {res.panel}" if res.panel else res.system
+    ax.set_title(f"GALI, {where}, T = {res.t_max:g} (dotted: rounding level)", fontsize=8)
+    ax.legend(fontsize=7)
+    return ax
+
+
+def draw_spectrum(spectrum, gali_result, path) -> Path:
+    """PNG of the running spectrum, and beside it GALI if given (magrod spectrum --out)."""
+    plt = pyplot()
+    n = 1 if gali_result is None else 2
+    fig, axs = plt.subplots(1, n, figsize=(6.0 * n, 4.6), layout="constrained", squeeze=False)
+    plot_spectrum(spectrum, axs[0, 0])
+    if gali_result is not None:
+        plot_gali(gali_result, axs[0, 1])
+    return atomic_savefig(fig, path, dpi=120)

@@ -13,6 +13,8 @@ PLOTTERS: dict[str, str] = {
     "PoincareResult": "poincare:plot_section",
     "LyapunovResult": "chaos:plot_lyapunov",
     "ChaosMap": "chaos:plot_map",
+    "LyapunovSpectrum": "chaos:plot_spectrum",
+    "GaliResult": "chaos:plot_gali",
     "IntegrabilityReport": "integrability:plot_involution",
     "RegimeSearch": "integrability:plot_regime_search",
     "FirstIntegralSearch": "integrability:plot_first_integrals",

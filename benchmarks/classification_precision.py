@@ -1,0 +1,167 @@
+"""Benchmark (not a test): work-precision of a chaos map's *classification* (issue 28, item 2).
+
+    python benchmarks/classification_precision.py --n 128 --out benchmarks/classification_precision.json
+    python benchmarks/classification_precision.py --plot benchmarks/classification_precision.json
+
+For T in {1000, 3000} and tol in {1e-8, 1e-10, 1e-12, eps}: the brute-force map lam x gamma = [0, 0.3] x [0, 3]
+at Figure 4's start rule (the README's map), n x n points, on a LocalCluster of `--workers` processes.  Reported
+per map: the wall time (the work) and the fraction of the points computed in both maps whose class (regular /
+chaotic, growth exponent against 3) differs from the tol = eps map of the same T (the precision of the answer a
+map is for), plus the points whose status differs (computed in one, missing in the other).  Each finished map is
+saved to `--cache` (npz), so an interrupted study resumes.  The plot: misclassified fraction against wall time.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import time
+
+import numpy as np
+
+from magrod.chaos import indicators, maps
+
+TOLS = (1e-8, 1e-10, 1e-12, 0.0)  # 0 = machine epsilon, the reference
+T_MAX = (1000.0, 3000.0)
+
+
+def uptime() -> str:
+    try:
+        return subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
+    except OSError:
+        return str(os.getloadavg())
+
+
+def spec(n, t_max, tol):
+    return maps.MapSpec(maps.parse_axis("x", f"lam:0:0.3:{n}"), maps.parse_axis("y", f"gamma:0:3:{n}"),
+                        base=maps.panel_base("4a"), t_max=float(t_max), tol=float(tol))
+
+
+def run(s, workers):
+    from dask.distributed import Client, LocalCluster
+
+    t0 = time.perf_counter()
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as lc, \
+            Client(lc) as client:
+        cm = maps.compute_map(s, client=client)
+    return time.perf_counter() - t0, cm.fields
+
+
+def study(a):
+    os.makedirs(a.cache, exist_ok=True)
+    out = {"grid": a.n, "workers": a.workers, "uptime_before": uptime(), "maps": {}}
+    fields = {}
+    for T in T_MAX:
+        for tol in (0.0,) + TOLS[:-1]:  # the reference first
+            key = f"T{T:g}_tol{tol:g}"
+            path = os.path.join(a.cache, f"{key}_{a.n}.npz")
+            if os.path.exists(path):
+                d = np.load(path)
+                fields[key], wall = {k: d[k] for k in d.files if k != "wall_s"}, float(d["wall_s"])
+            else:
+                wall, fields[key] = run(spec(a.n, T, tol), a.workers)
+                np.savez(path, wall_s=wall, **fields[key])
+            ref = fields[f"T{T:g}_tol0"]
+            both = (ref["status"] == indicators.OK) & (fields[key]["status"] == indicators.OK)
+            cr = ref["growth_exponent"][both] > indicators.GROWTH_THRESHOLD
+            cf = fields[key]["growth_exponent"][both] > indicators.GROWTH_THRESHOLD
+            out["maps"][key] = {"t_max": T, "tol": tol or "eps", "wall_s": wall, "computed_both": int(both.sum()),
+                                "misclassified": int((cr != cf).sum()),
+                                "fraction_misclassified": float((cr != cf).mean()) if both.any() else None,
+                                "status_differs": int((ref["status"] != fields[key]["status"]).sum()),
+                                "fraction_chaotic": float(cf.mean()) if both.any() else None}
+            print(key, json.dumps(out["maps"][key]), flush=True)
+    out["uptime_after"] = uptime()
+    return out
+
+
+def cost(n_orbits=64, repeats=3) -> dict:
+    """Seconds per orbit of the indicator run at each (T, tol), in this process: the same n_orbits starts of the
+    map (its first tiles' physical points), the tols alternated and the minimum of `repeats` taken, so that a
+    loaded machine (whose cluster wall times above are noisy) still gives the work ratio."""
+    from magrod.chaos.indicators import body_indicators
+
+    s = spec(64, 1000.0, 0.0)
+    starts = [maps.start_point(s.point(ix, iy)) for iy in range(s.y.n) for ix in range(s.x.n)]
+    starts = [st for st in starts if st[2] == indicators.OK][:n_orbits]
+    x0 = np.array([st[0] for st in starts]).T
+    p = np.array([st[1] for st in starts]).T
+    out = {}
+    for T in T_MAX:
+        for tol in TOLS:
+            body_indicators(x0[:, :8], p[:, :8], t_max=10.0, tol=tol or None)  # compile / load once
+        best = {tol: np.inf for tol in TOLS}
+        for _ in range(repeats):
+            for tol in TOLS:
+                t0 = time.perf_counter()
+                body_indicators(x0, p, t_max=T, tol=tol or None)
+                best[tol] = min(best[tol], (time.perf_counter() - t0) / x0.shape[1])
+        out[f"T{T:g}"] = {("eps" if not tol else f"{tol:g}"): v for tol, v in best.items()}
+        print(f"T{T:g}", out[f"T{T:g}"], flush=True)
+    return out
+
+
+def plot(path_json, path_png):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    d = json.load(open(path_json))
+    cost_path = os.path.join(os.path.dirname(path_json), "classification_cost.json")
+    c = json.load(open(cost_path))["seconds_per_orbit"] if os.path.exists(cost_path) else None
+    fig, ax = plt.subplots(figsize=(5.5, 4.0), layout="constrained")
+    for T, mk in zip(T_MAX, "os"):
+        rows = [r for r in d["maps"].values() if r["t_max"] == T and r["tol"] != "eps"]
+        ref = next(r for r in d["maps"].values() if r["t_max"] == T and r["tol"] == "eps")
+        if c is not None:  # the in-process cost (alternated, min of repeats): robust on a loaded machine
+            x = [c[f"T{T:g}"][f"{r['tol']:g}"] / c[f"T{T:g}"]["eps"] for r in rows]
+        else:
+            x = [r["wall_s"] / ref["wall_s"] for r in rows]
+        # what differs from the eps map: a class, or a point lost (status), as a fraction of the eps map's points;
+        # none differing is drawn as a down-triangle at the resolution 1/(points)
+        n_ref = ref["computed_both"]
+        frac = [(r["misclassified"] + r["status_differs"]) / n_ref for r in rows]
+        floor = 1.0 / n_ref
+        ax.loglog(x, [max(f, floor) for f in frac], mk + "-", label=f"T = {T:g}", mfc="none")
+        for xi, f, r in zip(x, frac, rows):
+            if f == 0:
+                ax.plot([xi], [floor], "v", color=ax.lines[-1].get_color())
+            ax.annotate(f"{r['tol']:g}: {r['misclassified']} misclassified, {r['status_differs']} lost", (xi, max(f, floor)),
+                        fontsize=6, textcoords="offset points", xytext=(4, 4 if T == 1000 else -10))
+    ax.set_xlabel("cost per orbit / cost at tol = eps (same T)" if c is not None else
+                  "wall time / wall time at tol = eps (same T)")
+    ax.set_ylabel("fraction differing from tol = eps (class or lost)")
+    ax.set_title(f"{d['grid']}^2 map lam x gamma, Fig 4 start rule; v: nothing differs (below 1/points)", fontsize=8)
+    ax.legend(fontsize=8)
+    fig.savefig(path_png, dpi=120)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--n", type=int, default=128)
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--cache", default="/tmp/magrod-classification-precision")
+    ap.add_argument("--out", default=None)
+    ap.add_argument("--plot", default=None, help="draw the JSON of a finished study next to it (.png)")
+    ap.add_argument("--cost", default=None, help="only the in-process cost per orbit at each (T, tol), into this JSON")
+    a = ap.parse_args()
+    if a.cost:
+        out = {"uptime_before": uptime(), "seconds_per_orbit": cost(), "uptime_after": uptime()}
+        with open(a.cost, "w") as fh:
+            fh.write(json.dumps(out, indent=2) + "\n")
+        return
+    if a.plot:
+        plot(a.plot, a.plot.replace(".json", ".png"))
+        return
+    out = study(a)
+    text = json.dumps(out, indent=2)
+    print(text)
+    if a.out:
+        with open(a.out, "w") as fh:
+            fh.write(text + "\n")
+
+
+if __name__ == "__main__":
+    main()
