@@ -423,7 +423,7 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     t_max : float, optional
         Max-time guard (default 100 x iterates).
     verify : bool
-        Check the result's own accuracy (max |Hbar - h| <= ENERGY_TOL, Casimir drift <= CASIMIR_TOL); if the check
+        Check the result's own accuracy (max ``|Hbar - h|`` <= ENERGY_TOL, Casimir drift <= CASIMIR_TOL); if the check
         fails, repeat the run once with freshly compiled integrators (a damaged JIT-cache entry is the likely
         cause) and, if it still fails, return success=False with the reason.
     progress : callable, optional
@@ -457,7 +457,7 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     -----
     Section points are landed by heyoka stopping terminal events, so each lies on sin(psi) = 0 to ~1e-16.
     On the Fig 4 start Hbar = h has two roots; the smaller one gives the final times the paper prints (module
-    docstring).  Cost: ~0.2 ms per iterate (body frame, float64, tol = eps, one core); max |Hbar - h| ~ 1e-13
+    docstring).  Cost: ~0.2 ms per iterate (body frame, float64, tol = eps, one core); max ``|Hbar - h|`` ~ 1e-13
     over 10 000 iterates.  Integrators are cached per thread and reused; nothing visible to the caller is
     mutated (verify=True may switch off heyoka's disk cache for the process after a failed check).
 

@@ -152,7 +152,7 @@ def rod_shape(orbit, n: int = 3001) -> RodShape:
     Notes
     -----
     Method: the body system, D' = D hat(u) and r' = D v (u = dH/dm, v = dH/dn: the extensible, shearable
-    constitutive law) integrated together by heyoka from the launch point over the plotted window |tau| <= 1
+    constitutive law) integrated together by heyoka from the launch point over the plotted window ``|tau| <= 1``
     (from_orbit), so the frame is as accurate as the state (orthonormality drift ~1e-14).  The space frame has z
     along the field.  Cost: one integration of 21 equations (~10 ms).  Reference: paper sec. 2, eq:hyperelastic.
     """
