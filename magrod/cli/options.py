@@ -79,3 +79,20 @@ def out_dir(name: str, value):
     from ..core.io import check_out_path
 
     return check_out_path(value, name)
+
+
+FORMAT_HELP = ("picture format(s) of the figures: png, pdf or svg, or several separated by commas (pdf,svg); "
+               "the .npz data and .json sidecars are the same whatever the format")
+
+
+def add_format(p):
+    """--format png|pdf|svg[,...] (magrod figure, magrod reproduce), parsed by `formats_from`."""
+    p.add_argument("--format", default="png", metavar="FMT[,FMT]", help=FORMAT_HELP)
+
+
+def formats_from(args) -> tuple:
+    """The --format value as a tuple of picture formats (ParameterError naming 'format')."""
+    from ..figures.common import parse_formats
+
+    return parse_formats(getattr(args, "format", "png"))
+

@@ -16,10 +16,10 @@ import numpy as np
 
 from ..chaos import indicators as chaos, maps
 from ..chaos.fields import MAPPABLE
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import PANELS
 from ..core.progress import bar
-from .common import pyplot
+from .common import atomic_savefig, pyplot
 
 # the reproduce map: full and --quick sizes (grid points per axis, t_max)
 REPRODUCE_GRID = {False: (24, 3000.0), True: (8, 2000.0)}

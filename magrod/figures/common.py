@@ -1,6 +1,56 @@
 """Shared plumbing of the figure builders: figures that are written to files without touching pyplot."""
 from __future__ import annotations
 
+import contextlib
+import contextvars
+from pathlib import Path
+
+# the picture formats of `--format` (magrod figure, magrod reproduce) and of figures.build(formats=...)
+FIGURE_FORMATS = ("png", "pdf", "svg")
+_formats: contextvars.ContextVar = contextvars.ContextVar("magrod_figure_formats", default=("png",))
+
+
+def parse_formats(value, name: str = "format") -> tuple:
+    """"png", "pdf,svg", ("png", "pdf") -> a tuple of distinct FIGURE_FORMATS (ParameterError naming `name`)."""
+    from ..core.errors import ParameterError
+
+    items = [f.strip().lower() for f in (value.split(",") if isinstance(value, str) else value)]
+    bad = [f for f in items if f not in FIGURE_FORMATS]
+    if not items or bad or len(set(items)) != len(items) or "" in items:
+        raise ParameterError(name, f"must be one or more distinct of {', '.join(FIGURE_FORMATS)} separated by "
+                             f"commas, got {value!r}")
+    return tuple(items)
+
+
+@contextlib.contextmanager
+def figure_formats(formats):
+    """Inside this context every picture a builder saves is written in each of `formats` (in that order), in
+    place of the suffix the builder named; atomic_savefig returns the first.  A context variable, not a global:
+    a builder running elsewhere keeps its own choice."""
+    token = _formats.set(parse_formats(formats))
+    try:
+        yield _formats.get()
+    finally:
+        _formats.reset(token)
+
+
+def atomic_savefig(fig, path, **kw) -> Path:
+    """core.io.atomic_savefig in each format chosen by figure_formats() (PNG outside it); returns the first path.
+    SVG element ids come from a fixed hash salt (matplotlib's default is random per process), so that the same
+    figure gives the same bytes."""
+    import matplotlib
+
+    from ..core import io
+
+    path = Path(path)
+    chosen = _formats.get()
+    targets = [path] if chosen == ("png",) else [path.with_suffix("." + f) for f in chosen]
+    written = []
+    for target in targets:
+        with matplotlib.rc_context({"svg.hashsalt": "magrod"}):
+            written.append(io.atomic_savefig(fig, target, **kw))
+    return written[0]
+
 
 class _Figures:
     """pyplot's figure-making calls, on plain matplotlib.figure.Figure objects.

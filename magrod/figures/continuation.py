@@ -14,14 +14,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.params import RodParams
 from ..orbits import continuation as C
 from ..orbits import multipulse as mp
 from ..orbits import periodic_multipulse as pm
 from ..orbits.equilibrium import on_level
 from ..core.printed import MULTIPULSE
-from .common import pyplot
+from .common import atomic_savefig, pyplot
 
 
 def plot_branch(branch, path, title: str = ""):

@@ -7,10 +7,10 @@ import numpy as np
 
 from ..generated import scalars
 from ..orbits.homoclinic import homoclinic, phase_portrait_energy, verify
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import FIG3
 from ..core.progress import bar
-from .common import pyplot, rect
+from .common import atomic_savefig, pyplot, rect
 
 
 def _portrait(ax, m, gamma, xr, yr, title, paper_box=None, n=601):

@@ -6,14 +6,14 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from ..core.io import atomic_savefig, atomic_write_json, ensure_writable_dir, versions, write_orbit
+from ..core.io import atomic_write_json, ensure_writable_dir, versions, write_orbit
 from ..core.printed import MULTIPULSE
 from ..core.progress import bar
 from ..core.tolerances import LAUNCH_DISTANCES
 from ..orbits.equilibrium import straight_rod
 from ..orbits.multipulse import find_orbits
 from ..orbits.shooting import THETA_CUT, scaled_arclength
-from .common import pyplot
+from .common import atomic_savefig, pyplot
 from .rod import plot_rod, rod_from_orbit_file
 
 TAU = f"(s - T)/L, L = T - s(theta first >= {THETA_CUT})"

@@ -7,10 +7,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import PANELS
 from ..core.progress import bar
-from .common import pyplot
+from .common import atomic_savefig, pyplot
 
 
 def panel_title(key, res) -> str:

@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import PANELS
 from ..core.progress import bar
-from .common import pyplot
+from .common import atomic_savefig, pyplot
 
 LABELS = {"theta": r"$\theta$", "psi": r"$\psi$", "ptheta": r"$\bar p_\theta$", "ppsi": r"$\bar p_\psi$",
           "lam": r"$\bar\lambda$", "gamma": r"$\gamma$", "mu": r"$\mu$", "delta": r"$\delta$", "m": "m"}

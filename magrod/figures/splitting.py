@@ -12,8 +12,8 @@ import numpy as np
 
 from ..core.precision import Precision
 from ..separatrix import splitting as S
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from .common import pyplot
+from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from .common import atomic_savefig, pyplot
 
 
 def write(res, out_dir, stem: str = "splitting") -> list[str]:
