@@ -10,6 +10,18 @@ FIGURE_FORMATS = ("png", "pdf", "svg")
 _formats: contextvars.ContextVar = contextvars.ContextVar("magrod_figure_formats", default=("png",))
 
 
+# the mathematical label of every name a figure puts on an axis (never the code name: `lam`, `ptheta`)
+LABELS = {"theta": r"$\theta$", "psi": r"$\psi$", "ptheta": r"$\bar p_\theta$", "ppsi": r"$\bar p_\psi$",
+          "lam": r"$\bar\lambda$", "gamma": r"$\gamma$", "mu": r"$\mu$", "delta": r"$\delta$", "m": r"$m$",
+          "h": r"$h$", "theta0": r"$\theta_0$", "ptheta0": r"$\bar p_{\theta 0}$", "psi0": r"$\psi_0$",
+          "T": r"$T$", "eps": r"$\varepsilon$"}
+
+
+def label(name: str) -> str:
+    """The axis label of a parameter or coordinate name (LABELS), or the name itself if it has none."""
+    return LABELS.get(name, name)
+
+
 def parse_formats(value, name: str = "format") -> tuple:
     """"png", "pdf,svg", ("png", "pdf") -> a tuple of distinct FIGURE_FORMATS (ParameterError naming `name`)."""
     from ..core.errors import ParameterError
@@ -43,6 +55,9 @@ def atomic_savefig(fig, path, **kw) -> Path:
     from ..core import io
 
     path = Path(path)
+    no_offsets(fig)
+    if clear_of_data(fig) and fig.get_layout_engine() is None:
+        kw.setdefault("bbox_inches", "tight")  # a legend moved outside its axes is in the picture, not cut off
     chosen = _formats.get()
     targets = [path] if chosen == ("png",) else [path.with_suffix("." + f) for f in chosen]
     written = []
@@ -95,3 +110,162 @@ def rect(ax, box, **kw):
     """Outline the box ((x0, x1), (y0, y1)) on ax (used to mark the paper's axis ranges)."""
     (x0, x1), (y0, y1) = box
     ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], **{"color": "k", "ls": ":", "lw": 0.8, **kw})
+
+
+def no_offsets(fig) -> None:
+    """Plain tick labels on every axis: no "+2.645e1" offset with ticks like 0.00825, which a reader must add
+    up in their head (ScalarFormatter(useOffset=False); scientific notation for large ranges stays)."""
+    from matplotlib.ticker import ScalarFormatter
+
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            f = axis.get_major_formatter()
+            if isinstance(f, ScalarFormatter):
+                f.set_useOffset(False)
+
+
+def data_points(ax):
+    """The display coordinates (n, 2) of every data point drawn on ax: line vertices and marker positions of
+    its lines, collections' offsets (scatter) and paths (contours are not data and are skipped)."""
+    import numpy as np
+    from matplotlib.collections import PathCollection
+    from matplotlib.lines import Line2D
+
+    pts = []
+    for art in ax.get_children():
+        if not art.get_visible():
+            continue
+        if isinstance(art, Line2D) and len(art.get_xydata()):
+            xy = np.asarray(art.get_xydata(), float)
+            pts.append(art.get_transform().transform(xy[np.isfinite(xy).all(axis=1)]))
+        elif isinstance(art, PathCollection):
+            off = np.asarray(art.get_offsets(), float)
+            if len(off):
+                pts.append(art.get_offset_transform().transform(off[np.isfinite(off).all(axis=1)]))
+    return np.concatenate(pts) if pts else np.empty((0, 2))
+
+
+def covering(fig, renderer=None) -> list[tuple]:
+    """(axes title or label, what, number of data points) for every legend or annotation of fig whose box covers
+    data points of its axes.  tests/test_figure_labels.py asserts this is empty for the saved figures."""
+
+    if renderer is None:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
+        canvas.draw()
+        renderer = canvas.get_renderer()
+    bad = []
+    for ax in fig.axes:
+        pts = data_points(ax)
+        if not len(pts):
+            continue
+        boxes = []
+        leg = ax.get_legend()
+        if leg is not None and leg.get_visible():
+            boxes.append(("legend", leg))
+        for t in ax.texts:
+            if t.get_visible() and t.get_text().strip():
+                boxes.append((f"text {t.get_text()[:30]!r}", t))
+        for what, artist in boxes:
+            n = _covered(ax, artist, renderer)  # only points within the axes count: outside, nothing is covered
+            if n:
+                bad.append((ax.get_title()[:40] or ax.get_label(), what, n))
+    return bad
+
+
+def clear_of_data(fig) -> bool:
+    """Move every legend or annotation that covers data points off them: a legend to a free corner of its axes
+    if one exists, otherwise outside, right of the axes; a label that marks a data point to a clear offset
+    around its point; any other text to a clear place in the axes, otherwise above them.  Applied by
+    atomic_savefig to every figure a builder writes, so that no builder places boxes by hand.  Returns True if
+    something now lies outside its axes (the picture is then saved with a tight bounding box)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    if not covering(fig):
+        return False
+    canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
+    renderer = canvas.get_renderer()
+    outside = False
+    for ax in fig.axes:
+        leg = ax.get_legend()
+        if leg is not None and leg.get_visible() and _covered(ax, leg, renderer):
+            for loc in ("upper right", "upper left", "lower left", "lower right", "center right", "center left",
+                        "upper center", "lower center"):
+                leg.set_loc(loc)
+                canvas.draw()
+                if not _covered(ax, leg, renderer):
+                    break
+            else:
+                leg.set_loc("upper left")
+                leg.set_bbox_to_anchor((1.02, 1.0), transform=ax.transAxes)
+                outside = True
+                canvas.draw()
+        for t in list(ax.texts):
+            if t.get_visible() and t.get_text().strip() and _covered(ax, t, renderer):
+                outside |= _move_text_clear(ax, t, canvas, renderer)
+    return outside
+
+
+def _covered(ax, artist, renderer) -> int:
+    """How many data points of ax (inside the axes) the artist's box covers."""
+    import numpy as np
+
+    pts = data_points(ax)
+    if not len(pts):
+        return 0
+    bb = artist.get_window_extent(renderer)
+    ab = ax.get_window_extent(renderer)
+    inside = ((pts[:, 0] > bb.x0) & (pts[:, 0] < bb.x1) & (pts[:, 1] > bb.y0) & (pts[:, 1] < bb.y1)
+              & (pts[:, 0] >= ab.x0) & (pts[:, 0] <= ab.x1) & (pts[:, 1] >= ab.y0) & (pts[:, 1] <= ab.y1))
+    return int(np.count_nonzero(inside))
+
+
+def _move_text_clear(ax, t, canvas, renderer) -> bool:
+    """A label anchored at a data point (an Annotation in data coordinates) tries offsets around its point and
+    keeps the one covering the fewest points; any other text tries a grid of places in the axes, else goes above
+    them (returns True then)."""
+    anchored = hasattr(t, "xyann") and t.xycoords == "data"
+    if anchored:
+        t.set_anncoords("offset points")
+        best = None
+        for dx, dy in ((6, 6), (6, -12), (-6, 6), (-6, -12), (12, 14), (12, -20), (-12, 14), (-12, -20),
+                       (0, 22), (0, -28), (24, 0), (-24, 0), (30, 30), (30, -36), (-30, 30), (-30, -36)):
+            t.xyann = (dx, dy)
+            t.set_ha("left" if dx >= 0 else "right")
+            canvas.draw()
+            n = _covered(ax, t, renderer)
+            if best is None or n < best[0]:
+                best = (n, dx, dy)
+            if n == 0:
+                return False
+        t.xyann = best[1:]
+        t.set_ha("left" if best[1] >= 0 else "right")
+        return False
+    places = [((x, y), ha, "top" if y > 0.5 else "bottom") for y in (0.97, 0.86, 0.5, 0.14, 0.03)
+              for x, ha in ((0.03, "left"), (0.97, "right"), (0.5, "center"))]
+    if hasattr(t, "xyann"):
+        t.xycoords = "axes fraction"
+        t.set_anncoords("axes fraction")
+        if t.arrow_patch is not None:
+            t.arrow_patch.set_visible(False)
+    else:
+        t.set_transform(ax.transAxes)
+    for xy, ha, va in places:
+        t.set_ha(ha)
+        t.set_va(va)
+        if hasattr(t, "xyann"):
+            t.xy = xy
+            t.xyann = xy
+        else:
+            t.set_position(xy)
+        canvas.draw()
+        if not _covered(ax, t, renderer):
+            return False
+    t.set_ha("center")
+    t.set_va("bottom")
+    if hasattr(t, "xyann"):
+        t.xy = t.xyann = (0.5, 1.01)
+    else:
+        t.set_position((0.5, 1.01))
+    return True

@@ -21,7 +21,7 @@ from ..orbits import multipulse as mp
 from ..orbits import periodic_multipulse as pm
 from ..orbits.equilibrium import on_level
 from ..core.printed import MULTIPULSE
-from .common import atomic_savefig, pyplot
+from .common import atomic_savefig, label, pyplot
 
 
 def plot_branch(branch, path, title: str = ""):
@@ -35,8 +35,8 @@ def plot_branch(branch, path, title: str = ""):
         for f in branch.folds:
             if f["u"] is not None:
                 ax.plot(f["u"][2], f["u"][j], "o", mfc="none", color="r", label="fold")
-        ax.set_xlabel(names[2])
-        ax.set_ylabel(names[j])
+        ax.set_xlabel(label(names[2]))
+        ax.set_ylabel(label(names[j]))
     axs[0].set_title(title, fontsize=7)
     fig.tight_layout()
     p = atomic_savefig(fig, Path(path), dpi=130)
@@ -75,9 +75,9 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     ax.axvline(0.001, ls=":", color="gray", label="printed lam = 0.001")
     for f in folds:
         ax.plot(f["lam"], f["m"], "bs", mfc="none")
-    ax.set_xlabel("lam (mu = 2 lam)")
-    ax.set_ylabel("m")
-    ax.set_title("codimension-one 2-pulse orbits: a curve in (lam, m); gamma = delta = 1", fontsize=8)
+    ax.set_xlabel(r"$\bar\lambda$  ($\mu = 2\bar\lambda$)")
+    ax.set_ylabel(r"$m$")
+    ax.set_title(r"codimension-one 2-pulse orbits: a curve in $(\bar\lambda, m)$; $\gamma = \delta = 1$", fontsize=8)
     ax.legend(fontsize=6)
     fig.tight_layout()
     paths.append(str(atomic_savefig(fig, out / "continuation_mu2lam.png", dpi=140)))
@@ -96,9 +96,9 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
         data[f"primary{k}"] = b.u
         axs[0].semilogx(b.u[:, 2] - 2 * P.lam, b.u[:, 0], ".-", ms=3, label=f"primary {k}")
         axs[1].semilogx(b.u[:, 2] - 2 * P.lam, b.u[:, 1], ".-", ms=3)
-    axs[0].set_xlabel("mu - 2 lam")
-    axs[0].set_ylabel("T (eps = 1e-7)")
-    axs[1].set_xlabel("mu - 2 lam")
+    axs[0].set_xlabel(r"$\mu - 2\bar\lambda$")
+    axs[0].set_ylabel(r"$T$ ($\varepsilon = 10^{-7}$)")
+    axs[1].set_xlabel(r"$\mu - 2\bar\lambda$")
     axs[1].set_ylabel("launch angle")
     axs[0].legend(fontsize=7)
     axs[0].set_title("primary orbits to the periodic saddle, lam = 0.001, m = 1.7, gamma = delta = 1", fontsize=7)
