@@ -124,9 +124,11 @@ def no_offsets(fig) -> None:
                 f.set_useOffset(False)
 
 
-def data_points(ax):
-    """The display coordinates (n, 2) of every data point drawn on ax: line vertices and marker positions of
-    its lines, collections' offsets (scatter) and paths (contours are not data and are skipped)."""
+def data_points(ax, step: float = 3.0):
+    """The display coordinates (n, 2) of the data drawn on ax: the markers of its lines and scatter collections,
+    and points every `step` pixels along the segments of lines drawn in data coordinates (a legend over a curve
+    covers data even between two vertices).  Reference lines in axes coordinates (axhline, axvline) count only
+    by their ends: they span the axes and no box could avoid them.  Images and contours are not data points."""
     import numpy as np
     from matplotlib.collections import PathCollection
     from matplotlib.lines import Line2D
@@ -137,12 +139,35 @@ def data_points(ax):
             continue
         if isinstance(art, Line2D) and len(art.get_xydata()):
             xy = np.asarray(art.get_xydata(), float)
-            pts.append(art.get_transform().transform(xy[np.isfinite(xy).all(axis=1)]))
+            d = art.get_transform().transform(xy[np.isfinite(xy).all(axis=1)])
+            pts.append(d)
+            if art.get_linestyle() not in ("None", "", " ", "none") and len(d) > 1 and art.get_transform() == ax.transData:
+                seg = np.diff(d, axis=0)
+                n = np.minimum(np.ceil(np.hypot(seg[:, 0], seg[:, 1]) / step).astype(int), 2000)
+                for i in np.flatnonzero(n > 1):
+                    f = np.linspace(0.0, 1.0, n[i] + 1)[1:-1, None]
+                    pts.append(d[i] + f * seg[i])
         elif isinstance(art, PathCollection):
             off = np.asarray(art.get_offsets(), float)
             if len(off):
                 pts.append(art.get_offset_transform().transform(off[np.isfinite(off).all(axis=1)]))
     return np.concatenate(pts) if pts else np.empty((0, 2))
+
+
+def _boxes(ax):
+    """The legend and the non-empty visible texts of ax: the boxes that must not cover data or each other."""
+    out = []
+    leg = ax.get_legend()
+    if leg is not None and leg.get_visible():
+        out.append(("legend", leg))
+    out += [(f"text {t.get_text()[:30]!r}", t) for t in ax.texts if t.get_visible() and t.get_text().strip()]
+    return out
+
+
+def _overlaps(ax, artist, renderer) -> int:
+    """How many other boxes of ax (legend, texts) the artist's box overlaps."""
+    bb = artist.get_window_extent(renderer)
+    return sum(1 for _, other in _boxes(ax) if other is not artist and bb.overlaps(other.get_window_extent(renderer)))
 
 
 def covering(fig, renderer=None) -> list[tuple]:
@@ -157,20 +182,13 @@ def covering(fig, renderer=None) -> list[tuple]:
         renderer = canvas.get_renderer()
     bad = []
     for ax in fig.axes:
-        pts = data_points(ax)
-        if not len(pts):
-            continue
-        boxes = []
-        leg = ax.get_legend()
-        if leg is not None and leg.get_visible():
-            boxes.append(("legend", leg))
-        for t in ax.texts:
-            if t.get_visible() and t.get_text().strip():
-                boxes.append((f"text {t.get_text()[:30]!r}", t))
-        for what, artist in boxes:
+        for what, artist in _boxes(ax):
             n = _covered(ax, artist, renderer)  # only points within the axes count: outside, nothing is covered
             if n:
                 bad.append((ax.get_title()[:40] or ax.get_label(), what, n))
+            k = _overlaps(ax, artist, renderer)
+            if k:
+                bad.append((ax.get_title()[:40] or ax.get_label(), what + " over another label", k))
     return bad
 
 
@@ -189,12 +207,12 @@ def clear_of_data(fig) -> bool:
     outside = False
     for ax in fig.axes:
         leg = ax.get_legend()
-        if leg is not None and leg.get_visible() and _covered(ax, leg, renderer):
+        if leg is not None and leg.get_visible() and _cost(ax, leg, renderer):
             for loc in ("upper right", "upper left", "lower left", "lower right", "center right", "center left",
                         "upper center", "lower center"):
                 leg.set_loc(loc)
                 canvas.draw()
-                if not _covered(ax, leg, renderer):
+                if not _cost(ax, leg, renderer):
                     break
             else:
                 leg.set_loc("upper left")
@@ -202,9 +220,14 @@ def clear_of_data(fig) -> bool:
                 outside = True
                 canvas.draw()
         for t in list(ax.texts):
-            if t.get_visible() and t.get_text().strip() and _covered(ax, t, renderer):
+            if t.get_visible() and t.get_text().strip() and _cost(ax, t, renderer):
                 outside |= _move_text_clear(ax, t, canvas, renderer)
     return outside
+
+
+def _cost(ax, artist, renderer) -> int:
+    """Data points covered plus, heavily weighted, other labels overlapped."""
+    return _covered(ax, artist, renderer) + 1000 * _overlaps(ax, artist, renderer)
 
 
 def _covered(ax, artist, renderer) -> int:
@@ -234,7 +257,7 @@ def _move_text_clear(ax, t, canvas, renderer) -> bool:
             t.xyann = (dx, dy)
             t.set_ha("left" if dx >= 0 else "right")
             canvas.draw()
-            n = _covered(ax, t, renderer)
+            n = _cost(ax, t, renderer)
             if best is None or n < best[0]:
                 best = (n, dx, dy)
             if n == 0:
@@ -260,7 +283,7 @@ def _move_text_clear(ax, t, canvas, renderer) -> bool:
         else:
             t.set_position(xy)
         canvas.draw()
-        if not _covered(ax, t, renderer):
+        if not _cost(ax, t, renderer):
             return False
     t.set_ha("center")
     t.set_va("bottom")

@@ -81,6 +81,16 @@ def _figure(fig_no: str, out_dir, quick=False, progress=False, iterates=None, wo
     written = []
     for k in keys:
         written += list(save_result(results[k], out, f"fig{k}", key=k, label=PANELS[k]["label"]).values())
+    fig = panels_figure(results, keys, fig_no, n)
+    written.append(str(atomic_savefig(fig, out / f"fig{fig_no}.png")))
+    plt.close(fig)
+    return written
+
+
+def panels_figure(results: dict, keys, fig_no: str, n: int):
+    """The four panels of Figure 4 or 5 on one Figure (2 x 2).  The panels are compared with each other, so they
+    share one theta range (0, pi) and one pbar_theta range (the union of the four, 4 % margin)."""
+    plt = pyplot()
     # the four panels are compared with each other: one theta range (0, pi) and one pbar_theta range for all
     fig, axes = plt.subplots(2, 2, figsize=(10, 8.4), dpi=150, sharex=True, sharey=True)
     for ax, k in zip(axes.flat, keys):
@@ -100,9 +110,7 @@ def _figure(fig_no: str, out_dir, quick=False, progress=False, iterates=None, wo
     fig.suptitle(f"Fig. {fig_no}: Poincare sections sin$\\psi$ = 0 at h = {results[keys[0]].h:g} ({common}), "
                  f"{n} iterates each", fontsize=10)
     fig.tight_layout()
-    written.append(str(atomic_savefig(fig, out / f"fig{fig_no}.png")))
-    plt.close(fig)
-    return written
+    return fig
 
 
 def figure_4(out_dir, *, quick=False, progress=False) -> list[str]:
