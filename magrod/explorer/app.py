@@ -44,6 +44,9 @@ N_SLOTS = 24  # orbit renderers made with the page (see _build_plot)
 # Display-only decimation: an orbit shows at most this many of its points (every k-th, k fixed at launch from its
 # iterate count), so that drawing stays fluid at 10^5 iterates; exports and results keep every point.
 DISPLAY_CAP = 20_000
+# The page receives an orbit's new points at most this often (the chunks in between are joined): every message
+# re-renders the plot, and at 25 messages a second a software-WebGL tab spent all its time drawing.
+STREAM_INTERVAL_S = 0.25
 MARKER_SIZE = 3  # px, the page's marker-size control starts here
 # the projections of the section sin psi = 0 (the level fixes the third coordinate; theta-pbar_theta is where a
 # click or a typed start launches an orbit, and where the energy-level boundary is drawn)
@@ -68,6 +71,8 @@ class Orbit:
     stride: int = 1  # display decimation: every stride-th point is drawn (DISPLAY_CAP)
     skip: int = 0  # points already shown before an extension's rerun (its first points are these, bit for bit)
     shown: dict | None = None  # the drawn points of every projection coordinate (lists of arrays)
+    pending: list | None = None  # points decimated but not yet sent to the page (joined into one message)
+    last_stream: float = 0.0  # perf_counter of the last message to the page
     result: object = None  # PoincareResult when finished
     indicator: object = None  # LyapunovResult
     status: str = "pending"
@@ -415,6 +420,7 @@ class Explorer(pn.viewable.Viewer):
             x = np.concatenate(o.shown[xk]) if o.shown[xk] else np.empty(0)
             y = np.concatenate(o.shown[yk]) if o.shown[yk] else np.empty(0)
             o.source.data = {"x": x, "y": y}
+            o.pending = None  # included: o.shown holds every point decimated so far
             xs.append(x)
             ys.append(y)
         if (xk, yk) == ("theta", "ptheta"):
@@ -467,7 +473,7 @@ class Explorer(pn.viewable.Viewer):
         o.source.data = {"x": [], "y": []}
         o.iterates = o.iterates or self.iterates
         o.stride = max(1, -(-o.iterates // DISPLAY_CAP))
-        o.skip, o.shown = 0, {k: [] for k in AXIS_LABELS}
+        o.skip, o.shown, o.pending = 0, {k: [] for k in AXIS_LABELS}, None
         self._style(o)
         self._submit(o)
         self._say(f"#{o.id}: {start.describe()}; integrating {o.iterates} iterates in the background …")
@@ -594,12 +600,15 @@ class Explorer(pn.viewable.Viewer):
                 continue
             if kind == "chunk":
                 self._stream(o, payload)
-                if o.n_points == 0:
+                first = o.n_points == 0
+                self._flush(o, force=first)
+                if first:
                     self.latencies.append(time.perf_counter() - job.submitted)
                     streamed_first = True
                     self.stream_wall.append(time.time())
                 o.n_points, o.max_abs_dH = max(o.skip, payload.n_total), payload.max_abs_dH
             else:
+                self._flush(o, force=True)
                 res, ind = payload
                 o.result = res
                 if res is None:
@@ -620,6 +629,9 @@ class Explorer(pn.viewable.Viewer):
                     self._say(f"#{o.id}: {o.n_points} iterates in {res.wall_s:.2f} s, max |H̄ − h| = "
                               f"{res.max_abs_dH:.1e}; growth exponent {g:.3g} "
                               f"({'chaotic' if g > self.threshold else 'regular'}: threshold {self.threshold:g}).")
+        for o in self.orbits:  # the joined points of running orbits whose interval has passed
+            if o.pending:
+                self._flush(o)
         if self._pending_select is not None and not streamed_first:  # not in the poll that sends first points
             select, self._pending_select = self._pending_select, None
             self._refresh_list(select=select)
@@ -640,8 +652,21 @@ class Explorer(pn.viewable.Viewer):
                 "ppsi": c.ppsi[keep] if c.ppsi is not None else np.full(int(keep.sum()), np.nan)}
         for name, v in cols.items():
             o.shown[name].append(v)
+        o.pending = (o.pending or []) + [cols]
+
+    def _flush(self, o: Orbit, force: bool = False) -> bool:
+        """Send the orbit's pending points to the page in one message, if STREAM_INTERVAL_S has passed since the
+        last one (or `force`: the first points, the end of the run)."""
+        if not o.pending or o.source is None:
+            return False
+        now = time.perf_counter()
+        if not force and now - o.last_stream < STREAM_INTERVAL_S:
+            return False
         xk, yk = PROJECTIONS[self.projection.value]
-        o.source.stream({"x": cols[xk], "y": cols[yk]})
+        o.source.stream({"x": np.concatenate([c[xk] for c in o.pending]),
+                         "y": np.concatenate([c[yk] for c in o.pending])})
+        o.pending, o.last_stream = None, now
+        return True
 
     def wait(self, timeout: float = 60.0) -> bool:
         """Poll until no orbit is computing (for scripts and tests); True if all finished in time."""
@@ -832,9 +857,22 @@ def rod_figure(start, length: float):
                                       f"{' (true scale)' if M == 1 else ''}<br>frame checks: |DᵀD − I| "
                                       f"{rod['orthonormality']:.0e}, |Dᵀz − e3| {rod['field_consistency']:.0e}",
                                  font=dict(size=11)),
-                      scene=dict(aspectmode="data", xaxis_title="x", yaxis_title="y", zaxis_title="z (field)"),
+                      # true proportions (aspectmode "data"); plotly's default eye (1.25, 1.25, 1.25) is so close
+                      # that a long rod's ends leave the picture: the eye backs off along the long axis
+                      scene=dict(aspectmode="data", xaxis_title="x", yaxis_title="y", zaxis_title="z (field)",
+                                 camera=dict(eye=_rod_eye(c))),
                       margin=dict(l=0, r=0, t=50, b=0))
     return fig
+
+
+def _rod_eye(c: np.ndarray) -> dict:
+    """A camera eye that keeps the whole rod in view: plotly scales the scene so that its longest side is 1; at
+    the default distance (|eye| = 2.2) a scene whose longest side is many times the others is cut at both ends.
+    The eye moves back in proportion to the elongation (at most 3.5x) and looks from low elevation."""
+    ext = np.maximum(c.max(0) - c.min(0), 1e-12)
+    elong = float(ext.max() / max(np.sort(ext)[-2], 1e-12))
+    k = float(np.clip(0.9 + 0.25 * elong, 1.0, 3.5))
+    return dict(x=1.25 * k, y=1.25 * k, z=0.35 * k)
 
 
 class Registry:
