@@ -343,10 +343,12 @@ class ChaosMap(Result):
         return map_summary(self.spec, self.fields, self.wall_s, threshold)
 
     def to_dict(self) -> dict:
-        from ..core.results import jsonable
+        from ..core.results import INLINE_ARRAY_MAX, jsonable
 
-        return jsonable({"success": self.success, "message": self.message, "spec": self.spec.as_dict(),
-                         "summary": self.summary(), "fields": self.fields, "store": self.store})
+        # the fields as references {"npz": "fields.<name>", ...} into arrays() (small maps inline)
+        return {**jsonable({"success": self.success, "message": self.message, "spec": self.spec.as_dict(),
+                            "summary": self.summary(), "store": self.store}),
+                "fields": jsonable(self.fields, INLINE_ARRAY_MAX, "fields")}
 
     def to_xarray(self):
         """An xarray.Dataset with coordinates (y-parameter, x-parameter) and one variable per field."""
@@ -356,12 +358,16 @@ class ChaosMap(Result):
 
         from ..core.results import jsonable
 
+        from .store import coord_attrs, dataset_attrs, variable_attrs
+
         sx, sy = self.spec.x, self.spec.y
         dims = (sy.name, sx.name)
-        ds = xr.Dataset({k: (dims, np.asarray(v)) for k, v in self.fields.items()},
-                        coords={sx.name: sx.values(), sy.name: sy.values()})
-        ds.attrs.update({"spec": json.dumps(self.spec.as_dict()), "criterion": self.summary()["criterion"],
-                         "summary": json.dumps(jsonable(self.summary()))})
+        # the CF attributes of the zarr store (units, long_name, the status flags): one definition, store.py
+        ds = xr.Dataset({k: (dims, np.asarray(v), variable_attrs(k)) for k, v in self.fields.items()},
+                        coords={sx.name: (sx.name, sx.values(), coord_attrs(sx.name)),
+                                sy.name: (sy.name, sy.values(), coord_attrs(sy.name))})
+        ds.attrs.update({**dataset_attrs(self.spec), "spec": json.dumps(self.spec.as_dict()),
+                         "criterion": self.summary()["criterion"], "summary": json.dumps(jsonable(self.summary()))})
         return ds
 
 

@@ -289,10 +289,11 @@ class PoincareResult(Result):
         return self.accuracy_checks()
 
     def to_dict(self) -> dict:
-        """The summary plus every per-point array (JSON-able)."""
-        from ..core.results import jsonable
+        """The summary plus the per-point arrays: small ones as lists, the others as references into arrays()
+        ({"npz": key, "shape", "dtype"}; `save()` or magrod poincare --out writes them to .npz)."""
+        from ..core.results import array_refs, jsonable
 
-        return jsonable({**self.summary(), "arrays": self.arrays()})
+        return {**jsonable(self.summary()), "arrays": array_refs(self.arrays())}
 
     def to_xarray(self):
         """The section points as an xarray.Dataset over the iterate index (attributes: the summary)."""

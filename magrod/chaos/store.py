@@ -250,25 +250,39 @@ def _write_skeleton(spec: maps.MapSpec, ident: str, target: Path) -> None:
 
     chunks = (spec.tile, spec.tile)
     dims = (spec.y.name, spec.x.name)
-    data = {k: (dims, da.full(spec.shape, np.nan, chunks=chunks), {"units": UNITS[k], "long_name": LONG[k]})
-            for k in maps.MAP_FIELDS}
-    data["status"] = (dims, da.full(spec.shape, chaos.FAILED, dtype=np.int8, chunks=chunks),
-                      {"units": UNITS["status"], "long_name": LONG["status"], "flag_values": list(chaos.REASONS),
-                       "flag_meanings": " ".join(chaos.REASONS.values())})
-    coords = {spec.x.name: (spec.x.name, spec.x.values(), {"units": "1", "long_name": _axis_label(spec.x.name)}),
-              spec.y.name: (spec.y.name, spec.y.values(), {"units": "1", "long_name": _axis_label(spec.y.name)})}
+    data = {k: (dims, da.full(spec.shape, np.nan, chunks=chunks), variable_attrs(k)) for k in maps.MAP_FIELDS}
+    data["status"] = (dims, da.full(spec.shape, chaos.FAILED, dtype=np.int8, chunks=chunks), variable_attrs("status"))
+    coords = {spec.x.name: (spec.x.name, spec.x.values(), coord_attrs(spec.x.name)),
+              spec.y.name: (spec.y.name, spec.y.values(), coord_attrs(spec.y.name))}
     ds = xr.Dataset(data, coords=coords, attrs={
-        "title": "magrod chaos map (Sinden & van der Heijden, spatial chaos of a conducting rod)",
-        "spec": _spec_json(spec), "identity": ident, "store_format": STORE_FORMAT,
-        "criterion": f"chaotic iff growth_exponent > {chaos.GROWTH_THRESHOLD:g}",
-        "tolerance": "machine epsilon" if not spec.tol else repr(spec.tol),
-        "formulation": "body (9-D, generated/body.py)",
-        "tangent_vectors": "projected onto the level set of C1, C2, C3, H, m3 (magrod.chaos.indicators)",
+        **dataset_attrs(spec), "spec": _spec_json(spec), "identity": ident, "store_format": STORE_FORMAT,
         "versions": json.dumps(versions(), sort_keys=True)})
     with warnings.catch_warnings():  # "consolidated metadata is not part of the zarr v3 spec": we know
         warnings.simplefilter("ignore")
         # compute=False writes metadata and coordinates; the data chunks are written tile by tile
         ds.to_zarr(str(target), mode="w-", compute=False, consolidated=True)
+
+
+def variable_attrs(name: str) -> dict:
+    """The CF attributes of a map field (units, long_name; flag_values/flag_meanings for status): the store's and
+    ChaosMap.to_xarray()'s, defined once here."""
+    attrs = {"units": UNITS[name], "long_name": LONG[name]}
+    if name == "status":
+        attrs.update({"flag_values": list(chaos.REASONS), "flag_meanings": " ".join(chaos.REASONS.values())})
+    return attrs
+
+
+def coord_attrs(name: str) -> dict:
+    return {"units": "1", "long_name": _axis_label(name)}
+
+
+def dataset_attrs(spec) -> dict:
+    """The global attributes that describe a map (not its store's identity or the versions that wrote it)."""
+    return {"title": "magrod chaos map (Sinden & van der Heijden, spatial chaos of a conducting rod)",
+            "criterion": f"chaotic iff growth_exponent > {chaos.GROWTH_THRESHOLD:g}",
+            "tolerance": "machine epsilon" if not spec.tol else repr(spec.tol),
+            "formulation": "body (9-D, generated/body.py)",
+            "tangent_vectors": "projected onto the level set of C1, C2, C3, H, m3 (magrod.chaos.indicators)"}
 
 
 def _axis_label(name: str) -> str:
