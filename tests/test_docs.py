@@ -165,6 +165,17 @@ def test_notebooks_rendered_from_executed_cells(site):
     assert (site / "architecture.html").exists()
 
 
+def test_the_paper_is_cited_by_reference_not_by_a_path():
+    """A user has the repository, not the authors' workspace: the README and the docs cite the paper by its
+    reference (arXiv:0905.1309), never by a path outside the repository.  Seen to fail on the README's
+    `../shared/paper/...` before."""
+    pages = [*DOCS.rglob("*.md"), ROOT / "README.md"]
+    bad = [f"{p.relative_to(ROOT)}:{i}" for p in pages for i, line in enumerate(p.read_text().splitlines(), 1)
+           if "../shared" in line or "/work/shared" in line]
+    assert not bad, bad
+    assert "arXiv:0905.1309" in (ROOT / "README.md").read_text()
+
+
 def test_no_unfilled_placeholders_in_the_prose():
     """A template marker such as @@BOXES@@ left in a document is a result that was promised and never written."""
     pages = [*DOCS.rglob("*.md"), ROOT / "README.md", ROOT / "benchmarks" / "README.md"]

@@ -266,7 +266,7 @@ def report_markdown(rows, done, failures, quick, wall) -> str:
 
     lines = ["# magrod reproduction report", "",
              f"Paper: Sinden & van der Heijden, *Spatial chaos of an extensible conducting rod in a uniform magnetic "
-             f"field*. Mode: {'quick' if quick else 'full'}. Wall time {wall:.1f} s.", "",
+             f"field* (arXiv:0905.1309). Mode: {'quick' if quick else 'full'}. Wall time {wall:.1f} s.", "",
              "## Claims", "", "| paper label | the paper says / what is checked | magrod computed | verdict |",
              "|---|---|---|---|"]
     for r in mark_failed(rows, failures):
