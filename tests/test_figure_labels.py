@@ -95,6 +95,31 @@ def test_a_real_figure_is_saved_clear_of_its_data(tmp_path, monkeypatch):
     assert any(before for before, _ in seen)  # the check ran on a figure that needed it
 
 
+def test_a_legend_with_no_free_corner_goes_outside_and_stays_in_the_picture(tmp_path):
+    """Data everywhere: the legend moves right of the axes and the saved picture grows to hold it (bbox tight).
+    Seen to fail on Figure 6 before (its legend, moved outside under a layout engine, was cut at the edge)."""
+    import matplotlib.image as mpimg
+    from matplotlib.figure import Figure
+
+    from magrod.figures.common import atomic_savefig, covering
+
+    for layout in (None, "constrained", "tight_layout()"):  # Figure 6 calls tight_layout() before saving
+        fig = Figure(figsize=(4, 3), dpi=100, layout=None if layout == "tight_layout()" else layout)
+        ax = fig.add_subplot()
+        g = np.linspace(0, 1, 40)
+        X, Y = np.meshgrid(g, g)
+        ax.plot(X.ravel(), Y.ravel(), ".", ms=2, label="a dense grid of points")
+        ax.legend(loc="center")
+        if layout == "tight_layout()":
+            fig.tight_layout()
+        path = atomic_savefig(fig, tmp_path / f"g{layout}.png")
+        assert covering(_agg(fig)) == []
+        leg = ax.get_legend().get_window_extent(fig.canvas.get_renderer())
+        assert leg.x0 >= ax.get_window_extent(fig.canvas.get_renderer()).x1  # outside, on the right
+        width_px = mpimg.imread(path).shape[1]
+        assert width_px >= leg.x1 - fig.bbox.x0 - 2, (layout, width_px, leg)  # the picture holds the legend
+
+
 def test_no_offset_tick_labels(tmp_path):
     """Ticks like 26.45008, 26.45012 are written out, never as "+2.645e1" and 0.00008.  Seen to fail without
     no_offsets() in atomic_savefig (the offset text read '+2.645e1')."""

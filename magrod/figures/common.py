@@ -56,7 +56,7 @@ def atomic_savefig(fig, path, **kw) -> Path:
 
     path = Path(path)
     no_offsets(fig)
-    if clear_of_data(fig) and fig.get_layout_engine() is None:
+    if clear_of_data(fig):
         kw.setdefault("bbox_inches", "tight")  # a legend moved outside its axes is in the picture, not cut off
     chosen = _formats.get()
     targets = [path] if chosen == ("png",) else [path.with_suffix("." + f) for f in chosen]
