@@ -203,3 +203,34 @@ def test_figure_4_panels_share_their_ranges_and_dots_are_readable():
     for a in axes:
         line = a.get_lines()[0]
         assert line.get_marker() == "." and line.get_markersize() >= 0.8
+
+
+def test_every_contour_drawn_is_explained(tmp_path, monkeypatch):
+    """Figure 3 (--quick) as built: every axes that draws contours has a legend with an entry per contour colour
+    (the level sets and the homoclinic level).  Seen to fail before (fig3's portraits had no legend)."""
+    from matplotlib.contour import ContourSet
+
+    import magrod.figures.common as common
+    from magrod.figures import build
+
+    seen = []
+    orig = common.clear_of_data
+
+    def hooked(fig):
+        seen.append(fig)
+        return orig(fig)
+
+    monkeypatch.setattr(common, "clear_of_data", hooked)
+    build("3", tmp_path, quick=True)
+    checked = 0
+    for fig in seen:
+        for ax in fig.axes:
+            sets = [c for c in ax.collections if isinstance(c, ContourSet)]
+            if not sets:
+                continue
+            colours = {tuple(np.round(np.atleast_2d(c.get_edgecolor())[0], 3)) for c in sets}
+            leg = ax.get_legend()
+            assert leg is not None, ax.get_title()
+            assert len(leg.get_texts()) >= len(colours), (ax.get_title(), [t.get_text() for t in leg.get_texts()])
+            checked += 1
+    assert checked >= 3
