@@ -71,7 +71,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
         "messages": [b.message for b in branches], "versions": versions()})))
     fig, ax = plt.subplots(figsize=(5, 3.6))
     ax.plot(u[:, 1], u[:, 2], "k-", lw=1.2, label="2-pulse symmetric orbit exists (mu = 2 lam)")
-    ax.plot([r.params.lam], [1.7], "ro", label=f"Fig 6: m = 1.7, lam* = {r.params.lam:.12g}")
+    ax.plot([r.params.lam], [1.7], "ro", label=f"Fig 6: m = 1.7, $\\bar\\lambda^*$ = {r.params.lam:.12g}")
     ax.axvline(0.001, ls=":", color="gray", label="printed lam = 0.001")
     for f in folds:
         ax.plot(f["lam"], f["m"], "bs", mfc="none")
@@ -101,7 +101,8 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     axs[1].set_xlabel(r"$\mu - 2\bar\lambda$")
     axs[1].set_ylabel("launch angle")
     axs[0].legend(fontsize=7)
-    axs[0].set_title("primary orbits to the periodic saddle, lam = 0.001, m = 1.7, gamma = delta = 1", fontsize=7)
+    axs[0].set_title(r"primary orbits to the periodic saddle, $\bar\lambda$ = 0.001, m = 1.7, $\gamma = \delta = 1$",
+                     fontsize=7)
     fig.tight_layout()
     paths.append(str(atomic_savez(out / "continuation_periodic.npz", **data)))
     paths.append(str(atomic_write_json(out / "continuation_periodic.json", {

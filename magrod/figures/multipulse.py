@@ -98,14 +98,15 @@ def _figure(number: int, out_dir, quick: bool = False, progress: bool = False) -
             continue
         tau, win = scaled_arclength(e["orbit"])
         ax.plot(tau[win], e["orbit"]["theta"][win], style, color="k", lw=1.2,
-                label=f"{N}-pulse, lam* = {_lam_text(e)}, residual {e['residual']:.1e}")
+                label=f"{N}-pulse, $\\bar\\lambda^*$ = {_lam_text(e)}, residual {e['residual']:.1e}")
     p = spec["params"]
     ax.set_xlim(-1, 1)
     ax.set_ylim(bottom=0)
     ax.set_xlabel(r"$(s - s_{sym})/L$")
     ax.set_ylabel(r"$\theta$")
-    ax.set_title(f"Fig. {number} ({spec['label']}): m={p.m}, gamma={p.gamma}, delta={p.delta}, mu = 2 lam "
-                 f"(paper lam={p.lam})", fontsize=9)
+    ax.set_title(f"Fig. {number} ({spec['label']}): m={p.m}, $\\gamma$={p.gamma}, $\\delta$={p.delta}, "
+                 f"$\\mu = 2\\bar\\lambda$ "
+                 f"(paper $\\bar\\lambda$={p.lam})", fontsize=9)
     ax.legend(fontsize=7, loc="upper right")
     fig.tight_layout()
     paths.append(str(atomic_savefig(fig, Path(out_dir) / f"figure{number}.png", dpi=150)))
