@@ -117,11 +117,13 @@ def map_axes(ax, fields: dict, spec: maps.MapSpec, *, indicator="growth", thresh
         ax.annotate(key, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=9)
     ax.set_xlabel(label(spec.x.name))
     ax.set_ylabel(label(spec.y.name))
-    fixed = ", ".join(f"{k} = {v:g}" for k, v in sorted(spec.base.items()) if k not in (spec.x.name, spec.y.name))
+    fixed = ", ".join(f"{label(k)} = {v:g}" for k, v in sorted(spec.base.items())
+                      if k not in (spec.x.name, spec.y.name))
     # the fixed values wrapped to the width the axes get (~70% of the figure beside the colour bar), so that the
     # title is never cut off at the figure's edge (tests/test_figure_labels.py)
     chars = max(24, int(0.7 * ax.figure.get_figwidth() * 72 / (0.6 * 8)))
-    ax.set_title(title or f"chaos map, T = {spec.t_max:g}\n" + textwrap.fill(fixed, chars), fontsize=8)
+    ax.set_title(title or f"chaos map, T = {spec.t_max:g}\n" + textwrap.fill(fixed, chars, break_long_words=False),
+                 fontsize=8)
     return im
 
 

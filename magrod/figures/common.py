@@ -13,7 +13,7 @@ _formats: contextvars.ContextVar = contextvars.ContextVar("magrod_figure_formats
 # the mathematical label of every name a figure puts on an axis (never the code name: `lam`, `ptheta`)
 LABELS = {"theta": r"$\theta$", "psi": r"$\psi$", "ptheta": r"$\bar p_\theta$", "ppsi": r"$\bar p_\psi$",
           "lam": r"$\bar\lambda$", "gamma": r"$\gamma$", "mu": r"$\mu$", "delta": r"$\delta$", "m": r"$m$",
-          "h": r"$h$", "theta0": r"$\theta_0$", "ptheta0": r"$\bar p_{\theta 0}$", "psi0": r"$\psi_0$",
+          "h": r"$h$", "theta0": r"$\theta_0$", "ptheta0": r"$\bar p_{\theta0}$", "psi0": r"$\psi_0$",
           "T": r"$T$", "eps": r"$\varepsilon$"}
 
 
