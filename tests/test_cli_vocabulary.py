@@ -43,6 +43,10 @@ def test_every_option_has_help_with_its_default_once(name):
             bad.append(f"{label}: default stated {n} times: {text!r}")
         if "(default: None)" in text or "(default: False)" in text:
             bad.append(f"{label}: {text!r}")
+        # a help that states its default in words must not have an argparse default too: the docs page
+        # (sphinx-argparse) adds "Default: X" for every non-None default, and the two would double
+        if re.search(r"\bdefault", a.help or "", flags=re.I) and a.default not in (None, False, argparse.SUPPRESS):
+            bad.append(f"{label}: help says its default and argparse has one ({a.default!r}): {a.help!r}")
     assert not bad, bad
     # the rendered help as a user sees it: no doubled default anywhere
     assert not re.search(r"\(default[^)]*\)\s*\(default", p.format_help().replace("\n", " "))
