@@ -63,12 +63,14 @@ def test_rod_shape_to_dict_is_small(tmp_path):
     d, ds = _check_small_and_complete(shape, tmp_path)
     assert {"s", "r", "D", "x"} <= set(shape.arrays())
     assert ds["r"].shape == shape.r.shape and shape.r.shape[1] == 3
+    assert ds["r"].dims == ("sample", "space") and ds["s"].attrs["units"] == "B/m3" and ds["D"].attrs["long_name"]
 
 
 def test_section_and_lyapunov_small(tmp_path):
     sec = mr.poincare_section("4a", iterates=300)
     d, ds = _check_small_and_complete(sec, tmp_path)
     assert d["arrays"]["points"]["shape"] == [300, 4]
+    assert ds["theta"].attrs["units"] == "rad" and all(ds[v].attrs.get("long_name") for v in ds.data_vars)
     ly = mr.lyapunov("4a", t_max=200)
     json.dumps(ly.to_dict())
     assert len(json.dumps(ly.to_dict())) < 20_000

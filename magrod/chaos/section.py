@@ -304,9 +304,13 @@ class PoincareResult(Result):
         from ..core.results import jsonable
 
         coords = {"iterate": np.arange(self.n_points)}
-        data = {"theta": ("iterate", self.points[:, 0]), "psi": ("iterate", self.points[:, 1]),
-                "ptheta": ("iterate", self.points[:, 2]), "ppsi": ("iterate", self.points[:, 3]),
-                "t": ("iterate", self.times), "dH": ("iterate", self.dH), "frame": ("iterate", self.frame)}
+        cf = {"theta": ("rad", "Euler angle theta at the crossing"), "psi": ("rad", "Euler angle psi (0 or pi)"),
+              "ptheta": ("1", "pbar_theta (eq:nondim_1)"), "ppsi": ("1", "pbar_psi (eq:nondim_1)"),
+              "t": ("1", "scaled arclength t = s of the crossing (eq:nondim_1)"), "dH": ("1", "Hbar - h"),
+              "frame": ("1", "0: crossing computed by the 4-D system, 1: by the 9-D body frame")}
+        cols = {"theta": self.points[:, 0], "psi": self.points[:, 1], "ptheta": self.points[:, 2],
+                "ppsi": self.points[:, 3], "t": self.times, "dH": self.dH, "frame": self.frame}
+        data = {k: ("iterate", v, {"units": cf[k][0], "long_name": cf[k][1]}) for k, v in cols.items()}
         return xr.Dataset(data, coords=coords, attrs={"summary": json.dumps(jsonable(self.summary()))})
 
     @property
