@@ -123,3 +123,20 @@ def test_report_marks_the_claims_of_a_failed_figure(fig2):
     fig7 = next(ln for ln in lines if ln.startswith("| fig:multimodal2 |"))
     table = next(ln for ln in lines if ln.startswith("| branch table"))  # reads figures 6, 7 and continuation
     assert "figure 6 FAILED" in fig6 and "FAILED" not in fig7 and "figure 6 FAILED" in table
+
+
+def test_cli_format_options(tmp_path, capsys):
+    """`magrod figure 2 --quick --format svg` writes fig2.svg (and the data); a bad --format on `figure` or
+    `reproduce` is one line naming it, exit 2, before any directory is made."""
+    from magrod import cli
+
+    out = tmp_path / "svg"
+    assert cli.main(["figure", "2", "--quick", "--format", "svg", "--out", str(out), "--json", "--quiet"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    assert r["formats"] == ["svg"] and sorted(p.name for p in out.iterdir()) == ["fig2.json", "fig2.npz", "fig2.svg"]
+    for argv in (["figure", "2", "--format", "gif"], ["reproduce", "--quick", "--format", "png,gif"]):
+        bad = tmp_path / "never"
+        assert cli.main([*argv, "--out", str(bad)]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "format" in err[0], err
+        assert not bad.exists()
