@@ -46,6 +46,14 @@ def figure_formats(formats):
         _formats.reset(token)
 
 
+def pictures_of(path) -> list:
+    """The files atomic_savefig(fig, path) writes in the current figure_formats() context (the first is the one
+    it returns)."""
+    path = Path(path)
+    chosen = _formats.get()
+    return [path] if chosen == ("png",) else [path.with_suffix("." + f) for f in chosen]
+
+
 def atomic_savefig(fig, path, **kw) -> Path:
     """core.io.atomic_savefig in each format chosen by figure_formats() (PNG outside it); returns the first path.
     SVG element ids come from a fixed hash salt (matplotlib's default is random per process), so that the same

@@ -10,7 +10,7 @@ import numpy as np
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import PANELS
 from ..core.progress import bar
-from .common import atomic_savefig, pyplot
+from .common import atomic_savefig, pictures_of, pyplot
 
 
 def panel_title(key, res) -> str:
@@ -61,7 +61,9 @@ def save_result(res, out_dir, stem: str, *, key=None, label=None, formats=("png"
         fig, ax = plt.subplots(figsize=(5.0, 4.2), dpi=150)
         plot_points(ax, res, panel_title(key, res))
         fig.tight_layout()
-        paths[fmt] = str(atomic_savefig(fig, out / f"{stem}.{fmt}"))
+        atomic_savefig(fig, out / f"{stem}.{fmt}")
+        for p in pictures_of(out / f"{stem}.{fmt}"):  # by the suffix actually written (--format pdf: .pdf)
+            paths[p.suffix.lstrip(".")] = str(p)
         plt.close(fig)
     meta["files"] = dict(paths)
     paths["json"] = str(atomic_write_json(out / f"{stem}.json", meta))
