@@ -50,6 +50,7 @@ def run(args) -> dict:
 
     import numpy as np
 
+    from ..core.tolerances import CONTINUATION_TOL
     from ..figures.continuation import write_branch
     from ..orbits import continuation as C
     from ..orbits import multipulse as mp
@@ -110,7 +111,7 @@ def run(args) -> dict:
     meta = {"ok": True, "kind": "mu = 2 lam (codimension one)" if args.mu2lam else "periodic saddle (mu > 2 lam)",
             "start_params": base.as_dict(), "pulses": N, "parameter": name, "names": list(names),
             "points": int(len(br.u)), "success": br.success, "message": br.message, "folds": folds,
-            "max_residual": float(np.max(br.residuals)), "wall_time_s": wall, "tolerance": 1e-10,
+            "max_residual": float(np.max(br.residuals)), "wall_time_s": wall, "tolerance": CONTINUATION_TOL,
             "algorithm": "pseudo-arclength (Keller), Newton + heyoka variational Jacobians",
             "first": dict(zip(names, map(float, br.u[0]))), "last": dict(zip(names, map(float, br.u[-1])))}
     meta["paths"] = write_branch(br, meta, out, stem)
