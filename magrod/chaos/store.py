@@ -48,16 +48,14 @@ from pathlib import Path
 import numpy as np
 
 from . import indicators as chaos, maps
-from .fields import BY_NAME
 from ..core.errors import EnvironmentFault, ParameterError
 from ..core.io import atomic_write_json
 
 STORE_FORMAT = 2  # 1: markers without hashes (before issue 17)
 FIELDS = tuple(maps.MAP_FIELDS) + ("status",)  # the order of the content hash
 
-UNITS = {**{k: f.unit for k, f in BY_NAME.items()}, "status": "code"}
-LONG = {**{k: f.long for k, f in BY_NAME.items()},
-        "status": "0 ok; " + "; ".join(f"{c} {r}" for c, r in chaos.REASONS.items() if c)}
+# the CF attributes (units, long names, status flags) are defined once, in maps.py (ChaosMap.to_xarray uses them)
+from .maps import LONG, UNITS, _axis_label, coord_attrs, dataset_attrs, variable_attrs  # noqa: E402,F401
 
 
 def paths(out: Path, stem: str) -> dict:
@@ -261,33 +259,6 @@ def _write_skeleton(spec: maps.MapSpec, ident: str, target: Path) -> None:
         warnings.simplefilter("ignore")
         # compute=False writes metadata and coordinates; the data chunks are written tile by tile
         ds.to_zarr(str(target), mode="w-", compute=False, consolidated=True)
-
-
-def variable_attrs(name: str) -> dict:
-    """The CF attributes of a map field (units, long_name; flag_values/flag_meanings for status): the store's and
-    ChaosMap.to_xarray()'s, defined once here."""
-    attrs = {"units": UNITS[name], "long_name": LONG[name]}
-    if name == "status":
-        attrs.update({"flag_values": list(chaos.REASONS), "flag_meanings": " ".join(chaos.REASONS.values())})
-    return attrs
-
-
-def coord_attrs(name: str) -> dict:
-    return {"units": "1", "long_name": _axis_label(name)}
-
-
-def dataset_attrs(spec) -> dict:
-    """The global attributes that describe a map (not its store's identity or the versions that wrote it)."""
-    return {"title": "magrod chaos map (Sinden & van der Heijden, spatial chaos of a conducting rod)",
-            "criterion": f"chaotic iff growth_exponent > {chaos.GROWTH_THRESHOLD:g}",
-            "tolerance": "machine epsilon" if not spec.tol else repr(spec.tol),
-            "formulation": "body (9-D, generated/body.py)",
-            "tangent_vectors": "projected onto the level set of C1, C2, C3, H, m3 (magrod.chaos.indicators)"}
-
-
-def _axis_label(name: str) -> str:
-    return {"lam": "lambdabar", "mu": "mu", "gamma": "gamma", "delta": "delta", "m": "m", "h": "h (energy)",
-            "theta0": "theta at the start", "ptheta0": "pbar_theta at the start", "psi0": "psi at the start"}[name]
 
 
 def _fresh_skeleton(spec, ident, store: Path) -> tuple[Path, dict]:
