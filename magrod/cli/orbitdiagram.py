@@ -1,5 +1,5 @@
 """`magrod orbitdiagram`: section points sin(psi) = 0 against a model parameter -- one orbit per value, all from
-the same chart start on the same level (a paper panel's, --figure, default 4a; overridable), run in SIMD lanes on
+the same chart start on the same level (a paper panel's, --panel, default 4a; overridable), run in SIMD lanes on
 all cores.  The panels of the base figure that vary the same parameter are marked.  With --out DIR the diagram is
 written as DIR/<stem>.npz, .json and .png (atomically).
 

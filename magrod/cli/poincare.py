@@ -75,7 +75,7 @@ def _inputs(args) -> tuple[dict, str | None]:
         if name not in vals:
             raise ParameterError(name, f"missing: give --{name} (or --panel one of {', '.join(PANELS)})")
     if "h" not in vals and "p_psi0" not in vals:
-        raise ParameterError("h", "missing: give --h (or --ppsi0, or --figure)")
+        raise ParameterError("h", "missing: give --h (or --ppsi0, or --panel)")
     return vals, key
 
 
@@ -123,7 +123,7 @@ def _run_portrait(args, vals, key, params) -> dict:
         if getattr(args, name) is not None:
             raise ParameterError(name, "the starts come from --starts: do not also give --" + name)
     if "h" not in vals:
-        raise ParameterError("h", "missing: give --h (or --figure) for the level of the portrait")
+        raise ParameterError("h", "missing: give --h (or --panel) for the level of the portrait")
     kind, what = parse_starts(args.starts)
     iterates = integer("iterates", args.iterates)
     t_ind = number("t_indicator", args.t_indicator, bound=1e7)
