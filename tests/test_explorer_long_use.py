@@ -39,7 +39,9 @@ def test_typed_start_is_exact_and_extension_equals_the_longer_run(page):
     assert o.n_points == 350 and np.array_equal(o.result.points, ref.points)
     x = np.asarray(o.source.data["x"])
     assert len(x) == 350 and shown_before == 200  # the first 200 were not drawn twice
-    assert np.array_equal(x, ref.points[:, 0])
+    # the drawn points come from each chunk's chart conversion (evaluated chunk by chunk, so SIMD lanes may round
+    # the last bit differently); the bit-exact claim is the result's, checked above with array_equal
+    np.testing.assert_allclose(x, ref.points[:, 0], rtol=0, atol=1e-14)
 
 
 def test_typed_start_bad_text_is_a_message(page):
@@ -68,7 +70,7 @@ def test_display_decimation_keeps_every_point_in_the_result(monkeypatch):
         assert o.stride == 5 and len(o.source.data["x"]) == 90  # every 5th of 450
         assert o.result.points.shape[0] == 450  # the result (and the export) keep all
         ref = mr.poincare_section("4a", iterates=450)
-        assert np.array_equal(np.asarray(o.source.data["x"]), ref.points[::5, 0])
+        np.testing.assert_allclose(np.asarray(o.source.data["x"]), ref.points[::5, 0], rtol=0, atol=1e-14)
     finally:
         a.close()
 
@@ -81,6 +83,7 @@ def test_marker_size_and_projection(page):
     assert page.fig.yaxis.axis_label == "p̄ψ" and not page.legend.visible
     ppsi = np.asarray(o.source.data["y"])
     # p_psi of the section points, from the result (its columns: theta, psi, ptheta, ppsi)
-    assert np.array_equal(ppsi, o.result.points[:, 3][::o.stride])
+    np.testing.assert_allclose(ppsi, o.result.points[:, 3][::o.stride], rtol=0, atol=1e-14)
     page.set_projection("θ – p̄θ")
-    assert page.legend.visible and np.array_equal(np.asarray(o.source.data["y"]), o.result.points[:, 2][::o.stride])
+    assert page.legend.visible
+    np.testing.assert_allclose(np.asarray(o.source.data["y"]), o.result.points[:, 2][::o.stride], rtol=0, atol=1e-14)
