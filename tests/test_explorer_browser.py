@@ -315,8 +315,12 @@ def test_long_use_30_orbits_typed_start_and_a_long_orbit(server, browser):
     for k, (x, y) in enumerate(pixels):
         tc = time.perf_counter()
         page.mouse.click(x, y)
-        page.wait_for_function(f"() => Bokeh.documents[0].get_model_by_name('orbit-src-{k + 1}') !== null",
-                               timeout=60_000, polling=20)
+        try:
+            page.wait_for_function(f"() => Bokeh.documents[0].get_model_by_name('orbit-src-{k + 1}') !== null",
+                                   timeout=60_000, polling=20)
+        except Exception as exc:  # say what the page said (a missed aim reads "No orbit at ...")
+            raise AssertionError(f"click {k + 1} at {aims[k]} made no orbit: status {_status_text(page)!r}; "
+                                 f"server {_status(server.port)}") from exc
         heights.append(_frame(page)["height"])
         if k in (0, 9, 19, 29):
             print(f"click {k + 1}: orbit on the page after {time.perf_counter() - tc:.3f} s; frame "
