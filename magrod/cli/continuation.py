@@ -88,23 +88,16 @@ def run(args) -> dict:
                                               f"{r.message}; scan: {found[N - 1]['message']} (near Figure 6 the "
                                               f"orbits on mu = 2 lam have 2 and 4 pulses: try --pulses 2)"}
             r = found[N - 1]["result"]
-        F, params_of = C.mu2lam_problem(r.params, name)
-        u0 = [r.T, r.params.lam, getattr(r.params, name)]
-        names, par, scale = ("T", "lam", name), 2, [r.T, 1e-3, max(1.0, abs(u0[2]))]
     else:
         found = pm.find(base, N, samples=121)
         if not found:
             return {"ok": False, "error": f"no symmetric {N}-pulse homoclinic orbit to the periodic saddle at {base.as_dict()}"}
         r = found[0]
-        F, params_of = C.periodic_problem(base, name, N)
-        v = getattr(base, name)
-        u0 = [r.T, r.angle, v]
-        dv = (base.mu - 2 * base.lam) if name in ("mu", "lam") else max(abs(v), 1e-3) * 0.1
-        names, par, scale = ("T", "angle", name), 2, [10.0, 1.0, dv]
-    bounds = {2: (lo, hi)} if args.range else None
+    # the branch itself is the library's continue_branch (issue 25: the command no longer rebuilds it)
     with bar(steps, "continue", not args.quiet) as update:
-        br = C.pseudo_arclength(F, u0, scale=scale, ds=ds, ds_max=max(ds, 0.5), steps=steps, par=par,
-                                direction=args.direction, bounds=bounds, names=names, progress=update)
+        br = C.continue_branch(r, name, steps, ds=ds, direction=args.direction,
+                               bounds=(lo, hi) if args.range else None, progress=update)
+    names = br.names
     wall = time.perf_counter() - t0
     stem = "branch_mu2lam" if args.mu2lam else f"branch_N{N}_{name}"
     folds = C.fold_summary(br)

@@ -69,6 +69,11 @@ class Branch(Result):
         return float(np.max(self.residuals)) if len(self.residuals) else math.nan
 
     @property
+    def accuracy(self) -> dict:
+        """The accuracy achieved: the largest corrector residual max|F| over the branch's points."""
+        return {"max_residual": self.max_residual, "points": int(len(self.residuals))}
+
+    @property
     def fold_values(self) -> list:
         """The continuation parameter (last component of u) at each located fold."""
         return [float(f["u"][-1]) for f in self.folds if f.get("u") is not None]

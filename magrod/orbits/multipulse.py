@@ -428,6 +428,13 @@ class MultipulseSearch(Result):
     def __len__(self) -> int:
         return len(self.orbits)
 
+    @property
+    def accuracy(self) -> dict:
+        """The accuracy achieved: the largest residual and noise floor over the orbits found (each orbit's own
+        `accuracy` has the rest)."""
+        return {"max_residual": max((o.residual for o in self.orbits), default=math.nan),
+                "max_noise_floor": max((o.noise_floor for o in self.orbits), default=0.0)}
+
     def __getitem__(self, i) -> MultipulseOrbit:
         return self.orbits[i]
 

@@ -197,6 +197,15 @@ class PeriodicSaddle(Result):
         """The four nontrivial multipliers (largest |log|Lambda|| first)."""
         return _quartet(self.multipliers)
 
+    @property
+    def accuracy(self) -> dict:
+        """The accuracy achieved: the Gauss-Newton residual of the relative equilibrium (passed: <=
+        RELATIVE_EQUILIBRIUM_TOL), the closure |x(T) - x| of the integrated period, the monodromy against
+        expm(T A), its symplectic defect and the reciprocal pairing of the quartet."""
+        return {"re_residual": self.re_residual, "closure": self.closure, "exp_check": self.exp_check,
+                "symplectic_defect": self.symplectic_defect, "reciprocal_defect": self.reciprocal_defect,
+                "passed": bool(self.re_residual <= RELATIVE_EQUILIBRIUM_TOL)}
+
     def launch_point(self, eps: float, angle: float = 0.0, precision=Precision.DOUBLE) -> np.ndarray:
         """x + eps Re(e^{-i angle} v)/|Re(e^{-i angle} v)|: a point at distance eps on the linear unstable
         fibre of the periodic orbit at phase 0, formed in `precision` (the O(eps^2) error of the linearisation
