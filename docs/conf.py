@@ -3,7 +3,7 @@
 Build (the command in README.md):  python -m sphinx -W --keep-going -b html docs docs/_build/html
 -W turns every warning into an error (tests/test_docs.py builds it so).  The notebooks in docs/notebooks are
 executed during the build by myst-nb and rendered from their executed cells; a cell that raises fails the build.
-The API reference (api.md) is written here from magrod.__all__ at build time, the CLI reference (cli.md) by
+The API reference (api.rst) is written here from magrod.__all__ at build time, the CLI reference (cli.md) by
 sphinx-argparse from magrod.cli.build_parser(): neither is typed by hand.
 """
 from __future__ import annotations
@@ -53,20 +53,31 @@ autodoc_typehints = "none"
 autodoc_member_order = "bysource"
 suppress_warnings = ["myst.header", "mystnb.unknown_mime_type"]
 nitpicky = False
+# Smart quotes would turn the "--json" of the help texts and prose into an en dash ("–json"), which a shell does
+# not accept when pasted: keep quotes and ellipses, never dashes ("q" quotes, "e" ellipses; no "D"/"d").
+smartquotes_action = "qe"
 
 
 def _write_api_page() -> None:
-    """api.md from magrod.__all__ (the pinned public names, tests/test_layout.py): one entry per name."""
-    lines = ["# API reference", "",
-             "The public API is the flat namespace `import magrod as mr`; these are the names in `magrod.__all__`, "
-             "documented from their docstrings (numpydoc).", ""]
+    """api.rst from magrod.__all__ (the pinned public names, tests/test_layout.py): one entry per name.
+
+    The page is reStructuredText, not MyST: autodoc emits reST lines and parses them with the parser of the page
+    that holds the directive.  Inside a MyST page that parser is MyST, which does not know reST directive
+    syntax, so ``.. py:function::`` and numpydoc's ``:Parameters:`` fields came out as literal text (zero
+    ``dl.py`` entries).  In an .rst page they become real signatures and definition lists."""
+    stale = HERE / "api.md"  # written by earlier versions of this file; two sources for one page break -W
+    if stale.exists() and stale.read_text().startswith("# API reference"):
+        stale.unlink()
+    lines = ["API reference", "=============", "",
+             "The public API is the flat namespace ``import magrod as mr``; these are the names in "
+             "``magrod.__all__``, documented from their docstrings (numpydoc).", ""]
     for name in magrod.__all__:
         obj = getattr(magrod, name)
         kind = "autoclass" if isinstance(obj, type) else "autofunction"
-        module = obj.__module__
-        lines += [f"## `mr.{name}`", "", f"```{{{kind}}} {module}.{obj.__qualname__}", "```", ""]
+        title = f"``mr.{name}``"
+        lines += [title, "-" * len(title), "", f".. {kind}:: {obj.__module__}.{obj.__qualname__}", ""]
     text = "\n".join(lines)
-    path = HERE / "api.md"
+    path = HERE / "api.rst"
     if not path.exists() or path.read_text() != text:
         path.write_text(text)
 

@@ -37,8 +37,8 @@ BAD = [
       "--theta0", "0.1", "--ptheta0", "0.5", "--iterates", "10"], "m"),
     (["poincare", "--m", "-1.7", "--mu", "0.4", "--gamma", "3", "--delta", "3", "--lam", "0.135", "--h", "0.9",
       "--theta0", "0.1", "--ptheta0", "0.5", "--iterates", "10"], "m"),
-    (["poincare", "--figure", "4a", "--iterates", "0"], "iterates"),
-    (["poincare", "--figure", "4a", "--iterates", "-5"], "iterates"),
+    (["poincare", "--panel", "4a", "--iterates", "0"], "iterates"),
+    (["poincare", "--panel", "4a", "--iterates", "-5"], "iterates"),
     (["poincare", "--m", "1.7", "--mu", "0.4", "--gamma", "3", "--delta", "3", "--lam", "0.135", "--h", "-50",
       "--theta0", "0.1", "--ptheta0", "0.5", "--iterates", "10"], "h"),  # impossible energy level
     (["poincare", "--m", "1.7", "--mu", "0.4", "--gamma", "3", "--delta", "3", "--lam", "0.135", "--h", "0.9",
@@ -78,7 +78,7 @@ def test_unwritable_output_directory(tmp_path):  # pragma: no cover - CI runs as
     d = tmp_path / "ro"
     d.mkdir()
     d.chmod(stat.S_IRUSR | stat.S_IXUSR)
-    r = magrod("poincare", "--figure", "4a", "--iterates", "5", "--out", str(d / "sub"))
+    r = magrod("poincare", "--panel", "4a", "--iterates", "5", "--out", str(d / "sub"))
     assert r.returncode == 2 and "out" in r.stderr
 
 
@@ -86,14 +86,14 @@ def test_output_path_is_a_file(tmp_path):
     """An --out that exists as a regular file cannot be used as a directory (works even as root)."""
     f = tmp_path / "occupied"
     f.write_text("x")
-    r = magrod("poincare", "--figure", "4a", "--iterates", "5", "--out", str(f), "--json")
+    r = magrod("poincare", "--panel", "4a", "--iterates", "5", "--out", str(f), "--json")
     assert r.returncode == 2, r.stderr
     assert json.loads(r.stdout)["parameter"] == "out"
     assert "Traceback" not in r.stderr
 
 
 def test_json_mode_prints_one_object_and_progress_only_on_stderr():
-    r = magrod("poincare", "--figure", "5a", "--iterates", "20", "--json")
+    r = magrod("poincare", "--panel", "5a", "--iterates", "20", "--json")
     assert r.returncode == 0, r.stderr
     obj = json.loads(r.stdout)
     assert obj["n_points"] == 20 and "max_abs_dH" in obj

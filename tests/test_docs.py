@@ -3,7 +3,10 @@ build), the API reference covers magrod.__all__ and the CLI reference every subc
 This is the README's docs command; it takes ~1-2 min on 2 cores (the four notebooks dominate)."""
 from __future__ import annotations
 
+import inspect
+import os
 import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -16,6 +19,8 @@ ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
 
 pytest.importorskip("sphinx")
+bs4 = pytest.importorskip("bs4")  # installed with pydata-sphinx-theme (the docs extra)
+NumpyDocString = pytest.importorskip("numpydoc.docscrape").NumpyDocString
 pytest.importorskip("myst_nb")
 
 
@@ -48,6 +53,99 @@ def test_api_reference_covers_the_public_names(site):
     assert "Parameters" in html and "Examples" in html and "Raises" in html
 
 
+# what reST looks like when a page shows it instead of rendering it (issue 29: autodoc output inside a MyST page)
+RAW_REST = (".. py:", ":Parameters:", ":Returns:", "!! processed by numpydoc", ":module:", ".. autofunction",
+            ".. autoclass")
+
+
+def _raw_rest_in(html_text: str) -> list[str]:
+    text = bs4.BeautifulSoup(html_text, "html.parser").get_text()
+    return [m for m in RAW_REST if m in text]
+
+
+def test_api_reference_renders_entries_not_raw_rest(site):
+    """Every name of magrod.__all__ is a real Sphinx entry (<dl class="py function|class"> whose <dt> carries the
+    object's dotted id), its numpydoc Parameters and Returns are definition lists, and no reST markup shows as
+    text.  Seen to fail on the api.md page this replaced: 0 dl.py entries and all seven markers present."""
+    html = (site / "api.html").read_text()
+    assert not _raw_rest_in(html), _raw_rest_in(html)
+    soup = bs4.BeautifulSoup(html, "html.parser")
+    entries = {dt.get("id"): dt.parent for dl in soup.select("dl.py") for dt in dl.find_all("dt", recursive=False)
+               if dt.get("id")}
+    for name in magrod.__all__:
+        obj = getattr(magrod, name)
+        ident = f"{obj.__module__}.{obj.__qualname__}"
+        assert ident in entries, f"no dl.py entry for mr.{name} ({ident})"
+        dl = entries[ident]
+        assert "py" in dl["class"] and ({"function", "class"} & set(dl["class"])), (name, dl["class"])
+        fields = {dt.get_text(strip=True).rstrip(":"): dt.find_next_sibling("dd")
+                  for fl in dl.select("dd > dl.field-list") for dt in fl.find_all("dt", recursive=False)}
+        # the sections the docstring has (functions: at least Parameters and Returns) each render as a field whose
+        # body is a definition list of names (<dt><strong>name</strong> : type), not a literal block
+        doc = NumpyDocString(inspect.getdoc(obj) or "")
+        want = {s for s in ("Parameters", "Returns", "Raises") if doc[s]}
+        if not isinstance(obj, type):
+            assert {"Parameters", "Returns"} <= want, (name, want)
+        for section in sorted(want):
+            assert section in fields, (name, section, sorted(fields))
+            body = fields[section].find("dl")
+            assert body is not None and body.find("dt") is not None, (name, section)
+            assert not fields[section].find("pre"), (name, section)
+        if "Parameters" in want:
+            assert fields["Parameters"].find("dl").find("dt").find("strong"), name
+
+
+EN_DASH_OPTION = re.compile(r"(?<![\w)\]])[\u2013\u2014][a-z]")  # "–json": smart quotes ate a "--"
+
+
+def test_no_en_dash_option_names_anywhere(site):
+    """Options are written with two hyphens on every page ("--json"), never with an en or em dash, which a shell
+    rejects when pasted.  Seen to fail with Sphinx's default smartquotes_action (31 "–json" on the CLI page)."""
+    bad = {}
+    for page in sorted(site.rglob("*.html")):
+        text = bs4.BeautifulSoup(page.read_text(), "html.parser").get_text()
+        hits = sorted(set(m.group(0) + text[m.end():m.end() + 12].split()[0] if text[m.end():m.end() + 1].strip()
+                          else m.group(0) for m in EN_DASH_OPTION.finditer(text)))
+        if hits:
+            bad[str(page.relative_to(site))] = hits[:10]
+    assert not bad, bad
+    assert "--json" in (site / "cli.html").read_text()
+
+
+def test_no_raw_rest_on_any_page(site):
+    bad = {str(p.relative_to(site)): _raw_rest_in(p.read_text()) for p in site.rglob("*.html")
+           if not p.name.startswith(("genindex", "search", "py-modindex"))}
+    bad = {k: v for k, v in bad.items() if v}
+    assert not bad, bad
+
+
+def test_screenshot_of_the_api_page(site):
+    """A picture of the rendered reference (test-artifacts/api-page.png, $MAGROD_ARTIFACTS), taken in Debian's
+    chromium headless from the built file (file://, no server, nothing fetched)."""
+    chromium = shutil.which("chromium") or "/usr/bin/chromium"
+    if not Path(chromium).exists():
+        pytest.skip("needs Debian's chromium")
+    sync_api = pytest.importorskip("playwright.sync_api")
+    out = Path(os.environ.get("MAGROD_ARTIFACTS", "test-artifacts"))
+    out.mkdir(parents=True, exist_ok=True)
+    png = out / "api-page.png"
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=chromium, headless=True,
+                              args=["--no-sandbox", "--disable-gpu", "--disable-background-networking"])
+        try:
+            page = b.new_page(viewport={"width": 1300, "height": 1600})
+            page.route("http*://**", lambda route: route.abort())  # loopback only: no fonts or scripts from outside
+            page.goto((site / "api.html").as_uri())
+            page.locator("dl.py.function").first.wait_for()
+            n_entries = page.locator("dl.py").count()
+            page.locator("dl.py.function").first.scroll_into_view_if_needed()
+            page.screenshot(path=str(png))
+        finally:
+            b.close()
+    assert n_entries >= len(magrod.__all__), n_entries
+    assert png.stat().st_size > 10_000
+
+
 def test_cli_reference_lists_every_subcommand(site):
     from magrod.cli import SUBCOMMANDS
 
@@ -66,6 +164,17 @@ def test_notebooks_rendered_from_executed_cells(site):
         assert "Traceback" not in html, nb
     assert (site / "errata.html").exists() and (site / "nonintegrability.html").exists()
     assert (site / "architecture.html").exists()
+
+
+def test_the_paper_is_cited_by_reference_not_by_a_path():
+    """A user has the repository, not the authors' workspace: the README and the docs cite the paper by its
+    reference (arXiv:0905.1309), never by a path outside the repository.  Seen to fail on the README's
+    `../shared/paper/...` before."""
+    pages = [*DOCS.rglob("*.md"), ROOT / "README.md"]
+    bad = [f"{p.relative_to(ROOT)}:{i}" for p in pages for i, line in enumerate(p.read_text().splitlines(), 1)
+           if "../shared" in line or "/work/shared" in line]
+    assert not bad, bad
+    assert "arXiv:0905.1309" in (ROOT / "README.md").read_text()
 
 
 def test_no_unfilled_placeholders_in_the_prose():

@@ -132,7 +132,7 @@ def test_invalid_input_message_next_to_widget(name, value, needle):
         assert needle in msg, msg
         assert a.params == mr.panel("4a").params and a.h == 0.9
         if name != "h" or value != "-5":  # the CLI refuses the same value naming the same option
-            r = subprocess.run([sys.executable, "-m", "magrod.cli", "poincare", "--figure", "4a", f"--{name}", value,
+            r = subprocess.run([sys.executable, "-m", "magrod.cli", "poincare", "--panel", "4a", f"--{name}", value,
                                 "--iterates", "5" if name != "iterates" else value],
                                capture_output=True, text=True, timeout=120)
             assert r.returncode == 2 and needle.split(":")[0] in r.stderr
@@ -182,7 +182,7 @@ def test_export_has_the_poincare_schema(tmp_path, app):
     paths = app.export(tmp_path / "exp")
     got = __import__("magrod.explorer.export", fromlist=["load_export"]).load_export(tmp_path / "exp")
     arrays, side = got["orbit01"]
-    r = subprocess.run([sys.executable, "-m", "magrod.cli", "poincare", "--figure", "4a", "--iterates", "300", "--out",
+    r = subprocess.run([sys.executable, "-m", "magrod.cli", "poincare", "--panel", "4a", "--iterates", "300", "--out",
                         str(tmp_path / "cli"), "--quiet"], capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
     cli_side = json.loads((tmp_path / "cli" / "fig4a.json").read_text())

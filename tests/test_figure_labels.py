@@ -42,3 +42,195 @@ def test_threshold_is_the_middle_of_the_bar():
     norm = growth_norm(1000.0, 3.0)
     assert float(norm(3.0)) == pytest.approx(0.5) and float(norm(0.0)) == 0.0 and float(norm(1000.0)) == 1.0
     assert float(norm(30.0)) == pytest.approx(0.5 + 0.5 * np.log(10) / np.log(1000 / 3))
+
+
+# ---- figures for a paper (issue 29) ------------------------------------------------------------------------------
+def _agg(fig):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig).draw()
+    return fig
+
+
+def test_covering_finds_a_legend_and_a_label_on_the_data_and_saving_clears_them(tmp_path):
+    """A legend pinned on a curve and a label written over it are found by covering(); atomic_savefig moves both
+    off the data (and off each other) and keeps them.  Seen to fail with clear_of_data's call removed from
+    figures.common.atomic_savefig (the saved figure still had both boxes on the curve)."""
+    from matplotlib.figure import Figure
+
+    from magrod.figures.common import atomic_savefig, covering
+
+    fig = Figure(figsize=(4, 3))
+    ax = fig.add_subplot()
+    x = np.linspace(0, 1, 200)
+    ax.plot(x, 1 - x, "-", label="descending")
+    ax.plot(x, 0.05 + 0 * x, ".", ms=2, label="floor")
+    ax.legend(loc="upper left")                      # on the curve's start (0, 1)
+    ax.annotate("p = 2.013", (0.5, 0.5), fontsize=9)  # on the curve's middle
+    before = covering(_agg(fig))
+    assert {w for _, w, _ in before} >= {"legend", "text 'p = 2.013'"}, before
+    atomic_savefig(fig, tmp_path / "f.png")
+    assert covering(_agg(fig)) == []
+    assert ax.get_legend() is not None and ax.texts[0].get_text() == "p = 2.013"
+
+
+def test_a_real_figure_is_saved_clear_of_its_data(tmp_path, monkeypatch):
+    """Figure 2 (--quick) as built: every saved picture has no legend or label over its data.  Its left panel's
+    legend covered 57 points of the derived integrand before (measured with this hook)."""
+    import magrod.figures.common as common
+    from magrod.figures import build
+
+    seen = []
+    orig = common.clear_of_data
+
+    def hooked(fig):
+        before = common.covering(fig)
+        moved = orig(fig)
+        seen.append((before, common.covering(fig)))
+        return moved
+
+    monkeypatch.setattr(common, "clear_of_data", hooked)
+    build("2", tmp_path, quick=True)
+    assert seen and all(after == [] for _, after in seen), seen
+    assert any(before for before, _ in seen)  # the check ran on a figure that needed it
+
+
+def test_a_legend_with_no_free_corner_goes_outside_and_stays_in_the_picture(tmp_path):
+    """Data everywhere: the legend moves right of the axes and the saved picture grows to hold it (bbox tight).
+    Seen to fail on Figure 6 before (its legend, moved outside under a layout engine, was cut at the edge)."""
+    import matplotlib.image as mpimg
+    from matplotlib.figure import Figure
+
+    from magrod.figures.common import atomic_savefig, covering
+
+    for layout in (None, "constrained", "tight_layout()"):  # Figure 6 calls tight_layout() before saving
+        fig = Figure(figsize=(4, 3), dpi=100, layout=None if layout == "tight_layout()" else layout)
+        ax = fig.add_subplot()
+        g = np.linspace(0, 1, 40)
+        X, Y = np.meshgrid(g, g)
+        ax.plot(X.ravel(), Y.ravel(), ".", ms=2, label="a dense grid of points")
+        ax.legend(loc="center")
+        if layout == "tight_layout()":
+            fig.tight_layout()
+        path = atomic_savefig(fig, tmp_path / f"g{layout}.png")
+        assert covering(_agg(fig)) == []
+        leg = ax.get_legend().get_window_extent(fig.canvas.get_renderer())
+        assert leg.x0 >= ax.get_window_extent(fig.canvas.get_renderer()).x1  # outside, on the right
+        width_px = mpimg.imread(path).shape[1]
+        assert width_px >= leg.x1 - fig.bbox.x0 - 2, (layout, width_px, leg)  # the picture holds the legend
+
+
+def test_no_offset_tick_labels(tmp_path):
+    """Ticks like 26.45008, 26.45012 are written out, never as "+2.645e1" and 0.00008.  Seen to fail without
+    no_offsets() in atomic_savefig (the offset text read '+2.645e1')."""
+    from matplotlib.figure import Figure
+
+    from magrod.figures.common import atomic_savefig
+
+    fig = Figure(figsize=(4, 3))
+    ax = fig.add_subplot()
+    ax.plot([0, 1, 2], [26.45008, 26.45010, 26.45012], "o")
+    atomic_savefig(fig, tmp_path / "f.png")
+    _agg(fig)
+    assert ax.yaxis.get_offset_text().get_text() == ""
+    assert any("26.45" in t.get_text() for t in ax.get_yticklabels())
+
+
+def test_chaos_map_axes_are_mathematical_and_its_contour_explained():
+    """The map's axes read lambda-bar and gamma (never lam, gamma as code names), and the colour-bar label says
+    what the black line is.  Seen to fail before (labels 'lam', 'gamma'; no word on the contour)."""
+    from matplotlib.figure import Figure
+
+    spec = maps.MapSpec(maps.parse_axis("x", "lam:0.12:0.2:6"), maps.parse_axis("y", "gamma:2:4:6"),
+                        base=maps.panel_base("4a"), panel="4a", t_max=3000.0)
+    fig = Figure(figsize=(6.4, 5.0), layout="constrained")
+    ax = fig.add_subplot()
+    g = np.where(np.arange(36).reshape(6, 6) % 6 < 3, 1.0, 50.0)  # a regular and a chaotic half: one boundary
+    map_axes(ax, {"growth_exponent": g, "fli": g, "lyap": g / 100, "status": np.zeros((6, 6), int)}, spec)
+    assert ax.get_xlabel() == r"$\bar\lambda$" and ax.get_ylabel() == r"$\gamma$"
+    assert len(ax.collections) >= 2  # the mesh and the contour
+    bar_label = fig.axes[1].get_ylabel().replace("\u00a0", " ").replace("\n", " ")
+    assert "black line on the map: growth exponent = 3" in bar_label, bar_label
+
+
+def test_every_axis_label_of_the_figures_is_mathematical():
+    """No figure module labels an axis with a parameter's code name (set_xlabel("lam"), "mu - 2 lam", "m").
+    Read from the source: every literal passed to set_xlabel/set_ylabel.  Seen to fail on continuation.py
+    before ("lam (mu = 2 lam)", "m", "mu - 2 lam")."""
+    import ast
+    import re
+    from pathlib import Path
+
+    import magrod.figures as figures
+
+    code = re.compile(r"\b(lam|ptheta|pbar_theta|gamma|mu|delta)\b")
+    bad = []
+    for path in Path(figures.__file__).parent.glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Call) and getattr(node.func, "attr", "") in ("set_xlabel", "set_ylabel"):
+                for arg in node.args[:1]:
+                    if isinstance(arg, ast.Constant) and isinstance(arg.value, str):
+                        text = re.sub(r"\$[^$]*\$", "", arg.value)  # mathtext is fine
+                        if code.search(text) or text.strip() in ("m", "h"):
+                            bad.append(f"{path.name}:{node.lineno} {arg.value!r}")
+    assert not bad, bad
+
+
+def test_figure_4_panels_share_their_ranges_and_dots_are_readable():
+    """The four panels of Fig 4 are compared: one theta range and one pbar_theta range (the union), dots of at
+    least 0.8 pt.  Seen to fail before (each panel autoscaled its own y-range; ',' markers of 1 px)."""
+    from types import SimpleNamespace
+
+    from magrod.core.params import RodParams
+    from magrod.figures.poincare import panels_figure
+
+    rng = np.random.default_rng(3)
+    p = RodParams(m=1.7, mu=0.4, gamma=3, delta=3, lam=0.135)
+    res = {}
+    for i, k in enumerate(("4a", "4b", "4c", "4d")):
+        pts = np.zeros((300, 4))
+        pts[:, 0] = rng.uniform(0.2, 2.8, 300)
+        pts[:, 2] = rng.uniform(-0.2 * (i + 1), 0.3 * (i + 1), 300)  # different ranges per panel
+        res[k] = SimpleNamespace(points=pts, max_abs_dH=1e-14, params=p, h=0.9)
+    fig = _agg(panels_figure(res, list(res), "4", 300))
+    axes = fig.axes
+    assert len(axes) == 4
+    ylims = {tuple(np.round(a.get_ylim(), 12)) for a in axes}
+    xlims = {tuple(np.round(a.get_xlim(), 12)) for a in axes}
+    assert len(ylims) == 1 and len(xlims) == 1, (ylims, xlims)
+    lo, hi = ylims.pop()
+    assert lo <= -0.8 and hi >= 1.2  # the union of the four panels' data
+    for a in axes:
+        line = a.get_lines()[0]
+        assert line.get_marker() == "." and line.get_markersize() >= 0.8
+
+
+def test_every_contour_drawn_is_explained(tmp_path, monkeypatch):
+    """Figure 3 (--quick) as built: every axes that draws contours has a legend with an entry per contour colour
+    (the level sets and the homoclinic level).  Seen to fail before (fig3's portraits had no legend)."""
+    from matplotlib.contour import ContourSet
+
+    import magrod.figures.common as common
+    from magrod.figures import build
+
+    seen = []
+    orig = common.clear_of_data
+
+    def hooked(fig):
+        seen.append(fig)
+        return orig(fig)
+
+    monkeypatch.setattr(common, "clear_of_data", hooked)
+    build("3", tmp_path, quick=True)
+    checked = 0
+    for fig in seen:
+        for ax in fig.axes:
+            sets = [c for c in ax.collections if isinstance(c, ContourSet)]
+            if not sets:
+                continue
+            colours = {tuple(np.round(np.atleast_2d(c.get_edgecolor())[0], 3)) for c in sets}
+            leg = ax.get_legend()
+            assert leg is not None, ax.get_title()
+            assert len(leg.get_texts()) >= len(colours), (ax.get_title(), [t.get_text() for t in leg.get_texts()])
+            checked += 1
+    assert checked >= 3

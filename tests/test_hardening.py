@@ -70,10 +70,10 @@ BATTERY = [
     # --- argparse errors on the common path
     (["nosuch"], "command", 2),
     ([], "command", 2),
-    (["poincare", "--figure", "4a", "--direction", "up"], "direction", 2),
-    (["poincare", "--figure", "4a", "--branch", "2"], "branch", 2),
-    (["poincare", "--figure", "4a", "--formulation", "x"], "formulation", 2),
-    (["poincare", "--figure", "4a", "--m"], "m", 2),
+    (["poincare", "--panel", "4a", "--direction", "up"], "direction", 2),
+    (["poincare", "--panel", "4a", "--branch", "2"], "branch", 2),
+    (["poincare", "--panel", "4a", "--formulation", "x"], "formulation", 2),
+    (["poincare", "--panel", "4a", "--m"], "m", 2),
     (["melnikov", "--m", "1.7", "--gamma", "1", "--integrand", "x"], "integrand", 2),
     (["multipulse", "--figure", "8"], "figure", 2),
     (["multipulse", "--figure", "x"], "figure", 2),
@@ -86,35 +86,35 @@ BATTERY = [
     (["poincare", "--m", "-1.7", *P4], "m", 2),
     (["poincare", "--m", "1e-320", *P4], "m", 2),
     (["poincare", "--m", "1e-4", *P4], "m", 2),
-    (["poincare", "--figure", "4a", "--gamma", "1e308"], "gamma", 2),
-    (["poincare", "--figure", "4a", "--lam", "inf"], "lam", 2),
-    (["poincare", "--figure", "4a", "--mu", "abc"], "mu", 2),
-    (["poincare", "--figure", "4a", "--h", "-50"], "h", 2),
-    (["poincare", "--figure", "4a", "--theta0", "0"], "theta0", 2),
-    (["poincare", "--figure", "4a", "--theta0", "4"], "theta0", 2),
-    (["poincare", "--figure", "4a", "--delta", "-4"], "delta", 2),
-    (["poincare", "--figure", "4a", "--iterates", "0"], "iterates", 2),
-    (["poincare", "--figure", "4a", "--iterates", "-5"], "iterates", 2),
-    (["poincare", "--figure", "4a", "--iterates", "2.5"], "iterates", 2),
-    (["poincare", "--figure", "4a", "--iterates", "1e12"], "iterates", 2),
-    (["poincare", "--figure", "4a", "--iterates", "abc"], "iterates", 2),
-    (["poincare", "--figure", "4a", "--t-max", "0"], "t_max", 2),
-    (["poincare", "--figure", "4a", "--t-max", "-1"], "t_max", 2),
-    (["poincare", "--figure", "4a", "--t-max", "1e300"], "t_max", 2),
-    (["poincare", "--figure", "4a", "--root", "5"], "root", 2),
-    (["poincare", "--figure", "4a", "--root", "abc"], "root", 2),
-    (["poincare", "--figure", "4a", "--ppsi0", "1.0", "--h", "0.9"], "ppsi0", 2),
-    (["poincare", "--figure", "4a", "--ppsi0", "100"], "ppsi0", 2),
-    (["poincare", "--figure", "9z"], "figure", 2),
-    (["poincare", "--figure", "4a", "--stem", "../x", "--out", "{tmp}/o"], "stem", 2),
-    (["poincare", "--figure", "4a", "--stem", "a/b", "--out", "{tmp}/o"], "stem", 2),
-    (["poincare", "--figure", "4a", "--stem", ".hidden", "--out", "{tmp}/o"], "stem", 2),
-    (["poincare", "--figure", "4a", "--stem", "x" * 300, "--out", "{tmp}/o"], "stem", 2),
-    (["poincare", "--figure", "4a", "--stem", "x"], "stem", 2),
-    (["poincare", "--figure", "4a", "--out", ""], "out", 2),
-    (["poincare", "--figure", "4a", "--out", "/proc/magrod-test"], "out", 2),
-    (["poincare", "--figure", "4a", "--out", "{tmp}/file"], "out", 2),
-    (["poincare", "--figure", "4a", "--out", "{tmp}/" + "d" * 300], "out", 2),
+    (["poincare", "--panel", "4a", "--gamma", "1e308"], "gamma", 2),
+    (["poincare", "--panel", "4a", "--lam", "inf"], "lam", 2),
+    (["poincare", "--panel", "4a", "--mu", "abc"], "mu", 2),
+    (["poincare", "--panel", "4a", "--h", "-50"], "h", 2),
+    (["poincare", "--panel", "4a", "--theta0", "0"], "theta0", 2),
+    (["poincare", "--panel", "4a", "--theta0", "4"], "theta0", 2),
+    (["poincare", "--panel", "4a", "--delta", "-4"], "delta", 2),
+    (["poincare", "--panel", "4a", "--iterates", "0"], "iterates", 2),
+    (["poincare", "--panel", "4a", "--iterates", "-5"], "iterates", 2),
+    (["poincare", "--panel", "4a", "--iterates", "2.5"], "iterates", 2),
+    (["poincare", "--panel", "4a", "--iterates", "1e12"], "iterates", 2),
+    (["poincare", "--panel", "4a", "--iterates", "abc"], "iterates", 2),
+    (["poincare", "--panel", "4a", "--t-max", "0"], "t_max", 2),
+    (["poincare", "--panel", "4a", "--t-max", "-1"], "t_max", 2),
+    (["poincare", "--panel", "4a", "--t-max", "1e300"], "t_max", 2),
+    (["poincare", "--panel", "4a", "--root", "5"], "root", 2),
+    (["poincare", "--panel", "4a", "--root", "abc"], "root", 2),
+    (["poincare", "--panel", "4a", "--ppsi0", "1.0", "--h", "0.9"], "ppsi0", 2),
+    (["poincare", "--panel", "4a", "--ppsi0", "100"], "ppsi0", 2),
+    (["poincare", "--panel", "9z"], "figure", 2),
+    (["poincare", "--panel", "4a", "--stem", "../x", "--out", "{tmp}/o"], "stem", 2),
+    (["poincare", "--panel", "4a", "--stem", "a/b", "--out", "{tmp}/o"], "stem", 2),
+    (["poincare", "--panel", "4a", "--stem", ".hidden", "--out", "{tmp}/o"], "stem", 2),
+    (["poincare", "--panel", "4a", "--stem", "x" * 300, "--out", "{tmp}/o"], "stem", 2),
+    (["poincare", "--panel", "4a", "--stem", "x"], "stem", 2),
+    (["poincare", "--panel", "4a", "--out", ""], "out", 2),
+    (["poincare", "--panel", "4a", "--out", "/proc/magrod-test"], "out", 2),
+    (["poincare", "--panel", "4a", "--out", "{tmp}/file"], "out", 2),
+    (["poincare", "--panel", "4a", "--out", "{tmp}/" + "d" * 300], "out", 2),
     (["poincare", "--m", "1.7", "--mu", "0.4", "--gamma", "3", "--delta", "3", "--lam", "0.135", "--h", "0.9"],
      "theta0", 2),
     # --- homoclinic
@@ -286,7 +286,7 @@ def test_battery_size():
 
 
 def test_text_mode_errors_are_one_line_too(capsys):
-    assert cli.main(["poincare", "--figure", "4a", "--direction", "up"]) == 2
+    assert cli.main(["poincare", "--panel", "4a", "--direction", "up"]) == 2
     cap = capsys.readouterr()
     assert cap.out == "" and len(cap.err.strip().splitlines()) == 1 and "direction" in cap.err
 
@@ -366,7 +366,7 @@ def test_file_size_limit_is_an_environment_fault(tmp_path):
         resource.setrlimit(resource.RLIMIT_FSIZE, (2000, 2000))  # like `ulimit -f` (and a full disk: ENOSPC)
 
     out = tmp_path / "o"
-    r = magrod("poincare", "--figure", "4a", "--iterates", "200", "--out", str(out), "--json", preexec_fn=limit)
+    r = magrod("poincare", "--panel", "4a", "--iterates", "200", "--out", str(out), "--json", preexec_fn=limit)
     assert r.returncode == 3, r.stderr
     assert json.loads(r.stdout)["ok"] is False
     assert str(out) in _one_line(r.stderr)[0]
@@ -385,7 +385,7 @@ def test_output_files_respect_the_umask(tmp_path):
 
 
 def test_unwritable_jit_cache_keeps_stdout_clean():
-    r = magrod("poincare", "--figure", "4a", "--iterates", "5", "--json",
+    r = magrod("poincare", "--panel", "4a", "--iterates", "5", "--json",
                env={"HEYOKA_CACHE_DIR": "/proc/magrod-no-cache"})
     assert r.returncode == 0, r.stderr
     assert json.loads(r.stdout)["n_points"] == 5  # one JSON object, no heyoka warning mixed in
@@ -394,13 +394,13 @@ def test_unwritable_jit_cache_keeps_stdout_clean():
 
 def test_locked_jit_cache_does_not_stall(tmp_path):
     cache = tmp_path / "cache"
-    assert magrod("poincare", "--figure", "4a", "--iterates", "2", "--json",
+    assert magrod("poincare", "--panel", "4a", "--iterates", "2", "--json",
                   env={"HEYOKA_CACHE_DIR": str(cache)}).returncode == 0
     con = sqlite3.connect(cache / "cache.db", timeout=1)
     con.execute("BEGIN EXCLUSIVE")  # another process holds the database
     try:
         t0 = time.perf_counter()
-        r = magrod("poincare", "--figure", "4a", "--iterates", "2", "--json", env={"HEYOKA_CACHE_DIR": str(cache)},
+        r = magrod("poincare", "--panel", "4a", "--iterates", "2", "--json", env={"HEYOKA_CACHE_DIR": str(cache)},
                    timeout=120)
         wall = time.perf_counter() - t0
     finally:
@@ -418,7 +418,7 @@ def test_failed_accuracy_check_is_an_error_and_writes_nothing(tmp_path):
     code = ("import sys; from magrod.chaos import section; section.ENERGY_TOL = 1e-300\n"
             "from magrod.cli import main; sys.exit(main(sys.argv[1:]))")
     out = tmp_path / "o"
-    r = subprocess.run([sys.executable, "-c", code, "poincare", "--figure", "4a", "--iterates", "20", "--out",
+    r = subprocess.run([sys.executable, "-c", code, "poincare", "--panel", "4a", "--iterates", "20", "--out",
                         str(out), "--json"], capture_output=True, text=True, cwd=tempfile.gettempdir(), timeout=600)
     assert r.returncode == 1, r.stderr
     obj = json.loads(r.stdout)

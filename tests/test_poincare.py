@@ -171,7 +171,7 @@ def test_imaginary_square_root_at_the_start():
 ])
 def test_cli_bad_input_exit_2_and_no_file(tmp_path, capsys, argv, name):
     out = tmp_path / "out"
-    rc = cli.main(["poincare", "--figure", "4a", "--json", "--out", str(out), *argv])
+    rc = cli.main(["poincare", "--panel", "4a", "--json", "--out", str(out), *argv])
     assert rc == 2
     msg = json.loads(capsys.readouterr().out)
     assert msg["ok"] is False and msg["parameter"] == name
@@ -181,7 +181,7 @@ def test_cli_bad_input_exit_2_and_no_file(tmp_path, capsys, argv, name):
 def test_cli_unwritable_out(tmp_path, capsys):
     blocker = tmp_path / "file"
     blocker.write_text("x")
-    assert cli.main(["poincare", "--figure", "4a", "--iterates", "5", "--out", str(blocker / "sub")]) == 2
+    assert cli.main(["poincare", "--panel", "4a", "--iterates", "5", "--out", str(blocker / "sub")]) == 2
     assert "out" in capsys.readouterr().err
 
 

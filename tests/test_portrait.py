@@ -171,12 +171,12 @@ def test_cli_orbitdiagram_and_portrait_write_their_files(tmp_path):
     assert all((tmp_path / f"orbitdiagram.{e}").exists() for e in ("npz", "json", "png"))
     f = tmp_path / "starts.txt"
     f.write_text("# theta0 ptheta0\n0.1 0.5\n0.3, 0.0\n")
-    r = magrod("poincare", "--figure", "4a", "--starts", str(f), "--iterates", "20", "--t-indicator", "100",
+    r = magrod("poincare", "--panel", "4a", "--starts", str(f), "--iterates", "20", "--t-indicator", "100",
                "--out", str(tmp_path), "--json", "--quiet")
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     assert d["ok"] and d["n_orbits"] == 2 and d["iterates"] == [20, 20]
-    r = magrod("poincare", "--figure", "4a", "--starts", "theta0:0.1:3:3,ptheta0:-1:1:3", "--iterates", "10",
+    r = magrod("poincare", "--panel", "4a", "--starts", "theta0:0.1:3:3,ptheta0:-1:1:3", "--iterates", "10",
                "--indicator", "none", "--json", "--quiet")
     d = json.loads(r.stdout)
     assert r.returncode == 0 and d["n_orbits"] == len(portrait.grid_starts("4a", theta0=(0.1, 3, 3),
@@ -188,13 +188,13 @@ def test_cli_orbitdiagram_and_portrait_write_their_files(tmp_path):
     (["orbitdiagram", "--parameter", "lam", "--values", "0.15,0.14,0.16"], "values"),
     (["orbitdiagram", "--parameter", "lam", "--values", ","], "values"),
     (["orbitdiagram", "--parameter", "lam", "--values", "0.1:0.2:2000000"], "values"),
-    (["poincare", "--figure", "4a", "--starts", "EMPTY"], "starts"),
-    (["poincare", "--figure", "4a", "--starts", "BADROOT"], "starts"),
-    (["poincare", "--figure", "4a", "--starts", "OFFLEVEL"], "starts"),
-    (["poincare", "--figure", "4a", "--starts", "/nonexistent/starts.txt"], "starts"),
-    (["poincare", "--figure", "4a", "--starts", "theta0:0.1:3:3"], "starts"),
-    (["poincare", "--figure", "4a", "--starts", "theta0:2.9:3:2,ptheta0:8:9:2"], "starts"),
-    (["poincare", "--figure", "4a", "--starts", "theta0:0.1:3:3,ptheta0:-1:1:3", "--theta0", "0.2"], "theta0"),
+    (["poincare", "--panel", "4a", "--starts", "EMPTY"], "starts"),
+    (["poincare", "--panel", "4a", "--starts", "BADROOT"], "starts"),
+    (["poincare", "--panel", "4a", "--starts", "OFFLEVEL"], "starts"),
+    (["poincare", "--panel", "4a", "--starts", "/nonexistent/starts.txt"], "starts"),
+    (["poincare", "--panel", "4a", "--starts", "theta0:0.1:3:3"], "starts"),
+    (["poincare", "--panel", "4a", "--starts", "theta0:2.9:3:2,ptheta0:8:9:2"], "starts"),
+    (["poincare", "--panel", "4a", "--starts", "theta0:0.1:3:3,ptheta0:-1:1:3", "--theta0", "0.2"], "theta0"),
 ])
 def test_cli_bad_input_exit_2_one_line_nothing_written(argv, name, tmp_path, capsys):
     files = {"EMPTY": "", "BADROOT": "0.1 0.5\n3.0 9.0\n", "OFFLEVEL": "0.1 0.5 0 0.9\n"}

@@ -17,7 +17,7 @@ from ..core.params import RodParams
 from ..core.results import Result
 from ..core.tolerances import DRIFT_LIMIT
 from ..generated.names import BODY_STATE, PARAMS
-from .fields import MAP_EXTRA_FIELDS
+from .fields import BY_NAME, MAP_EXTRA_FIELDS
 from .indicators import (_KEYS, DEFAULT_RENORM_DT, FAILED, GROWTH_THRESHOLD, NO_ROOT, OK, REASONS, UNPHYSICAL,
                          body_indicators)
 
@@ -490,10 +490,12 @@ class ChaosMap(Result):
         return map_summary(self.spec, self.fields, self.wall_s, threshold)
 
     def to_dict(self) -> dict:
-        from ..core.results import jsonable
+        from ..core.results import INLINE_ARRAY_MAX, jsonable
 
-        return jsonable({"success": self.success, "message": self.message, "spec": self.spec.as_dict(),
-                         "summary": self.summary(), "fields": self.fields, "store": self.store})
+        # the fields as references {"npz": "fields.<name>", ...} into arrays() (small maps inline)
+        return {**jsonable({"success": self.success, "message": self.message, "spec": self.spec.as_dict(),
+                            "summary": self.summary(), "store": self.store}),
+                "fields": jsonable(self.fields, INLINE_ARRAY_MAX, "fields")}
 
     def to_xarray(self):
         """An xarray.Dataset with coordinates (y-parameter, x-parameter) and one variable per field."""
@@ -505,10 +507,12 @@ class ChaosMap(Result):
 
         sx, sy = self.spec.x, self.spec.y
         dims = (sy.name, sx.name)
-        ds = xr.Dataset({k: (dims, np.asarray(v)) for k, v in self.fields.items()},
-                        coords={sx.name: sx.values(), sy.name: sy.values()})
-        ds.attrs.update({"spec": json.dumps(self.spec.as_dict()), "criterion": self.summary()["criterion"],
-                         "summary": json.dumps(jsonable(self.summary()))})
+        # the CF attributes of the zarr store (units, long_name, the status flags): one definition, store.py
+        ds = xr.Dataset({k: (dims, np.asarray(v), variable_attrs(k)) for k, v in self.fields.items()},
+                        coords={sx.name: (sx.name, sx.values(), coord_attrs(sx.name)),
+                                sy.name: (sy.name, sy.values(), coord_attrs(sy.name))})
+        ds.attrs.update({**dataset_attrs(self.spec), "spec": json.dumps(self.spec.as_dict()),
+                         "criterion": self.summary()["criterion"], "summary": json.dumps(jsonable(self.summary()))})
         return ds
 
 
@@ -724,3 +728,41 @@ def panel_indicators(keys=("4a", "4b", "4c", "4d"), *, t_max=3000.0, tol=None, r
                           tol=tol)
     return {k: {f: (float(getattr(ind, f)[i]) if f != "status" else REASONS[int(ind.status[i])]) for f in
                 _KEYS + ("status",)} | {"chaotic": bool(ind.chaotic[i])} for i, k in enumerate(keys)}
+
+
+# ---- the CF attributes of a map: its zarr store (store.py) and ChaosMap.to_xarray() ----------------------------
+UNITS = {**{k: f.unit for k, f in BY_NAME.items()}, "status": "code", "inferred": "flag", "level": "round"}
+LONG = {**{k: f.long for k, f in BY_NAME.items()},
+        "status": "0 ok; " + "; ".join(f"{c} {r}" for c, r in REASONS.items() if c),
+        "inferred": "1: never computed, class (status, growth exponent) inferred from its refinement cell and the "
+                    "indicators interpolated from the cell's corners; 0: computed",
+        "level": "refinement round in which the point was computed (0 the coarse lattice); -1 inferred"}
+
+
+def variable_attrs(name: str) -> dict:
+    """The CF attributes of a map field (units, long_name; flag_values/flag_meanings for status): the store's and
+    ChaosMap.to_xarray()'s, defined once here."""
+    attrs = {"units": UNITS[name], "long_name": LONG[name]}
+    if name == "status":
+        attrs.update({"flag_values": list(REASONS), "flag_meanings": " ".join(REASONS.values())})
+    if name == "inferred":  # a refined map's (issue 28)
+        attrs.update({"flag_values": [0, 1], "flag_meanings": "computed inferred"})
+    return attrs
+
+
+def coord_attrs(name: str) -> dict:
+    return {"units": "1", "long_name": _axis_label(name)}
+
+
+def dataset_attrs(spec) -> dict:
+    """The global attributes that describe a map (not its store's identity or the versions that wrote it)."""
+    return {"title": "magrod chaos map (Sinden & van der Heijden, spatial chaos of a conducting rod)",
+            "criterion": f"chaotic iff growth_exponent > {GROWTH_THRESHOLD:g}",
+            "tolerance": "machine epsilon" if not spec.tol else repr(spec.tol),
+            "formulation": "body (9-D, generated/body.py)",
+            "tangent_vectors": "projected onto the level set of C1, C2, C3, H, m3 (magrod.chaos.indicators)"}
+
+
+def _axis_label(name: str) -> str:
+    return {"lam": "lambdabar", "mu": "mu", "gamma": "gamma", "delta": "delta", "m": "m", "h": "h (energy)",
+            "theta0": "theta at the start", "ptheta0": "pbar_theta at the start", "psi0": "psi at the start"}[name]

@@ -149,9 +149,13 @@ class SectionPortrait(Result):
         return {"points": pts, "dH": dH, "starts": self.starts, "values": self.values}
 
     def to_dict(self) -> dict:
-        return jsonable({**self.summary(), "starts": self.starts, "values": self.values,
-                         "orbits": [{"points": r.points, "success": r.success, "message": r.message,
-                                     "max_abs_dH": r.max_abs_dH} for r in self.orbits]})
+        """The summary, each orbit's outcome, and the arrays as references into arrays() (small ones inline)."""
+        from ..core.results import array_refs
+
+        return {**jsonable({**self.summary(), "orbits": [{"success": r.success, "message": r.message,
+                                                           "n_points": r.n_points, "max_abs_dH": r.max_abs_dH}
+                                                          for r in self.orbits]}),
+                "arrays": array_refs(self.arrays())}
 
 
 def _axis(name, spec):
@@ -339,7 +343,10 @@ class OrbitDiagram(Result):
                 "orbit_success": self.orbit_success}
 
     def to_dict(self) -> dict:
-        return jsonable({**self.summary(), **self.arrays()})
+        """The summary and the arrays as references into arrays() (small ones inline)."""
+        from ..core.results import array_refs
+
+        return {**jsonable(self.summary()), "arrays": array_refs(self.arrays())}
 
 
 def _monotone_values(values) -> np.ndarray:

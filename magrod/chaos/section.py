@@ -290,10 +290,11 @@ class PoincareResult(Result):
         return self.accuracy_checks()
 
     def to_dict(self) -> dict:
-        """The summary plus every per-point array (JSON-able)."""
-        from ..core.results import jsonable
+        """The summary plus the per-point arrays: small ones as lists, the others as references into arrays()
+        ({"npz": key, "shape", "dtype"}; `save()` or magrod poincare --out writes them to .npz)."""
+        from ..core.results import array_refs, jsonable
 
-        return jsonable({**self.summary(), "arrays": self.arrays()})
+        return {**jsonable(self.summary()), "arrays": array_refs(self.arrays())}
 
     def to_xarray(self):
         """The section points as an xarray.Dataset over the iterate index (attributes: the summary)."""
@@ -304,9 +305,13 @@ class PoincareResult(Result):
         from ..core.results import jsonable
 
         coords = {"iterate": np.arange(self.n_points)}
-        data = {"theta": ("iterate", self.points[:, 0]), "psi": ("iterate", self.points[:, 1]),
-                "ptheta": ("iterate", self.points[:, 2]), "ppsi": ("iterate", self.points[:, 3]),
-                "t": ("iterate", self.times), "dH": ("iterate", self.dH), "frame": ("iterate", self.frame)}
+        cf = {"theta": ("rad", "Euler angle theta at the crossing"), "psi": ("rad", "Euler angle psi (0 or pi)"),
+              "ptheta": ("1", "pbar_theta (eq:nondim_1)"), "ppsi": ("1", "pbar_psi (eq:nondim_1)"),
+              "t": ("1", "scaled arclength t = s of the crossing (eq:nondim_1)"), "dH": ("1", "Hbar - h"),
+              "frame": ("1", "0: crossing computed by the 4-D system, 1: by the 9-D body frame")}
+        cols = {"theta": self.points[:, 0], "psi": self.points[:, 1], "ptheta": self.points[:, 2],
+                "ppsi": self.points[:, 3], "t": self.times, "dH": self.dH, "frame": self.frame}
+        data = {k: ("iterate", v, {"units": cf[k][0], "long_name": cf[k][1]}) for k, v in cols.items()}
         return xr.Dataset(data, coords=coords, attrs={"summary": json.dumps(jsonable(self.summary()))})
 
     @property
@@ -432,7 +437,7 @@ def poincare_section(params=None, h=None, theta0=None, ptheta0=None, psi0=None, 
     t_max : float, optional
         Max-time guard (default 100 x iterates).
     verify : bool
-        Check the result's own accuracy (max |Hbar - h| <= ENERGY_TOL, Casimir drift <= CASIMIR_TOL); if the check
+        Check the result's own accuracy (max ``|Hbar - h|`` <= ENERGY_TOL, Casimir drift <= CASIMIR_TOL); if the check
         fails, repeat the run once with freshly compiled integrators (a damaged JIT-cache entry is the likely
         cause) and, if it still fails, return success=False with the reason.
     progress : callable, optional
@@ -479,7 +484,7 @@ def poincare_section(params=None, h=None, theta0=None, ptheta0=None, psi0=None, 
     -----
     Section points are landed by heyoka stopping terminal events, so each lies on sin(psi) = 0 to ~1e-16.
     On the Fig 4 start Hbar = h has two roots; the smaller one gives the final times the paper prints (module
-    docstring).  Cost: ~0.2 ms per iterate (body frame, float64, tol = eps, one core); max |Hbar - h| ~ 1e-13
+    docstring).  Cost: ~0.2 ms per iterate (body frame, float64, tol = eps, one core); max ``|Hbar - h|`` ~ 1e-13
     over 10 000 iterates.  Integrators are cached per thread and reused; nothing visible to the caller is
     mutated (verify=True may switch off heyoka's disk cache for the process after a failed check).
 

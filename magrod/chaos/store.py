@@ -48,7 +48,6 @@ from pathlib import Path
 import numpy as np
 
 from . import indicators as chaos, maps
-from .fields import BY_NAME
 from ..core.errors import EnvironmentFault, ParameterError
 from ..core.io import atomic_write_json
 
@@ -62,12 +61,9 @@ def names_of(spec: maps.MapSpec) -> tuple:
     "inferred" and "level" after them (a brute-force store is what it was before)."""
     return ALL_FIELDS if spec.refine else FIELDS
 
-UNITS = {**{k: f.unit for k, f in BY_NAME.items()}, "status": "code", "inferred": "flag", "level": "round"}
-LONG = {**{k: f.long for k, f in BY_NAME.items()},
-        "status": "0 ok; " + "; ".join(f"{c} {r}" for c, r in chaos.REASONS.items() if c),
-        "inferred": "1: never computed, class (status, growth exponent) inferred from its refinement cell and the "
-                    "indicators interpolated from the cell's corners; 0: computed",
-        "level": "refinement round in which the point was computed (0 the coarse lattice); -1 inferred"}
+
+# the CF attributes (units, long names, status flags) are defined once, in maps.py (ChaosMap.to_xarray uses them)
+from .maps import LONG, UNITS, _axis_label, coord_attrs, dataset_attrs, variable_attrs  # noqa: E402,F401
 
 
 def paths(out: Path, stem: str) -> dict:
@@ -264,36 +260,20 @@ def _write_skeleton(spec: maps.MapSpec, ident: str, target: Path) -> None:
 
     chunks = (spec.tile, spec.tile)
     dims = (spec.y.name, spec.x.name)
-    data = {k: (dims, da.full(spec.shape, np.nan, chunks=chunks), {"units": UNITS[k], "long_name": LONG[k]})
-            for k in maps.MAP_FIELDS}
-    data["status"] = (dims, da.full(spec.shape, chaos.FAILED, dtype=np.int8, chunks=chunks),
-                      {"units": UNITS["status"], "long_name": LONG["status"], "flag_values": list(chaos.REASONS),
-                       "flag_meanings": " ".join(chaos.REASONS.values())})
+    data = {k: (dims, da.full(spec.shape, np.nan, chunks=chunks), variable_attrs(k)) for k in maps.MAP_FIELDS}
+    data["status"] = (dims, da.full(spec.shape, chaos.FAILED, dtype=np.int8, chunks=chunks), variable_attrs("status"))
     if spec.refine:  # issue 28: which points were computed, and in which round
-        data["inferred"] = (dims, da.full(spec.shape, 0, dtype=np.int8, chunks=chunks),
-                            {"units": UNITS["inferred"], "long_name": LONG["inferred"], "flag_values": [0, 1],
-                             "flag_meanings": "computed inferred"})
-        data["level"] = (dims, da.full(spec.shape, -1, dtype=np.int8, chunks=chunks),
-                         {"units": UNITS["level"], "long_name": LONG["level"]})
-    coords = {spec.x.name: (spec.x.name, spec.x.values(), {"units": "1", "long_name": _axis_label(spec.x.name)}),
-              spec.y.name: (spec.y.name, spec.y.values(), {"units": "1", "long_name": _axis_label(spec.y.name)})}
+        data["inferred"] = (dims, da.full(spec.shape, 0, dtype=np.int8, chunks=chunks), variable_attrs("inferred"))
+        data["level"] = (dims, da.full(spec.shape, -1, dtype=np.int8, chunks=chunks), variable_attrs("level"))
+    coords = {spec.x.name: (spec.x.name, spec.x.values(), coord_attrs(spec.x.name)),
+              spec.y.name: (spec.y.name, spec.y.values(), coord_attrs(spec.y.name))}
     ds = xr.Dataset(data, coords=coords, attrs={
-        "title": "magrod chaos map (Sinden & van der Heijden, spatial chaos of a conducting rod)",
-        "spec": _spec_json(spec), "identity": ident, "store_format": STORE_FORMAT,
-        "criterion": f"chaotic iff growth_exponent > {chaos.GROWTH_THRESHOLD:g}",
-        "tolerance": "machine epsilon" if not spec.tol else repr(spec.tol),
-        "formulation": "body (9-D, generated/body.py)",
-        "tangent_vectors": "projected onto the level set of C1, C2, C3, H, m3 (magrod.chaos.indicators)",
+        **dataset_attrs(spec), "spec": _spec_json(spec), "identity": ident, "store_format": STORE_FORMAT,
         "versions": json.dumps(versions(), sort_keys=True)})
     with warnings.catch_warnings():  # "consolidated metadata is not part of the zarr v3 spec": we know
         warnings.simplefilter("ignore")
         # compute=False writes metadata and coordinates; the data chunks are written tile by tile
         ds.to_zarr(str(target), mode="w-", compute=False, consolidated=True)
-
-
-def _axis_label(name: str) -> str:
-    return {"lam": "lambdabar", "mu": "mu", "gamma": "gamma", "delta": "delta", "m": "m", "h": "h (energy)",
-            "theta0": "theta at the start", "ptheta0": "pbar_theta at the start", "psi0": "psi at the start"}[name]
 
 
 def _fresh_skeleton(spec, ident, store: Path) -> tuple[Path, dict]:

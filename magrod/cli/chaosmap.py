@@ -17,7 +17,7 @@ import logging
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from ..chaos.fields import MAPPABLE
-from .options import integer, number, out_dir, stem
+from .options import PARAM_HELP, ROOT_HELP, START_HELP, integer, number, out_dir, stem
 
 _OVERRIDES = (*PARAMS, "h", "theta0", "ptheta0", "psi0")
 
@@ -28,8 +28,9 @@ def add_arguments(p):
     p.add_argument("--panel", default="4a", help="paper panel whose parameters and start rule fix the other values")
     g = p.add_argument_group("overrides of the panel's values")
     for name in _OVERRIDES:
-        g.add_argument(f"--{name}", default=None)
-    p.add_argument("--root", default="smallest", choices=["smallest", "largest"], help="root pbar_psi of Hbar = h")
+        g.add_argument(f"--{name}", default=None,
+                       help=(PARAM_HELP.get(name) or START_HELP[name]) + " (not on an axis; overrides the panel's)")
+    p.add_argument("--root", default="smallest", choices=["smallest", "largest"], help=ROOT_HELP)
     p.add_argument("--indicator", default="growth", choices=sorted(MAPPABLE),
                    help="field drawn in the PNG (the store holds all; chaos is classified by the growth exponent)")
     p.add_argument("--t-max", default="3000", help="integration length T per orbit")

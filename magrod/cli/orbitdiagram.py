@@ -1,39 +1,36 @@
 """`magrod orbitdiagram`: section points sin(psi) = 0 against a model parameter -- one orbit per value, all from
-the same chart start on the same level (a paper panel's, --figure, default 4a; overridable), run in SIMD lanes on
+the same chart start on the same level (a paper panel's, --panel, default 4a; overridable), run in SIMD lanes on
 all cores.  The panels of the base figure that vary the same parameter are marked.  With --out DIR the diagram is
 written as DIR/<stem>.npz, .json and .png (atomically).
 
 Examples:  magrod orbitdiagram --parameter lam --values 0.12:0.2:200 --iterates 500 --out DIR
-           magrod orbitdiagram --figure 5a --parameter gamma --values 0.15,0.205,0.208,0.24 --coordinate ptheta"""
+           magrod orbitdiagram --panel 5a --parameter gamma --values 0.15,0.205,0.208,0.24 --coordinate ptheta"""
 from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import LIMITS, add_params, integer, number, out_dir, params_from, stem
+from .options import (LIMITS, ROOT_HELP, add_panel, add_params, add_start, add_threads, integer, number, out_dir,
+                      params_from, stem)
 
 COORDINATES = ("theta", "ptheta", "psi", "ppsi")  # checked against magrod.chaos.portrait in the tests
 MAX_VALUES = 1_000_000  # = magrod.chaos.section.MAX_ORBITS (not imported: that would load heyoka)
 
 
 def add_arguments(p):
-    from ..core.printed import PANELS
-
     p.add_argument("--parameter", required=True, help=f"the model parameter varied: {', '.join(PARAMS)}")
     p.add_argument("--values", required=True,
                    help="LO:HI:N (N values, LO to HI) or a comma-separated, strictly monotone list")
-    p.add_argument("--figure", default="4a", metavar="PANEL",
-                   help=f"panel giving the rod, level and start: {', '.join(PANELS)}")
+    add_panel(p, dest="figure", default="4a", help="panel giving the rod, level and start")
     add_params(p, help_suffix=" (overrides the panel's)")
     g = p.add_argument_group("level and start (override the panel's)")
-    for name in ("h", "theta0", "ptheta0", "psi0"):
-        g.add_argument(f"--{name}", default=None)
+    add_start(g)
     p.add_argument("--iterates", default="500", help="section points per value (after --transient)")
     p.add_argument("--transient", default="0", help="section points dropped first")
     p.add_argument("--coordinate", default="theta", choices=COORDINATES, help="plotted against the parameter")
-    p.add_argument("--root", default="smallest", choices=("smallest", "largest"), help="root pbar_psi of Hbar = h")
+    p.add_argument("--root", default="smallest", choices=("smallest", "largest"), help=ROOT_HELP)
     p.add_argument("--direction", default="positive", choices=("any", "negative", "positive"),
                    help="sign of d/dt sin(psi) at recorded crossings")
-    p.add_argument("--workers", default=None, help="threads (default: all cores)")
+    add_threads(p)
     p.add_argument("--out", default=None, help="write <stem>.npz/.json/.png into this directory")
     p.add_argument("--stem", default="orbitdiagram", help="file name stem")
 

@@ -1,16 +1,17 @@
-"""`magrod poincare`: one orbit's Poincare section sin(psi) = 0, either a paper panel (--figure 4a .. 5d) or free
+"""`magrod poincare`: one orbit's Poincare section sin(psi) = 0, either a paper panel (--panel 4a .. 5d) or free
 parameters (--m --mu --gamma --delta --lam --h --theta0 --ptheta0 [--psi0]).  Options given explicitly override
 the panel's values.  With --out DIR the section is written as DIR/<stem>.npz, .json and .png (atomically).
 
 With --starts FILE|GRID many orbits run on the same level (SIMD lanes on all cores) as a section portrait, each
 orbit coloured by the chaos indicator of its start (--indicator): FILE holds rows theta0 ptheta0 [psi0
 [p_psi0]] (whitespace or commas, # comments; .npy too), GRID is theta0:LO:HI:N,ptheta0:LO:HI:N (the grid points
-that reach the level).  Example:  magrod poincare --figure 4a --starts theta0:0.1:3:8,ptheta0:-1:1:8 --out DIR"""
+that reach the level).  Example:  magrod poincare --panel 4a --starts theta0:0.1:3:8,ptheta0:-1:1:8 --out DIR"""
 from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import LIMITS, add_params, integer, number, out_dir, params_from, stem
+from .options import (LIMITS, ROOT_INDEX_HELP, add_params, add_threads, indicator, integer, number, out_dir,
+                      params_from, stem)
 
 _START = ("h", "theta0", "ptheta0", "psi0")
 # the choices, known without importing heyoka (checked against magrod.chaos.section in the tests)
@@ -20,17 +21,15 @@ FORMULATIONS = ("reduced", "body")
 
 
 def add_arguments(p):
-    from ..core.printed import PANELS
+    from .options import add_panel, add_start
 
-    p.add_argument("--figure", metavar="PANEL", help=f"a panel of the paper: {', '.join(PANELS)}")
-    add_params(p, help_suffix=" (needed without --figure)")
-    g = p.add_argument_group("start (needed without --figure)")
-    for name in _START:
-        g.add_argument(f"--{name}", type=str, default=None, help="psi0 defaults to 0" if name == "psi0" else None)
+    add_panel(p, dest="figure", help="a panel of the paper, giving the rod, level and start")
+    add_params(p, help_suffix=" (needed without --panel)")
+    g = p.add_argument_group("level and start (needed without --panel; override the panel's)")
+    add_start(g, _START)
     g.add_argument("--ppsi0", type=str, default=None, help="give pbar_psi0 instead of --h (then h = Hbar(start))")
     p.add_argument("--iterates", type=str, default="10000", help="number of section points")
-    p.add_argument("--root", default="smallest",
-                   help="which root pbar_psi of Hbar = h: largest, smallest or an index into the ascending roots")
+    p.add_argument("--root", default="smallest", help=ROOT_INDEX_HELP)
     p.add_argument("--direction", default="positive", choices=DIRECTIONS,
                    help="sign of d/dt sin(psi) at recorded crossings")
     p.add_argument("--branch", default="any", choices=BRANCHES, help="psi = 0, psi = pi or both")
@@ -41,10 +40,10 @@ def add_arguments(p):
     p.add_argument("--starts", default=None, metavar="FILE|GRID",
                    help="many orbits on the level: a file of rows theta0 ptheta0 [psi0 [p_psi0]], or "
                         "theta0:LO:HI:N,ptheta0:LO:HI:N (grid points that reach the level)")
-    p.add_argument("--indicator", default="growth_exponent", choices=("growth_exponent", "lyap", "fli", "none"),
+    p.add_argument("--indicator", default="growth", type=indicator, metavar="{growth,fli,lyap,none}",
                    help="with --starts: colour of each orbit (chaos indicator of its start)")
     p.add_argument("--t-indicator", default="1000", help="with --starts: integration time of the indicator")
-    p.add_argument("--workers", default=None, help="with --starts: threads (default: all cores)")
+    add_threads(p, help="with --starts: threads (default: all cores)")
     p.add_argument("--out", default=None, help="write <stem>.npz/.json/.png into this directory")
     p.add_argument("--stem", default=None, help="file name stem (default: fig<PANEL> or poincare)")
     p.add_argument("--model", default=None, metavar="NAME|FILE.py",
@@ -79,9 +78,9 @@ def _inputs(args) -> tuple[dict, str | None]:
     vals.setdefault("psi0", 0.0)
     for name in (*PARAMS, "theta0", "ptheta0"):
         if name not in vals:
-            raise ParameterError(name, f"missing: give --{name} (or --figure one of {', '.join(PANELS)})")
+            raise ParameterError(name, f"missing: give --{name} (or --panel one of {', '.join(PANELS)})")
     if "h" not in vals and "p_psi0" not in vals:
-        raise ParameterError("h", "missing: give --h (or --ppsi0, or --figure)")
+        raise ParameterError("h", "missing: give --h (or --ppsi0, or --panel)")
     return vals, key
 
 
@@ -129,7 +128,7 @@ def _run_portrait(args, vals, key, params) -> dict:
         if getattr(args, name) is not None:
             raise ParameterError(name, "the starts come from --starts: do not also give --" + name)
     if "h" not in vals:
-        raise ParameterError("h", "missing: give --h (or --figure) for the level of the portrait")
+        raise ParameterError("h", "missing: give --h (or --panel) for the level of the portrait")
     kind, what = parse_starts(args.starts)
     iterates = integer("iterates", args.iterates)
     t_ind = number("t_indicator", args.t_indicator, bound=1e7)
@@ -184,7 +183,7 @@ def _inputs_portrait(args) -> tuple[dict, str | None]:
         vals["h"] = number("h", args.h)
     for name in PARAMS:
         if name not in vals:
-            raise ParameterError(name, f"missing: give --{name} (or --figure one of {', '.join(PANELS)})")
+            raise ParameterError(name, f"missing: give --{name} (or --panel one of {', '.join(PANELS)})")
     return vals, key
 
 

@@ -20,10 +20,10 @@ def add_arguments(p):
     for k, h in (("m", "m = m3/sqrt(B C2), 0 < m < m_c = 2 sqrt(1 + gamma)"), ("mu", "mu > 2 lambdabar"),
                  ("gamma", "extensibility gamma >= 0"), ("delta", "shear compliance delta >= 0"),
                  ("lam", "lambdabar (field strength x current)")):
-        p.add_argument(f"--{k}", default=DEFAULTS[k], help=f"{h} (exact decimal or p/q; default {DEFAULTS[k]})")
+        p.add_argument(f"--{k}", default=DEFAULTS[k], help=f"{h} (exact decimal or p/q)")
     p.add_argument("--out", default=None, help="directory for certificate.json (required unless --verify)")
     p.add_argument("--verify", default=None, metavar="CERT", help="re-check the certificate CERT instead")
-    p.add_argument("--targets", default="0,pi", help="which symmetric orbits: 0, pi or 0,pi (default both)")
+    p.add_argument("--targets", default="0,pi", help="which symmetric orbits: 0, pi or both (0,pi)")
     p.add_argument("--mutate", default=None, metavar="K",
                    help="control: flip the sign of the K-th term of the generated chart field (must fail)")
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from ..core.errors import EnvironmentFault, ParameterError
 from ..figures import FIGURES
-from .options import integer
+from .options import add_format, formats_from, integer
 
 TASKS = list(FIGURES)
 
@@ -27,6 +27,7 @@ def add_arguments(p):
     p.add_argument("--jobs", default="2", help="worker processes (figures run in parallel)")
     p.add_argument("--only", default=",".join(TASKS), help="comma-separated figure numbers to run")
     p.add_argument("--force", action="store_true", help="ignore finished-task stamps and recompute everything")
+    add_format(p)
 
 
 def _stamp_path(out: Path, task: str) -> Path:
@@ -43,7 +44,7 @@ def _sha256(path: Path) -> str:
     return h.hexdigest()
 
 
-def _stamp_ok(out: Path, task: str, quick: bool) -> dict | None:
+def _stamp_ok(out: Path, task: str, quick: bool, formats=("png",)) -> dict | None:
     """The stamp of a finished task if it is valid for this run: a JSON object written by this code, same quick
     flag and package versions, and every file it lists present with the content hash it recorded.  Anything
     else (missing, unreadable, truncated, wrong type, a changed file) means: recompute."""
@@ -56,7 +57,7 @@ def _stamp_ok(out: Path, task: str, quick: bool) -> dict | None:
         return None
     files = st.get("files") if isinstance(st, dict) else None
     if (not isinstance(files, dict) or not files or st.get("quick") is not quick or st.get("versions") != versions()
-            or not isinstance(st.get("paths"), list)):
+            or not isinstance(st.get("paths"), list) or st.get("formats", ["png"]) != list(formats)):
         return None
     for name, digest in files.items():
         f = out / str(name)
@@ -98,12 +99,13 @@ def _worker_init(parent_pid: int) -> None:
     threading.Thread(target=watchdog, daemon=True).start()
 
 
-def _run_task(task: str, out: str, quick: bool) -> dict:
-    """Worker: one figure.  Runs in a separate process; returns paths, their content hashes and wall time."""
+def _run_task(task: str, out: str, quick: bool, formats=("png",)) -> dict:
+    """Worker: one figure.  Runs in a separate process; returns paths, their content hashes and wall time.  A
+    figure that fails removes the files it wrote (figures.build), so its stamp and its claims are both absent."""
     from ..figures import build
 
     t0 = time.perf_counter()
-    paths = build(task, Path(out), quick=quick, progress=False)
+    paths = build(task, Path(out), quick=quick, progress=False, formats=formats)
     files = {Path(p).name: _sha256(Path(p)) for p in paths}
     return {"task": task, "paths": paths, "files": files, "wall_s": time.perf_counter() - t0}
 
@@ -143,6 +145,7 @@ def run(args) -> dict:
 
     jobs = integer("jobs", args.jobs)
     tasks = _tasks(args.only)
+    formats = formats_from(args)
     out = ensure_writable_dir(out_dir("out", args.out))
     try:
         (out / ".state").mkdir(exist_ok=True)
@@ -154,7 +157,7 @@ def run(args) -> dict:
     t0 = time.perf_counter()
     done, todo = {}, []
     for t in tasks:
-        st = None if args.force else _stamp_ok(out, t, args.quick)
+        st = None if args.force else _stamp_ok(out, t, args.quick, formats)
         if st:
             done[t] = {**st, "skipped": True}
         else:
@@ -172,7 +175,7 @@ def run(args) -> dict:
     try:
         with bar(len(todo), "reproduce", not args.quiet, unit="figure") as update:
             with children_immune():  # the workers are started by submit: they inherit SIG_IGN
-                futs = {ex.submit(_run_task, t, str(out), args.quick): t for t in todo}
+                futs = {ex.submit(_run_task, t, str(out), args.quick, formats): t for t in todo}
             pids = set(getattr(ex, "_processes", {}) or {})
             pause_point("reproduce-running")
             for fut in cf.as_completed(futs):
@@ -182,7 +185,8 @@ def run(args) -> dict:
                 except Exception as exc:  # a failed figure is reported, the others still finish
                     failures[t] = " ".join(f"{type(exc).__name__}: {exc}".split())
                 else:
-                    st = {"task": t, "quick": args.quick, "versions": versions(), "paths": r["paths"],
+                    st = {"task": t, "quick": args.quick, "formats": list(formats), "versions": versions(),
+                          "paths": r["paths"],
                           "files": r["files"], "wall_s": r["wall_s"]}
                     atomic_write_json(_stamp_path(out, t), st)
                     done[t] = {**st, "skipped": False}

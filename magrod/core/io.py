@@ -9,6 +9,8 @@ EnvironmentFault naming the path.  Directories created by a command are tracked 
 the ones it left empty."""
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import errno
 import io as _io
 import json
@@ -23,6 +25,19 @@ import numpy as np
 from .errors import EnvironmentFault, ParameterError
 
 _created: list | None = None  # directories made by ensure_writable_dir since track_created_dirs()
+# the files written by atomic_write_bytes inside record_writes() (a list), so that a failed figure can remove them
+_written: contextvars.ContextVar = contextvars.ContextVar("magrod_written", default=None)
+
+
+@contextlib.contextmanager
+def record_writes():
+    """Collect the paths of the files written in this context (in this thread) into the list it yields."""
+    paths: list = []
+    token = _written.set(paths)
+    try:
+        yield paths
+    finally:
+        _written.reset(token)
 
 
 def track_created_dirs() -> None:
@@ -116,6 +131,9 @@ def atomic_write_bytes(path, data: bytes) -> Path:
             os.fsync(fh.fileno())
         os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; a result file is as readable as any other
         os.replace(tmp, path)
+        rec = _written.get()
+        if rec is not None:
+            rec.append(path)
     except BaseException as exc:
         try:
             os.unlink(tmp)
@@ -245,11 +263,13 @@ def atomic_savez(path, **arrays) -> Path:
 
 
 def atomic_savefig(fig, path, **kw) -> Path:
+    """Write `fig` atomically as `path` (format from the suffix), with reproducible bytes: no creation date in
+    PNG, PDF or SVG.  The figures wing calls it through magrod.figures.common.atomic_savefig (formats chosen
+    per build, SVG ids from a fixed salt)."""
     path = Path(path)
     buf = _io.BytesIO()
     fmt = path.suffix.lstrip(".") or "png"
-    # a fixed creation date keeps PNG/PDF bytes reproducible
-    meta = {"Software": None} if fmt == "png" else {"CreationDate": None}
+    meta = {"png": {"Software": None}, "svg": {"Date": None}}.get(fmt, {"CreationDate": None})
     fig.savefig(buf, format=fmt, metadata=meta, **kw)
     return atomic_write_bytes(path, buf.getvalue())
 

@@ -19,7 +19,7 @@ class RodParams:
 
     Physical ranges: m > 0 (m3 > 0, C2 > 0); delta >= 0 (J > 0); gamma + delta >= 0 (K > 0); mu is
     constrained only through the radicand mu - 2 lam pbar_psi > 0 along an orbit (eq:alignment_condition),
-    which the integrators check.  Numerical range: |value| <= MAX_MAGNITUDE = 1e6 and m >= M_MIN = 1e-3 (the
+    which the integrators check.  Numerical range: ``|value|`` <= MAX_MAGNITUDE = 1e6 and m >= M_MIN = 1e-3 (the
     vector field has terms in m^-4: beyond these a float64 run is meaningless).
 
     Examples

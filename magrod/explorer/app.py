@@ -27,7 +27,6 @@ from pathlib import Path
 
 import numpy as np
 import panel as pn
-from bokeh.core.properties import value
 from bokeh.events import Tap
 from bokeh.models import (ColorBar, ColumnDataSource, FixedTicker, Legend, LegendItem, LinearColorMapper, Range1d)
 from bokeh.plotting import figure
@@ -42,6 +41,17 @@ CLOSE_GRACE_S = 0.05  # a session without a connection for this long is closed (
 # session's websocket: a reloaded page is a new session)
 PENDING_COLOUR = "#555555"
 N_SLOTS = 24  # orbit renderers made with the page (see _build_plot)
+# Display-only decimation: an orbit shows at most this many of its points (every k-th, k fixed at launch from its
+# iterate count), so that drawing stays fluid at 10^5 iterates; exports and results keep every point.
+DISPLAY_CAP = 20_000
+# The page receives an orbit's new points at most this often (the chunks in between are joined): every message
+# re-renders the plot, and at 25 messages a second a software-WebGL tab spent all its time drawing.
+STREAM_INTERVAL_S = 0.25
+MARKER_SIZE = 3  # px, the page's marker-size control starts here
+# the projections of the section sin psi = 0 (the level fixes the third coordinate; theta-pbar_theta is where a
+# click or a typed start launches an orbit, and where the energy-level boundary is drawn)
+PROJECTIONS = {"θ – p̄θ": ("theta", "ptheta"), "θ – p̄ψ": ("theta", "ppsi"), "p̄θ – p̄ψ": ("ptheta", "ppsi")}
+AXIS_LABELS = {"theta": "θ", "ptheta": "p̄θ", "ppsi": "p̄ψ"}
 PARAM_LABELS = {"m": "m", "mu": "μ", "gamma": "γ", "delta": "δ", "lam": "λ̄", "h": "h (level H̄ = h)",
                 "iterates": "iterates per orbit"}
 
@@ -57,7 +67,12 @@ class Orbit:
     job: Job | None = None
     source: ColumnDataSource | None = None
     renderer: object = None
-    legend_item: object = None
+    iterates: int = 0  # the iterate count of its run (extended by extend())
+    stride: int = 1  # display decimation: every stride-th point is drawn (DISPLAY_CAP)
+    skip: int = 0  # points already shown before an extension's rerun (its first points are these, bit for bit)
+    shown: dict | None = None  # the drawn points of every projection coordinate (lists of arrays)
+    pending: list | None = None  # points decimated but not yet sent to the page (joined into one message)
+    last_stream: float = 0.0  # perf_counter of the last message to the page
     result: object = None  # PoincareResult when finished
     indicator: object = None  # LyapunovResult
     status: str = "pending"
@@ -72,7 +87,7 @@ class Orbit:
         g = getattr(self.indicator, "growth_exponent", None)
         verdict = "" if g is None else f", growth {g:.3g} → {'chaotic' if g > threshold else 'regular'}"
         state = "" if self.status == "done" else f" [{self.status}]"
-        return f"#{self.id}: θ₀={self.theta0:.4f}, p̄θ₀={self.ptheta0:.4f}{verdict}{state}"
+        return f"#{self.id}: θ₀={self.theta0!r}, p̄θ₀={self.ptheta0!r}, {self.n_points} pts{verdict}{state}"
 
 
 class Explorer(pn.viewable.Viewer):
@@ -135,7 +150,26 @@ class Explorer(pn.viewable.Viewer):
         self.panel_select.param.watch(self._deferred(self._on_panel), "value")
         self.status = _Text("Click inside the boundary to launch an orbit.", "magrod-status",
                             sizing_mode="stretch_width", styles={"font-size": "13px"}, min_height=40)
-        self.orbit_list = pn.widgets.Select(label="orbits", options={}, size=8, width=360)
+        # the orbit list lives outside the plot and scrolls: the plot keeps its size whatever the number of orbits
+        self.orbit_list = pn.widgets.Select(label="orbits (select one for its details and rod)", options={}, size=10,
+                                            width=400, css_classes=["magrod-orbit-list"])
+        self.start_inputs = {
+            "theta0": pn.widgets.TextInput(label="θ₀", value="", placeholder="e.g. 0.1", width=120,
+                                           css_classes=["magrod-start-theta0"]),
+            "ptheta0": pn.widgets.TextInput(label="p̄θ₀", value="", placeholder="e.g. 0.5", width=120,
+                                            css_classes=["magrod-start-ptheta0"])}
+        self.b_launch = pn.widgets.Button(label="Launch", width=80, css_classes=["magrod-launch"], align="end")
+        self.b_launch.on_click(self._deferred(lambda e: self._launch_typed()))
+        self.extend_input = pn.widgets.TextInput(label="extend selected by (iterates)", value="1000", width=170,
+                                                 css_classes=["magrod-extend-n"])
+        self.b_extend = pn.widgets.Button(label="Extend", width=80, css_classes=["magrod-extend"], align="end")
+        self.b_extend.on_click(self._deferred(lambda e: self._extend_clicked()))
+        self.marker_size = pn.widgets.IntSlider(label="marker size (px)", start=1, end=10, value=MARKER_SIZE,
+                                                width=180, css_classes=["magrod-marker-size"])
+        self.marker_size.param.watch(self._deferred(lambda e: self.set_marker_size(e.new)), "value")
+        self.projection = pn.widgets.Select(label="projection", options=list(PROJECTIONS), value="θ – p̄θ",
+                                            width=180, css_classes=["magrod-projection"])
+        self.projection.param.watch(self._deferred(lambda e: self.set_projection(e.new)), "value")
         self.orbit_list.param.watch(self._deferred(self._on_select), "value")
         self.b_delete = pn.widgets.Button(label="Delete", width=80, css_classes=["magrod-delete"])
         self.b_clear = pn.widgets.Button(label="Clear", width=80, css_classes=["magrod-clear"])
@@ -150,7 +184,9 @@ class Explorer(pn.viewable.Viewer):
                                                 label="Download PNG + data (.zip)", color="success",
                                                 width=240, css_classes=["magrod-download"])
         self.details = _Text("", "magrod-details", sizing_mode="stretch_width", styles={"font-size": "12px"})
-        self.rod_pane = pn.pane.Plotly(None, height=360, sizing_mode="stretch_width", visible=False)
+        # the rod gets a full-width row of its own under the plot, with room for plotly's title and toolbar
+        self.rod_pane = pn.pane.Plotly(None, height=520, min_height=520, sizing_mode="stretch_width", visible=False,
+                                       css_classes=["magrod-rod"])
 
     def _build_plot(self):
         f = figure(width=760, height=600, x_range=Range1d(0.0, np.pi), y_range=Range1d(-1.5, 1.5),
@@ -175,10 +211,13 @@ class Explorer(pn.viewable.Viewer):
                             "(linear below, log above)", title_text_font_size="11px",
                       major_label_text_font_size="10px")
         f.add_layout(cb, "right")
+        # one fixed legend item: the orbits are listed outside the plot (a legend item per orbit grew the legend
+        # inside the plot's fixed height and squeezed the frame to a sliver after ~20 orbits)
         self.legend = Legend(items=[LegendItem(label="H̄ = h boundary (grey: no energy root)", renderers=[b_up])],
                              location="top_left", label_text_font_size="10px", background_fill_alpha=0.7,
-                             click_policy="hide", spacing=0, padding=4)
+                             spacing=0, padding=4)
         f.add_layout(self.legend, "below")
+        self._boundary_renderers = [r for r in f.renderers]
         # Renderers made before the page exists: adding a renderer to a live document makes Bokeh walk every
         # model (~0.3 s, on the event loop, before the first points could be sent); a slot only changes data,
         # colour and visibility.  Orbits beyond N_SLOTS get new renderers (the slow path).
@@ -189,28 +228,32 @@ class Explorer(pn.viewable.Viewer):
 
     def _new_slot(self, f, k):
         src = ColumnDataSource({"x": [], "y": []}, name=f"slot-src-{k}")
-        r = f.scatter("x", "y", source=src, size=2.5, line_width=0, color=PENDING_COLOUR, visible=False)
-        item = LegendItem(label=value(" "), renderers=[r], visible=False)
-        self.legend.items.append(item)
-        return src, r, item
+        size = self.marker_size.value if hasattr(self, "marker_size") else MARKER_SIZE
+        r = f.scatter("x", "y", source=src, size=size, line_width=0, color=PENDING_COLOUR, visible=False)
+        return src, r
 
     def _take_slot(self, o: Orbit):
         if self._free_slots:
-            o.source, o.renderer, o.legend_item = self._free_slots.pop(0)
+            o.source, o.renderer = self._free_slots.pop(0)
         else:
-            o.source, o.renderer, o.legend_item = self._new_slot(self.fig, f"extra-{o.id}")
+            o.source, o.renderer = self._new_slot(self.fig, f"extra-{o.id}")
         o.source.name = f"orbit-src-{o.id}"
-        o.renderer.visible = o.legend_item.visible = True
+        o.renderer.visible = True
 
     def _build_layout(self):
         side = pn.Column("### Parameters (eq:nondim_1)", self.panel_select,
                          *[pn.Column(self.inputs[k], self.errors[k].pane, margin=0) for k in model.FIELDS], width=200)
-        orbits = pn.Column("### Orbits", self.orbit_list, pn.Row(self.b_delete, self.b_clear, self.b_undo),
-                           pn.Row(self.download, self.b_export), self.details.pane, self.rod_pane, width=420)
+        orbits = pn.Column("### Orbits",
+                           pn.Row(self.start_inputs["theta0"], self.start_inputs["ptheta0"], self.b_launch),
+                           self.orbit_list, pn.Row(self.b_delete, self.b_clear, self.b_undo),
+                           pn.Row(self.extend_input, self.b_extend), pn.Row(self.download, self.b_export),
+                           self.details.pane, width=440)
+        view = pn.Row(self.marker_size, self.projection)
         return pn.Column(pn.pane.HTML("<b>magrod explore</b>: Poincaré section sin ψ = 0 of the conducting rod "
-                                      "(Sinden &amp; van der Heijden, sec. 8). Click to launch an orbit from "
-                                      "(θ, p̄θ); p̄ψ solves H̄ = h.", styles={"font-size": "14px"}),
-                         self.status.pane, pn.Row(side, self.plot_pane, orbits), sizing_mode="stretch_width")
+                                      "(Sinden &amp; van der Heijden, sec. 8). Click, or type a start, to launch "
+                                      "an orbit from (θ, p̄θ); p̄ψ solves H̄ = h.", styles={"font-size": "14px"}),
+                         self.status.pane, pn.Row(side, pn.Column(self.plot_pane, view), orbits), self.rod_pane,
+                         sizing_mode="stretch_width")
 
     def _deferred(self, fn):
         """A Panel widget callback that edits the page's Bokeh models.  Served, Panel runs widget callbacks
@@ -305,15 +348,98 @@ class Explorer(pn.viewable.Viewer):
     def _on_tap(self, event):
         self.tap_wall.append(time.time())
         t = time.perf_counter()
-        self.launch(event.x, event.y)
+        if PROJECTIONS[self.projection.value] != ("theta", "ptheta"):
+            self._say("Orbits are launched in the θ – p̄θ projection (where the energy level is drawn): switch "
+                      "back to it, or type a start.", error=True)
+        else:
+            self.launch(event.x, event.y)
         self.tap_handler_s.append(time.perf_counter() - t)
+
+    def _launch_typed(self):
+        """The typed start, exactly: the decimal strings are parsed as Python floats, as `magrod poincare
+        --theta0 0.1` parses them, so the orbit equals poincare_section's for the same numbers to the last bit."""
+        vals = {}
+        for name, w in self.start_inputs.items():
+            try:
+                vals[name] = float(str(w.value).strip())
+            except ValueError:
+                self._say(f"{name}: type a number (e.g. 0.1), got {str(w.value)[:30]!r}", error=True)
+                return None
+            if not np.isfinite(vals[name]):
+                self._say(f"{name}: must be finite, got {w.value!r}", error=True)
+                return None
+        return self.launch(vals["theta0"], vals["ptheta0"])
+
+    def _extend_clicked(self):
+        o = self.selected()
+        try:
+            n = int(float(str(self.extend_input.value).strip()))
+        except ValueError:
+            self._say(f"extend: type a number of iterates, got {str(self.extend_input.value)[:30]!r}", error=True)
+            return
+        self.extend(o.id if o is not None else None, n)
+
+    def extend(self, orbit_id, iterates: int) -> bool:
+        """Extend a finished orbit by `iterates` more section points.  The run is repeated to the new length with
+        the same integrator from the same start (so that its points are poincare_section's for the longer run,
+        to the last bit); the points already drawn stay and only the new ones are streamed."""
+        o = next((o for o in self.orbits if o.id == orbit_id), None)
+        if o is None:
+            self._say("Select an orbit in the list to extend it.")
+            return False
+        if o.status != "done" or o.start is None:
+            self._say(f"#{o.id} is {o.status}: only a finished orbit can be extended.", error=True)
+            return False
+        if not 1 <= iterates <= model.ITERATES_MAX - o.n_points:
+            self._say(f"extend: between 1 and {model.ITERATES_MAX - o.n_points} iterates, got {iterates}", error=True)
+            return False
+        o.skip, o.iterates = o.n_points, o.n_points + int(iterates)
+        o.t_launch = time.perf_counter()
+        o.status, o.result = "running", None
+        self._submit(o)
+        self._say(f"#{o.id}: extending from {o.n_points} to {o.iterates} iterates …")
+        return True
+
+    def set_marker_size(self, size: int) -> None:
+        """Marker size (px) of every orbit's points."""
+        for src_r in [*self._free_slots, *[(o.source, o.renderer) for o in self.orbits if o.renderer is not None]]:
+            src_r[1].glyph.size = int(size)
+
+    def set_projection(self, name: str) -> None:
+        """Show the orbits in another projection of the section (PROJECTIONS); the energy-level boundary belongs
+        to θ – p̄θ and is hidden in the others."""
+        xk, yk = PROJECTIONS[name]
+        for r in self._boundary_renderers:
+            r.visible = (xk, yk) == ("theta", "ptheta")
+        self.legend.visible = (xk, yk) == ("theta", "ptheta")
+        self.fig.xaxis.axis_label, self.fig.yaxis.axis_label = AXIS_LABELS[xk], AXIS_LABELS[yk]
+        xs, ys = [], []
+        for o in self.orbits:
+            if o.source is None or not o.shown:
+                continue
+            x = np.concatenate(o.shown[xk]) if o.shown[xk] else np.empty(0)
+            y = np.concatenate(o.shown[yk]) if o.shown[yk] else np.empty(0)
+            o.source.data = {"x": x, "y": y}
+            o.pending = None  # included: o.shown holds every point decimated so far
+            xs.append(x)
+            ys.append(y)
+        if (xk, yk) == ("theta", "ptheta"):
+            self._set_boundary()
+            return
+        for rng, vals in ((self.fig.x_range, xs), (self.fig.y_range, ys)):
+            v = np.concatenate(vals) if vals else np.empty(0)
+            v = v[np.isfinite(v)]
+            if len(v):
+                lo, hi = float(v.min()), float(v.max())
+                pad = 0.05 * max(hi - lo, 1e-6)
+                rng.start, rng.end = lo - pad, hi + pad
 
     def launch(self, theta0: float, ptheta0: float) -> Orbit | None:
         """Launch an orbit from (theta0, pbar_theta0) on the section (what a click does).  Returns the Orbit, or
         None with the reason in the status line (no energy root, theta0 outside (0, pi), ...)."""
         if self._closed:
             return None
-        o = Orbit(self._next_id, float(theta0), float(ptheta0), t_launch=time.perf_counter())
+        o = Orbit(self._next_id, float(theta0), float(ptheta0), t_launch=time.perf_counter(), iterates=self.iterates)
         if not self._launch(o):
             return None
         self._next_id += 1
@@ -345,14 +471,20 @@ class Explorer(pn.viewable.Viewer):
         if o.renderer is None:
             self._take_slot(o)
         o.source.data = {"x": [], "y": []}
+        o.iterates = o.iterates or self.iterates
+        o.stride = max(1, -(-o.iterates // DISPLAY_CAP))
+        o.skip, o.shown, o.pending = 0, {k: [] for k in AXIS_LABELS}, None
         self._style(o)
-        job = Job(next(self._job_ids), start, self.iterates, self.direction)
+        self._submit(o)
+        self._say(f"#{o.id}: {start.describe()}; integrating {o.iterates} iterates in the background …")
+        return True
+
+    def _submit(self, o: Orbit) -> None:
+        job = Job(next(self._job_ids), o.start, o.iterates, self.direction)
         job.submitted = o.t_launch
         o.job = job
         self._worker.submit(job, on_chunk=lambda j, c: self._queue.put(("chunk", o, j, c)),
                             on_done=lambda j, r, ind: self._queue.put(("done", o, j, (r, ind))))
-        self._say(f"#{o.id}: {start.describe()}; integrating {self.iterates} iterates in the background …")
-        return True
 
     def _no_root_message(self, exc: ParameterError, o: Orbit) -> str:
         where = f"(θ, p̄θ) = ({o.theta0:.4f}, {o.ptheta0:.4f})"
@@ -369,7 +501,6 @@ class Explorer(pn.viewable.Viewer):
         if o.renderer is not None:
             o.renderer.glyph.fill_color = colour
             o.renderer.glyph.line_color = colour
-            o.legend_item.label = value(o.label(self.threshold))  # a value: a bare string would name a column
 
     def _remove(self, o: Orbit):
         if o.job is not None:
@@ -377,13 +508,13 @@ class Explorer(pn.viewable.Viewer):
             if o.status == "running":
                 o.status = "cancelled"
         if o.renderer is not None:  # the slot stays with the orbit: undo shows it again
-            o.renderer.visible = o.legend_item.visible = False
+            o.renderer.visible = False
         self.orbits.remove(o)
 
     def _restore(self, o: Orbit, index: int):
         self.orbits.insert(min(index, len(self.orbits)), o)
         if o.renderer is not None:
-            o.renderer.visible = o.legend_item.visible = True
+            o.renderer.visible = True
         if o.start is None or o.start.params != self.params or o.start.h != self.h or o.status == "cancelled":
             self._launch(o)
 
@@ -468,13 +599,16 @@ class Explorer(pn.viewable.Viewer):
             if o.job is not job:  # output of a cancelled, superseded run
                 continue
             if kind == "chunk":
-                o.source.stream({"x": payload.theta, "y": payload.ptheta})
-                if o.n_points == 0:
+                self._stream(o, payload)
+                first = o.n_points == 0
+                self._flush(o, force=first)
+                if first:
                     self.latencies.append(time.perf_counter() - job.submitted)
                     streamed_first = True
                     self.stream_wall.append(time.time())
-                o.n_points, o.max_abs_dH = payload.n_total, payload.max_abs_dH
+                o.n_points, o.max_abs_dH = max(o.skip, payload.n_total), payload.max_abs_dH
             else:
+                self._flush(o, force=True)
                 res, ind = payload
                 o.result = res
                 if res is None:
@@ -495,6 +629,9 @@ class Explorer(pn.viewable.Viewer):
                     self._say(f"#{o.id}: {o.n_points} iterates in {res.wall_s:.2f} s, max |H̄ − h| = "
                               f"{res.max_abs_dH:.1e}; growth exponent {g:.3g} "
                               f"({'chaotic' if g > self.threshold else 'regular'}: threshold {self.threshold:g}).")
+        for o in self.orbits:  # the joined points of running orbits whose interval has passed
+            if o.pending:
+                self._flush(o)
         if self._pending_select is not None and not streamed_first:  # not in the poll that sends first points
             select, self._pending_select = self._pending_select, None
             self._refresh_list(select=select)
@@ -502,6 +639,34 @@ class Explorer(pn.viewable.Viewer):
             self._refresh_list()
             self._show_details()
         return n
+
+    def _stream(self, o: Orbit, c) -> None:
+        """Append a chunk's points to the orbit's plot: those not drawn yet (an extension's rerun repeats the
+        first o.skip points), decimated for display to every o.stride-th point of the orbit."""
+        k = len(c.theta)
+        idx = np.arange(c.n_total - k, c.n_total)
+        keep = (idx >= o.skip) & (idx % o.stride == 0)
+        if not keep.any():
+            return
+        cols = {"theta": c.theta[keep], "ptheta": c.ptheta[keep],
+                "ppsi": c.ppsi[keep] if c.ppsi is not None else np.full(int(keep.sum()), np.nan)}
+        for name, v in cols.items():
+            o.shown[name].append(v)
+        o.pending = (o.pending or []) + [cols]
+
+    def _flush(self, o: Orbit, force: bool = False) -> bool:
+        """Send the orbit's pending points to the page in one message, if STREAM_INTERVAL_S has passed since the
+        last one (or `force`: the first points, the end of the run)."""
+        if not o.pending or o.source is None:
+            return False
+        now = time.perf_counter()
+        if not force and now - o.last_stream < STREAM_INTERVAL_S:
+            return False
+        xk, yk = PROJECTIONS[self.projection.value]
+        o.source.stream({"x": np.concatenate([c[xk] for c in o.pending]),
+                         "y": np.concatenate([c[yk] for c in o.pending])})
+        o.pending, o.last_stream = None, now
+        return True
 
     def wait(self, timeout: float = 60.0) -> bool:
         """Poll until no orbit is computing (for scripts and tests); True if all finished in time."""
@@ -567,8 +732,10 @@ class Explorer(pn.viewable.Viewer):
         if o is None:
             self.details.object, self.rod_pane.visible = "", False
             return
-        rows = [f"<b>#{o.id}</b> start θ₀ = {o.theta0:.6f}, p̄θ₀ = {o.ptheta0:.6f}, ψ₀ = {self.psi0:g}",
-                o.message]
+        shown = sum(len(v) for v in (o.shown or {}).get("theta", []))
+        rows = [f"<b>#{o.id}</b> start θ₀ = {o.theta0!r}, p̄θ₀ = {o.ptheta0!r}, ψ₀ = {self.psi0:g} (exact doubles)",
+                o.message, f"{o.n_points} iterates computed, {shown} drawn"
+                + (f" (every {o.stride}th: display only; exports keep every point)" if o.stride > 1 else "")]
         r = o.result
         if r is not None:
             rows.append(f"{r.n_points} iterates to s = {r.final_time:.6g} in {r.wall_s:.2f} s "
@@ -690,9 +857,22 @@ def rod_figure(start, length: float):
                                       f"{' (true scale)' if M == 1 else ''}<br>frame checks: |DᵀD − I| "
                                       f"{rod['orthonormality']:.0e}, |Dᵀz − e3| {rod['field_consistency']:.0e}",
                                  font=dict(size=11)),
-                      scene=dict(aspectmode="data", xaxis_title="x", yaxis_title="y", zaxis_title="z (field)"),
+                      # true proportions (aspectmode "data"); plotly's default eye (1.25, 1.25, 1.25) is so close
+                      # that a long rod's ends leave the picture: the eye backs off along the long axis
+                      scene=dict(aspectmode="data", xaxis_title="x", yaxis_title="y", zaxis_title="z (field)",
+                                 camera=dict(eye=_rod_eye(c))),
                       margin=dict(l=0, r=0, t=50, b=0))
     return fig
+
+
+def _rod_eye(c: np.ndarray) -> dict:
+    """A camera eye that keeps the whole rod in view: plotly scales the scene so that its longest side is 1; at
+    the default distance (|eye| = 2.2) a scene whose longest side is many times the others is cut at both ends.
+    The eye moves back in proportion to the elongation (at most 3.5x) and looks from low elevation."""
+    ext = np.maximum(c.max(0) - c.min(0), 1e-12)
+    elong = float(ext.max() / max(np.sort(ext)[-2], 1e-12))
+    k = float(np.clip(0.9 + 0.25 * elong, 1.0, 3.5))
+    return dict(x=1.25 * k, y=1.25 * k, z=0.35 * k)
 
 
 class Registry:

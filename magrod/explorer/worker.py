@@ -75,19 +75,22 @@ def solve_start(params: RodParams, h: float, theta0: float, ptheta0: float, psi0
 
 @dataclass
 class Chunk:
-    """Points found since the last chunk: theta (k,), pbar_theta (k,), the running max |Hbar - h| and count."""
+    """Points found since the last chunk: theta (k,), pbar_theta (k,), the running max |Hbar - h| and count, and
+    pbar_psi (k,) for the (theta, pbar_psi) and (pbar_theta, pbar_psi) projections of the page."""
 
     theta: np.ndarray
     ptheta: np.ndarray
     n_total: int
     max_abs_dH: float
+    ppsi: np.ndarray | None = None
 
 
-def _chart(raw: np.ndarray, pars) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _chart(raw: np.ndarray, pars) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     B = systems.body_functions()
     x = np.ascontiguousarray(raw.T)
     e = B["to_euler"](x, pars)
-    return e[systems.chart_index("theta")], e[systems.chart_index("ptheta")], B["H"](x, pars)[0]
+    return (e[systems.chart_index("theta")], e[systems.chart_index("ptheta")], B["H"](x, pars)[0],
+            e[systems.chart_index("ppsi")])
 
 
 def stream_section(start: Start, iterates: int, *, direction="positive", cancel: threading.Event | None = None,
@@ -119,9 +122,9 @@ def stream_section(start: Start, iterates: int, *, direction="positive", cancel:
         nonlocal sent, max_dH, last
         if emit is None or n == sent:
             return
-        th, pt, dH = _chart(raw[sent:n], pars)
+        th, pt, dH, pp = _chart(raw[sent:n], pars)
         max_dH = max(max_dH, float(np.max(np.abs(dH - start.h))))
-        emit(Chunk(th, pt, n, max_dH))
+        emit(Chunk(th, pt, n, max_dH, pp))
         sent, last = n, time.perf_counter()
 
     while n < iterates:

@@ -2,8 +2,9 @@
 
     build(out_dir, *, quick=False, progress=False) -> list[str]     (the paths written, atomically)
 
-registered here.  Builders call the numerics (magrod.*), draw with matplotlib (Agg) and write PNG + .npz + JSON
-sidecars through magrod.core.io.  Imported lazily: `FIGURES` lists module and function names only."""
+registered here.  Builders call the numerics (magrod.*), draw with matplotlib (Agg) and write
+pictures (PNG, PDF or SVG: figures.common.figure_formats), .npz data and JSON sidecars through magrod.core.io.
+Imported lazily: `FIGURES` lists module and function names only."""
 from __future__ import annotations
 
 import importlib
@@ -42,5 +43,24 @@ def builder(number: str):
     return getattr(importlib.import_module(module), func)
 
 
-def build(number: str, out_dir, *, quick=False, progress=False) -> list[str]:
-    return [str(p) for p in builder(number)(out_dir, quick=quick, progress=progress)]
+def build(number: str, out_dir, *, quick=False, progress=False, formats=("png",)) -> list[str]:
+    """Run the builder of figure `number` into `out_dir`; its pictures in each of `formats` (png, pdf, svg).
+
+    Returns every path written.  If the builder fails, every file it had written is removed again before the
+    exception propagates, so a failed figure leaves none of its files behind (and a report cannot read the
+    sidecar of a half-made figure as a result)."""
+    from ..core.io import record_writes
+    from .common import figure_formats
+
+    make = builder(number)
+    with figure_formats(formats), record_writes() as written:
+        try:
+            paths = [str(p) for p in make(out_dir, quick=quick, progress=progress)]
+        except BaseException:
+            for p in written:
+                try:
+                    p.unlink()
+                except OSError:
+                    pass
+            raise
+    return paths + [str(p) for p in dict.fromkeys(written) if str(p) not in paths]

@@ -16,10 +16,10 @@ import numpy as np
 
 from ..chaos import indicators as chaos, maps
 from ..chaos.fields import MAPPABLE
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import PANELS
 from ..core.progress import bar
-from .common import pyplot
+from .common import atomic_savefig, label, pyplot
 
 # the reproduce map: full and --quick sizes (grid points per axis, t_max)
 REPRODUCE_GRID = {False: (24, 3000.0), True: (8, 2000.0)}
@@ -99,8 +99,11 @@ def map_axes(ax, fields: dict, spec: maps.MapSpec, *, indicator="growth", thresh
         ax.pcolormesh(spec.x.values(), spec.y.values(), np.ma.masked_where(~inferred, np.ones(inferred.shape)),
                       cmap=ListedColormap([(1, 1, 1, 0.55)]), shading="nearest", vmin=0, vmax=1)
     ge = np.ma.masked_invalid(np.asarray(fields["growth_exponent"], float))
+    contour = None
     if spec.x.n > 1 and spec.y.n > 1 and (ge > threshold).any() and (ge <= threshold).any():
-        # the classification boundary (masked where missing), whatever indicator is coloured
+        # the classification boundary (masked where missing), whatever indicator is coloured; the colour-bar label
+        # says what the line is (a drawn line nobody explains is a question for the reader)
+        contour = "black" if indicator == "growth" else "cyan"
         ax.contour(spec.x.values(), spec.y.values(), ge, levels=[threshold], linewidths=0.8,
                    colors="k" if indicator == "growth" else "c")
     if colorbar:
@@ -116,17 +119,21 @@ def map_axes(ax, fields: dict, spec: maps.MapSpec, *, indicator="growth", thresh
             text = FIELD_LABELS[indicator] + "; grey: missing"
         if inferred is not None and inferred.any():
             text += f"; pale: inferred ({100 * inferred.mean():.0f} % of the points, never computed)"
+        if contour:
+            text += f"; {contour} line on the map: growth exponent{nb}={nb}{threshold:g}, the chaotic/regular boundary"
         cb.set_label(textwrap.fill(text, chars), fontsize=8)
     for key, x, y in panel_marks(spec):
-        ax.plot(x, y, "k*", ms=10, mec="w")
+        ax.plot(x, y, "k*", ms=10, mec="w", label="_paper panel")
         ax.annotate(key, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=9)
-    ax.set_xlabel(spec.x.name)
-    ax.set_ylabel(spec.y.name)
-    fixed = ", ".join(f"{k} = {v:g}" for k, v in sorted(spec.base.items()) if k not in (spec.x.name, spec.y.name))
+    ax.set_xlabel(label(spec.x.name))
+    ax.set_ylabel(label(spec.y.name))
+    fixed = ", ".join(f"{label(k)} = {v:g}" for k, v in sorted(spec.base.items())
+                      if k not in (spec.x.name, spec.y.name))
     # the fixed values wrapped to the width the axes get (~70% of the figure beside the colour bar), so that the
     # title is never cut off at the figure's edge (tests/test_figure_labels.py)
     chars = max(24, int(0.7 * ax.figure.get_figwidth() * 72 / (0.6 * 8)))
-    ax.set_title(title or f"chaos map, T = {spec.t_max:g}\n" + textwrap.fill(fixed, chars), fontsize=8)
+    ax.set_title(title or f"chaos map, T = {spec.t_max:g}\n" + textwrap.fill(fixed, chars, break_long_words=False),
+                 fontsize=8)
     return im
 
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.params import RodParams
 from ..orbits import continuation as C
 from ..orbits import multipulse as mp
@@ -22,7 +22,7 @@ from ..orbits import periodic_multipulse as pm
 from ..orbits.equilibrium import on_level
 from ..core.printed import MULTIPULSE
 from ..core.tolerances import FOLD_BRANCH_TOL
-from .common import pyplot
+from .common import atomic_savefig, label, pyplot
 
 
 def plot_branch(branch, path, title: str = ""):
@@ -36,8 +36,8 @@ def plot_branch(branch, path, title: str = ""):
         for f in branch.folds:
             if f["u"] is not None:
                 ax.plot(f["u"][2], f["u"][j], "o", mfc="none", color="r", label="fold")
-        ax.set_xlabel(names[2])
-        ax.set_ylabel(names[j])
+        ax.set_xlabel(label(names[2]))
+        ax.set_ylabel(label(names[j]))
     axs[0].set_title(title, fontsize=7)
     fig.tight_layout()
     p = atomic_savefig(fig, Path(path), dpi=130)
@@ -72,13 +72,13 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
         "messages": [b.message for b in branches], "versions": versions()})))
     fig, ax = plt.subplots(figsize=(5, 3.6))
     ax.plot(u[:, 1], u[:, 2], "k-", lw=1.2, label="2-pulse symmetric orbit exists (mu = 2 lam)")
-    ax.plot([r.params.lam], [1.7], "ro", label=f"Fig 6: m = 1.7, lam* = {r.params.lam:.12g}")
+    ax.plot([r.params.lam], [1.7], "ro", label=f"Fig 6: m = 1.7, $\\bar\\lambda^*$ = {r.params.lam:.12g}")
     ax.axvline(0.001, ls=":", color="gray", label="printed lam = 0.001")
     for f in folds:
         ax.plot(f["lam"], f["m"], "bs", mfc="none")
-    ax.set_xlabel("lam (mu = 2 lam)")
-    ax.set_ylabel("m")
-    ax.set_title("codimension-one 2-pulse orbits: a curve in (lam, m); gamma = delta = 1", fontsize=8)
+    ax.set_xlabel(r"$\bar\lambda$  ($\mu = 2\bar\lambda$)")
+    ax.set_ylabel(r"$m$")
+    ax.set_title(r"codimension-one 2-pulse orbits: a curve in $(\bar\lambda, m)$; $\gamma = \delta = 1$", fontsize=8)
     ax.legend(fontsize=6)
     fig.tight_layout()
     paths.append(str(atomic_savefig(fig, out / "continuation_mu2lam.png", dpi=140)))
@@ -97,12 +97,13 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
         data[f"primary{k}"] = b.u
         axs[0].semilogx(b.u[:, 2] - 2 * P.lam, b.u[:, 0], ".-", ms=3, label=f"primary {k}")
         axs[1].semilogx(b.u[:, 2] - 2 * P.lam, b.u[:, 1], ".-", ms=3)
-    axs[0].set_xlabel("mu - 2 lam")
-    axs[0].set_ylabel("T (eps = 1e-7)")
-    axs[1].set_xlabel("mu - 2 lam")
+    axs[0].set_xlabel(r"$\mu - 2\bar\lambda$")
+    axs[0].set_ylabel(r"$T$ ($\varepsilon = 10^{-7}$)")
+    axs[1].set_xlabel(r"$\mu - 2\bar\lambda$")
     axs[1].set_ylabel("launch angle")
     axs[0].legend(fontsize=7)
-    axs[0].set_title("primary orbits to the periodic saddle, lam = 0.001, m = 1.7, gamma = delta = 1", fontsize=7)
+    axs[0].set_title(r"primary orbits to the periodic saddle, $\bar\lambda$ = 0.001, m = 1.7, $\gamma = \delta = 1$",
+                     fontsize=7)
     fig.tight_layout()
     paths.append(str(atomic_savez(out / "continuation_periodic.npz", **data)))
     paths.append(str(atomic_write_json(out / "continuation_periodic.json", {

@@ -7,10 +7,10 @@ import numpy as np
 
 from ..generated import scalars
 from ..orbits.homoclinic import homoclinic, phase_portrait_energy, verify
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import FIG3
 from ..core.progress import bar
-from .common import pyplot, rect
+from .common import atomic_savefig, pyplot, rect
 
 
 def _portrait(ax, m, gamma, xr, yr, title, paper_box=None, n=601):
@@ -24,6 +24,14 @@ def _portrait(ax, m, gamma, xr, yr, title, paper_box=None, n=601):
     ax.contour(TH, PT, E, levels=[h], colors="C3", linewidths=1.6)
     if paper_box is not None:
         rect(ax, paper_box, label="paper's axes")
+    # every contour says what it is (an unexplained line is a question for the reader)
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color="0.55", lw=0.6, label=r"level sets of $\bar H$ (the phase portrait)"),
+               Line2D([], [], color="C3", lw=1.6, label=r"$\bar H = h$: the homoclinic level (separatrix)")]
+    if paper_box is not None:
+        handles.append(Line2D([], [], color="k", ls=":", lw=0.8, label="the paper's axis ranges"))
+    ax.legend(handles=handles, fontsize=6, loc="upper right")
     ax.set_xlabel(r"$\theta$")
     ax.set_ylabel(r"$\bar p_\theta$")
     ax.set_title(title, fontsize=9)

@@ -5,11 +5,11 @@ import time
 
 import numpy as np
 
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..separatrix.melnikov import INTEGRANDS, amplitude, amplitude_zero, melnikov_function, primitive_check
 from ..core.printed import FIG2_GAMMAS, FIG2_M, FIG2_ZERO_BRACKET
 from ..core.progress import bar
-from .common import pyplot
+from .common import atomic_savefig, pyplot
 
 
 def figure_2(out_dir, *, quick=False, progress=False) -> list[str]:

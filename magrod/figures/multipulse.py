@@ -6,14 +6,14 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from ..core.io import atomic_savefig, atomic_write_json, ensure_writable_dir, versions, write_orbit
+from ..core.io import atomic_write_json, ensure_writable_dir, versions, write_orbit
 from ..core.printed import MULTIPULSE
 from ..core.progress import bar
 from ..core.tolerances import LAUNCH_DISTANCES
 from ..orbits.equilibrium import straight_rod
 from ..orbits.multipulse import find_orbits
 from ..orbits.shooting import THETA_CUT, scaled_arclength
-from .common import pyplot
+from .common import atomic_savefig, pyplot
 from .rod import plot_rod, rod_from_orbit_file
 
 TAU = f"(s - T)/L, L = T - s(theta first >= {THETA_CUT})"
@@ -98,14 +98,15 @@ def _figure(number: int, out_dir, quick: bool = False, progress: bool = False) -
             continue
         tau, win = scaled_arclength(e["orbit"])
         ax.plot(tau[win], e["orbit"]["theta"][win], style, color="k", lw=1.2,
-                label=f"{N}-pulse, lam* = {_lam_text(e)}, residual {e['residual']:.1e}")
+                label=f"{N}-pulse, $\\bar\\lambda^*$ = {_lam_text(e)}, residual {e['residual']:.1e}")
     p = spec["params"]
     ax.set_xlim(-1, 1)
     ax.set_ylim(bottom=0)
     ax.set_xlabel(r"$(s - s_{sym})/L$")
     ax.set_ylabel(r"$\theta$")
-    ax.set_title(f"Fig. {number} ({spec['label']}): m={p.m}, gamma={p.gamma}, delta={p.delta}, mu = 2 lam "
-                 f"(paper lam={p.lam})", fontsize=9)
+    ax.set_title(f"Fig. {number} ({spec['label']}): m={p.m}, $\\gamma$={p.gamma}, $\\delta$={p.delta}, "
+                 f"$\\mu = 2\\bar\\lambda$ "
+                 f"(paper $\\bar\\lambda$={p.lam})", fontsize=9)
     ax.legend(fontsize=7, loc="upper right")
     fig.tight_layout()
     paths.append(str(atomic_savefig(fig, Path(out_dir) / f"figure{number}.png", dpi=150)))

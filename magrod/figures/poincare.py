@@ -7,10 +7,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import PANELS
 from ..core.progress import bar
-from .common import pyplot
+from .common import atomic_savefig, pictures_of, pyplot
 
 
 def panel_title(key, res) -> str:
@@ -21,11 +21,18 @@ def panel_title(key, res) -> str:
     return f"{head}{pars}\n{res.n_points} iterates, max|$\\bar H$-h| = {res.max_abs_dH:.1e}"
 
 
+def marker_size(n: int) -> float:
+    """Dot size (points) readable at print size: ~2 pt for a few hundred section points, down to 0.8 pt for
+    10^5 (a 1-px "," marker disappears in print and in PDF viewers)."""
+    return float(np.clip(2.2 - 0.35 * np.log10(max(n, 1) / 300), 0.8, 2.2))
+
+
 def plot_points(ax, res, title=None):
     """theta on the horizontal axis, pbar_theta on the vertical one: the two coordinates of the section
     sin(psi) = 0 that are free at fixed h (pbar_psi follows from Hbar = h, psi is 0 or pi).  The paper's
     panels are not labelled in the source; theta-pbar_theta is the natural choice for this section."""
-    ax.plot(res.points[:, 0], res.points[:, 2], ",", color="k", rasterized=True)
+    ax.plot(res.points[:, 0], res.points[:, 2], ".", color="k", ms=marker_size(len(res.points)), mew=0,
+            rasterized=True)
     ax.set_xlim(0.0, np.pi)
     ax.set_xlabel(r"$\theta$")
     ax.set_ylabel(r"$\bar p_\theta$")
@@ -54,7 +61,9 @@ def save_result(res, out_dir, stem: str, *, key=None, label=None, formats=("png"
         fig, ax = plt.subplots(figsize=(5.0, 4.2), dpi=150)
         plot_points(ax, res, panel_title(key, res))
         fig.tight_layout()
-        paths[fmt] = str(atomic_savefig(fig, out / f"{stem}.{fmt}"))
+        atomic_savefig(fig, out / f"{stem}.{fmt}")
+        for p in pictures_of(out / f"{stem}.{fmt}"):  # by the suffix actually written (--format pdf: .pdf)
+            paths[p.suffix.lstrip(".")] = str(p)
         plt.close(fig)
     meta["files"] = dict(paths)
     paths["json"] = str(atomic_write_json(out / f"{stem}.json", meta))
@@ -74,20 +83,36 @@ def _figure(fig_no: str, out_dir, quick=False, progress=False, iterates=None, wo
     written = []
     for k in keys:
         written += list(save_result(results[k], out, f"fig{k}", key=k, label=PANELS[k]["label"]).values())
-    fig, axes = plt.subplots(2, 2, figsize=(10, 8.4), dpi=150)
+    fig = panels_figure(results, keys, fig_no, n)
+    written.append(str(atomic_savefig(fig, out / f"fig{fig_no}.png")))
+    plt.close(fig)
+    return written
+
+
+def panels_figure(results: dict, keys, fig_no: str, n: int):
+    """The four panels of Figure 4 or 5 on one Figure (2 x 2).  The panels are compared with each other, so they
+    share one theta range (0, pi) and one pbar_theta range (the union of the four, 4 % margin)."""
+    plt = pyplot()
+    # the four panels are compared with each other: one theta range (0, pi) and one pbar_theta range for all
+    fig, axes = plt.subplots(2, 2, figsize=(10, 8.4), dpi=150, sharex=True, sharey=True)
     for ax, k in zip(axes.flat, keys):
         var, val = PANELS[k]["vary"]
         sym = {"lam": r"$\bar\lambda$", "gamma": r"$\gamma$"}[var]
         plot_points(ax, results[k], f"({k[1]}) {sym} = {val:g}   [max|$\\bar H$-h| = {results[k].max_abs_dH:.1e}]")
+    pt = np.concatenate([results[k].points[:, 2] for k in keys])
+    pt = pt[np.isfinite(pt)]
+    if len(pt):
+        pad = 0.04 * max(float(pt.max() - pt.min()), 1e-3)
+        axes.flat[0].set_ylim(float(pt.min()) - pad, float(pt.max()) + pad)  # shared: every panel gets it
+    for ax in axes.flat:
+        ax.label_outer()  # shared axes: tick labels once per row and column
     p = results[keys[0]].params
     common = (f"m={p.m:g}, $\\mu$={p.mu:g}, $\\gamma$={p.gamma:g}, $\\delta$={p.delta:g}" if fig_no == "4"
               else f"m={p.m:g}, $\\delta$={p.delta:g}, $\\bar\\lambda$={p.lam:g}, $\\mu$={p.mu:g}")
     fig.suptitle(f"Fig. {fig_no}: Poincare sections sin$\\psi$ = 0 at h = {results[keys[0]].h:g} ({common}), "
                  f"{n} iterates each", fontsize=10)
     fig.tight_layout()
-    written.append(str(atomic_savefig(fig, out / f"fig{fig_no}.png")))
-    plt.close(fig)
-    return written
+    return fig
 
 
 def figure_4(out_dir, *, quick=False, progress=False) -> list[str]:

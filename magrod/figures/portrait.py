@@ -12,14 +12,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import PANELS
 from ..core.progress import bar
 from ..core.tolerances import THRESHOLD_XTOL
-from .common import pyplot
+from .common import LABELS, atomic_savefig, pyplot
 
-LABELS = {"theta": r"$\theta$", "psi": r"$\psi$", "ptheta": r"$\bar p_\theta$", "ppsi": r"$\bar p_\psi$",
-          "lam": r"$\bar\lambda$", "gamma": r"$\gamma$", "mu": r"$\mu$", "delta": r"$\delta$", "m": "m"}
 # the reproduce diagram: (number of lambdabar values, iterates per value, indicator time) full and --quick
 REPRODUCE = {False: (200, 500, 3000.0), True: (41, 150, 1000.0)}
 RANGE = (0.12, 0.2)

@@ -9,8 +9,8 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..core.io import atomic_savefig, atomic_write_json, ensure_writable_dir, versions
-from .common import pyplot
+from ..core.io import atomic_write_json, ensure_writable_dir, versions
+from .common import atomic_savefig, pyplot
 
 TARGET = ("1.7", "0.04", "1", "1", "0.01")  # (m, mu, gamma, delta, lambdabar): a = 4, b = 1, eps = 0.1
 

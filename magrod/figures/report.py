@@ -254,17 +254,38 @@ def _landscape(out, quick):
                              f"{lagrange} Lagrange (B1 = B2) rows and at {special or 'no other row'}; each re-checked exactly",
                  "verdict": "new result (beyond the paper): holds except at the Kirchhoff-analogue top cases"})
     return rows
+# the figures (FIGURES keys) whose sidecars each claim extractor reads: a row of a failed figure says so
+FIGURES_OF = {"_fig2": ("2",), "_fig3": ("3",), "_fig4": ("4",), "_fig5": ("5",), "_fig6": ("6",), "_fig7": ("7",),
+              "_chaos": ("chaos",), "_orbit_diagram": ("orbitdiagram",), "_continuation": ("continuation",),
+              "_branch_table": ("6", "7", "continuation"), "_splitting": ("splitting",), "_proof": ("proof",),
+              "_landscape": ("landscape",)}
 
 
 def claims(out: Path, quick: bool) -> list[dict]:
+    """The claim rows; each row of a figure's sidecars names that figure under "figures" (FIGURES_OF)."""
     rows = derivation_claims()
     for f in CLAIM_EXTRACTORS:
         try:
-            rows.extend(f(out, quick))
+            new = f(out, quick)
         except Exception as exc:  # a missing or malformed sidecar must not hide the rest of the report
-            rows.append({"label": getattr(f, "label", f.__name__), "paper": "", "computed": f"error: {exc}",
-                         "verdict": "not checkable"})
+            new = [{"label": getattr(f, "label", f.__name__), "paper": "", "computed": f"error: {exc}",
+                    "verdict": "not checkable"}]
+        for r in new:
+            r.setdefault("figures", list(FIGURES_OF.get(f.__name__, ())))
+        rows.extend(new)
     return rows
+
+
+def mark_failed(rows, failures: dict) -> list[dict]:
+    """The rows with every claim that rests on a failed figure marked as failed (its files were removed, so the
+    row would otherwise read "not run", or show what is left of the figure's other files as "computed")."""
+    out = []
+    for r in rows:
+        bad = [t for t in r.get("figures", ()) if t in failures]
+        if bad:
+            r = {**r, "computed": "; ".join(f"figure {t} FAILED: {failures[t]}" for t in bad), "verdict": "failed"}
+        out.append(r)
+    return out
 
 
 def report_markdown(rows, done, failures, quick, wall) -> str:
@@ -274,17 +295,18 @@ def report_markdown(rows, done, failures, quick, wall) -> str:
 
     lines = ["# magrod reproduction report", "",
              f"Paper: Sinden & van der Heijden, *Spatial chaos of an extensible conducting rod in a uniform magnetic "
-             f"field*. Mode: {'quick' if quick else 'full'}. Wall time {wall:.1f} s.", "",
+             f"field* (arXiv:0905.1309). Mode: {'quick' if quick else 'full'}. Wall time {wall:.1f} s.", "",
              "## Claims", "", "| paper label | the paper says / what is checked | magrod computed | verdict |",
              "|---|---|---|---|"]
-    for r in rows:
+    for r in mark_failed(rows, failures):
         cells = [str(r.get(k, "")).replace("|", "\\|").replace("\n", " ") for k in ("label", "paper", "computed", "verdict")]
         lines.append("| " + " | ".join(cells) + " |")
     lines += ["", "## Figures", ""]
     for t in sorted(done):
         d = done[t]
         note = " (from a previous run)" if d.get("skipped") else ""
-        lines.append(f"- Figure {t}{note}: " + ", ".join(Path(p).name for p in d["paths"] if p.endswith(".png")))
+        pictures = [Path(p).name for p in d["paths"] if p.endswith((".png", ".pdf", ".svg"))]
+        lines.append(f"- Figure {t}{note}: " + ", ".join(pictures))
     for t, msg in sorted(failures.items()):
         lines.append(f"- Figure {t}: FAILED — {msg}")
     lines += ["", "## Integrability report (magrod check)", "", "```", check_text(
@@ -343,7 +365,7 @@ def _branch_table(out, quick):
                        f"{u['eps_spread']:.1e}; |double - long double| {dc:.1e})")
             else:
                 val = f"lam* = {o['free_value']:.9g} (uncertainty not computed)"
-            rows.append({"label": f"branch table: Fig {fig}, N = {o['pulses']}",
+            rows.append({"label": f"branch table: Fig {fig}, N = {o['pulses']}", "figures": [str(fig)],
                          "paper": f"{o['pulses']}-pulse orbit on mu = 2 lam (m, gamma, delta of Fig {fig})",
                          "computed": f"{val}; length 2T = {o['arclength']:.5g}, residual {o['residual']:.1e}"
                                      + (f" (noise floor {o['noise_floor']:.1e})" if o.get("noise_floor") else ""),
@@ -357,7 +379,7 @@ def _branch_table(out, quick):
         folds = d.get("folds", [])
         txt = "; ".join(", ".join(f"{k} = {v:.6g}" for k, v in f.items() if isinstance(v, (int, float)))
                         for f in folds) or "none on the computed range"
-        rows.append({"label": f"branch table: folds ({name.removesuffix('.json')})",
+        rows.append({"label": f"branch table: folds ({name.removesuffix('.json')})", "figures": ["continuation"],
                      "paper": "(not in the paper)", "computed": f"{len(folds)} fold(s): {txt}",
                      "verdict": "computed"})
     return rows or _not_run("branch table", "lam* per N and folds (run figures 6, 7 and continuation)")

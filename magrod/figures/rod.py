@@ -6,9 +6,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.io import atomic_savefig, atomic_write_text, ensure_writable_dir, load_orbit_file
+from ..core.io import atomic_write_text, ensure_writable_dir, load_orbit_file
 from ..orbits.rod import from_orbit
-from .common import pyplot
+from .common import atomic_savefig, pyplot
 
 
 def rod_from_orbit_file(path, n: int = 3001) -> dict:

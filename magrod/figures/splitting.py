@@ -12,8 +12,8 @@ import numpy as np
 
 from ..core.precision import Precision
 from ..separatrix import splitting as S
-from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from .common import pyplot
+from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
+from .common import atomic_savefig, pyplot
 
 
 def write(res, out_dir, stem: str = "splitting") -> list[str]:
@@ -51,7 +51,7 @@ def plot(res, out_dir, stem: str = "splitting") -> str:
     else:
         _loglog(ax, res.eps, np.array([c.sin_coeffs[0] for c in res.curves]), res.fit_s1, r"$|s_1|$", "o-")
     ax.set_xlabel(r"$\varepsilon$")
-    ax.set_title(f"m={res.m:g}, gamma={res.gamma:g}, delta={res.delta:g}, a={res.a:g}, b={res.b:g}", fontsize=8)
+    ax.set_title(f"m={res.m:g}, $\\gamma$={res.gamma:g}, $\\delta$={res.delta:g}, a={res.a:g}, b={res.b:g}", fontsize=8)
     ax.legend(fontsize=7)
     fig.tight_layout()
     p = str(atomic_savefig(fig, Path(out_dir) / f"{stem}.png", dpi=150))
@@ -109,11 +109,11 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     grid = np.linspace(-np.pi, np.pi, 361)
     for c in ti.curves:
         D = 2 * sum(s * np.sin((k + 1) * grid) for k, s in enumerate(c.sin_coeffs))
-        ax.plot(grid, D / c.eps**3, lw=0.9, label=f"eps = {c.eps:g}")
+        ax.plot(grid, D / c.eps**3, lw=0.9, label=f"$\\varepsilon$ = {c.eps:g}")
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xlabel(r"$\psi$ on $\bar p_\theta = 0$")
     ax.set_ylabel(r"$C(\psi) = D(\psi)/\varepsilon^3$")
-    ax.set_title("(c) a = 4, b = 1: D = theta_u(psi) - theta_u(-psi)", fontsize=8)
+    ax.set_title(r"(c) a = 4, b = 1: $D = \theta_u(\psi) - \theta_u(-\psi)$", fontsize=8)
     ax.legend(fontsize=6)
     fig.suptitle(f"Separatrix splitting, m = {FIGURE['m']}, gamma = {FIGURE['gamma']}, delta = {FIGURE['delta']}",
                  fontsize=9)
@@ -154,7 +154,7 @@ def plot_generic_term(g, ax=None, **kw):
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xlabel(r"$\psi$")
     ax.set_ylabel(r"$D/\varepsilon^3$")
-    ax.set_title(f"derived, (m, gamma, delta, a, b) = ({g.m}, {g.gamma}, {g.delta}, {g.a}, {g.b})", fontsize=8)
+    ax.set_title(f"derived, $(m, \\gamma, \\delta, a, b)$ = ({g.m}, {g.gamma}, {g.delta}, {g.a}, {g.b})", fontsize=8)
     return ax
 
 
@@ -203,10 +203,10 @@ def plot_splitting(res, ax=None, **kw):
               + f" ({res.precisions[-1]})", **kw)
     grid = np.geomspace(e.min(), e.max(), 50)
     if res.fit is not None:
-        ax.loglog(grid, abs(res.fit["C"]) * grid ** res.fit["p"], "k:", lw=1, label=f"fit eps^{res.fit['p']:.3f}")
+        ax.loglog(grid, abs(res.fit["C"]) * grid ** res.fit["p"], "k:", lw=1, label=f"fit $\\varepsilon^{{{res.fit['p']:.3f}}}$")
     if res.leading is not None:
         ax.loglog(grid, abs(res.leading["derived_psi_over_eps2"]) * grid**2, "C3-", lw=1,
-                  label=f"derived b C_psi eps^2 ({res.leading['digits']:.1f} digits)")
+                  label=f"derived $b\\,C_\\psi\\,\\varepsilon^2$ ({res.leading['digits']:.1f} digits)")
     ax.set_xlabel(r"$\varepsilon$")
     ax.set_ylabel("splitting")
     ax.set_title(f"m={res.m:g}, $\\gamma$={res.gamma:g}, $\\delta$={res.delta:g}, a={res.a:g}, b={res.b:g} "

@@ -295,7 +295,7 @@ def continue_branch(orbit, parameter: str = "mu", steps: int = 50, *, ds: float 
     bounds : (lo, hi), optional
         Stop when the parameter leaves [lo, hi].
     tol : float
-        Corrector tolerance on max |(pbar_theta, sin psi)(x(T))|.
+        Corrector tolerance on max ``|(pbar_theta, sin psi)(x(T))|``.
     progress : callable, optional
         progress(1) after each point.
 

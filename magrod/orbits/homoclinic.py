@@ -234,7 +234,7 @@ def homoclinic_orbit(m, gamma) -> HomoclinicOrbit:
     Returns
     -------
     HomoclinicOrbit
-        Constants u_+, u_-, k, kappa (the saddle rate), h (the homoclinic level), m_c, theta_max; the orbit's
+        Constants ``u_+``, ``u_-``, k, kappa (the saddle rate), h (the homoclinic level), m_c, theta_max; the orbit's
         `evaluate(t)` (theta, pbar_theta, cos theta, sin theta, psi'), `psibar(t)`, `time_at_theta(theta)`,
         `verify()` and `.plot()`.
 
@@ -259,9 +259,9 @@ def homoclinic_orbit(m, gamma) -> HomoclinicOrbit:
 
     Notes
     -----
-    Method: the closed form cos theta = u_- + (u_+ - u_-)/D, D = 1 - (1 - k) tanh^2(kappa t) derived by SymPy
+    Method: the closed form ``cos theta = u_- + (u_+ - u_-)/D``, D = 1 - (1 - k) tanh^2(kappa t) derived by SymPy
     (derive/homoclinic.py), evaluated in a gamma-regular, tail-stable compiled form (relative accuracy a few ulp
-    times 1 + kappa |t|).  Cost: microseconds per evaluation; psibar is a heyoka quadrature; `verify()`
+    times ``1 + kappa |t|``).  Cost: microseconds per evaluation; psibar is a heyoka quadrature; `verify()`
     integrates generated.field in 256-bit arithmetic (~0.6 s) and compares.  Reference: Sinden & van der
     Heijden, sec. 6, eq:extensible_ham, fig:angles.
     """

@@ -105,6 +105,12 @@ class RodShape(Result):
     T: float
 
     _repr_fields = ("length", "end_to_end", "orthonormality", "field_consistency", "deviation_first_half")
+    # to_xarray(): one sample dimension, named axes, and CF attributes (the scale of derive/numeric_scale.py)
+    _xarray_dims = {"s": ("sample",), "r": ("sample", "space"), "D": ("sample", "space", "director"),
+                    "x": ("sample", "body_state")}
+    _cf = {"s": ("B/m3", "arclength s of the rod"), "r": ("B/m3", "centreline r(s) in space components"),
+           "D": ("1", "frame: columns d1, d2, d3 in space components"),
+           "x": ("1 (B = C = m3 = 1)", "body state (m, n, e3) along the rod, generated/names.py BODY_STATE")}
 
     @property
     def accuracy(self) -> dict:
@@ -161,7 +167,7 @@ def rod_shape(orbit, n: int = 3001) -> RodShape:
     Notes
     -----
     Method: the body system, D' = D hat(u) and r' = D v (u = dH/dm, v = dH/dn: the extensible, shearable
-    constitutive law) integrated together by heyoka from the launch point over the plotted window |tau| <= 1
+    constitutive law) integrated together by heyoka from the launch point over the plotted window ``|tau| <= 1``
     (from_orbit), so the frame is as accurate as the state (orthonormality drift ~1e-14).  The space frame has z
     along the field.  Cost: one integration of 21 equations (~10 ms).  Reference: paper sec. 2, eq:hyperelastic.
     """
