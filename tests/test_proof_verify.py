@@ -131,3 +131,20 @@ def test_verify_api_returns_the_generated_theorem(cert):
     res = verify.verify(copy.deepcopy(cert))
     assert res.ok and res.theorem == theorem.homoclinic_theorem(cert["params"], ["0", "pi"])
     assert res.theorem == cert["theorem"]
+
+
+def test_the_trust_base_is_what_the_docs_say():
+    """docs/nonintegrability.md, "The verifier's trust base": verify.py imports from magrod only ball, fields,
+    taylor, theorem (and core.errors for the error class); never the prover's search, saddle or manifold."""
+    import ast
+    from pathlib import Path
+
+    src = Path(verify.__file__).read_text()
+    got = set()
+    for node in ast.walk(ast.parse(src)):
+        if isinstance(node, ast.ImportFrom) and node.level > 0:
+            mod = node.module or ""
+            got |= {f"{mod}.{a.name}".strip(".") for a in node.names} if not mod else {mod}
+        elif isinstance(node, ast.Import):
+            got |= {a.name for a in node.names if a.name.startswith("magrod")}
+    assert got == {"ball", "fields", "taylor", "theorem", "core.errors"}, got

@@ -10,6 +10,7 @@ from pathlib import Path
 from .. import __version__
 from ..core.io import versions
 from ..core.printed import PAPER_CLAIMS, MULTIPULSE
+from ..proof import statements
 
 
 def _verdict(status: str) -> str:
@@ -397,8 +398,8 @@ def _proof(out, quick):
                          f"{rows} ({d['n_checks']} checks, {d['wall_time_s']:.0f} s; certificate re-checked by the "
                          f"separate verifier: {d.get('verify_reason', 'not run')})"
                          + (" [quick: psi = pi only]" if d.get("quick") else ""),
-             "verdict": ("computer-verified: transverse symmetric homoclinic orbit(s) to the saddle-focus "
-                         "(docs/nonintegrability.md, Theorem (computer-assisted))") if ok else
+             "verdict": (f"{statements.status('5')} (statement 5): transverse symmetric homoclinic orbit(s) to "
+                         "the saddle-focus (docs/nonintegrability.md, Theorem (computer-assisted))") if ok else
                         "certificate NOT verified"}]
 
 
@@ -438,8 +439,9 @@ def _enclosure_rows(out) -> list:
              "computed": f"ball arithmetic (python-flint acb.integral + a rigorous tail bound; inputs exact): {vals}; "
                          f"max radius {rad:.1e}; control gamma = delta = 0: {ctl['S']['ball']}; box "
                          f"{d['box']['statement']}",
-             "verdict": ("computer-verified: S < 0 at every case (the leading coefficient of the splitting is "
-                         "non-zero); the control ball contains 0" if signs == {-1} and ctl["sign"] is None else
+             "verdict": (f"{statements.status('2')} (statement 2): S < 0 at every case; the control ball "
+                         f"contains 0. That S is the leading coefficient of the splitting is statement 3, "
+                         f"{statements.status('3')}" if signs == {-1} and ctl["sign"] is None else
                          "NOT verified: a ball contains 0 or the control excludes it")}]
 
 
