@@ -262,7 +262,8 @@ def rewrite(text: str, renderers: dict) -> str:
         pat = re.compile(re.escape(a) + r"\n.*?\n" + re.escape(b), re.S)
         if not pat.search(text):
             raise ValueError(f"block {name!r} not found (markers {a!r} ... {b!r})")
-        text = pat.sub(lambda _m: f"{a}\n{fn()}\n{b}", text)
+        body = f"{a}\n{fn()}\n{b}"
+        text = pat.sub(lambda _m, body=body: body, text)
     return text
 
 
