@@ -242,7 +242,78 @@ def monodromy(smap, f):
     return {"k": k, "theta": f["theta"], "branch": "0" if br == 0 else "pi", "closure": float(np.hypot(
         y[TH] - x0[TH], y[PT] - x0[PT])), "return_time": t, "trace": float(np.trace(D)), "det": float(
         np.linalg.det(D)), "abs_eigenvalues": sorted(float(v) for v in abs(mu)),
-        "hyperbolic": bool(abs(np.trace(D)) > 2 + 1e-6)}, x0
+        "hyperbolic": bool(abs(np.trace(D)) > 2 + 1e-6), "D": D.tolist()}, x0
+
+
+def homoclinic_point(smap, rec, x0, jmax=16, n_s=120):
+    """W^u of the symmetric saddle z (a periodic point of P^k on Fix(R)) until it meets Fix(R) again: points
+    z + s e_u of a fundamental domain s in [s0, s0 mu_u] (e_u the float unstable eigenvector of DP^k) mapped by
+    P^j, j = 1 .. jmax; a sign change of pbar_theta along s at the same j, on the same branch at both ends, is
+    bisected to s*.  R maps W^u(orbit) onto W^s(orbit), so P^j(w(s*)) is a symmetric homoclinic point; it is
+    transverse iff the tangent of W^u there has both components (dtheta, dpbar_theta) non-zero."""
+    br = x0[PS]
+    D = np.array(rec["D"])
+    mu, V = np.linalg.eig(D)
+    iu = int(np.argmax(abs(mu)))
+    eu = np.real(V[:, iu])
+    eu /= np.linalg.norm(eu)
+    mu_u = float(abs(mu[iu]))
+    s0 = 1e-7
+
+    def start(sv):
+        th, pt = x0[TH] + sv * eu[0], x0[PT] + sv * eu[1]
+        x = np.empty(4)
+        x[TH], x[PS], x[PT] = th, br, pt
+        r = solve_p_psi(smap.params, H, th, pt, br)
+        x[PP] = r[np.argmin(abs(r - x0[PP]))]
+        return x
+
+    def track(sv):
+        x, t, rows = start(sv), 0.0, []
+        for _ in range(jmax):
+            x, dt = smap.step(x)
+            t += dt
+            rows.append((x[PT], x[PS], x[TH], t))
+        return rows
+
+    found = []
+    for sign in (1, -1):
+        ss = sign * s0 * mu_u ** np.linspace(0, 1, n_s)
+        rows = [track(v) for v in ss]
+        for j in range(jmax):
+            for i in range(n_s - 1):
+                a, b = rows[i][j], rows[i + 1][j]
+                if a[1] != b[1] or a[0] * b[0] >= 0 or abs(a[0] - b[0]) > 0.3:
+                    continue
+                lo, hi, flo = ss[i], ss[i + 1], a[0]
+                for _ in range(60):
+                    mid = 0.5 * (lo + hi)
+                    f = track(mid)[j][0]
+                    if (f > 0) == (flo > 0):
+                        lo, flo = mid, f
+                    else:
+                        hi = mid
+                sv = 0.5 * (lo + hi)
+                e = abs(sv) * 1e-6
+                pa, pb = track(sv - e)[j], track(sv + e)[j]
+                dth, dpt = (pb[2] - pa[2]) / (2 * e), (pb[0] - pa[0]) / (2 * e)
+                row = track(sv)[j]
+                found.append({"side": sign, "j": j + 1, "s_star": float(sv), "theta": float(row[2]),
+                              "branch": "0" if row[1] == 0 else "pi", "flight_time": float(row[3]),
+                              "tangent": [float(dth), float(dpt)],
+                              "angle_to_FixR_deg": float(math.degrees(math.atan2(abs(dpt), abs(dth)))),
+                              "x_start": start(sv).tolist()})
+            if found:
+                break
+    found.sort(key=lambda f: f["flight_time"])
+    return {"mu_u": mu_u, "e_u": eu.tolist(), "points": found[:4]}
+
+
+def validated_homoclinic_flight(lam, hp, r):
+    """The validated C^1 flight of a chart box of radius r about the start of the homoclinic excursion, to the end
+    of the flight (no section stops: the body flow is continuous), then its crossing of Gs = 0."""
+    x = np.array(hp["x_start"])
+    return validated_flight(lam, x, hp["flight_time"], r)
 
 
 def main():
@@ -252,7 +323,7 @@ def main():
         smap = SectionMap(lam)
         cands = []
         for br in (0.0, math.pi):
-            cands += symmetric_orbits(smap, br, 60 if QUICK else 160, 3)
+            cands += symmetric_orbits(smap, br, 60 if QUICK else 120, 3)
         orbits = []
         for f in cands:
             try:
@@ -263,16 +334,29 @@ def main():
             if rec["closure"] < 1e-7:
                 orbits.append((rec, x0))
         hyp = sorted((o for o in orbits if o[0]["hyperbolic"]), key=lambda o: (o[0]["k"], o[0]["return_time"]))
-        panel = {"lam": lam, "candidates": len(cands), "wall_s": round(time.perf_counter() - t0, 1),
-                 "periodic": [o[0] for o in orbits], "n_hyperbolic": len(hyp)}
-        if hyp:
-            rec, x0 = hyp[0]
-            t1 = smap.step(x0)[1]
-            panel["validated_first_return"] = {"orbit": rec, "return_time": t1, "runs": [
-                validated_flight(lam, x0, t1, Fraction(1, 10**e)) for e in ((12, 6) if QUICK else (12, 9, 6, 4))]}
+        panel = {"lam": lam, "candidates": len(cands),
+                 "periodic": [{k: v for k, v in o[0].items() if k != "D"} for o in orbits], "n_hyperbolic": len(hyp)}
+        best = None
+        for rec, x0 in hyp[:3]:
+            try:
+                hp = homoclinic_point(smap, rec, x0)
+            except Exception as err:  # noqa: BLE001
+                print("homoclinic search failed:", rec["theta"], err)
+                continue
+            if hp["points"]:
+                best = (rec, x0, hp)
+                break
+        if best is not None:
+            rec, x0, hp = best
+            panel["saddle"] = {k: v for k, v in rec.items() if k != "D"}
+            panel["homoclinic"] = hp
+            p0 = hp["points"][0]
+            panel["validated_homoclinic_flight"] = [validated_homoclinic_flight(lam, p0, Fraction(1, 10**e))
+                                                    for e in ((12, 8) if QUICK else (12, 8, 6))]
+        panel["wall_s"] = round(time.perf_counter() - t0, 1)
         res["panels"].append(panel)
-        print(json.dumps(panel, default=float)[:4000], flush=True)
-    json.dump(res, open(OUT, "w"), indent=1, default=float)
+        print(json.dumps({k: v for k, v in panel.items() if k != "periodic"}, default=float)[:4000], flush=True)
+        json.dump(res, open(OUT, "w"), indent=1, default=float)
     print("wrote", OUT)
 
 

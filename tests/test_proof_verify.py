@@ -148,3 +148,20 @@ def test_the_trust_base_is_what_the_docs_say():
         elif isinstance(node, ast.Import):
             got |= {a.name for a in node.names if a.name.startswith("magrod")}
     assert got == {"ball", "fields", "taylor", "theorem", "core.errors"}, got
+
+
+def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path, monkeypatch):
+    """`magrod reproduce` (figures/proof.py) verifies magrod/proof/certificates/homoclinic_target.json; the prover
+    is not called (it would raise here)."""
+    from magrod.figures import proof as fig
+
+    def no_prove(*a, **k):
+        raise AssertionError("reproduce must not re-prove")
+
+    monkeypatch.setattr(search, "prove", no_prove)
+    fig.build(tmp_path, quick=True)
+    side = json.loads((tmp_path / "proof.json").read_text())
+    assert side["ok"] and side["verified"] and not side["re_proved"], side["reason"]
+    assert side["theorem"] == theorem.homoclinic_theorem(side["params"], ["0", "pi"])
+    shipped = json.loads((tmp_path / "proof_certificate.json").read_text())
+    assert shipped["params"] == {"m": "17/10", "mu": "1/25", "gamma": "1/1", "delta": "1/1", "lam": "1/100"}
