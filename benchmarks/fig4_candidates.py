@@ -352,7 +352,7 @@ def main():
             panel["homoclinic"] = hp
             p0 = hp["points"][0]
             panel["validated_homoclinic_flight"] = [validated_homoclinic_flight(lam, p0, Fraction(1, 10**e))
-                                                    for e in ((12, 8) if QUICK else (12, 8, 6))]
+                                                    for e in ((12, 8) if QUICK else (12, 10, 8))]
         panel["wall_s"] = round(time.perf_counter() - t0, 1)
         res["panels"].append(panel)
         print(json.dumps({k: v for k, v in panel.items() if k != "periodic"}, default=float)[:4000], flush=True)

@@ -136,7 +136,9 @@ def _real_basis(v) -> list:
 
 class _FloatFlow:
     """Chart trajectories in float64 (heyoka) from the boundary circle to the first crossing of pbar_theta = 0
-    with theta > 0.3 (the turning point after the excursion)."""
+    with theta > theta0 + 0.3 (the turning point after the excursion; theta0 = the saddle's theta, 0.14 at the
+    issue-21 target but 0.3-0.4 at the Fig 4 parameters, where theta > 0.3 alone picks a crossing next to the
+    saddle)."""
 
     def __init__(self, p, xhat, V, r):
         import heyoka as hy
@@ -160,7 +162,7 @@ class _FloatFlow:
             oc = ta.propagate_until(500.0)[0]
             if int(oc) != -1:  # the time limit, not the event
                 raise ProofFailure("search: no turning point of theta found from the boundary circle")
-            if ta.state[0] > 0.3:
+            if ta.state[0] > self.xh[0] + 0.3:
                 return float(ta.time), ta.state.copy()
         raise ProofFailure("search: no turning point of theta found from the boundary circle")
 
