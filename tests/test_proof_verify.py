@@ -165,3 +165,49 @@ def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path,
     assert side["theorem"] == theorem.homoclinic_theorem(side["params"], ["0", "pi"])
     shipped = json.loads((tmp_path / "proof_certificate.json").read_text())
     assert shipped["params"] == {"m": "17/10", "mu": "1/25", "gamma": "1/1", "delta": "1/1", "lam": "1/100"}
+
+
+# --- the certificate at Fig 4(a)'s rod (issue 27; statement 5a): its controls ------------------------------------
+FIG4A = ["--m", "1.7", "--mu", "0.4", "--gamma", "3", "--delta", "3", "--lam", "0.135"]
+
+
+@pytest.fixture(scope="module")
+def fig4a():
+    from importlib import resources
+
+    return json.loads(resources.files("magrod.proof").joinpath("certificates", "homoclinic_fig4a.json").read_text())
+
+
+def test_fig4a_certificate_states_its_theorem(fig4a):
+    assert fig4a["params"] == {"m": "17/10", "mu": "2/5", "gamma": "3/1", "delta": "3/1", "lam": "27/200"}
+    assert fig4a["theorem"] == theorem.homoclinic_theorem(fig4a["params"], ["0", "pi"])
+
+
+def test_fig4a_shifted_saddle_box_is_rejected(fig4a, tmp_path, capsys):
+    bad = copy.deepcopy(fig4a)
+    k = bad["saddle"]["K"][0]
+    from fractions import Fraction
+
+    from magrod.proof import ball
+
+    k["mid"] = ball.decimal(Fraction(k["mid"]) + 4 * Fraction(k["rad"]))
+    _rejected(bad, tmp_path, capsys, "saddle K[0] recomputed")
+
+
+def test_fig4a_mutated_field_fails_to_prove(tmp_path, capsys):
+    out = tmp_path / "never"
+    code = main(["prove", *FIG4A, "--mutate", "0", "--out", str(out), "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 1 and len(err) == 1 and "not established" in err[0] and not out.exists(), err
+
+
+@pytest.mark.slow
+def test_fig4a_lambda_zero_control_fails_to_prove(tmp_path, capsys):
+    """lambdabar = 0 at Fig 4(a)'s (m, mu, gamma, delta): integrable, W^u = W^s, so dtheta_u/dpsi contains 0."""
+    args = list(FIG4A)
+    args[args.index("--lam") + 1] = "0"
+    out = tmp_path / "never"
+    code = main(["prove", *args, "--targets", "pi", "--out", str(out), "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 1 and len(err) == 1 and "transversality not established" in err[0] and "contains 0" in err[0], err
+    assert not out.exists()

@@ -102,13 +102,28 @@ STATEMENTS = (
         Step("horseshoes (Devaney 1976) and no analytic second integral on the level (Kozlov 1996)", "proved",
              "cited theorems, every hypothesis checked by the certificate")],
        phrases=(r"one parameter point", r"17/10, 1/25")),
+    _s("5a", "the theorem at Fig 4(a)'s rod, on the saddle's own level",
+       """At (m, μ, γ, δ, λ̄) = (17/10, 2/5, 3, 3, 27/200), the rod of Fig 4(a) (non-perturbative: μ − 2λ̄ = 0.13,
+       γ = δ = 3), the tilted saddle-focus (eigenvalues ±1.112 ± 0.079i) has two transverse symmetric homoclinic
+       orbits, dθ_u/dψ ∈ [−0.2879, −0.2818] at ψ = 0 and [0.03001, 0.03064] at ψ = π
+       (magrod/proof/certificates/homoclinic_fig4a.json, re-checked by the complete verifier; `magrod prove --m 1.7
+       --mu 0.4 --gamma 3 --delta 3 --lam 0.135`). With Devaney's and Kozlov's theorems as in 5: horseshoes and no
+       real-analytic integral independent of H̄ on the saddle's level H̄(q*). That level is not the figure's
+       h = 0.9 (the helix's H̄ is 0.8305 there), so this is not a proof about Fig 4's section (statement 10).""",
+       [Step("saddle, eigenpairs, local manifold, flight, crossings, transversality", "computer-verified",
+             "magrod prove; magrod prove --verify (complete verifier)"),
+        Step("the chart field is Hamilton's, R is a reversor, the lift intertwines the flows", "proved",
+             "report keys validated_fields, reversor_reduced, chart_body_lift"),
+        Step("horseshoes (Devaney 1976) and no analytic second integral on the level (Kozlov 1996)", "proved",
+             "cited theorems, every hypothesis checked by the certificate")],
+       phrases=(r"2/5, 3, 3, 27/200", r"Fig 4\(a\)'s rod")),
     _s("6", "cited theorems",
        """Published theorems these plug into, with their hypotheses, are in the table below; a theorem is used as a
        step of a chain only where every hypothesis is checked (the saddle-centre theorems are not: statement 8).""",
        [Step("the table of cited theorems", "proved", "hypotheses checked row by row")]),
     _s("7", "the 9-D rod at the point of 5",
-       """For the 9-D body system at the leaves whose (m, μ, λ̄) are those of 5 (γ = δ = 1), and on the open
-       neighbourhood of 5: no real-analytic
+       """For the 9-D body system at the leaves whose (m, μ, λ̄) are those of 5 (γ = δ = 1) or of 5a (γ = δ = 3),
+       and on open neighbourhoods of them: no real-analytic
        function F in involution with H and with m3, defined near the set {H = H(q*), m3 = m3*} of the leaf, is
        independent of H, m3 and the Casimirs on that set. Proof: {F, m3} = 0 makes F∘X independent of the angle φ
        (`s1_descent`, with `poisson_map`), so F descends to an integral of the chart system on the level of 5;
@@ -117,6 +132,7 @@ STATEMENTS = (
        statement is about integrals in involution with m3; an integral F with {F, m3} ≠ 0 is not covered (its
        S¹-average may be dependent), which is statement 7b.""",
        [Step("no analytic integral of the chart independent of H̄ on the level", ref="5"),
+        Step("the same at the rod of Fig 4(a)", ref="5a"),
         Step("an integral in involution with m3 descends to the chart", "proved", "report keys s1_descent, "
              "poisson_map (on the chart: sin θ ≠ 0, ρ ≠ 0)")],
        phrases=(r"in involution with m3",)),
@@ -161,12 +177,13 @@ STATEMENTS = (
        """The Poincaré sections of Figs 4–5 look chaotic (at parameters where the rod's stretch goes negative,
        errata), and the chaos indicator classifies Fig 4(a)–(c) chaotic and 4(d) regular: evidence, not a proof,
        for the non-perturbative regime. Fig 4's level h = 0.9 does not contain the helical saddle (its H̄ is
-       0.8305, 0.7720, 0.7253, 0.6955 at the four λ̄), so a homoclinic orbit to that saddle would not be about the
-       figure's section; a horseshoe on h = 0.9 is not established (docs/nonintegrability.md, "Fig 4 on its own
-       level").""",
+       0.8305, 0.7720, 0.7253, 0.6955 at the four λ̄), so the homoclinic orbits of 5a are not about the figure's
+       section; a horseshoe on h = 0.9 is not established. Numerically (float64) at λ̄ = 0.135 the section map has a
+       symmetric period-2 saddle (eigenvalue 33.0) whose unstable manifold meets Fix(R) transversally (W^u and W^s
+       cross at 0.72°): a candidate, not a proof (docs/nonintegrability.md, "Fig 4 on its own level").""",
        [Step("Poincaré sections and Lyapunov/FLI indicators in floating point, conservation budgets", "numerical",
              "magrod poincare, magrod lyapunov")],
-       phrases=(r"Figs? 4", r"Figs? 5", r"h = 0\.9", r"Poincaré sections?")),
+       phrases=(r"Figs? 4(?!\(a\)'s rod)", r"Figs? 5", r"h = 0\.9", r"Poincaré sections?")),
 )
 
 BY_NUMBER = {s.number: s for s in STATEMENTS}
@@ -215,8 +232,8 @@ def render_summary() -> str:
     """The Summary paragraph of docs/nonintegrability.md."""
     g = _by_status()
     lists = "; ".join(f"{k}: {', '.join(g[k])}" for k in RANK if k in g)
-    return _wrap(f"**Summary** ({lists}). At the one parameter point of 5, (m, μ, γ, δ, λ̄) = (17/10, 1/25, 1, 1, "
-            f"1/100), the saddle's energy level of the reduced chart system carries horseshoes and no real-analytic "
+    return _wrap(f"**Summary** ({lists}). At the parameter point of 5, (m, μ, γ, δ, λ̄) = (17/10, 1/25, 1, 1, "
+            f"1/100), and at Fig 4(a)'s rod (5a, (17/10, 2/5, 3, 3, 27/200), non-perturbative), the saddle's energy level of the reduced chart system carries horseshoes and no real-analytic "
             f"integral independent of H̄ (**{status('5')}**), and the 9-D rod has there no real-analytic integral "
             f"in involution with m3 that is independent of H, m3 and the Casimirs on that level "
             f"(**{status('7')}**, statement 7); both hold on an open neighbourhood of that point, of unquantified "
@@ -231,7 +248,9 @@ def render_readme() -> str:
     return _wrap(f"- Nonintegrability: at one parameter point, (m, μ, γ, δ, λ̄) = (17/10, 1/25, 1, 1, 1/100), two "
             f"transverse homoclinic orbits of the tilted saddle-focus are **{status('5')}** (`magrod prove`, a "
             f"certificate re-checked by a separate, complete verifier), hence horseshoes on that level and no "
-            f"real-analytic integral of the reduced system there, and for the 9-D rod none in involution with m3 "
+            f"real-analytic integral of the reduced system there, the same at Fig 4(a)'s rod on the saddle-focus's "
+            f"own level (**{status('5a')}**; that level is not the one Fig 4 shows), and for the 9-D rod none in "
+            f"involution with m3 "
             f"(**{status('7')}**); every other nonintegrability claim (every integral, not only those in involution with "
             f"m3; the perturbative regime) is **{status('7b')}**, and Figs 4–5 are **{status('10')}** evidence "
             f"(`docs/nonintegrability.md`, \"Verdict\").").replace("\n   ", "\n  ")
