@@ -405,22 +405,24 @@ def _proof(out, quick):
 
 
 def _proof_fig4a(d) -> list:
-    """Issue 27: the same theorem at Fig 4(a)'s rod, on the saddle-focus's own level (not the figure's h = 0.9)."""
-    f = d.get("fig4a")
-    if f is None:
-        return []
+    """Issue 27: the same theorem at Fig 4's rod, on the saddle-focus's own level (not the figure's h = 0.9)."""
     from ..generated.names import PARAMS
 
-    slopes = "; ".join(f"psi = {t}: dtheta_u/dpsi in [{float(Fraction(lo)):+.4e}, {float(Fraction(hi)):+.4e}]"
-                       for t, (lo, hi) in f["slopes"].items()) if f["ok"] else ""
-    return [{"label": "eq:full_ham_nondim at fig:poincare1 (a)'s rod (computer-assisted proof, beyond the paper)",
-             "paper": "(Fig 4(a) shows chaos on h = 0.9, numerically; the relative equilibrium's level is not shown)",
-             "computed": f"({', '.join(PARAMS)}) = ({', '.join(f['params'][k] for k in PARAMS)}): the shipped "
-                         f"certificate {f['certificate']} re-checked by the complete verifier: {f['reason']} "
-                         f"({f['n_checks']} checks, {f['verify_wall_time_s']:.0f} s); {slopes}",
-             "verdict": (f"{statements.status('5a')} (statement 5a): two transverse symmetric homoclinic orbits to "
-                         "the tilted saddle-focus on its own level H = H(q*); not a proof about Fig 4's section "
-                         "h = 0.9 (statement 10)") if f["ok"] else "certificate NOT verified"}]
+    rows = []
+    for f in d.get("fig4", []):
+        slopes = "; ".join(f"psi = {t}: dtheta_u/dpsi in [{float(Fraction(lo)):+.4e}, {float(Fraction(hi)):+.4e}]"
+                           for t, (lo, hi) in f["slopes"].items()) if f["ok"] else ""
+        rows.append({
+            "label": f"eq:full_ham_nondim at fig:poincare1 ({f['panel'][1]})'s rod (computer-assisted proof, beyond "
+                     "the paper)",
+            "paper": "(Fig 4 shows chaos on h = 0.9, numerically; the relative equilibrium's level is not shown)",
+            "computed": f"({', '.join(PARAMS)}) = ({', '.join(f['params'][k] for k in PARAMS)}): the shipped "
+                        f"certificate {f['certificate']} re-checked by the complete verifier: {f['reason']} "
+                        f"({f['n_checks']} checks, {f['verify_wall_time_s']:.0f} s); {slopes}",
+            "verdict": (f"{statements.status('5a')} (statement 5a): two transverse symmetric homoclinic orbits to "
+                        "the tilted saddle-focus on its own level H = H(q*); not a proof about Fig 4's section "
+                        "h = 0.9 (statement 10)") if f["ok"] else "certificate NOT verified"})
+    return rows
 
 
 def _leading_rows(out) -> list:
