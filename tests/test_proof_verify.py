@@ -171,20 +171,25 @@ def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path,
 FIG4A = ["--m", "1.7", "--mu", "0.4", "--gamma", "3", "--delta", "3", "--lam", "0.135"]
 
 
-@pytest.fixture(scope="module")
-def fig4a():
+FIG4_LAM = {"homoclinic_fig4a.json": "27/200", "homoclinic_fig4b.json": "63/400"}
+
+
+@pytest.fixture(scope="module", params=sorted(FIG4_LAM))
+def fig4a(request):
     from importlib import resources
 
-    return json.loads(resources.files("magrod.proof").joinpath("certificates", "homoclinic_fig4a.json").read_text())
+    c = json.loads(resources.files("magrod.proof").joinpath("certificates", request.param).read_text())
+    return request.param, c
 
 
 def test_fig4a_certificate_states_its_theorem(fig4a):
-    assert fig4a["params"] == {"m": "17/10", "mu": "2/5", "gamma": "3/1", "delta": "3/1", "lam": "27/200"}
+    name, fig4a = fig4a
+    assert fig4a["params"] == {"m": "17/10", "mu": "2/5", "gamma": "3/1", "delta": "3/1", "lam": FIG4_LAM[name]}
     assert fig4a["theorem"] == theorem.homoclinic_theorem(fig4a["params"], ["0", "pi"])
 
 
 def test_fig4a_shifted_saddle_box_is_rejected(fig4a, tmp_path, capsys):
-    bad = copy.deepcopy(fig4a)
+    bad = copy.deepcopy(fig4a[1])
     k = bad["saddle"]["K"][0]
     from fractions import Fraction
 
@@ -194,9 +199,12 @@ def test_fig4a_shifted_saddle_box_is_rejected(fig4a, tmp_path, capsys):
     _rejected(bad, tmp_path, capsys, "saddle K[0] recomputed")
 
 
-def test_fig4a_mutated_field_fails_to_prove(tmp_path, capsys):
+@pytest.mark.parametrize("lam", ["0.135", "0.1575"])
+def test_fig4a_mutated_field_fails_to_prove(lam, tmp_path, capsys):
+    args = list(FIG4A)
+    args[args.index("--lam") + 1] = lam
     out = tmp_path / "never"
-    code = main(["prove", *FIG4A, "--mutate", "0", "--out", str(out), "--quiet"])
+    code = main(["prove", *args, "--mutate", "0", "--out", str(out), "--quiet"])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 1 and len(err) == 1 and "not established" in err[0] and not out.exists(), err
 
