@@ -24,6 +24,7 @@ import numpy as np
 
 from magrod.chaos import indicators as chaos, maps
 from magrod.core import systems
+from _peers import compile_c  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
 
 
 def fig4a():
@@ -113,7 +114,7 @@ def jitcode_lyap(span, rtol=1e-10, atol=1e-12):
     H = systems.body_functions()["H"]
     ode = JL(fj, n_lyap=1, verbose=False)
     t0 = time.perf_counter()
-    ode.compile_C(omp=False)
+    compile_c(ode, omp=False)
     compile_s = time.perf_counter() - t0
     ode.set_integrator("dop853", rtol=rtol, atol=atol)
     ode.set_initial_value(x0, 0.0)

@@ -48,6 +48,7 @@ from magrod.chaos.portrait import grid_starts  # noqa: E402
 from magrod.chaos.section import FRAME_BODY, _assemble, poincare_section  # noqa: E402
 from magrod.core import systems  # noqa: E402
 from magrod.core.printed import panel_kwargs  # noqa: E402
+from _peers import compile_c  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
 
 N_CROSS = 50
 MAGROD_TOLS = [2.0**-52, 1e-15, 1e-14, 1e-13, 1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7, 1e-6]
@@ -159,7 +160,7 @@ def jitcode_sweep(T, ref, repeat, rhs, state):
     f = [symengine.sympify(e.subs(sub)) for e in rhs]
     ode = jitcode(f, verbose=False)
     tc = time.perf_counter()
-    ode.compile_C()
+    compile_c(ode)
     compile_s = time.perf_counter() - tc
     H = systems.reduced_functions()["H"]
     pars = kw["params"].array()

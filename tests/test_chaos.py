@@ -120,15 +120,21 @@ def test_projection_keeps_tangent_vectors_on_the_leaf():
 
 def test_projection_does_not_change_the_verdict():
     """Neutral (shear) directions grow at most linearly: with or without projection every Fig 4/5 panel gets
-    the same verdict and, for the chaotic ones, the same finite-time exponent to 10 % (the two start vectors
-    differ, and L(T)/T converges like (ln of the start vector's overlap with the unstable direction)/T)."""
+    the same verdict.  What is asserted is what holds across roundings (issue 24): the verdict, and on the
+    chaotic panels exponential growth for both start vectors (growth exponent above the threshold).  The
+    finite-time exponent L(T)/T of a chaotic orbit is not such a quantity: the two start vectors differ, the
+    Fig 4 orbits are sticky (module docstring of magrod.chaos.indicators), and one ulp of difference -- another
+    CPU's vector kernels -- moved one panel's L(3000)/3000 from 0.0672 to 0.0426 (measured on AVX-512), so a
+    10 % bound on it was a statement about one machine's rounding."""
     keys = ("4a", "4b", "4c", "4d", "5a", "5b", "5c", "5d")
     x0, p = _panel_starts(keys)
     a = chaos.body_indicators(x0, p, t_max=3000.0, project=True)
     b = chaos.body_indicators(x0, p, t_max=3000.0, project=False)
     assert np.array_equal(a.chaotic, b.chaotic)
-    c = a.chaotic & (a.lyap > 0.005)
-    assert np.all(np.abs(a.lyap[c] - b.lyap[c]) <= 0.1 * a.lyap[c])
+    assert a.chaotic.any() and not a.chaotic.all()  # both verdicts occur among the panels (4d is regular)
+    c = a.chaotic
+    assert np.all(a.growth_exponent[c] > chaos.GROWTH_THRESHOLD) and np.all(b.growth_exponent[c] > chaos.GROWTH_THRESHOLD)
+    assert np.all(a.lyap[c] > 0) and np.all(b.lyap[c] > 0)
 
 
 def test_results_do_not_depend_on_tiling():

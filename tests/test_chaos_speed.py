@@ -29,13 +29,21 @@ def test_indicators_through_the_fused_path_equal_the_unfused_path():
         starts.append((x0, p))
     x0 = np.array([s[0] for s in starts]).T
     p = np.array([s[1] for s in starts]).T
-    ta = systems.body_tangent_batch(None, None)
-    b = ta.batch_size
-    x0, p = x0[:, :b], p[:, :b]
-    w0 = I.generic_w0(x0.shape[0], x0.shape[1])
-    chk = I._BodyCheck.at(x0, p)
-    fused = I.tangent_indicators(ta, x0, w0, p, t_max=400.0, project=I.project_neutral, check=chk, history=True)
-    plain = I.tangent_indicators(ta, x0, w0, p, t_max=400.0, project=lambda x, w, q: I.project_neutral(x, w, q),
-                                 check=lambda x, q: chk(x, q), history=True)
-    for key in (*I._KEYS, "status", "log_growth"):
-        np.testing.assert_array_equal(getattr(fused, key), getattr(plain, key), err_msg=key)
+    # 5 orbits in batches of 8, 4 and 2 lanes: fewer orbits than lanes, and a padded last batch (issue 24: the
+    # checker was built for the orbits, not for the padded lanes, and failed to broadcast at width 8)
+    for b in (8, 4, 2):
+        ta = systems.body_tangent_batch(b, None)
+        w0 = I.generic_w0(x0.shape[0], x0.shape[1])
+        fused = I.tangent_indicators(ta, x0, w0, p, t_max=400.0, project=I.project_neutral, check=I.body_check,
+                                     history=True)
+
+        def plain_check(xs, ps):
+            chk = I.body_check(xs, ps)
+            return lambda x, q: chk(x, q)  # not a _BodyCheck: the unfused path
+
+        plain = I.tangent_indicators(ta, x0, w0, p, t_max=400.0,
+                                     project=lambda x, w, q: I.project_neutral(x, w, q), check=plain_check,
+                                     history=True)
+        assert np.all(fused.status == I.OK), (b, fused.status)
+        for key in (*I._KEYS, "status", "log_growth"):
+            np.testing.assert_array_equal(getattr(fused, key), getattr(plain, key), err_msg=f"{key}, width {b}")

@@ -4,7 +4,7 @@ this module runs them).
 
 How the lanes run
 -----------------
-One batch integrator of the body-frame system (systems.batch_integrator, width hy.recommended_simd_size()) per
+One batch integrator of the body-frame system (systems.batch_integrator, width systems.batch_width()) per
 worker thread, with the section sin(psi) = 0 as a *stopping terminal event* in every lane (hy.t_event_batch,
 direction as requested).  heyoka's batch `propagate_until(t_stop)` steps all lanes together and returns as soon
 as ANY lane lands on its event (that lane's step is cut at the event, exactly as in the scalar integrator; the
@@ -67,9 +67,14 @@ class Job:
 
 
 @systems.per_thread
-def batch_section_integrator(direction: str, tol: float):
-    """The body-frame batch integrator with the section event in every lane, one per thread and (direction, tol)."""
-    return systems.batch_integrator("body", events=[("section", direction)], tol=tol)
+def _batch_section_integrator(direction: str, tol: float, width: int):
+    return systems.batch_integrator("body", events=[("section", direction)], tol=tol, batch_size=width)
+
+
+def batch_section_integrator(direction: str, tol: float, width: int | None = None):
+    """The body-frame batch integrator with the section event in every lane, one per thread and (direction, tol,
+    batch width; default systems.batch_width())."""
+    return _batch_section_integrator(direction, tol, int(width or systems.batch_width()))
 
 
 class _Lane:
@@ -207,7 +212,7 @@ def run(jobs, finish, *, iterates, t_max, direction="positive", branch="any", to
     jobs = list(jobs)
     if not jobs:
         return
-    b = systems.recommended_batch_size()
+    b = systems.batch_width()
     n_threads = max(1, min(int(workers or os.cpu_count() or 1), -(-len(jobs) // b)))
     tol = float(tol) if tol else float(np.finfo(float).eps)
     queue = _Queue(jobs)

@@ -38,7 +38,7 @@ the FLI and nothing to lyap.  We remove it: w0 and, after every renormalisation,
 onto ker G(x(t)) (w - G^T (G G^T)^{-1} G w), so the indicators describe the orbit's own leaf.  By invariance
 the projection removes only round-off after the first one (tests/test_chaos.py checks both facts).
 
-Cost: ~4.4 us per orbit per unit time at tol = eps in SIMD batches of hy.recommended_simd_size() lanes
+Cost: ~4.4 us per orbit per unit time at tol = eps in SIMD batches of systems.batch_width() lanes
 (~24 us scalar), plus ~1.3 ms per start point for the energy root; see benchmarks/README.md.
 """
 from __future__ import annotations
@@ -114,11 +114,14 @@ def tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=DEFAULT_RENORM_DT, 
     """Indicators of N orbits with a batch tangent integrator (systems.tangent_batch).
 
     x0 (n, N) starts, w0 (n, N) tangent vectors (normalised here), pars (npars, N); project(x, w, p) -> w
-    maps tangent vectors onto the neutral-free subspace (None: identity); check(x, p) -> (ok (b,), diag (3, b))
-    flags lanes that left the physical range and reports (|dH|, Casimir drift, -stretch), whose maxima are kept;
-    valid (N,) bool skips points; history=True also returns ln |w(t_k)| at every renormalisation time.
+    maps tangent vectors onto the neutral-free subspace (None: identity); check is a factory: check(x0, p) is
+    called once per batch with that batch's (padded) lanes' starts and returns the lane checker
+    checker(x, p) -> (ok (b,), diag (3, b)), which flags lanes that left the physical range and reports (|dH|,
+    Casimir drift, -stretch), whose maxima are kept (`body_check` is the body system's); valid (N,) bool skips
+    points; history=True also returns ln |w(t_k)| at every renormalisation time.
     Lanes are filled in order, padded with a copy of a valid lane: a lane's result does not depend on its
-    neighbours (heyoka batch lanes step independently), and the fixed order makes results reproducible.
+    neighbours (heyoka batch lanes step independently), and the fixed order makes results reproducible.  The
+    checker is built on the padded lanes, so N may be smaller than the batch width (any width: 1, 2, 4, 8, ...).
     Cost: N/batch_size batch propagations of t_max plus ~t_max/renorm_dt Python-level renormalisations each."""
     t_max = float(t_max)
     x0, w0, pars = (np.atleast_2d(np.asarray(a, float)) for a in (x0, w0, pars))
@@ -135,7 +138,8 @@ def tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=DEFAULT_RENORM_DT, 
         if good.size == 0:
             continue
         lanes = np.concatenate([good, np.full(b - good.size, good[-1])])
-        res = _run_batch(ta, x0[:, lanes], w0[:, lanes], pars[:, lanes], nsteps, dt, project, check, history)
+        chk = None if check is None else check(x0[:, lanes], pars[:, lanes])
+        res = _run_batch(ta, x0[:, lanes], w0[:, lanes], pars[:, lanes], nsteps, dt, project, chk, history)
         k = good.size
         for key in out:
             out[key][good] = res[key][:k]
@@ -173,7 +177,7 @@ def _run_batch(ta, x, w, p, nsteps, dt, project, check, history=False) -> dict:
     hist = np.empty((nsteps, b)) if history else None
     # the body system's check and projection from ONE compiled call per renormalisation (values bit-identical
     # to the separate functions: systems.body_renorm_functions); other systems call check and project
-    fused = isinstance(check, _BodyCheck) and project is project_neutral
+    fused = isinstance(check, _BodyCheck) and project is project_neutral  # check: this batch's checker
     tv = ta.time  # read-only view: a lane reached k dt exactly iff its propagation did not fail
     for k in range(1, nsteps + 1):
         t_k = k * dt
@@ -276,12 +280,18 @@ class _BodyCheck:
         return ok, np.vstack([dH, dC, -v3])
 
 
+def body_check(x0, p) -> _BodyCheck:
+    """The body system's lane checker factory for `tangent_indicators` (start values of H and the Casimirs of
+    the batch's lanes); with project_neutral it takes the fused path (one compiled call per renormalisation)."""
+    return _BodyCheck.at(x0, p)
+
+
 def body_indicators(x0, pars, *, t_max, tol=None, renorm_dt=DEFAULT_RENORM_DT, project=True, batch_size=None,
                     w0=None, valid=None, history=False) -> Indicators:
     """Indicators of body-frame orbits x0 (9, N) with parameters pars (5, N) in PARAMS order.
 
     Defaults: tol None = machine epsilon, renorm_dt 10, project onto the invariant level set (module docstring),
-    batch size hy.recommended_simd_size(), w0 the fixed generic direction.  Max |H - H0| and Casimir drift are
+    batch size systems.batch_width() ($MAGROD_BATCH_WIDTH or the CPU's SIMD size), w0 the fixed generic direction.  Max |H - H0| and Casimir drift are
     returned per orbit; an orbit with v3 <= 0 or drift > DRIFT_LIMIT is LEFT_RANGE.
     Cost: ~4.4 us per orbit per unit time (tol = eps, AVX-512 batch of 8)."""
     x0 = np.atleast_2d(np.asarray(x0, float).T).T if np.ndim(x0) == 1 else np.asarray(x0, float)
@@ -292,36 +302,10 @@ def body_indicators(x0, pars, *, t_max, tol=None, renorm_dt=DEFAULT_RENORM_DT, p
     valid = np.ones(N, bool) if valid is None else np.asarray(valid, bool)
     ta = systems.body_tangent_batch(batch_size, tol)
     w0 = generic_w0(n, N) if w0 is None else np.asarray(w0, float).reshape(n, -1)
-    results = []
-    b = ta.batch_size
-    # batch by batch, so that each batch's checker holds its own lanes' start values of H and the Casimirs
-    for s in range(0, N, b):
-        good = np.nonzero(valid[s:s + b])[0] + s
-        if good.size == 0:
-            continue
-        lanes = np.concatenate([good, np.full(b - good.size, good[-1])])
-        chk = _BodyCheck.at(x0[:, lanes], pars[:, lanes])
-        r = tangent_indicators(ta, x0[:, lanes], w0[:, lanes], pars[:, lanes], t_max=t_max, renorm_dt=renorm_dt,
-                               project=project_neutral if project else None, check=chk, history=history)
-        results.append((good, r))
-    nsteps, dt = _steps(float(t_max), renorm_dt)
-    return _merge(results, N, valid, float(t_max), dt, nsteps if history else None)
-
-
-def _merge(results, N, valid, t_max, dt, nsteps=None) -> Indicators:
-    keys = _KEYS
-    out = {k: np.full(N, np.nan) for k in keys}
-    status = np.full(N, FAILED, np.int8)
-    hist = np.full((N, nsteps), np.nan) if nsteps else None
-    for item in results:
-        good, r = item
-        k = good.size
-        for key in keys:
-            out[key][good] = getattr(r, key)[:k]
-        status[good] = r.status[:k]
-        if hist is not None:
-            hist[good] = r.log_growth[:k]
-    return Indicators(**out, status=status, t_max=t_max, renorm_dt=dt, log_growth=hist)
+    # each batch's checker holds its own (padded) lanes' start values of H and the Casimirs (tangent_indicators)
+    return tangent_indicators(ta, x0, w0, pars, t_max=t_max, renorm_dt=renorm_dt,
+                              project=project_neutral if project else None, check=body_check, valid=valid,
+                              history=history)
 
 
 # ----------------------------------------------------------------------------------------------------------

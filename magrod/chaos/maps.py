@@ -154,7 +154,7 @@ class MapSpec:
         _check_theta0(self)
         _check_some_point_physical(self)
         if not self.batch_size:
-            object.__setattr__(self, "batch_size", systems.recommended_batch_size())
+            object.__setattr__(self, "batch_size", systems.batch_width())
 
     @property
     def shape(self) -> tuple:

@@ -43,7 +43,7 @@ def start_indicators(orbits, *, t_max=DEFAULT_T_INDICATOR, workers=None):
     x0 = np.array([systems.euler_to_body(r.theta0, r.psi0, r.ptheta0, r.p_psi0, r.params.array())
                    for r in orbits]).T
     p = np.array([r.params.array() for r in orbits]).T
-    b = systems.recommended_batch_size()
+    b = systems.batch_width()
     n = x0.shape[1]
     k = max(1, min(int(workers or os.cpu_count() or 1), math.ceil(n / b)))
     cuts = [round(i * math.ceil(n / b) / k) * b for i in range(k + 1)]

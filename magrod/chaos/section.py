@@ -64,7 +64,8 @@ from ..core.errors import ParameterError, require_finite, require_positive_int
 from ..generated import scalars
 from ..core.params import RodParams
 from ..core.precision import Precision
-from ..core.printed import Panel, panel, panel_kwargs
+from ..core.limits import LIMITS
+from ..core.printed import Panel, panel, panel_kwargs, with_overrides
 from ..core.results import Result
 from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, START_LEVEL_TOL
 
@@ -347,6 +348,9 @@ class PoincareResult(Result):
 
 def _validate_options(iterates, root, direction, branch, formulation, pole_switch, radicand_switch):
     iterates = require_positive_int("iterates", iterates)
+    if iterates > LIMITS["iterates"]:
+        raise ParameterError("iterates", f"must be <= {LIMITS['iterates']} (the limit of what a run can finish: "
+                                         f"~200 bytes and ~0.2 ms per point), got {iterates}")
     if direction not in DIRECTIONS:
         raise ParameterError("direction", f"must be one of {sorted(DIRECTIONS)}, got {direction!r}")
     if branch not in BRANCHES:
@@ -384,7 +388,8 @@ def resolve_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=N
 def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
                      root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION,
                      precision=Precision.DOUBLE, tol=None, t_max=None, verify=True, pole_switch=(0.05, 0.1),
-                     radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None, starts=None, workers=None):
+                     radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None, starts=None, workers=None,
+                     **overrides):
     """Poincare section sin(psi) = 0 of one orbit of the reduced system (paper sec. 8, fig:poincare1/2), or of
     many orbits at once in the SIMD lanes of heyoka's batch integrator.
 
@@ -405,8 +410,12 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
         lie on the level Hbar = h (within START_LEVEL_TOL) or, without h, defines its own level.  Returns a list.
     workers : int, optional
         Threads for many orbits (default: all cores).
+    **overrides : float
+        Model parameters replacing those of `params` (m, mu, gamma, delta, lam): ``poincare_section("4a",
+        lam=0.15)`` is Fig 4(a)'s start on the rod with lambdabar = 0.15 (its result's panel is "4a, lam=0.15").
     iterates : int
-        Number of recorded section crossings (the paper: 10 000).
+        Number of recorded section crossings (the paper: 10 000; at most LIMITS["iterates"] = 2 000 000, as on
+        the command line).
     root : {"smallest", "largest"} or int
         Which root pbar_psi of Hbar = h ("smallest" reproduces the paper's final times, see Notes).
     direction : {"positive", "negative", "any"}
@@ -467,6 +476,7 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     batched orbit equals its scalar run (tests/test_batch.py: to round-off over the first crossings, until
     chaotic divergence).  Other configurations run the scalar path per start on `workers` threads.
     """
+    params = with_overrides(params, overrides)
     if _is_many(params, theta0, ptheta0, psi0, starts):
         return _many_sections(params, h, theta0, ptheta0, psi0, starts=starts, p_psi0=p_psi0, iterates=iterates,
                               root=root, direction=direction, branch=branch, formulation=formulation,

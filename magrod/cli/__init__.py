@@ -19,6 +19,7 @@ import os
 import re
 import signal
 import sys
+import threading
 import warnings
 
 from ..core.errors import EnvironmentFault, ParameterError
@@ -123,8 +124,12 @@ class Interrupted(KeyboardInterrupt):
 
 def _on_signal(signum, frame):
     _STATE["signals"].append(signum)
+    if _STATE["armed"] and _STATE.get("deferred"):  # inside signals_deferred: raised when it ends
+        _STATE.setdefault("pending", signum)
+        return
     if _STATE["armed"]:
         _STATE["armed"] = False  # one exception per run
+        _STATE["unhandled"] = signum  # cleared when the Interrupted reaches _main: a library may swallow it
         raise Interrupted(signum)
 
 
@@ -191,20 +196,35 @@ def main(argv=None) -> int:
 
 def console_main() -> None:
     """The `magrod` script and `python -m magrod.cli`: main(), and the process ends with its exit code even if a
-    signal arrives while the interpreter shuts down (no KeyboardInterrupt reaches interpreter shutdown)."""
+    signal arrives while the interpreter shuts down (no KeyboardInterrupt reaches interpreter shutdown).
+
+    Once main() has returned, the signals are *ignored* (SIG_IGN), not recorded: at shutdown CPython resets every
+    signal with a Python handler to SIG_DFL (_PySignal_Fini), and a Ctrl-C in the milliseconds after the result
+    was printed then killed the process (exit -2, no line; issue 24).  A signal handled as SIG_IGN stays ignored."""
     for s in SIGNALS:
         signal.signal(s, _after_exit)
+    _STATE["early"] = True  # a signal between here and main()'s handlers is kept, and ends the run at once
     code = main()
+    for s in SIGNALS:
+        signal.signal(s, signal.SIG_IGN)
     sys.exit(code)
 
 
 def _install_process_settings() -> dict:
     saved = {"signals": {s: signal.getsignal(s) for s in SIGNALS}, "showwarning": warnings.showwarning,
-             "env": os.environ.get(QUIET_ENV)}
-    _STATE["signals"].clear()
+             "env": os.environ.get(QUIET_ENV), "thread_start": threading.Thread.start}
+    if not _STATE.pop("early", False):
+        _STATE["signals"].clear()
+    for k in ("unhandled", "pending", "deferred"):
+        _STATE.pop(k, None)
     _STATE["armed"] = True
     for s in SIGNALS:  # from here on a signal is an Interrupted exception (and remembered)
         signal.signal(s, _on_signal)
+    # Every thread started during the run blocks the signals: a process-directed signal is then delivered to the
+    # main thread, which interrupts its blocking call and runs the handler, and never to a library's thread
+    # (zarr's I/O loop, Dask's event loop, asyncio executors).  Worker processes spawned from those threads
+    # inherit the blocked mask, so a terminal's Ctrl-C to the process group is the parent's alone to handle.
+    threading.Thread.start = _start_blocking_signals
     if hasattr(signal, "SIGXFSZ"):  # a file-size limit (ulimit -f) must be an OSError, not a kill
         saved["SIGXFSZ"] = signal.getsignal(signal.SIGXFSZ)
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
@@ -214,7 +234,22 @@ def _install_process_settings() -> dict:
     return saved
 
 
+_THREAD_START = threading.Thread.start
+
+
+def _start_blocking_signals(self, *a, **kw):
+    """threading.Thread.start with SIGNALS blocked in the new thread (a thread inherits its creator's mask)."""
+    if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
+        return _THREAD_START(self, *a, **kw)
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
+    try:
+        return _THREAD_START(self, *a, **kw)
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
 def _restore_process_settings(saved: dict) -> None:
+    threading.Thread.start = saved["thread_start"]
     warnings.showwarning = saved["showwarning"]
     if saved["env"] is None:
         os.environ.pop(QUIET_ENV, None)
@@ -226,24 +261,49 @@ def _restore_process_settings(saved: dict) -> None:
         signal.signal(s, h if h is not None else signal.SIG_DFL)
 
 
-class children_immune:
-    """Context manager around starting worker processes (a Dask LocalCluster, a process pool): the signals of
-    SIGNALS are ignored while the children are created, so they start with SIG_IGN (kept across exec; Python
-    then installs no KeyboardInterrupt handler) and a Ctrl-C in the terminal, which reaches the whole process
-    group, or a closed terminal's SIGHUP, is the parent's alone to handle: the parent stops its workers.  The
-    signals are blocked meanwhile, so one that arrives is delivered (to the parent's handler) on exit, not lost."""
+class signals_deferred:
+    """Context manager: a signal that arrives meanwhile is recorded, and its Interrupted raised on exit (never
+    lost, never raised inside the code of the block).  The deferral is at the Python level, because a signal may
+    be delivered to any thread that does not block it (OpenBLAS's and TBB's threads are not Python's), and
+    CPython then runs the handler in the main thread whatever the main thread's mask; the signals are blocked in
+    the calling thread as well, so that processes started in the block inherit the blocked mask."""
 
     def __enter__(self):
         self._mask = signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS) if hasattr(signal, "pthread_sigmask") else None
-        self._old = {s: signal.signal(s, signal.SIG_IGN) for s in SIGNALS}
+        self._outer = _STATE.get("deferred", False)
+        _STATE["deferred"] = True
         return self
 
     def __exit__(self, *exc):
-        for s, h in self._old.items():
-            signal.signal(s, h if h is not None else signal.SIG_DFL)
+        _STATE["deferred"] = self._outer
         if self._mask is not None:
-            signal.pthread_sigmask(signal.SIG_SETMASK, self._mask)  # a pending signal is delivered here
+            signal.pthread_sigmask(signal.SIG_SETMASK, self._mask)  # a signal pending in this thread arrives here
+        if not self._outer and _STATE.get("pending") is not None:
+            signum = _STATE.pop("pending")
+            if _STATE["armed"]:
+                _STATE["armed"] = False
+                _STATE["unhandled"] = signum
+                raise Interrupted(signum)
         return False
+
+
+# Commands that never load heyoka (`magrod check` must stay light); every other command imports it up front with
+# the signals deferred: heyoka's extension module imports SymPy inside a C++ try/catch, which swallows the
+# KeyboardInterrupt of a Ctrl-C that lands during that import, and the run then went on to its end (issue 24).
+LIGHT_COMMANDS = {"check"}
+
+
+class children_immune(signals_deferred):
+    """Context manager around starting worker processes (a Dask LocalCluster, a process pool): the signals of
+    SIGNALS are blocked in the calling thread while the children are created.  A child inherits the blocked mask
+    across fork and exec (as it does from the threads main() starts, `_start_blocking_signals`), so a Ctrl-C in
+    the terminal, which reaches the whole process group, or a closed terminal's SIGHUP, is the parent's alone to
+    handle: the parent stops its workers.  A signal that arrives meanwhile stays pending and is delivered to the
+    parent's handler on exit.
+
+    The dispositions are left alone.  Until issue 24 they were set to SIG_IGN here as well; a signal delivered to
+    one of the library threads that did not block it (zarr's, asyncio's) was then discarded, and a Ctrl-C 2-3 s
+    after `magrod chaosmap` started (the LocalCluster's start-up) was lost."""
 
 
 QUIET_ENV = "MAGROD_QUIET_HEYOKA"  # = magrod.core.systems.QUIET_ENV (not imported: that would load heyoka)
@@ -266,12 +326,22 @@ def _main(argv=None) -> int:
         from ..core import io
 
         io.track_created_dirs()
+        if _STATE["signals"]:  # arrived while the process started (console_main): honoured before anything runs
+            _STATE["armed"] = False
+            raise Interrupted(_STATE["signals"][0])
         args = build_parser().parse_args(argv)
         want_json = bool(args.json)
         if args.json:
             args.quiet = True
         mod = importlib.import_module(args._module)
+        if args.command not in LIGHT_COMMANDS and "heyoka" not in sys.modules:
+            with signals_deferred():
+                importlib.import_module("heyoka")
         result = mod.run(args)
+        if _STATE.get("unhandled") is not None:
+            # the signal's Interrupted was raised inside a library that swallowed it (a __del__, a callback, an
+            # `except BaseException: pass`), and the run went on to its end: the signal is still honoured
+            raise Interrupted(_STATE["unhandled"])
         ok = bool(result.get("ok", True))
         text = json.dumps(_clean(result), sort_keys=True, allow_nan=False) if want_json else mod.format_text(result)
         _STATE["armed"] = False  # from here on the run is finished: a signal ends it quietly with this exit code
@@ -284,6 +354,7 @@ def _main(argv=None) -> int:
         return _fail(command, want_json, EXIT_INPUT, str(exc), exc.name)
     except KeyboardInterrupt:
         _STATE["armed"] = False
+        _STATE.pop("unhandled", None)
         return _fail(command, want_json, _interrupt_code(), _interrupt_message(), None)
     except BrokenPipeError:
         _STATE["armed"] = False

@@ -220,7 +220,7 @@ def run(args) -> dict:
                                                 progress=update, on_submitted=lambda: pause_point("chaosmap-running"),
                                                 worker_timeout=worker_timeout)
             except chaos_store.TileFailure as exc:  # finished tiles keep their markers for the next run
-                return _tile_failure(exc, address, len(state.done), n_tiles)
+                return _tile_failure(exc, address, len(state.done), n_tiles, pth["store"])
             chaos_store.finish(spec, state)
             wall = time.perf_counter() - t0
             fields = chaos_store.load_fields(pth["store"])
@@ -320,7 +320,7 @@ def _start_failure(exc, workers: int):
                                        f"{', '.join(limits) or 'none'}")
 
 
-def _tile_failure(exc, address, done: int, total: int) -> dict:
+def _tile_failure(exc, address, done: int, total: int, store=None) -> dict:
     """A failed task as one line: the machine (a worker killed, out of memory, the scheduler lost, a full disk)
     is an EnvironmentFault (exit 3); an exception raised by the computation is a failed run (exit 1)."""
     from ..core.errors import EnvironmentFault
@@ -331,7 +331,8 @@ def _tile_failure(exc, address, done: int, total: int) -> dict:
     where = f"the scheduler at {address}" if address else "the LocalCluster"
     kind = type(inner).__name__
     if isinstance(inner, OSError) and inner.errno is not None:
-        f = resource_fault(inner, "out")
+        # a worker's OSError often carries no file name (zarr's chunk write): name the store it was writing
+        f = resource_fault(inner, "out", inner.filename if inner.filename is not None else store)
         raise EnvironmentFault("out", f"{f.message} ({kept})") from None
     text = str(inner)
     if isinstance(inner, MemoryError) or "bad_alloc" in text or "can't start new thread" in text \

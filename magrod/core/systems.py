@@ -12,7 +12,8 @@ Builders (keyword-only options; fp_type is float, np.longdouble, hy.real128 or h
   taylor(sys, state, pars, ...)              any system: the one place hy.taylor_adaptive is called
   build(constructor, ...)                    every heyoka constructor goes through it (damaged JIT cache entries)
   integrator(formulation, events=...)        scalar integrator of a formulation, events by name
-  batch_integrator(formulation, ...)         SIMD batch integrator (batch size: hy.recommended_simd_size())
+  batch_integrator(formulation, ...)         SIMD batch integrator (batch size: `batch_width()`, a setting:
+                                             $MAGROD_BATCH_WIDTH, else hy.recommended_simd_size())
   variational_integrator(formulation, ...)   first-order variational equations (hy.var_ode_sys) w.r.t. the
                                              initial state and the parameters; `variational_blocks` splits them
   rod_frame_integrator()                     body system + director frame + centreline (magrod.orbits.rod)
@@ -286,8 +287,37 @@ def integrator(formulation: str = "body", *, events=(), fp_type=float, tol=None,
                   prec=prec, t_events=_events(formulation, events, fp_type, prec=prec), compact_mode=compact_mode)
 
 
+# The batch width is a setting, not a fact of the CPU: heyoka compiles any batch size on any CPU (a width the
+# vector unit does not have is split into its registers), so width 8 runs on an AVX2 machine and width 4 on an
+# AVX-512 one.  Lanes step independently, so a result never depends on its neighbours; it may depend on the width
+# through the vector math kernels' last bit, which is why the tests run the batch paths at widths 1, 2, 4 and 8
+# (tests/test_portability.py) and a map store records the width in its identity.
+BATCH_WIDTH_ENV = "MAGROD_BATCH_WIDTH"
+MAX_BATCH_WIDTH = 64
+
+
+def batch_width() -> int:
+    """The SIMD batch width of every batch integrator: the environment variable MAGROD_BATCH_WIDTH if set (an
+    integer in 1..64), else heyoka's recommended SIMD size for this CPU (4 with AVX2, 8 with AVX-512).  Read at
+    each call, so a process can change it between runs; the per-thread caches key on the resolved width."""
+    from .errors import ParameterError
+
+    raw = os.environ.get(BATCH_WIDTH_ENV, "").strip()
+    if not raw:
+        return int(hy.recommended_simd_size())
+    try:
+        b = int(raw)
+    except ValueError:
+        raise ParameterError(BATCH_WIDTH_ENV, f"must be an integer in 1..{MAX_BATCH_WIDTH}, got {raw[:20]!r}") \
+            from None
+    if not 1 <= b <= MAX_BATCH_WIDTH:
+        raise ParameterError(BATCH_WIDTH_ENV, f"must be an integer in 1..{MAX_BATCH_WIDTH}, got {b}")
+    return b
+
+
 def recommended_batch_size() -> int:
-    return int(hy.recommended_simd_size())
+    """The batch width in use (`batch_width`); kept under its old name for the callers of issue 18."""
+    return batch_width()
 
 
 def batch_integrator(formulation: str = "body", *, batch_size=None, events=(), tol=None, compact_mode=False,
@@ -295,7 +325,7 @@ def batch_integrator(formulation: str = "body", *, batch_size=None, events=(), t
     """SIMD batch integrator (float64): batch_size lanes advance together (default the recommended SIMD width);
     state shape (n, batch_size), pars (len(PARAMS), batch_size).  variational=True integrates the first-order
     variational equations w.r.t. the initial state (not the parameters) as well."""
-    b = int(batch_size or recommended_batch_size())
+    b = int(batch_size or batch_width())
     sys_ = (hy.var_ode_sys(system(formulation), hy.var_args.vars, order=1) if variational
             else system(formulation))
     n = dim(formulation)
@@ -566,16 +596,20 @@ def tangent_batch(sys_, npars: int, *, batch_size=None, tol=None):
     """SIMD batch integrator of `tangent_system(sys_, npars)`, float64, non-compact mode (compiled once, then
     loaded from the JIT cache; compact mode is ~2x slower to run).  State shape (2n, batch_size): rows
     [0, n) the state, rows [n, 2n) the tangent vector; pars (npars, batch_size)."""
-    b = int(batch_size or recommended_batch_size())
+    b = int(batch_size or batch_width())
     vs = tangent_system(sys_, npars)
     return build(hy.taylor_adaptive_batch, vs, np.ones((2 * len(sys_), b)), pars=np.ones((int(npars), b)),
                                     tol=float(tol or 0.0))
 
 
 @per_thread
-def body_tangent_batch(batch_size=None, tol=None):
-    """`tangent_batch` of the body system, cached per thread and (batch_size, tol)."""
+def _body_tangent_batch(batch_size, tol):
     return tangent_batch(system("body"), len(PARAMS), batch_size=batch_size, tol=tol)
+
+
+def body_tangent_batch(batch_size=None, tol=None):
+    """`tangent_batch` of the body system, cached per thread and (resolved batch width, tol)."""
+    return _body_tangent_batch(int(batch_size or batch_width()), tol)
 
 
 @cache

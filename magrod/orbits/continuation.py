@@ -32,7 +32,7 @@ from ..core.precision import Precision
 from ..core.results import Result, jsonable
 from ..core.tolerances import LAUNCH_DISTANCE, SHOOTING_TOL
 from .equilibrium import on_level, straight_rod
-from .multipulse import shooting_precision
+from .shooting import shooting_precision
 from .periodic import periodic_saddle
 from .shooting import residual_and_jacobian
 

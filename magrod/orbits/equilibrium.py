@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core import systems
+from ..core import eigen, systems
 from ..core.errors import ParameterError
 from ..core.params import RodParams
 from ..core.precision import Precision
@@ -119,17 +119,16 @@ def straight_rod(params: RodParams) -> StraightRod:
         raise ParameterError("mu", f"straight rod is not on the chart's Casimir level (residuals {cas})")
     Jm = jacobian(x, pars)
     w, V = np.linalg.eig(Jm)
-    k = int(np.argmax(w.real + 1e-300 * np.sign(w.imag)))
-    # prefer the member of the conjugate pair with b >= 0
-    cand = [i for i in range(w.size) if abs(w[i].real - w[k].real) <= 1e-12 * max(1, abs(w[k])) and w[i].imag >= 0]
-    k = cand[0] if cand else k
+    o = eigen.order(w)  # largest real part first, then b >= 0 before the conjugate: no eigen-solver decides
+    w, V = w[o], V[:, o]
+    k = 0
     if w[k].real <= HYPERBOLIC_TOL:
         mc = scalars.m_critical(p.gamma) if p.gamma > -1 else float("nan")
         raise ParameterError("m", f"no saddle: the straight rod is not hyperbolic at these parameters (max Re "
                                   f"eigenvalue {w[k].real:.3g}); at lam = 0 this is m >= m_c = 2 sqrt(1 + gamma) = "
                                   f"{mc:.6g} (eq:buckling_load_2)")
-    v = V[:, k] / np.linalg.norm(V[:, k])
-    j = _E31 if abs(v[_E31]) > 1e-3 else int(np.argmax(np.abs(v)))
-    v = v * np.exp(-1j * np.angle(v[j]))
+    # the eigenvector of the simple eigenvalue a + ib is one of the rotation generator xi too, so its phase is
+    # a rotation G_a of the symmetry: e31 real > 0 picks the representative (core.eigen.fix_phase)
+    v = eigen.fix_phase(V[:, k], prefer=(_E31,))
     H = float(f["H"](x, pars)[0])
     return StraightRod(p, x, Jm, w, complex(w[k]), v, H)

@@ -30,7 +30,8 @@ from ..core.tolerances import FLOOR_CAP, FLOOR_FACTOR, LAUNCH_DISTANCE, LAUNCH_D
 from ..generated.names import PARAMS
 from . import shooting
 from .equilibrium import StraightRod, on_level, straight_rod
-from .shooting import MultipulseOrbit, count_pulses, fix_functions, residual_and_jacobian, unstable_branch
+from .shooting import (MultipulseOrbit, count_pulses, fix_functions, residual_and_jacobian,
+                       shooting_precision, unstable_branch)
 
 MAX_DIGITS = 15  # significant digits a float64 value is printed with (`significant`)
 # the free-parameter scan: this many intervals over value * [1 - span, 1 + span] (1.25 % of the value each at
@@ -39,15 +40,6 @@ SCAN_INTERVALS = 80
 ANGLE_SAMPLES = 121  # launch angles of the periodic saddle's scan (3 degrees apart)
 # mu is not free: it follows the free parameter so that the straight rod stays on the chart's level (mu = 2 lam)
 FREE_PARAMETERS = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))
-
-
-def shooting_precision(crossing: int, precision=None) -> Precision:
-    """The precision of a shot at the `crossing`-th zero: `precision` if given (a Precision or its value), else
-    double for the first crossing (no passage near the saddle before it) and long double from the second on
-    (after a near-saddle passage psi inherits the launch error divided by the small transverse force)."""
-    if precision is None:
-        return Precision.DOUBLE if crossing == 1 else Precision.LONG_DOUBLE
-    return Precision.parse(precision)
 
 
 # --- Newton ------------------------------------------------------------------------------------------------
@@ -194,7 +186,7 @@ def summarize(result: MultipulseOrbit, orb: dict | None = None) -> dict:
     """pulses, residual, arclength (between the two eps-points: 2 T), H (and its deviation from the saddle's)."""
     orb = orb or orbit(result)
     return {"pulses": count_pulses(orb["theta"]), "crossing": result.pulses, "residual": result.residual,
-            "iterations": result.iterations, "arclength": 2 * result.T, "eps": result.eps,
+            "noise_floor": result.noise_floor, "iterations": result.iterations, "arclength": 2 * result.T, "eps": result.eps,
             "H": float(np.mean(orb["H"])), "H_saddle": result.saddle_H,
             "max_abs_H_minus_saddle": float(np.max(np.abs(orb["H"] - result.saddle_H))),
             "theta_max": float(np.max(orb["theta"])), "free": result.free,

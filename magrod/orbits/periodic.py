@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core import systems
+from ..core import eigen, systems
 from ..core.errors import ParameterError
 from ..core.params import RodParams
 from ..core.precision import Precision
@@ -85,13 +85,23 @@ def _gauss_newton(z, pars, max_iter=40):
 
 
 def _straight_rod_centre(params: RodParams):
-    """Straight rod state, its centre frequency w > 0 and the real part of the centre eigenvector."""
+    """Straight rod state, its centre frequency w > 0 and the real part of the centre eigenvector, on the
+    phase slice of the relative equilibrium (e32 = 0, e31 > 0).
+
+    The straight rod is fixed by the rotations G_a, and its Jacobian commutes with their generator xi, so the
+    eigenvector of the simple eigenvalue +i w is an eigenvector of xi as well: multiplying it by e^{i a} is the
+    rotation G_{+-a}.  LAPACK returns it with an arbitrary such factor (its largest component real; here |e31|
+    = |e32| by the symmetry, so rounding picks one, issue 24).  Making the e31 component real and positive
+    (core.eigen.fix_phase) picks the representative whose real part has e32 = 0: the slice Gauss-Newton
+    imposes.  The real part of any other phase is a rotated guess, up to a useless one (e31 = 0) at a = pi/2."""
     pars = params.array()
     x = np.array(scalars.straight_rod_state(*pars))
     Jm = systems.body_functions()["jacobian"](x, pars).reshape(N, N)
     w, V = np.linalg.eig(Jm)
     k = int(np.argmax(np.where(np.abs(w.real) < 1e-8, w.imag, -np.inf)))
-    d = np.real(V[:, k])
+    v = eigen.fix_phase(V[:, k], prefer=(systems.state_index("body", "e31"), systems.state_index("body", "m1"),
+                                         systems.state_index("body", "n1")))
+    d = np.real(v)
     return x, float(w[k].imag), d / np.linalg.norm(d)
 
 
@@ -185,8 +195,7 @@ class PeriodicSaddle(Result):
     @property
     def quartet(self) -> np.ndarray:
         """The four nontrivial multipliers (largest |log|Lambda|| first)."""
-        idx = np.argsort(-np.abs(np.log(np.abs(self.multipliers))))
-        return self.multipliers[idx[:4]]
+        return _quartet(self.multipliers)
 
     def launch_point(self, eps: float, angle: float = 0.0, precision=Precision.DOUBLE) -> np.ndarray:
         """x + eps Re(e^{-i angle} v)/|Re(e^{-i angle} v)|: a point at distance eps on the linear unstable
@@ -217,13 +226,21 @@ class PeriodicSaddle(Result):
                 "hyperbolic": self.hyperbolic}
 
 
+def _quartet(mult) -> np.ndarray:
+    """The four multipliers off the unit circle, in an order no eigen-solver decides: largest |log|Lambda||
+    first (the quartet shares it), then |Lambda| > 1 before its reciprocal, then Im >= 0 before the conjugate."""
+    mult = np.asarray(mult, complex)
+    g = np.log(np.abs(mult))
+    top = np.argsort(-np.abs(g), kind="stable")[:4]
+    q = mult[top]
+    return q[eigen.order(np.log(q))]
+
+
 def _phase_fix(v):
-    """Unit norm, e31 component real > 0 (as magrod.orbits.equilibrium does for the straight rod), so that the launch angle
-    varies smoothly with the parameters; the largest component if e31 vanishes."""
-    v = v / np.linalg.norm(v)
-    j = systems.state_index("body", "e31")
-    j = j if abs(v[j]) > 1e-3 else int(np.argmax(np.abs(v)))
-    return v * np.exp(-1j * np.angle(v[j]))
+    """Unit norm, e31 component real > 0 (as magrod.orbits.equilibrium does for the straight rod), so that the
+    launch angle varies smoothly with the parameters and never with LAPACK's phase (core.eigen.fix_phase; the
+    next non-negligible component if e31 vanishes)."""
+    return eigen.fix_phase(v, prefer=(systems.state_index("body", "e31"),))
 
 
 def monodromy(x0, pars, T, precision=Precision.DOUBLE, as_float: bool = True):
@@ -276,7 +293,10 @@ def periodic_saddle(params: RodParams, *, require_hyperbolic: bool = True) -> Pe
     xT, M = monodromy(x0, pars, T)
     A = systems.body_functions()["jacobian"](x0, pars).reshape(N, N) - omega * XI
     expo = np.linalg.eigvals(A)
+    expo = expo[eigen.order(expo)]
     mult, V = np.linalg.eig(M)
+    o = eigen.order(mult)  # a stored order no eigen-solver decides
+    mult, V = mult[o], V[:, o]
     k = int(np.argmax(np.abs(mult) + 1e-300 * np.sign(mult.imag)))
     cand = [i for i in range(N) if abs(abs(mult[i]) - abs(mult[k])) <= 1e-9 * abs(mult[k]) and mult[i].imag >= 0]
     k = cand[0] if cand else k
@@ -290,8 +310,7 @@ def periodic_saddle(params: RodParams, *, require_hyperbolic: bool = True) -> Pe
     nM = np.linalg.norm(M, 2)
     sym = float(np.linalg.norm(M @ Jx @ M.T - Jx, 2) / (nM**2 * np.linalg.norm(Jx, 2)))
     # reciprocal partners within the quartet (the multipliers off the unit circle)
-    order = np.argsort(-np.abs(np.log(np.abs(mult))))
-    q = mult[order[:4]]
+    q = _quartet(mult)
     rec = max(float(np.min(np.abs(q * qi - 1.0))) for qi in q) if hyper else float(
         max(np.min(np.abs(mult * mi - 1.0)) for mi in mult))
     chart = systems.body_to_euler(x0, pars)

@@ -127,10 +127,15 @@ def _float_saddle(p: fields.ExactParams):
 
 
 def _real_basis(v) -> list:
-    """(Re w, Im w) with w = v / |v| turned so that Re w and Im w are orthogonal."""
+    """(Re w, Im w) with w = v / |v| turned so that Re w and Im w are orthogonal (w.w real > 0).  That fixes
+    LAPACK's arbitrary unit factor up to the sign of w; the sign is fixed too (the largest component of Re w
+    positive, core.eigen.fix_sign), so the certificate's basis and phases never depend on the machine."""
     v = np.asarray(v, complex)
     v = v / np.linalg.norm(v)
     v = v * np.exp(-0.5j * np.angle(np.dot(v, v)))
+    j = int(np.argmax(np.abs(v.real) * (1 + 1e-9 * np.arange(v.size)[::-1])))  # ties: the first index
+    if v.real[j] < 0:
+        v = -v
     return [v.real, v.imag]
 
 

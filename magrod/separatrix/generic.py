@@ -72,7 +72,8 @@ class GenericTerm(Result):
     """The derived leading coefficient of the a > 2b splitting at (m, gamma, delta, a, b).
 
     Attributes: S (ball, enclose_S), denominator V'(theta_t)(1 + cos theta_t) (ball), coefficient s1/eps^3 (ball),
-    even coefficient c1/eps = sqrt(a - 2b) (theta_u = theta_t + sqrt(nu) cos(psi) + ...), formula and status."""
+    even coefficient c1/eps = sqrt(a - 2b) (theta_u = theta_t + sqrt(nu) cos(psi) + ...), formula and
+    claim_status (its kind of truth; to_dict() key "status")."""
 
     success: bool
     message: str
@@ -86,7 +87,7 @@ class GenericTerm(Result):
     coefficient: arb
     c1_over_eps: float
     formula: str
-    status: str
+    claim_status: str  # proved / computer-verified / numerical / conditional (the result's `status` is scipy's)
     wall_time_s: float
 
     _repr_fields = ("m", "gamma", "delta", "a", "b", "coefficient")
@@ -95,7 +96,7 @@ class GenericTerm(Result):
         return {"success": self.success, "message": self.message, "m": self.m, "gamma": self.gamma,
                 "delta": self.delta, "a": self.a, "b": self.b, "S": _ball_dict(self.S),
                 "denominator": _ball_dict(self.denominator), "coefficient": _ball_dict(self.coefficient),
-                "c1_over_eps": self.c1_over_eps, "formula": self.formula, "status": self.status,
+                "c1_over_eps": self.c1_over_eps, "formula": self.formula, "status": self.claim_status,
                 "wall_time_s": self.wall_time_s}
 
 

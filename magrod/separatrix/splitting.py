@@ -49,7 +49,7 @@ from dataclasses import asdict, dataclass, field
 import heyoka as hy
 import numpy as np
 
-from ..core import systems
+from ..core import eigen, systems
 from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
 from ..core.params import RodParams
 from ..core.precision import Precision
@@ -214,11 +214,10 @@ def working_saddle(params: RodParams, precision=Precision.DOUBLE):
     res = float(max(abs(float(v)) for v in r))
     Jm = np.array([float(v) for v in F["reduced_jacobian"](q, pars)]).reshape(nq, nq)
     w, V = np.linalg.eig(Jm)
-    k = max(range(nq), key=lambda i: (round(w[i].real, 12), w[i].imag))
+    k = int(eigen.order(w)[0])  # largest real part, then Im >= 0: no eigen-solver decides
     if w[k].real <= HYPERBOLIC_TOL:
         raise ParameterError("m", f"the tilted straight rod is not hyperbolic (eigenvalues {w})")
-    v = V[:, k] / np.linalg.norm(V[:, k])
-    v = v * np.exp(-1j * np.angle(v[0]))
+    v = eigen.fix_phase(V[:, k], prefer=(0,))  # theta entry real > 0, whatever LAPACK's phase
     H = F["H"](F["to_body"](q, pars), pars)[0]
     return TiltedSaddle(params, precision, q, complex(w[k]), v, H, res)
 
