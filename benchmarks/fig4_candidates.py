@@ -14,7 +14,9 @@ d(sin psi)/dt > 0, the paper's):
      Gs = sin(theta) rho sin(psi) = 0: the enclosure's width there against r |DP| (the wrapping / overestimation
      factor), the Taylor steps, the wall time.
 
-    python benchmarks/fig4_candidates.py [out.json] [--quick]
+    python benchmarks/fig4_candidates.py [out.json] [--quick] [--lams=0.1575,0.175] [--saddles-only]
+(--saddles-only: steps 1 and 3 of the list above only, no homoclinic search and no validated flight;
+--no-flight: no validated flight)
 """
 from __future__ import annotations
 
@@ -339,7 +341,7 @@ def main():
         panel = {"lam": lam, "candidates": len(cands),
                  "periodic": [{k: v for k, v in o[0].items() if k != "D"} for o in orbits], "n_hyperbolic": len(hyp)}
         best = None
-        for rec, x0 in hyp[:3]:
+        for rec, x0 in (hyp[:3] if "--saddles-only" not in sys.argv else []):
             try:
                 hp = homoclinic_point(smap, rec, x0)
             except Exception as err:  # noqa: BLE001
@@ -353,8 +355,9 @@ def main():
             panel["saddle"] = {k: v for k, v in rec.items() if k != "D"}
             panel["homoclinic"] = hp
             p0 = hp["points"][0]
-            panel["validated_homoclinic_flight"] = [validated_homoclinic_flight(lam, p0, Fraction(1, 10**e))
-                                                    for e in ((12, 8) if QUICK else (12, 10))]
+            if "--no-flight" not in sys.argv:
+                panel["validated_homoclinic_flight"] = [validated_homoclinic_flight(lam, p0, Fraction(1, 10**e))
+                                                        for e in ((12, 8) if QUICK else (12, 10))]
         panel["wall_s"] = round(time.perf_counter() - t0, 1)
         res["panels"].append(panel)
         print(json.dumps({k: v for k, v in panel.items() if k != "periodic"}, default=float)[:4000], flush=True)
