@@ -171,6 +171,38 @@ def i2_canonical():
     return I2, I2bar
 
 
+def s1_descent() -> Result:
+    """The S^1-descent of integrals in involution with m3 (issue 27; docs/nonintegrability.md, statement 7).
+
+    Shown here, symbolically: (a) m3 pulled back by X is p_phi; (b) the phi-flow of the chart is the flow of m3,
+    dX/dphi = J(X) grad m3 (all 9 components, trig normal form with rho^2 reduced); (c) the isotropic H pulled back
+    does not depend on phi.  With poisson_map ({G o X, K o X}_can = {G, K} o X) these give, for every G on the 9-D
+    space: {G o X, p_phi}_can = dG o X / dphi = {G, m3} o X.  So an integral G with {G, m3} = 0 has G o X
+    independent of phi: it descends to the chart (theta, psi, p_theta, p_psi) at fixed p_phi = m3 and Casimirs, and
+    {G o X, H o X}_4 = {G, H} o X = 0 there (both phi-independent, so the (phi, p_phi) term of the 6-D bracket
+    vanishes): a first integral of the reduced system on every leaf."""
+    Xqp = canonical_map()
+    _, m_qp, _ = moments_from_lagrangian()
+    a = sp.simplify(m_qp[2] - p_phi)
+    Jm = structure_matrix().subs(dict(zip(X, Xqp)))
+    k = list(X).index(mvec[2])
+    b = [trig_normal_form(sp.diff(Xqp[i], phi) - Jm[i, k], RHO2) for i in range(9)]
+    Hqp = hamiltonian_compliance().subs(dict(zip(X, Xqp))).subs({B1: B, B2: B, cJ: cH})
+    c = trig_normal_form(sp.diff(Hqp, phi), RHO2)
+    ok = a == 0 and all(v == 0 for v in b) and c == 0
+    return Result("s1_descent", "sec:reduction",
+                  "m3 o X = p_phi and dX/dphi = J(X) grad m3 (the phi-flow is the flow of m3), and the isotropic H o X "
+                  "is phi-independent: with poisson_map, an integral in involution with m3 descends to an integral "
+                  "of the reduced chart system on every leaf",
+                  HOLDS if ok else DISAGREES,
+                  "symbolic: differences simplified / reduced modulo sin^2+cos^2=1 and rho^2 = 2C1 - C2^2 - 2 lambda "
+                  "p_psi, all zero",
+                  {"m3 o X - p_phi": fmt(a), "dX/dphi - J(X) grad m3": [fmt(v) for v in b],
+                   "d(H_iso o X)/dphi": fmt(c),
+                   "consequence": "{G o X, p_phi}_can = d(G o X)/dphi = {G, m3} o X for every G (with poisson_map)",
+                   "domain": "the chart: sin(theta) != 0, rho != 0 (the assumptions of poisson_map)"})
+
+
 def bracket4(f, g):
     return canonical_bracket(f, g, [theta, psi], [pth, pps])
 
@@ -215,6 +247,8 @@ def derive_all():
                       "symbolic: numerators reduced modulo sin^2+cos^2=1 and rho^2 = 2C1 - C2^2 - 2 lambda p_psi",
                       {"assumption": "rho = sqrt(2 C1 - C2^2 - 2 lambda p_psi) != 0 (eq:alignment_condition) and "
                                      "sin(theta) != 0 (chart)", "nonzero_pairs": bad}))
+
+    res.append(s1_descent())
 
     Hqp, Hiso, Hbar, const = reduced_hamiltonians()
     d_full = sp.expand(Hiso - paper.eq_full_ham().subs({J: 1 / cH, K: 1 / cK}))

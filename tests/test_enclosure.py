@@ -125,7 +125,24 @@ def test_box_theorem_small_box():
         box = next(b for b in r.decided if Fraction(b.m[0]) <= Fraction(mm) <= Fraction(b.m[1])
                    and Fraction(b.gamma[0]) <= Fraction(gg) <= Fraction(b.gamma[1])
                    and Fraction(b.delta[0]) <= Fraction(dd) <= Fraction(b.delta[1]))
-        assert box.S_lo <= float(v.S.mid()) <= box.S_hi
+        lo, hi = E.outward(v.S)
+        assert Fraction(box.S_lo) <= Fraction(lo) and Fraction(hi) <= Fraction(box.S_hi)
+
+
+def test_outward_strings_are_exact_bounds():
+    """Issue 27: the stored ends are exact decimals rounded outward (a float of Arb's end point is not a bound), and
+    the box's S reads as the interval it is, never Arb's "[+/- r]" (which hides the sign)."""
+    from flint import arb
+
+    x = arb(-2) / 3
+    lo, hi = E.outward(x, digits=6)
+    assert (lo, hi) == ("-0.666667", "-0.666666")
+    assert Fraction(lo) < Fraction(-2, 3) < Fraction(hi)
+    y = arb(-1.1, 0.9)  # Arb prints this as [-1e+0 +/- 0.91]; it lies in [-2, -0.2]
+    lo, hi = E.outward(y, digits=3)
+    assert Fraction(lo) <= Fraction(-2) and Fraction("-0.2") <= Fraction(hi) < 0
+    assert E.outward(arb(0, float("inf"))) == ("-inf", "inf")
+    assert E.outward(arb(5)) == ("5", "5")
 
 
 def test_a_box_without_a_tail_bound_is_undecided_never_decided(monkeypatch):

@@ -2,13 +2,17 @@
 tilted saddle-focus of the reduced chart (mu > 2 lambdabar) has two transverse symmetric homoclinic orbits
 (psi = 0 and psi = pi on Sigma = {pbar_theta = 0}), written as DIR/certificate.json (magrod/proof/search.py;
 docs/nonintegrability.md, "Theorem (computer-assisted)").  Parameters are read as exact rationals ("0.04" is
-1/25).  `magrod prove --verify CERT` re-checks a certificate with the separate verifier (magrod/proof/verify.py).
+1/25).  `magrod prove --verify CERT` re-checks a certificate with the separate verifier (magrod/proof/verify.py)
+and prints the theorem the verifier generated from what it checked.
 
 Exit codes: 0 proved / verified; 1 a step could not be established (one line: which, and why) or a certificate
 was rejected; 2 bad input (mu <= 2 lambdabar, m >= m_c, a non-finite value, an unreadable certificate).  Nothing
-is written unless the proof holds.  `--mutate K` is a control: it flips the sign of the K-th term of the generated
-chart field, and the run must fail."""
+is written unless the proof holds.  A certificate whose content does not establish a theorem (a missing, repeated
+or unknown target, a theorem text that is not the verified one) is rejected: exit 1.  `--mutate K` is a control:
+it flips the sign of the K-th term of the generated chart field, and the run must fail."""
 from __future__ import annotations
+
+from fractions import Fraction
 
 from ..core.errors import ParameterError
 from .options import integer, out_dir
@@ -80,7 +84,13 @@ def _verify(args) -> dict:
 def format_text(d) -> str:
     if "certificate" in d and "crossings" not in d:  # --verify
         head = f"{d['certificate']}: {d['reason']} ({len(d['checks'])} checks, {d['wall_time_s']:.1f} s)"
-        return head
+        if not d["ok"]:
+            return head
+        # the theorem as the verifier generated it from what it checked (never the certificate's own text)
+        lines = [head, f"theorem: {d['theorem']}"]
+        for t, (lo, hi) in d["slopes"].items():
+            lines.append(f"  psi = {t}: dtheta_u/dpsi in [{float(Fraction(lo)):.6e}, {float(Fraction(hi)):.6e}]")
+        return "\n".join(lines)
     if not d["ok"]:
         return f"not proved: {d['reason']}"
     lines = [f"proved: {len(d['checks'])} checks hold ({d['wall_time_s']:.1f} s); certificate {d['certificate']}"]

@@ -1,7 +1,9 @@
-"""The computer-assisted proof at the target (issue 21): run `magrod.proof.search.prove`, verify the certificate
-with the separate checker, write proof_certificate.json, proof.json (the sidecar REPORT.md's claim row reads) and
-proof.png: the float trace of W^u on Sigma (theta_u against psi, with its mirror image W^s) and the proved
-tangent slopes at psi = 0 and psi = pi.  quick: one symmetric orbit (psi = pi) and no float trace."""
+"""The computer-assisted proof at the target (issue 21): verify the shipped certificate
+(magrod/proof/certificates/homoclinic_target.json, written by `magrod prove` at the target) with the complete
+verifier, write proof_certificate.json (a copy), proof.json (the sidecar REPORT.md's claim row reads) and proof.png:
+the float trace of W^u on Sigma (theta_u against psi, with its mirror image W^s) and the verified tangent slopes at
+psi = 0 and psi = pi.  `magrod reproduce` verifies, it does not re-prove (issue 27); `magrod prove` re-proves.
+quick: the same verification (a few seconds), a coarser float trace."""
 from __future__ import annotations
 
 import time
@@ -15,26 +17,40 @@ from .common import atomic_savefig, pyplot
 TARGET = ("1.7", "0.04", "1", "1", "0.01")  # (m, mu, gamma, delta, lambdabar): a = 4, b = 1, eps = 0.1
 
 
+SHIPPED = "homoclinic_target.json"
+# Fig 4's rod at the panels' lambdabar where `magrod prove` succeeds: the saddle-focus's own level (statement 5a)
+FIG4 = (("4a", "homoclinic_fig4a.json"), ("4b", "homoclinic_fig4b.json"))
+
+
 def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     import json
+    from importlib import resources
 
-    from ..proof import search, verify
+    from ..proof import verify
 
     out = ensure_writable_dir(out_dir)
     t0 = time.perf_counter()
-    p = search.validate_params(*TARGET)
-    res = search.prove(p, search.ProofSettings(targets=("pi",) if quick else ("0", "pi")))
-    side = {"params": p.as_json(), "ok": res.ok, "reason": res.reason, "n_checks": len(res.checks),
-            "quick": quick, "versions": versions()}
-    paths = []
-    if res.ok:
-        paths.append(str(atomic_write_json(out / "proof_certificate.json", res.certificate)))
-        v = verify.verify(json.loads(json.dumps(res.certificate)))
-        side.update(verified=v.ok, verify_reason=v.reason, verify_checks=len(v.checks),
-                    verify_wall_time_s=round(v.wall_time_s, 1),
+    cert = json.loads(resources.files("magrod.proof").joinpath("certificates", SHIPPED).read_text())
+    v = verify.verify(cert)
+    side = {"params": cert["params"], "ok": v.ok, "reason": v.reason, "n_checks": len(v.checks), "quick": quick,
+            "certificate": f"magrod/proof/certificates/{SHIPPED}", "re_proved": False, "versions": versions()}
+    paths = [str(atomic_write_json(out / "proof_certificate.json", cert))]
+    if v.ok:
+        side.update(verified=True, verify_reason=v.reason, verify_checks=len(v.checks),
+                    verify_wall_time_s=round(v.wall_time_s, 1), theorem=v.theorem,
                     crossings=[{"target": c["target"], "dtheta_dpsi": c["dtheta_dpsi"], "phi_star": c["newton"]}
-                               for c in res.certificate["crossings"]],
-                    eigenvalue_u=res.certificate["saddle"]["lam_u"])
+                               for c in cert["crossings"]],
+                    eigenvalue_u=cert["saddle"]["lam_u"])
+    # Fig 4's rod (issue 27): the relative equilibrium's own level, not the figure's h = 0.9
+    side["fig4"] = []
+    for key, name in FIG4:
+        other = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
+        v4 = verify.verify(other)
+        side["fig4"].append({"panel": key, "params": other["params"], "ok": v4.ok, "reason": v4.reason,
+                             "n_checks": len(v4.checks), "certificate": f"magrod/proof/certificates/{name}",
+                             "theorem": v4.theorem, "slopes": v4.slopes,
+                             "verify_wall_time_s": round(v4.wall_time_s, 1)})
+        paths.append(str(atomic_write_json(out / f"proof_certificate_fig{key}.json", other)))
     side["wall_time_s"] = round(time.perf_counter() - t0, 1)
     paths.append(str(atomic_write_json(out / "proof.json", side)))
     paths.append(str(_figure(out, side, quick)))
@@ -58,7 +74,7 @@ def _figure(out, side, quick):
         for x in ((0.0,) if x0 == 0 else (-np.pi, np.pi)):
             ax.axvline(x, color="k", lw=0.4)
         ax.annotate(rf"$\psi={'0' if x0 == 0 else chr(92) + 'pi'}$: $d\theta_u/d\psi \in$ {s:+.3e} "
-                    rf"$\pm$ {float(Fraction(cr['dtheta_dpsi']['rad'])):.1e} (proved)",
+                    rf"$\pm$ {float(Fraction(cr['dtheta_dpsi']['rad'])):.1e} (computer-verified)",
                     xy=(0.02, 0.95 - 0.07 * (x0 > 0)), xycoords="axes fraction", fontsize=7)
     ax.set_xlabel(r"$\psi$")
     ax.set_ylabel(r"$\theta$ on $\Sigma = \{\bar p_\theta = 0\}$")

@@ -5,8 +5,17 @@ enclosure lies inside the certificate's ball for it and (b) every claimed inequa
 balls.  Separate code from the prover: it imports neither magrod.proof.search nor the prover's saddle / manifold
 modules; the Krawczyk tests, the cone conditions, the lift of the boundary arc, the phase derivatives and the
 interval Newton step are implemented again here.  Shared with the prover are only the generated field
-(generated/validated.py, whose SHA-256 must match the certificate) and the validated integrator
-(magrod.proof.taylor), which the verifier drives with the certificate's exact step sizes.
+(generated/validated.py, whose SHA-256 must match the certificate, through magrod.proof.fields), the ball helpers
+(magrod.proof.ball), the validated integrator (magrod.proof.taylor), which the verifier drives with the
+certificate's exact step sizes, and the theorem's wording (magrod.proof.theorem): docs/nonintegrability.md,
+"The verifier's trust base".
+
+Completeness: a certificate is accepted only if what it contains establishes the theorem the verifier prints.  The
+targets must be recognised ("0" or "pi", nothing else), distinct, exactly the settings' targets, one crossing each;
+the settings must be those the stored data were made with (saddle radius, circle radius, crossing step); and the
+certificate's "theorem" text must be the one generated here from the verified parameters and targets (a text that
+claims more, or other, than the checks is rejected).  The printed theorem is that generated text, never the
+certificate's.
 
 Failure modes: `CertificateError` (unreadable, wrong format, missing or malformed fields: bad input, exit 2) and
 a result with ok = False and a one-line reason (a check does not hold: exit 1).
@@ -24,6 +33,7 @@ from flint import acb, acb_mat, arb, arb_mat
 
 from ..core.errors import ParameterError
 from . import ball, fields, taylor
+from .theorem import TARGETS, homoclinic_theorem
 
 FORMAT = "magrod-proof-certificate/1"
 
@@ -41,9 +51,14 @@ class VerifyResult:
     reason: str
     checks: list = field(default_factory=list)
     wall_time_s: float = 0.0
+    #: the theorem established (generated from the verified content; "" unless ok)
+    theorem: str = ""
+    #: per verified target: the certificate's enclosure of dtheta_u/dpsi (exact decimal bounds; empty unless ok)
+    slopes: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
-        return {"ok": self.ok, "reason": self.reason, "checks": self.checks, "wall_time_s": round(self.wall_time_s, 3)}
+        return {"ok": self.ok, "reason": self.reason, "theorem": self.theorem, "slopes": self.slopes,
+                "checks": self.checks, "wall_time_s": round(self.wall_time_s, 3)}
 
 
 class _Reject(Exception):
@@ -110,15 +125,16 @@ def verify(cert: dict, *, module=fields.gen) -> VerifyResult:
     try:
         p, st = _inputs(cert)
         with ball.workprec(st["prec"], st["series_cap"]):
-            _verify(cert, p, st, module, claim)
-    except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError) as err:
+            targets = _verify(cert, p, st, module, claim)
+    except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
         if isinstance(err, ParameterError):
             raise
         raise CertificateError(f"malformed certificate ({type(err).__name__}: {str(err)[:120]})") from None
     except _Reject as err:
         return VerifyResult(False, f"certificate rejected: {err}", checks, time.perf_counter() - t0)
+    slopes = {c["target"]: [ball.decimal(b) for b in ball.json_bounds(c["dtheta_dpsi"])] for c in cert["crossings"]}
     return VerifyResult(True, "certificate verified: every enclosure recomputed and every check holds", checks,
-                        time.perf_counter() - t0)
+                        time.perf_counter() - t0, homoclinic_theorem(p.as_json(), targets), slopes)
 
 
 def _frac(s) -> Fraction:
@@ -155,15 +171,49 @@ def _stored_claims(cert, claim):
         tgt = c["target"]
         a = {k: ball.from_json(v) for k, v in c["arc"]["enclosures"].items()}
         phic, dphi = _frac(c["phi_c"]), _frac(c["dphi"])
+        branch = {"0": ball.positive, "pi": ball.negative}[tgt]  # targets were checked recognised
         claim(f"psi={tgt} claims", ball.excludes_zero(a["gdot"]) and ball.excludes_zero(a["dGs"])
-              and (ball.positive if tgt == "0" else ball.negative)(a["Gc"])
+              and branch(a["Gc"])
               and _inside(ball.from_json(c["newton"]), ball.interval(phic - dphi, phic + dphi))
               and ball.excludes_zero(ball.from_json(c["dtheta_dpsi"])),
               "the certificate's balls satisfy the claims (section transversal, branch, dGs != 0, Newton inside "
               "the arc, dtheta_u/dpsi excludes 0)")
 
 
+def _check_statement(cert, p, st, claim) -> list:
+    """What the certificate must contain to establish a theorem, and which theorem: returns the targets.
+
+    Cheap, and first: a certificate with a missing, repeated or unknown target, or whose theorem text is not the
+    one its content establishes, is rejected before any enclosure is recomputed."""
+    targets = cert["settings"]["targets"]
+    crossings = cert["crossings"]
+    claim("targets recognised", isinstance(targets, list) and all(isinstance(t, str) and t in TARGETS for t in targets),
+          f"every target of the settings is one of {sorted(TARGETS)} (psi = 0 or psi = pi on Fix(R)); got "
+          f"{str(targets)[:80]}")
+    claim("targets distinct", len(targets) > 0 and len(set(targets)) == len(targets),
+          f"the settings name at least one target and none twice; got {targets}")
+    got = [c["target"] if isinstance(c, dict) else None for c in crossings] if isinstance(crossings, list) else None
+    claim("crossings recognised", got is not None and all(isinstance(t, str) and t in TARGETS for t in got),
+          f"every crossing's target is one of {sorted(TARGETS)}; got {str(got)[:80]}")
+    claim("one crossing per target", len(got) == len(set(got)) and sorted(got) == sorted(targets),
+          f"the crossings' targets {got} are exactly the settings' targets {targets}, each once")
+    s = cert["settings"]
+    claim("settings match the data",
+          _frac(cert["saddle"]["radius"]) == _frac(s["saddle_radius"]) and _frac(cert["manifold"]["r"]) == _frac(s["r"])
+          and all(_frac(c["h_cross"]) == 2 * _frac(s["lead"]) for c in crossings)
+          and all(_frac(c["dphi"]) >= _frac(s["dphi"]) for c in crossings),
+          "the saddle box radius, the circle radius, the crossing step (2 lead) and the phase arcs (>= dphi) are "
+          "the recorded settings")
+    want = homoclinic_theorem(p.as_json(), targets)
+    stated = cert["theorem"]
+    claim("theorem text", isinstance(stated, str) and stated == want,
+          "the certificate's theorem is the one its verified content establishes"
+          + ("" if stated == want else f" (expected: {want[:160]}...; the certificate states: {str(stated)[:160]}...)"))
+    return targets
+
+
 def _verify(cert, p, st, module, claim):
+    targets = _check_statement(cert, p, st, claim)
     _stored_claims(cert, claim)
     claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
           "the certificate's vector field is the installed derive-generated one (SHA-256 of generated/validated.py)")
@@ -177,6 +227,7 @@ def _verify(cert, p, st, module, claim):
     order = st["order"]
     for c in cert["crossings"]:
         _check_crossing(c, p, fb, xhat, V, rho_eff, L, r, order, module, claim)
+    return targets
 
 
 # --------------------------------------------------------------------------------------------------------------
@@ -365,7 +416,7 @@ def _check_crossing(c, p, fb, xhat, V, rho_eff, L, r, order, module, claim):
     sarc = {k: ball.from_json(v) for k, v in c["arc"]["enclosures"].items()}
     claim(f"psi={tgt} section transversal", ball.excludes_zero(sarc["gdot"]),
           "d/dt (sin theta pbar_theta) excludes 0 over the crossing step")
-    claim(f"psi={tgt} branch", (ball.positive if tgt == "0" else ball.negative)(sarc["Gc"]),
+    claim(f"psi={tgt} branch", {"0": ball.positive, "pi": ball.negative}[tgt](sarc["Gc"]),
           f"sin(theta) rho cos(psi) {'>' if tgt == '0' else '<'} 0 at the crossing")
     claim(f"psi={tgt} dGs/dphi", ball.excludes_zero(sarc["dGs"]), "dGs/dphi excludes 0 over the arc")
     N = ball.q(phic) - thin["Gs"] / arc["dGs"]

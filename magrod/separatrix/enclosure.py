@@ -137,6 +137,38 @@ def _ball_to_dict(x: arb) -> dict:
             "upper": float(x.upper().mid()) if x.is_finite() else None, "ball": x.str(20, radius=True)}
 
 
+def _exact(x: arb) -> Fraction:
+    m, e = x.mid().man_exp()
+    m, e = int(m), int(e)
+    return Fraction(m * 2**e) if e >= 0 else Fraction(m, 2**-e)
+
+
+def outward(x: arb, digits: int = 12) -> tuple[str, str]:
+    """(lo, hi) exact decimal strings with lo <= every point of the ball x <= hi, rounded outward to `digits`
+    significant digits (issue 27: a float of the mid-point of x.lower() is round-to-nearest, not a bound)."""
+    if not x.is_finite():
+        return "-inf", "inf"
+    lo, hi = _exact(x.lower()), _exact(x.upper())  # Arb rounds these outward at the working precision
+
+    def dec(f: Fraction, up: bool) -> str:
+        if f == 0:
+            return "0"
+        k = digits - 1 - math.floor(math.log10(abs(float(f))))
+        scaled = f * Fraction(10) ** k
+        n = math.ceil(scaled) if up else math.floor(scaled)
+        q = Fraction(n) / Fraction(10) ** k
+        assert (q >= f) if up else (q <= f)
+        if q.denominator == 1:
+            return str(q.numerator)
+        sign, a = ("-" if q < 0 else ""), abs(q)
+        ip, fp = divmod(a.numerator, a.denominator)
+        places = max(k, 0)
+        frac = str(fp * 10**places // a.denominator).rjust(places, "0").rstrip("0")
+        return f"{sign}{ip}.{frac}" if frac else f"{sign}{ip}"
+
+    return dec(lo, False), dec(hi, True)
+
+
 def _integrand_fn(mod, m, g, d, counter):
     kinds = mod.BRANCH_KINDS
 
@@ -365,10 +397,10 @@ class BoxResult:
     m: tuple
     gamma: tuple
     delta: tuple
-    S: str
+    S: str  # "[S_lo, S_hi]": both ends outward-rounded exact decimals (never Arb's "[+/- r]", which hides the sign)
     sign: int | None
-    S_lo: float
-    S_hi: float
+    S_lo: str  # an exact decimal <= every value of S on the box ("-inf" if unknown)
+    S_hi: str  # an exact decimal >= every value of S on the box ("inf" if unknown)
     widths: dict
 
     def to_dict(self) -> dict:
@@ -421,6 +453,7 @@ def _enclose_rect(mod, mb, gb, dv: fmpq, tail_tol: float, counter) -> tuple[arb,
         # came out "decided, S > 0" that way)
         return _UNKNOWN(), {"m": math.inf, "gamma": math.inf, "tail": math.inf, "quad": math.inf, "T": "none"}
     M0, G0 = arb(m0), arb(g0)
+
     # the centre value needs only a few digits more than the mean value terms it is combined with
     res = acb.integral(_integrand_fn(mod, M0, G0, Dv, counter), 0, arb(T), rel_tol=2.0**-40, abs_tol=tail_tol)
     I0 = res.real
@@ -536,15 +569,16 @@ def box_theorem(m=("1.0", "2.2"), gamma=("0.25", "3"), delta=("0.25", "3"), *, i
         while queue:
             if evaluated >= max_boxes:
                 undecided.extend(BoxResult(tuple(map(str, a)), tuple(map(str, b)), tuple(map(str, c)), "not evaluated",
-                                           None, math.nan, math.nan, {}) for a, b, c in queue)
+                                           None, "-inf", "inf", {}) for a, b, c in queue)
                 break
             bm, bg, bd = queue.pop()
             hull, sign, widths, lo_ball, hi_ball = _decide(mod, bm, bg, bd, tol, counter)
             evaluated += 1
             if progress is not None:
                 progress(1)
-            rec = BoxResult(tuple(map(str, bm)), tuple(map(str, bg)), tuple(map(str, bd)), hull.str(radius=True),
-                            sign, float(hull.lower().mid()), float(hull.upper().mid()), widths)
+            lo_s, hi_s = outward(hull)
+            rec = BoxResult(tuple(map(str, bm)), tuple(map(str, bg)), tuple(map(str, bd)), f"[{lo_s}, {hi_s}]",
+                            sign, lo_s, hi_s, widths)
             if sign is not None:
                 decided.append(rec)
                 continue

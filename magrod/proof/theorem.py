@@ -1,0 +1,72 @@
+"""The theorem a homoclinic certificate establishes, as text generated from what was verified.
+
+The verifier (verify.py) prints this text, built from the parameters and the targets it has checked, and requires
+the certificate's own "theorem" field to be this text exactly: a certificate cannot state more (or other) than its
+checks establish.  The prover (search.py) writes the same function's output into the certificate it issues.
+
+The targets are the symmetric points psi = 0 and psi = pi of Fix(R) on Sigma = {pbar_theta = 0}.  Two distinct
+targets give two distinct orbits: a homoclinic orbit that meets Fix(R) twice would be R-symmetric about two points,
+hence periodic (Devaney 1976, reversible systems), which a homoclinic orbit is not.
+"""
+from __future__ import annotations
+
+from fractions import Fraction
+
+#: the recognised targets: certificate spelling -> the value of psi on Fix(R)
+TARGETS = {"0": "psi = 0", "pi": "psi = pi"}
+#: the order in which the targets are listed in the theorem (independent of the certificate's order)
+ORDER = ("0", "pi")
+
+
+def _rational(s: str) -> str:
+    f = Fraction(s)
+    return str(f.numerator) if f.denominator == 1 else f"{f.numerator}/{f.denominator}"
+
+
+def homoclinic_theorem(params: dict, targets) -> str:
+    """The statement established by a verified homoclinic certificate.
+
+    Parameters
+    ----------
+    params : dict
+        Exact parameters as strings "p/q", keys m, mu, gamma, delta, lam.
+    targets : iterable of str
+        The verified, distinct, recognised targets (a non-empty subset of TARGETS).
+
+    Returns
+    -------
+    str
+        One paragraph; the number of orbits and the points are those of `targets`.
+
+    Raises
+    ------
+    ValueError
+        If a target is not recognised, repeated, or the set is empty (a caller's bug: the verifier checks first).
+
+    Examples
+    --------
+    >>> from magrod.proof.theorem import homoclinic_theorem
+    >>> p = {"m": "17/10", "mu": "1/25", "gamma": "1/1", "delta": "1/1", "lam": "1/100"}
+    >>> homoclinic_theorem(p, ["pi"])[:60]
+    'At (m, mu, gamma, delta, lambdabar) = (17/10, 1/25, 1, 1, 1/'
+
+    Notes
+    -----
+    The wording names the chart system only; the 9-D statement is conditional (docs/nonintegrability.md,
+    statement 7) and is not part of what a certificate establishes.
+    """
+    targets = list(targets)
+    if not targets or len(set(targets)) != len(targets) or any(t not in TARGETS for t in targets):
+        raise ValueError(f"targets must be distinct elements of {sorted(TARGETS)}, got {targets!r}")
+    pts = [TARGETS[t] for t in ORDER if t in targets]
+    n = len(pts)
+    vals = ", ".join(_rational(params[k]) for k in ("m", "mu", "gamma", "delta", "lam"))
+    where = " and at ".join(f"a point with {p}" for p in pts)
+    what = ("one transverse symmetric homoclinic orbit" if n == 1 else
+            f"{'two' if n == 2 else n} distinct transverse symmetric homoclinic orbits")
+    return (f"At (m, mu, gamma, delta, lambdabar) = ({vals}), for the reduced chart field of Hbar "
+            f"(eq:full_ham_nondim): the certificate's saddle box contains exactly one equilibrium q*, it lies on "
+            f"Fix(R) and is a saddle-focus; its unstable manifold W^u(q*) meets Sigma = {{pbar_theta = 0}} on "
+            f"Fix(R) at {where}, with dtheta_u/dpsi != 0 there, so W^u(q*) and W^s(q*) = R(W^u(q*)) intersect "
+            f"transversally inside the energy level: {what} to q* "
+            f"(docs/nonintegrability.md, Theorem (computer-assisted)).")
