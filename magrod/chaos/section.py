@@ -67,7 +67,7 @@ from ..core.precision import Precision
 from ..core.limits import LIMITS
 from ..core.printed import Panel, panel, panel_kwargs, with_overrides
 from ..core.results import Result
-from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, START_LEVEL_TOL
+from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, ROOT_XTOL, START_LEVEL_TOL
 
 DIRECTIONS = systems.DIRECTIONS
 BRANCHES = ("any", "0", "pi")
@@ -171,7 +171,7 @@ def solve_p_psi(params: RodParams, h, theta0, ptheta0, psi0=0.0) -> np.ndarray:
     for i in np.nonzero(v == 0.0)[0]:
         roots.append(q[i])
     for i in np.nonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0)[0]:
-        r = brentq(lambda s: f(s)[0], q[i], q[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+        r = brentq(lambda s: f(s)[0], q[i], q[i + 1], xtol=ROOT_XTOL, rtol=4 * np.finfo(float).eps, maxiter=200)
         # the last ulp: pick the neighbour with the smaller residual
         cand = np.array([np.nextafter(r, -np.inf), r, np.nextafter(r, np.inf)])
         roots.append(cand[np.argmin(np.abs(f(cand)))])
@@ -442,7 +442,8 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
 
     Returns
     -------
-    PoincareResult, or a list of them (one per start, in order) for many starts
+    PoincareResult
+        (For many starts the list form is deprecated: use `poincare_sections`, which always returns a list.)
         points (N, 4) in (theta, psi, pbar_theta, pbar_psi), times (N,), dH (N,), accuracy, success/message.
 
     Raises
@@ -458,9 +459,11 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     >>> sec = mr.poincare_section("4a", iterates=200)
     >>> sec.success, sec.points.shape, bool(sec.max_abs_dH < 1e-12)
     (True, (200, 4), True)
-    >>> secs = mr.poincare_section(["4a", "4b", "5a"], iterates=100)
-    >>> [s.panel for s in secs], all(s.success and s.n_points == 100 for s in secs)
-    (['4a', '4b', '5a'], True)
+    >>> sec = mr.poincare_section("4a", iterates=100, lam=0.15)  # the panel's start on another rod
+    >>> sec.panel, sec.params.lam
+    ('4a, lam=0.15', 0.15)
+
+    Many orbits: `poincare_sections` (a list, always).
 
     Notes
     -----
@@ -478,6 +481,12 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     """
     params = with_overrides(params, overrides)
     if _is_many(params, theta0, ptheta0, psi0, starts):
+        import warnings
+
+        # one return type per function (issue 25): many orbits are poincare_sections' (a list, always)
+        warnings.warn("poincare_section with many orbits (a list of systems, arrays of starts or `starts`) returns "
+                      "a list: call magrod.poincare_sections instead (this form of poincare_section goes away in "
+                      "the next release)", DeprecationWarning, stacklevel=2)
         return _many_sections(params, h, theta0, ptheta0, psi0, starts=starts, p_psi0=p_psi0, iterates=iterates,
                               root=root, direction=direction, branch=branch, formulation=formulation,
                               precision=precision, tol=tol, t_max=t_max, verify=verify, pole_switch=pole_switch,
@@ -508,6 +517,56 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
                        f"Casimir drift {res.casimir_drift if res.casimir_drift is not None else 0:.3g} "
                        f"(tol {acc['casimir_tol']:g})")
     return res
+
+
+def poincare_sections(systems, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
+                      root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION,
+                      precision=Precision.DOUBLE, tol=None, t_max=None, verify=True, pole_switch=(0.05, 0.1),
+                      radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None, starts=None, workers=None,
+                      **overrides) -> list:
+    """Poincare sections sin(psi) = 0 of many orbits at once (the SIMD lanes of heyoka's batch integrator): always
+    a list of PoincareResult, one per orbit, in the order given.
+
+    Parameters
+    ----------
+    systems : RodParams, Panel or str, or a list of them
+        One rod or panel with many starts (`starts`, or arrays theta0/ptheta0/psi0), or a list of rods/panels
+        (one orbit each, each with the start given or its panel's).
+    h, theta0, ptheta0, psi0, p_psi0, starts, iterates, root, direction, branch, formulation, precision, tol,
+    t_max, verify, pole_switch, radicand_switch, progress, stretch_dt, workers, **overrides
+        As in `poincare_section`.
+
+    Returns
+    -------
+    list of PoincareResult
+        One per orbit (a failed orbit has success False and says why; it does not stop the others).
+
+    Raises
+    ------
+    ParameterError
+        Naming the argument, and the entry for a bad start ("entry i: ...").
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> secs = mr.poincare_sections(["4a", "4b", "5a"], iterates=100)
+    >>> [s.panel for s in secs], all(s.success for s in secs)
+    (['4a', '4b', '5a'], True)
+
+    Notes
+    -----
+    The batch path (body formulation, double precision, no stretch sampling) runs one section event per lane, a
+    lane refilled with the next start as its orbit ends, one batch integrator per core; each lane takes the scalar
+    integrator's steps (tests/test_batch.py).  Other configurations run the scalar path per start on `workers`
+    threads.  Cost: the 8 paper panels x 10 000 iterates take ~2 s on 2 cores (benchmarks/README.md).
+    """
+    systems_ = with_overrides(systems, overrides)
+    if not _is_many(systems_, theta0, ptheta0, psi0, starts):
+        systems_ = [systems_]
+    return _many_sections(systems_, h, theta0, ptheta0, psi0, starts=starts, p_psi0=p_psi0, iterates=iterates,
+                          root=root, direction=direction, branch=branch, formulation=formulation,
+                          precision=precision, tol=tol, t_max=t_max, verify=verify, pole_switch=pole_switch,
+                          radicand_switch=radicand_switch, progress=progress, stretch_dt=stretch_dt, workers=workers)
 
 
 # ----------------------------------------------------------------------------------------------------------

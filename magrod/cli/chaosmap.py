@@ -236,7 +236,7 @@ def run(args) -> dict:
                            task_wall_s=res["task_wall_s"])
             result = {"ok": True, "spec": spec.as_dict(), **summary, "store_identity": state.identity,
                       "output": {k: str(v) for k, v in pth.items() if k in ("store", "png", "json")}}
-            problem = _check_fields(fields, summary)
+            problem = maps.check_fields(fields)
             if problem:  # never hand back a map we cannot vouch for: no PNG, no summary file
                 result.update(ok=False, error=problem, output={"store": str(pth["store"])})
             else:
@@ -346,23 +346,6 @@ def _tile_failure(exc, address, done: int, total: int, store=None) -> dict:
                                             f"{' '.join(str(inner).split())[:160]}; {kept})") from None
     return {"ok": False, "error": f"tile task failed in a worker: {exc} ({kept})", "tiles": {"total": total,
                                                                                            "done": done}}
-
-
-def _check_fields(fields, summary) -> str | None:
-    """Why the map is not a result (None if it is): no point computed, or computed points without finite
-    indicators (what workers wrote is inconsistent)."""
-    import numpy as np
-
-    from ..chaos import indicators
-
-    ok = np.asarray(fields["status"]) == indicators.OK
-    if not ok.any():
-        why = ", ".join(f"{v} {k}" for k, v in summary["missing"].items()) or "none"
-        return f"no point of the map could be computed (status of the {summary['points']} points: {why})"
-    for k in ("lyap", "fli", "growth_exponent", "max_abs_dH"):
-        if not np.all(np.isfinite(np.asarray(fields[k])[ok])):
-            return f"points marked ok have non-finite {k}: the store's content is inconsistent"
-    return None
 
 
 def _clean_after_failure(chaos_store, pth, state, pids) -> None:

@@ -26,7 +26,7 @@ from ..core.errors import ParameterError, require_positive_int
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result, jsonable
-from ..core.tolerances import FLOOR_CAP, FLOOR_FACTOR, LAUNCH_DISTANCE, LAUNCH_DISTANCES, SHOOTING_TOL, STALL_ITERATIONS
+from ..core.tolerances import BISECTION_RTOL, FLOOR_CAP, FLOOR_FACTOR, LAUNCH_DISTANCE, LAUNCH_DISTANCES, SHOOTING_TOL, STALL_ITERATIONS
 from ..generated.names import PARAMS
 from . import shooting
 from .equilibrium import StraightRod, on_level, straight_rod
@@ -230,7 +230,7 @@ def crossing_sinpsi(params: RodParams, free: str, value: float, crossing: int, *
 
 
 def bisect(params: RodParams, free: str, crossing: int, a: float, b: float, *, eps: float,
-           precision=Precision.DOUBLE, rtol: float = 1e-15, max_iter: int = 60) -> dict | None:
+           precision=Precision.DOUBLE, rtol: float = BISECTION_RTOL, max_iter: int = 60) -> dict | None:
     """Bisection on g(v) = sin psi at the `crossing`-th zero of pbar_theta over a bracket [a, b] of the free
     parameter (the pbar_theta condition holds exactly at the event, so this is the 1-D form of the shooting
     problem).  Stops at relative width rtol (a few ulp: inside the noise band it just picks a point in it).
@@ -427,6 +427,13 @@ class MultipulseSearch(Result):
 
     def __len__(self) -> int:
         return len(self.orbits)
+
+    @property
+    def accuracy(self) -> dict:
+        """The accuracy achieved: the largest residual and noise floor over the orbits found (each orbit's own
+        `accuracy` has the rest)."""
+        return {"max_residual": max((o.residual for o in self.orbits), default=math.nan),
+                "max_noise_floor": max((o.noise_floor for o in self.orbits), default=0.0)}
 
     def __getitem__(self, i) -> MultipulseOrbit:
         return self.orbits[i]
