@@ -171,7 +171,10 @@ def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path,
 FIG4A = ["--m", "1.7", "--mu", "0.4", "--gamma", "3", "--delta", "3", "--lam", "0.135"]
 
 
-FIG4_LAM = {"homoclinic_fig4a.json": "27/200", "homoclinic_fig4b.json": "63/400"}
+FIG4_LAM = {"homoclinic_fig4a.json": "27/200", "homoclinic_fig4b.json": "63/400", "homoclinic_fig4c.json": "7/40",
+            "homoclinic_fig4d.json": "93/500"}
+FIG4_TARGETS = {"homoclinic_fig4a.json": ["0", "pi"], "homoclinic_fig4b.json": ["0", "pi"],
+                "homoclinic_fig4c.json": ["0"], "homoclinic_fig4d.json": ["0"]}
 
 
 @pytest.fixture(scope="module", params=sorted(FIG4_LAM))
@@ -185,7 +188,8 @@ def fig4a(request):
 def test_fig4a_certificate_states_its_theorem(fig4a):
     name, fig4a = fig4a
     assert fig4a["params"] == {"m": "17/10", "mu": "2/5", "gamma": "3/1", "delta": "3/1", "lam": FIG4_LAM[name]}
-    assert fig4a["theorem"] == theorem.homoclinic_theorem(fig4a["params"], ["0", "pi"])
+    assert [c["target"] for c in fig4a["crossings"]] == FIG4_TARGETS[name]
+    assert fig4a["theorem"] == theorem.homoclinic_theorem(fig4a["params"], FIG4_TARGETS[name])
 
 
 def test_fig4a_shifted_saddle_box_is_rejected(fig4a, tmp_path, capsys):
@@ -199,7 +203,7 @@ def test_fig4a_shifted_saddle_box_is_rejected(fig4a, tmp_path, capsys):
     _rejected(bad, tmp_path, capsys, "saddle K[0] recomputed")
 
 
-@pytest.mark.parametrize("lam", ["0.135", "0.1575"])
+@pytest.mark.parametrize("lam", ["0.135", "0.1575", "0.175", "0.186"])
 def test_fig4a_mutated_field_fails_to_prove(lam, tmp_path, capsys):
     args = list(FIG4A)
     args[args.index("--lam") + 1] = lam

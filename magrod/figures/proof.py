@@ -19,7 +19,8 @@ TARGET = ("1.7", "0.04", "1", "1", "0.01")  # (m, mu, gamma, delta, lambdabar): 
 
 SHIPPED = "homoclinic_target.json"
 # Fig 4's rod at the panels' lambdabar where `magrod prove` succeeds: the saddle-focus's own level (statement 5a)
-FIG4 = (("4a", "homoclinic_fig4a.json"), ("4b", "homoclinic_fig4b.json"))
+FIG4 = (("4a", "homoclinic_fig4a.json"), ("4b", "homoclinic_fig4b.json"), ("4c", "homoclinic_fig4c.json"),
+        ("4d", "homoclinic_fig4d.json"))
 
 
 def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:

@@ -471,7 +471,8 @@ def _proof_fig4a(d) -> list:
             "computed": f"({', '.join(PARAMS)}) = ({', '.join(f['params'][k] for k in PARAMS)}): the shipped "
                         f"certificate {f['certificate']} re-checked by the complete verifier: {f['reason']} "
                         f"({f['n_checks']} checks, {f['verify_wall_time_s']:.0f} s); {slopes}",
-            "verdict": (f"{statements.status('5a')} (statement 5a): two transverse symmetric homoclinic orbits to "
+            "verdict": (f"{statements.status('5a')} (statement 5a): "
+                        f"{'two transverse symmetric homoclinic orbits' if len(f['slopes']) == 2 else 'a transverse symmetric homoclinic orbit'} to "
                         "the tilted saddle-focus on its own level H = H(q*); not a proof about Fig 4's section "
                         "h = 0.9 (statement 10)") if f["ok"] else "certificate NOT verified"})
     return rows

@@ -103,16 +103,17 @@ STATEMENTS = (
              "cited theorems, every hypothesis checked by the certificate")],
        phrases=(r"one parameter point", r"17/10, 1/25")),
     _s("5a", "the theorem at Fig 4's rod, on the saddle's own level",
-       """At (m, μ, γ, δ) = (17/10, 2/5, 3, 3), the rod of Fig 4 (non-perturbative: γ = δ = 3, μ − 2λ̄ ≈ 0.1), for
-       λ̄ = 27/200 (panel a) and λ̄ = 63/400 (panel b): the tilted saddle-focus (eigenvalues ±1.112 ± 0.079i, and
-       ±1.088 ± 0.015i) has two transverse symmetric homoclinic orbits, dθ_u/dψ ∈ [−0.2879, −0.2818] at ψ = 0 and
-       [0.03001, 0.03064] at ψ = π (a), [−0.3875, −0.3807] and [0.005909, 0.006052] (b)
-       (magrod/proof/certificates/homoclinic_fig4a.json, homoclinic_fig4b.json, re-checked by the complete
-       verifier; `magrod prove --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam 0.135`). With Devaney's and Kozlov's
-       theorems as in 5: horseshoes and no real-analytic integral independent of H̄ on the saddle's level H̄(q*).
-       That level is not the figure's h = 0.9 (the helix's H̄ is 0.8305 and 0.7720 there), so this is not a proof
-       about Fig 4's section (statement 10). At λ̄ = 0.175 and 0.186 the prover's float search did not find the
-       ψ = π crossing.""",
+       """At (m, μ, γ, δ) = (17/10, 2/5, 3, 3), the rod of Fig 4 (non-perturbative: γ = δ = 3, μ − 2λ̄ ≈ 0.03–0.13),
+       at each of the four panels' λ̄ = 27/200, 63/400, 7/40, 93/500: the tilted saddle-focus (eigenvalues
+       ±1.112 ± 0.079i, ±1.088 ± 0.015i, ±1.073 ± 0.095i, ±1.065 ± 0.147i) has transverse symmetric homoclinic
+       orbits: two at (a) and (b), dθ_u/dψ ∈ [−0.2879, −0.2818] at ψ = 0 and [0.03001, 0.03064] at ψ = π (a),
+       [−0.3875, −0.3807] and [0.005909, 0.006052] (b); one at (c) and (d), at ψ = 0, dθ_u/dψ ∈ [0.01034, 0.01081]
+       (c) and [0.3562, 0.4067] (d) (magrod/proof/certificates/homoclinic_fig4{a,b,c,d}.json, re-checked by the
+       complete verifier; `magrod prove --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam 0.135`, and `--targets 0` at
+       0.175, 0.186, where the float search finds no ψ = π crossing). With Devaney's and Kozlov's theorems as in 5
+       (one transverse homoclinic orbit suffices): horseshoes and no real-analytic integral independent of H̄ on
+       the saddle's level H̄(q*). That level is not the figure's h = 0.9 (the helix's H̄ is 0.8305, 0.7720, 0.7253,
+       0.6955), so this is not a proof about Fig 4's section (statement 10).""",
        [Step("saddle, eigenpairs, local manifold, flight, crossings, transversality", "computer-verified",
              "magrod prove; magrod prove --verify (complete verifier)"),
         Step("the chart field is Hamilton's, R is a reversor, the lift intertwines the flows", "proved",
@@ -236,7 +237,7 @@ def render_summary() -> str:
     g = _by_status()
     lists = "; ".join(f"{k}: {', '.join(g[k])}" for k in RANK if k in g)
     return _wrap(f"**Summary** ({lists}). At the parameter point of 5, (m, μ, γ, δ, λ̄) = (17/10, 1/25, 1, 1, "
-            f"1/100), and at Fig 4's rod (5a: (17/10, 2/5, 3, 3) with λ̄ = 27/200 and 63/400, non-perturbative), the "
+            f"1/100), and at Fig 4's rod (5a: (17/10, 2/5, 3, 3) at the four panels' λ̄, non-perturbative), the "
             f"saddle's energy level of the reduced chart system carries horseshoes and no real-analytic "
             f"integral independent of H̄ (**{status('5')}**), and the 9-D rod has there no real-analytic integral "
             f"in involution with m3 that is independent of H, m3 and the Casimirs on that level "
@@ -252,7 +253,7 @@ def render_readme() -> str:
     return _wrap(f"- Nonintegrability: at one parameter point, (m, μ, γ, δ, λ̄) = (17/10, 1/25, 1, 1, 1/100), two "
             f"transverse homoclinic orbits of the tilted saddle-focus are **{status('5')}** (`magrod prove`, a "
             f"certificate re-checked by a separate, complete verifier), hence horseshoes on that level and no "
-            f"real-analytic integral of the reduced system there, the same at Fig 4's rod (λ̄ = 0.135, 0.1575) on the saddle-focus's "
+            f"real-analytic integral of the reduced system there, the same at Fig 4's rod (the four panels' λ̄) on the saddle-focus's "
             f"own level (**{status('5a')}**; that level is not the one Fig 4 shows), and for the 9-D rod none in "
             f"involution with m3 "
             f"(**{status('7')}**); every other nonintegrability claim (every integral, not only those in involution with "
