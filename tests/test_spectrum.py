@@ -159,7 +159,7 @@ def test_bad_input_names_the_field():
 def test_spectrum_command(tmp_path, capsys):
     from magrod import cli
 
-    rc = cli.main(["spectrum", "--figure", "4d", "--t-max", "200", "--gali", "--out", str(tmp_path / "o"), "--json",
+    rc = cli.main(["spectrum", "--panel", "4d", "--t-max", "200", "--gali", "--out", str(tmp_path / "o"), "--json",
                    "--quiet"])
     cap = capsys.readouterr()
     assert rc == 0, cap.err

@@ -97,6 +97,33 @@ class Parser(argparse.ArgumentParser):
         raise UsageError(_param_of(message), message)
 
 
+# Every command takes --model (issue 26).  These compute for the paper's rod only; with another model they say so,
+# by name and with the reason, before anything runs (a model file is never loaded for them).
+DEFAULT_MODEL = "magnetic-extensible"  # = magrod.core.models.DEFAULT (not imported: it would load the model code)
+PAPER_ONLY = {
+    "homoclinic": "its closed-form lambdabar = 0 homoclinic orbit is derived for the paper's rod (derive/homoclinic.py)",
+    "melnikov": "its Mel'nikov integrand (eq:Mel_ext) is derived for the paper's rod",
+    "figure": "the paper's figures are of the paper's rod",
+    "multipulse": "the Fix(R) shooting engine runs on the paper's reduced chart (its reversor R and its saddles)",
+    "rod": "the rod shape integrates the paper's body frame with its director frame",
+    "reproduce": "it reproduces the paper, whose rod this is (the other models: magrod landscape)",
+    "continue": "the Fix(R) shooting engine runs on the paper's reduced chart (its reversor R and its saddles)",
+    "splitting": "the scaling mu = a eps^2, lambdabar = b eps^2 and its saddles are the paper's rod's",
+    "prove": "the validated fields (generated/validated.py) are generated for the paper's rod",
+    "orbitdiagram": "it runs on the paper's Euler chart (its start and energy level)",
+    "explore": "it draws the paper's Euler-chart section",
+}
+
+
+def _check_model(args) -> None:
+    model = getattr(args, "model", None)
+    if model is None or args.command not in PAPER_ONLY or model == DEFAULT_MODEL:
+        return
+    raise ParameterError("model", f"{args.command} computes for the paper's rod ({DEFAULT_MODEL}) only, not "
+                                  f"{str(model)[:80]!r}: {PAPER_ONLY[args.command]}; for other models use magrod "
+                                  "check, poincare, chaosmap or landscape --model")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = Parser(prog="magrod", description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=Parser)
@@ -107,6 +134,9 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--quiet", action="store_true", help="no progress output")
         p.set_defaults(_module=module)
         importlib.import_module(module).add_arguments(p)
+        if name in PAPER_ONLY:
+            p.add_argument("--model", default=None, metavar="NAME",
+                           help=f"the rod model: this command computes for the paper's rod ({DEFAULT_MODEL}) only")
     return parser
 
 
@@ -337,6 +367,7 @@ def _main(argv=None) -> int:
         want_json = bool(args.json)
         if args.json:
             args.quiet = True
+        _check_model(args)
         mod = importlib.import_module(args._module)
         if args.command not in LIGHT_COMMANDS and "heyoka" not in sys.modules:
             with signals_deferred():

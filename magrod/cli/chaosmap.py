@@ -41,7 +41,7 @@ def add_arguments(p):
     p.add_argument("--refine", default="0",
                    help="adaptive map: LEVELS >= 1 computes every 2^LEVELS-th point first, then only the cells whose "
                         "points disagree in class, halved round by round; the other points are inferred and "
-                        "flagged (store arrays 'inferred', 'level'); 0 = every point (default)")
+                        "flagged (store arrays 'inferred', 'level'); 0 = every point, brute force")
     p.add_argument("--refine-bound", default=None,
                    help="with --refine: also split a cell whose growth exponents span more than this")
     p.add_argument("--workers", default=None,

@@ -1,26 +1,24 @@
 """`magrod spectrum`: the Lyapunov spectrum (all 9 exponents, QR/Benettin on the body frame's variational system)
-of one orbit, and with --gali its GALI_2..4 (Skokos et al. 2007).  The orbit is a paper panel (--figure 4a ..
+of one orbit, and with --gali its GALI_2..4 (Skokos et al. 2007).  The orbit is a paper panel (--panel 4a ..
 5d, default 4a) with any value overridden, or free parameters and a start (--m --mu --gamma --delta --lam --h
 --theta0 --ptheta0 [--psi0]).  With --out DIR: DIR/<stem>.json and DIR/<stem>.png (the running exponents, and
 GALI against t) written atomically.
 
-Example:  magrod spectrum --figure 4a --t-max 3000 --gali --out DIR"""
+Example:  magrod spectrum --panel 4a --t-max 3000 --gali --out DIR"""
 from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import add_params, number, out_dir, params_from, stem
+from .options import ROOT_HELP, add_panel, add_params, add_start, number, out_dir, params_from, stem
 
 _START = ("h", "theta0", "ptheta0", "psi0")
 
 
 def add_arguments(p):
-    p.add_argument("--figure", metavar="PANEL", default="4a", help="the paper panel whose orbit is used")
+    add_panel(p, dest="figure", default="4a", help="the paper panel whose orbit is used")
     add_params(p, help_suffix=" (overrides the panel's)")
-    g = p.add_argument_group("start (overrides the panel's)")
-    for name in _START:
-        g.add_argument(f"--{name}", type=str, default=None)
-    p.add_argument("--root", default="smallest", choices=["smallest", "largest"], help="root pbar_psi of Hbar = h")
+    add_start(p.add_argument_group("start (overrides the panel's)"), _START, suffix=" (overrides the panel's)")
+    p.add_argument("--root", default="smallest", choices=["smallest", "largest"], help=ROOT_HELP)
     p.add_argument("--t-max", default="3000", help="integration length T")
     p.add_argument("--renorm-dt", default="10", help="interval between QR re-orthonormalisations (GALI samples)")
     p.add_argument("--tol", default="0", help="Taylor tolerance (0 = machine epsilon)")

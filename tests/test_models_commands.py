@@ -1,0 +1,35 @@
+"""Every command takes --model (issue 26, item 3).  check, poincare, chaosmap, landscape and models compute for any
+model; the others compute for the paper's rod only and say so, by name and with the reason, before anything runs
+(exit 2, one line, one JSON object, nothing written; a model file is never loaded for them)."""
+import json
+
+import pytest
+
+from magrod import cli
+
+REQUIRED = {"homoclinic": ["--m", "1.7", "--gamma", "1"], "melnikov": ["--m", "1.7"], "figure": ["2"],
+            "rod": ["--from", "x.npz"], "orbitdiagram": ["--parameter", "lam", "--values", "0.135,0.15"]}
+
+
+@pytest.mark.parametrize("command", sorted(cli.PAPER_ONLY))
+def test_a_paper_only_command_names_the_model_and_the_reason(command, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    rc = cli.main([command, *REQUIRED.get(command, []), "--model", "kirchhoff", "--json"])
+    cap = capsys.readouterr()
+    obj = json.loads(cap.out)
+    lines = [ln for ln in cap.err.splitlines() if ln.strip()]
+    assert rc == 2 and obj["parameter"] == "model" and len(lines) == 1, (obj, lines)
+    assert "kirchhoff" in lines[0] and cli.PAPER_ONLY[command].split(" (")[0] in lines[0]
+    assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+def test_a_model_file_is_not_loaded_by_a_paper_only_command(tmp_path, capsys):
+    f = tmp_path / "my_rod.py"
+    f.write_text("raise SystemExit('this file must not run')\n")
+    rc = cli.main(["splitting", "--model", str(f), "--json"])
+    assert rc == 2 and json.loads(capsys.readouterr().out)["parameter"] == "model"
+
+
+def test_the_paper_rod_by_name_is_the_default(capsys):
+    rc = cli.main(["homoclinic", "--m", "1.7", "--gamma", "1", "--model", cli.DEFAULT_MODEL, "--json"])
+    assert rc == 0 and json.loads(capsys.readouterr().out)["m"] == 1.7
