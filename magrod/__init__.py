@@ -49,6 +49,7 @@ _API = {
     "panel": "core.printed",
     # chaos: sections, indicators, maps
     "poincare_section": "chaos.section",
+    "poincare_sections": "chaos.section",
     "section_portrait": "chaos.portrait",
     "orbit_diagram": "chaos.portrait",
     "lyapunov": "chaos.lyapunov",

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from magrod.chaos import section
-from magrod.chaos.section import MAX_ORBITS, poincare_section
+from magrod.chaos.section import MAX_ORBITS, poincare_section, poincare_sections
 from magrod.core.errors import ParameterError
 from magrod.core.printed import PANELS, panel
 from magrod.core.tolerances import START_LEVEL_TOL
@@ -25,16 +25,16 @@ def _body_diff(a, b):
 def eight():
     """The 8 paper panels, 100 crossings: batched, scalar (float64) and scalar long double."""
     n = 100
-    return (poincare_section(KEYS, iterates=n), [poincare_section(k, iterates=n) for k in KEYS],
+    return (poincare_sections(KEYS, iterates=n), [poincare_section(k, iterates=n) for k in KEYS],
             [poincare_section(k, iterates=n, precision="long double") for k in KEYS])
 
 
 def test_a_lane_does_not_depend_on_its_neighbours_or_the_worker_count():
     """heyoka batch lanes step independently: an orbit's section points are bit-identical whichever lane,
     neighbours, refill order or number of threads it gets."""
-    alone = poincare_section(["4a"], iterates=300)[0]
-    mixed = poincare_section(["5d", "4b", "4a", "5a", "4c", "4d", "5b"], iterates=300, workers=2)
-    many = poincare_section(["4a"] * 9, iterates=300, workers=2)
+    alone = poincare_sections(["4a"], iterates=300)[0]
+    mixed = poincare_sections(["5d", "4b", "4a", "5a", "4c", "4d", "5b"], iterates=300, workers=2)
+    many = poincare_sections(["4a"] * 9, iterates=300, workers=2)
     assert [r.panel for r in mixed] == ["5d", "4b", "4a", "5a", "4c", "4d", "5b"]  # results in input order
     np.testing.assert_array_equal(alone.body_points, mixed[2].body_points)
     np.testing.assert_array_equal(alone.times, mixed[2].times)
@@ -62,7 +62,7 @@ def test_batch_agrees_with_the_scalar_path_as_well_as_two_precisions_do(eight):
 
 def test_every_lane_conserves_as_the_scalar_path(eight):
     B, _, _ = eight
-    long = poincare_section(KEYS, iterates=2000, workers=2)
+    long = poincare_sections(KEYS, iterates=2000, workers=2)
     for r in [*B, *long]:
         assert r.success and r.max_abs_dH <= DH_LANE, (r.panel, r.max_abs_dH)
         assert r.casimir_drift <= DH_LANE
@@ -75,7 +75,7 @@ def test_every_lane_conserves_as_the_scalar_path(eight):
 @pytest.mark.slow
 def test_the_paper_panels_full_length_in_lanes():
     """All 8 panels, 10 000 iterates each (the paper's runs) in lanes: max |Hbar - h| <= 1.5e-13 on every one."""
-    res = poincare_section(KEYS, iterates=10_000, workers=2)
+    res = poincare_sections(KEYS, iterates=10_000, workers=2)
     for r in res:
         assert r.success and r.n_points == 10_000 and r.max_abs_dH <= DH_LANE, (r.panel, r.max_abs_dH)
 
@@ -84,23 +84,23 @@ def test_lanes_are_refilled_and_a_finished_lane_does_not_stop_the_others():
     """More orbits than lanes on one thread; one orbit stops early at its t_max guard (a lane freed mid-run),
     the others carry on; a start table (N, 2) runs N orbits on one level."""
     starts = np.array([[0.1, 0.5], [0.3, 0.0], [1.0, 0.2], [0.5, -0.3], [0.2, 0.4], [0.7, 0.1], [0.4, 0.3]])
-    res = poincare_section("4a", starts=starts, iterates=60, workers=1)
+    res = poincare_sections("4a", starts=starts, iterates=60, workers=1)
     assert len(res) == 7 and all(r.success and r.n_points == 60 for r in res)
     for r, (th, pt) in zip(res, starts):
         assert (r.theta0, r.ptheta0, r.h) == (th, pt, 0.9)
         # the level is the panel's: the root solver of the scalar path gives the same start
         one = poincare_section("4a", theta0=th, ptheta0=pt, iterates=1)
         assert r.p_psi0 == one.p_psi0
-    short = poincare_section(["4a", "4b", "4c", "5a", "5b"], iterates=200, t_max=500.0, workers=1)
+    short = poincare_sections(["4a", "4b", "4c", "5a", "5b"], iterates=200, t_max=500.0, workers=1)
     assert all(not r.success and "t_max" in r.message for r in short)
     assert all(r.final_time == 500.0 and 0 < r.n_points < 200 for r in short)
 
 
 def test_branch_and_direction_filters_in_lanes():
-    r0, rpi = poincare_section(["4a", "4a"], iterates=40, branch="0"), poincare_section(["4a"], iterates=40,
+    r0, rpi = poincare_sections(["4a", "4a"], iterates=40, branch="0"), poincare_sections(["4a"], iterates=40,
                                                                                          branch="pi")
     assert all(np.all(r.branch == 1) for r in r0) and np.all(rpi[0].branch == -1)
-    neg = poincare_section(["5a"], iterates=40, direction="negative")[0]
+    neg = poincare_sections(["5a"], iterates=40, direction="negative")[0]
     assert np.all(neg.psi_dot_sign * neg.branch < 0)
     scalar = poincare_section("4a", iterates=40, branch="0")
     assert np.max(_body_diff(r0[0], scalar)[:5]) <= 1e-12
@@ -109,22 +109,22 @@ def test_branch_and_direction_filters_in_lanes():
 def test_configurations_without_a_batch_kernel_run_the_scalar_path_per_start():
     """The 4-D formulation, long double and stretch sampling have no batch kernel: they run the scalar path on
     threads, bit-identical to one call per start."""
-    red = poincare_section(["4a", "4d"], iterates=30, formulation="reduced")
+    red = poincare_sections(["4a", "4d"], iterates=30, formulation="reduced")
     assert [r.formulation for r in red] == ["reduced", "reduced"]
     np.testing.assert_array_equal(red[1].points, poincare_section("4d", iterates=30, formulation="reduced").points)
-    st = poincare_section(["5a"], iterates=20, stretch_dt=0.05)[0]
+    st = poincare_sections(["5a"], iterates=20, stretch_dt=0.05)[0]
     assert st.stretch is not None
 
 
 def test_starts_with_pbar_psi0_on_and_off_the_level():
     s = poincare_section("4a", iterates=5)
     good = [[s.theta0, s.ptheta0, s.psi0, s.p_psi0]]
-    r = poincare_section(s.params, 0.9, starts=good, iterates=50)[0]
+    r = poincare_sections(s.params, 0.9, starts=good, iterates=50)[0]
     assert r.success and r.p_psi0 == s.p_psi0 and r.roots.tolist() == [s.p_psi0]
-    np.testing.assert_array_equal(r.points[:5], poincare_section(["4a"], iterates=5)[0].points)
+    np.testing.assert_array_equal(r.points[:5], poincare_sections(["4a"], iterates=5)[0].points)
     off = [[s.theta0, s.ptheta0, s.psi0, s.p_psi0 + 1e-6]]
     with pytest.raises(ParameterError) as e:
-        poincare_section(s.params, 0.9, starts=off, iterates=5)
+        poincare_sections(s.params, 0.9, starts=off, iterates=5)
     assert e.value.name == "starts" and "off the level" in e.value.message and "start 0" in e.value.message
     assert START_LEVEL_TOL == section.ENERGY_TOL
 
@@ -141,13 +141,13 @@ def test_starts_with_pbar_psi0_on_and_off_the_level():
 ])
 def test_bad_many_start_input_names_the_option(kw, name, words):
     with pytest.raises(ParameterError) as e:
-        poincare_section(kw.pop("params"), iterates=5, **kw)
+        poincare_sections(kw.pop("params"), iterates=5, **kw)
     assert e.value.name == name and words in e.value.message, (e.value.name, e.value.message)
 
 
 def test_more_than_max_orbits_is_refused_before_any_work():
     with pytest.raises(ParameterError) as e:
-        poincare_section("4a", starts=np.full((MAX_ORBITS + 1, 2), 0.5), iterates=5)
+        poincare_sections("4a", starts=np.full((MAX_ORBITS + 1, 2), 0.5), iterates=5)
     assert e.value.name == "starts" and str(MAX_ORBITS) in e.value.message
 
 
@@ -156,10 +156,10 @@ def test_the_accuracy_gate_refuses_every_lane_that_fails_it():
     with freshly compiled code and then refused (success False, the reason in the message).  In a subprocess:
     the retry switches off heyoka's disk cache for the process."""
     code = ("from magrod.chaos import section; section.ENERGY_TOL = 1e-300\n"
-            "rs = section.poincare_section(['4a', '5a'], iterates=20)\n"
+            "rs = section.poincare_sections(['4a', '5a'], iterates=20)\n"
             "assert all(not r.success and 'accuracy check failed' in r.message and r.retried_without_jit_cache "
             "for r in rs), [(r.success, r.message) for r in rs]\n"
-            "ok = section.poincare_section(['4a', '5a'], iterates=20, verify=False)\n"
+            "ok = section.poincare_sections(['4a', '5a'], iterates=20, verify=False)\n"
             "assert all(r.success for r in ok)\nprint('ok')\n")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert r.returncode == 0 and r.stdout.strip().endswith("ok"), r.stderr[-2000:]
@@ -167,9 +167,9 @@ def test_the_accuracy_gate_refuses_every_lane_that_fails_it():
 
 def test_panel_objects_and_rodparams_lists():
     P = panel("5b")
-    a = poincare_section([P, "5b"], iterates=30)
+    a = poincare_sections([P, "5b"], iterates=30)
     np.testing.assert_array_equal(a[0].points, a[1].points)
     p2 = P.params.replace(gamma=0.21)
-    b = poincare_section([P.params, p2], h=P.h, theta0=P.theta0, ptheta0=P.ptheta0, iterates=30)
+    b = poincare_sections([P.params, p2], h=P.h, theta0=P.theta0, ptheta0=P.ptheta0, iterates=30)
     np.testing.assert_array_equal(b[0].points, a[0].points)
     assert b[1].params.gamma == 0.21 and b[1].success

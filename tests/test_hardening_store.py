@@ -89,6 +89,9 @@ DAMAGE = [
                                                 lambda d: d["attributes"].update(title="edited")), [], 1),
     ("edit-array-metadata", lambda o: _edit_json(o / S / "lyap/zarr.json", lambda d: d.update(fill_value=0.0)), [], 1),
     ("delete-coordinate", lambda o: shutil.rmtree(o / S / "lam"), [], 2),
+    # the record's spec edited by hand, its identity not (issue 24): nothing it vouches for is trusted
+    ("edit-record-spec", lambda o: _edit_json(o / T / "store.record", lambda d: d["spec"].update(t_max=300.0)),
+     ["0_0", "0_1", "1_0", "1_1"], 1),
     ("delete-store", lambda o: shutil.rmtree(o / S), ["0_0", "0_1", "1_0", "1_1"], None),
 ]
 
@@ -173,6 +176,11 @@ REFUSED = [
      [], 2, "out", "symbolic link"),
     ("tiles-is-a-symlink", lambda o: (os.rename(o / T, o / "t2"), os.symlink(o / "t2", o / T)), [], 2, "out",
      "symbolic link"),
+    # a directory where a file belongs (issue 24: exit 3 after a warning line, naming zarr's temporary)
+    ("chunk-is-a-directory", lambda o: ((o / S / "lyap/c/0/1").unlink(), (o / S / "lyap/c/0/1").mkdir()), [], 2,
+     "out", "lyap/c/0/1' is a directory where"),
+    ("metadata-is-a-directory", lambda o: ((o / S / "fli/zarr.json").unlink(), (o / S / "fli/zarr.json").mkdir()),
+     [], 2, "out", "fli/zarr.json' is a directory where"),
 ]
 
 
@@ -389,3 +397,18 @@ def test_a_map_with_no_computed_point_is_a_failure(cluster, tmp_path, capsys):
         assert rc == 1 and obj["ok"] is False and "no point of the map could be computed" in obj["error"], obj
         assert len(lines) == 1 and "no_energy_root" in lines[0], lines
         assert not (out / "chaosmap.png").exists() and not (out / "chaosmap.json").exists()
+
+
+def test_a_full_disk_in_a_worker_names_the_store():
+    """A worker's ENOSPC from zarr's chunk write carries no file name: the one line names the store (issue 24:
+    'no space left on the device (2 of 16 tiles finished and kept; re-run to resume)' named nothing)."""
+    import errno
+
+    from magrod.chaos.store import TileFailure
+    from magrod.cli.chaosmap import _tile_failure
+    from magrod.core.errors import EnvironmentFault
+
+    exc = TileFailure("0_1", OSError(errno.ENOSPC, "No space left on device"))
+    with pytest.raises(EnvironmentFault) as e:
+        _tile_failure(exc, None, 2, 16, Path("/data/o/chaosmap.zarr"))
+    assert "/data/o/chaosmap.zarr" in e.value.message and "2 of 16 tiles finished and kept" in e.value.message

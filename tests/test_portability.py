@@ -25,7 +25,7 @@ import scipy.linalg
 
 from magrod.chaos import indicators as I
 from magrod.chaos import maps
-from magrod.chaos.section import poincare_section
+from magrod.chaos.section import poincare_section, poincare_sections
 from magrod.core import eigen, systems
 from magrod.core.errors import ParameterError
 from magrod.core.params import RodParams
@@ -295,7 +295,7 @@ def test_sections_agree_at_every_width(width, scalar_sections, b):
     then within 10x the float64 / long double distance; conservation on every lane; results in input order."""
     width(b)
     S_, L = scalar_sections
-    res = poincare_section(list(KEYS), iterates=100)
+    res = poincare_sections(list(KEYS), iterates=100)
     assert [r.panel for r in res] == list(KEYS)
     for r in res:
         s, ld = S_[r.panel], L[r.panel]

@@ -11,7 +11,7 @@ import pytest
 import magrod as mr
 from magrod.chaos import portrait
 from magrod.chaos.indicators import GROWTH_THRESHOLD, body_indicators
-from magrod.chaos.section import poincare_section, solve_p_psi
+from magrod.chaos.section import poincare_sections, solve_p_psi
 from magrod.cli import orbitdiagram as cli_od
 from magrod.core import systems
 from magrod.core.errors import ParameterError
@@ -28,7 +28,7 @@ def pp():
 def test_portrait_orbits_are_the_sections_of_their_starts(pp):
     assert pp.success and pp.n_orbits == len(STARTS) and pp.h == 0.9
     for r, (th, pt) in zip(pp.orbits, STARTS):
-        one = poincare_section(["4a"], theta0=th, ptheta0=pt, iterates=80)[0]
+        one = poincare_sections(["4a"], theta0=th, ptheta0=pt, iterates=80)[0]
         np.testing.assert_array_equal(r.points, one.points)  # the batched section of that start
     assert pp.accuracy["passed"] and pp.max_abs_dH <= 1.5e-13
     np.testing.assert_array_equal(pp.starts[:, :2], np.array(STARTS))
@@ -91,7 +91,7 @@ def test_orbit_diagram_points_are_the_sections_of_each_value():
     assert od.success and od.points.shape == (150, 4) and od.n_values == 3
     for i, lam in enumerate(vals):
         P = panel("4a")
-        r = poincare_section([P.params.replace(lam=lam)], h=P.h, theta0=P.theta0, ptheta0=P.ptheta0,
+        r = poincare_sections([P.params.replace(lam=lam)], h=P.h, theta0=P.theta0, ptheta0=P.ptheta0,
                              iterates=60)[0]
         np.testing.assert_array_equal(od.points[od.value_index == i], r.points[10:])
     assert np.all(od.coordinate_values("ptheta") == od.points[:, 2])
@@ -112,7 +112,6 @@ def test_orbit_diagram_points_are_the_sections_of_each_value():
     (("lam", [0.15, 0.15]), {}, "values", "monotone"),
     (("lam", []), {}, "values", "non-empty"),
     (("lam", [0.15, np.inf]), {}, "values", "finite"),
-    (("lam", [0.12, 0.15]), {}, "values", "value 0 = 0.12"),  # Fig 4's level is not reached at lam = 0.12
     (("delta", [-2.0, 1.0]), {}, "values", "value 0"),  # an unphysical rod
     (("lam", [0.15]), {"coordinate": "phi"}, "coordinate", ""),
 ])
@@ -189,7 +188,6 @@ def test_cli_orbitdiagram_and_portrait_write_their_files(tmp_path):
     (["orbitdiagram", "--parameter", "lam", "--values", "0.15,0.14,0.16"], "values"),
     (["orbitdiagram", "--parameter", "lam", "--values", ","], "values"),
     (["orbitdiagram", "--parameter", "lam", "--values", "0.1:0.2:2000000"], "values"),
-    (["orbitdiagram", "--parameter", "lam", "--values", "0.12,0.15"], "values"),  # no energy root at 0.12
     (["poincare", "--figure", "4a", "--starts", "EMPTY"], "starts"),
     (["poincare", "--figure", "4a", "--starts", "BADROOT"], "starts"),
     (["poincare", "--figure", "4a", "--starts", "OFFLEVEL"], "starts"),

@@ -1,4 +1,5 @@
-"""The README opens with the two set-up commands, and .ci/run runs exactly the README's test command."""
+"""The README opens with the two set-up commands, and .ci/run runs exactly the README's test command, then its
+reproduce command."""
 import re
 from pathlib import Path
 
@@ -21,3 +22,5 @@ def test_readme_commands_and_ci_agree():
     test_cmd = cmds[1].split("&& pip install", 1)[1]
     ci = (ROOT / ".ci" / "run").read_text()
     assert ("pip install" + test_cmd).strip() in ci
+    # and the first command, install + reproduce, runs there too (issue 24), after the tests
+    assert cmds[0].strip() in ci and ci.index(cmds[0].strip()) > ci.index(("pip install" + test_cmd).strip())

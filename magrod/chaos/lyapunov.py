@@ -13,6 +13,7 @@ import numpy as np
 from ..core import systems
 from ..core.errors import ParameterError, require_finite
 from ..core.params import RodParams
+from ..core.printed import with_overrides
 from ..core.results import Result
 from ..core.tolerances import DRIFT_LIMIT
 from .indicators import DEFAULT_RENORM_DT, GROWTH_THRESHOLD, OK, REASONS, body_indicators
@@ -106,7 +107,7 @@ def body_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=None
 
 
 def lyapunov(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
-             t_max=DEFAULT_T_MAX, renorm_dt=DEFAULT_RENORM_DT, tol=None, project=True) -> LyapunovResult:
+             t_max=DEFAULT_T_MAX, renorm_dt=DEFAULT_RENORM_DT, tol=None, project=True, **overrides) -> LyapunovResult:
     """Maximal Lyapunov exponent, Fast Lyapunov Indicator and growth exponent of one orbit, with the history.
 
     Parameters
@@ -124,6 +125,8 @@ def lyapunov(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=Non
     project : bool
         Project the tangent vector onto the invariant level set of C1, C2, C3, H and m3 (removes the linear shear
         between neighbouring leaves, which is not the orbit's own instability).
+    **overrides : float
+        Model parameters replacing those of `params`: ``lyapunov("4a", lam=0.15)``.
 
     Returns
     -------
@@ -148,6 +151,7 @@ def lyapunov(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=Non
     chaotic once lyap T/(2 ln 2) > 3.  Cost: ~5 us per unit time in a SIMD batch (one lane used here; for many
     orbits use `chaos_map`).  References: Benettin et al. 1980; Froeschle, Lega & Gonczi 1997.
     """
+    params = with_overrides(params, overrides)
     t_max, renorm_dt = check_run(t_max, renorm_dt)
     params, key, h, theta0, ptheta0, psi0, p_psi0, x0, pars = body_start(params, h, theta0, ptheta0, psi0, p_psi0,
                                                                          root)

@@ -153,7 +153,7 @@ class MapSpec:
             raise ParameterError("root", f"must be 'smallest' or 'largest', got {self.root!r}")
         missing = [k for k in AXIS_NAMES if k not in self.base and k not in (self.x.name, self.y.name)]
         if missing:
-            raise ParameterError(missing[0], "no value: give it or choose a --panel")
+            raise ParameterError(missing[0], "no value: give it, or a panel that sets it (panel= / --panel)")
         _check_theta0(self)
         _check_some_point_physical(self)
         _check_refine(self)
@@ -258,10 +258,16 @@ def check_cost(spec: "MapSpec", workers: int = 1, name: str = "t_max") -> float:
     return wall
 
 
-def panel_base(key: str) -> dict:
-    """PARAMS and START values of a paper panel (magrod.chaos.section.PANELS)."""
-    from ..core.printed import PANELS
+def panel_base(key) -> dict:
+    """PARAMS and START values of a paper panel (magrod.chaos.section.PANELS; a Panel too), or the PARAMS of a
+    RodParams (its start values are then given as keywords or on an axis)."""
+    from ..core.params import RodParams
+    from ..core.printed import PANELS, Panel
 
+    if isinstance(key, RodParams):
+        return key.as_dict()
+    if isinstance(key, Panel):
+        return {**key.params.as_dict(), **key.start()}
     if key not in PANELS:
         raise ParameterError("panel", f"unknown panel {key!r}; choose from {', '.join(PANELS)}")
     pk = PANELS[key]
@@ -569,9 +575,24 @@ def compute_map(spec: MapSpec, *, progress=None, client=None) -> ChaosMap:
             fields[k][tile.ys, tile.xs] = v
         if progress is not None:
             progress(1)
-    n_ok = int((fields["status"] == OK).sum())
-    msg = "ok" if n_ok else "no point of the map could be computed (see the status field)"
-    return ChaosMap(n_ok > 0, msg, spec, fields, time.perf_counter() - t0)
+    problem = check_fields(fields)
+    return ChaosMap(problem is None, problem or "ok", spec, fields, time.perf_counter() - t0)
+
+
+def check_fields(fields) -> str | None:
+    """Why a map's fields are not a result (None if they are): no point computed, or points marked ok without
+    finite indicators (what the workers wrote is inconsistent).  The one validity check of every map, in memory or
+    from a store (until issue 25 the second half lived in the command line only)."""
+    status = np.asarray(fields["status"])
+    ok = status == OK
+    if not ok.any():
+        counts = {REASONS[int(c)]: int((status == c).sum()) for c in np.unique(status)}
+        why = ", ".join(f"{v} {k}" for k, v in counts.items()) or "none"
+        return f"no point of the map could be computed (status of the {status.size} points: {why})"
+    for k in ("lyap", "fli", "growth_exponent", "max_abs_dH"):
+        if not np.all(np.isfinite(np.asarray(fields[k])[ok])):
+            return f"points marked ok have non-finite {k}: the store's content is inconsistent"
+    return None
 
 
 def _tile_task(spec_dict: dict, tile_key: str) -> dict:
@@ -590,8 +611,9 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     x, y : tuple, str or Axis
         The axes: (name, lo, hi, n), "name:lo:hi:n" or Axis; name is a parameter (m, mu, gamma, delta, lam) or a
         start value (h, theta0, ptheta0, psi0).  A MapSpec may be given as `x` alone.
-    panel : str or None
-        Paper panel whose parameters and start fill in every value not on an axis (None: give them all).
+    panel : str, Panel, RodParams or None
+        Paper panel whose parameters and start fill in every value not on an axis (a RodParams gives the
+        parameters only: the start values then come as keywords; None: give them all).
     t_max, tol, renorm_dt, root
         As in `lyapunov` (tol 0 = machine epsilon, the default: see Notes for the evidence).
     tile : int

@@ -27,7 +27,7 @@ from ..core.printed import Panel, panel
 from ..core.results import Result, jsonable
 from ..generated.names import PARAMS
 from .indicators import GROWTH_THRESHOLD, body_indicators
-from .section import MAX_ORBITS, poincare_section, resolve_start, solve_p_psi, start_table
+from .section import MAX_ORBITS, poincare_sections, resolve_start, solve_p_psi, start_table
 
 INDICATORS = ("growth_exponent", "lyap", "fli")
 DEFAULT_T_INDICATOR = 1000.0  # cost ~5 us per orbit and unit time; Fig 4(a) needs T ~ 3000 to look chaotic
@@ -40,6 +40,13 @@ COORDINATES = {"theta": 0, "psi": 1, "ptheta": 2, "ppsi": 3}
 def start_indicators(orbits, *, t_max=DEFAULT_T_INDICATOR, workers=None):
     """Indicators (magrod.chaos.indicators.Indicators) of the start of every orbit (PoincareResult), computed in
     SIMD batches of the tangent system, split over `workers` threads."""
+    present = [i for i, r in enumerate(orbits) if r is not None]  # None: a value without an energy root
+    full = len(orbits)
+    orbits = [orbits[i] for i in present]
+    if not orbits:
+        from .indicators import NO_ROOT
+
+        return {**{key: np.full(full, np.nan) for key in INDICATORS}, "status": np.full(full, NO_ROOT, np.int8)}
     x0 = np.array([systems.euler_to_body(r.theta0, r.psi0, r.ptheta0, r.p_psi0, r.params.array())
                    for r in orbits]).T
     p = np.array([r.params.array() for r in orbits]).T
@@ -58,7 +65,15 @@ def start_indicators(orbits, *, t_max=DEFAULT_T_INDICATOR, workers=None):
     else:
         with ThreadPoolExecutor(max_workers=len(parts)) as ex:
             res = list(ex.map(one, parts))
-    out = {key: np.concatenate([getattr(r, key) for r in res]) for key in (*INDICATORS, "status")}
+    got = {key: np.concatenate([getattr(r, key) for r in res]) for key in (*INDICATORS, "status")}
+    if len(present) == full:
+        return got
+    from .indicators import NO_ROOT
+
+    out = {key: np.full(full, np.nan) for key in INDICATORS}
+    out["status"] = np.full(full, NO_ROOT, np.int8)
+    for key, v in got.items():
+        out[key][present] = v
     return out
 
 
@@ -240,7 +255,7 @@ def section_portrait(params, h=None, *, starts, iterates=1000, indicator="growth
     if h is None and not (np.ndim(starts) == 2 and np.shape(starts)[1] == 4):
         raise ParameterError("h", "give the energy level h of the portrait (or p_psi0 as a fourth column)")
     table = start_table(starts)
-    orbits = poincare_section(params_r, h, starts=table, iterates=iterates, root=root, direction=direction,
+    orbits = poincare_sections(params_r, h, starts=table, iterates=iterates, root=root, direction=direction,
                               t_max=t_max, workers=workers, progress=progress)
     table[:, 3] = [r.p_psi0 for r in orbits]
     values = np.full(len(orbits), np.nan)
@@ -272,7 +287,7 @@ class OrbitDiagram(Result):
     n_points: np.ndarray
     max_abs_dH: np.ndarray
     final_time: np.ndarray
-    orbit_success: np.ndarray
+    orbit_success: np.ndarray  # False also where the value has no energy root (no_root)
     h: float
     theta0: float
     ptheta0: float
@@ -282,8 +297,9 @@ class OrbitDiagram(Result):
     coordinate: str
     wall_s: float
     marks: dict = field(default_factory=dict)
-    orbits: list = field(default_factory=list)
+    orbits: list = field(default_factory=list)  # one PoincareResult per value; None where no_root
     base: str | None = None
+    no_root: np.ndarray | None = None  # (M,) bool: the start is not on the level at this value (nothing computed)
 
     _repr_fields = ("parameter", "n_values", "iterates", "coordinate", "worst_dH", "wall_s")
 
@@ -293,11 +309,13 @@ class OrbitDiagram(Result):
 
     @property
     def worst_dH(self) -> float:
-        return float(np.max(self.max_abs_dH)) if self.max_abs_dH.size else 0.0
+        d = self.max_abs_dH[np.isfinite(self.max_abs_dH)]
+        return float(np.max(d)) if d.size else 0.0
 
     @property
     def accuracy(self) -> dict:
-        return {"max_abs_dH": self.worst_dH, "passed": all(r.accuracy_checks()["passed"] for r in self.orbits)}
+        return {"max_abs_dH": self.worst_dH,
+                "passed": all(r.accuracy_checks()["passed"] for r in self.orbits if r is not None)}
 
     def coordinate_values(self, coordinate=None) -> np.ndarray:
         """The plotted coordinate of every point (K,)."""
@@ -311,6 +329,8 @@ class OrbitDiagram(Result):
                          "iterates": self.iterates, "transient": self.transient, "coordinate": self.coordinate,
                          "points": int(self.points.shape[0]), "max_abs_dH": self.worst_dH,
                          "failed_values": [float(v) for v, ok in zip(self.values, self.orbit_success) if not ok],
+                         "no_root_values": [] if self.no_root is None else
+                         [float(v) for v, nr in zip(self.values, self.no_root) if nr],
                          "marks": self.marks, "base": self.base, "wall_s": self.wall_s})
 
     def arrays(self) -> dict:
@@ -377,7 +397,8 @@ def orbit_diagram(parameter, values, *, base="4a", h=None, theta0=None, ptheta0=
     ------
     ParameterError
         `parameter`: not a model parameter (nor callable); `values`: empty, non-finite, not strictly monotone,
-        more than MAX_ORBITS, or a value giving an invalid rod or a start without an energy root (named by index);
+        more than MAX_ORBITS, or a value giving an invalid rod (named by index); a value whose start has no energy
+        root is not an error: it is marked in `no_root` (nothing computed there, `orbits[i]` is None);
         `coordinate`, `transient`.
 
     Examples
@@ -442,25 +463,55 @@ def orbit_diagram(parameter, values, *, base="4a", h=None, theta0=None, ptheta0=
                                (name, float(x))))
         else:
             raise ParameterError("parameter", f"params_fn must return a RodParams or a Panel, got {type(p).__name__}")
-    try:
-        orbits = poincare_section(items, iterates=iterates + transient, root=root, direction=direction,
-                                  t_max=t_max, workers=workers, progress=progress)
-    except ParameterError as exc:
-        m = re.match(r"entry (\d+) ", exc.message)
-        if exc.name == "params" and m:
-            i = int(m.group(1))
-            raise ParameterError("values", f"value {i} = {v[i]:g}: {exc.message[m.end():]}") from None
-        raise
-    idx, pts = [], []
+    # a value whose start is not on the level (no energy root) is marked, not raised (issue 25): the package's own
+    # figure draws those values as a grey band, and a scan through them is what a researcher asks for
+    def has_no_root(P) -> bool:
+        try:
+            return solve_p_psi(P.params, P.h, P.theta0, P.ptheta0, P.psi0).size == 0
+        except ParameterError as exc:
+            if exc.name == "h":  # "Hbar(...) = h has no real root pbar_psi on the admissible range"
+                return True
+            raise
+
+    no_root = np.array([has_no_root(P) for P in items])
+    run = [P for P, nr in zip(items, no_root) if not nr]
+    got = []
+    if run:
+        try:
+            got = poincare_sections(run, iterates=iterates + transient, root=root, direction=direction,
+                                   t_max=t_max, workers=workers, progress=progress)
+        except ParameterError as exc:
+            m = re.match(r"entry (\d+) ", exc.message)
+            if exc.name == "params" and m:
+                i = int(np.flatnonzero(~no_root)[int(m.group(1))])
+                raise ParameterError("values", f"value {i} = {v[i]:g}: {exc.message[m.end():]}") from None
+            raise
+    it = iter(got)
+    orbits = [None if nr else next(it) for nr in no_root]
+    idx, pts = [np.zeros(0, np.int32)], [np.zeros((0, 4))]
     for i, r in enumerate(orbits):
+        if r is None:
+            continue
         keep = r.points[transient:]
         idx.append(np.full(keep.shape[0], i, dtype=np.int32))
         pts.append(keep)
-    ok = np.array([r.success for r in orbits])
-    msg = "ok" if ok.all() else f"{int((~ok).sum())} of {ok.size} orbits failed (first: value " \
-                                f"{v[int(np.argmin(ok))]:g}: {orbits[int(np.argmin(ok))].message})"
-    return OrbitDiagram(bool(ok.all()), msg, name, v, np.concatenate(idx), np.concatenate(pts),
-                        np.array([r.n_points for r in orbits]), np.array([r.max_abs_dH for r in orbits]),
-                        np.array([r.final_time for r in orbits]), ok, float(items[0].h), float(items[0].theta0),
-                        float(items[0].ptheta0), float(items[0].psi0), iterates, transient, coordinate,
-                        time.perf_counter() - t0, dict(marks or {}), orbits, base_key)
+    ok = np.array([r is not None and r.success for r in orbits])
+    failed = [i for i, r in enumerate(orbits) if r is not None and not r.success]
+    parts = []
+    if failed:
+        parts.append(f"{len(failed)} of {len(orbits)} orbits failed (first: value {v[failed[0]]:g}: "
+                     f"{orbits[failed[0]].message})")
+    if no_root.any():
+        parts.append(f"{int(no_root.sum())} of {no_root.size} values have no energy root at the start (marked "
+                     f"no_root; first {v[int(np.argmax(no_root))]:g})")
+    if no_root.all():
+        parts.append("nothing computed")
+    msg = "; ".join(parts) or "ok"
+    nan = float("nan")
+    P0 = items[0]
+    return OrbitDiagram(not failed and not no_root.all(), msg, name, v, np.concatenate(idx), np.concatenate(pts),
+                        np.array([0 if r is None else r.n_points for r in orbits]),
+                        np.array([nan if r is None else r.max_abs_dH for r in orbits]),
+                        np.array([nan if r is None else r.final_time for r in orbits]), ok, float(P0.h),
+                        float(P0.theta0), float(P0.ptheta0), float(P0.psi0), iterates, transient, coordinate,
+                        time.perf_counter() - t0, dict(marks or {}), orbits, base_key, no_root)

@@ -64,9 +64,10 @@ from ..core.errors import ParameterError, require_finite, require_positive_int
 from ..generated import scalars
 from ..core.params import RodParams
 from ..core.precision import Precision
-from ..core.printed import Panel, panel, panel_kwargs
+from ..core.limits import LIMITS
+from ..core.printed import Panel, panel, panel_kwargs, with_overrides
 from ..core.results import Result
-from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, START_LEVEL_TOL
+from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, ROOT_XTOL, START_LEVEL_TOL
 
 DIRECTIONS = systems.DIRECTIONS
 BRANCHES = ("any", "0", "pi")
@@ -170,7 +171,7 @@ def solve_p_psi(params: RodParams, h, theta0, ptheta0, psi0=0.0) -> np.ndarray:
     for i in np.nonzero(v == 0.0)[0]:
         roots.append(q[i])
     for i in np.nonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0)[0]:
-        r = brentq(lambda s: f(s)[0], q[i], q[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+        r = brentq(lambda s: f(s)[0], q[i], q[i + 1], xtol=ROOT_XTOL, rtol=4 * np.finfo(float).eps, maxiter=200)
         # the last ulp: pick the neighbour with the smaller residual
         cand = np.array([np.nextafter(r, -np.inf), r, np.nextafter(r, np.inf)])
         roots.append(cand[np.argmin(np.abs(f(cand)))])
@@ -347,6 +348,9 @@ class PoincareResult(Result):
 
 def _validate_options(iterates, root, direction, branch, formulation, pole_switch, radicand_switch):
     iterates = require_positive_int("iterates", iterates)
+    if iterates > LIMITS["iterates"]:
+        raise ParameterError("iterates", f"must be <= {LIMITS['iterates']} (the limit of what a run can finish: "
+                                         f"~200 bytes and ~0.2 ms per point), got {iterates}")
     if direction not in DIRECTIONS:
         raise ParameterError("direction", f"must be one of {sorted(DIRECTIONS)}, got {direction!r}")
     if branch not in BRANCHES:
@@ -384,7 +388,8 @@ def resolve_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=N
 def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
                      root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION,
                      precision=Precision.DOUBLE, tol=None, t_max=None, verify=True, pole_switch=(0.05, 0.1),
-                     radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None, starts=None, workers=None):
+                     radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None, starts=None, workers=None,
+                     **overrides):
     """Poincare section sin(psi) = 0 of one orbit of the reduced system (paper sec. 8, fig:poincare1/2), or of
     many orbits at once in the SIMD lanes of heyoka's batch integrator.
 
@@ -405,8 +410,12 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
         lie on the level Hbar = h (within START_LEVEL_TOL) or, without h, defines its own level.  Returns a list.
     workers : int, optional
         Threads for many orbits (default: all cores).
+    **overrides : float
+        Model parameters replacing those of `params` (m, mu, gamma, delta, lam): ``poincare_section("4a",
+        lam=0.15)`` is Fig 4(a)'s start on the rod with lambdabar = 0.15 (its result's panel is "4a, lam=0.15").
     iterates : int
-        Number of recorded section crossings (the paper: 10 000).
+        Number of recorded section crossings (the paper: 10 000; at most LIMITS["iterates"] = 2 000 000, as on
+        the command line).
     root : {"smallest", "largest"} or int
         Which root pbar_psi of Hbar = h ("smallest" reproduces the paper's final times, see Notes).
     direction : {"positive", "negative", "any"}
@@ -433,7 +442,8 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
 
     Returns
     -------
-    PoincareResult, or a list of them (one per start, in order) for many starts
+    PoincareResult
+        (For many starts the list form is deprecated: use `poincare_sections`, which always returns a list.)
         points (N, 4) in (theta, psi, pbar_theta, pbar_psi), times (N,), dH (N,), accuracy, success/message.
 
     Raises
@@ -449,9 +459,11 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     >>> sec = mr.poincare_section("4a", iterates=200)
     >>> sec.success, sec.points.shape, bool(sec.max_abs_dH < 1e-12)
     (True, (200, 4), True)
-    >>> secs = mr.poincare_section(["4a", "4b", "5a"], iterates=100)
-    >>> [s.panel for s in secs], all(s.success and s.n_points == 100 for s in secs)
-    (['4a', '4b', '5a'], True)
+    >>> sec = mr.poincare_section("4a", iterates=100, lam=0.15)  # the panel's start on another rod
+    >>> sec.panel, sec.params.lam
+    ('4a, lam=0.15', 0.15)
+
+    Many orbits: `poincare_sections` (a list, always).
 
     Notes
     -----
@@ -467,7 +479,14 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
     batched orbit equals its scalar run (tests/test_batch.py: to round-off over the first crossings, until
     chaotic divergence).  Other configurations run the scalar path per start on `workers` threads.
     """
+    params = with_overrides(params, overrides)
     if _is_many(params, theta0, ptheta0, psi0, starts):
+        import warnings
+
+        # one return type per function (issue 25): many orbits are poincare_sections' (a list, always)
+        warnings.warn("poincare_section with many orbits (a list of systems, arrays of starts or `starts`) returns "
+                      "a list: call magrod.poincare_sections instead (this form of poincare_section goes away in "
+                      "the next release)", DeprecationWarning, stacklevel=2)
         return _many_sections(params, h, theta0, ptheta0, psi0, starts=starts, p_psi0=p_psi0, iterates=iterates,
                               root=root, direction=direction, branch=branch, formulation=formulation,
                               precision=precision, tol=tol, t_max=t_max, verify=verify, pole_switch=pole_switch,
@@ -498,6 +517,56 @@ def poincare_section(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_
                        f"Casimir drift {res.casimir_drift if res.casimir_drift is not None else 0:.3g} "
                        f"(tol {acc['casimir_tol']:g})")
     return res
+
+
+def poincare_sections(systems, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
+                      root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION,
+                      precision=Precision.DOUBLE, tol=None, t_max=None, verify=True, pole_switch=(0.05, 0.1),
+                      radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None, starts=None, workers=None,
+                      **overrides) -> list:
+    """Poincare sections sin(psi) = 0 of many orbits at once (the SIMD lanes of heyoka's batch integrator): always
+    a list of PoincareResult, one per orbit, in the order given.
+
+    Parameters
+    ----------
+    systems : RodParams, Panel or str, or a list of them
+        One rod or panel with many starts (`starts`, or arrays theta0/ptheta0/psi0), or a list of rods/panels
+        (one orbit each, each with the start given or its panel's).
+    h, theta0, ptheta0, psi0, p_psi0, starts, iterates, root, direction, branch, formulation, precision, tol,
+    t_max, verify, pole_switch, radicand_switch, progress, stretch_dt, workers, **overrides
+        As in `poincare_section`.
+
+    Returns
+    -------
+    list of PoincareResult
+        One per orbit (a failed orbit has success False and says why; it does not stop the others).
+
+    Raises
+    ------
+    ParameterError
+        Naming the argument, and the entry for a bad start ("entry i: ...").
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> secs = mr.poincare_sections(["4a", "4b", "5a"], iterates=100)
+    >>> [s.panel for s in secs], all(s.success for s in secs)
+    (['4a', '4b', '5a'], True)
+
+    Notes
+    -----
+    The batch path (body formulation, double precision, no stretch sampling) runs one section event per lane, a
+    lane refilled with the next start as its orbit ends, one batch integrator per core; each lane takes the scalar
+    integrator's steps (tests/test_batch.py).  Other configurations run the scalar path per start on `workers`
+    threads.  Cost: the 8 paper panels x 10 000 iterates take ~2 s on 2 cores (benchmarks/README.md).
+    """
+    systems_ = with_overrides(systems, overrides)
+    if not _is_many(systems_, theta0, ptheta0, psi0, starts):
+        systems_ = [systems_]
+    return _many_sections(systems_, h, theta0, ptheta0, psi0, starts=starts, p_psi0=p_psi0, iterates=iterates,
+                          root=root, direction=direction, branch=branch, formulation=formulation,
+                          precision=precision, tol=tol, t_max=t_max, verify=verify, pole_switch=pole_switch,
+                          radicand_switch=radicand_switch, progress=progress, stretch_dt=stretch_dt, workers=workers)
 
 
 # ----------------------------------------------------------------------------------------------------------

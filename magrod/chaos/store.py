@@ -344,6 +344,7 @@ def create_or_open(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, force=Fa
     ident = identity(spec)
     rec = _read_json(tiles_dir / "store.record")
     rec = rec if isinstance(rec, dict) and isinstance(rec.get("skeleton"), dict) else None
+    inconsistent = rec is not None and rec.get("identity") == ident and not _record_is_consistent(rec)
     names = list(ALL_FIELDS) + [spec.x.name, spec.y.name]
     has_store = store.exists() and any(store.iterdir())
     if rec is not None and rec.get("identity") != ident and not force:
@@ -361,6 +362,16 @@ def create_or_open(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, force=Fa
                 "exists and is not a magrod chaos map store")
                 + "; use another --out/--stem or --force to start over (only the files of a magrod store are "
                   "removed)")
+    if inconsistent and not force:
+        # this map's identity over an edited spec: nothing the record vouches for can be trusted; start again,
+        # and say so (every recorded tile is recomputed)
+        recorded = sorted(_recorded_tiles(spec, ident, tiles_dir, rec))
+        _remove_store_files(store, set(names))
+        _remove_markers(tiles_dir)
+        st = _create(spec, ident, store, tiles_dir)
+        st.repaired = recorded
+        st.metadata_rewritten = ["store.record"]
+        return st
     if force or rec is None or rec.get("identity") != ident:
         if rec is not None:
             names += [a["name"] for a in (rec.get("spec") or {}).values() if isinstance(a, dict) and "name" in a
@@ -400,9 +411,43 @@ def _write_record(spec, ident, tiles_dir: Path, skeleton: dict, tiles: dict | No
         "skeleton": skeleton, "complete": tiles is not None, "tiles": tiles or {}})
 
 
+def _record_is_consistent(rec: dict) -> bool:
+    """The integrity record agrees with itself: its spec, format and code hash to its identity (`identity`).  A
+    record whose spec was edited by hand (t_max 200 -> 300) but whose identity was not would otherwise be taken
+    for this map's, and its tiles reused as if computed with the edited spec (issue 24)."""
+    try:
+        doc = {"spec": rec["spec"], "format": rec["format"], "code": rec["code"]}
+        return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest() == rec.get("identity")
+    except (KeyError, TypeError, ValueError):
+        return False
+
+
+def _refuse_directories_at_files(spec, store: Path, skel: dict) -> None:
+    """A directory where the store keeps a file (a metadata file of the skeleton, a chunk c/I/J) is not magrod's
+    to remove: refuse with one line naming it (before issue 24 zarr's write failed on it, naming its own
+    temporary, after a warning line)."""
+    if not store.is_dir():
+        return
+    for rel in skel:
+        if (store / rel).is_dir():
+            raise ParameterError("out", f"{str(store / rel)!r} is a directory where the chaos map store keeps a "
+                                        "file; remove it, or use --force to start over")
+    ndim = {**{k: 2 for k in names_of(spec)}, spec.x.name: 1, spec.y.name: 1}
+    for name, n in ndim.items():
+        c = store / name / "c"
+        if not c.is_dir() or c.is_symlink():
+            continue
+        for q in c.rglob("*"):
+            parts = q.relative_to(c).parts
+            if len(parts) == n and q.is_dir() and all(_CHUNK.match(x) for x in parts):
+                raise ParameterError("out", f"{str(q)!r} is a directory where the chaos map store keeps a chunk "
+                                            "file; remove it, or use --force to start over")
+
+
 def _open(spec, ident, store: Path, tiles_dir: Path, rec: dict) -> StoreState:
     state = StoreState(store, tiles_dir, ident)
     skel = rec["skeleton"]
+    _refuse_directories_at_files(spec, store, skel)
     have = _skeleton_hashes(store) if store.is_dir() else {}
     bad = sorted(k for k, v in skel.items() if have.get(k) != v)
     if bad:  # metadata or coordinates damaged or missing: rewrite them from the spec if that reproduces them

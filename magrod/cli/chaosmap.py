@@ -240,7 +240,7 @@ def run(args) -> dict:
                                                     on_submitted=lambda: pause_point("chaosmap-running"),
                                                     worker_timeout=worker_timeout)
             except chaos_store.TileFailure as exc:  # finished tiles keep their markers for the next run
-                return _tile_failure(exc, address, len(state.done), n_tiles)
+                return _tile_failure(exc, address, len(state.done), n_tiles, pth["store"])
             chaos_store.finish(spec, state)
             wall = time.perf_counter() - t0
             fields = chaos_store.load_fields(pth["store"])
@@ -262,7 +262,7 @@ def run(args) -> dict:
                                         rounds=res["rounds"])
             result = {"ok": True, "spec": spec.as_dict(), **summary, "store_identity": state.identity,
                       "output": {k: str(v) for k, v in pth.items() if k in ("store", "png", "json")}}
-            problem = _check_fields(fields, summary)
+            problem = maps.check_fields(fields)
             if problem:  # never hand back a map we cannot vouch for: no PNG, no summary file
                 result.update(ok=False, error=problem, output={"store": str(pth["store"])})
             else:
@@ -346,7 +346,7 @@ def _start_failure(exc, workers: int):
                                        f"{', '.join(limits) or 'none'}")
 
 
-def _tile_failure(exc, address, done: int, total: int) -> dict:
+def _tile_failure(exc, address, done: int, total: int, store=None) -> dict:
     """A failed task as one line: the machine (a worker killed, out of memory, the scheduler lost, a full disk)
     is an EnvironmentFault (exit 3); an exception raised by the computation is a failed run (exit 1)."""
     from ..core.errors import EnvironmentFault
@@ -357,7 +357,8 @@ def _tile_failure(exc, address, done: int, total: int) -> dict:
     where = f"the scheduler at {address}" if address else "the LocalCluster"
     kind = type(inner).__name__
     if isinstance(inner, OSError) and inner.errno is not None:
-        f = resource_fault(inner, "out")
+        # a worker's OSError often carries no file name (zarr's chunk write): name the store it was writing
+        f = resource_fault(inner, "out", inner.filename if inner.filename is not None else store)
         raise EnvironmentFault("out", f"{f.message} ({kept})") from None
     text = str(inner)
     if isinstance(inner, MemoryError) or "bad_alloc" in text or "can't start new thread" in text \
@@ -371,23 +372,6 @@ def _tile_failure(exc, address, done: int, total: int) -> dict:
                                             f"{' '.join(str(inner).split())[:160]}; {kept})") from None
     return {"ok": False, "error": f"tile task failed in a worker: {exc} ({kept})", "tiles": {"total": total,
                                                                                            "done": done}}
-
-
-def _check_fields(fields, summary) -> str | None:
-    """Why the map is not a result (None if it is): no point computed, or computed points without finite
-    indicators (what workers wrote is inconsistent)."""
-    import numpy as np
-
-    from ..chaos import indicators
-
-    ok = np.asarray(fields["status"]) == indicators.OK
-    if not ok.any():
-        why = ", ".join(f"{v} {k}" for k, v in summary["missing"].items()) or "none"
-        return f"no point of the map could be computed (status of the {summary['points']} points: {why})"
-    for k in ("lyap", "fli", "growth_exponent", "max_abs_dH"):
-        if not np.all(np.isfinite(np.asarray(fields[k])[ok])):
-            return f"points marked ok have non-finite {k}: the store's content is inconsistent"
-    return None
 
 
 def _clean_after_failure(chaos_store, pth, state, pids) -> None:

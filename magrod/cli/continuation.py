@@ -50,6 +50,7 @@ def run(args) -> dict:
 
     import numpy as np
 
+    from ..core.tolerances import CONTINUATION_TOL
     from ..figures.continuation import write_branch
     from ..orbits import continuation as C
     from ..orbits import multipulse as mp
@@ -87,30 +88,23 @@ def run(args) -> dict:
                                               f"{r.message}; scan: {found[N - 1]['message']} (near Figure 6 the "
                                               f"orbits on mu = 2 lam have 2 and 4 pulses: try --pulses 2)"}
             r = found[N - 1]["result"]
-        F, params_of = C.mu2lam_problem(r.params, name)
-        u0 = [r.T, r.params.lam, getattr(r.params, name)]
-        names, par, scale = ("T", "lam", name), 2, [r.T, 1e-3, max(1.0, abs(u0[2]))]
     else:
         found = pm.find(base, N, samples=121)
         if not found:
             return {"ok": False, "error": f"no symmetric {N}-pulse homoclinic orbit to the periodic saddle at {base.as_dict()}"}
         r = found[0]
-        F, params_of = C.periodic_problem(base, name, N)
-        v = getattr(base, name)
-        u0 = [r.T, r.angle, v]
-        dv = (base.mu - 2 * base.lam) if name in ("mu", "lam") else max(abs(v), 1e-3) * 0.1
-        names, par, scale = ("T", "angle", name), 2, [10.0, 1.0, dv]
-    bounds = {2: (lo, hi)} if args.range else None
+    # the branch itself is the library's continue_branch (issue 25: the command no longer rebuilds it)
     with bar(steps, "continue", not args.quiet) as update:
-        br = C.pseudo_arclength(F, u0, scale=scale, ds=ds, ds_max=max(ds, 0.5), steps=steps, par=par,
-                                direction=args.direction, bounds=bounds, names=names, progress=update)
+        br = C.continue_branch(r, name, steps, ds=ds, direction=args.direction,
+                               bounds=(lo, hi) if args.range else None, progress=update)
+    names = br.names
     wall = time.perf_counter() - t0
     stem = "branch_mu2lam" if args.mu2lam else f"branch_N{N}_{name}"
     folds = C.fold_summary(br)
     meta = {"ok": True, "kind": "mu = 2 lam (codimension one)" if args.mu2lam else "periodic saddle (mu > 2 lam)",
             "start_params": base.as_dict(), "pulses": N, "parameter": name, "names": list(names),
             "points": int(len(br.u)), "success": br.success, "message": br.message, "folds": folds,
-            "max_residual": float(np.max(br.residuals)), "wall_time_s": wall, "tolerance": 1e-10,
+            "max_residual": float(np.max(br.residuals)), "wall_time_s": wall, "tolerance": CONTINUATION_TOL,
             "algorithm": "pseudo-arclength (Keller), Newton + heyoka variational Jacobians",
             "first": dict(zip(names, map(float, br.u[0]))), "last": dict(zip(names, map(float, br.u[-1])))}
     meta["paths"] = write_branch(br, meta, out, stem)

@@ -7,17 +7,11 @@ import math
 import os
 
 from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
+from ..core.limits import LIMITS
 from ..generated.names import PARAMS
 
-# Counts are bounded by what memory and time allow on a workstation; the messages state the limit.
-LIMITS = {
-    "iterates": 2_000_000,   # Poincare points: ~200 bytes and ~0.2 ms each -> 400 MB, ~7 min
-    "n": 20_001,             # homoclinic comparison grid (multiprecision, ~1 ms per point)
-    "max_pulses": 12,        # N-pulse search: the branch is integrated past N near-saddle passages
-    "samples": 2_001,        # multipulse scan: one unstable-branch integration per sample
-    "points": 1_000_000,     # rod samples
-    "jobs": 64,              # reproduce worker processes
-}
+# Counts are bounded by what memory and time allow on a workstation; the messages state the limit (one table
+# for the library and the command line: magrod/core/limits.py).
 
 PARAM_HELP = {"m": "m = m3/sqrt(B C2) > 0", "mu": "mu = (2 C1 - C2^2)/C2^2", "gamma": "extensibility gamma",
               "delta": "shearability delta >= 0", "lam": "lambdabar = lambda m3/C2^2 (field strength x current)"}

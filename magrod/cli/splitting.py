@@ -7,7 +7,6 @@ The result is computed in --precision (a magrod Precision: double, "long double"
 lower precision."""
 from __future__ import annotations
 
-from ..core.errors import ParameterError
 from .options import integer, number, out_dir
 
 # the check precision of each working precision: the next lower one
@@ -28,32 +27,9 @@ def add_arguments(p):
 
 
 def _eps_list(s):
-    vals = [number("eps", x) for x in str(s).split(",") if x.strip()]
-    if not vals:
-        raise ParameterError("eps", "empty list")
-    if len(vals) > 64:
-        raise ParameterError("eps", f"at most 64 values, got {len(vals)}")
-    for v in vals:
-        if not 0 < v <= 1:
-            raise ParameterError("eps", f"must be in (0, 1] (the expansion parameter), got {v}")
-    if len(set(vals)) != len(vals):
-        raise ParameterError("eps", "values must be distinct")
-    return vals
-
-
-def _check_resolvable(eps, precision) -> None:
-    """The splitting d scales like eps^4 at a = 2b (d/eps^4 -> b^2 S/m^2, derived and measured to 8 digits in
-    docs/nonintegrability.md; psi_u ~ eps^2) and no faster in the tilted case: an eps whose eps^4 is below the working
-    precision's machine epsilon measures nothing but rounding (e.g. eps = 1e-300, where b eps^2 underflows)."""
-    from ..core.precision import Precision
-
-    prec = Precision.parse(precision)
-    lo = prec.eps ** 0.25
-    small = [e for e in eps if e < lo]
-    if small:
-        raise ParameterError("eps", f"must be >= {lo:.2g} in {prec.value} precision (eps^4 >= its machine epsilon "
-                                    f"2^-{prec.bits - 1}: the splitting ~ eps^4 is below rounding otherwise), got "
-                                    f"{min(small):g}")
+    """The comma-separated --eps as numbers (their range, distinctness and resolvability: the library's
+    magrod.separatrix.splitting.check_eps)."""
+    return [number("eps", x) for x in str(s).split(",") if x.strip()]
 
 
 def run(args) -> dict:
@@ -62,19 +38,19 @@ def run(args) -> dict:
 
     vals = {k: number(k, getattr(args, k)) for k in ("m", "gamma", "delta", "a", "b")}
     eps = _eps_list(args.eps)
-    _check_resolvable(eps, args.precision)
-    S._check(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], min(eps), args.precision)
     n = integer("phases", args.phases, minimum=8, maximum=4096)
     dest = out_dir("out", args.out) if args.out is not None else None
     precs = tuple(p for p in (CHECK[args.precision], args.precision) if p)
     with bar(len(eps), "splitting", not args.quiet, unit="eps") as update:
-        if S.is_equilibrium_case(vals["a"], vals["b"]):
-            res = S.scan(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], eps, precs, progress=update)
-            out = {"ok": True, "case": "equilibrium (a = 2b)", **S.scan_summary(res)}
-        else:
-            res = S.tilted_scan(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], eps, precs,
-                                n_phases=n, progress=update)
-            out = {"ok": True, "case": "tilted saddle-focus (a > 2b)", **res.as_dict(), "precisions": list(precs)}
+        spl = S.splitting(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], eps, precisions=precs,
+                          n_phases=n, progress=update)
+    res = spl.scan
+    if spl.kind == "equilibrium":
+        out = {"ok": True, "case": "equilibrium (a = 2b)", **S.scan_summary(res)}
+    else:
+        out = {"ok": True, "case": "tilted saddle-focus (a > 2b)", **res.as_dict(), "precisions": list(precs)}
+    if spl.leading is not None:
+        out["leading"] = spl.leading
     if dest is not None:
         from ..figures.splitting import write
 

@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .tolerances import EIGEN_TIE_TOL
+
 # a component below this fraction of the largest one is "negligible": its phase is rounding noise
 NEGLIGIBLE = 1e-3
 
@@ -50,7 +52,7 @@ def fix_sign(v, prefer=()) -> np.ndarray:
     raise ValueError("fix_sign: zero vector")
 
 
-def order(w, *, tol: float = 1e-9) -> np.ndarray:
+def order(w, *, tol: float = EIGEN_TIE_TOL) -> np.ndarray:
     """Indices sorting eigenvalues w by decreasing real part, then decreasing imaginary part, where values that
     agree to tol (relative to max(1, |w|)) count as equal, so that rounding cannot swap members of a symmetric
     set (a conjugate pair, a quartet); exact ties keep a deterministic order by the next key."""

@@ -42,7 +42,10 @@ class RodParams:
 
     def __post_init__(self):
         for f in PARAMS:
-            object.__setattr__(self, f, require_finite(f, getattr(self, f), MAX_MAGNITUDE))
+            v = getattr(self, f)
+            if isinstance(v, (str, bytes)):  # a number where a number belongs: "1.7" is the caller's bug (issue 25)
+                raise ParameterError(f, f"must be a number, got the string {str(v)[:40]!r}")
+            object.__setattr__(self, f, require_finite(f, v, MAX_MAGNITUDE))
         if self.m <= 0:
             raise ParameterError("m", f"must be > 0 (m = m3/sqrt(B C2)), got {self.m}")
         if self.m < M_MIN:

@@ -114,3 +114,31 @@ def panel_kwargs(key: str) -> dict:
     """Keyword arguments (params, h, theta0, ptheta0, psi0) of a paper panel."""
     P = panel(key)
     return dict(params=P.params, h=P.h, theta0=P.theta0, ptheta0=P.ptheta0, psi0=P.psi0)
+
+
+def with_overrides(system, overrides: dict):
+    """The system (a RodParams, a Panel, a panel key, or a list of them) with model parameters replaced by keyword
+    overrides: `poincare_section("4a", lam=0.15)` is Fig 4(a)'s start on the rod with lambdabar = 0.15 (issue 25:
+    one calling convention, as `chaos_map(..., lam=...)`).  A panel keeps its start and gets the key
+    "4a, lam=0.15", so a result never claims to be the paper's panel when it is not.  ParameterError names an
+    override that is not a model parameter."""
+    from dataclasses import replace
+
+    from ..generated.names import PARAMS
+    from .errors import ParameterError
+
+    if not overrides:
+        return system
+    for k in overrides:
+        if k not in PARAMS:
+            raise ParameterError(k, f"unknown keyword: neither an option of this function nor a model parameter "
+                                    f"({', '.join(PARAMS)})")
+    if isinstance(system, (list, tuple)):
+        return [with_overrides(s, overrides) for s in system]
+    if isinstance(system, RodParams):
+        return system.replace(**overrides)
+    if isinstance(system, (str, Panel)):
+        P = panel(system)
+        tag = ", ".join(f"{k}={float(v):g}" for k, v in overrides.items())
+        return replace(P, key=f"{P.key}, {tag}", params=P.params.replace(**overrides))
+    raise ParameterError("params", f"must be a RodParams, a Panel or a panel name, got {type(system).__name__}")

@@ -81,6 +81,15 @@ class Result:
     def __str__(self) -> str:
         return repr(self)
 
+    def _get_status(self):
+        return self.__dict__.get("_status", 0 if self.success else 1)
+
+    def _set_status(self, value):  # a result class with a `status` field of its own stores it here
+        self.__dict__["_status"] = value
+
+    status = property(_get_status, _set_status, doc="scipy's termination code next to `success` and `message`: 0 "
+                      "success, 1 failure (a result class with finer codes, or a `status` field, overrides it).")
+
     def to_dict(self) -> dict:
         """Every field as JSON-able data (arrays as nested lists)."""
         return {f.name: jsonable(getattr(self, f.name)) for f in dataclasses.fields(self)}

@@ -52,3 +52,33 @@ FLOOR_CAP = 1e-6
 # --- splitting of the separatrix --------------------------------------------------------------------------------
 # launch distance (relative to theta0 for the tilted saddle) per precision: eta^2 below the rounding unit
 SPLITTING_LAUNCH = {Precision.DOUBLE: 1e-8, Precision.LONG_DOUBLE: 1e-10, Precision.QUAD: 1e-17, Precision.MP: 1e-30}
+
+# --- root finding and bisection (issue 25: every tolerance here, none as a literal elsewhere) -------------------
+# pbar_psi0 roots of Hbar = h are O(1): Brent to 1e-15 absolute, then the best of the neighbouring doubles is kept
+ROOT_XTOL = 1e-15
+# bisection of sin psi over the free parameter stops at a few ulp of relative width (inside the noise band it just
+# picks a point in it: magrod.orbits.multipulse.bisect)
+BISECTION_RTOL = 1e-15
+# the Fig 2 Mel'nikov amplitude's zero gamma* by Brent on the float64 amplitude: its own error bound is ~1e-13
+MELNIKOV_ZERO_XTOL = 1e-13
+# the accessible-threshold line of a section portrait (a figure annotation): 1e-6 of a lambdabar range of O(0.1)
+THRESHOLD_XTOL = 1e-6
+
+# --- saddles and branches -----------------------------------------------------------------------------------------
+# Gauss-Newton residual of the helical relative equilibrium (its equations are O(1); converged runs reach ~1e-20)
+RELATIVE_EQUILIBRIUM_TOL = 1e-13
+# eigenvalues that agree to this (relative) count as one for ordering (core.eigen.order): LAPACK's rounding then
+# cannot swap members of a conjugate pair or a quartet
+EIGEN_TIE_TOL = 1e-9
+# continuation's Newton corrector: the shooting residual bound
+CONTINUATION_TOL = SHOOTING_TOL
+# the 2-pulse branch to the periodic saddle folding in mu (docs/errata.md): its long double residual floor is
+# 1e-13 .. 1e-12, so the corrector runs at 2e-12 (tests/test_continuation.py, figures/continuation.py)
+FOLD_BRANCH_TOL = 2e-12
+
+# --- quadratures ---------------------------------------------------------------------------------------------------
+# the real128 reference runs of the Mel'nikov and splitting quadratures: heyoka's tolerance near real128's epsilon
+# (1.9e-34) with room for its step-size control; a string because real128 tolerances are passed exactly
+REAL128_QUADRATURE_TOL = "1e-32"
+# derived vs measured a > 2b splitting coefficient: the issue's relative bound (magrod.separatrix.generic)
+GENERIC_AGREEMENT = 1e-4

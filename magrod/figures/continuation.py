@@ -21,6 +21,7 @@ from ..orbits import multipulse as mp
 from ..orbits import periodic_multipulse as pm
 from ..orbits.equilibrium import on_level
 from ..core.printed import MULTIPULSE
+from ..core.tolerances import FOLD_BRANCH_TOL
 from .common import pyplot
 
 
@@ -114,7 +115,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     t0 = time.perf_counter()
     F2, _ = C.periodic_problem(P, "mu", 2)
     sc = np.array([40.0, 1.0, 1e-4])
-    tol2 = 2e-12  # long double noise floor of this branch's residual is 1e-13 .. 1e-12
+    tol2 = FOLD_BRANCH_TOL  # long double noise floor of this branch's residual is 1e-13 .. 1e-12
     mu_start = 4.87e-3
     u0, _ = C.point_at(F2, [42.9, 20.07, mu_start], 2, mu_start, scale=sc, tol=tol2)
     b2 = C.pseudo_arclength(F2, u0, scale=sc, ds=0.1, ds_max=0.3, steps=6 if quick else 24, par=2, direction=-1,

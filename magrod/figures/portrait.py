@@ -15,6 +15,7 @@ import numpy as np
 from ..core.io import atomic_savefig, atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import PANELS
 from ..core.progress import bar
+from ..core.tolerances import THRESHOLD_XTOL
 from .common import pyplot
 
 LABELS = {"theta": r"$\theta$", "psi": r"$\psi$", "ptheta": r"$\bar p_\theta$", "ppsi": r"$\bar p_\psi$",
@@ -135,7 +136,7 @@ def save_orbit_diagram(res, out_dir, stem: str, *, extra=None, colors=None, band
     return paths
 
 
-def accessible_threshold(base="4a", parameter="lam", lo=0.12, hi=0.2, xtol=1e-6):
+def accessible_threshold(base="4a", parameter="lam", lo=0.12, hi=0.2, xtol=THRESHOLD_XTOL):
     """The smallest value of `parameter` in [lo, hi] at which the base panel's start reaches its level (Hbar = h
     has a real root pbar_psi), by bisection on the existence of a root (assumed monotone on [lo, hi]: checked at
     the grid values by the caller); lo if the level is reached there already."""

@@ -160,7 +160,11 @@ def _multipulse_claims(out: Path, fig: int, label: str, shown: tuple, paper_lam:
     if d is None:
         return _not_run(label, f"multipulse orbits of Figure {fig}")
     found = [o for o in d["orbits"] if o["success"]]
-    desc = "; ".join(f"{o['pulses']}-pulse at lam = {o['free_value']:.9g} (residual {o['residual']:.1e}, "
+    def res(o):  # a residual above the tolerance is quoted with the rounding floor it was accepted at
+        fl = o.get("noise_floor")
+        return f"residual {o['residual']:.1e}" + (f" at the rounding floor {fl:.1e}" if fl else "")
+
+    desc = "; ".join(f"{o['pulses']}-pulse at lam = {o['free_value']:.9g} ({res(o)}, "
                      f"|H - H_saddle| {o['max_abs_H_minus_saddle']:.1e}, length {o['arclength']:.4g})" for o in found)
     missing = [o["pulses_target"] for o in d["orbits"] if not o["success"]]
     return [{"label": label,

@@ -30,9 +30,9 @@ from ..core.errors import ParameterError, require_positive_int
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result, jsonable
-from ..core.tolerances import LAUNCH_DISTANCE, SHOOTING_TOL
+from ..core.tolerances import CONTINUATION_TOL, LAUNCH_DISTANCE, SHOOTING_TOL
 from .equilibrium import on_level, straight_rod
-from .multipulse import shooting_precision
+from .shooting import shooting_precision
 from .periodic import periodic_saddle
 from .shooting import residual_and_jacobian
 
@@ -67,6 +67,11 @@ class Branch(Result):
     @property
     def max_residual(self) -> float:
         return float(np.max(self.residuals)) if len(self.residuals) else math.nan
+
+    @property
+    def accuracy(self) -> dict:
+        """The accuracy achieved: the largest corrector residual max|F| over the branch's points."""
+        return {"max_residual": self.max_residual, "points": int(len(self.residuals))}
 
     @property
     def fold_values(self) -> list:
@@ -114,7 +119,7 @@ def correct(F, u_pred, t, *, scale, tol, max_iter=12, start=None):
     raise RuntimeError(f"corrector did not converge (last residual {res:.2e})")
 
 
-def pseudo_arclength(F, u0, *, scale=None, ds=0.05, steps=50, ds_min=1e-6, ds_max=0.5, tol=1e-10, par=-1,
+def pseudo_arclength(F, u0, *, scale=None, ds=0.05, steps=50, ds_min=1e-6, ds_max=0.5, tol=CONTINUATION_TOL, par=-1,
                      direction=1, bounds=None, names=(), locate_folds=True, progress=None) -> Branch:
     """Continue F(u) = 0 from u0 (an approximate solution; corrected first, with t along +-u[par]).
 
@@ -204,7 +209,7 @@ def _locate_fold(F, ua, ub, ta, tb, scale, par, tol, max_iter=20):
     return {"u": u, "residual": res}
 
 
-def point_at(F, u_guess, index: int, value: float, *, scale=None, tol=1e-10):
+def point_at(F, u_guess, index: int, value: float, *, scale=None, tol=CONTINUATION_TOL):
     """The branch point with u[index] = value (Newton with that component fixed), from a nearby guess."""
     u = np.asarray(u_guess, float).copy()
     u[index] = value

@@ -93,6 +93,15 @@ class StraightRod(Result):
         """The straight-rod saddle at other parameters (ParameterError where there is none)."""
         return straight_rod(params)
 
+    @property
+    def accuracy(self) -> dict:
+        """The accuracy achieved (nothing is integrated): the eigenpair residual |J v - lambda v| of the unstable
+        eigenvector (unit norm; passed: <= 1e3 eps |J|, the backward error of a LAPACK eigenpair)."""
+        v, lam = self.unstable_vector, self.unstable_eigenvalue
+        res = float(np.max(np.abs(self.jacobian @ v - lam * v)))
+        return {"eigen_residual": res,
+                "passed": bool(res <= 1e3 * np.finfo(float).eps * max(1.0, float(np.linalg.norm(self.jacobian, 2))))}
+
     def summary(self) -> dict:
         lam_u = self.unstable_eigenvalue
         return {"state": self.x.tolist(), "H": self.H,

@@ -26,11 +26,12 @@ from ..core.errors import ParameterError, require_positive_int
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result, jsonable
-from ..core.tolerances import FLOOR_CAP, FLOOR_FACTOR, LAUNCH_DISTANCE, LAUNCH_DISTANCES, SHOOTING_TOL, STALL_ITERATIONS
+from ..core.tolerances import BISECTION_RTOL, FLOOR_CAP, FLOOR_FACTOR, LAUNCH_DISTANCE, LAUNCH_DISTANCES, SHOOTING_TOL, STALL_ITERATIONS
 from ..generated.names import PARAMS
 from . import shooting
 from .equilibrium import StraightRod, on_level, straight_rod
-from .shooting import MultipulseOrbit, count_pulses, fix_functions, residual_and_jacobian, unstable_branch
+from .shooting import (MultipulseOrbit, count_pulses, fix_functions, residual_and_jacobian,
+                       shooting_precision, unstable_branch)
 
 MAX_DIGITS = 15  # significant digits a float64 value is printed with (`significant`)
 # the free-parameter scan: this many intervals over value * [1 - span, 1 + span] (1.25 % of the value each at
@@ -39,15 +40,6 @@ SCAN_INTERVALS = 80
 ANGLE_SAMPLES = 121  # launch angles of the periodic saddle's scan (3 degrees apart)
 # mu is not free: it follows the free parameter so that the straight rod stays on the chart's level (mu = 2 lam)
 FREE_PARAMETERS = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))
-
-
-def shooting_precision(crossing: int, precision=None) -> Precision:
-    """The precision of a shot at the `crossing`-th zero: `precision` if given (a Precision or its value), else
-    double for the first crossing (no passage near the saddle before it) and long double from the second on
-    (after a near-saddle passage psi inherits the launch error divided by the small transverse force)."""
-    if precision is None:
-        return Precision.DOUBLE if crossing == 1 else Precision.LONG_DOUBLE
-    return Precision.parse(precision)
 
 
 # --- Newton ------------------------------------------------------------------------------------------------
@@ -194,7 +186,7 @@ def summarize(result: MultipulseOrbit, orb: dict | None = None) -> dict:
     """pulses, residual, arclength (between the two eps-points: 2 T), H (and its deviation from the saddle's)."""
     orb = orb or orbit(result)
     return {"pulses": count_pulses(orb["theta"]), "crossing": result.pulses, "residual": result.residual,
-            "iterations": result.iterations, "arclength": 2 * result.T, "eps": result.eps,
+            "noise_floor": result.noise_floor, "iterations": result.iterations, "arclength": 2 * result.T, "eps": result.eps,
             "H": float(np.mean(orb["H"])), "H_saddle": result.saddle_H,
             "max_abs_H_minus_saddle": float(np.max(np.abs(orb["H"] - result.saddle_H))),
             "theta_max": float(np.max(orb["theta"])), "free": result.free,
@@ -238,7 +230,7 @@ def crossing_sinpsi(params: RodParams, free: str, value: float, crossing: int, *
 
 
 def bisect(params: RodParams, free: str, crossing: int, a: float, b: float, *, eps: float,
-           precision=Precision.DOUBLE, rtol: float = 1e-15, max_iter: int = 60) -> dict | None:
+           precision=Precision.DOUBLE, rtol: float = BISECTION_RTOL, max_iter: int = 60) -> dict | None:
     """Bisection on g(v) = sin psi at the `crossing`-th zero of pbar_theta over a bracket [a, b] of the free
     parameter (the pbar_theta condition holds exactly at the event, so this is the 1-D form of the shooting
     problem).  Stops at relative width rtol (a few ulp: inside the noise band it just picks a point in it).
@@ -435,6 +427,13 @@ class MultipulseSearch(Result):
 
     def __len__(self) -> int:
         return len(self.orbits)
+
+    @property
+    def accuracy(self) -> dict:
+        """The accuracy achieved: the largest residual and noise floor over the orbits found (each orbit's own
+        `accuracy` has the rest)."""
+        return {"max_residual": max((o.residual for o in self.orbits), default=math.nan),
+                "max_noise_floor": max((o.noise_floor for o in self.orbits), default=0.0)}
 
     def __getitem__(self, i) -> MultipulseOrbit:
         return self.orbits[i]

@@ -37,7 +37,7 @@ from ..core.errors import ParameterError
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result
-from ..core.tolerances import HYPERBOLIC_TOL, MU_TOL
+from ..core.tolerances import HYPERBOLIC_TOL, MU_TOL, RELATIVE_EQUILIBRIUM_TOL
 from ..generated import floquet as gfl
 from ..generated import scalars
 
@@ -105,7 +105,7 @@ def _straight_rod_centre(params: RodParams):
     return x, float(w[k].imag), d / np.linalg.norm(d)
 
 
-def relative_equilibrium(params: RodParams, *, tol: float = 1e-13):
+def relative_equilibrium(params: RodParams, *, tol: float = RELATIVE_EQUILIBRIUM_TOL):
     """(x0 (9,), omega, residual): the helical relative equilibrium f(x0) = omega xi x0 on the chart's Casimir
     level, phase fixed by e32 = 0, e31 <= 0 (phi = 0).  Raises ParameterError if none is found near the
     straight rod (mu < 2 lambdabar, or too far from it)."""
@@ -196,6 +196,15 @@ class PeriodicSaddle(Result):
     def quartet(self) -> np.ndarray:
         """The four nontrivial multipliers (largest |log|Lambda|| first)."""
         return _quartet(self.multipliers)
+
+    @property
+    def accuracy(self) -> dict:
+        """The accuracy achieved: the Gauss-Newton residual of the relative equilibrium (passed: <=
+        RELATIVE_EQUILIBRIUM_TOL), the closure |x(T) - x| of the integrated period, the monodromy against
+        expm(T A), its symplectic defect and the reciprocal pairing of the quartet."""
+        return {"re_residual": self.re_residual, "closure": self.closure, "exp_check": self.exp_check,
+                "symplectic_defect": self.symplectic_defect, "reciprocal_defect": self.reciprocal_defect,
+                "passed": bool(self.re_residual <= RELATIVE_EQUILIBRIUM_TOL)}
 
     def launch_point(self, eps: float, angle: float = 0.0, precision=Precision.DOUBLE) -> np.ndarray:
         """x + eps Re(e^{-i angle} v)/|Re(e^{-i angle} v)|: a point at distance eps on the linear unstable

@@ -29,9 +29,9 @@ from ..core.errors import require_positive_int
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.tolerances import LAUNCH_DISTANCE, SHOOTING_TOL
-from .multipulse import shooting_precision
 from .periodic import PeriodicSaddle, periodic_saddle
-from .shooting import MultipulseOrbit, crossing_events, fix_residual, residual_and_jacobian, symmetric_orbit
+from .shooting import (MultipulseOrbit, crossing_events, fix_residual, residual_and_jacobian, shooting_precision,
+                       symmetric_orbit)
 
 THETA_GATE = 0.3  # a zero of pbar_theta with theta above this is a pulse maximum; below it, a near-saddle one
 

@@ -107,6 +107,15 @@ class RodShape(Result):
     _repr_fields = ("length", "end_to_end", "orthonormality", "field_consistency", "deviation_first_half")
 
     @property
+    def accuracy(self) -> dict:
+        """The accuracy achieved by the frame integration: orthonormality and determinant of the director frame,
+        consistency of the integrated frame with the body-frame field, and the symmetric orbit's reversal
+        deviations (rod.py module docstring)."""
+        return {"orthonormality": self.orthonormality, "det": self.det, "field_consistency": self.field_consistency,
+                "deviation_from_symmetric_orbit": self.deviation_from_symmetric_orbit,
+                "deviation_first_half": self.deviation_first_half}
+
+    @property
     def length(self) -> float:
         """Arclength of the window (units B/m3)."""
         return float(self.s[-1] - self.s[0])

@@ -470,3 +470,12 @@ class MultipulseOrbit(Result):
         d.update({"x0": jsonable(self.x0), "history": jsonable(self.history),
                   "uncertainty": jsonable(self.uncertainty), "pulses_counted": self.pulses_counted})
         return d
+
+
+def shooting_precision(crossing: int, precision=None) -> Precision:
+    """The precision of a shot at the `crossing`-th zero: `precision` if given (a Precision or its value), else
+    double for the first crossing (no passage near the saddle before it) and long double from the second on
+    (after a near-saddle passage psi inherits the launch error divided by the small transverse force)."""
+    if precision is None:
+        return Precision.DOUBLE if crossing == 1 else Precision.LONG_DOUBLE
+    return Precision.parse(precision)

@@ -41,6 +41,7 @@ from ..core.errors import ParameterError
 from ..generated import melnikov as gen
 from ..orbits.homoclinic import homoclinic, stable_expressions
 from ..core.printed import FIG2_M, FIG2_ZERO_BRACKET
+from ..core.tolerances import MELNIKOV_ZERO_XTOL, REAL128_QUADRATURE_TOL
 
 INTEGRANDS = ("derived", "printed")
 
@@ -57,7 +58,7 @@ def _quad_integrator(fp_type=float):
     if fp_type is float:
         return systems.taylor(sys, [0.0, 0.0, 0.0], [1.0, 1.0])
     return systems.taylor(sys, [0, 0, 0], [1, 1], fp_type=fp_type, compact_mode=True,
-                          tol="1e-32" if fp_type is hy.real128 else 0)
+                          tol=REAL128_QUADRATURE_TOL if fp_type is hy.real128 else 0)
 
 
 def _run(m, gamma, t_grid, fp_type=float) -> np.ndarray:
@@ -179,7 +180,7 @@ def primitive_check(m, gamma, n=64, theta_tail=1e-20) -> dict:
             "t": grid, "running_A": run[:, 1], "two_phi": 2.0 * phi}
 
 
-def amplitude_zero(m=FIG2_M, integrand="printed", bracket=FIG2_ZERO_BRACKET, xtol=1e-13) -> dict:
+def amplitude_zero(m=FIG2_M, integrand="printed", bracket=FIG2_ZERO_BRACKET, xtol=MELNIKOV_ZERO_XTOL) -> dict:
     """gamma* in `bracket` with A(gamma*) = 0 by Brent's method on the float64 amplitude.  Error bound:
     |gamma* - gamma_found| <= xtol + eps_A/|dA/dgamma| with eps_A the amplitude error estimate at gamma_found
     (real128 reference + tail bound) and dA/dgamma by a central difference; the sign of the real128 amplitude

@@ -54,7 +54,7 @@ from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result
-from ..core.tolerances import HYPERBOLIC_TOL, SPLITTING_LAUNCH
+from ..core.tolerances import HYPERBOLIC_TOL, REAL128_QUADRATURE_TOL, SPLITTING_LAUNCH
 from ..generated import scalars
 from ..orbits.shooting import Crossing, crossing_events
 
@@ -578,7 +578,7 @@ def _leading_integrator(fp_type=float):
     if fp_type is float:
         return systems.taylor(sys, [0.0, 0.0], [1.0, 1.0, 1.0])
     return systems.taylor(sys, [0, 0], [1, 1, 1], fp_type=fp_type, compact_mode=True,
-                          tol="1e-32" if fp_type is hy.real128 else 0)
+                          tol=REAL128_QUADRATURE_TOL if fp_type is hy.real128 else 0)
 
 
 def _leading_run(m, gamma, delta, T, fp_type=float):
@@ -730,15 +730,45 @@ class Splitting(Result):
         return jsonable(d)
 
 
-def splitting(m, gamma, delta, a, b, eps=EPS_SCAN, *, precisions=None, n_phases=64, harmonics=4,
-              progress=None) -> Splitting:
+MAX_EPS_VALUES = 64  # a scan of more perturbation parameters than this is a mistake, not a measurement
+
+
+def check_eps(eps, precision) -> list:
+    """The perturbation parameters of a scan: 1..64 distinct values in (0, 1] (eps is the expansion parameter),
+    each resolvable in the working `precision`: the splitting d scales like eps^4 at a = 2b (d/eps^4 -> b^2 S/m^2,
+    docs/nonintegrability.md; psi_u ~ eps^2) and no faster in the tilted case, so an eps whose eps^4 is below the
+    precision's machine epsilon measures nothing but rounding (e.g. eps = 1e-300, where b eps^2 underflows).
+    ParameterError("eps") otherwise.  (Until issue 25 these checks lived in the command line only.)"""
+    vals = [require_finite("eps", e) for e in (eps if not np.isscalar(eps) else [eps])]
+    if not vals:
+        raise ParameterError("eps", "need a non-empty list of eps > 0")
+    if len(vals) > MAX_EPS_VALUES:
+        raise ParameterError("eps", f"at most {MAX_EPS_VALUES} values, got {len(vals)}")
+    for v in vals:
+        if not 0 < v <= 1:
+            raise ParameterError("eps", f"must be in (0, 1] (the expansion parameter), got {v}")
+    if len(set(vals)) != len(vals):
+        raise ParameterError("eps", "values must be distinct")
+    prec = Precision.parse(precision)
+    lo = prec.eps ** 0.25
+    small = [e for e in vals if e < lo]
+    if small:
+        raise ParameterError("eps", f"must be >= {lo:.2g} in {prec.value} precision (eps^4 >= its machine epsilon "
+                                    f"2^-{prec.bits - 1}: the splitting ~ eps^4 is below rounding otherwise), got "
+                                    f"{min(small):g}")
+    return vals
+
+
+def splitting(m, gamma=None, delta=None, a=None, b=None, eps=EPS_SCAN, *, precisions=None, n_phases=64,
+              harmonics=4, progress=None) -> Splitting:
     """The splitting of the stable and unstable manifolds of the saddle under mu = a eps^2, lambdabar = b eps^2
     (the paper's scaling eq:condition_unperturbed_1), measured in two precisions.
 
     Parameters
     ----------
-    m, gamma, delta : float
-        The rod (0 < m < m_c = 2 sqrt(1 + gamma), gamma, delta >= 0).
+    m, gamma, delta : float, or a RodParams first
+        The rod (0 < m < m_c = 2 sqrt(1 + gamma), gamma, delta >= 0); ``splitting(RodParams(...), a=2, b=1)``
+        takes m, gamma and delta from it (its mu and lambdabar are what the scaling varies, so they are not used).
     a, b : float
         mu = a eps^2, lambdabar = b eps^2, a >= 2b; a = 2b is the straight-rod saddle (an equilibrium), a > 2b the
         tilted saddle-focus.
@@ -779,14 +809,21 @@ def splitting(m, gamma, delta, a, b, eps=EPS_SCAN, *, precisions=None, n_phases=
     ~0.1 s per eps in quad (a = 2b); n_phases first crossings per eps for a > 2b.
     """
     t0 = time.perf_counter()
-    eps = [require_finite("eps", e) for e in (eps if not np.isscalar(eps) else [eps])]
-    if not eps or min(eps) <= 0:
-        raise ParameterError("eps", f"need a non-empty list of eps > 0, got {eps}")
+    if isinstance(m, RodParams):
+        m, gamma, delta = m.m, m.gamma if gamma is None else gamma, m.delta if delta is None else delta
+    for name, v in (("gamma", gamma), ("delta", delta), ("a", a), ("b", b)):
+        if v is None:
+            raise ParameterError(name, "missing: splitting(m, gamma, delta, a, b, eps) or splitting(RodParams, a=, b=)")
+    a, b = require_finite("a", a, MAX_MAGNITUDE), require_finite("b", b, MAX_MAGNITUDE)
     equilibrium = is_equilibrium_case(a, b)
     if precisions is None:
         precisions = (Precision.LONG_DOUBLE, Precision.QUAD) if equilibrium else (Precision.DOUBLE,
                                                                                    Precision.LONG_DOUBLE)
     precisions = [Precision.parse(p) for p in precisions]
+    if not precisions:
+        raise ParameterError("precisions", "need at least one precision (the last is the reference)")
+    eps = check_eps(eps, precisions[-1])
+    m, gamma, delta, a, b, _ = _check(m, gamma, delta, a, b, min(eps), precisions[-1].value)
     notes = []
     if equilibrium:
         sc = scan(m, gamma, delta, a, b, eps, precisions, progress=progress)
