@@ -412,7 +412,7 @@ def _refuse_directories_at_files(spec, store: Path, skel: dict) -> None:
         if (store / rel).is_dir():
             raise ParameterError("out", f"{str(store / rel)!r} is a directory where the chaos map store keeps a "
                                         "file; remove it, or use --force to start over")
-    ndim = {**{k: 2 for k in FIELDS}, spec.x.name: 1, spec.y.name: 1}
+    ndim = {**{k: 2 for k in names_of(spec)}, spec.x.name: 1, spec.y.name: 1}
     for name, n in ndim.items():
         c = store / name / "c"
         if not c.is_dir() or c.is_symlink():
