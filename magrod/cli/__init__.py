@@ -185,6 +185,7 @@ def _interrupt_message() -> str:
 
 
 PAUSE_ENV = "MAGROD_TEST_PAUSE"
+STARTED_ENV = "MAGROD_TEST_STARTED"  # console_main writes this file first thing (tests sweep signals from there)
 
 
 def pause_point(point: str) -> None:
@@ -238,6 +239,10 @@ def console_main() -> None:
     for s in SIGNALS:
         signal.signal(s, _after_exit)
     _STATE["early"] = True  # a signal between here and main()'s handlers is kept, and ends the run at once
+    started = os.environ.get(STARTED_ENV)
+    if started:  # test hook: the moment magrod's own code runs (before it, the interpreter's start-up owns SIGINT)
+        with open(started, "w") as fh:
+            fh.write(str(os.getpid()))
     code = main()
     for s in SIGNALS:
         signal.signal(s, signal.SIG_IGN)
