@@ -349,7 +349,12 @@ QUIET_ENV = "MAGROD_QUIET_HEYOKA"  # = magrod.core.systems.QUIET_ENV (not import
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):
-    """A warning is one stderr line, 'magrod: warning: ...' (never the source line Python shows by default)."""
+    """A warning is one stderr line, 'magrod: warning: ...' (never the source line Python shows by default).  Once
+    a signal has ended the run, warnings are dropped: the interrupted run says one line, and what a library thread
+    warns while it is torn down (zarr's consolidated-metadata warning, escaping the filter of an interrupted write,
+    seen by the start-up signal sweep) is not news."""
+    if _STATE["signals"]:
+        return
     text = " ".join(f"magrod: warning: {message}".split())
     try:
         print(text, file=sys.stderr, flush=True)

@@ -27,29 +27,28 @@ from .tolerances import EIGEN_TIE_TOL
 NEGLIGIBLE = 1e-3
 
 
+def _reference(a, prefer) -> int:
+    """The first index of `prefer`, then of all indices, whose modulus is not negligible (>= NEGLIGIBLE max)."""
+    floor = NEGLIGIBLE * a.max()
+    for j in (*prefer, *range(a.size)):
+        if a[j] >= floor:
+            return j
+    raise ValueError("zero vector")  # unreachable for a normalised vector
+
+
 def fix_phase(v, prefer=()) -> np.ndarray:
     """v / |v| times the unit factor that makes component j real and > 0, for j the first index of `prefer`
     with |v_j| >= NEGLIGIBLE max|v| (then the remaining indices in order).  Independent of v's phase."""
     v = np.asarray(v, complex)
     v = v / np.linalg.norm(v)
-    a = np.abs(v)
-    floor = NEGLIGIBLE * a.max()
-    for j in (*prefer, *range(v.size)):
-        if a[j] >= floor:
-            return v * np.exp(-1j * np.angle(v[j]))
-    raise ValueError("fix_phase: zero vector")  # unreachable for a normalised vector
+    return v * np.exp(-1j * np.angle(v[_reference(np.abs(v), prefer)]))
 
 
 def fix_sign(v, prefer=()) -> np.ndarray:
     """A real vector with component j > 0 (j as in `fix_phase`), unit norm."""
     v = np.asarray(v, float)
     v = v / np.linalg.norm(v)
-    a = np.abs(v)
-    floor = NEGLIGIBLE * a.max()
-    for j in (*prefer, *range(v.size)):
-        if a[j] >= floor:
-            return v if v[j] > 0 else -v
-    raise ValueError("fix_sign: zero vector")
+    return v if v[_reference(np.abs(v), prefer)] > 0 else -v
 
 
 def order(w, *, tol: float = EIGEN_TIE_TOL) -> np.ndarray:
