@@ -50,6 +50,11 @@ BAD = [
     ("no STATE", ("STATE = [m1, m2, m3, n1, n2, n3]", "STATE_ = [m1, m2, m3, n1, n2, n3]"), "missing"),
     ("syntax error", ("import sympy as sp", "import sympy as sp\nthis is not python"), "import"),
     ("raises on import", ("import sympy as sp", "import sympy as sp\nraise RuntimeError('boom')"), "import"),
+    # a string is never parsed (sympify would evaluate it as code a second time): data, not code
+    ("W as a string", ("W = (A * (u1**2 + u2**2) + C * u3**2) / 2", "W = '(A * (u1**2 + u2**2) + C * u3**2) / 2'"),
+     "W polynomial"),
+    ("default as a string", ('C: ("torsional stiffness", (0, sp.oo), 2)', 'C: ("torsional stiffness", (0, sp.oo), "2")'),
+     "parameters"),
 ]
 
 

@@ -77,7 +77,7 @@ def integrals(model: Model) -> dict:
     for i, c in enumerate(casimirs(model), 1):
         out[f"C{i}"] = c
     for k, (e, _) in model.candidates.items():
-        out[k] = sp.expand(sp.sympify(e))
+        out[k] = sp.expand(sp.sympify(e, strict=True))  # checked SymPy (spec.sym)
     return out
 
 
@@ -182,7 +182,7 @@ def _names(model):
 
 
 def _rangestr(b):
-    b = sp.sympify(b)
+    b = sp.sympify(b, strict=True)
     return "inf" if b == sp.oo else "-inf" if b == -sp.oo else float(b)
 
 
@@ -192,7 +192,7 @@ def names_module(model: Model, fs: dict) -> str:
               "STATE": tuple(str(x) for x in model.state), "PARAMS": tuple(str(p) for p in model.params),
               "MEANINGS": tuple(v[0] for v in model.parameters.values()),
               "RANGES": tuple((_rangestr(v[1][0]), _rangestr(v[1][1])) for v in model.parameters.values()),
-              "DEFAULTS": tuple(float(sp.sympify(v[2])) for v in model.parameters.values()),
+              "DEFAULTS": tuple(float(sp.sympify(v[2], strict=True)) for v in model.parameters.values()),
               "CASIMIRS": cas, "CANDIDATES": tuple(model.candidates), "S1_SYMMETRIC": s1_symmetric(model),
               "REFERENCE": tuple(model.reference[x] for x in model.state)}
     return module_source(f"Names of the model {model.name!r} ({model.title}): state, parameters with meanings, "

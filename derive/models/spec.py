@@ -51,6 +51,15 @@ class ModelError(ValueError):
         super().__init__(f"{check}: {text}")
 
 
+def sym(value, check: str = "expression"):
+    """A model's value as SymPy, never parsed from a string: sympify(strict=True) converts numbers and SymPy
+    objects only (a string in a model file would be evaluated a second time, as code; ModelError names the check)."""
+    try:
+        return sp.sympify(value, strict=True)
+    except (sp.SympifyError, TypeError):
+        raise ModelError(check, f"{str(value)[:60]!r} must be a SymPy expression or a number, not a string") from None
+
+
 @dataclass
 class Model:
     name: str
@@ -155,8 +164,8 @@ def build_model(ns: dict, origin: str) -> Model:
     for p, v in parameters.items():
         if not (isinstance(v, tuple) and len(v) == 3 and isinstance(v[0], str) and len(v[1]) == 2):
             raise ModelError("parameters", f"PARAMETERS[{p}] must be (meaning, (low, high), default)")
-        lo, hi = (sp.sympify(b) for b in v[1])
-        d = sp.sympify(v[2])
+        lo, hi = (sym(b, "parameters") for b in v[1])
+        d = sym(v[2], "parameters")
         if not (d.is_number and d.is_real and lo < d < hi):
             raise ModelError("parameters", f"the default {v[2]} of {p} is not inside its range ({lo}, {hi})")
     names = [str(s) for s in X + list(parameters)]
@@ -178,16 +187,16 @@ def build_model(ns: dict, origin: str) -> Model:
         for s, x in strains:
             if x not in X:
                 raise ModelError("state", f"the conjugate {x} of strain {s} is not in STATE")
-        _check_W(sp.sympify(W), strains, fixed, parameters)
-        H = legendre(sp.sympify(W), strains, fixed)
+        _check_W(sym(W, "W polynomial"), strains, fixed, parameters)
+        H = legendre(sym(W, "W polynomial"), strains, fixed)
         if "H" in ns:
             raise ModelError("missing", "give W or H, not both (H is derived from W by the Legendre transform)")
     else:
-        H = sp.expand(sp.sympify(ns["H"]))
+        H = sp.expand(sym(ns["H"], "missing"))
     cands = dict(ns.get("CANDIDATES", {}))
-    section = sp.sympify(ns.get("SECTION", X[0]))
+    section = sym(ns.get("SECTION", X[0]), "state")
     exprs = [H, section, *Jm] + [c[0] for c in cands.values()]
-    syms = set().union(*(sp.sympify(e).free_symbols for e in exprs))
+    syms = set().union(*(sym(e).free_symbols for e in exprs))
     by_name: dict = {}
     for s in syms | set(X) | set(parameters):
         by_name.setdefault(str(s), set()).add(s)
@@ -221,7 +230,7 @@ def build_model(ns: dict, origin: str) -> Model:
         if not isinstance(k, str) or not k.isidentifier():
             raise ModelError("candidates", f"candidate name {k!r} is not an identifier")
         try:
-            sp.Poly(sp.sympify(e), *X)
+            sp.Poly(sym(e, "candidates"), *X)
         except sp.PolynomialError:
             raise ModelError("candidates", f"candidate {k} is not a polynomial in the state") from None
     ref = {sp.Symbol(str(k)) if not isinstance(k, sp.Symbol) else k: v for k, v in dict(ns.get("REFERENCE", {})).items()}
@@ -231,7 +240,7 @@ def build_model(ns: dict, origin: str) -> Model:
         rng = random.Random(0)
         ref = {x: round(rng.uniform(0.1, 0.9), 3) for x in X}
     return Model(name, str(ns.get("TITLE", name)), str(ns.get("SOURCE", origin)), X, parameters, Jm, H,
-                 sp.sympify(W) if W is not None else None, strains, fixed, cands, section,
+                 sym(W) if W is not None else None, strains, fixed, cands, section,
                  {x: float(ref.get(x, 0.0)) for x in X}, str(ns.get("NOTES", "")))
 
 
