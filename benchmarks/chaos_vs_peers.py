@@ -158,7 +158,7 @@ def batch_vs_scalar(span):
 
 
 def workers(n=32, t_max=1000.0):
-    from magrod.chaos import store as chaos_store
+    from magrod.store import tiles as chaos_store
 
     spec = maps.MapSpec(maps.parse_axis("x", f"lam:0.12:0.2:{n}"), maps.parse_axis("y", f"gamma:2:4:{n}"),
                          base=maps.panel_base("4a"), t_max=t_max, tile=8)

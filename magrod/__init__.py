@@ -55,7 +55,7 @@ _API = {
     "lyapunov": "chaos.lyapunov",
     "lyapunov_spectrum": "chaos.spectrum",
     "gali": "chaos.spectrum",
-    "chaos_map": "chaos.maps",
+    "chaos_map": "store.resumable",  # in memory (chaos.maps) or, store=DIR, resumable
     # saddles and orbits
     "saddle": "orbits.shooting",
     "homoclinic_orbit": "orbits.homoclinic",

@@ -192,7 +192,7 @@ def test_bad_spec_subprocess(tmp_path):
 # Dask, zarr, resume
 # ------------------------------------------------------------------------------------------------------------
 def _store_run(spec, d: Path, **kw):
-    from magrod.chaos import store as chaos_store
+    from magrod.store import tiles as chaos_store
 
     pth = chaos_store.paths(d, "m")
     chaos_store.create_or_open(spec, pth["store"], pth["tiles"])
@@ -201,7 +201,7 @@ def _store_run(spec, d: Path, **kw):
 
 
 def test_one_and_two_workers_bit_identical(tmp_path):
-    from magrod.chaos import store as chaos_store
+    from magrod.store import tiles as chaos_store
 
     spec = _spec("lam:0.12:0.2:8", "gamma:2:4:8", t_max=300.0, tile=4)
     _, p1 = _store_run(spec, tmp_path / "w1", workers=1)
@@ -220,7 +220,7 @@ def test_one_and_two_workers_bit_identical(tmp_path):
 def test_resume_skips_finished_tiles(tmp_path):
     """A run stopped after 2 of 4 tiles, plus one tile whose chunk was written but not its marker (killed
     between the two): the resumed run computes exactly the 2 unmarked tiles and leaves the others alone."""
-    from magrod.chaos import store as chaos_store
+    from magrod.store import tiles as chaos_store
 
     spec = _spec("lam:0.12:0.2:8", "gamma:2:4:8", t_max=300.0, tile=4)
     res, pth = _store_run(spec, tmp_path, workers=1, max_tiles=2)
@@ -290,7 +290,7 @@ def test_scheduler_attach_and_help(tmp_path, capsys):
 
     from distributed import LocalCluster
 
-    from magrod.chaos import store as chaos_store
+    from magrod.store import tiles as chaos_store
 
     with pytest.raises(SystemExit):
         cli.main(["chaosmap", "--help"])

@@ -90,7 +90,8 @@ def _main(argv, capsys):
 def test_real_cluster_host_port_and_a_relative_out(real_cluster, tmp_path, monkeypatch, capsys):
     """HOST:PORT without tcp:// is accepted; a relative --out is made absolute, so the worker (running in another
     directory that holds a store of the same relative name) writes into the client's store, and the map is right."""
-    from magrod.chaos import maps, store
+    from magrod.chaos import maps
+    from magrod.store import tiles as store
 
     monkeypatch.chdir(tmp_path)
     decoy = real_cluster["worker_cwd"] / "rel" / "chaosmap.zarr"  # the worker's own directory has such a store

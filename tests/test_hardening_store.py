@@ -285,7 +285,8 @@ def test_a_worker_that_writes_elsewhere_is_caught(reference, tmp_path, monkeypat
     filesystem at the same path) is an EnvironmentFault naming the path, not a map of NaNs."""
     from distributed import Client, LocalCluster
 
-    from magrod.chaos import maps, store
+    from magrod.chaos import maps
+    from magrod.store import tiles as store
     from magrod.core.errors import EnvironmentFault
 
     out = _copy(reference, tmp_path)
@@ -305,7 +306,8 @@ def test_a_worker_that_writes_elsewhere_is_caught(reference, tmp_path, monkeypat
 
 
 def test_a_worker_refuses_a_store_of_another_map(reference, tmp_path):
-    from magrod.chaos import maps, store
+    from magrod.chaos import maps
+    from magrod.store import tiles as store
     from magrod.core.errors import EnvironmentFault
 
     out = _copy(reference, tmp_path)
@@ -323,7 +325,8 @@ def test_a_worker_out_of_memory_is_not_called_another_filesystem(reference, tmp_
     opening it must say so, not send the user looking for a filesystem problem."""
     import zarr
 
-    from magrod.chaos import maps, store
+    from magrod.chaos import maps
+    from magrod.store import tiles as store
 
     out = _copy(reference, tmp_path)
     spec = maps.MapSpec.from_dict(json.loads((reference / T / "store.record").read_text())["spec"])
@@ -404,11 +407,11 @@ def test_a_full_disk_in_a_worker_names_the_store():
     'no space left on the device (2 of 16 tiles finished and kept; re-run to resume)' named nothing)."""
     import errno
 
-    from magrod.chaos.store import TileFailure
-    from magrod.cli.chaosmap import _tile_failure
+    from magrod.store.tiles import TileFailure
+    from magrod.store.resumable import tile_failure
     from magrod.core.errors import EnvironmentFault
 
     exc = TileFailure("0_1", OSError(errno.ENOSPC, "No space left on device"))
     with pytest.raises(EnvironmentFault) as e:
-        _tile_failure(exc, None, 2, 16, Path("/data/o/chaosmap.zarr"))
+        tile_failure(exc, None, 2, 16, Path("/data/o/chaosmap.zarr"))
     assert "/data/o/chaosmap.zarr" in e.value.message and "2 of 16 tiles finished and kept" in e.value.message

@@ -232,7 +232,7 @@ def _run(out, scheduler, capsys):
 
 
 def _stored(out):
-    from magrod.chaos import store
+    from magrod.store import tiles as store
 
     return store.load_fields(Path(out) / "chaosmap.zarr")
 

@@ -88,7 +88,7 @@ def test_small_arrays_stay_inline():
 def test_chaos_map_dataset_has_the_store_attributes():
     """Every field of the in-memory Dataset has units and long_name, status its flag_values/flag_meanings, the
     coordinates their long names: those the zarr store writes.  Seen to fail before (attrs {})."""
-    from magrod.chaos import store
+    from magrod.store import tiles as store
 
     cm = mr.chaos_map(("lam", 0.12, 0.2, 2), ("gamma", 2.0, 3.5, 2), panel="4a", t_max=100)
     ds = cm.to_xarray()

@@ -1,7 +1,7 @@
 """Chaos maps: indicators over a parameter plane or a section, tile by tile (issue 11).
 
 A map is a `MapSpec` (two `Axis` objects, the base values of every other parameter and start value, tolerances);
-it is cut into tiles (one Dask task and one zarr chunk each, magrod/chaos/store.py); `compute_tile` is a pure
+it is cut into tiles (one Dask task and one zarr chunk each, magrod/store/tiles.py); `compute_tile` is a pure
 function of (spec, tile).  Indicators and the chaos criterion come from magrod/chaos/indicators.py.
 """
 from __future__ import annotations
@@ -469,6 +469,7 @@ class ChaosMap(Result):
     fields: dict
     wall_s: float
     store: str | None = None
+    run: dict | None = None  # a stored map (magrod.store.resumable): what this call computed, skipped, repaired
 
     _repr_fields = ("shape", "fraction_chaotic", "wall_s", "store")
 
@@ -494,7 +495,8 @@ class ChaosMap(Result):
 
         # the fields as references {"npz": "fields.<name>", ...} into arrays() (small maps inline)
         return {**jsonable({"success": self.success, "message": self.message, "spec": self.spec.as_dict(),
-                            "summary": self.summary(), "store": self.store}),
+                            "summary": self.summary(), "store": self.store,
+                            **({"run": self.run} if self.run is not None else {})}),
                 "fields": jsonable(self.fields, INLINE_ARRAY_MAX, "fields")}
 
     def to_xarray(self):
@@ -669,7 +671,8 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     -----
     Criterion: chaotic iff growth_exponent > 3 (magrod.chaos.indicators).  Cost ~5 us per orbit per unit time in
     SIMD batches, plus the energy root per point.  Results are bit-identical for any tile order and worker
-    count.  For maps too large for memory, or resumable runs, use `magrod chaosmap --out DIR` (a zarr store).
+    count.  For maps too large for memory, or resumable runs, give store=DIR (a zarr store on Dask,
+    magrod.store.resumable; `magrod chaosmap --out DIR` is that).
 
     The default tolerance stays machine epsilon, by the work-precision study of the classification
     (benchmarks/classification_precision.py, benchmarks/README.md "Issue 28"): on the 64 x 64 map lam x gamma =
@@ -696,6 +699,20 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
             raise ParameterError("y", "give a MapSpec alone, or two axes")
         check_cost(x, _n_workers(client))
         return compute_map(x, progress=progress, client=client)
+    spec = map_spec(x, y, panel=panel, t_max=t_max, tol=tol, renorm_dt=renorm_dt, root=root, tile=tile,
+                    refine=refine, refine_bound=refine_bound, **values)
+    check_cost(spec, _n_workers(client))
+    return compute_map(spec, progress=progress, client=client)
+
+
+def map_spec(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_dt=DEFAULT_RENORM_DT,
+             root="smallest", tile=DEFAULT_TILE, refine=0, refine_bound=None, **values) -> MapSpec:
+    """The MapSpec `chaos_map` computes (same arguments, validated the same way; a MapSpec given as x alone is
+    returned as it is): for a stored map (magrod.store.resumable) or to inspect a map's grid and cost first."""
+    if isinstance(x, MapSpec):
+        if y is not None or values:
+            raise ParameterError("y", "give a MapSpec alone, or two axes")
+        return x
     if y is None:
         raise ParameterError("y", "missing: give two axes (name, lo, hi, n)")
     ax, ay = Axis.of(x, "x"), Axis.of(y, "y")
@@ -706,10 +723,8 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
         if k in (ax.name, ay.name):
             raise ParameterError(k, f"is varied on the {'x' if k == ax.name else 'y'} axis: do not also fix it")
         base[k] = require_finite(k, v, MAX_MAGNITUDE)
-    spec = MapSpec(ax, ay, base=base, panel=panel, root=root, t_max=t_max, tol=tol, renorm_dt=renorm_dt, tile=tile,
+    return MapSpec(ax, ay, base=base, panel=panel, root=root, t_max=t_max, tol=tol, renorm_dt=renorm_dt, tile=tile,
                    refine=refine, refine_bound=refine_bound)
-    check_cost(spec, _n_workers(client))
-    return compute_map(spec, progress=progress, client=client)
 
 
 def _n_workers(client) -> int:

@@ -34,7 +34,7 @@ the same for any worker count, tile order and resumption; tests/test_refine.py c
 against the brute-force map.
 
 This module is the pure algorithm (no heyoka, no I/O): `Refinement` takes classes and values and says which
-points to compute next; magrod.chaos.maps (in memory, on Dask) and magrod.chaos.store (a resumable zarr store)
+points to compute next; magrod.chaos.maps (in memory, on Dask) and magrod.store.tiles (a resumable zarr store)
 drive it.
 """
 from __future__ import annotations

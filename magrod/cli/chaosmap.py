@@ -76,6 +76,10 @@ class quiet_distributed:
     NAMES = ("distributed", "tornado", "asyncio", "bokeh")
 
     def __enter__(self):
+        # distributed's import sets its loggers' levels from the Dask configuration: import it first, or a logger
+        # it configures after this point would escape (the lost-scheduler test saw distributed.client's traceback)
+        import distributed  # noqa: F401
+
         # Dask's configuration gives child loggers (distributed.client, ...) levels of their own: quiet those too
         names = set(self.NAMES) | {n for n in list(logging.root.manager.loggerDict)
                                    if n.split(".")[0] in self.NAMES}
@@ -123,7 +127,7 @@ def spec_from_args(args):
 
 def _cluster_from_args(args):
     """(scheduler address or None, LocalCluster size or None), validated; nothing is contacted yet."""
-    from ..chaos.store import normalise_address, read_scheduler_file
+    from ..store.cluster import check_workers, normalise_address, read_scheduler_file
 
     given = [o for o, v in (("scheduler", args.scheduler), ("scheduler_file", args.scheduler_file)) if v is not None]
     if len(given) == 2:
@@ -135,39 +139,7 @@ def _cluster_from_args(args):
         return normalise_address(args.scheduler), None
     if args.scheduler_file is not None:
         return read_scheduler_file(args.scheduler_file), None
-    return None, _check_workers(2 if args.workers is None else args.workers)
-
-
-WORKER_MB = 300  # RSS of a LocalCluster worker after a tile (heyoka + LLVM + dask): 253 MB measured, rounded up
-
-
-def _check_workers(value) -> int:
-    """At most the CPUs this process may use (one single-threaded process each: more only cost memory) and what
-    the available memory holds at WORKER_MB each."""
-    import os
-
-    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    n = integer("workers", value, maximum=64)
-    if n > cpus:
-        raise ParameterError("workers", f"must be <= {cpus}, the CPUs this process may use (each worker is one "
-                                        f"single-threaded process of ~{WORKER_MB} MB; more only cost memory), got "
-                                        f"{value!r}")
-    avail = _available_mb()
-    if avail is not None and n * WORKER_MB > avail:
-        raise ParameterError("workers", f"{n} workers need ~{n * WORKER_MB} MB ({WORKER_MB} MB each) but only "
-                                        f"{avail:.0f} MB are available: use fewer")
-    return n
-
-
-def _available_mb():
-    try:
-        with open("/proc/meminfo") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) / 1024
-    except OSError:
-        pass
-    return None
+    return None, check_workers(integer("workers", 2 if args.workers is None else args.workers, maximum=64))
 
 
 def _run_model(args) -> dict:
@@ -204,8 +176,8 @@ def _run_model(args) -> dict:
 
 
 def run(args) -> dict:
-    import math
-    import time
+    """Parse, call magrod.store.resumable.stored_map (the library holds the store's policy), draw the PNG and write
+    the JSON summary of a map the library vouches for."""
     from pathlib import Path
 
     if args.model is not None:
@@ -221,228 +193,44 @@ def run(args) -> dict:
         if v <= 0:
             raise ParameterError(k, f"must be > 0 seconds, got {v:g}")
     threshold = number("threshold", args.threshold)
-    if not math.isfinite(threshold):  # pragma: no cover - number() refuses it
-        raise ParameterError("threshold", "must be finite")
     name = stem("stem", args.stem)
     out = out_dir("out", args.out).absolute()  # workers may run in another directory: they get the absolute path
 
-    from ..chaos import maps, store as chaos_store
-    from ..core.io import DirectoryLock, atomic_write_json, ensure_writable_dir, versions
+    from ..core.io import atomic_write_json, versions
     from ..core.progress import bar
+    from ..store import tiles
+    from ..store.resumable import stored_map
     from . import children_immune, pause_point
 
-    pth = chaos_store.paths(out, name)
-    chaos_store.check_paths(pth)  # a symbolic link for the store: refused before anything is made
-    if workers is not None:
-        maps.check_cost(spec, workers)
-        _check_open_files(workers)
-        _check_address_space()
-    client = cluster = None
-    pids: list = []
-    state = None
-    ok_exit = False
-    try:
-        if address is not None:  # reach the scheduler and a worker before anything is created
-            with quiet_distributed():
-                client = chaos_store.connect(address, timeout=connect_timeout, worker_timeout=worker_timeout)
-            maps.check_cost(spec, max(1, len(client.scheduler_info().get("workers", {}))))
-        out = ensure_writable_dir(out)
-        busy = (f"another magrod chaosmap is writing {str(pth['store'])!r}; wait for it to finish (its tiles are then "
-                f"reused) or choose another --out/--stem")
-        with DirectoryLock(pth["lock"], "out", busy):
-            chaos_store.remove_temporaries(pth)  # what a killed run left (we hold the lock: no writer is alive)
-            state = chaos_store.create_or_open(spec, pth["store"], pth["tiles"], force=args.force)
-            if state.repaired or state.metadata_rewritten:  # one line: what was found damaged and is repaired
-                import warnings
+    pth = tiles.paths(out, name)
+    label, unit = ("chaosmap (refined)", "tile part") if spec.refine else ("chaosmap", "tile")
+    # the number of tiles to do is known once the store is opened: the bar counts up without a total
+    with bar(None, label, not args.quiet, unit=unit) as update, quiet_distributed():
+        cm = stored_map(spec, out, stem=name, workers=workers, scheduler=address, force=args.force,
+                        connect_timeout=connect_timeout, worker_timeout=worker_timeout, progress=update,
+                        on_round=lambda *a: pause_point("chaosmap-round"),
+                        on_submitted=lambda: pause_point("chaosmap-running"), start_guard=children_immune)
+    if not cm.success and "store_identity" not in cm.run:  # a task failed in a worker (magrod.store.resumable)
+        return {"ok": False, "error": cm.message, "tiles": cm.run["tiles"]}
+    run = dict(cm.run)
+    identity = run.pop("store_identity")
+    result = {"ok": True, "spec": spec.as_dict(), **cm.summary(threshold), **run, "store_identity": identity,
+              "output": {k: str(v) for k, v in pth.items() if k in ("store", "png", "json")}}
+    result["wall_s"] = cm.wall_s
+    if not cm.success:  # never hand back a map we cannot vouch for: no PNG, no summary file
+        result.update(ok=False, error=cm.message, output={"store": str(pth["store"])})
+        return result
+    from ..figures.chaos import draw_map
 
-                from ..core.errors import MagrodWarning
-
-                what = [f"{len(state.repaired)} damaged or missing tile(s) failed their content hash and are "
-                        f"recomputed"] if state.repaired else []
-                if state.metadata_rewritten:
-                    what.append(f"{len(state.metadata_rewritten)} damaged metadata file(s) rewritten from the spec")
-                warnings.warn(f"{str(pth['store'])!r}: {'; '.join(what)}", MagrodWarning, stacklevel=1)
-            n_tiles = len(maps.tiles(spec))
-            todo = n_tiles - len(state.done)
-            t0 = time.perf_counter()
-            if todo and client is None:
-                with quiet_distributed(), children_immune():
-                    try:
-                        cluster, client, pids = chaos_store.start_local_cluster(workers)
-                    except (RuntimeError, OSError, TimeoutError) as exc:
-                        raise _start_failure(exc, workers) from None
-            try:
-                if spec.refine:  # rounds of tile parts: their number is known round by round only
-                    with bar(None, "chaosmap (refined)", not args.quiet, unit="tile part") as update, \
-                            quiet_distributed():
-                        res = chaos_store.run_refined(spec, pth["store"], pth["tiles"], client=client, state=state,
-                                                      progress=update, worker_timeout=worker_timeout,
-                                                      on_round=lambda *a: pause_point("chaosmap-round"))
-                else:
-                    with bar(todo, "chaosmap", not args.quiet, unit="tile") as update, quiet_distributed():
-                        res = chaos_store.run_tiles(spec, pth["store"], pth["tiles"], client=client, state=state,
-                                                    progress=update,
-                                                    on_submitted=lambda: pause_point("chaosmap-running"),
-                                                    worker_timeout=worker_timeout)
-            except chaos_store.TileFailure as exc:  # finished tiles keep their markers for the next run
-                return _tile_failure(exc, address, len(state.done), n_tiles, pth["store"])
-            chaos_store.finish(spec, state)
-            wall = time.perf_counter() - t0
-            fields = chaos_store.load_fields(pth["store"])
-            summary = maps.map_summary(spec, fields, wall, threshold)
-            computed = set(res["computed"])  # a set once, not per tile: a 4096^2 map has 65 536 tiles
-            if spec.refine:
-                pts = res["points_computed"]
-            else:
-                pts = sum(int(((t.ys.stop - t.ys.start) * (t.xs.stop - t.xs.start))) for t in maps.tiles(spec)
-                          if t.key in computed)
-            summary.update(orbits_computed=pts, orbits_per_s=pts / wall if pts and wall > 0 else None,
-                           tiles={"total": n_tiles, "computed": len(res["computed"]), "skipped": len(res["skipped"]),
-                                  "repaired": len(res["repaired"])},
-                           repaired_tiles=res["repaired"], metadata_rewritten=state.metadata_rewritten,
-                           workers=workers, scheduler=address or "LocalCluster",
-                           task_wall_s=res["task_wall_s"])
-            if spec.refine:  # tile parts (one per tile and round) rather than tiles
-                summary["tiles"].update(parts_computed=len(res["computed"]), parts_skipped=len(res["skipped"]),
-                                        rounds=res["rounds"])
-            result = {"ok": True, "spec": spec.as_dict(), **summary, "store_identity": state.identity,
-                      "output": {k: str(v) for k, v in pth.items() if k in ("store", "png", "json")}}
-            problem = maps.check_fields(fields)
-            if problem:  # never hand back a map we cannot vouch for: no PNG, no summary file
-                result.update(ok=False, error=problem, output={"store": str(pth["store"])})
-            else:
-                from ..figures.chaos import draw_map
-
-                written = []
-                try:  # the picture and its summary, or neither
-                    written.append(draw_map(fields, spec, pth["png"], indicator=args.indicator, threshold=threshold))
-                    written.append(atomic_write_json(pth["json"], {**result, "versions": versions()}))
-                except BaseException:
-                    for f in written:
-                        Path(f).unlink(missing_ok=True)
-                    raise
-            ok_exit = True
-            return result
-    except OSError as exc:  # the machine (disk full, file-size limit, ...): one line with the path
-        from ..core.io import resource_fault
-
-        raise resource_fault(exc, "out", exc.filename if exc.filename is not None else pth["store"]) from None
-    finally:
-        interrupted = not ok_exit
-        with quiet_distributed():  # a client whose scheduler is gone logs its reconnection attempts
-            if cluster is not None:
-                chaos_store.stop_local_cluster(cluster, client, pids, interrupted=interrupted)
-            elif client is not None:
-                chaos_store._close_quietly(client)
-        if interrupted and state is not None:
-            _clean_after_failure(chaos_store, pth, state, pids)
-
-
-def _files_needed(workers: int) -> int:
-    """Open files the parent needs for a LocalCluster: ~31 + 10 per worker measured (sockets, pipes, the JIT
-    cache, zarr), with a margin."""
-    return 40 + 12 * workers
-
-
-def _check_open_files(workers: int) -> None:
-    import resource
-
-    from ..core.errors import EnvironmentFault
-
-    soft, _ = resource.getrlimit(resource.RLIMIT_NOFILE)
-    need = _files_needed(workers)
-    if soft != resource.RLIM_INFINITY and soft < need:
-        raise EnvironmentFault("workers", f"the open-file limit (ulimit -n) is {soft}; a LocalCluster of {workers} "
-                                          f"worker(s) needs about {need} open files: raise it (e.g. ulimit -n 1024)")
-
-
-WORKER_VM_MB = 1800  # virtual memory of a LocalCluster worker: VmPeak 904 MB measured after a tile, x 2 margin
-
-
-def _check_address_space() -> None:
-    """Under an address-space limit (ulimit -v) too small for a worker, the worker dies at start-up and prints its
-    own traceback: refuse before that, in one line."""
-    import resource
-
-    from ..core.errors import EnvironmentFault
-
-    soft, _ = resource.getrlimit(resource.RLIMIT_AS)
-    if soft != resource.RLIM_INFINITY and soft < WORKER_VM_MB * 2 ** 20:
-        raise EnvironmentFault("workers", f"the address-space limit (ulimit -v) is {soft // 2 ** 20} MB; a LocalCluster "
-                                          f"worker needs about {WORKER_VM_MB} MB of virtual memory (heyoka's JIT): "
-                                          f"raise it or remove it (ulimit -v unlimited)")
-
-
-def _start_failure(exc, workers: int):
-    """The LocalCluster did not start: the machine's limits (memory, processes, files) say why, in one line."""
-    import resource
-
-    from ..core.errors import EnvironmentFault
-
-    limits = []
-    for name, rl, unit in (("ulimit -v", "RLIMIT_AS", "kB"), ("ulimit -u", "RLIMIT_NPROC", ""),
-                           ("ulimit -n", "RLIMIT_NOFILE", "")):
-        soft = resource.getrlimit(getattr(resource, rl))[0]
-        if soft != resource.RLIM_INFINITY:
-            limits.append(f"{name} {soft // 1024 if unit else soft}")
-    why = " ".join(f"{type(exc).__name__}: {exc}".split())[:120]
-    return EnvironmentFault("workers", f"cannot start a LocalCluster of {workers} worker(s) ({why}): not enough "
-                                       f"memory, processes or open files? limits in force: "
-                                       f"{', '.join(limits) or 'none'}")
-
-
-def _tile_failure(exc, address, done: int, total: int, store=None) -> dict:
-    """A failed task as one line: the machine (a worker killed, out of memory, the scheduler lost, a full disk)
-    is an EnvironmentFault (exit 3); an exception raised by the computation is a failed run (exit 1)."""
-    from ..core.errors import EnvironmentFault
-    from ..core.io import resource_fault
-
-    inner = exc.exc
-    kept = f"{done} of {total} tiles finished" + (" and kept; re-run to resume" if done else "")
-    where = f"the scheduler at {address}" if address else "the LocalCluster"
-    kind = type(inner).__name__
-    if isinstance(inner, OSError) and inner.errno is not None:
-        # a worker's OSError often carries no file name (zarr's chunk write): name the store it was writing
-        f = resource_fault(inner, "out", inner.filename if inner.filename is not None else store)
-        raise EnvironmentFault("out", f"{f.message} ({kept})") from None
-    text = str(inner)
-    if isinstance(inner, MemoryError) or "bad_alloc" in text or "can't start new thread" in text \
-            or "Cannot allocate memory" in text:
-        raise EnvironmentFault("workers", f"a worker ran out of memory or threads on tile {exc.key} ({kind}: "
-                                          f"{' '.join(text.split())[:80]}; a memory limit such as ulimit -v?); {kept}"
-                               ) from None
-    if kind in ("KilledWorker", "CommClosedError", "FutureCancelledError", "CancelledError", "TimeoutError") \
-            or isinstance(inner, (OSError, TimeoutError)):
-        raise EnvironmentFault("scheduler", f"lost a worker or {where} ({kind}: "
-                                            f"{' '.join(str(inner).split())[:160]}; {kept})") from None
-    return {"ok": False, "error": f"tile task failed in a worker: {exc} ({kept})", "tiles": {"total": total,
-                                                                                           "done": done}}
-
-
-def _clean_after_failure(chaos_store, pth, state, pids) -> None:
-    """After a failure or a signal: temporaries of interrupted writes go; a store this run created in which no tile
-    finished goes too (nothing partial is left); finished tiles keep their markers for the next run."""
-    chaos_store.remove_temporaries(pth, pids)
-    if state.created and not state.done and not chaos_store.done_tiles(pth["tiles"]):  # a marker not yet verified
-        # here is kept too: the next run verifies it
-        chaos_store._remove_store_files(pth["store"], set(chaos_store.ALL_FIELDS) | _axis_names(state))
-        chaos_store._remove_markers(pth["tiles"])
-        try:
-            pth["tiles"].rmdir()
-        except OSError:
-            pass
-
-
-def _axis_names(state) -> set:
-    import json
-
-    try:
-        rec = json.loads((state.tiles_dir / "store.record").read_text())
-        return {rec["spec"]["x"]["name"], rec["spec"]["y"]["name"]}
-    except (OSError, ValueError, KeyError, TypeError):
-        from ..chaos.maps import AXIS_NAMES
-
-        return set(AXIS_NAMES)
+    written = []
+    try:  # the picture and its summary, or neither
+        written.append(draw_map(cm.fields, spec, pth["png"], indicator=args.indicator, threshold=threshold))
+        written.append(atomic_write_json(pth["json"], {**result, "versions": versions()}))
+    except BaseException:
+        for f in written:
+            Path(f).unlink(missing_ok=True)
+        raise
+    return result
 
 
 def format_text(r: dict) -> str:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import sys
 
 from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
@@ -60,13 +59,10 @@ def integer(name: str, value, minimum: int = 1, maximum: int | None = None) -> i
 
 
 def stem(name: str, value) -> str:
-    """A file-name stem: one path component (no '/', no '..'), printable, at most 200 bytes (suffixes follow)."""
-    v = str(value)
-    if not v or v in (".", "..") or "/" in v or "\\" in v or "\x00" in v or v.startswith("."):
-        raise ParameterError(name, f"must be a plain file name (no directories, not hidden), got {v[:60]!r}")
-    if not v.isprintable() or len(os.fsencode(v)) > 200:
-        raise ParameterError(name, "must be printable and at most 200 bytes")
-    return v
+    """A file-name stem (core.io.check_stem: one path component, printable, at most 200 bytes)."""
+    from ..core.io import check_stem
+
+    return check_stem(value, name)
 
 
 def out_dir(name: str, value):

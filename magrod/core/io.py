@@ -78,6 +78,16 @@ def versions() -> dict:
     return out
 
 
+def check_stem(value, name: str = "stem") -> str:
+    """A file-name stem: one path component (no '/', no '..'), printable, at most 200 bytes (suffixes follow)."""
+    v = str(value)
+    if not v or v in (".", "..") or "/" in v or "\\" in v or "\x00" in v or v.startswith("."):
+        raise ParameterError(name, f"must be a plain file name (no directories, not hidden), got {v[:60]!r}")
+    if not v.isprintable() or len(os.fsencode(v)) > 200:
+        raise ParameterError(name, "must be printable and at most 200 bytes")
+    return v
+
+
 def check_out_path(path, name: str = "out") -> Path:
     """Validate an output directory argument without creating anything: non-empty, no NUL, not an existing
     non-directory, and its nearest existing ancestor is a writable directory."""

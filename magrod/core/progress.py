@@ -11,9 +11,14 @@ from contextlib import contextmanager
 def bar(total: int, desc: str, enabled: bool = True, unit: str = "it"):
     """Yields a thread-safe callable update(n) (a no-op when disabled); the bar is closed on exit.  The bar
     appears at the first update, so that a run refused on its input (before any work) prints nothing but its
-    one error line."""
+    one error line.  update.set_total(n) sets a total learnt only once the work is planned (a stored map knows its
+    tiles to do once its store is verified)."""
     if not enabled:
-        yield lambda n=1: None
+        def nothing(n=1):
+            return None
+
+        nothing.set_total = lambda n: None
+        yield nothing
         return
     from tqdm import tqdm
 
@@ -26,6 +31,15 @@ def bar(total: int, desc: str, enabled: bool = True, unit: str = "it"):
                 bars.append(tqdm(total=total, desc=desc, unit=unit, leave=False, smoothing=0.05, file=sys.stderr))
             bars[0].update(n)
 
+    def set_total(n):
+        nonlocal total
+        with lock:
+            total = n
+            if bars:
+                bars[0].total = n
+                bars[0].refresh()
+
+    update.set_total = set_total
     try:
         yield update
     finally:

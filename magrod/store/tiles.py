@@ -1,4 +1,6 @@
-"""Chaos maps on disk and on a Dask cluster (I/O; the numerics are in magrod.chaos.maps and .indicators).
+"""Chaos maps on disk: the resumable zarr store of a map and its tiles run on Dask (I/O; the numerics are in
+magrod.chaos.maps and .indicators, the cluster's lifecycle in magrod.store.cluster, a whole stored map in
+magrod.store.resumable).
 
 Layout of OUT (stem "chaosmap" by default):
   OUT/<stem>.zarr          chunked zarr store (consolidated metadata: a plain xr.open_zarr opens it without a
@@ -36,7 +38,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import logging
 import os
 import re
 import time
@@ -47,9 +48,10 @@ from pathlib import Path
 
 import numpy as np
 
-from . import indicators as chaos, maps
+from ..chaos import indicators as chaos, maps
 from ..core.errors import EnvironmentFault, ParameterError
 from ..core.io import atomic_write_json
+from .cluster import check_cluster, close_quietly, connect, start_local_cluster, stop_local_cluster, worker_env
 
 STORE_FORMAT = 2  # 1: markers without hashes (before issue 17)
 FIELDS = tuple(maps.MAP_FIELDS) + ("status",)  # the order of the content hash
@@ -63,7 +65,7 @@ def names_of(spec: maps.MapSpec) -> tuple:
 
 
 # the CF attributes (units, long names, status flags) are defined once, in maps.py (ChaosMap.to_xarray uses them)
-from .maps import LONG, UNITS, _axis_label, coord_attrs, dataset_attrs, variable_attrs  # noqa: E402,F401
+from ..chaos.maps import LONG, UNITS, _axis_label, coord_attrs, dataset_attrs, variable_attrs  # noqa: E402,F401
 
 
 def paths(out: Path, stem: str) -> dict:
@@ -669,7 +671,7 @@ def run_refined(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, 
     on_round(round, points, computed_tiles) after each round; max_rounds stops early (tests: a killed run).
     Returns {"computed": tile parts computed, "skipped": verified ones, "repaired": damaged parts and tiles,
     "rounds": [points per round], "points_computed": points this call computed, "task_wall_s"}."""
-    from .refine import Refinement, point_class
+    from ..chaos.refine import Refinement, point_class
 
     store, tiles_dir = Path(store).absolute(), Path(tiles_dir).absolute()
     if state is None:
@@ -711,7 +713,7 @@ def run_refined(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, 
                         client = connect(scheduler)
                     else:
                         cluster, client, pids = start_local_cluster(workers)
-                    client.run(_worker_env)
+                    client.run(worker_env)
                 tasks = maps.round_tasks(spec, {k: groups[k] for k in todo})
                 futs = {client.submit(refine_task, sd, rnd, [(k, groups[k][0].tolist(), groups[k][1].tolist())
                                                              for k in ks], str(store), str(tiles_dir),
@@ -744,60 +746,12 @@ def run_refined(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, 
     finally:
         if own and client is not None:
             if cluster is None:
-                _close_quietly(client)
+                close_quietly(client)
             else:
                 stop_local_cluster(cluster, client, pids, interrupted=interrupted)
         if interrupted:
             remove_temporaries({"store": store, "tiles": tiles_dir}, pids)
     return res
-
-
-def _worker_env() -> None:
-    """Single-threaded math in every worker: nothing a worker inherits may depend on how many there are."""
-    for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-        os.environ[k] = "1"
-
-
-def start_local_cluster(workers: int):
-    """(cluster, client, worker pids) of a LocalCluster of `workers` single-threaded processes.  The workers are
-    started with the terminal's signals ignored (magrod.cli.children_immune when called from the CLI), so that
-    stopping them is the parent's job."""
-    from dask.distributed import Client, LocalCluster
-
-    _worker_env()
-    # dashboard off; the scheduler still serves its health routes over HTTP: on a free port (":0"), not 8787,
-    # so that concurrent maps do not fight over it
-    cluster = LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True, dashboard_address=None,
-                           scheduler_kwargs={"dashboard": False, "dashboard_address": ":0"},
-                           silence_logs=logging.CRITICAL)
-    try:
-        client = Client(cluster)
-        pids = sorted(client.run(os.getpid).values())
-    except BaseException:
-        cluster.close()
-        raise
-    return cluster, client, pids
-
-
-def stop_local_cluster(cluster, client, pids, *, interrupted=False) -> None:
-    """Close client and cluster; after an interruption kill the worker processes first (they ignore the terminal's
-    signals, and a running tile would otherwise finish first)."""
-    import signal
-
-    if interrupted:
-        for pid in pids:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except OSError:
-                pass
-    for closer in (client, cluster):
-        if closer is None:
-            continue
-        try:
-            closer.close(timeout=5) if interrupted else closer.close()
-        except BaseException:  # noqa: BLE001 - closing after an interruption: nothing more to say
-            if not interrupted:
-                raise
 
 
 def run_tiles(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, scheduler=None, progress=None,
@@ -825,7 +779,7 @@ def run_tiles(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, sc
         cluster, client, pids = start_local_cluster(workers)
     interrupted = False
     try:
-        client.run(_worker_env)
+        client.run(worker_env)
         sd = spec.as_dict()
         futs = {client.submit(tile_task, sd, k, str(store), str(tiles_dir), state.identity, pure=False): k
                 for k in todo}
@@ -838,19 +792,12 @@ def run_tiles(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, sc
     finally:
         if own:
             if cluster is None:
-                _close_quietly(client)
+                close_quietly(client)
             else:
                 stop_local_cluster(cluster, client, pids, interrupted=interrupted)
         if interrupted:
             remove_temporaries({"store": store, "tiles": tiles_dir}, pids)
     return res
-
-
-def _close_quietly(client) -> None:
-    try:
-        client.close(timeout=5)
-    except BaseException:  # noqa: BLE001
-        pass
 
 
 POLL_S = 2.0  # how often a waiting client asks the scheduler whether it still has workers
@@ -872,7 +819,7 @@ def _collect(client, futs, spec, state: StoreState, res: dict, progress, worker_
             try:
                 finished, pending = wait(list(pending), timeout=POLL_S, return_when="FIRST_COMPLETED")
             except TimeoutError:
-                idle_since = _check_cluster(client, idle_since, worker_timeout)
+                idle_since = check_cluster(client, idle_since, worker_timeout)
                 continue
             except CancelledError as exc:  # distributed cancels every future when it loses the scheduler
                 why = "the connection was lost" if "connection-lost" in str(exc) else type(exc).__name__
@@ -907,24 +854,6 @@ def _collect(client, futs, spec, state: StoreState, res: dict, progress, worker_
         raise
 
 
-def _check_cluster(client, idle_since, worker_timeout):
-    """While waiting: the scheduler must answer and have a worker at least every worker_timeout seconds."""
-    try:
-        n = len(client.nthreads())
-    except Exception as exc:  # noqa: BLE001 - the scheduler is gone or unreachable
-        raise EnvironmentFault("scheduler", f"lost the Dask scheduler ({type(exc).__name__}: "
-                                            f"{' '.join(str(exc).split())[:120]})") from None
-    if n:
-        return None
-    now = time.monotonic()
-    if idle_since is None:
-        return now
-    if now - idle_since > worker_timeout:
-        raise EnvironmentFault("scheduler", f"the Dask cluster has had no worker for {worker_timeout:g} s while tiles "
-                                            f"were waiting (workers died or were stopped)")
-    return idle_since
-
-
 class TileFailure(RuntimeError):
     """A Dask task failed (an exception in the worker, a worker that died, the scheduler lost)."""
 
@@ -934,145 +863,6 @@ class TileFailure(RuntimeError):
         kind = type(exc).__name__
         text = " ".join(str(exc).split())[:300]
         super().__init__(f"{kind}: {text}" if text else kind)
-
-
-# ------------------------------------------------------------------------------------------------------------
-# a running cluster
-# ------------------------------------------------------------------------------------------------------------
-def normalise_address(text: str) -> str:
-    """tcp://HOST:PORT, tls://HOST:PORT or HOST:PORT (taken as tcp://) -> the address; ParameterError("scheduler")
-    for anything else (inproc:// exists only inside one Python process; other protocols are not supported)."""
-    s = str(text).strip()
-    if "://" in s:
-        proto, rest = s.split("://", 1)
-    else:
-        proto, rest = "tcp", s
-    if proto == "inproc":
-        raise ParameterError("scheduler", f"{s!r}: inproc:// addresses exist only inside one Python process; give "
-                                          "tcp://HOST:PORT (or HOST:PORT) of a running scheduler")
-    if proto not in ("tcp", "tls"):
-        raise ParameterError("scheduler", f"{s!r}: protocol {proto}:// is not supported; give tcp://HOST:PORT, "
-                                          "HOST:PORT or tls://HOST:PORT")
-    host, sep, port = rest.rpartition(":")
-    host = host[1:-1] if host.startswith("[") and host.endswith("]") else host
-    if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536 or "/" in rest:
-        raise ParameterError("scheduler", f"expected tcp://HOST:PORT or HOST:PORT (port 1-65535), got {s!r}")
-    return f"{proto}://{rest}"
-
-
-def read_scheduler_file(path) -> str:
-    """The address in a scheduler file (`dask scheduler --scheduler-file PATH`); ParameterError("scheduler_file")
-    if it is missing, unreadable or has no address."""
-    p = Path(path)
-    try:
-        d = json.loads(p.read_text())
-    except FileNotFoundError:
-        raise ParameterError("scheduler_file", f"no such file: {str(p)!r}") from None
-    except (OSError, ValueError, UnicodeDecodeError) as exc:
-        raise ParameterError("scheduler_file", f"{str(p)!r} is not a Dask scheduler file "
-                                               f"({type(exc).__name__})") from None
-    addr = d.get("address") if isinstance(d, dict) else None
-    if not isinstance(addr, str):
-        raise ParameterError("scheduler_file", f"{str(p)!r} is not a Dask scheduler file (no \"address\")")
-    try:
-        return normalise_address(addr)
-    except ParameterError as exc:
-        raise ParameterError("scheduler_file", f"{str(p)!r}: {exc.message}") from None
-
-
-def _tls_security():
-    """Dask's TLS settings from its configuration (distributed.comm.tls.*), or None if none are given."""
-    import dask
-
-    tls = dask.config.get("distributed.comm.tls", default={}) or {}
-    client = tls.get("client") or {}
-    if not (tls.get("ca-file") and client.get("cert")):
-        return None
-    from distributed.security import Security
-
-    return Security()
-
-
-def probe(address: str, timeout: float) -> None:
-    """Fail fast and clearly if nothing Dask listens at `address`: a TCP connect and the scheduler's greeting
-    (a Dask server sends its handshake first) within `timeout` seconds.  ParameterError("scheduler") naming what
-    was found: nothing (refused, unreachable), a silent TCP service, an HTTP server (e.g. the dashboard port), or
-    another service."""
-    import socket
-
-    proto, rest = address.split("://", 1)
-    host, _, port = rest.rpartition(":")
-    host = host.strip("[]")
-    try:
-        sock = socket.create_connection((host, int(port)), timeout=timeout)
-    except socket.timeout:
-        raise ParameterError("scheduler", f"no answer from {address} within {timeout:g} s (host down or port "
-                                          "filtered)") from None
-    except OSError as exc:
-        raise ParameterError("scheduler", f"cannot connect to {address}: {exc.strerror or exc}") from None
-    if proto == "tls":  # the TLS handshake is the client's to start: the connect is all we can check here
-        sock.close()
-        return
-    try:
-        sock.settimeout(timeout)
-        try:
-            data = sock.recv(4096)
-        except socket.timeout:
-            data = None
-        if data is None:  # silent: perhaps an HTTP server waiting for a request
-            try:
-                sock.sendall(b"GET / HTTP/1.0\r\n\r\n")
-                sock.settimeout(min(timeout, 2.0))
-                reply = sock.recv(64)
-            except OSError:
-                reply = b""
-            if reply.startswith(b"HTTP/"):
-                raise ParameterError("scheduler", f"{address} is an HTTP server, not a Dask scheduler (the "
-                                                  "dashboard's port? the scheduler listens on 8786 by default)")
-            raise ParameterError("scheduler", f"{address} accepts connections but sent no Dask handshake within "
-                                              f"{timeout:g} s: not a Dask scheduler (or one too busy to answer)")
-        if b"compression" not in data and b"pickle-protocol" not in data:
-            what = "an HTTP server" if data.startswith(b"HTTP/") else f"a service that said {data[:24]!r}"
-            raise ParameterError("scheduler", f"{address} is {what}, not a Dask scheduler")
-    except OSError as exc:
-        raise ParameterError("scheduler", f"lost the connection to {address}: {exc.strerror or exc}") from None
-    finally:
-        sock.close()
-
-
-def connect(address: str, *, timeout: float = 5.0, worker_timeout: float = 60.0, min_workers: int = 1):
-    """A Client of the running scheduler at `address`, checked before anything is written: probe() (fails in
-    `timeout` s on a dead address or a non-Dask listener), the connection, then at least `min_workers` workers
-    within `worker_timeout` s.  ParameterError("scheduler") for an address that is not a usable scheduler,
-    EnvironmentFault("scheduler") for a scheduler without workers."""
-    from dask.distributed import Client
-
-    address = normalise_address(address)
-    security = None
-    if address.startswith("tls://"):
-        security = _tls_security()
-        if security is None:
-            raise ParameterError("scheduler", f"{address}: tls:// needs TLS certificates, and none are configured: "
-                                              "set distributed.comm.tls.ca-file, .client.cert and .client.key in "
-                                              "the Dask configuration (or DASK_DISTRIBUTED__COMM__TLS__* variables)")
-    probe(address, timeout)
-    try:
-        client = Client(address, timeout=f"{timeout}s", security=security)
-    except (OSError, TimeoutError) as exc:
-        raise ParameterError("scheduler", f"cannot connect to {address}: "
-                                          f"{' '.join(str(exc).split())[:200] or type(exc).__name__}") from None
-    try:
-        client.wait_for_workers(min_workers, timeout=worker_timeout)
-    except (TimeoutError, OSError) as exc:
-        _close_quietly(client)
-        if isinstance(exc, TimeoutError) or "timed out" in str(exc).lower():
-            raise EnvironmentFault("scheduler", f"no Dask worker joined the scheduler at {address} within "
-                                                f"{worker_timeout:g} s (start one: dask worker {address})") from None
-        raise EnvironmentFault("scheduler", f"lost the scheduler at {address}: {exc}") from None
-    except BaseException:
-        _close_quietly(client)
-        raise
-    return client
 
 
 # ------------------------------------------------------------------------------------------------------------
