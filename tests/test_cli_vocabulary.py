@@ -80,12 +80,12 @@ def test_one_name_per_concept():
 
 # (command, old argv, new argv, the dest both must set to the same value)
 ALIASES = [
-    ("poincare", ["--figure", "4a"], ["--panel", "4a"], "figure", "4a"),
+    ("poincare", ["--figure", "4a"], ["--panel", "4a"], "panel", "4a"),
     ("orbitdiagram", ["--parameter", "lam", "--values", "0.1:0.2:3", "--figure", "5a"],
-     ["--parameter", "lam", "--values", "0.1:0.2:3", "--panel", "5a"], "figure", "5a"),
-    ("poincare", ["--workers", "3"], ["--threads", "3"], "workers", "3"),
+     ["--parameter", "lam", "--values", "0.1:0.2:3", "--panel", "5a"], "panel", "5a"),
+    ("poincare", ["--workers", "3"], ["--threads", "3"], "threads", "3"),
     ("orbitdiagram", ["--parameter", "lam", "--values", "0.1:0.2:3", "--workers", "2"],
-     ["--parameter", "lam", "--values", "0.1:0.2:3", "--threads", "2"], "workers", "2"),
+     ["--parameter", "lam", "--values", "0.1:0.2:3", "--threads", "2"], "threads", "2"),
     ("poincare", ["--indicator", "growth_exponent"], ["--indicator", "growth"], "indicator", "growth_exponent"),
 ]
 
@@ -120,3 +120,27 @@ def test_bad_indicator_is_one_line_naming_it(capsys):
     assert cli.main(["poincare", "--panel", "4a", "--indicator", "growthh"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "indicator" in err[0], err
+
+
+@pytest.mark.parametrize("name", list(SUBS))
+def test_an_option_is_stored_under_its_own_name(name):
+    """The namespace key of --panel is "panel" and of --threads "threads", so that an error about the value names
+    the option the user typed (issue 25: poincare/orbitdiagram/spectrum stored --panel as "figure" and --threads as
+    "workers", and a bad --panel said "figure: ...").  Seen to fail before the rename."""
+    bad = [f"{a.option_strings[0]} -> {a.dest}" for a in _visible(SUBS[name])
+           if a.option_strings and a.option_strings[0] in ("--panel", "--threads")
+           and a.dest != a.option_strings[0][2:]]
+    assert not bad, bad
+
+
+@pytest.mark.parametrize("argv, name", [(["poincare", "--panel", "9z"], "panel"),
+                                        (["orbitdiagram", "--parameter", "lam", "--values", "0.1:0.2:3", "--panel",
+                                          "9z"], "panel"),
+                                        (["spectrum", "--panel", "9z"], "panel"),
+                                        (["orbitdiagram", "--parameter", "lam", "--values", "0.1:0.2:3",
+                                          "--threads", "0"], "threads")])
+def test_a_bad_value_names_the_option_typed(argv, name, capsys):
+    assert cli.main([*argv, "--json"]) == 2
+    import json
+
+    assert json.loads(capsys.readouterr().out)["parameter"] == name

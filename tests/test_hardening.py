@@ -105,7 +105,7 @@ BATTERY = [
     (["poincare", "--panel", "4a", "--root", "abc"], "root", 2),
     (["poincare", "--panel", "4a", "--ppsi0", "1.0", "--h", "0.9"], "ppsi0", 2),
     (["poincare", "--panel", "4a", "--ppsi0", "100"], "ppsi0", 2),
-    (["poincare", "--panel", "9z"], "figure", 2),
+    (["poincare", "--panel", "9z"], "panel", 2),
     (["poincare", "--panel", "4a", "--stem", "../x", "--out", "{tmp}/o"], "stem", 2),
     (["poincare", "--panel", "4a", "--stem", "a/b", "--out", "{tmp}/o"], "stem", 2),
     (["poincare", "--panel", "4a", "--stem", ".hidden", "--out", "{tmp}/o"], "stem", 2),

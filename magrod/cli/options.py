@@ -141,8 +141,8 @@ def add_panel(p, *, dest="panel", default=None, help="a panel of the paper"):
 def add_threads(p, *, help="threads (default: all cores)"):
     """--threads N where a command runs threads; --workers is kept for processes (chaosmap's Dask workers) and is
     the deprecated old name here."""
-    p.add_argument("--threads", dest="workers", default=None, metavar="N", help=help)
-    add_alias(p, "--workers", "--threads", "workers")
+    p.add_argument("--threads", dest="threads", default=None, metavar="N", help=help)
+    add_alias(p, "--workers", "--threads", "threads")
 
 
 def indicator(value: str) -> str:

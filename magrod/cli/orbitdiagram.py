@@ -20,7 +20,7 @@ def add_arguments(p):
     p.add_argument("--parameter", required=True, help=f"the model parameter varied: {', '.join(PARAMS)}")
     p.add_argument("--values", required=True,
                    help="LO:HI:N (N values, LO to HI) or a comma-separated, strictly monotone list")
-    add_panel(p, dest="figure", default="4a", help="panel giving the rod, level and start")
+    add_panel(p, default="4a", help="panel giving the rod, level and start")
     add_params(p, help_suffix=" (overrides the panel's)")
     g = p.add_argument_group("level and start (override the panel's)")
     add_start(g)
@@ -62,9 +62,9 @@ def run(args) -> dict:
         raise ParameterError("parameter", f"must be a model parameter ({', '.join(PARAMS)}), got {args.parameter!r}")
     values = parse_values(args.values)
     try:
-        P = panel(args.figure)
+        P = panel(args.panel)
     except ParameterError as exc:
-        raise ParameterError("figure", exc.message) from None
+        raise ParameterError("panel", exc.message) from None
     base = P.params.replace(**{k: v for k, v in params_from(args).items()})
     start = {k: (number(k, getattr(args, k)) if getattr(args, k) is not None else getattr(P, k))
              for k in ("h", "theta0", "ptheta0", "psi0")}
@@ -73,7 +73,7 @@ def run(args) -> dict:
     if len(values) * (iterates + transient) > 10 * LIMITS["iterates"]:
         raise ParameterError("values", f"{len(values)} values x {iterates + transient} iterates: at most "
                                        f"{10 * LIMITS['iterates']} section points in one command")
-    workers = None if args.workers is None else integer("workers", args.workers, maximum=256)
+    workers = None if args.threads is None else integer("threads", args.threads, maximum=256)
     name = stem("stem", args.stem)
     out = out_dir("out", args.out) if args.out is not None else None
     # the paper's panels of the same figure that vary this parameter (and share everything else)

@@ -23,7 +23,7 @@ FORMULATIONS = ("reduced", "body")
 def add_arguments(p):
     from .options import add_panel, add_start
 
-    add_panel(p, dest="figure", help="a panel of the paper, giving the rod, level and start")
+    add_panel(p, help="a panel of the paper, giving the rod, level and start")
     add_params(p, help_suffix=" (needed without --panel)")
     g = p.add_argument_group("level and start (needed without --panel; override the panel's)")
     add_start(g, _START)
@@ -58,11 +58,11 @@ def _inputs(args) -> tuple[dict, str | None]:
 
     vals = {}
     key = None
-    if args.figure is not None:
+    if args.panel is not None:
         try:
-            P = panel(args.figure)
+            P = panel(args.panel)
         except ParameterError as exc:
-            raise ParameterError("figure", exc.message) from None
+            raise ParameterError("panel", exc.message) from None
         key = P.key
         vals = dict(P.params.as_dict(), **P.start())
     vals = params_from(args, vals)
@@ -134,7 +134,7 @@ def _run_portrait(args, vals, key, params) -> dict:
     t_ind = number("t_indicator", args.t_indicator, bound=1e7)
     if t_ind <= 0:
         raise ParameterError("t_indicator", f"must be > 0, got {t_ind}")
-    workers = None if args.workers is None else integer("workers", args.workers, maximum=256)
+    workers = None if args.threads is None else integer("threads", args.threads, maximum=256)
     t_max = None if args.t_max is None else number("t_max", args.t_max, bound=100.0 * LIMITS["iterates"])
     if t_max is not None and t_max <= 0:
         raise ParameterError("t_max", f"must be > 0, got {t_max}")
@@ -172,11 +172,11 @@ def _inputs_portrait(args) -> tuple[dict, str | None]:
     from ..core.printed import PANELS, panel
 
     vals, key = {}, None
-    if args.figure is not None:
+    if args.panel is not None:
         try:
-            P = panel(args.figure)
+            P = panel(args.panel)
         except ParameterError as exc:
-            raise ParameterError("figure", exc.message) from None
+            raise ParameterError("panel", exc.message) from None
         key, vals = P.key, dict(P.params.as_dict(), h=P.h)
     vals = params_from(args, vals)
     if args.h is not None:
@@ -245,7 +245,7 @@ def _run_model(args) -> dict:
     from ..core.models import resolve
     from .models import parse_assignments
 
-    for opt in ("figure", "starts", *PARAMS, *_START, "ppsi0"):
+    for opt in ("panel", "starts", *PARAMS, *_START, "ppsi0"):
         if getattr(args, opt, None) is not None:
             raise ParameterError(opt, "is an option of the paper's rod: with --model give --model-params")
     mc = resolve(args.model)

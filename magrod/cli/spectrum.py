@@ -15,7 +15,7 @@ _START = ("h", "theta0", "ptheta0", "psi0")
 
 
 def add_arguments(p):
-    add_panel(p, dest="figure", default="4a", help="the paper panel whose orbit is used")
+    add_panel(p, default="4a", help="the paper panel whose orbit is used")
     add_params(p, help_suffix=" (overrides the panel's)")
     add_start(p.add_argument_group("start (overrides the panel's)"), _START, suffix=" (overrides the panel's)")
     p.add_argument("--root", default="smallest", choices=["smallest", "largest"], help=ROOT_HELP)
@@ -32,9 +32,9 @@ def run(args) -> dict:
     from ..core.params import RodParams
 
     try:
-        P = panel(args.figure)
+        P = panel(args.panel)
     except ParameterError as exc:
-        raise ParameterError("figure", exc.message) from None
+        raise ParameterError("panel", exc.message) from None
     vals = params_from(args, P.params.as_dict())
     start = dict(P.start())
     for name in _START:
