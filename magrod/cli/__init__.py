@@ -46,6 +46,7 @@ SUBCOMMANDS = {
     "explore": ("magrod.cli.explore", "interactive Poincare-section explorer in the browser (127.0.0.1)"),
     "models": ("magrod.cli.models", "the rod models (registry and model files) with their parameters"),
     "landscape": ("magrod.cli.landscape", "the integrability landscape of sec. 1 re-derived from the rod models"),
+    "saddle": ("magrod.cli.saddle", "the saddle at given parameters: straight rod or helical periodic saddle"),
 }
 
 
@@ -112,6 +113,7 @@ PAPER_ONLY = {
     "prove": "the validated fields (generated/validated.py) are generated for the paper's rod",
     "orbitdiagram": "it runs on the paper's Euler chart (its start and energy level)",
     "explore": "it draws the paper's Euler-chart section",
+    "saddle": "its straight rod and helical relative equilibrium are the paper's rod's (orbits/equilibrium.py, periodic.py)",
 }
 
 

@@ -1,0 +1,52 @@
+"""`magrod saddle`: the saddle of the rod at given parameters (`mr.saddle`): the straight rod when mu = 2 lambdabar,
+the helical periodic saddle (a relative equilibrium) when mu > 2 lambdabar; its energy level Hbar, its eigenvalues or
+Floquet multipliers and their checks.  The rod is a paper panel's (--panel 4a) with any parameter overridden, or
+all five parameters.
+
+This module is the worked example of docs/architecture.md, "Adding a subcommand": it parses, calls one public
+function and prints the result's to_dict().
+
+Example:  magrod saddle --panel 4a --json"""
+from __future__ import annotations
+
+from ..core.errors import ParameterError
+from ..generated.names import PARAMS
+from .options import add_panel, add_params, params_from
+
+
+def add_arguments(p):
+    add_panel(p, help="the paper panel whose rod is used (parameters given below override its own)")
+    add_params(p, help_suffix=" (overrides the panel's)")
+
+
+def run(args) -> dict:
+    import magrod as mr
+
+    base = {}
+    if args.panel is not None:
+        try:
+            base = mr.panel(args.panel).params.as_dict()
+        except ParameterError as exc:
+            raise ParameterError("panel", exc.message) from None
+    vals = params_from(args, base)
+    missing = [k for k in PARAMS if k not in vals]
+    if missing:
+        raise ParameterError(missing[0], "give --panel or all of " + " ".join(f"--{k}" for k in PARAMS))
+    s = mr.saddle(mr.RodParams(**{k: vals[k] for k in PARAMS}))
+    return {"ok": bool(s.success), "kind": s.kind, **s.to_dict(), "accuracy": s.accuracy}
+
+
+def format_text(d: dict) -> str:
+    p = ", ".join(f"{k} = {v:g}" for k, v in d["params"].items())
+    head = f"{'straight rod (equilibrium)' if d['kind'] == 'equilibrium' else 'helical periodic saddle'} at {p}"
+    lines = [head, f"  Hbar = {d['H']:.12g}"]
+    if d["kind"] == "equilibrium":
+        re_, im = d["unstable_eigenvalue"]
+        lines.append(f"  unstable eigenvalue {re_:.10g} {im:+.10g}i")
+    else:
+        re_, im = d["unstable_multiplier"]
+        lines.append(f"  period T = {d['T']:.10g}, unstable multiplier {re_:.6g} {im:+.6g}i, hyperbolic: "
+                     f"{d['hyperbolic']}")
+    lines.append("  checks: " + ", ".join(f"{k} {v:.1e}" if isinstance(v, float) else f"{k} {v}"
+                                          for k, v in d["accuracy"].items()))
+    return "\n".join(lines)
