@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import run_cli
 from magrod.chaos import indicators as chaos, maps
 from magrod import cli
 
@@ -21,11 +22,7 @@ THR = chaos.GROWTH_THRESHOLD
 
 
 def magrod(*argv, timeout=300, **kw):
-    """The CLI in a subprocess, cwd outside the repo (its magrod/ would shadow the install)."""
-    return subprocess.run([sys.executable, "-m", "magrod.cli", *argv], capture_output=True, text=True,
-                          cwd=tempfile.gettempdir(), timeout=timeout,
-                          env={**os.environ, "PYTHONWARNINGS": "ignore"}, **kw)
-
+    return run_cli(*argv, timeout=timeout, quiet_warnings=True, **kw)
 
 def _spec(x, y, t_max=300.0, tile=4, **over):
     return maps.MapSpec(maps.parse_axis("x", x), maps.parse_axis("y", y),

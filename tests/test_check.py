@@ -5,13 +5,9 @@ import tempfile
 import sys
 
 
+from helpers import run_cli
 from magrod import cli
 
-
-def run_cli(*argv):
-    return subprocess.run([sys.executable, "-m", "magrod.cli", *argv], capture_output=True, text=True,
-                          cwd=tempfile.gettempdir(),  # not the repo root: its magrod/ would shadow the install
-                          timeout=600)
 
 
 def test_check_json_is_one_object():

@@ -3,23 +3,17 @@ the parameter, no traceback, no file written).  Good-path --json shapes are test
 import json
 import os
 import stat
-import subprocess
-import tempfile
-import sys
 
 import pytest
 
+from helpers import run_cli
 from magrod import cli
 
 SUBCOMMANDS = list(cli.SUBCOMMANDS)  # every registered command, new ones included
 
 
 def magrod(*argv, timeout=300):
-    return subprocess.run([sys.executable, "-m", "magrod.cli", *argv], capture_output=True, text=True,
-                          cwd=tempfile.gettempdir(),  # not the repo root: its magrod/ would shadow the install
-
-                          timeout=timeout, env={**os.environ, "PYTHONWARNINGS": "ignore"})
-
+    return run_cli(*argv, timeout=timeout, quiet_warnings=True)
 
 @pytest.mark.parametrize("sub", SUBCOMMANDS)
 def test_help(sub, capsys):

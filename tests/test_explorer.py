@@ -14,6 +14,7 @@ import time
 import numpy as np
 import pytest
 
+from helpers import free_port
 import magrod as mr
 from magrod.explorer import model, worker
 
@@ -225,11 +226,7 @@ def _explore(*args):
                           text=True, timeout=120)
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
+_free_port = free_port
 
 def _listening(port) -> bool:
     with socket.socket() as s:

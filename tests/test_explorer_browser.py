@@ -30,6 +30,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import free_port
+
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
@@ -50,11 +52,7 @@ def _need_browser():
         pytest.skip("missing " + ", ".join(missing))
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
+_free_port = free_port
 
 def _status(port) -> dict:
     with urllib.request.urlopen(f"http://127.0.0.1:{port}/status", timeout=5) as r:

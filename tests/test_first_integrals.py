@@ -4,22 +4,16 @@ References: the involution table of derive/poisson.py (which integrals are in in
 the known algebra (products of C1-C3, H, I1 counted by rank), and a mutated vector field that the independent
 re-check must reject."""
 import json
-import subprocess
-import sys
-import tempfile
 from fractions import Fraction
 
 import pytest
 
 pytest.importorskip("flint")
 
+from helpers import run_cli
 from magrod.core.errors import ParameterError  # noqa: E402
 from magrod.integrability import first_integrals as F  # noqa: E402
 
-
-def run_cli(*argv, timeout=600):
-    return subprocess.run([sys.executable, "-m", "magrod.cli", *argv], capture_output=True, text=True,
-                          cwd=tempfile.gettempdir(), timeout=timeout)
 
 
 def test_cli_degree_4_json_with_controls():

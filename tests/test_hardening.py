@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import one_line, run_cli, tree
 from magrod import cli
 
 P4 = ["--mu", "0.4", "--gamma", "3", "--delta", "3", "--lam", "0.135", "--h", "0.9", "--theta0", "0.1",
@@ -260,9 +261,7 @@ def _expand(argv, tmp: Path):
     return out
 
 
-def _tree(root: Path) -> set:
-    return {str(p.relative_to(root)) for p in root.rglob("*")}
-
+_tree = tree
 
 @pytest.mark.parametrize("argv,param,code", BATTERY,
                          ids=[f"{i:03d}-" + " ".join(a[:4])[:60] for i, (a, _, _) in enumerate(BATTERY)])
@@ -339,16 +338,9 @@ def test_subs_injection_does_not_run(tmp_path, monkeypatch, capsys):
 # --------------------------------------------------------------------------------------------------------------
 # faults that need a real process
 def magrod(*argv, env=None, preexec_fn=None, timeout=600, stdout=subprocess.PIPE, cwd=None):
-    return subprocess.run([sys.executable, "-m", "magrod.cli", *argv], stdout=stdout, stderr=subprocess.PIPE,
-                          text=True, cwd=cwd or tempfile.gettempdir(), timeout=timeout, preexec_fn=preexec_fn,
-                          env={**os.environ, **(env or {})})
+    return run_cli(*argv, env=env, preexec_fn=preexec_fn, timeout=timeout, stdout=stdout, cwd=cwd)
 
-
-def _one_line(err: str) -> list:
-    lines = [ln for ln in err.splitlines() if ln.strip()]
-    assert len(lines) == 1 and "Traceback" not in err, err
-    return lines
-
+_one_line = one_line
 
 def test_closed_pipe_is_one_line():
     r_fd, w_fd = os.pipe()

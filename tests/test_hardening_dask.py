@@ -17,15 +17,14 @@ from pathlib import Path
 
 import pytest
 
+from helpers import tree
 from magrod import cli
 
 GRID = ["--x", "lam:0.12:0.2:4", "--y", "gamma:2:4:4", "--tile", "2", "--t-max", "60"]
 DASK = str(Path(sys.executable).parent / "dask")
 
 
-def _tree(root: Path) -> set:
-    return {str(p.relative_to(root)) for p in root.rglob("*")}
-
+_tree = tree
 
 def _start_scheduler(d: Path):
     sf = d / "scheduler.json"

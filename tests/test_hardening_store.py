@@ -17,6 +17,7 @@ from pathlib import Path
 
 import pytest
 
+from helpers import tree
 from magrod import cli
 
 GRID = ["--x", "lam:0.12:0.2:4", "--y", "gamma:2:4:4", "--tile", "2", "--t-max", "60"]
@@ -387,9 +388,7 @@ def test_full_disk_while_writing_the_summary(reference, cluster, tmp_path, monke
     assert rc == 0 and obj["tiles"]["computed"] == 0 and (out / "chaosmap.json").exists()
 
 
-def _tree(root: Path) -> set:
-    return {str(p.relative_to(root)) for p in root.rglob("*")}
-
+_tree = tree
 
 def test_a_map_with_no_computed_point_is_a_failure(cluster, tmp_path, capsys):
     """Every start impossible (no energy root anywhere at h = -50): exit 1, one line, ok false, no picture and no

@@ -1,0 +1,46 @@
+"""What many test modules need, written once (issue 25: the subprocess runner of the CLI was written five times,
+`_free_port` and `_tree` twice each).  Imported as `from helpers import ...` (pytest puts tests/ on sys.path)."""
+from __future__ import annotations
+
+import os
+import socket
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+
+def run_cli(*argv, timeout: float = 600, env: dict | None = None, quiet_warnings: bool = False, cwd=None,
+            **kw) -> subprocess.CompletedProcess:
+    """`python -m magrod.cli ARGV` in a subprocess, text mode, stdout and stderr captured (unless `stdout`/`stderr`
+    are given), in a directory outside the repository (the checkout's magrod/ would shadow the installed package).
+    env: added to the environment; quiet_warnings: PYTHONWARNINGS=ignore (for tests that count stderr lines of a
+    command whose libraries may warn); other keywords go to subprocess.run (preexec_fn, ...)."""
+    full_env = {**os.environ, **(env or {})}
+    if quiet_warnings:
+        full_env["PYTHONWARNINGS"] = "ignore"
+    if "stdout" not in kw and "stderr" not in kw:
+        kw["capture_output"] = True
+    elif "stderr" not in kw:
+        kw["stderr"] = subprocess.PIPE
+    return subprocess.run([sys.executable, "-m", "magrod.cli", *argv], text=True, timeout=timeout,
+                          cwd=cwd or tempfile.gettempdir(), env=full_env, **kw)
+
+
+def free_port() -> int:
+    """A TCP port free on the loopback interface now (bound and released: the tests talk only to 127.0.0.1)."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def tree(root: Path) -> set:
+    """Every path under root, relative: what a refused command must leave unchanged."""
+    return {str(p.relative_to(root)) for p in Path(root).rglob("*")}
+
+
+def one_line(err: str) -> list:
+    """The non-empty lines of stderr, asserted to be exactly one and no traceback."""
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "Traceback" not in err, err
+    return lines
