@@ -318,11 +318,6 @@ class ModelSplitting(Result):
 
     _repr_fields = ("model", "melnikov_unit", "scaling_order", "control")
 
-    def plot(self, ax=None):
-        from ..figures.models import plot_model_splitting
-
-        return plot_model_splitting(self.to_dict(), ax=ax)
-
 
 def model_splitting(model: str, *, eps=EPS_DEFAULT, params=None, n_phase: int = 32, delta: float = LAUNCH,
                     controls: bool = True, seed: int = 20) -> ModelSplitting:
