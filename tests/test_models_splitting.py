@@ -84,6 +84,7 @@ def test_measured_splitting_converges_to_melnikov_and_the_controls_hold(model):
         assert row["A_minus_B"] < 1e-6 and row["level_error"] < 1e-13
     assert abs(r.scaling_order - ms.SPLITTING_MODELS[model]["remainder_order"]) < 0.3
     assert r.control < 1e-12 and r.delta_change < 1e-6 and r.phase_change < 1e-6
+    assert r.accuracy["passed"] and r.accuracy["A_minus_B"] < 1e-6 and r.status == 0
     # the integrable control detects a splitting when there is one (mutation: eps != 0 at "eps = 0")
     c = ms.measure(model, 0.01, n_phase=24, direct=False)
     assert abs(c["A"]) > 1e-3 and c["max_abs_delta"] > 1e-3

@@ -318,6 +318,15 @@ class ModelSplitting(Result):
 
     _repr_fields = ("model", "melnikov_unit", "scaling_order", "control")
 
+    @property
+    def accuracy(self) -> dict:
+        """The error evidence: A-B agreement, the remainder's order, the delta, phase and integrable controls."""
+        return {"A_minus_B": max(r.get("A_minus_B", 0.0) for r in self.rows),
+                "relative_difference": [r.get("relative_difference") for r in self.rows],
+                "scaling_order": self.scaling_order, "quadrature_error": self.quadrature_error,
+                "delta_change": self.delta_change, "phase_change": self.phase_change, "control": self.control,
+                "level_error": max(r["level_error"] for r in self.rows), "passed": bool(self.success)}
+
 
 def model_splitting(model: str, *, eps=EPS_DEFAULT, params=None, n_phase: int = 32, delta: float = LAUNCH,
                     controls: bool = True, seed: int = 20) -> ModelSplitting:
