@@ -364,7 +364,7 @@ def model_splitting(model: str, *, eps=EPS_DEFAULT, params=None, n_phase: int = 
 
     Examples
     --------
-    >>> r = model_splitting("curved", eps=(0.02, 0.01), n_phase=16, controls=False)
+    >>> r = model_splitting("curved", eps=(0.02, 0.01), n_phase=24, controls=False)
     >>> r.success, round(r.melnikov_unit, 3)
     (True, -1.884)
     """
