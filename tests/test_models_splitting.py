@@ -93,6 +93,19 @@ def test_measured_splitting_converges_to_melnikov_and_the_controls_hold(model):
     assert abs(math.log(wrong[0] / wrong[1]) / math.log(2) - ms.SPLITTING_MODELS[model]["remainder_order"]) > 0.3
 
 
+def test_double_and_long_double_agree():
+    """The integration error: the unstable manifold from the same starts in long double (x87 80-bit)."""
+    if np.finfo(np.longdouble).eps >= np.finfo(float).eps:
+        pytest.skip("numpy's longdouble is double on this platform")
+    a = ms.measure("curved", 0.01, n_phase=24, direct=False)["A"]
+    b = ms.measure("curved", 0.01, n_phase=24, direct=False, precision="long double")["A"]
+    assert abs(a - b) <= 1e-12 * abs(a)
+    # the mutation: the check resolves a change of eps by one part in 1e8 (and the launch distance does not
+    # matter: an off-manifold start error lies in the stable directions, which contract on the way)
+    c = ms.measure("curved", 0.01 * (1 + 1e-8), n_phase=24, direct=False)["A"]
+    assert abs(c - a) > 1e-12 * abs(a)
+
+
 def test_measurement_independent_of_batch_width_and_eigenvector_phase(monkeypatch):
     a = ms.measure("anisotropic", 0.02, n_phase=24, direct=False)["A"]
     monkeypatch.setenv("MAGROD_BATCH_WIDTH", "8")

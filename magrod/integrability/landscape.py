@@ -82,11 +82,12 @@ def _gradient_rank(mc, polys: dict, names: list, seed: int) -> int:
 
 def splitting_evidence(model: str, *, quick: bool, seed: int):
     """(evidence items, ModelSplitting) of the homoclinic splitting for a model of SPLITTING_MODELS
-    (magrod.separatrix.model_splitting; quick: eps = 0.02, 0.01 and 24 phases, else 0.04, 0.02, 0.01 and 32)."""
+    (magrod.separatrix.model_splitting; quick: eps = 0.02, 0.01 and 24 phases, else 0.04, 0.02, 0.01, 32 phases
+    and the long-double check)."""
     from ..separatrix.model_splitting import model_splitting
 
     eps = (0.02, 0.01) if quick else (0.04, 0.02, 0.01)
-    r = model_splitting(model, eps=eps, n_phase=24 if quick else 32, seed=seed)
+    r = model_splitting(model, eps=eps, n_phase=24 if quick else 32, precision_check=not quick, seed=seed)
     k = r.harmonic
     trig = f"sin({'2 ' if k == 2 else ''}phi0)"
     rows = "; ".join(f"eps = {x['eps']:g}: c/eps = {x['A'] / x['eps']:.6g} (A-B {x['A_minus_B']:.0e}, vs Mel'nikov "
@@ -100,7 +101,9 @@ def splitting_evidence(model: str, *, quick: bool, seed: int):
            "what": "splitting of the stable and unstable manifolds on the midpoint section (m3 jump)",
            "detail": f"{rows}; remainder order {r.scaling_order:.2f} (expected "
                      f"{1 if k == 2 else 2}); delta/10 changes c by {r.delta_change:.0e}, an eigenvector phase by "
-                     f"{r.phase_change:.0e}; integrable member (eps = 0): |Delta| <= {r.control:.0e}"
+                     f"{r.phase_change:.0e}"
+                     + ("" if math.isnan(r.precision_change) else f", long double by {r.precision_change:.0e}")
+                     + f"; integrable member (eps = 0): |Delta| <= {r.control:.0e}"
                      + ("" if r.success else f"; FAILED: {r.message}")}]
     return ev, r
 

@@ -42,9 +42,11 @@ least-squares fit in phi (harmonics <= FIT_HARMONICS) gives f_u(phi).
   Method B (direct).  The stable eigenvector, integrated backwards to the same section: Delta = f_u - f_s.
 The leading harmonic's coefficient (sin 2 phi, sin phi) divided by eps is compared with the Mel'nikov
 coefficient at several eps: the difference must scale like eps (first-order theory), and the measurement must not
-depend on delta nor on the eigenvector's phase (the curve is parametrised by phi on the section, not by s).
+depend on delta nor on the eigenvector's phase (the curve is parametrised by phi on the section, not by s), nor
+on the precision (precision_check: the unstable manifold again in long double from the same starts).
 Control: the isotropic member (eps = 0) gives |Delta| at the launch error (delta^2), not at eps.
-Integrators are scalar (no MAGROD_BATCH_WIDTH dependence).  Cost: ~1-2 s per model after the first compile.
+Integrators are scalar (no MAGROD_BATCH_WIDTH dependence).  Cost: ~0.2 s per model and call, ~0.4 s with the
+first compile (benchmarks/models.json, key splitting, under load 10).
 """
 from __future__ import annotations
 
@@ -161,17 +163,22 @@ def _codes(directory: str) -> _Code:
 
 
 @systems.per_thread
-def _integrator(directory: str):
+def _integrator(directory: str, precision: str = "double"):
     """The model's integrator with a terminal event at n3' = 0 (the midpoint section; the first zero after the
-    launch, either direction: forwards on W^u, backwards on W^s)."""
+    launch, either direction: forwards on W^u, backwards on W^s); precision "double" or "long double" (80-bit
+    x87 where numpy's longdouble is, the precision check)."""
     import heyoka as hy
 
     from ..chaos.model_chaos import resolve_dir
 
     mc = resolve_dir(directory)
     sys_ = mc.body.system()
-    ev = hy.t_event(sys_[5][1], cooldown=1e-3)
-    return systems.taylor(sys_, list(mc.names.REFERENCE), mc.names.DEFAULTS, t_events=[ev])
+    if precision == "double":
+        ev = hy.t_event(sys_[5][1], cooldown=1e-3)
+        return systems.taylor(sys_, list(mc.names.REFERENCE), mc.names.DEFAULTS, t_events=[ev])
+    ld = np.longdouble
+    ev = hy.t_event(sys_[5][1], cooldown=ld(1e-3), fp_type=ld)
+    return systems.taylor(sys_, list(mc.names.REFERENCE), mc.names.DEFAULTS, t_events=[ev], fp_type=ld)
 
 
 def melnikov_quadrature(model: str, p: dict, M: float, T: float, n: int = 4001) -> float:
@@ -213,7 +220,7 @@ def _eig(code: _Code, x, pars, unstable: bool):
 
 
 def section_curve(model: str, p: dict, M: float, T: float, *, stable: bool = False, delta: float = LAUNCH,
-                  n_phase: int = 32, phase: float = 0.0) -> dict:
+                  n_phase: int = 32, phase: float = 0.0, precision: str = "double") -> dict:
     """The unstable (stable: backwards) manifold's trace on the midpoint section: arrays phi, m3 (n_phase points),
     the eigenvalue, the level error and the flight times.  `phase` multiplies the eigenvector by exp(i phase)
     (a control: the curve must not depend on it)."""
@@ -230,7 +237,8 @@ def section_curve(model: str, p: dict, M: float, T: float, *, stable: bool = Fal
     v = v * np.exp(1j * phase)
     g, _ = _cfuncs(mc)
     g0 = np.asarray(g(xs, pars), float)
-    ta = _integrator(mc.directory)
+    ta = _integrator(mc.directory, precision)
+    fp = np.longdouble if precision != "double" else float
     phis, m3s, times, lev = [], [], [], 0.0
     B, C, k3 = _unperturbed(model, p)
     a, _, _ = rates(B, C, M, T, k3)
@@ -240,19 +248,19 @@ def section_curve(model: str, p: dict, M: float, T: float, *, stable: bool = Fal
     # is sampled at other points than R of method A's (not a bitwise mirror of the same computation)
     for s in 2 * np.pi * (np.arange(n_phase) + (0.5 if stable else 0.0)) / n_phase:
         x0 = project_to_level(mc, xs + delta * np.real(np.exp(1j * s) * v), g0, pars)
-        systems.reset(ta, x0, 0.0, pars)
+        systems.reset(ta, np.asarray(x0, dtype=fp), 0.0, np.asarray(pars, dtype=fp))
         while True:  # the first zero of n3' beyond half the excursion (near x* n3' is O(delta) for the curved rod)
-            out = ta.propagate_until(sign * T_GUARD)[0]
+            out = ta.propagate_until(fp(sign * T_GUARD))[0]
             if out != hy.taylor_outcome(-1):
                 raise ParameterError("eps", f"{model}: a {'stable' if stable else 'unstable'} manifold orbit did not "
                                             f"reach the midpoint section by |t| = {T_GUARD:g} ({out})")
-            x = np.array(ta.state)
+            x = np.array(ta.state, dtype=float)
             if xs[5] - x[5] > zmid:
                 break
         lev = max(lev, float(np.max(np.abs(np.asarray(g(x, pars)) - g0))))
         phis.append(math.atan2(x[1], x[0]))
         m3s.append(x[2])
-        times.append(abs(ta.time))
+        times.append(abs(float(ta.time)))
     return {"phi": np.array(phis), "m3": np.array(m3s), "eigenvalue": complex(lam), "saddle_residual": float(res),
             "level_error": lev, "flight_time": (min(times), max(times)), "saddle": xs}
 
@@ -268,13 +276,13 @@ def _fit(phi, y, K=FIT_HARMONICS):
 
 
 def measure(model: str, eps: float, *, params=None, delta: float = LAUNCH, n_phase: int = 32, phase: float = 0.0,
-            direct: bool = True, M: float = STRAIGHT["M"], T: float = STRAIGHT["T"]) -> dict:
+            direct: bool = True, M: float = STRAIGHT["M"], T: float = STRAIGHT["T"], precision: str = "double") -> dict:
     """The splitting Delta(phi) at one eps: the leading odd harmonic's coefficient by method A (reversor) and, with
     `direct`, method B (the stable manifold integrated backwards), the other odd harmonics' size, and the
     Mel'nikov coefficient (closed form) times 1 -- Delta's prediction to first order."""
     k = SPLITTING_MODELS[model]["harmonic"]
     p = _base(model, params, eps)
-    u = section_curve(model, p, M, T, delta=delta, n_phase=n_phase, phase=phase)
+    u = section_curve(model, p, M, T, delta=delta, n_phase=n_phase, phase=phase, precision=precision)
     cu, fit_u = _fit(u["phi"], u["m3"])
     # Delta_A(phi) = f_u(phi) - f_u(-phi) = 2 sum b_j sin j phi
     A = 2 * cu[2 * k]
@@ -284,7 +292,8 @@ def measure(model: str, eps: float, *, params=None, delta: float = LAUNCH, n_pha
            "level_error": u["level_error"], "saddle_residual": u["saddle_residual"],
            "flight_time": list(u["flight_time"]), "max_abs_delta": float(np.max(np.abs(u["m3"] - u["saddle"][2])))}
     if direct:
-        s = section_curve(model, p, M, T, stable=True, delta=delta, n_phase=n_phase, phase=phase)
+        s = section_curve(model, p, M, T, stable=True, delta=delta, n_phase=n_phase, phase=phase,
+                          precision=precision)
         cs, fit_s = _fit(s["phi"], s["m3"])
         out["B"] = float(cu[2 * k] - cs[2 * k])
         out["B_even_part"] = float(max(abs(cu[2 * j - 1] - cs[2 * j - 1]) for j in range(1, FIT_HARMONICS + 1)))
@@ -312,6 +321,7 @@ class ModelSplitting(Result):
     delta_change: float  # relative change of A at the smallest eps when delta is divided by 10
     phase_change: float  # relative change of A under a random eigenvector phase
     control: float  # max |Delta| at eps = 0 (the integrable member)
+    precision_change: float = float("nan")  # relative change of A at the smallest eps in long double (precision_check)
     status_label: str = "numerical (floating point with error evidence)"
     wall_time_s: float = 0.0
     notes: list = field(default_factory=list)
@@ -325,11 +335,12 @@ class ModelSplitting(Result):
                 "relative_difference": [r.get("relative_difference") for r in self.rows],
                 "scaling_order": self.scaling_order, "quadrature_error": self.quadrature_error,
                 "delta_change": self.delta_change, "phase_change": self.phase_change, "control": self.control,
+                "precision_change": self.precision_change,
                 "level_error": max(r["level_error"] for r in self.rows), "passed": bool(self.success)}
 
 
 def model_splitting(model: str, *, eps=EPS_DEFAULT, params=None, n_phase: int = 32, delta: float = LAUNCH,
-                    controls: bool = True, seed: int = 20) -> ModelSplitting:
+                    controls: bool = True, precision_check: bool = False, seed: int = 20) -> ModelSplitting:
     """Measure the splitting of the straight twisted rod's homoclinic manifold of `model` ('anisotropic' or
     'curved') at the perturbations `eps`, against the Mel'nikov prediction (module docstring).
 
@@ -347,6 +358,9 @@ def model_splitting(model: str, *, eps=EPS_DEFAULT, params=None, n_phase: int = 
         Launch distance (1e-9 ... 1e-3).
     controls : bool, keyword-only
         Run the delta/10, eigenvector-phase and integrable (eps = 0) controls.
+    precision_check : bool, keyword-only
+        Repeat the smallest eps's unstable manifold in long double (the integration error; ~1-2 s more for the
+        compile).
     seed : int, keyword-only
         Seed of the random eigenvector phase of the phase control.
 
@@ -406,6 +420,11 @@ def model_splitting(model: str, *, eps=EPS_DEFAULT, params=None, n_phase: int = 
         pchange = abs(a3 - a) / abs(a)
         c = measure(model, 0.0, params=params, delta=delta, n_phase=n_phase)
         control = max(abs(c["A"]), abs(c["B"]), c["max_abs_delta"])
+    prec = float("nan")
+    if precision_check:
+        a4 = measure(model, eps[-1], params=params, delta=delta, n_phase=n_phase, direct=False,
+                     precision="long double")["A"]
+        prec = abs(a4 - rows[-1]["A"]) / abs(rows[-1]["A"])
     checks = {
         "methods A and B agree": all(r["A_minus_B"] <= 1e-6 for r in rows),
         "Mel'nikov closed form = quadrature": qerr <= 1e-9,
@@ -415,6 +434,8 @@ def model_splitting(model: str, *, eps=EPS_DEFAULT, params=None, n_phase: int = 
     if controls:
         checks.update({"independent of delta": dchange <= 1e-6, "independent of the eigenvector phase": pchange <= 1e-6,
                        "integrable member: no splitting": control <= 1e-9})
+    if precision_check:
+        checks["double = long double"] = prec <= 1e-10
     bad = [k for k, ok in checks.items() if not ok]
     unit = melnikov_unit(model, params, M, T)
     msg = (f"{model}: Delta(phi) = c sin({info['harmonic']} phi), dc/deps = {unit:.6g} at eps = 0 (Mel'nikov); "
@@ -422,6 +443,6 @@ def model_splitting(model: str, *, eps=EPS_DEFAULT, params=None, n_phase: int = 
            + ", ".join(f"{r['A'] / r['eps']:.6g}" for r in rows) + f" at eps = {eps}; "
            + ("all checks pass" if not bad else f"FAILED: {bad}"))
     return ModelSplitting(not bad, msg, model, info["reference"], info["eps"], info["harmonic"], rows, float(unit),
-                          float(qerr), order_, float(dchange), float(pchange), float(control),
+                          float(qerr), order_, float(dchange), float(pchange), float(control), prec,
                           wall_time_s=time.perf_counter() - t0, notes=[f"check {k}: {'pass' if v else 'FAIL'}"
                                                                        for k, v in checks.items()])
