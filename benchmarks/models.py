@@ -6,7 +6,7 @@
   landscape    `magrod landscape` (quick and full, and quick without the homoclinic splitting), in a fresh process
   splitting    the homoclinic splitting of the anisotropic and curved rods (magrod.separatrix.model_splitting): the
                first call (compiles two cfuncs and one integrator per model) and a second one, at the landscape's
-               quick and full settings
+               quick and full settings (full: with the long-double check)
 
 python benchmarks/models.py [--out benchmarks/models.json] [--part splitting landscape]
 (--part: run only those parts and update their keys in the existing --out file)
@@ -86,7 +86,7 @@ def splitting() -> dict:
 
     out = {}
     for name in ("anisotropic", "curved"):
-        for label, kw in (("quick", {"eps": (0.02, 0.01), "n_phase": 24}), ("full", {})):
+        for label, kw in (("quick", {"eps": (0.02, 0.01), "n_phase": 24}), ("full", {"precision_check": True})):
             times = []
             for _ in range(2):
                 t0 = time.perf_counter()
