@@ -6,15 +6,17 @@ The integrable member.  The isotropic rod (B1 = B2 = B, torsion C, pre-twist k3,
 + k3 m3 + n3 on se(3)*) has the equilibrium x* = (0, 0, M, 0, 0, T), the straight rod under tension T and twisting
 moment M.  On its symplectic leaf (|n| = T, m.n = M T) it is a saddle-focus when a^2 = 4 B T - M^2 > 0 (Greenhill's
 condition), eigenvalues +-kappa +- i Omega; its 2-D stable and unstable manifolds coincide (m3 = M is an integral):
-the localised buckling of the twisted rod.  Closed form (derived here, checked against the integrated orbit in
-tests/test_models_splitting.py), with kappa = a / (2B), Omega = M/C + k3 - M/(2B) and the phase phi0 of the S^1
-symmetry about d3:
+the localised buckling of the twisted rod.  Closed form (derived here; proved symbolically to solve the pipeline's
+own equations, generated/models/curved/report.json at k1 = 0, on the straight rod's level, and checked against the
+integrated orbit: tests/test_models_splitting.py), with kappa = a / (2B), Omega = M/C + k3 - M/(2B) and the phase
+phi0 of the S^1 symmetry about d3:
     n3 = T - (a^2 / (2B)) sech^2(kappa t),   m1 + i m2 = a sech(kappa t) exp(i (phi0 - Omega t)),   m3 = M,
     n1 + i n2 = (m1 + i m2) (M z + i B z') / (2 B z),   z = T - n3.
 (From n3' = (n1 m2 - n2 m1)/B, |m_perp|^2 = 2B z on the level, (m_perp.n_perp) = M z: (B z')^2 = z^2 (a^2 - 2B z);
 and mu = m1 + i m2 obeys mu' = -i ((M/C + k3 - M/B) mu + nu), whence arg mu = phi0 - Omega t.)
 
-The perturbation.  Both models change only m3' (the lost integral): exactly
+The perturbation.  Both models change only m3' (the lost integral): exactly (the pipeline's equations, checked
+symbolically in the tests)
     anisotropic: m3' = (1/B2 - 1/B1) m1 m2            (B = B1),
     curved:      m3' = -k1 m2                          (uhat = (k1, 0, k3); the straight rod is the k1 = 0 member).
 Mel'nikov.  The splitting of the manifolds measured by m3 on a section through the orbit's midpoint,
