@@ -227,3 +227,24 @@ def test_closed_form_homoclinic_orbit_symbolic():
                        - (1 / B2 - 1 / B1) * m1 * m2) == 0
     bad, _, _, _ = _symbolic_residuals(k3_in_omega=False)
     assert any(r != 0 for r in bad)
+
+
+def test_landscape_command_passes_no_splitting(monkeypatch, capsys):
+    """`magrod landscape --no-splitting` reaches the library as splitting=False (default True); a stub stands in for
+    the landscape itself (its content: the tests above)."""
+    import json
+
+    from magrod import cli
+    from magrod.integrability import landscape as ls
+
+    seen = []
+
+    def stub(degree, **kw):
+        seen.append(kw["splitting"])
+        return ls.Landscape(True, "stub", degree, 1.0, [], [], 0, [], 0.0)
+
+    monkeypatch.setattr(ls, "landscape", stub)
+    for extra in ([], ["--no-splitting"]):
+        assert cli.main(["landscape", "--quick", "--json", *extra]) == 0
+        assert json.loads(capsys.readouterr().out)["message"] == "stub"
+    assert seen == [True, False]
