@@ -3,9 +3,13 @@
   regenerate   the symbolic pipeline + code generation of one model (`python -m derive --model NAME`)
   search       the exact degree-4 first-integral search per model (target <= 30 s for a 6-D model), with a peer:
                SymPy's exact rank of the same matrix L (degree <= 4, the same rational parameters) for a 6-D model
-  landscape    `magrod landscape` (quick and full), in a fresh process
+  landscape    `magrod landscape` (quick and full, and quick without the homoclinic splitting), in a fresh process
+  splitting    the homoclinic splitting of the anisotropic and curved rods (magrod.separatrix.model_splitting): the
+               first call (compiles two cfuncs and one integrator per model) and a second one, at the landscape's
+               quick and full settings (full: with the long-double check)
 
-python benchmarks/models.py [--out benchmarks/models.json]
+python benchmarks/models.py [--out benchmarks/models.json] [--part splitting landscape]
+(--part: run only those parts and update their keys in the existing --out file)
 """
 from __future__ import annotations
 
@@ -77,9 +81,26 @@ def sympy_peer() -> dict:
             "ratio": round(t_sympy / t_magrod, 1), "kernel_sympy": len(cols) - rank, "kernel_magrod": r.kernel_dims[-1]}
 
 
+def splitting() -> dict:
+    from magrod.separatrix.model_splitting import model_splitting
+
+    out = {}
+    for name in ("anisotropic", "curved"):
+        for label, kw in (("quick", {"eps": (0.02, 0.01), "n_phase": 24}), ("full", {"precision_check": True})):
+            times = []
+            for _ in range(2):
+                t0 = time.perf_counter()
+                r = model_splitting(name, **kw)
+                times.append(round(time.perf_counter() - t0, 3))
+            out[f"{name} {label}"] = {"first_s": times[0], "again_s": times[1], "success": r.success,
+                                      "melnikov_unit": r.melnikov_unit, "scaling_order": round(r.scaling_order, 3)}
+    return out
+
+
 def landscape_cli() -> dict:
     out = {}
-    for label, extra in (("quick", ["--quick"]), ("full", [])):
+    for label, extra in (("quick", ["--quick"]), ("quick, no splitting", ["--quick", "--no-splitting"]),
+                         ("full", [])):
         t0 = time.perf_counter()
         p = subprocess.run([sys.executable, "-m", "magrod.cli", "landscape", "--json", *extra], capture_output=True,
                            text=True, env={**os.environ, "PYTHONWARNINGS": "ignore"})
@@ -88,12 +109,23 @@ def landscape_cli() -> dict:
     return out
 
 
+PARTS = {"regenerate_s": regenerate, "search_degree4": search, "peer_sympy_rank": sympy_peer,
+         "landscape": landscape_cli, "splitting": splitting}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=Path(__file__).with_name("models.json"))
+    ap.add_argument("--part", nargs="+", choices=sorted(PARTS), default=None)
     a = ap.parse_args(argv)
-    res = {"regenerate_s": regenerate(), "search_degree4": search(), "peer_sympy_rank": sympy_peer(),
-           "landscape": landscape_cli(), "load_average": os.getloadavg()}
+    res = json.loads(a.out.read_text()) if a.part and a.out.exists() else {}
+    for key in a.part or PARTS:
+        res[key] = PARTS[key]()
+        if a.part:  # the parts re-run later than the rest: each with its own load
+            res.setdefault("load_average_by_part", {})[key] = os.getloadavg()
+    if not a.part:
+        res["load_average"] = os.getloadavg()
+        res.pop("load_average_by_part", None)
     a.out.write_text(json.dumps(res, indent=1) + "\n")
     print(json.dumps(res, indent=1))
 

@@ -65,7 +65,7 @@ def test_bad_input_of_the_model_commands(argv, param, capsys, tmp_path):
 
 
 @pytest.mark.parametrize("module", ["magrod.integrability.model_search", "magrod.chaos.model_chaos",
-                                    "magrod.integrability.landscape"])
+                                    "magrod.integrability.landscape", "magrod.separatrix.model_splitting"])
 def test_module_examples_run(module):
     import importlib
 

@@ -15,6 +15,11 @@ orbit's estimate decays like log(t)/t, a chaotic one's levels off: `chaotic` com
 REGULAR_BOUND = 10 log(t_max) / t_max (a regular orbit of these models stays below ~3 log t / t; stated, not
 tuned to a test).
 
+Results.  ModelSection, ModelLyapunov and ModelChaosMap are the body-frame counterparts of the paper's rod's
+PoincareResult, LyapunovResult and ChaosMap: the same Result base (success, status, message, a short repr,
+to_dict(), plot()), an `accuracy` property with PoincareResult.accuracy's keys (max_abs_dH, casimir_drift,
+energy_tol, casimir_tol, energy_ok, casimir_ok, passed), and max_abs_dH / casimir_drift (ChaosMap:
+max_casimir_drift) as read-only aliases of their energy_error / casimir_error fields (tests/test_models_results.py).
 Integrators are built once per model and thread and reset (core/systems.py).  Cost: a 6-D section of 4 orbits x
 200 crossings ~0.1 s after the first compile (~0.5 s, then heyoka's disk cache).
 """
@@ -119,6 +124,15 @@ def starts(mc, pars, n_orbits: int, seed: int, x0=None, level_of=None) -> tuple[
     return np.array(out), g0
 
 
+def _conservation(energy_error, casimir_error, energy_tol, casimir_tol) -> dict:
+    """The accuracy dict of the model results, with the keys of the paper's rod's (PoincareResult.accuracy, plus
+    LyapunovResult's max_abs_dH and casimir_drift)."""
+    e_ok = bool(np.isfinite(energy_error) and energy_error <= energy_tol)
+    c_ok = bool(np.isfinite(casimir_error) and casimir_error <= casimir_tol)
+    return {"max_abs_dH": float(energy_error), "casimir_drift": float(casimir_error), "energy_tol": energy_tol,
+            "casimir_tol": casimir_tol, "energy_ok": e_ok, "casimir_ok": c_ok, "passed": e_ok and c_ok}
+
+
 @dataclass(repr=False)
 class ModelSection(Result):
     """Section crossings of N orbits on one level: points (N, iterates, dim) (NaN where an orbit stopped early at
@@ -140,6 +154,15 @@ class ModelSection(Result):
     notes: list = field(default_factory=list)
 
     _repr_fields = ("model", "counts", "energy_error", "casimir_error")
+
+    # the paper's rod's names for the same numbers (PoincareResult): one vocabulary across the result types
+    max_abs_dH = property(lambda self: self.energy_error, doc="= energy_error (PoincareResult's name)")
+    casimir_drift = property(lambda self: self.casimir_error, doc="= casimir_error (PoincareResult's name)")
+
+    @property
+    def accuracy(self) -> dict:
+        """max |H - h| and max |C - C0| against ENERGY_TOL and CASIMIR_TOL: PoincareResult.accuracy's keys."""
+        return _conservation(self.energy_error, self.casimir_error, ENERGY_TOL, CASIMIR_TOL)
 
     def to_dict(self) -> dict:
         from ..core.results import jsonable
@@ -255,6 +278,14 @@ class ModelLyapunov(Result):
     casimir_error: float
 
     _repr_fields = ("model", "lyap", "chaotic", "energy_error")
+
+    max_abs_dH = property(lambda self: self.energy_error, doc="= energy_error (LyapunovResult's name)")
+    casimir_drift = property(lambda self: self.casimir_error, doc="= casimir_error (LyapunovResult's name)")
+
+    @property
+    def accuracy(self) -> dict:
+        """Conservation along the run against ENERGY_TOL and CASIMIR_TOL: PoincareResult.accuracy's keys."""
+        return _conservation(self.energy_error, self.casimir_error, ENERGY_TOL, CASIMIR_TOL)
 
 
 def model_lyapunov(model=None, *, params=None, x0=None, seed: int = 0, t_max: float = 2000.0,
@@ -374,6 +405,14 @@ class ModelChaosMap(Result):
     casimir_error: float
 
     _repr_fields = ("model", "x_name", "y_name", "t_max", "energy_error")
+
+    max_abs_dH = property(lambda self: self.energy_error, doc="= energy_error (ChaosMap.accuracy's name)")
+    max_casimir_drift = property(lambda self: self.casimir_error, doc="= casimir_error (ChaosMap.accuracy's name)")
+
+    @property
+    def accuracy(self) -> dict:
+        """The worst conservation over the map against ENERGY_TOL and CASIMIR_TOL."""
+        return _conservation(self.energy_error, self.casimir_error, ENERGY_TOL, CASIMIR_TOL)
 
 
 def _axis(mc, spec, which):

@@ -85,9 +85,31 @@ def plot_landscape(land, ax=None, **kw):
     return ax
 
 
+def plot_model_splitting(d, ax=None, **kw):
+    """ModelSplitting.plot (d: its to_dict(), or a list of them): the relative difference of the measured splitting
+    coefficient from the Mel'nikov one against eps (log-log), with the expected slope (1 or 2) drawn through the
+    smallest eps."""
+    from .plots import axes
+
+    ax = axes(ax)
+    items = d if isinstance(d, list) else [d]
+    for k, sp in enumerate(x.to_dict() if hasattr(x, "to_dict") else x for x in items):
+        e = np.array([r["eps"] for r in sp["rows"]])
+        rel = np.array([r["relative_difference"] for r in sp["rows"]])
+        order = 2 if sp["harmonic"] == 1 else 1
+        ax.loglog(e, rel, "o-", color=f"C{k}", label=f"{sp['model']} [{sp['reference']}]", **kw)
+        ax.loglog(e, rel[-1] * (e / e[-1]) ** order, ":", color=f"C{k}", label=f"slope {order}")
+    ax.set_xlabel("eps")
+    ax.set_ylabel("|c - c_Melnikov| / |c_Melnikov|")
+    ax.set_title("homoclinic splitting vs Mel'nikov (numerical)", fontsize=8)
+    ax.legend(fontsize=6)
+    return ax
+
+
 def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     """The landscape figure (issue 26): (a) every line of sec. 1 and magrod's verdict, (b) a section of the
-    integrable Kirchhoff rod, (c) one of the anisotropic rod on the same kind of level; sidecar landscape.json
+    integrable Kirchhoff rod, (c) one of the anisotropic rod on the same kind of level, (d) the homoclinic
+    splitting of the anisotropic and curved rods against Mel'nikov; sidecar landscape.json
     (every line's labelled evidence and the anisotropic scan)."""
     from ..chaos.model_chaos import model_section
     from ..core.io import atomic_savefig, atomic_write_json, ensure_writable_dir, versions
@@ -99,11 +121,14 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     land = landscape(4, quick=quick)
     iters = 150 if quick else 600
     secs = [model_section(m, n_orbits=6, iterates=iters) for m in ("kirchhoff", "anisotropic")]
-    fig = plt.figure(figsize=(12, 8.5))
-    gs = fig.add_gridspec(2, 2, height_ratios=[1, 1.3])
+    splits = [ln["splitting"] for ln in land.to_dict()["lines"] if "splitting" in ln]
+    fig = plt.figure(figsize=(15 if splits else 12, 8.5))
+    gs = fig.add_gridspec(2, 3 if splits else 2, height_ratios=[1, 1.3])
     plot_landscape(land, fig.add_subplot(gs[0, :]))
     for k, s in enumerate(secs):
         plot_model_section(s, fig.add_subplot(gs[1, k]), x="m2", y="n2")
+    if splits:  # (d) the homoclinic splitting of the anisotropic and curved rods against Mel'nikov
+        plot_model_splitting(splits, fig.add_subplot(gs[1, 2]))
     fig.tight_layout()
     d = land.to_dict()
     d["sections"] = [{"model": s.model, "counts": s.counts, "energy_error": s.energy_error,

@@ -39,6 +39,7 @@ PLOTTERS: dict[str, str] = {
     "ModelSearch": "models:plot_model_search",
     "Landscape": "models:plot_landscape",
     "ModelChaosMap": "models:plot_model_chaos_map",
+    "ModelSplitting": "models:plot_model_splitting",
 }
 
 

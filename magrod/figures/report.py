@@ -241,11 +241,25 @@ def _landscape(out, quick):
     rows = []
     for ln in d["lines"]:
         ev = "; ".join(f"{e['label']}: {e['detail']}" for e in ln["evidence"]
-                       if not e["what"].startswith("Casimirs found"))
+                       if not e["what"].startswith(("Casimirs found", "Mel'nikov function of", "splitting of")))
         rows.append({"label": f"sec:intro [{ln['reference']}]", "paper": ln["claim"],
                      "computed": f"{ln['model']}: {ln['verdict']} ({ev})" + (f". {ln['note']}" if ln.get("note") else ""),
                      "verdict": {"agrees": "reproduced", "disagrees": "differs",
                                  "not tested": "not checkable (the heavy rod is outside the registry)"}[ln["agreement"]]})
+        if "splitting" in ln:  # the homoclinic splitting (magrod.separatrix.model_splitting): a row of its own
+            sp = ln["splitting"]
+            trig = "sin 2 phi0" if sp["harmonic"] == 2 else "sin phi0"
+            rows.append({"label": f"sec:intro [{ln['reference']}] (splitting)",
+                         "paper": f"{ln['claim']} (by a homoclinic/Mel'nikov argument; no value printed)",
+                         "computed": f"{ln['model']}, straight twisted rod M = T = 1, {sp['perturbation']}: Mel'nikov "
+                                     f"Delta = eps ({sp['melnikov_unit']:.6g}) {trig} (derived; quadrature "
+                                     f"{sp['quadrature_error']:.0e}); measured c/eps = "
+                                     + ", ".join(f"{r['A'] / r['eps']:.6g}" for r in sp["rows"])
+                                     + " at eps = " + ", ".join(f"{r['eps']:g}" for r in sp["rows"]) +
+                                     f" (numerical; remainder order {sp['scaling_order']:.2f}; eps = 0 control "
+                                     f"{sp['control']:.0e})",
+                         "verdict": "new result (beyond the paper): transversal splitting, agrees with the citation"
+                                    if sp["success"] else "differs (the measurement fails its checks)"})
     special = "; ".join(f"{r['B1']}:{r['B2']}:{r['C']} ({r['level']}) {r['explanation'].split(' (')[0]}"
                         for r in d["scan"] if not r["explanation"].startswith("Lagrange"))
     lagrange = sum(1 for r in d["scan"] if r["explanation"].startswith("Lagrange"))

@@ -211,6 +211,12 @@ class ModelSearch(Result):
 
     _repr_fields = ("model", "degree", "level", "kernel_dims", "algebra_dims", "certified", "new_integrals")
 
+    @property
+    def accuracy(self) -> dict:
+        """Exact arithmetic (no floating point): the certificate and the exact re-checks of the new integrals."""
+        return {"exact": True, "prime": self.prime, "certified": self.certified,
+                "new_verified": list(self.new_verified), "passed": bool(self.certified and all(self.new_verified))}
+
 
 def model_search(model=None, degree: int = 4, *, values=None, level=None, seed: int = DEFAULT_SEED,
                  exact_new: bool = True) -> ModelSearch:
