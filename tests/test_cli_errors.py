@@ -1,4 +1,4 @@
-"""The CLI contract under bad input and faults (issue: hardening).
+"""The CLI contract under bad input and faults (issue 17; grouped by what they test in issue 25).
 
 Every case asserts: the exit code (2 bad input, 3 environment fault, 1 failed computation, 130 interrupted),
 exactly one non-empty stderr line naming the parameter, no traceback, exactly one JSON object on stdout under

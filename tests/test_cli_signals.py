@@ -1,7 +1,7 @@
 """Every signal ends `magrod chaosmap` cleanly (issue 17, item 4): SIGINT 130, SIGTERM 143, SIGHUP 129, one stderr
 line, the Dask workers stopped, no temporary left, finished tiles kept with their markers -- sent to the whole
 process group, as a terminal's Ctrl-C or a closed terminal does, at a known moment (the MAGROD_TEST_PAUSE hook).
-The same for `magrod reproduce` is in tests/test_hardening.py."""
+The same for `magrod reproduce` is in tests/test_cli_errors.py."""
 import json
 import os
 import signal
@@ -37,7 +37,7 @@ def _wait_gone(pgid: int, timeout=15.0) -> list:
 @pytest.mark.parametrize("sig,code", [(signal.SIGINT, 130)], ids=["SIGINT"])
 def test_signal_while_two_workers_run(tmp_path, sig, code):
     """Ctrl-C at the moment every tile is submitted to a LocalCluster of 2 workers: one line, exit 130 (SIGTERM: the
-    next test; SIGHUP, and all three for reproduce: tests/test_hardening.py), no
+    next test; SIGHUP, and all three for reproduce: tests/test_cli_errors.py), no
     process of the group left, and -- no tile having finished -- nothing left on disk."""
     marker, out = tmp_path / "running", tmp_path / "o"
     p = _chaosmap(out, "--x", "lam:0.12:0.2:4", "--y", "gamma:2:4:4", "--tile", "2", "--t-max", "3000",
