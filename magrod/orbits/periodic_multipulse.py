@@ -47,7 +47,7 @@ def crossings(saddle: PeriodicSaddle, angle: float, pulses: int, *, eps: float =
     pars = saddle.params.array()
     j = (pulses + 1) // 2
     big, out = 0, []
-    for t, x in crossing_events(saddle.launch_point(eps, angle), pars, t_max=t_max, max_events=max_events):
+    for t, x in crossing_events(saddle.launch_point(eps, angle, Precision.DOUBLE), pars, t_max=t_max, max_events=max_events):
         th = float(systems.body_to_euler(x, pars)[0])
         if th > gate:
             big += 1

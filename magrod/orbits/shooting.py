@@ -50,7 +50,6 @@ from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result, jsonable
 from ..core.systems import CFunc, body_functions, body_to_euler
-from ..core.tolerances import MU_TOL
 from ..generated import scalars, symmetry
 from ..generated.names import CHART, PARAMS
 
@@ -72,8 +71,11 @@ class Saddle(Protocol):
     def kind(self) -> str:  # "equilibrium" or "periodic"
         ...
 
-    def launch_point(self, eps: float, angle: float = 0.0, precision=Precision.DOUBLE) -> np.ndarray:
-        """Body state at distance eps, angle `angle` on the linear unstable manifold, formed in `precision`."""
+    precision: Precision  # the working precision of its launch points
+
+    def launch_point(self, eps: float, angle: float = 0.0, precision=None) -> np.ndarray:
+        """Body state at distance eps, angle `angle` on the linear unstable manifold, formed in `precision`
+        (default the saddle's)."""
         ...
 
     def at(self, params: RodParams) -> "Saddle":
@@ -81,7 +83,7 @@ class Saddle(Protocol):
         ...
 
 
-def saddle(params: RodParams) -> Saddle:
+def saddle(params: RodParams, *, precision=Precision.DOUBLE) -> Saddle:
     """The saddle of the rod at `params`: the straight rod (an equilibrium) when mu = 2 lam, the helical periodic
     saddle when mu > 2 lam.
 
@@ -89,6 +91,9 @@ def saddle(params: RodParams) -> Saddle:
     ----------
     params : RodParams
         Non-dimensional parameters (eq:nondim_1).
+    precision : Precision or str
+        The working precision of the saddle's launch points (and of the periodic saddle's chart view, computed
+        there on first use); the eigen- and Floquet data are float64 in every precision.
 
     Returns
     -------
@@ -119,19 +124,20 @@ def saddle(params: RodParams) -> Saddle:
     f(x) = omega xi x, then one variational integration over a period for the monodromy (~5 ms); its checks
     (closure, M = expm(T A), symplecticity) are fields of the result.  Paper sec. 3 and 8.
     """
+    from .equilibrium import is_on_level, straight_rod
+
     if not isinstance(params, RodParams):
         raise ParameterError("params", f"must be a RodParams, got {type(params).__name__}")
+    precision = Precision.parse(precision)
+    if is_on_level(params):
+        return straight_rod(params, precision=precision)
     gap = params.mu - scalars.straight_rod_mu(**params.as_dict())
-    if abs(gap) <= MU_TOL * max(1.0, abs(params.mu)):
-        from .equilibrium import straight_rod
-
-        return straight_rod(params)
     if gap < 0:
         raise ParameterError("mu", f"no saddle near the straight rod for mu < 2 lam (got mu - 2 lam = {gap:.3g}): "
                                    "the radicand mu - 2 lam pbar_psi of eq:alignment_condition is negative there")
     from .periodic import periodic_saddle
 
-    return periodic_saddle(params)
+    return periodic_saddle(params, precision=precision)
 
 
 def moved(s: Saddle, name: str, value: float) -> RodParams:
@@ -168,8 +174,8 @@ def launch_derivative(s: Saddle, name: str, eps: float, angle: float = 0.0, h_re
     name +- h, mu following on mu = 2 lam for the straight rod)."""
     v = getattr(s.params, name)
     h = _parameter_step(s, name, h_rel)
-    xp = s.at(moved(s, name, v + h)).launch_point(eps, angle)
-    xm = s.at(moved(s, name, v - h)).launch_point(eps, angle)
+    xp = s.at(moved(s, name, v + h)).launch_point(eps, angle, Precision.DOUBLE)
+    xm = s.at(moved(s, name, v - h)).launch_point(eps, angle, Precision.DOUBLE)
     return (xp - xm) / (2 * h)
 
 
@@ -259,7 +265,8 @@ def residual_and_jacobian(s: Saddle, T: float, angle: float = 0.0, *, eps: float
     if jacobian:
         if s.kind == "periodic":
             ha = h_rel
-            dxa = (s.launch_point(eps, angle + ha) - s.launch_point(eps, angle - ha)) / (2 * ha)
+            dxa = (s.launch_point(eps, angle + ha, Precision.DOUBLE)
+                   - s.launch_point(eps, angle - ha, Precision.DOUBLE)) / (2 * ha)
             cols.append(G @ (Phi @ dxa))
         for name in free:
             dx0 = launch_derivative(s, name, eps, angle, h_rel)
