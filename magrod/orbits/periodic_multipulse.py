@@ -30,8 +30,8 @@ from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.tolerances import LAUNCH_DISTANCE, SHOOTING_TOL
 from .periodic import PeriodicSaddle, periodic_saddle
-from .shooting import (MultipulseOrbit, crossing_events, fix_residual, residual_and_jacobian, shooting_precision,
-                       symmetric_orbit)
+from .shooting import (MultipulseOrbit, crossing_events, fix_residual, limit_component, newton, residual_and_jacobian,
+                       shooting_precision, symmetric_orbit)
 
 THETA_GATE = 0.3  # a zero of pbar_theta with theta above this is a pulse maximum; below it, a near-saddle one
 
@@ -70,31 +70,26 @@ def shoot(params: RodParams, pulses: int, angle: float, T: float, *, eps: float 
     prec = shooting_precision(crossing, precision)
     eps = eps if eps is not None else LAUNCH_DISTANCE[prec]
     s = saddle if saddle is not None else periodic_saddle(params)
-    hist = []
-    res = math.inf
-    x0 = xT = np.full(systems.dim("body"), np.nan)
-    for it in range(max_iter + 1):
-        ev = residual_and_jacobian(s, T, angle, eps=eps, precision=prec)
-        r, J, x0, xT = ev.r, ev.J, ev.x0, ev.xT
-        res = float(np.max(np.abs(r)))
-        hist.append({"iteration": it, "T": T, "angle": angle, "residual": res})
-        if not np.isfinite(res):
-            break
-        if res <= tol:
-            H = float(systems.body_functions()["H"](xT, params.array())[0])
-            return MultipulseOrbit(True, f"converged in {it} Newton steps", params, s, crossing, T, x0, res, it, eps,
-                                   prec, angle=angle, history=hist, xT=xT, energy_error=abs(H - s.H))
-        try:
-            step = -np.linalg.solve(J, r)
-        except np.linalg.LinAlgError:
-            break
-        lim = 0.5
-        if abs(step[1]) > lim:  # damp angle jumps (a wrong crossing index otherwise)
-            step *= lim / abs(step[1])
-        T, angle = T + step[0], angle + step[1]
-    return MultipulseOrbit(False, f"not converged after {len(hist)} evaluations (last residual {res:.3e} > "
-                                  f"tol {tol:.1e})", params, s, crossing, T, x0, res, len(hist), eps, prec,
-                           angle=angle, history=hist, xT=xT)
+
+    def evaluate(z):
+        return residual_and_jacobian(s, float(z[0]), float(z[1]), eps=eps, precision=prec)
+
+    # the one damped Newton (magrod.orbits.shooting.newton): |d angle| <= 0.5 (a wrong crossing index otherwise);
+    # the periodic searches converge to tol at their launch distance, so no stall/noise-floor acceptance here
+    run = newton(evaluate, [T, angle], tol=tol, max_evaluations=max_iter + 1, damp=limit_component(1, 0.5))
+    hist = [{"iteration": k, "T": float(z[0]), "angle": float(z[1]), "residual": res}
+            for k, (z, res) in enumerate(run.history)]
+    ev = run.evaluation
+    T, angle = float(run.z[0]), float(run.z[1])
+    if run.success:
+        H = float(systems.body_functions()["H"](ev.xT, params.array())[0])
+        return MultipulseOrbit(True, f"converged in {run.iterations} Newton steps", params, s, crossing, T, ev.x0,
+                               run.residual, run.iterations, eps, prec, angle=angle, history=hist, xT=ev.xT,
+                               energy_error=abs(H - s.H))
+    x0, xT = (ev.x0, ev.xT) if ev is not None else (np.full(systems.dim("body"), np.nan),) * 2
+    return MultipulseOrbit(False, f"not converged after {len(hist)} evaluations (last residual {run.residual:.3e} > "
+                                  f"tol {tol:.1e}; {run.outcome})", params, s, crossing, T, x0, run.residual,
+                           len(hist), eps, prec, angle=angle, history=hist, xT=xT)
 
 
 def scan_angles(saddle: PeriodicSaddle, pulses: int, samples: int = 181, *,
