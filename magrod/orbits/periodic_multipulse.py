@@ -190,28 +190,3 @@ def orbit(res: MultipulseOrbit, n: int = 4001) -> dict:
     """The symmetric orbit on [0, 2T] (magrod.orbits.shooting.symmetric_orbit): body states, reduced coordinates,
     Hbar (also for an unconverged result: it is the orbit at its (T, angle))."""
     return symmetric_orbit(res.x0, res.T, res.params.array(), n)
-
-
-def multipulse_rows(params: RodParams, *, max_pulses: int = 3, samples: int = 121) -> tuple:
-    """Symmetric N-pulse orbits to the periodic saddle at the given parameters (mu != 2 lam: generic, no parameter
-    freed), N = 1..max_pulses.  Returns (summary dict with one row per orbit or failure, [(row, result)])."""
-    import time
-
-    max_pulses = require_positive_int("max_pulses", max_pulses)
-    s = periodic_saddle(params)  # ParameterError before anything is computed
-    t0 = time.perf_counter()
-    rows, found_all = [], []
-    for N in range(1, max_pulses + 1):
-        found = find(params, N, samples=samples, saddle=s)
-        if not found:
-            rows.append({"pulses_target": N, "success": False, "message": "no sign change of sin psi over the "
-                         f"launch-angle scan ({samples} angles) converged to a {N}-pulse orbit"})
-        for k, r in enumerate(found):
-            row = {"pulses_target": N, "pulses": N, "index": k, **r.as_dict()}
-            rows.append(row)
-            found_all.append((row, r))
-    return {"ok": True, "params": params.as_dict(), "free": None, "saddle": "periodic (helical relative equilibrium)",
-            "saddle_T": s.T, "quartet_abs": [abs(z) for z in s.quartet], "orbits": rows,
-            "wall_time_s": time.perf_counter() - t0,
-            "note": "mu != 2 lam: homoclinic orbits to the periodic saddle are generic (unknowns T and the launch "
-                    "angle), found at the given parameters"}, found_all
