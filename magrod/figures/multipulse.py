@@ -5,12 +5,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from ..core.io import atomic_write_json, ensure_writable_dir, versions, write_orbit
 from ..core.printed import MULTIPULSE
 from ..core.progress import bar
 from ..core.tolerances import LAUNCH_DISTANCES
 from ..orbits.multipulse import multipulse_orbits
-from ..orbits.shooting import THETA_CUT, scaled_arclength
+from ..orbits.shooting import THETA_CUT
 from .common import atomic_savefig, pyplot
 from .rod import plot_rod, rod_from_orbit_file
 
@@ -81,7 +83,8 @@ def _figure(number: int, out_dir, quick: bool = False, progress: bool = False) -
         ps = search.search(N)
         if not ps.success:
             continue
-        tau, win = scaled_arclength(ps.samples[0])
+        tau = ps.samples[0]["tau"]  # the scaled arclength of MultipulseOrbit.sample
+        win = np.abs(tau) <= 1.0
         ax.plot(tau[win], ps.samples[0]["theta"][win], style, color="k", lw=1.2,
                 label=f"{N}-pulse, $\\bar\\lambda^*$ = {_lam_text(ps)}, residual {ps.orbit.residual:.1e}")
     p = spec["params"]
