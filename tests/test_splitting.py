@@ -202,3 +202,16 @@ def test_splitting_launch_rounds_the_offset_in_double(a):
     assert np.array_equal(x, ref)
     assert not np.array_equal(x, other)  # the keyword is not a no-op in long double
     assert float(np.max(np.abs(x - other))) <= 8 * float(np.finfo(np.longdouble).eps) * max(dist, float(np.max(np.abs(x))) * 1e-3)
+
+
+def test_launch_keywords_are_checked():
+    from magrod.core.errors import ParameterError
+
+    sd = S.splitting_saddle(S.scaled_params(M, G, DL, 4.0, 1.0, 0.03), "double")
+    for kw, name in (({"offset": "single"}, "offset"), ({"frame": "lab"}, "frame")):
+        with pytest.raises(ParameterError) as e:
+            sd.launch_point(1e-8, 0.0, **kw)
+        assert e.value.name == name
+    # both roundings are launches at distance eps to rounding
+    a, b = sd.launch_point(1e-8, 0.4, offset="double"), sd.launch_point(1e-8, 0.4)
+    assert np.max(np.abs(a - b)) <= 4 * np.finfo(float).eps and abs(np.linalg.norm(a - sd.x) / 1e-8 - 1) <= 1e-7
