@@ -105,9 +105,9 @@ def test_saddle_computed_once_per_parameter_point(monkeypatch):
     calls = []
     real = equilibrium.straight_rod
 
-    def counting(params):
+    def counting(params, **kw):
         calls.append(params)
-        return real(params)
+        return real(params, **kw)
 
     monkeypatch.setattr(equilibrium, "straight_rod", counting)
     monkeypatch.setattr(multipulse, "straight_rod", counting)

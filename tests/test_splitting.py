@@ -9,7 +9,8 @@ import pytest
 from magrod.separatrix import splitting as S
 from magrod.cli import main
 from magrod.core.precision import Precision
-from magrod.orbits.equilibrium import straight_rod
+from magrod.orbits.equilibrium import StraightRod, straight_rod
+from magrod.orbits.periodic import PeriodicSaddle
 from magrod.orbits.shooting import unstable_branch
 
 M, G, DL = 1.7, 1.0, 1.0
@@ -66,10 +67,11 @@ def test_equilibrium_fit_p2_stable():
 
 def test_tilted_saddle_on_fix_and_hyperbolic():
     p = S.scaled_params(M, G, DL, 4.0, 1.0, 0.03)
-    sd = S.working_saddle(p, "long double")
-    assert sd.kind == "periodic" and isinstance(sd, S.TiltedSaddle) and sd.newton_residual <= 1e3 * ULP["long double"]
+    sd = S.splitting_saddle(p, "long double")
+    assert sd.kind == "periodic" and isinstance(sd, PeriodicSaddle) and sd.chart_view.residual <= 1e3 * ULP["long double"]
+    assert sd.q.dtype == np.longdouble and sd.precision is Precision.LONG_DOUBLE  # computed in the working precision
     assert float(sd.q[1]) == 0.0 and float(sd.q[2]) == 0.0  # on Fix(R)
-    assert sd.eigenvalue.real > 0.5 and abs(sd.eigenvalue.imag) > 0.1  # saddle-focus
+    assert sd.chart_eigenvalue.real > 0.5 and abs(sd.chart_eigenvalue.imag) > 0.1  # saddle-focus
     # leading order tilt theta0 = eps sqrt(a - 2b)
     assert abs(float(sd.q[0]) / (0.03 * math.sqrt(2.0)) - 1) < 0.01
 
@@ -127,3 +129,89 @@ def test_leading_term_integrable_control_zero():
 def test_leading_term_tilted_case_rejected():
     with pytest.raises(S.ParameterError):
         S.compare_leading(M, G, DL, 4.0, 1.0)
+
+
+# --- one saddle per object (issue 25) ---------------------------------------------------------------------------
+def test_the_separatrix_saddle_is_the_orbits_saddle():
+    """The splitting launches from magrod.orbits' saddle objects (StraightRod at a = 2b, PeriodicSaddle at
+    a > 2b), in the working precision; before issue 25 it had classes of its own (EquilibriumSaddle,
+    TiltedSaddle) with their own Newton."""
+    from magrod.orbits import shooting
+
+    for a, cls in ((2.0, StraightRod), (4.0, PeriodicSaddle)):
+        p = S.scaled_params(M, G, DL, a, 1.0, 0.03)
+        sd = S.splitting_saddle(p, "long double")
+        assert type(sd) is cls and type(sd) is type(shooting.saddle(p))
+        assert sd.precision is Precision.LONG_DOUBLE and sd.at(p).precision is Precision.LONG_DOUBLE
+        assert S.launch_point(sd, 1e-10, 0.3).dtype == np.longdouble
+    # the periodic saddle's chart view is the same relative equilibrium as its body-frame Gauss-Newton point
+    ps = S.splitting_saddle(S.scaled_params(M, G, DL, 4.0, 1.0, 0.03), "double")
+    chart = np.asarray(ps.chart_view.q, float)
+    assert abs(chart[0] - ps.chart[0]) < 1e-12 and abs(chart[3] - ps.chart[4]) < 1e-12  # theta0, pbar_psi0
+    # the old names still resolve, to the same classes, with a DeprecationWarning
+    with pytest.warns(DeprecationWarning):
+        assert S.TiltedSaddle is PeriodicSaddle
+    with pytest.warns(DeprecationWarning):
+        assert S.EquilibriumSaddle is StraightRod
+    with pytest.warns(DeprecationWarning):
+        assert type(S.working_saddle(p, "double")) is PeriodicSaddle
+
+
+def test_mu_within_mu_tol_of_2lam_is_the_straight_rod_for_both():
+    """One mu = 2 lam rule (orbits.equilibrium.is_on_level, MU_TOL): a mu a few ulp off 2 lam is the straight rod
+    for the shooting engine and for the splitting alike (the splitting used to test exact equality and then ran a
+    tilted-saddle Newton at a tilt of ~1e-9)."""
+    from magrod.orbits import shooting
+
+    ulp = np.finfo(float).eps
+    p = S.scaled_params(M, G, DL, 2.0, 1.0, 0.05)
+    q = p.replace(mu=p.mu * (1 + 8 * ulp))
+    assert q.mu != 2 * q.lam
+    assert shooting.saddle(q).kind == S.splitting_saddle(q, "long double").kind == "equilibrium"
+    assert S.is_equilibrium_case(2.0 * (1 + 8 * ulp), 1.0) and not S.is_equilibrium_case(2.0 * (1 + 1e-9), 1.0)
+    # and the scan treats such an a as a = 2b: the same crossing as a = 2b exactly
+    c0 = S.first_crossing(S.scaled_params(M, G, DL, 2.0, 1.0, 0.05), "double")
+    c1 = S.first_crossing(S.scaled_params(M, G, DL, 2.0 * (1 + 8 * ulp), 1.0, 0.05), "double")
+    assert (c0.psi, c0.d) == (c1.psi, c1.d)
+
+
+@pytest.mark.parametrize("a", [2.0, 4.0])
+def test_splitting_launch_rounds_the_offset_in_double(a):
+    """LAUNCH: the splitting's launch forms eta d in float64 and converts it (the convention of REPORT.md's
+    digits), an explicit option of the orbits' launch_point; the shooting engine's default forms it in the
+    working precision.  Both are at distance eta to rounding; in long double they differ in the last bits."""
+    from magrod.core import systems
+
+    p = S.scaled_params(M, G, DL, a, 1.0, 0.03)
+    sd = S.splitting_saddle(p, "long double")
+    eta, phase = 1e-10, 0.7
+    x = S.launch_point(sd, eta, phase)
+    if sd.kind == "equilibrium":
+        d = np.real(np.exp(-1j * phase) * sd.unstable_vector)
+        from magrod.orbits.equilibrium import straight_rod_state
+
+        dist = eta
+        ref = straight_rod_state(p, "long double") + systems.fp_array(eta * (d / np.linalg.norm(d)), np.longdouble)
+        other = sd.launch_point(eta, phase)  # offset "working"
+    else:
+        d = np.real(np.exp(-1j * phase) * sd.chart_vector)
+        dist = eta * float(sd.q[0])
+        q = sd.q + systems.fp_array(dist * (d / np.linalg.norm(d)), np.longdouble)
+        ref = systems.splitting_functions(np.longdouble)["to_body"](q, p.array())
+        other = sd.launch_point(eta, phase, frame="chart")
+    assert np.array_equal(x, ref)
+    assert not np.array_equal(x, other)  # the keyword is not a no-op in long double
+    assert float(np.max(np.abs(x - other))) <= 8 * float(np.finfo(np.longdouble).eps) * max(dist, float(np.max(np.abs(x))) * 1e-3)
+
+
+def test_launch_keywords_are_checked():
+    from magrod.core.errors import ParameterError
+
+    sd = S.splitting_saddle(S.scaled_params(M, G, DL, 4.0, 1.0, 0.03), "double")
+    for kw, name in (({"offset": "single"}, "offset"), ({"frame": "lab"}, "frame")):
+        with pytest.raises(ParameterError) as e:
+            sd.launch_point(1e-8, 0.0, **kw)
+        assert e.value.name == name
+    # both roundings are launches at distance eps to rounding
+    a, b = sd.launch_point(1e-8, 0.4, offset="double"), sd.launch_point(1e-8, 0.4)
+    assert np.max(np.abs(a - b)) <= 4 * np.finfo(float).eps and abs(np.linalg.norm(a - sd.x) / 1e-8 - 1) <= 1e-7

@@ -83,11 +83,11 @@ def run(args) -> dict:
         r = mp.shoot(base, N)
         if not r.success:  # Newton from the default guess did not converge: scan lam and bisect, as multipulse does
             found = mp.find_orbits(base, free="lam", max_pulses=N)
-            if not found[N - 1]["success"]:
+            if not found[N - 1].success:
                 return {"ok": False, "error": f"no {N}-pulse orbit on mu = 2 lam near lam = {base.lam}: "
-                                              f"{r.message}; scan: {found[N - 1]['message']} (near Figure 6 the "
+                                              f"{r.message}; scan: {found[N - 1].message} (near Figure 6 the "
                                               f"orbits on mu = 2 lam have 2 and 4 pulses: try --pulses 2)"}
-            r = found[N - 1]["result"]
+            r = found[N - 1].orbit
     else:
         found = pm.find(base, N, samples=121)
         if not found:

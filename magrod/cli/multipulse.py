@@ -1,4 +1,5 @@
-"""`magrod multipulse`: symmetric multipulse homoclinic orbits of the straight rod by shooting (Figures 6, 7)."""
+"""`magrod multipulse`: symmetric multipulse homoclinic orbits to the saddle at the given parameters (the straight
+rod at mu = 2 lam, Figures 6 and 7; the periodic saddle above it), by the public search multipulse_orbits."""
 from __future__ import annotations
 
 from ..core.errors import ParameterError
@@ -22,11 +23,14 @@ def add_arguments(p):
 
 
 def run(args) -> dict:
-    from ..figures.multipulse import multipulse
-    from ..generated import scalars
+    """Parse, call the public search (magrod.orbits.multipulse.multipulse_orbits: it decides the saddle, mu = 2 lam
+    to MU_TOL, and refuses --span/--free where they do not apply), write its files (figures.multipulse
+    .write_search) and return its to_dict() with the paths."""
     from ..core.params import RodParams
     from ..core.printed import MULTIPULSE
-    from ..core.tolerances import MU_TOL
+    from ..core.progress import bar
+    from ..figures.multipulse import write_search
+    from ..orbits.multipulse import multipulse_orbits
 
     base = MULTIPULSE[args.figure]["params"].as_dict() if args.figure else {}
     vals = params_from(args, base)
@@ -34,48 +38,42 @@ def run(args) -> dict:
         raise ParameterError("figure", "give --figure 6|7 or all of " + " ".join(f"--{k}" for k in PARAMS))
     params = RodParams(**vals)
     max_pulses = integer("max_pulses", args.max_pulses)
-    span = number("span", args.span if args.span is not None else "0.5")  # validated whenever given
-    if not (0 < span < 1):
-        raise ParameterError("span", f"must be in (0, 1) (a relative range around the nominal value), got {span}")
-    if abs(params.mu - scalars.straight_rod_mu(**vals)) > MU_TOL * max(1.0, abs(params.mu)):
-        for opt in ("span", "free"):  # these shape the mu = 2 lam scan only: given here they would be ignored
-            if getattr(args, opt) is not None:
-                raise ParameterError(opt, f"applies to mu = 2 lam only (a scan of the free parameter); at mu = "
-                                          f"{params.mu:g} != 2 lam = {2 * params.lam:g} the orbits to the periodic "
-                                          f"saddle are found at the given parameters: drop --{opt}")
-        # mu != 2 lam: orbits to the periodic saddle (helical rod) are generic, found at the given parameters
-        from ..figures.multipulse import periodic_multipulse
-
-        samples = integer("samples", args.samples, minimum=3)
-        out_dir("out", args.out)
-        return periodic_multipulse(params, args.out, max_pulses=max_pulses, samples=samples,
-                                         progress=not args.quiet)
+    span = number("span", args.span) if args.span is not None else None
     samples = integer("samples", args.samples, minimum=3)
-    out_dir("out", args.out)
-    summary, _ = multipulse(params, args.out, free=args.free or "lam", max_pulses=max_pulses, span=span, samples=samples,
-                            stem=f"figure{args.figure}" if args.figure else "multipulse", progress=not args.quiet)
-    return summary
+    out = out_dir("out", args.out)
+    with bar(samples, "scan", not args.quiet) as update:
+        search = multipulse_orbits(params, max_pulses, free=args.free, span=span, samples=samples,
+                                   with_uncertainty=True, progress=update)
+    written = write_search(search, out, stem=f"figure{args.figure}" if args.figure else "multipulse")
+    return {**search.to_dict(), "files": written["files"], "table": written["table"]}
 
 
 def format_text(d: dict) -> str:
-    lines = [f"multipulse orbits, nominal {d['params']}, free {d['free']}:"]
-    for o in d["orbits"]:
-        if o["success"] and "angle" in o:  # periodic saddle (mu != 2 lam)
-            lines.append(f"  N={o['pulses']}: angle={o['angle']:.12g} T={o['T']:.10g} residual={o['residual']:.2e} "
-                         f"|H-H_saddle|={o['energy_error']:.1e} files={o.get('paths', [])}")
-        elif o["success"]:
-            u = o.get("uncertainty") or {}
-            fv = "" if o["free_value"] is None else (
+    lines = [f"multipulse orbits to the {d['kind']} saddle, nominal {d['params']}, free {d['free']}:"]
+    by_n = {}
+    for o, files in zip(d["orbits"], d["files"]):
+        by_n.setdefault(o["pulses"], []).append((o, files))
+    for row in d["searches"]:
+        N = row["pulses_target"]
+        if not row["success"]:
+            extra = (f" (iterations {row['iterations']}, last residual {row['residual']:.2e})"
+                     if row.get("iterations") is not None else "")
+            lines.append(f"  N={N}: no orbit: {row['message']}{extra}")
+        elif d["kind"] == "periodic":  # generic orbits at the given parameters, several per N
+            for o, files in by_n.get(N, []):
+                lines.append(f"  N={N}: angle={o['angle']:.12g} T={o['T']:.10g} residual={o['residual']:.2e} "
+                             f"|H-H_saddle|={o['energy_error']:.1e} files={files}")
+        else:
+            files = [f for _, f in by_n.get(N, [])]
+            u = row.get("uncertainty") or {}
+            fv = "" if row["free_value"] is None else (
                 f"{d['free']}*={u['significant']} (+-{u['uncertainty']:.1e}; double agrees to "
                 f"{u['double_check']['max_abs_difference']:.1e}) " if u.get("success") and "double_check" in u
-                else f"{d['free']}={o['free_value']:.12g} ")
-            lines.append(f"  N={o['pulses']}: {fv}residual={o['residual']:.2e} "
-                         f"arclength={o['arclength']:.6g} (eps={o['eps']:g}) H={o['H']:.15g} "
-                         f"|H-H_saddle|={o['max_abs_H_minus_saddle']:.1e} files={o.get('paths', [])}")
-        else:
-            extra = f" (iterations {o['iterations']}, last residual {o['residual']:.2e})" if "iterations" in o else ""
-            lines.append(f"  N={o['pulses_target']}: no orbit: {o['message']}{extra}")
-    lines.append(f"  {d['note']}")
-    if "table" in d:
+                else f"{d['free']}={row['free_value']:.12g} ")
+            lines.append(f"  N={N}: {fv}residual={row['residual']:.2e} arclength={row['arclength']:.6g} "
+                         f"(eps={row['eps']:g}) H={row['H']:.15g} |H-H_saddle|={row['max_abs_H_minus_saddle']:.1e} "
+                         f"files={files[0] if files else []}")
+    lines.append(f"  {d['message']}")
+    if d.get("table"):
         lines.append(f"  table: {d['table']}")
     return "\n".join(lines)

@@ -78,6 +78,15 @@ def plot_search(search, ax=None, **kw):
     return ax
 
 
+def plot_pulse_search(search, ax=None, **kw):
+    """The orbits of one PulseSearch (one number of pulses), theta against tau; its message if none."""
+    ax = axes(ax, figsize=(6.0, 3.0))
+    for o in search.orbits:
+        plot_orbit(o, ax=ax, **kw)
+    ax.set_title(f"N = {search.pulses_target}: {search.message}"[:120], fontsize=8)
+    return ax
+
+
 def plot_branch(branch, ax=None, component: int = 0, **kw):
     """One unknown of a continuation branch (default T) against its parameter, folds circled."""
     ax = axes(ax)

@@ -25,6 +25,7 @@ PLOTTERS: dict[str, str] = {
     "HomoclinicOrbit": "orbits:plot_homoclinic",
     "MultipulseOrbit": "orbits:plot_orbit",
     "MultipulseSearch": "orbits:plot_search",
+    "PulseSearch": "orbits:plot_pulse_search",
     "Branch": "orbits:plot_branch",
     "RodShape": "orbits:plot_rod_shape",
     # many orbits (magrod/figures/portrait.py)

@@ -32,7 +32,7 @@ from ..core.precision import Precision
 from ..core.results import Result, jsonable
 from ..core.tolerances import CONTINUATION_TOL, LAUNCH_DISTANCE, SHOOTING_TOL
 from .equilibrium import on_level, straight_rod
-from .shooting import shooting_precision
+from .shooting import newton, shooting_precision
 from .periodic import periodic_saddle
 from .shooting import residual_and_jacobian
 
@@ -97,26 +97,34 @@ def _tangent(J, prev=None):
 
 
 def correct(F, u_pred, t, *, scale, tol, max_iter=12, start=None):
-    """Newton on (F(u) = 0, t . (u - u_pred)/scale = 0) in scaled variables, from `start` (default u_pred).
+    """Newton on (F(u) = 0, t . (u - u_pred)/scale = 0) in scaled variables, from `start` (default u_pred), with
+    the one damped Newton (magrod.orbits.shooting.newton; at least one step, convergence on max|F|).
     Returns (u, |F|, iterations, J at the solution) or raises RuntimeError."""
     vp = np.asarray(u_pred, float) / scale
-    v = vp.copy() if start is None else np.asarray(start, float) / scale
-    for it in range(max_iter + 1):
+    v0 = vp.copy() if start is None else np.asarray(start, float) / scale
+
+    @dataclass
+    class Bordered:  # F and the arclength condition, and the scaled Jacobian d F / d v
+        r: np.ndarray
+        J: np.ndarray
+        F: np.ndarray
+        Js: np.ndarray
+
+    def evaluate(v):
         r, J = F(v * scale)
-        res = float(np.max(np.abs(r)))
-        if not np.isfinite(res):
-            break
         Js = J * scale  # d F / d v
-        if res <= tol and it > 0:
-            return v * scale, res, it, Js
-        A = np.vstack([Js, t])
-        b = -np.r_[r, t @ (v - vp)]
-        try:
-            dv = np.linalg.solve(A, b)
-        except np.linalg.LinAlgError:
-            break
-        v = v + dv
-    raise RuntimeError(f"corrector did not converge (last residual {res:.2e})")
+        return Bordered(np.r_[r, t @ (v - vp)], np.vstack([Js, t]), np.asarray(r), Js)
+
+    def solve(rb, A, v):
+        return np.linalg.solve(A, -rb)
+
+    run = newton(evaluate, v0, tol=tol, max_evaluations=max_iter + 1, solve=solve, min_steps=1,
+                 measure=lambda ev: np.max(np.abs(ev.F)))
+    if run.outcome == "rejected":
+        raise run.error
+    if run.outcome != "converged":
+        raise RuntimeError(f"corrector did not converge (last residual {run.residual:.2e})")
+    return run.z * scale, run.residual, run.iterations, run.evaluation.Js
 
 
 def pseudo_arclength(F, u0, *, scale=None, ds=0.05, steps=50, ds_min=1e-6, ds_max=0.5, tol=CONTINUATION_TOL, par=-1,

@@ -47,6 +47,33 @@ def straight_rod_state(params: RodParams, precision=Precision.DOUBLE) -> np.ndar
     return systems.fp_array(scalars.straight_rod_state(*systems.fp_array(params.array(), fp, bits)), fp, bits)
 
 
+def is_on_level(params: RodParams) -> bool:
+    """True iff mu = 2 lam (generated straight_rod_mu) to MU_TOL (64 ulp, relative above 1: the rounding of a
+    decimal input): the one test of which saddle exists, used by `straight_rod`, magrod.orbits.shooting.saddle,
+    magrod.orbits.periodic and the splitting of the separatrix alike."""
+    gap = params.mu - scalars.straight_rod_mu(**params.as_dict())
+    return abs(gap) <= MU_TOL * max(1.0, abs(params.mu))
+
+
+OFFSETS = ("working", "double")  # how a launch offset eps d is rounded (StraightRod.launch_point)
+
+
+def launch_offset(d, eps, precision: Precision, offset: str = "working") -> np.ndarray:
+    """eps d (d a float64 unit vector) in `precision`: offset "working" forms the product there (eps and d
+    converted first), "double" forms it in float64 and converts the result.  The eigenvector is a float64
+    quantity either way, so both are launches at distance eps to rounding; the splitting of the separatrix
+    (magrod.separatrix.splitting) uses "double", the convention its REPORT.md digits were measured with (the long
+    double runs see the difference at their noise level, ~1e-9 relative), everything else "working"."""
+    if offset not in OFFSETS:
+        raise ParameterError("offset", f"must be one of {OFFSETS}, got {offset!r}")
+    fp, bits = precision.fp_type, precision.prec
+    if offset == "double":
+        return systems.fp_array(eps * d, fp, bits)
+    if precision in (Precision.DOUBLE, Precision.LONG_DOUBLE):
+        return fp(eps) * d.astype(fp)
+    return systems._fp(fp, eps, bits) * systems.fp_array(d, fp, bits)
+
+
 def on_level(params: RodParams, **changes) -> RodParams:
     """params with `changes` and mu on the straight rod's level (generated straight_rod_mu: mu = 2 lam), where the
     straight rod is the saddle: the one helper that moves a parameter with mu following it."""
@@ -59,8 +86,10 @@ def on_level(params: RodParams, **changes) -> RodParams:
 class StraightRod(Result):
     """The straight rod as the saddle (mu = 2 lam): state x (9,), Jacobian (9, 9), eigenvalues (9,), the unstable
     eigenvalue a + i b (a > 0, b >= 0), its complex eigenvector (unit norm, phase fixed so that its e31 entry is
-    real > 0), and the level H = H_body - offset (the chart's Hbar).  Implements the saddle protocol of
-    magrod.orbits.shooting (kind "equilibrium": the launch angle is a symmetry direction)."""
+    real > 0), and the level H = H_body - offset (the chart's Hbar); `precision`: the working precision of its
+    launch points (the state is computed there, `straight_rod_state`; the eigen-data are float64 in every
+    precision).  Implements the saddle protocol of magrod.orbits.shooting (kind "equilibrium": the launch angle
+    is a symmetry direction); the one straight-rod saddle of magrod, the separatrix's included."""
 
     params: RodParams
     x: np.ndarray
@@ -71,27 +100,26 @@ class StraightRod(Result):
     H: float
     success: bool = True
     message: str = "straight rod: a hyperbolic equilibrium on the chart's level (mu = 2 lam)"
+    precision: Precision = Precision.DOUBLE
 
     kind = "equilibrium"
     _repr_fields = ("kind", "params", "unstable_eigenvalue", "H")
 
-    def launch_point(self, eps: float, angle: float = 0.0, precision=Precision.DOUBLE) -> np.ndarray:
+    def launch_point(self, eps: float, angle: float = 0.0, precision=None, *, offset: str = "working") -> np.ndarray:
         """x_eq + eps Re(e^{-i angle} v)/|Re(e^{-i angle} v)|: a point at distance eps on the linear unstable
-        manifold, formed in `precision` (x_eq computed there too, so that it is exact in that arithmetic; the
-        O(eps^2) error of the linearisation is the launch error).  The angle is a symmetry direction: the
-        rotations about the body 3-axis act on the unstable plane as this phase."""
-        prec = Precision.parse(precision)
+        manifold, formed in `precision` (default: the saddle's; x_eq computed there too, so that it is exact in
+        that arithmetic; the O(eps^2) error of the linearisation is the launch error).  The angle is a symmetry
+        direction: the rotations about the body 3-axis act on the unstable plane as this phase.  offset: how eps d
+        is rounded ("working" or "double", `launch_offset`)."""
+        prec = self.precision if precision is None else Precision.parse(precision)
         d = np.real(np.exp(-1j * angle) * self.unstable_vector)
         d = d / np.linalg.norm(d)
-        if prec in (Precision.DOUBLE, Precision.LONG_DOUBLE):
-            fp = prec.fp_type
-            return straight_rod_state(self.params, prec) + fp(eps) * d.astype(fp)
-        fp, bits = prec.fp_type, prec.prec
-        return straight_rod_state(self.params, prec) + systems._fp(fp, eps, bits) * systems.fp_array(d, fp, bits)
+        return straight_rod_state(self.params, prec) + launch_offset(d, eps, prec, offset)
 
     def at(self, params: RodParams) -> "StraightRod":
-        """The straight-rod saddle at other parameters (ParameterError where there is none)."""
-        return straight_rod(params)
+        """The straight-rod saddle at other parameters, in the same precision (ParameterError where there is
+        none)."""
+        return straight_rod(params, precision=self.precision)
 
     @property
     def accuracy(self) -> dict:
@@ -109,11 +137,13 @@ class StraightRod(Result):
                 "unstable_eigenvalue": [float(lam_u.real), float(lam_u.imag)]}
 
 
-def straight_rod(params: RodParams) -> StraightRod:
-    """The saddle at `params` (requires mu = 2 lam and a hyperbolic straight rod; ParameterError otherwise)."""
+def straight_rod(params: RodParams, *, precision=Precision.DOUBLE) -> StraightRod:
+    """The saddle at `params` (requires mu = 2 lam to MU_TOL, `is_on_level`, and a hyperbolic straight rod;
+    ParameterError otherwise), its launch points formed in `precision` by default."""
     p = params
+    precision = Precision.parse(precision)
     mu_level = scalars.straight_rod_mu(**p.as_dict())
-    if abs(p.mu - mu_level) > MU_TOL * max(1.0, abs(p.mu)):
+    if not is_on_level(p):
         raise ParameterError("mu", f"the straight rod is the saddle only at mu = 2 lam (got mu = {p.mu}, 2 lam = "
                                    f"{mu_level}): for mu > 2 lam the saddle is the periodic (helical) one, "
                                    "magrod.orbits.periodic.periodic_saddle (or magrod.orbits.shooting.saddle, which "
@@ -140,4 +170,4 @@ def straight_rod(params: RodParams) -> StraightRod:
     # a rotation G_a of the symmetry: e31 real > 0 picks the representative (core.eigen.fix_phase)
     v = eigen.fix_phase(V[:, k], prefer=(_E31,))
     H = float(f["H"](x, pars)[0])
-    return StraightRod(p, x, Jm, w, complex(w[k]), v, H)
+    return StraightRod(p, x, Jm, w, complex(w[k]), v, H, precision=precision)

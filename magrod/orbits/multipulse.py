@@ -26,11 +26,11 @@ from ..core.errors import ParameterError, require_positive_int
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result, jsonable
-from ..core.tolerances import BISECTION_RTOL, FLOOR_CAP, FLOOR_FACTOR, LAUNCH_DISTANCE, LAUNCH_DISTANCES, SHOOTING_TOL, STALL_ITERATIONS
+from ..core.tolerances import BISECTION_RTOL, LAUNCH_DISTANCE, LAUNCH_DISTANCES, SHOOTING_TOL, STALL_ITERATIONS
 from ..generated.names import PARAMS
 from . import shooting
 from .equilibrium import StraightRod, on_level, straight_rod
-from .shooting import (MultipulseOrbit, count_pulses, fix_functions, residual_and_jacobian,
+from .shooting import (MultipulseOrbit, PulseSearch, count_pulses, fix_functions, residual_and_jacobian,
                        shooting_precision, unstable_branch)
 
 MAX_DIGITS = 15  # significant digits a float64 value is printed with (`significant`)
@@ -88,67 +88,53 @@ def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", eps: fl
         T_guess = br[crossing - 1].t
     T = float(T_guess)
     history = []
-    res = math.inf
-    best = None  # (residual, saddle, T, x0, r, J) of the best iterate: near the root the residual is noise
-    stall = 0
-    x0 = s.launch_point(eps)
+    saddles = {getattr(s.params, free) if free else None: s}
 
-    def result(success, message, s_, T_, x0_, res_, iterations, **kw):
-        return MultipulseOrbit(success, message, s_.params, s_, crossing, T_, x0_, res_, iterations, eps, prec,
-                               free=free, history=history, **kw)
+    def evaluate(z):
+        # the straight rod at the free value z[1] (mu on its level); ParameterError where there is none
+        v = float(z[1]) if free else None
+        if v not in saddles:
+            saddles.clear()
+            saddles[v] = straight_rod(on_level(params, **{free: v}))
+        ev = residual_and_jacobian(saddles[v], float(z[0]), eps=eps, precision=prec,
+                                   free=() if free is None else (free,))
+        if void_psi:  # the sin psi condition is void: unknown T, condition pbar_theta = 0
+            ev.r, ev.J = ev.r[:1], ev.J[:1, :1]
+        return ev
 
-    for it in range(1, max_iter + 1):
-        ev = residual_and_jacobian(s, T, eps=eps, precision=prec, free=() if free is None else (free,))
-        x0, r = ev.x0, ev.r
-        if void_psi:
-            r = r[:1]
-        res = float(np.max(np.abs(r)))
-        history.append({"iteration": it, "T": T, "free_value": getattr(s.params, free) if free else None,
+    def floor(ev, z):
+        return noise_floor(ev.saddle, free, float(z[0]), ev.r, ev.J[:, 1], eps=eps, precision=prec)
+
+    z0 = [T] if free is None else [T, getattr(s.params, free)]
+    # damp steps that would leave the region where the crossing index is meaningful: |d free| <= |free| / 4
+    run = shooting.newton(evaluate, z0, tol=tol, max_evaluations=max_iter,
+                          damp=None if void_psi else shooting.limit_component(1, lambda z: 0.25 * max(abs(z[1]), 1e-6)),
+                          stall=None if void_psi else STALL_ITERATIONS, floor=None if void_psi else floor)
+    for k, (z, res) in enumerate(run.history, start=1):
+        history.append({"iteration": k, "T": float(z[0]), "free_value": float(z[1]) if free else None,
                         "residual": res})
-        if not np.isfinite(res):
-            break
-        if void_psi and res <= tol:
-            return result(True, f"converged in {it - 1} Newton steps", s, T, x0, res, it - 1, xT=ev.xT)
-        if void_psi:
-            T += -r[0] / ev.J[0, 0]
-            continue
-        Jm = ev.J
-        if res <= tol:
-            return result(True, f"converged in {it - 1} Newton steps", s, T, x0, res, it - 1,
-                          resolution=_resolution(Jm, r), xT=ev.xT)
-        if best is None or res < 0.5 * best[0]:
-            stall = 0
-        else:
-            stall += 1
-        if best is None or res < best[0]:
-            best = (res, s, T, x0, r, Jm, ev.xT)
-        if stall >= STALL_ITERATIONS:
-            break
-        try:
-            step = -np.linalg.solve(Jm, r)
-        except np.linalg.LinAlgError:
-            break
-        # damp steps that would leave the region where the crossing index is meaningful
-        v = getattr(s.params, free)
-        lim = 0.25 * max(abs(v), 1e-6)
-        if abs(step[1]) > lim:
-            step *= lim / abs(step[1])
-        T += step[0]
-        try:
-            s = straight_rod(on_level(s.params, **{free: v + step[1]}))
-        except ParameterError:
-            break
-    if best is not None and best[0] <= FLOOR_CAP:
-        res_b, s_b, T_b, x0_b, r_b, J_b, xT_b = best
-        floors = noise_floor(s_b, free, T_b, r_b, J_b[:, 1], eps=eps, precision=prec)
-        floor = float(np.max(floors))
-        if res_b <= FLOOR_FACTOR * floor:
-            unc = _resolution(J_b, np.maximum(np.abs(r_b), floors))
-            return result(True, f"converged to the noise floor of {prec.value} arithmetic: residual {res_b:.2e} <= "
-                                f"floor {floor:.2e} (tol {tol:.1e} below it; {free} resolved to {unc:.1e})",
-                          s_b, T_b, x0_b, res_b, len(history), noise_floor=floor, resolution=unc, xT=xT_b)
-    return result(False, f"not converged after {len(history)} iterations (last residual {res:.3e} > tol {tol:.1e})",
-                  s, T, x0, res, len(history))
+    ev = run.evaluation
+    if ev is None:  # no evaluation (max_iter = 0)
+        return MultipulseOrbit(False, f"not converged after 0 iterations (last residual inf > tol {tol:.1e})",
+                               s.params, s, crossing, T, s.launch_point(eps), math.inf, 0, eps, prec, free=free,
+                               history=history)
+    s_, T_ = ev.saddle, float(run.z[0])
+
+    def result(success, message, **kw):
+        return MultipulseOrbit(success, message, s_.params, s_, crossing, T_, ev.x0, run.residual, run.iterations,
+                               eps, prec, free=free, history=history, **kw)
+
+    if run.outcome == "converged":
+        kw = {} if void_psi else {"resolution": _resolution(ev.J, ev.r)}
+        return result(True, f"converged in {run.iterations} Newton steps", xT=ev.xT, **kw)
+    if run.outcome == "floor":
+        fl = float(np.max(run.noise_floor))
+        unc = _resolution(ev.J, np.maximum(np.abs(ev.r), run.noise_floor))
+        return result(True, f"converged to the noise floor of {prec.value} arithmetic: residual {run.residual:.2e} <= "
+                            f"floor {fl:.2e} (tol {tol:.1e} below it; {free} resolved to {unc:.1e})",
+                      noise_floor=fl, resolution=unc, xT=ev.xT)
+    return result(False, f"not converged after {run.evaluations} iterations (last residual {run.residual:.3e} > "
+                         f"tol {tol:.1e}; {run.outcome})")
 
 
 def _resolution(Jm, r) -> float:
@@ -324,15 +310,16 @@ def significant(value: float, uncertainty: float) -> str:
 
 def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, span: float = 0.5,
                 samples: int = SCAN_INTERVALS + 1, eps: float | None = None, tol: float = SHOOTING_TOL, progress=None,
-                max_brackets: int = 8, with_uncertainty: bool = False, saddle: StraightRod | None = None) -> list[dict]:
+                max_brackets: int = 8, with_uncertainty: bool = False,
+                saddle: StraightRod | None = None) -> list[PulseSearch]:
     """For N = 1..max_pulses: scan the free parameter over value * [1 - span, 1 + span] (linearly, `samples`
     points, double precision), bracket sign changes of sin(psi) at the N-th crossing, and from the brackets
     nearest to the nominal value (at most max_brackets): bisect on sin(psi) in the shooting precision (long
     double for N >= 2, as `shoot`), then Newton on (T, free) from the bisected value; keep converged orbits
     whose counted pulses equal N.  with_uncertainty: also the free parameter at two eps and two precisions
-    (`uncertainty`, ~4x the cost).  Returns one entry per N (the converged orbit closest to the nominal value,
-    or a failure record listing what each bracket gave).  saddle: the straight rod at `params` if already
-    computed."""
+    (`uncertainty`, ~4x the cost).  Returns one PulseSearch per N (success: the converged orbit closest to the
+    nominal value, its samples and summary row; failure: what each bracket gave).  saddle: the straight rod at
+    `params` if already computed."""
     if free not in FREE_PARAMETERS:
         raise ParameterError("free", f"must be one of {FREE_PARAMETERS}, got {free!r}")
     max_pulses = require_positive_int("max_pulses", max_pulses)
@@ -342,11 +329,10 @@ def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, sp
         # integrable case (psi is a gauge): only the primary orbit, unknown T alone
         r = shoot(params, 1, free=None, eps=eps, tol=tol, saddle=s)
         if not r.success:
-            return [{"pulses_target": 1, "success": False, "message": r.message, "iterations": r.iterations,
-                     "residual": r.residual}]
+            return [PulseSearch(False, r.message, 1, iterations=r.iterations, residual=r.residual)]
         orb = orbit(r)
-        return [{"pulses_target": 1, "success": True, "message": r.message, **summarize(r, orb),
-                 "free_value": None, "result": r, "orbit": orb}]
+        return [PulseSearch(True, r.message, 1, [r], [orb], {**summarize(r, orb), "free_value": None},
+                            residual=r.residual)]
     v0 = getattr(params, free)
     if v0 == 0:
         raise ParameterError(free, "the free parameter must be non-zero to scan around it")
@@ -360,8 +346,8 @@ def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, sp
                # a jump of psi across +-pi/2 through the chart's cut is a sign change of sin psi through +-1: skip
                and abs(col[i] - col[i + 1]) < 1.0]
         idx.sort(key=lambda i: abs(0.5 * (vals[i] + vals[i + 1]) - v0))
-        entry = {"pulses_target": N, "success": False, "message": "no sign change of sin(psi) at crossing "
-                 f"{N} for {free} in [{vals[0]:.6g}, {vals[-1]:.6g}]", "brackets": len(idx), "attempts": []}
+        entry = PulseSearch(False, f"no sign change of sin(psi) at crossing {N} for {free} in [{vals[0]:.6g}, "
+                                   f"{vals[-1]:.6g}]", N, brackets=len(idx), attempts=[])
         prec = shooting_precision(N)
         e_N = eps if eps is not None else LAUNCH_DISTANCE[prec]
         for i in idx[:max_brackets]:
@@ -369,30 +355,30 @@ def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, sp
             try:
                 r = free_star(params, free, N, a, b, eps=e_N, precision=prec, tol=tol)
             except ParameterError as exc:
-                entry["attempts"].append(f"[{a:.6g}, {b:.6g}]: {exc}")
+                entry.attempts.append(f"[{a:.6g}, {b:.6g}]: {exc}")
                 continue
             if r is None:
-                entry["attempts"].append(f"[{a:.6g}, {b:.6g}]: no sign change in {prec.value} at eps = {e_N:g}")
+                entry.attempts.append(f"[{a:.6g}, {b:.6g}]: no sign change in {prec.value} at eps = {e_N:g}")
                 continue
             if not r.success:
-                entry["attempts"].append(f"[{a:.6g}, {b:.6g}]: {r.message}")
-                entry.update({"iterations": r.iterations, "residual": r.residual})
+                entry.attempts.append(f"[{a:.6g}, {b:.6g}]: {r.message}")
+                entry.iterations, entry.residual = r.iterations, r.residual
                 continue
             orb = orbit(r)
             summ = summarize(r, orb)
             if summ["pulses"] != N:
-                entry["attempts"].append(f"[{a:.6g}, {b:.6g}]: converged orbit has {summ['pulses']} pulses")
+                entry.attempts.append(f"[{a:.6g}, {b:.6g}]: converged orbit has {summ['pulses']} pulses")
                 continue
             r.pulses_counted = summ["pulses"]
-            entry = {"pulses_target": N, "success": True, "message": r.message, **summ, "bracket": [a, b],
-                     "free_value": getattr(r.params, free), "noise_floor": r.noise_floor,
-                     "precision": r.precision.value, "result": r, "orbit": orb}
+            summ.update({"bracket": [a, b], "free_value": getattr(r.params, free), "noise_floor": r.noise_floor,
+                         "precision": r.precision.value})
             if with_uncertainty:
-                entry["uncertainty"] = uncertainty(params, free, N, a, b, tol=tol)
-                r.uncertainty = entry["uncertainty"]
+                summ["uncertainty"] = uncertainty(params, free, N, a, b, tol=tol)
+                r.uncertainty = summ["uncertainty"]
+            entry = PulseSearch(True, r.message, N, [r], [orb], summ, residual=r.residual)
             break
-        if not entry["success"] and entry["attempts"]:
-            entry["message"] = "; ".join(entry["attempts"])
+        if not entry.success and entry.attempts:
+            entry.message = "; ".join(entry.attempts)
         found.append(entry)
     return found
 
@@ -401,8 +387,9 @@ def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, sp
 @dataclass(repr=False)
 class MultipulseSearch(Result):
     """The symmetric multipulse homoclinic orbits found at (or, for the straight rod, near) `params`: `orbits`
-    (MultipulseOrbit, ordered by pulses; indexable: search[0]), `failures` (one dict per N without an orbit:
-    pulses_target, message), the saddle, and the search settings."""
+    (MultipulseOrbit, ordered by pulses; indexable: search[0]), `searches` (one PulseSearch per N = 1..max_pulses,
+    with the straight rod's sampled orbits and summary rows), `failures` (the PulseSearch of each N without an
+    orbit), the saddle, and the search settings (free, span, samples: None where they do not apply)."""
 
     success: bool
     message: str
@@ -413,6 +400,10 @@ class MultipulseSearch(Result):
     max_pulses: int = 0
     free: str | None = None
     wall_time_s: float = 0.0
+    searches: list = field(default_factory=list)
+    span: float | None = None
+    samples: int | None = None
+    with_uncertainty: bool = False
 
     _repr_fields = ("kind", "params", "pulses", "failures")
 
@@ -441,14 +432,37 @@ class MultipulseSearch(Result):
     def __iter__(self):
         return iter(self.orbits)
 
+    def search(self, pulses: int) -> PulseSearch:
+        """The PulseSearch of `pulses` pulses."""
+        for ps in self.searches:
+            if ps.pulses_target == pulses:
+                return ps
+        raise ParameterError("pulses", f"not searched: N = 1..{self.max_pulses}, got {pulses!r}")
+
     def to_dict(self) -> dict:
-        return {"success": self.success, "message": self.message, "kind": self.kind,
+        return {"success": self.success, "status": self.status, "message": self.message, "kind": self.kind,
                 "params": self.params.as_dict(), "saddle_H": self.saddle.H, "max_pulses": self.max_pulses,
-                "free": self.free, "orbits": [o.to_dict() for o in self.orbits], "failures": jsonable(self.failures),
+                "free": self.free, "span": self.span, "samples": self.samples,
+                "with_uncertainty": self.with_uncertainty, "orbits": [o.to_dict() for o in self.orbits],
+                "searches": [ps.to_dict() for ps in self.searches],
+                "failures": [f.to_dict() for f in self.failures], "accuracy": jsonable(self.accuracy),
                 "wall_time_s": self.wall_time_s}
 
 
-def multipulse_orbits(params: RodParams, max_pulses: int = 4, *, free: str = "lam", span: float = 0.5,
+def _count(name: str, value, minimum: int = 1) -> int:
+    """A count in [minimum, LIMITS[name]] (core.limits: the command line's limits, in its words)."""
+    from ..core.limits import LIMITS
+
+    v = require_positive_int(name, value)
+    if v < minimum:
+        raise ParameterError(name, f"must be >= {minimum}, got {value!r}")
+    if name in LIMITS and v > LIMITS[name]:
+        raise ParameterError(name, f"must be <= {LIMITS[name]} (the limit of what this command can finish), got "
+                                   f"{value!r}")
+    return v
+
+
+def multipulse_orbits(params: RodParams, max_pulses: int = 4, *, free: str | None = None, span: float | None = None,
                       samples: int | None = None, with_uncertainty: bool = False, progress=None) -> MultipulseSearch:
     """Symmetric N-pulse homoclinic orbits, N = 1..max_pulses, to the saddle that exists at `params`.
 
@@ -460,15 +474,18 @@ def multipulse_orbits(params: RodParams, max_pulses: int = 4, *, free: str = "la
         saddle is the helical periodic one and orbits are generic, found at `params` (launch-angle scan).
     max_pulses : int
         Largest N (>= 1).
-    free : str
-        Straight rod only: the parameter solved for with T (lam, m, gamma or delta; mu follows on mu = 2 lam).
-    span : float
-        Straight rod only: relative scan range of `free`, in (0, 1).
+    free : str, optional
+        Straight rod only: the parameter solved for with T (lam, m, gamma or delta; mu follows on mu = 2 lam;
+        default lam).  Given for the periodic saddle it is refused (it would be ignored).
+    span : float, optional
+        Straight rod only: relative scan range of `free`, in (0, 1) (default 0.5); refused for the periodic
+        saddle.
     samples : int, optional
         Scan samples: values of `free` (straight rod, default 81) or launch angles (periodic saddle, default 121).
     with_uncertainty : bool
-        Straight rod only: also the free parameter at two launch distances and two precisions (~4x the cost;
-        MultipulseOrbit.uncertainty with its significant digits).
+        Straight rod: also the free parameter at two launch distances and two precisions (~4x the cost;
+        MultipulseOrbit.uncertainty with its significant digits).  No effect for the periodic saddle (its orbits
+        are generic: no parameter is solved for).
     progress : callable, optional
         progress(k) after each scan sample (straight rod).
 
@@ -476,13 +493,15 @@ def multipulse_orbits(params: RodParams, max_pulses: int = 4, *, free: str = "la
     -------
     MultipulseSearch
         Indexable collection of MultipulseOrbit (pulses, T, x0, residual, params, saddle, `.sample(n)`,
-        `.accuracy`, `.plot()`), with the N that gave no orbit in `failures`; success iff at least one orbit.
+        `.accuracy`, `.plot()`), one PulseSearch per N in `searches` and those that gave no orbit in `failures`;
+        success iff at least one orbit.
 
     Raises
     ------
     ParameterError
         "mu" if mu < 2 lam (no saddle near the straight rod); "m" if the saddle is not hyperbolic; "max_pulses",
-        "samples", "span" or "free" if out of range; "lam" ("free") if the free parameter is zero.
+        "samples", "span" or "free" if out of range (the command line's limits, core.limits) or given for the
+        periodic saddle; "lam" ("free") if the free parameter is zero.
 
     Examples
     --------
@@ -492,7 +511,7 @@ def multipulse_orbits(params: RodParams, max_pulses: int = 4, *, free: str = "la
     >>> found = multipulse_orbits(fig6, max_pulses=2, samples=41)
     >>> [(o.pulses, round(o.free_value, 9)) for o in found]    # lam* of the 2-pulse orbit (docs/errata.md)
     [(2, 0.001262081)]
-    >>> found[0].residual < 1e-10, [f["pulses_target"] for f in found.failures]
+    >>> found[0].residual < 1e-10, [f.pulses_target for f in found.failures]
     (True, [1])
 
     Notes
@@ -512,37 +531,46 @@ def multipulse_orbits(params: RodParams, max_pulses: int = 4, *, free: str = "la
 
     if not isinstance(params, RodParams):
         raise ParameterError("params", f"must be a RodParams, got {type(params).__name__}")
-    max_pulses = require_positive_int("max_pulses", max_pulses)
+    max_pulses = _count("max_pulses", max_pulses)
     if samples is not None:
-        samples = require_positive_int("samples", samples)
-        if samples < 3:
-            raise ParameterError("samples", f"must be >= 3, got {samples}")
+        samples = _count("samples", samples, minimum=3)
     t0 = time.perf_counter()
-    s = saddle_of(params)
-    orbits, failures = [], []
+    s = saddle_of(params)  # the one mu = 2 lam rule (MU_TOL) decides the saddle
+    orbits, searches = [], []
     if s.kind == "equilibrium":
-        if not (0 < float(span) < 1):
-            raise ParameterError("span", f"must be in (0, 1), got {span}")
-        found = find_orbits(params, free=free, max_pulses=max_pulses, span=float(span), samples=samples or SCAN_INTERVALS + 1,
-                            with_uncertainty=with_uncertainty, progress=progress, saddle=s)
-        for e in found:
-            if e["success"]:
-                orbits.append(e["result"])
-            else:
-                failures.append({"pulses_target": e["pulses_target"], "message": e["message"]})
-        free_used = free
+        free = "lam" if free is None else free
+        span = 0.5 if span is None else span
+        try:
+            ok = 0 < float(span) < 1
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise ParameterError("span", f"must be in (0, 1) (a relative range around the nominal value), got {span}")
+        span, samples = float(span), samples or SCAN_INTERVALS + 1
+        searches = find_orbits(params, free=free, max_pulses=max_pulses, span=span, samples=samples,
+                               with_uncertainty=with_uncertainty, progress=progress, saddle=s)
+        orbits = [o for ps in searches for o in ps.orbits]
     else:
+        for name, v in (("span", span), ("free", free)):  # they shape the mu = 2 lam scan only
+            if v is not None:
+                raise ParameterError(name, f"applies to mu = 2 lam only (a scan of the free parameter); at mu = "
+                                           f"{params.mu:g} != 2 lam = {2 * params.lam:g} the orbits to the periodic "
+                                           f"saddle are found at the given parameters: drop {name}")
         from . import periodic_multipulse as pm
 
+        samples = samples or ANGLE_SAMPLES
         for N in range(1, max_pulses + 1):
-            got = pm.find(params, N, samples=samples or ANGLE_SAMPLES, saddle=s)
-            if not got:
-                failures.append({"pulses_target": N, "message": "no sign change of sin psi over the launch-angle "
-                                 "scan converged to a symmetric orbit with this many pulses"})
+            got = pm.find(params, N, samples=samples, saddle=s)
+            msg = (f"{len(got)} symmetric {N}-pulse orbit(s) to the periodic saddle" if got else
+                   f"no sign change of sin psi over the launch-angle scan ({samples} angles) converged to a "
+                   f"{N}-pulse orbit")
+            searches.append(PulseSearch(bool(got), msg, N, list(got), residual=max((o.residual for o in got),
+                                                                                 default=math.nan)))
             orbits += got
-        free_used = None
+    failures = [ps for ps in searches if not ps.success]
     n = len(orbits)
     msg = (f"{n} symmetric orbit(s) to the {'straight rod' if s.kind == 'equilibrium' else 'periodic saddle'} "
-           f"for N <= {max_pulses}" + (f"; none for N = {[f['pulses_target'] for f in failures]}" if failures else ""))
-    return MultipulseSearch(n > 0, msg, params, s, orbits, failures, max_pulses, free_used,
-                            time.perf_counter() - t0)
+           f"for N <= {max_pulses}" + (f"; none for N = {[f.pulses_target for f in failures]}" if failures else ""))
+    return MultipulseSearch(n > 0, msg, params, s, orbits, failures, max_pulses,
+                            free if s.kind == "equilibrium" else None, time.perf_counter() - t0, searches,
+                            span if s.kind == "equilibrium" else None, samples, bool(with_uncertainty))

@@ -27,6 +27,7 @@ period (~5 ms).  Nothing here mutates anything but the per-thread cached integra
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -37,9 +38,10 @@ from ..core.errors import ParameterError
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result
-from ..core.tolerances import HYPERBOLIC_TOL, MU_TOL, RELATIVE_EQUILIBRIUM_TOL
+from ..core.tolerances import HYPERBOLIC_TOL, RELATIVE_EQUILIBRIUM_TOL
 from ..generated import floquet as gfl
 from ..generated import scalars
+from .equilibrium import is_on_level, launch_offset
 
 N = systems.dim("body")
 NC = systems.n_casimirs()  # the Casimirs C1, C2, C3 (systems.body_casimir_gradients: NC x N)
@@ -113,7 +115,7 @@ def relative_equilibrium(params: RodParams, *, tol: float = RELATIVE_EQUILIBRIUM
     pars = p.array()
     mu_level = scalars.straight_rod_mu(**p.as_dict())  # mu = 2 lam: the straight rod on the chart's level
     delta_mu = p.mu - mu_level
-    if delta_mu <= MU_TOL * max(1.0, abs(p.mu)):
+    if delta_mu <= 0 or is_on_level(p):
         raise ParameterError("mu", f"no periodic saddle near the straight rod for mu <= 2 lam (got mu - 2 lam = "
                                    f"{delta_mu:.3g}); at mu = 2 lam the saddle is the straight rod itself "
                                    "(magrod.orbits.equilibrium)")
@@ -147,6 +149,63 @@ def relative_equilibrium(params: RodParams, *, tol: float = RELATIVE_EQUILIBRIUM
     return x0, float(z[N]), res
 
 
+@dataclass(frozen=True)
+class ChartEquilibrium:
+    """The periodic saddle seen in the reduced chart: q = (theta0, psi = 0, pbar_theta = 0, pbar_psi0) on Fix(R),
+    an equilibrium of the chart's vector field, in a working precision (`precision`); `residual` = max |chart
+    field| at q; the unstable eigenvalue (largest real part, Im >= 0) and unit eigenvector (theta entry real > 0,
+    core.eigen.fix_phase) of the chart Jacobian, float64 in every precision.  It is a saddle-focus of the chart: its
+    unstable manifold is 2-D, parametrised by the phase on the unstable eigenplane (the separatrix's launch)."""
+
+    q: np.ndarray
+    precision: Precision
+    residual: float
+    eigenvalue: complex
+    vector: np.ndarray
+
+
+CHART_NEWTON_ITERATIONS = 60  # the chart Newton converges quadratically from the leading-order tilt in < 10
+
+
+def chart_equilibrium(params: RodParams, precision=Precision.DOUBLE) -> ChartEquilibrium:
+    """The tilted straight rod (the helical relative equilibrium, mu > 2 lam) as an equilibrium of the reduced
+    chart, computed by Newton in `precision` on (theta, pbar_psi) for psi' = pbar_theta' = 0 at psi = pbar_theta = 0
+    (there theta' = pbar_psi' = 0 by the reversibility), from the leading-order tilt theta0 = sqrt(mu - 2 lam).
+    Newton stops at a zero residual or a step below 1e-3 ulp of the precision (relative to 1 + theta0).
+    ParameterError("mu") if mu is not above 2 lam (`is_on_level`), ("m") if the equilibrium is not hyperbolic."""
+    precision = Precision.parse(precision)
+    fp, prec = precision.fp_type, precision.prec
+    F = systems.splitting_functions(fp, prec)
+    pars = params.array()
+    mu_level = scalars.straight_rod_mu(**params.as_dict())  # mu = 2 lam
+    if params.mu - mu_level <= 0 or is_on_level(params):
+        raise ParameterError("mu", f"the tilted straight rod exists for mu > 2 lam only (got mu - 2 lam = "
+                                   f"{params.mu - mu_level:.3g}); at mu = 2 lam the saddle is the straight rod")
+    th0 = math.sqrt(params.mu - mu_level)  # leading order: the tilt of the force from the field
+    q = systems.fp_array([th0, 0.0, 0.0, math.cos(th0)], fp, prec)
+    nq = systems.dim("reduced")
+    for _ in range(CHART_NEWTON_ITERATIONS):
+        r = F["reduced_rhs"](q, pars)
+        Jm = F["reduced_jacobian"](q, pars).reshape(nq, nq)
+        A = np.array([[float(Jm[i, j]) for j in (0, 3)] for i in (1, 2)])
+        rr = np.array([float(r[1]), float(r[2])])
+        res = float(np.max(np.abs(rr)))
+        step = np.linalg.solve(A, -rr)
+        q[0] += systems.fp_array([step[0]], fp, prec)[0]
+        q[3] += systems.fp_array([step[1]], fp, prec)[0]
+        if res == 0.0 or np.max(np.abs(step)) < 1e-3 * 2.0 ** -(113 if prec is None else prec) * (1 + th0):
+            break
+    r = F["reduced_rhs"](q, pars)
+    res = float(max(abs(float(v)) for v in r))
+    Jm = np.array([float(v) for v in F["reduced_jacobian"](q, pars)]).reshape(nq, nq)
+    w, V = np.linalg.eig(Jm)
+    k = int(eigen.order(w)[0])  # largest real part, then Im >= 0: no eigen-solver decides
+    if w[k].real <= HYPERBOLIC_TOL:
+        raise ParameterError("m", f"the tilted straight rod is not hyperbolic (eigenvalues {w})")
+    v = eigen.fix_phase(V[:, k], prefer=(0,))  # theta entry real > 0, whatever LAPACK's phase
+    return ChartEquilibrium(q, precision, res, complex(w[k]), v)
+
+
 def _rotation_by_pi() -> np.ndarray:
     """G_pi = expm(pi xi) (the rotation by pi about the body 3-axis, acting on every body vector of the state):
     diag(-1, -1, 1) on each of m, n, e3, from the generated generator (exact up to rounding, then rounded)."""
@@ -167,7 +226,10 @@ class PeriodicSaddle(Result):
     eigenvector real > 0... see `_phase_fix`); chart = (theta, psi, phi, pbar_theta, pbar_psi) of x;
     H = H_body - offset (the chart's Hbar); closure = |x(T) - x|; exp_check = |M - expm(T A)|/|M|;
     symplectic_defect = |M J M^T - J|/(|M|^2 |J|); reciprocal_defect = max over the quartet of
-    |Lambda_i Lambda_j - 1| for its reciprocal partners."""
+    |Lambda_i Lambda_j - 1| for its reciprocal partners.  precision: the working precision of its launch points
+    and of its chart view (`chart`: the same relative equilibrium as an equilibrium q of the reduced chart,
+    computed in that precision: `chart_view`, `q`, `chart_eigenvalue`, `chart_vector`).  The one tilted/periodic saddle of
+    magrod: the separatrix's a > 2b splitting launches from its chart view (frame="chart")."""
 
     params: RodParams
     x: np.ndarray
@@ -188,6 +250,7 @@ class PeriodicSaddle(Result):
     hyperbolic: bool
     success: bool = True
     message: str = "periodic saddle: the helical relative equilibrium (mu > 2 lam)"
+    precision: Precision = Precision.DOUBLE
 
     kind = "periodic"
     _repr_fields = ("kind", "params", "T", "unstable_multiplier", "H", "hyperbolic")
@@ -206,22 +269,53 @@ class PeriodicSaddle(Result):
                 "symplectic_defect": self.symplectic_defect, "reciprocal_defect": self.reciprocal_defect,
                 "passed": bool(self.re_residual <= RELATIVE_EQUILIBRIUM_TOL)}
 
-    def launch_point(self, eps: float, angle: float = 0.0, precision=Precision.DOUBLE) -> np.ndarray:
-        """x + eps Re(e^{-i angle} v)/|Re(e^{-i angle} v)|: a point at distance eps on the linear unstable
-        fibre of the periodic orbit at phase 0, formed in `precision` (the O(eps^2) error of the linearisation
-        is the launch error; x itself is the double-precision relative equilibrium, exact in every wider type).
-        The angle is a genuine unknown of the shooting problem (module docstring of magrod.orbits.shooting)."""
-        prec = Precision.parse(precision)
-        d = np.real(np.exp(-1j * angle) * self.unstable_vector)
-        if prec is Precision.DOUBLE:
-            return self.x + eps * d / np.linalg.norm(d)
+    @functools.cached_property
+    def chart_view(self) -> ChartEquilibrium:
+        """The chart view in the saddle's precision (`chart_equilibrium`; computed once, on first use)."""
+        return chart_equilibrium(self.params, self.precision)
+
+    @property
+    def q(self) -> np.ndarray:
+        """The chart equilibrium (theta0, 0, 0, pbar_psi0) in the saddle's precision."""
+        return self.chart_view.q
+
+    @property
+    def chart_eigenvalue(self) -> complex:
+        return self.chart_view.eigenvalue
+
+    @property
+    def chart_vector(self) -> np.ndarray:
+        return self.chart_view.vector
+
+    def launch_point(self, eps: float, angle: float = 0.0, precision=None, *, offset: str = "working",
+                     frame: str = "body") -> np.ndarray:
+        """A point on the linear unstable manifold at launch distance eps and angle `angle`, formed in `precision`
+        (default: the saddle's; the O(eps^2) error of the linearisation is the launch error).
+
+        frame "body": x + eps Re(e^{-i angle} v)/|.| on the unstable fibre of the periodic orbit at phase 0 (v the
+        monodromy's eigenvector; x the double-precision relative equilibrium, exact in every wider type).  The
+        angle is a genuine unknown of the shooting problem (module docstring of magrod.orbits.shooting).
+        frame "chart": the body state of q + eps theta0 Re(e^{-i angle} v_c)/|.| (q the chart equilibrium in
+        `precision`, v_c its unstable eigenvector; the distance is relative to the tilt theta0), on the chart's
+        linear unstable manifold: the launch of the separatrix's splitting.
+        offset: how the offset is rounded ("working" or "double", magrod.orbits.equilibrium.launch_offset)."""
+        prec = self.precision if precision is None else Precision.parse(precision)
         fp, bits = prec.fp_type, prec.prec
-        return (systems.fp_array(self.x, fp, bits)
-                + systems._fp(fp, eps, bits) * systems.fp_array(d / np.linalg.norm(d), fp, bits))
+        if frame == "chart":
+            ch = self.chart_view if prec is self.precision else chart_equilibrium(self.params, prec)
+            d = np.real(np.exp(-1j * angle) * ch.vector)
+            q = ch.q + launch_offset(d / np.linalg.norm(d), eps * float(ch.q[0]), prec, offset)
+            return systems.splitting_functions(fp, bits)["to_body"](q, self.params.array())
+        if frame != "body":
+            raise ParameterError("frame", f"must be 'body' or 'chart', got {frame!r}")
+        d = np.real(np.exp(-1j * angle) * self.unstable_vector)
+        if prec is Precision.DOUBLE and offset == "working":
+            return self.x + eps * d / np.linalg.norm(d)
+        return systems.fp_array(self.x, fp, bits) + launch_offset(d / np.linalg.norm(d), eps, prec, offset)
 
     def at(self, params: RodParams) -> "PeriodicSaddle":
-        """The periodic saddle at other parameters (ParameterError where there is none)."""
-        return periodic_saddle(params)
+        """The periodic saddle at other parameters, in the same precision (ParameterError where there is none)."""
+        return periodic_saddle(params, precision=self.precision)
 
     def summary(self) -> dict:
         q = self.quartet
@@ -289,13 +383,15 @@ def reciprocal_defect_backward(ps: "PeriodicSaddle", precision=Precision.LONG_DO
     return float(np.max(np.abs(a / b - 1.0)))
 
 
-def periodic_saddle(params: RodParams, *, require_hyperbolic: bool = True) -> PeriodicSaddle:
-    """The periodic saddle at `params` (mu > 2 lambdabar) with its monodromy and Floquet multipliers.
+def periodic_saddle(params: RodParams, *, require_hyperbolic: bool = True, precision=Precision.DOUBLE) -> PeriodicSaddle:
+    """The periodic saddle at `params` (mu > 2 lambdabar) with its monodromy and Floquet multipliers (float64),
+    its launch points and chart view formed in `precision` by default.
     ParameterError if there is no relative equilibrium near the straight rod, or (require_hyperbolic) if its
     nontrivial multipliers lie on the unit circle (beyond the Hamiltonian-Hopf boundary, e.g. m >= m_c)."""
     from scipy.linalg import expm
 
     p = params
+    precision = Precision.parse(precision)
     pars = p.array()
     x0, omega, res = relative_equilibrium(p)
     T = 2 * math.pi / abs(omega)
@@ -326,7 +422,7 @@ def periodic_saddle(params: RodParams, *, require_hyperbolic: bool = True) -> Pe
     H = float(systems.body_functions()["H"](x0, pars)[0])
     return PeriodicSaddle(p, x0, omega, T, M, mult, expo, complex(mult[k]), _phase_fix(V[:, k]), np.asarray(chart),
                           H, res, float(np.max(np.abs(xT - x0))),
-                          float(np.linalg.norm(M - expm(T * A), 2) / nM), sym, rec, hyper)
+                          float(np.linalg.norm(M - expm(T * A), 2) / nM), sym, rec, hyper, precision=precision)
 
 
 def hamiltonian_hopf_scan(params: RodParams, name: str, values) -> dict:

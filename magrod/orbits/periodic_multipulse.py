@@ -30,8 +30,8 @@ from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.tolerances import LAUNCH_DISTANCE, SHOOTING_TOL
 from .periodic import PeriodicSaddle, periodic_saddle
-from .shooting import (MultipulseOrbit, crossing_events, fix_residual, residual_and_jacobian, shooting_precision,
-                       symmetric_orbit)
+from .shooting import (MultipulseOrbit, crossing_events, fix_residual, limit_component, newton, residual_and_jacobian,
+                       shooting_precision, symmetric_orbit)
 
 THETA_GATE = 0.3  # a zero of pbar_theta with theta above this is a pulse maximum; below it, a near-saddle one
 
@@ -47,7 +47,7 @@ def crossings(saddle: PeriodicSaddle, angle: float, pulses: int, *, eps: float =
     pars = saddle.params.array()
     j = (pulses + 1) // 2
     big, out = 0, []
-    for t, x in crossing_events(saddle.launch_point(eps, angle), pars, t_max=t_max, max_events=max_events):
+    for t, x in crossing_events(saddle.launch_point(eps, angle, Precision.DOUBLE), pars, t_max=t_max, max_events=max_events):
         th = float(systems.body_to_euler(x, pars)[0])
         if th > gate:
             big += 1
@@ -70,31 +70,26 @@ def shoot(params: RodParams, pulses: int, angle: float, T: float, *, eps: float 
     prec = shooting_precision(crossing, precision)
     eps = eps if eps is not None else LAUNCH_DISTANCE[prec]
     s = saddle if saddle is not None else periodic_saddle(params)
-    hist = []
-    res = math.inf
-    x0 = xT = np.full(systems.dim("body"), np.nan)
-    for it in range(max_iter + 1):
-        ev = residual_and_jacobian(s, T, angle, eps=eps, precision=prec)
-        r, J, x0, xT = ev.r, ev.J, ev.x0, ev.xT
-        res = float(np.max(np.abs(r)))
-        hist.append({"iteration": it, "T": T, "angle": angle, "residual": res})
-        if not np.isfinite(res):
-            break
-        if res <= tol:
-            H = float(systems.body_functions()["H"](xT, params.array())[0])
-            return MultipulseOrbit(True, f"converged in {it} Newton steps", params, s, crossing, T, x0, res, it, eps,
-                                   prec, angle=angle, history=hist, xT=xT, energy_error=abs(H - s.H))
-        try:
-            step = -np.linalg.solve(J, r)
-        except np.linalg.LinAlgError:
-            break
-        lim = 0.5
-        if abs(step[1]) > lim:  # damp angle jumps (a wrong crossing index otherwise)
-            step *= lim / abs(step[1])
-        T, angle = T + step[0], angle + step[1]
-    return MultipulseOrbit(False, f"not converged after {len(hist)} evaluations (last residual {res:.3e} > "
-                                  f"tol {tol:.1e})", params, s, crossing, T, x0, res, len(hist), eps, prec,
-                           angle=angle, history=hist, xT=xT)
+
+    def evaluate(z):
+        return residual_and_jacobian(s, float(z[0]), float(z[1]), eps=eps, precision=prec)
+
+    # the one damped Newton (magrod.orbits.shooting.newton): |d angle| <= 0.5 (a wrong crossing index otherwise);
+    # the periodic searches converge to tol at their launch distance, so no stall/noise-floor acceptance here
+    run = newton(evaluate, [T, angle], tol=tol, max_evaluations=max_iter + 1, damp=limit_component(1, 0.5))
+    hist = [{"iteration": k, "T": float(z[0]), "angle": float(z[1]), "residual": res}
+            for k, (z, res) in enumerate(run.history)]
+    ev = run.evaluation
+    T, angle = float(run.z[0]), float(run.z[1])
+    if run.success:
+        H = float(systems.body_functions()["H"](ev.xT, params.array())[0])
+        return MultipulseOrbit(True, f"converged in {run.iterations} Newton steps", params, s, crossing, T, ev.x0,
+                               run.residual, run.iterations, eps, prec, angle=angle, history=hist, xT=ev.xT,
+                               energy_error=abs(H - s.H))
+    x0, xT = (ev.x0, ev.xT) if ev is not None else (np.full(systems.dim("body"), np.nan),) * 2
+    return MultipulseOrbit(False, f"not converged after {len(hist)} evaluations (last residual {run.residual:.3e} > "
+                                  f"tol {tol:.1e}; {run.outcome})", params, s, crossing, T, x0, run.residual,
+                           len(hist), eps, prec, angle=angle, history=hist, xT=xT)
 
 
 def scan_angles(saddle: PeriodicSaddle, pulses: int, samples: int = 181, *,
@@ -195,28 +190,3 @@ def orbit(res: MultipulseOrbit, n: int = 4001) -> dict:
     """The symmetric orbit on [0, 2T] (magrod.orbits.shooting.symmetric_orbit): body states, reduced coordinates,
     Hbar (also for an unconverged result: it is the orbit at its (T, angle))."""
     return symmetric_orbit(res.x0, res.T, res.params.array(), n)
-
-
-def multipulse_rows(params: RodParams, *, max_pulses: int = 3, samples: int = 121) -> tuple:
-    """Symmetric N-pulse orbits to the periodic saddle at the given parameters (mu != 2 lam: generic, no parameter
-    freed), N = 1..max_pulses.  Returns (summary dict with one row per orbit or failure, [(row, result)])."""
-    import time
-
-    max_pulses = require_positive_int("max_pulses", max_pulses)
-    s = periodic_saddle(params)  # ParameterError before anything is computed
-    t0 = time.perf_counter()
-    rows, found_all = [], []
-    for N in range(1, max_pulses + 1):
-        found = find(params, N, samples=samples, saddle=s)
-        if not found:
-            rows.append({"pulses_target": N, "success": False, "message": "no sign change of sin psi over the "
-                         f"launch-angle scan ({samples} angles) converged to a {N}-pulse orbit"})
-        for k, r in enumerate(found):
-            row = {"pulses_target": N, "pulses": N, "index": k, **r.as_dict()}
-            rows.append(row)
-            found_all.append((row, r))
-    return {"ok": True, "params": params.as_dict(), "free": None, "saddle": "periodic (helical relative equilibrium)",
-            "saddle_T": s.T, "quartet_abs": [abs(z) for z in s.quartet], "orbits": rows,
-            "wall_time_s": time.perf_counter() - t0,
-            "note": "mu != 2 lam: homoclinic orbits to the periodic saddle are generic (unknowns T and the launch "
-                    "angle), found at the given parameters"}, found_all

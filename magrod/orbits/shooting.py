@@ -50,7 +50,7 @@ from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result, jsonable
 from ..core.systems import CFunc, body_functions, body_to_euler
-from ..core.tolerances import MU_TOL
+from ..core.tolerances import FLOOR_CAP, FLOOR_FACTOR
 from ..generated import scalars, symmetry
 from ..generated.names import CHART, PARAMS
 
@@ -72,8 +72,11 @@ class Saddle(Protocol):
     def kind(self) -> str:  # "equilibrium" or "periodic"
         ...
 
-    def launch_point(self, eps: float, angle: float = 0.0, precision=Precision.DOUBLE) -> np.ndarray:
-        """Body state at distance eps, angle `angle` on the linear unstable manifold, formed in `precision`."""
+    precision: Precision  # the working precision of its launch points
+
+    def launch_point(self, eps: float, angle: float = 0.0, precision=None) -> np.ndarray:
+        """Body state at distance eps, angle `angle` on the linear unstable manifold, formed in `precision`
+        (default the saddle's)."""
         ...
 
     def at(self, params: RodParams) -> "Saddle":
@@ -81,7 +84,7 @@ class Saddle(Protocol):
         ...
 
 
-def saddle(params: RodParams) -> Saddle:
+def saddle(params: RodParams, *, precision=Precision.DOUBLE) -> Saddle:
     """The saddle of the rod at `params`: the straight rod (an equilibrium) when mu = 2 lam, the helical periodic
     saddle when mu > 2 lam.
 
@@ -89,6 +92,9 @@ def saddle(params: RodParams) -> Saddle:
     ----------
     params : RodParams
         Non-dimensional parameters (eq:nondim_1).
+    precision : Precision or str
+        The working precision of the saddle's launch points (and of the periodic saddle's chart view, computed
+        there on first use); the eigen- and Floquet data are float64 in every precision.
 
     Returns
     -------
@@ -119,19 +125,20 @@ def saddle(params: RodParams) -> Saddle:
     f(x) = omega xi x, then one variational integration over a period for the monodromy (~5 ms); its checks
     (closure, M = expm(T A), symplecticity) are fields of the result.  Paper sec. 3 and 8.
     """
+    from .equilibrium import is_on_level, straight_rod
+
     if not isinstance(params, RodParams):
         raise ParameterError("params", f"must be a RodParams, got {type(params).__name__}")
+    precision = Precision.parse(precision)
+    if is_on_level(params):
+        return straight_rod(params, precision=precision)
     gap = params.mu - scalars.straight_rod_mu(**params.as_dict())
-    if abs(gap) <= MU_TOL * max(1.0, abs(params.mu)):
-        from .equilibrium import straight_rod
-
-        return straight_rod(params)
     if gap < 0:
         raise ParameterError("mu", f"no saddle near the straight rod for mu < 2 lam (got mu - 2 lam = {gap:.3g}): "
                                    "the radicand mu - 2 lam pbar_psi of eq:alignment_condition is negative there")
     from .periodic import periodic_saddle
 
-    return periodic_saddle(params)
+    return periodic_saddle(params, precision=precision)
 
 
 def moved(s: Saddle, name: str, value: float) -> RodParams:
@@ -168,8 +175,8 @@ def launch_derivative(s: Saddle, name: str, eps: float, angle: float = 0.0, h_re
     name +- h, mu following on mu = 2 lam for the straight rod)."""
     v = getattr(s.params, name)
     h = _parameter_step(s, name, h_rel)
-    xp = s.at(moved(s, name, v + h)).launch_point(eps, angle)
-    xm = s.at(moved(s, name, v - h)).launch_point(eps, angle)
+    xp = s.at(moved(s, name, v + h)).launch_point(eps, angle, Precision.DOUBLE)
+    xm = s.at(moved(s, name, v - h)).launch_point(eps, angle, Precision.DOUBLE)
     return (xp - xm) / (2 * h)
 
 
@@ -233,12 +240,14 @@ def propagate_variational(x0, pars, T, precision=Precision.DOUBLE) -> tuple:
 @dataclass
 class ShootingEvaluation:
     """One evaluation of the shooting map: residual r (2,), Jacobian J (2 x (1 [+ 1] + len(free))) with columns
-    d/dT [, d/dangle for a periodic saddle], d/d(free...), the launch point x0 (float64) and x(T)."""
+    d/dT [, d/dangle for a periodic saddle], d/d(free...), the launch point x0 (float64), x(T) and the saddle
+    it was launched from."""
 
     r: np.ndarray
     J: np.ndarray
     x0: np.ndarray
     xT: np.ndarray
+    saddle: object = None
 
 
 def residual_and_jacobian(s: Saddle, T: float, angle: float = 0.0, *, eps: float, precision=Precision.DOUBLE,
@@ -259,12 +268,116 @@ def residual_and_jacobian(s: Saddle, T: float, angle: float = 0.0, *, eps: float
     if jacobian:
         if s.kind == "periodic":
             ha = h_rel
-            dxa = (s.launch_point(eps, angle + ha) - s.launch_point(eps, angle - ha)) / (2 * ha)
+            dxa = (s.launch_point(eps, angle + ha, Precision.DOUBLE)
+                   - s.launch_point(eps, angle - ha, Precision.DOUBLE)) / (2 * ha)
             cols.append(G @ (Phi @ dxa))
         for name in free:
             dx0 = launch_derivative(s, name, eps, angle, h_rel)
             cols.append(G @ (Phi @ dx0 + Psi @ parameter_direction(s, name)))
-    return ShootingEvaluation(r, np.column_stack(cols), np.asarray(x0, dtype=float), x)
+    return ShootingEvaluation(r, np.column_stack(cols), np.asarray(x0, dtype=float), x, s)
+
+
+# --- the one damped Newton ---------------------------------------------------------------------------------------
+@dataclass
+class NewtonRun:
+    """What `newton` returns.  z: the unknowns of the returned iterate (the converged one, else the best one when
+    it was accepted at the noise floor, else the last one evaluated); evaluation: what `evaluate` returned there
+    (its r, J and anything the caller carries); residual: max|r| there (or `measure`); iterations: Newton steps
+    taken to reach z; evaluations: calls of `evaluate`; history: [(z, residual)] per evaluation; outcome:
+    "converged" (residual <= tol), "floor" (stalled, best residual within FLOOR_FACTOR x the measured noise floor
+    and <= FLOOR_CAP; `noise_floor` the floor per component), or why it stopped: "max_iter", "stalled",
+    "singular" (J not invertible), "non-finite", "rejected" (`evaluate` raised ParameterError: the step left
+    the parameters where the problem is defined)."""
+
+    z: np.ndarray | None
+    evaluation: object
+    residual: float
+    iterations: int
+    evaluations: int
+    history: list
+    outcome: str
+    noise_floor: np.ndarray | None = None
+    error: Exception | None = None  # the ParameterError of a "rejected" run
+
+    @property
+    def success(self) -> bool:
+        return self.outcome in ("converged", "floor")
+
+
+def _newton_solve(r, J, z):
+    return -np.linalg.solve(J, r)
+
+
+def newton(evaluate, z0, *, tol: float, max_evaluations: int, damp=None, stall: int | None = None, floor=None,
+           solve=None, measure=None, min_steps: int = 0) -> NewtonRun:
+    """The one damped Newton of magrod's shooting problems (the multipulse searches of both saddles, their
+    continuation corrector).
+
+    evaluate(z) -> an object with `.r` and `.J` (ShootingEvaluation, or anything carrying them) at the unknowns z;
+    a ParameterError from it ends the run ("rejected": e.g. no straight rod at the stepped parameter).
+    Each evaluation: residual = measure(ev) (default max|ev.r|); non-finite -> stop; residual <= tol after at
+    least `min_steps` steps -> converged; else the step dz = solve(ev.r, ev.J, z) (default -J^-1 r),
+    damp(dz, z) -> dz (a limit on the components that would leave the region where the problem's crossing index
+    is meaningful), z += dz.  At most `max_evaluations` evaluations.
+
+    The noise floor (stall, floor).  Near the root the residual of a shooting problem is rounding noise amplified
+    by the near-saddle passages, which Newton cannot reduce: with `stall`, the best iterate is kept and the run
+    stops after `stall` consecutive evaluations that fail to halve the best residual.  If it did not converge,
+    floor(best_evaluation, best_z) -> the noise floor per component of r (measured by the caller, e.g.
+    multipulse.noise_floor); the best iterate is accepted ("floor") iff its residual is <= FLOOR_CAP and <=
+    FLOOR_FACTOR x max(floor).  Without `stall` no best is kept and the run ends at the last evaluation."""
+    solve = solve or _newton_solve
+    z = np.array(z0, dtype=float)
+    history = []
+    best = None  # (residual, z, evaluation, iterations)
+    count = 0
+    last = (None, None, math.inf)
+    outcome, error = "max_iter", None
+    for k in range(max_evaluations):
+        try:
+            ev = evaluate(z)
+        except ParameterError as exc:
+            outcome, error = "rejected", exc
+            break
+        res = float(np.max(np.abs(ev.r))) if measure is None else float(measure(ev))
+        history.append((z.copy(), res))
+        last = (z.copy(), ev, res)
+        if not np.isfinite(res):
+            outcome = "non-finite"
+            break
+        if res <= tol and k >= min_steps:
+            return NewtonRun(z.copy(), ev, res, k, k + 1, history, "converged")
+        if stall is not None:
+            count = 0 if best is None or res < 0.5 * best[0] else count + 1
+            if best is None or res < best[0]:
+                best = (res, z.copy(), ev, k)
+            if count >= stall:
+                outcome = "stalled"
+                break
+        try:
+            dz = solve(ev.r, ev.J, z)
+        except np.linalg.LinAlgError:
+            outcome = "singular"
+            break
+        if damp is not None:
+            dz = damp(dz, z)
+        z = z + dz
+    if floor is not None and best is not None and best[0] <= FLOOR_CAP:
+        res_b, z_b, ev_b, k_b = best
+        floors = np.asarray(floor(ev_b, z_b), dtype=float)
+        if res_b <= FLOOR_FACTOR * float(np.max(floors)):
+            return NewtonRun(z_b, ev_b, res_b, len(history), len(history), history, "floor", floors)
+    z_l, ev_l, res_l = last
+    return NewtonRun(z_l, ev_l, res_l, len(history), len(history), history, outcome, error=error)
+
+
+def limit_component(i: int, bound) -> callable:
+    """A `damp` for `newton`: scale the whole step so that |dz_i| <= bound(z) (a float or a function of z)."""
+    def damp(dz, z):
+        lim = bound(z) if callable(bound) else bound
+        return dz * (lim / abs(dz[i])) if abs(dz[i]) > lim else dz
+
+    return damp
 
 
 # --- the one crossing loop ----------------------------------------------------------------------------------------
@@ -470,6 +583,106 @@ class MultipulseOrbit(Result):
         d.update({"x0": jsonable(self.x0), "history": jsonable(self.history),
                   "uncertainty": jsonable(self.uncertainty), "pulses_counted": self.pulses_counted})
         return d
+
+
+@dataclass(repr=False)
+class PulseSearch(Result):
+    """The search for the symmetric orbits with one number of pulses (`pulses_target` = N) to one saddle: what
+    magrod.orbits.multipulse.find_orbits returns per N, and MultipulseSearch.searches holds.
+
+    orbits: the converged MultipulseOrbit(s) kept (straight rod: at most one, the one nearest the nominal value
+    of the free parameter; periodic saddle: every distinct one found); samples: the sampled orbit of each
+    (MultipulseOrbit.sample, the straight rod's, as its files are written from them); summary: the straight
+    rod's row (pulses counted, arclength 2T, H and its deviation from the saddle's, theta_max, bracket, the free
+    value, its uncertainty ...; `row()`); brackets: sign changes found by the scan; attempts: what each bracket
+    gave when none was kept; iterations, residual: of the last failed Newton (nan if none ran).
+
+    Dict access (search["result"], search["orbit"], search["residual"], ...) is the pre-issue-25 return of
+    find_orbits, kept for one release with a DeprecationWarning: use the attributes, `row()` or `to_dict()`."""
+
+    success: bool
+    message: str
+    pulses_target: int
+    orbits: list = field(default_factory=list)
+    samples: list = field(default_factory=list)
+    summary: dict = field(default_factory=dict)
+    brackets: int | None = None
+    attempts: list | None = None
+    iterations: int | None = None
+    residual: float = math.nan
+
+    _repr_fields = ("pulses_target", "n_orbits", "residual")
+
+    @property
+    def n_orbits(self) -> int:
+        return len(self.orbits)
+
+    @property
+    def orbit(self):
+        """The (first) orbit found, or None."""
+        return self.orbits[0] if self.orbits else None
+
+    @property
+    def uncertainty(self):
+        return self.summary.get("uncertainty")
+
+    @property
+    def accuracy(self) -> dict:
+        """The accuracy achieved: the orbits' residuals and noise floors (each orbit's `accuracy` has the rest)."""
+        return {"max_residual": max((o.residual for o in self.orbits), default=self.residual),
+                "max_noise_floor": max((o.noise_floor for o in self.orbits), default=0.0)}
+
+    def row(self) -> dict:
+        """The search as one flat record (the table row of `magrod multipulse` and the figures): pulses_target,
+        success, message, then the straight rod's summary, or brackets, attempts (and the last failed Newton's
+        iterations and residual) for a failure."""
+        out = {"pulses_target": self.pulses_target, "success": self.success, "message": self.message}
+        if self.success:
+            out.update(self.summary)
+            return out
+        if self.brackets is not None:
+            out["brackets"] = self.brackets
+        if self.attempts is not None:
+            out["attempts"] = self.attempts
+        if self.iterations is not None:
+            out.update({"iterations": self.iterations, "residual": self.residual})
+        return out
+
+    def to_dict(self) -> dict:
+        return jsonable(self.row())
+
+    def _legacy(self) -> dict:
+        d = self.row()
+        if self.success and self.orbits and self.samples:
+            d.update({"result": self.orbits[0], "orbit": self.samples[0]})
+        return d
+
+    def _warn(self):
+        import warnings
+
+        warnings.warn("find_orbits' entries are PulseSearch results (issue 25): dict access is deprecated and goes "
+                      "in the next release; use the attributes (orbit, samples, summary), row() or to_dict()",
+                      DeprecationWarning, stacklevel=3)
+
+    def __getitem__(self, key):
+        self._warn()
+        return self._legacy()[key]
+
+    def get(self, key, default=None):
+        self._warn()
+        return self._legacy().get(key, default)
+
+    def __contains__(self, key) -> bool:
+        self._warn()
+        return key in self._legacy()
+
+    def keys(self):
+        self._warn()
+        return self._legacy().keys()
+
+    def items(self):
+        self._warn()
+        return self._legacy().items()
 
 
 def shooting_precision(crossing: int, precision=None) -> Precision:

@@ -18,15 +18,16 @@ symmetry) is used to put e3 in the (d1, d3) plane.  d = 0 iff x_u lies on Fix(R)
 is an angle around the small transverse force rho (rho = O(eps) at the turning point) and is computed from the
 state with absolute error ~ ulp/rho, which is why the crossing is evaluated in the working precision.
 
-Cases (both saddles implement the saddle protocol of magrod.orbits.shooting, whose crossing loop is used).
-  a = 2b   the saddle is the straight rod, an equilibrium (`EquilibriumSaddle`: magrod.orbits.equilibrium's
-           straight rod with its state in the working precision); its 2-D unstable manifold is a single orbit
+Cases (the saddles are the orbits' own, magrod.orbits.shooting.saddle(params, precision=...), whose crossing loop
+is used; the launch convention is `LAUNCH`).
+  a = 2b   the saddle is the straight rod, an equilibrium (magrod.orbits.equilibrium.StraightRod, its state
+           formed in the working precision); its 2-D unstable manifold is a single orbit
            modulo the rotations about d3 (the launch phase is a symmetry), so the splitting is ONE number d(eps)
            per eps.
   a > 2b   the saddle is the relative equilibrium "straight rod tilted by theta0 = O(eps) from the field" (a
            periodic orbit in the body frame -- the same relative equilibrium as magrod.orbits.periodic's
            PeriodicSaddle -- seen here as an equilibrium (theta0, psi = 0, 0, pbar_psi0) on Fix(R) of the reduced
-           chart and computed by Newton in the working precision: `TiltedSaddle`, kind "periodic").  It is a saddle-focus of the chart:
+           chart and computed by Newton in the working precision: PeriodicSaddle.chart_view, kind "periodic").  It is a saddle-focus of the chart:
            its unstable manifold is 2-D, parametrised by a genuine phase phi on the unstable eigenplane, and
            its trace on Sigma is a closed curve x_u(phi).  The splitting is the odd part of that curve:
            D(psi) = theta_u(psi) - theta_u(-psi) (W^s on Sigma is the mirror image psi -> -psi of W^u), computed
@@ -44,19 +45,21 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import asdict, dataclass, field
 
 import heyoka as hy
 import numpy as np
 
-from ..core import eigen, systems
+from ..core import systems
 from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result
-from ..core.tolerances import HYPERBOLIC_TOL, REAL128_QUADRATURE_TOL, SPLITTING_LAUNCH
+from ..core.tolerances import MU_TOL, REAL128_QUADRATURE_TOL, SPLITTING_LAUNCH
 from ..generated import scalars
 from ..orbits.shooting import Crossing, crossing_events
+from ..orbits.shooting import saddle as orbit_saddle
 
 THETA_TURN_MIN = 0.3  # a zero of pbar_theta counts as the turning point only where theta exceeds this
 T_MAX = 2000.0
@@ -69,7 +72,10 @@ def a_level(b) -> float:
 
 
 def is_equilibrium_case(a, b) -> bool:
-    return float(a) == a_level(b)
+    """a = 2b to MU_TOL (the rule of magrod.orbits.equilibrium.is_on_level for mu = 2 lam, applied to the scaled
+    parameters): then mu is put on the straight rod's level exactly (`scaled_params`) and the saddle is the
+    straight rod."""
+    return abs(float(a) - a_level(b)) <= MU_TOL * max(1.0, abs(float(a)))
 
 
 def _check(m, gamma, delta, a, b, eps, precision):
@@ -81,7 +87,7 @@ def _check(m, gamma, delta, a, b, eps, precision):
         raise ParameterError("a", f"must be >= 0 (mu = a eps^2 >= 0), got {a}")
     if b < 0:
         raise ParameterError("b", f"must be >= 0 (lambdabar = b eps^2 >= 0), got {b}")
-    if a < a_level(b):
+    if a < a_level(b) and not is_equilibrium_case(a, b):
         raise ParameterError("a", f"must satisfy a >= 2b (got a = {a}, 2b = {a_level(b)}): for a < 2b the radicand "
                                   "mu - 2 lambdabar pbar_psi of eq:alignment_condition is negative at the straight rod")
     if not eps > 0:
@@ -96,7 +102,8 @@ def _check(m, gamma, delta, a, b, eps, precision):
 
 
 def scaled_params(m, gamma, delta, a, b, eps) -> RodParams:
-    """RodParams with lambdabar = b eps^2 and mu = a eps^2 (float64); mu = 2 lambdabar exactly when a = 2b."""
+    """RodParams with lambdabar = b eps^2 and mu = a eps^2 (float64); mu = 2 lambdabar exactly when a = 2b
+    (`is_equilibrium_case`)."""
     lam = float(b) * float(eps) ** 2
     mu = scalars.straight_rod_mu(m=m, mu=0.0, gamma=gamma, delta=delta, lam=lam) if is_equilibrium_case(a, b) \
         else float(a) * float(eps) ** 2
@@ -104,122 +111,54 @@ def scaled_params(m, gamma, delta, a, b, eps) -> RodParams:
 
 
 # --------------------------------------------------------------------------------------------------------------
-# the saddle and its unstable directions
+# the saddle: the orbits' saddle objects (magrod.orbits.shooting.saddle), in the working precision
 # --------------------------------------------------------------------------------------------------------------
-def _launch_offset(vector, eta, angle, fp, prec):
-    """eta Re(e^{-i angle} v)/|.| formed in double and then converted to the working precision.  This is the
-    splitting's launch convention (StraightRod.launch_point forms the product in the working precision instead):
-    the eigenvector is a float64 quantity either way, and the measured splitting digits of REPORT.md (derived vs
-    measured leading term, 8.4 digits and more) were established with this rounding, which the long double runs
-    are sensitive to at their noise level (~1e-9 relative)."""
-    d = np.real(np.exp(-1j * angle) * vector)
-    d = d / np.linalg.norm(d)
-    return systems.fp_array(eta * d, fp, prec)
+# The splitting's launch convention, per kind of saddle (explicit keywords of the saddles' launch_point):
+#  - offset "double": the offset eta d is formed in float64 and then converted to the working precision (the
+#    eigenvector is a float64 quantity either way).  The measured splitting digits of REPORT.md (derived vs
+#    measured leading term, 8.4 digits and more) were established with this rounding, which the long double runs
+#    are sensitive to at their noise level (~1e-9 relative); the shooting engine forms the product in the working
+#    precision instead (offset "working").
+#  - frame "chart" (the periodic saddle): the launch is on the linear unstable manifold of the tilted straight rod
+#    as an equilibrium of the reduced chart (PeriodicSaddle.chart_view, Newton in the working precision), at the
+#    distance eta theta0 relative to the tilt: its trace on Sigma is the closed curve x_u(phi) of `tilted_curve`.
+LAUNCH = {"equilibrium": {"offset": "double"}, "periodic": {"offset": "double", "frame": "chart"}}
 
 
-@dataclass
-class EquilibriumSaddle:
-    """The straight rod (a = 2b) in the working precision: body state x_body computed there (1/m^2 rounded in
-    that precision), the unstable eigenvalue and eigenvector of magrod.orbits.equilibrium.straight_rod (float64),
-    H the chart energy Hbar of the saddle.  Implements the saddle protocol of magrod.orbits.shooting in its own
-    precision (kind "equilibrium": the launch angle is a symmetry direction)."""
-
-    params: RodParams
-    precision: Precision
-    x_body: np.ndarray
-    eigenvalue: complex
-    vector: np.ndarray
-    H: object
-    newton_residual: float = 0.0
-
-    kind = "equilibrium"
-
-    def launch_point(self, eps: float, angle: float = 0.0, precision=None) -> np.ndarray:
-        """x_body + eps Re(e^{-i angle} v)/|.| (`_launch_offset`), in the saddle's working precision."""
-        _same_precision(self, precision)
-        return self.x_body + _launch_offset(self.vector, eps, angle, self.precision.fp_type, self.precision.prec)
-
-    def at(self, params: RodParams) -> "EquilibriumSaddle":
-        return working_saddle(params, self.precision)
+def splitting_saddle(params: RodParams, precision=Precision.DOUBLE):
+    """The saddle at `params` in the working precision: magrod.orbits.shooting.saddle (the straight rod,
+    StraightRod, where mu = 2 lam to MU_TOL; else the periodic saddle, PeriodicSaddle, with its chart view)."""
+    return orbit_saddle(params, precision=precision)
 
 
-def _same_precision(sd, precision):
-    if precision is not None and Precision.parse(precision) is not sd.precision:
-        raise ParameterError("precision", f"this saddle was computed in {sd.precision.value}; got "
-                                          f"{Precision.parse(precision).value}")
-
-
-@dataclass
-class TiltedSaddle:
-    """The tilted straight rod (a > 2b) in the working precision: chart state q = (theta0, 0, 0, pbar_psi0) on
-    Fix(R), an equilibrium of the reduced chart (a relative equilibrium, i.e. a periodic orbit, of the body frame:
-    kind "periodic"); the unstable eigenvalue and unit eigenvector (float64, phase: first entry real > 0) of the
-    chart Jacobian; H the chart energy Hbar there; newton_residual max |chart field| at q.  Implements the saddle
-    protocol of magrod.orbits.shooting, in its own precision only."""
-
-    params: RodParams
-    precision: Precision
-    q: np.ndarray
-    eigenvalue: complex
-    vector: np.ndarray
-    H: object
-    newton_residual: float
-
-    kind = "periodic"
-
-    def launch_point(self, eps: float, angle: float = 0.0, precision=None) -> np.ndarray:
-        """Body state of q + eps theta0 Re(e^{-i angle} v)/|.| (the distance relative to the tilt theta0, on the
-        chart's linear unstable manifold), formed in the saddle's working precision."""
-        _same_precision(self, precision)
-        fp, prec = self.precision.fp_type, self.precision.prec
-        q = self.q + _launch_offset(self.vector, eps * float(self.q[0]), angle, fp, prec)
-        return systems.splitting_functions(fp, prec)["to_body"](q, self.params.array())
-
-    def at(self, params: RodParams) -> "TiltedSaddle":
-        return working_saddle(params, self.precision)
+def launch_point(sd, eta: float, phase: float = 0.0, precision=None):
+    """The splitting's launch point of W^u: sd.launch_point with the keywords of `LAUNCH` for its kind."""
+    return sd.launch_point(eta, phase, precision, **LAUNCH[sd.kind])
 
 
 def working_saddle(params: RodParams, precision=Precision.DOUBLE):
-    """The saddle at `params` in the working precision: the straight rod (`EquilibriumSaddle`) when mu = 2 lam
-    exactly, else the `TiltedSaddle`."""
-    precision = Precision.parse(precision)
-    fp, prec = precision.fp_type, precision.prec
-    F = systems.splitting_functions(fp, prec)
-    pars = params.array()
-    mu_level = scalars.straight_rod_mu(**params.as_dict())  # mu = 2 lam
-    if params.mu == mu_level:
-        from ..orbits.equilibrium import straight_rod, straight_rod_state
+    """Deprecated (issue 25): the separatrix uses the orbits' saddles; call `splitting_saddle` or
+    magrod.orbits.shooting.saddle(params, precision=...)."""
+    warnings.warn("magrod.separatrix.splitting.working_saddle is deprecated: use magrod.orbits.shooting.saddle("
+                  "params, precision=...) (the same objects: StraightRod, PeriodicSaddle)", DeprecationWarning,
+                  stacklevel=2)
+    return splitting_saddle(params, precision)
 
-        s = straight_rod(params)
-        x = straight_rod_state(params, precision)
-        return EquilibriumSaddle(params, precision, x, s.unstable_eigenvalue, s.unstable_vector, F["H"](x, pars)[0])
-    # tilted straight rod: Newton on (theta, pbar_psi) for theta' = pbar_theta'... = 0 at psi = pbar_theta = 0
-    # (psi' = 0 and pbar_theta' = 0; psi = 0 and pbar_theta = 0 make theta' = pbar_psi' = 0 by the reversibility)
-    th0 = math.sqrt(params.mu - mu_level)  # leading order: the tilt of the force from the field
-    q = systems.fp_array([th0, 0.0, 0.0, math.cos(th0)], fp, prec)
-    nq = systems.dim("reduced")
-    res = math.inf
-    for _ in range(60):
-        r = F["reduced_rhs"](q, pars)
-        Jm = F["reduced_jacobian"](q, pars).reshape(nq, nq)
-        A = np.array([[float(Jm[i, j]) for j in (0, 3)] for i in (1, 2)])
-        rr = np.array([float(r[1]), float(r[2])])
-        res = float(np.max(np.abs(rr)))
-        step = np.linalg.solve(A, -rr)
-        q[0] += systems.fp_array([step[0]], fp, prec)[0]
-        q[3] += systems.fp_array([step[1]], fp, prec)[0]
-        if res == 0.0 or np.max(np.abs(step)) < 1e-3 * 2.0 ** -(113 if prec is None else prec) * (1 + th0):
-            break
-    r = F["reduced_rhs"](q, pars)
-    res = float(max(abs(float(v)) for v in r))
-    Jm = np.array([float(v) for v in F["reduced_jacobian"](q, pars)]).reshape(nq, nq)
-    w, V = np.linalg.eig(Jm)
-    k = int(eigen.order(w)[0])  # largest real part, then Im >= 0: no eigen-solver decides
-    if w[k].real <= HYPERBOLIC_TOL:
-        raise ParameterError("m", f"the tilted straight rod is not hyperbolic (eigenvalues {w})")
-    v = eigen.fix_phase(V[:, k], prefer=(0,))  # theta entry real > 0, whatever LAPACK's phase
-    H = F["H"](F["to_body"](q, pars), pars)[0]
-    return TiltedSaddle(params, precision, q, complex(w[k]), v, H, res)
+
+_DEPRECATED = {"EquilibriumSaddle": ("magrod.orbits.equilibrium", "StraightRod"),
+               "TiltedSaddle": ("magrod.orbits.periodic", "PeriodicSaddle")}
+
+
+def __getattr__(name):
+    """The old saddle classes of the splitting, now the orbits' ones (issue 25), with a DeprecationWarning."""
+    if name in _DEPRECATED:
+        import importlib
+
+        mod, new = _DEPRECATED[name]
+        warnings.warn(f"magrod.separatrix.splitting.{name} is deprecated: the separatrix uses {mod}.{new}",
+                      DeprecationWarning, stacklevel=2)
+        return getattr(importlib.import_module(mod), new)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 # --------------------------------------------------------------------------------------------------------------
@@ -248,13 +187,13 @@ def first_crossing(params: RodParams, precision=Precision.DOUBLE, *, phase: floa
                    sd=None, eps: float = math.nan) -> SplittingCrossing:
     """Integrate W^u from the launch point to its first turning point (a stopping event on e32 m1 - e31 m2 =
     sin(theta) pbar_theta = 0, the crossing loop of magrod.orbits.shooting) in the working precision and evaluate
-    the crossing there.  sd: the saddle (`working_saddle`) if already computed.  Guard: T_MAX."""
+    the crossing there.  sd: the saddle (`splitting_saddle`) if already computed.  Guard: T_MAX."""
     precision = Precision.parse(precision)
     fp, prec = precision.fp_type, precision.prec
     t0 = time.perf_counter()
-    sd = sd or working_saddle(params, precision)
+    sd = sd or splitting_saddle(params, precision)
     eta = SPLITTING_LAUNCH[precision] if eta is None else eta
-    x0 = sd.launch_point(eta, phase, precision)
+    x0 = launch_point(sd, eta, phase, precision)
     F = systems.splitting_functions(fp, prec)
     pars = params.array()
     H0 = F["H"](x0, pars)[0]
@@ -468,7 +407,10 @@ def tilted_curve(m, gamma, delta, a, b, eps, precision=Precision.DOUBLE, *, n_ph
     if is_equilibrium_case(a, b):
         raise ParameterError("a", "a = 2b is the straight-rod equilibrium: use scan()")
     p = scaled_params(m, gamma, delta, a, b, eps)
-    sd = working_saddle(p, precision)
+    sd = splitting_saddle(p, precision)
+    if sd.kind != "periodic":
+        raise ParameterError("a", f"a - 2b = {a - a_level(b):.3g} is not resolved at eps = {eps:g}: mu - 2 lam = "
+                                  f"{p.mu - 2 * p.lam:.3g} is within MU_TOL of the straight rod's level")
     ph = np.linspace(0, 2 * np.pi, int(n_phases), endpoint=False)
     cs = [first_crossing(p, precision, phase=float(x), sd=sd, eps=eps) for x in ph]
     th = np.array([c.theta for c in cs])
@@ -495,7 +437,7 @@ def tilted_curve(m, gamma, delta, a, b, eps, precision=Precision.DOUBLE, *, n_ph
     if bad and guard:
         raise ParameterError("eps", f"the W^u curve on Sigma at eps = {eps:g} ({precision.value}) fails the fit guard: "
                                     f"{'; '.join(bad)}; use a larger eps, a higher precision or more phases")
-    return TiltedCurve(eps, a, b, precision, float(sd.q[0]), sd.eigenvalue, ph.tolist(), th.tolist(), ps.tolist(),
+    return TiltedCurve(eps, a, b, precision, float(sd.q[0]), sd.chart_eigenvalue, ph.tolist(), th.tolist(), ps.tolist(),
                        [c.d for c in cs], ck, sk, res, float(np.max(np.abs(D))), gap, gap_bound, fit_bound, text)
 
 
