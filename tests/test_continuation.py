@@ -135,8 +135,27 @@ def _across_and_back(mu0, steps, ds):
     kw = dict(scale=FOLD_SCALE, ds=ds, ds_max=ds, steps=steps, par=2, direction=-1, tol=FOLD_TOL,
               names=("T", "angle", "mu"))
     fwd = C.pseudo_arclength(F, u0, **kw)
-    back = C.pseudo_arclength(F, fwd.u[-1], **{**kw, "steps": steps + 1})
+    # back across the fold from the last point, until it is crossed: how far each step goes depends on whether the
+    # corrector meets FOLD_TOL at the full step (long double noise ~1e-13..1e-12 against 2e-12), which the rounding
+    # of the CPU decides (on one Intel Xeon the back run halved its first step and stopped 5e-10 short of the fold
+    # after steps + 1 points); the points it computes agree to 1e-9 on every CPU, the step sizes need not
+    back = C.pseudo_arclength(F, fwd.u[-1], **{**kw, "steps": 1})
+    for _ in range(3 * steps):
+        if back.folds:
+            break
+        more = C.pseudo_arclength(F, back.u[-1], **{**kw, "steps": 1})
+        back = _joined(back, more)
     return F, params_of, fwd, back
+
+
+def _joined(a, b):
+    """Branch a followed by branch b (b starts at a's last point; a fold of b is re-indexed)."""
+    from dataclasses import replace
+
+    n = len(a.u) - 1
+    return replace(a, u=np.vstack([a.u, b.u[1:]]), tangents=np.vstack([a.tangents, b.tangents[1:]]),
+                   residuals=np.r_[a.residuals, b.residuals[1:]], iterations=np.r_[a.iterations, b.iterations[1:]],
+                   folds=a.folds + [{**f, "index": f["index"] + n} for f in b.folds], message=b.message)
 
 
 def _check_fold_and_points(F, fwd, back):
