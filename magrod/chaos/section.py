@@ -398,7 +398,15 @@ class SectionStart:
     """A launch point on the section sin(psi) = 0, validated: the rod, the level Hbar = h, the chart start
     (theta0, pbar_theta0, psi0) and every real root pbar_psi of Hbar(theta0, psi0, pbar_theta0, .) = h with the
     one chosen (`p_psi0 = roots[root_index]`).  Built by `section_start`; consumed by the scalar path, the SIMD
-    lanes (magrod/chaos/batch.py) and the explorer's stream (`section_points`).  `panel` labels the result."""
+    lanes (magrod/chaos/batch.py) and the explorer's stream (`section_points`).  `panel` labels the result.
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> s = mr.section_start("4a", root="largest")
+    >>> s.root_index, bool(s.p_psi0 == s.roots[-1])
+    (1, True)
+    """
 
     params: RodParams
     h: float
@@ -500,7 +508,15 @@ class SectionOptions:
     """How a section is integrated and which crossings it records; validated on construction (ParameterError
     naming the option).  t_max None is the max-time guard 100 x iterates; tol None the precision's machine
     epsilon; pole_switch / radicand_switch the (enter, leave) thresholds of the body-frame patches of the
-    formulation "reduced"; stretch_dt samples the axial stretch along the run."""
+    formulation "reduced"; stretch_dt samples the axial stretch along the run.
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> o = mr.SectionOptions(iterates=500, precision="long double")
+    >>> o.precision, o.time_limit
+    (<Precision.LONG_DOUBLE: 'long double'>, 50000.0)
+    """
 
     iterates: int = 10_000
     t_max: float | None = None
@@ -992,7 +1008,9 @@ class _Orbit:
 class SectionChunk:
     """Section points found since the previous chunk of a `section_points` stream (k of them): `points` (k, 4)
     chart coordinates (theta, psi, pbar_theta, pbar_psi; psi wrapped), `times` (k,), `frame` (k,), `dH` (k,)
-    Hbar - h, and `n_total`, the points of the orbit so far.  Computed as the result's (the same functions)."""
+    Hbar - h, and `n_total`, the points of the orbit so far.  times and frame are the result's to the bit; points
+    and dH come from the same compiled functions as the result's, evaluated on the chunk's columns only, so they
+    agree with the result's to rounding (heyoka's cfunc runs SIMD blocks and a scalar remainder)."""
 
     points: np.ndarray
     times: np.ndarray
