@@ -5,8 +5,13 @@ Public API
 solve_p_psi(params, h, theta0, ptheta0, psi0=0)  -> every real root pbar_psi of Hbar(theta0, psi0, ptheta0, .) = h
 poincare_section(params, h, theta0, ptheta0, psi0=0, *, iterates=10_000, root="smallest", direction="positive",
              branch="any", formulation="body", ...) -> PoincareResult
-poincare_section([panels...] | params, h, starts=(N, 2..4) array, ...) -> [PoincareResult] (many orbits: SIMD lanes of
-             heyoka's batch integrator, magrod/chaos/batch.py)
+poincare_sections([panels...] | params, h, starts=(N, 2..4) array, ...) -> [PoincareResult] (many orbits: SIMD
+             lanes of heyoka's batch integrator, magrod/chaos/batch.py)
+section_start(params, h, theta0, ptheta0, psi0, *, p_psi0, root) -> SectionStart (the one resolver of a start)
+SectionOptions(iterates, t_max, direction, branch, formulation, precision, tol, ...) (validated on construction)
+section_points(start, options, *, cancel=None) -> SectionPoints: the one section loop as a stream of SectionChunk;
+             .result is the PoincareResult (poincare_section drains it; the explorer draws it as it comes).  The
+             lanes of batch.py hand their crossings to the same _Orbit (branch filter, buffer, messages, assembly)
 run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.core.printed.PANELS), threads
 orbit_stretch(res, dt=0.05)             -> the axial stretch v3 along the orbit (min, fraction <= 0; two forms)
 (figures: magrod/figures/poincare.py; files: PoincareResult.arrays()/summary())
