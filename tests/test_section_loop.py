@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 
 import magrod as mr
-from magrod.chaos import section
 from magrod.core import systems
 from magrod.core.errors import ParameterError
 from magrod.core.precision import Precision
