@@ -212,3 +212,16 @@ def test_no_fp_type_prec_pairs_in_the_section_loop():
         bad = [(rel, n.lineno, k.arg) for n in ast.walk(tree) if isinstance(n, ast.Call)
                for k in n.keywords if k.arg in ("fp_type", "prec")]
         assert bad == []
+
+
+def test_two_streams_interleaved_on_one_thread_do_not_share_an_integrator():
+    """A suspended stream holds its thread's cached integrators; a second stream on the same thread gets its own
+    pair (zip of two streams), so both give their own orbit's points."""
+    opts = mr.SectionOptions(iterates=120)
+    a, b = (mr.section_points(mr.section_start(k), opts, first=3, every=0.0) for k in ("4a", "4d"))
+    ia, ib = iter(a), iter(b)
+    for _ in zip(ia, ib):
+        pass
+    list(ia), list(ib)  # drain what zip left
+    _same(a.result, mr.poincare_section("4a", iterates=120))
+    _same(b.result, mr.poincare_section("4d", iterates=120))

@@ -56,6 +56,7 @@ the SIMD lanes of heyoka's batch integrator (magrod/chaos/batch.py): the 8 panel
 from __future__ import annotations
 
 import os
+import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, replace
@@ -1024,6 +1025,10 @@ class SectionChunk:
     n_total: int
 
 
+_IN_USE: set = set()  # ids of the per-thread integrators a running (possibly suspended) stream holds
+_IN_USE_LOCK = threading.Lock()
+
+
 class SectionPoints:
     """The section loop of one orbit as an iterator of `SectionChunk` (`section_points` builds it).  After the
     iteration `result` is the PoincareResult of every point computed, with success/message (a cancelled stream:
@@ -1061,15 +1066,31 @@ class SectionPoints:
         if self._started:
             raise RuntimeError("a section stream runs once; build another with section_points")
         self._started = True
+        opts = self.options
+        # the tolerance is fixed at construction, so it is part of the integrator cache key
+        key = (opts.formulation, opts.direction, opts.pole_switch, opts.radicand_switch, opts.precision,
+               opts.taylor_tol)
+        ta_r, ta_b = _integrators(*key)
+        with _IN_USE_LOCK:
+            own = id(ta_b) in _IN_USE
+            if not own:
+                _IN_USE.add(id(ta_b))
+        if own:  # another stream is suspended on this thread's integrators (zip of two streams): build a pair
+            ta_r, ta_b = _integrators.__wrapped__(*key)
+        try:
+            yield from self._loop(ta_r, ta_b)
+        finally:
+            if not own:
+                with _IN_USE_LOCK:
+                    _IN_USE.discard(id(ta_b))
+
+    def _loop(self, ta_r, ta_b):
         start, opts, o = self.start, self.options, self._orbit
         formulation, iterates = opts.formulation, opts.iterates
         pole_switch, radicand_switch = opts.pole_switch, opts.radicand_switch
         fp_type = opts.precision.fp_type
         params, pars = start.params, o.pars
         theta0, ptheta0, psi0, p_psi0 = start.theta0, start.ptheta0, start.psi0, start.p_psi0
-        # the tolerance is fixed at construction, so it is part of the integrator cache key
-        ta_r, ta_b = _integrators(formulation, opts.direction, pole_switch, radicand_switch, opts.precision,
-                                  opts.taylor_tol)
 
         def chart_ok_4d(th, pps, leave):
             i = 1 if leave else 0
