@@ -45,7 +45,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from magrod.chaos import indicators as chaos  # noqa: E402
 from magrod.chaos import batch as B  # noqa: E402
 from magrod.chaos.portrait import grid_starts  # noqa: E402
-from magrod.chaos.section import FRAME_BODY, _assemble, poincare_section  # noqa: E402
+from magrod.chaos.section import poincare_section  # noqa: E402
 from magrod.core import systems  # noqa: E402
 from magrod.core.printed import panel_kwargs  # noqa: E402
 from _peers import compile_c  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
@@ -108,34 +108,31 @@ def magrod_scalar(T, ref, repeat):
     return rows
 
 
-def _batch_jobs(T):
-    """The Fig 4(a) orbit in lane 0 and three other starts of its level in the other lanes."""
-    from magrod.chaos.section import _job
+def _batch_starts():
+    """The Fig 4(a) orbit in lane 0 and three other starts of its level in the other lanes (SectionStart)."""
+    from magrod.chaos.section import section_start
 
     kw = panel_kwargs("4a")
     b = systems.recommended_batch_size()
     others = grid_starts("4a", theta0=(0.3, 2.0, 4), ptheta0=(-0.5, 0.5, 3))[: b - 1]
     starts = [(kw["theta0"], kw["ptheta0"])] + [tuple(s) for s in others]
-    specs = [("starts", i, kw["params"], None, kw["h"], th, pt, 0.0, None) for i, (th, pt) in enumerate(starts)]
-    return [_job(s, "smallest") for s in specs]
+    return [section_start(kw["params"], kw["h"], th, pt, 0.0) for th, pt in starts]
 
 
 def magrod_batch(T, ref, repeat):
-    jobs = _batch_jobs(T)
-    b = len(jobs)
+    from magrod.chaos.section import SectionOptions, _Orbit
+    from magrod.core.limits import LIMITS
+
+    starts = _batch_starts()
+    b = len(starts)
     rows = []
     for tol in MAGROD_TOLS:
-        out = {}
+        opts = SectionOptions(iterates=LIMITS["iterates"], t_max=T, tol=tol)
 
-        def finish(job, raw, times, final_time, success, message, wall, out=out, tol=tol):
-            out[job.index] = _assemble(job.params, job.pars, job.h, job.theta0, job.ptheta0, job.psi0, job.p_psi0,
-                                       job.roots, job.root_index, "body", "positive", "any", tol, 10**7, T, raw,
-                                       times, np.full(raw.shape[0], FRAME_BODY, np.int8), final_time, 0, success,
-                                       message, float)
-
-        def go(out=out, tol=tol, finish=finish):
-            B.run(jobs, finish, iterates=10**7, t_max=lambda j: T, tol=tol, workers=1)
-            return out[0]
+        def go(opts=opts):
+            orbits = [_Orbit(s, opts) for s in starts]  # the lanes' orbits (section._Orbit: crossings, assembly)
+            B.run(orbits, direction=opts.direction, tol=opts.taylor_tol, workers=1)
+            return orbits[0].result
 
         go()  # build / load
         wall, r = best_of(go, repeat)

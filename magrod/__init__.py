@@ -50,6 +50,10 @@ _API = {
     # chaos: sections, indicators, maps
     "poincare_section": "chaos.section",
     "poincare_sections": "chaos.section",
+    "section_start": "chaos.section",
+    "section_points": "chaos.section",
+    "SectionStart": "chaos.section",
+    "SectionOptions": "chaos.section",
     "section_portrait": "chaos.portrait",
     "orbit_diagram": "chaos.portrait",
     "lyapunov": "chaos.lyapunov",

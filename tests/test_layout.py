@@ -20,7 +20,8 @@ NUMERICS = ("core", "orbits", "chaos", "separatrix", "integrability", "proof")  
 
 PUBLIC = {
     "RodParams", "Precision", "ParameterError", "panel",
-    "poincare_section", "poincare_sections", "section_portrait", "orbit_diagram", "lyapunov", "lyapunov_spectrum",
+    "poincare_section", "poincare_sections", "section_start", "section_points", "SectionStart", "SectionOptions",
+    "section_portrait", "orbit_diagram", "lyapunov", "lyapunov_spectrum",
     "gali", "chaos_map",
     "saddle", "homoclinic_orbit", "multipulse_orbits", "continue_branch", "rod_shape",
     "splitting", "integrability_report",

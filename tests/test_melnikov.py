@@ -9,6 +9,7 @@ import pytest
 from magrod.separatrix import melnikov as M
 from magrod.cli import main
 from magrod.core.errors import ParameterError
+from magrod.core.precision import Precision
 from magrod.orbits.homoclinic import homoclinic
 
 EPS = np.finfo(float).eps
@@ -100,7 +101,8 @@ def test_melnikov_function_shape():
 def test_quadrature_uses_heyoka_time():
     """The quadrature integrator is compiled once and reused (state/time/pars reset)."""
     assert M._quad_integrator() is M._quad_integrator()
-    assert M._quad_integrator(hy.real128) is M._quad_integrator(hy.real128)
+    assert M._quad_integrator(Precision.QUAD) is M._quad_integrator(Precision.QUAD)
+    assert M._quad_integrator(Precision.QUAD).state.dtype == np.dtype(hy.real128)
 
 
 @pytest.mark.parametrize("m,gamma,integrand,name", [(3.0, 1.0, "derived", "m"), (1.7, -1.0, "printed", "gamma"),

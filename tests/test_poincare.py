@@ -10,6 +10,7 @@ from magrod import cli
 from magrod.core import systems
 from magrod.core.errors import ParameterError
 from magrod.core.params import RodParams
+from magrod.core.precision import Precision
 from magrod.figures.poincare import _figure, figure_4, figure_5
 from magrod.chaos.section import poincare_section, run_panels, solve_p_psi
 from magrod.core.printed import PANELS, panel_kwargs
@@ -123,7 +124,7 @@ def test_long_double_agrees_with_float64_before_divergence():
     kw = panel_kwargs("4a")
     a = poincare_section(**kw, iterates=40)
     b = poincare_section(**kw, iterates=40, precision="long double")
-    assert b.fp_type != "float64" and b.success
+    assert b.precision is Precision.LONG_DOUBLE and b.success
     assert np.max(np.abs(a.points[:, [0, 2, 3]] - b.points[:, [0, 2, 3]])) <= AGREE_BOUND
 
 

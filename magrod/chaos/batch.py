@@ -1,6 +1,7 @@
 """Many Poincare sections at once: the lanes of heyoka's SIMD batch integrator, refilled as orbits finish, on all
-cores (issue 18).  Numerics only; `magrod.chaos.section.poincare_section` is the public face (it builds the jobs,
-this module runs them).
+cores (issue 18).  Numerics only; `magrod.chaos.section.poincare_section` is the public face (it builds the
+orbits, section._Orbit: the crossing handling and the assembly every section loop shares; this module runs them
+in lanes).
 
 How the lanes run
 -----------------
@@ -28,42 +29,16 @@ import os
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
 
 import heyoka as hy
 import numpy as np
 
 from ..core import systems
-from ..core.params import RodParams
 
-NBODY = systems.dim("body")
-_CHART_PSI = systems.chart_index("psi")
 # outcome codes of the batch propagate: the section is terminal event 0 -> -1 - 0
 _EVENT = -1
 _TIME_LIMIT = int(hy.taylor_outcome.time_limit)
 _SUCCESS = int(hy.taylor_outcome.success)
-_CHUNK = 1024  # initial per-orbit point buffer (grown by doubling)
-
-
-@dataclass
-class Job:
-    """One orbit of a batched section run: its rod, level, chart start, the chosen root and the body start."""
-
-    index: int
-    params: RodParams
-    h: float
-    theta0: float
-    ptheta0: float
-    psi0: float
-    p_psi0: float
-    roots: np.ndarray
-    root_index: int
-    x0: np.ndarray
-    key: str | None = None
-    pars: np.ndarray = field(init=False)
-
-    def __post_init__(self):
-        self.pars = self.params.array()
 
 
 @systems.per_thread
@@ -77,65 +52,36 @@ def batch_section_integrator(direction: str, tol: float, width: int | None = Non
     return _batch_section_integrator(direction, tol, int(width or systems.batch_width()))
 
 
-class _Lane:
-    __slots__ = ("job", "raw", "times", "n", "reported", "t0_wall")
-
-    def __init__(self, job: Job, cap: int):
-        self.job = job
-        self.raw = np.empty((cap, NBODY))
-        self.times = np.empty(cap)
-        self.n = 0
-        self.reported = 0
-        self.t0_wall = time.perf_counter()
-
-    def record(self, x, t, iterates) -> None:
-        if self.n == self.raw.shape[0]:
-            cap = min(iterates, 2 * self.n)
-            self.raw = np.vstack([self.raw, np.empty((cap - self.n, NBODY))])
-            self.times = np.concatenate([self.times, np.empty(cap - self.n)])
-        self.raw[self.n] = x
-        self.times[self.n] = t
-        self.n += 1
-
-
 class _Queue:
-    """The shared list of jobs: worker threads take the next one under a lock."""
+    """The shared list of orbits: worker threads take the next one under a lock."""
 
-    def __init__(self, jobs):
-        self._jobs = list(jobs)
+    def __init__(self, orbits):
+        self._orbits = list(orbits)
         self._i = 0
         self._lock = threading.Lock()
 
     def take(self):
         with self._lock:
-            if self._i >= len(self._jobs):
+            if self._i >= len(self._orbits):
                 return None
-            job = self._jobs[self._i]
+            orbit = self._orbits[self._i]
             self._i += 1
-            return job
+            return orbit
 
 
-def _keep(x, pars, branch) -> bool:
-    if branch == "any":
-        return True
-    c = np.cos(systems.body_to_euler(np.ascontiguousarray(x), pars)[_CHART_PSI])
-    return bool((c > 0) == (branch == "0"))
-
-
-def _worker(queue: _Queue, finish, *, iterates, t_max, direction, branch, tol, progress) -> None:
+def _worker(queue: _Queue, *, direction, tol) -> None:
     ta = batch_section_integrator(direction, float(tol))
     b = ta.batch_size
-    lanes: list[_Lane | None] = [None] * b
+    lanes: list = [None] * b
     t_stop = np.zeros(b)
-    cap = min(iterates, _CHUNK)
 
     n_active = [0]
 
     def fill(j):
-        job = queue.take()
+        orbit = queue.take()
         if lanes[j] is not None:
             n_active[0] -= 1
-        if job is None:  # park the lane: zero-length steps from now on
+        if orbit is None:  # park the lane: zero-length steps from now on
             lanes[j] = None
             t_stop[j] = ta.dtime[0][j]
             return
@@ -143,18 +89,15 @@ def _worker(queue: _Queue, finish, *, iterates, t_max, direction, branch, tol, p
         hi, lo = (np.array(a) for a in ta.dtime)
         hi[j] = lo[j] = 0.0
         ta.set_dtime(hi, lo)  # the other lanes keep their double-length time
-        ta.state[:, j] = job.x0
-        ta.pars[:, j] = job.pars
+        ta.state[:, j] = orbit.x0
+        ta.pars[:, j] = orbit.pars
         ta.reset_cooldowns(j)
-        t_stop[j] = t_max(job)
-        lanes[j] = _Lane(job, cap)
+        t_stop[j] = orbit.t_max
+        orbit.t0_wall = time.perf_counter()
+        lanes[j] = orbit
 
     def done(j, success, message, t_final):
-        L = lanes[j]
-        if progress is not None and L.n > L.reported:
-            progress(L.n - L.reported)
-        finish(L.job, L.raw[: L.n], L.times[: L.n], float(t_final), success, message,
-               time.perf_counter() - L.t0_wall)
+        lanes[j].finish(t_final, success, message)
         fill(j)
 
     for j in range(b):
@@ -162,7 +105,6 @@ def _worker(queue: _Queue, finish, *, iterates, t_max, direction, branch, tol, p
     tv = ta.time  # a read-only view of the lanes' times (updated in place by heyoka)
     state = ta.state
     lane_ids = range(b)
-    any_branch = branch == "any"
     calls = 0
     while n_active[0]:
         ta.propagate_until(t_stop)
@@ -179,13 +121,9 @@ def _worker(queue: _Queue, finish, *, iterates, t_max, direction, branch, tol, p
             if L is None:
                 continue
             hit = True
-            if any_branch or _keep(state[:, j], L.job.pars, branch):
-                L.record(state[:, j], tv[j], iterates)
-                if L.n == iterates:
-                    done(j, True, "ok", tv[j])
-                elif progress is not None and L.n - L.reported >= 200:
-                    progress(L.n - L.reported)
-                    L.reported = L.n
+            x = state[:, j]
+            if L.keep(x) and L.record(x, tv[j]):  # the crossing handling of every section loop (section._Orbit)
+                done(j, True, "ok", tv[j])
         calls += 1
         # a lane at its t_max idles (zero-length steps) until seen here: look when no lane stopped on the
         # section (then some lane must be at its limit, or failed) and every 64 calls (a numpy test costs ~2 us)
@@ -194,32 +132,31 @@ def _worker(queue: _Queue, finish, *, iterates, t_max, direction, branch, tol, p
                 L = lanes[j]
                 if L is not None and tv[j] >= t_stop[j]:
                     hit = True
-                    done(j, False, f"t_max = {t_stop[j]:g} reached after {L.n} of {iterates} iterates (max-time "
-                                   f"guard; raise t_max or check that the orbit crosses sin(psi) = 0)", tv[j])
+                    done(j, False, L.time_limit_message(), tv[j])
         if not hit:
             res = ta.propagate_res
             for j in lane_ids:
                 if lanes[j] is not None and int(res[j][0]) not in (_SUCCESS, _TIME_LIMIT, _EVENT):
-                    done(j, False, f"integration failed at t = {tv[j]:g} ({res[j][0]}) after {lanes[j].n} "
-                                   f"iterates", tv[j])
+                    done(j, False, lanes[j].failure_message(tv[j], res[j][0]), tv[j])
 
 
-def run(jobs, finish, *, iterates, t_max, direction="positive", branch="any", tol=None, workers=None,
-        progress=None) -> None:
-    """Integrate every job's orbit in SIMD lanes on `workers` threads (default: all cores, at most one per
-    batch of jobs); finish(job, raw (n, 9) body points, times (n,), final_time, success, message, wall_s) is
-    called once per job as its orbit ends (from the worker threads).  t_max: callable job -> time limit."""
-    jobs = list(jobs)
-    if not jobs:
+def run(orbits, *, direction="positive", tol=None, workers=None) -> None:
+    """Integrate every orbit in SIMD lanes on `workers` threads (default: all cores, at most one per batch of
+    orbits).  An orbit is a `magrod.chaos.section._Orbit` (the crossing handling every section loop shares): a lane
+    starts it from `orbit.x0`, `orbit.pars` with the guard `orbit.t_max`, hands it each crossing
+    (`keep(x)`, then `record(x, t)`, True once its iterates are reached) and ends it with
+    `finish(t, success, message)`, which assembles `orbit.result` (called from the worker threads)."""
+    orbits = list(orbits)
+    if not orbits:
         return
     b = systems.batch_width()
-    n_threads = max(1, min(int(workers or os.cpu_count() or 1), -(-len(jobs) // b)))
+    n_threads = max(1, min(int(workers or os.cpu_count() or 1), -(-len(orbits) // b)))
     tol = float(tol) if tol else float(np.finfo(float).eps)
-    queue = _Queue(jobs)
-    kw = dict(iterates=iterates, t_max=t_max, direction=direction, branch=branch, tol=tol, progress=progress)
+    queue = _Queue(orbits)
+    kw = dict(direction=direction, tol=tol)
     if n_threads == 1:
-        _worker(queue, finish, **kw)
+        _worker(queue, **kw)
         return
     with ThreadPoolExecutor(max_workers=n_threads) as ex:
-        for f in [ex.submit(_worker, queue, finish, **kw) for _ in range(n_threads)]:
+        for f in [ex.submit(_worker, queue, **kw) for _ in range(n_threads)]:
             f.result()

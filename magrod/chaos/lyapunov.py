@@ -10,14 +10,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core import systems
 from ..core.errors import ParameterError, require_finite
 from ..core.params import RodParams
 from ..core.printed import with_overrides
 from ..core.results import Result
 from ..core.tolerances import DRIFT_LIMIT
 from .indicators import DEFAULT_RENORM_DT, GROWTH_THRESHOLD, OK, REASONS, body_indicators
-from .section import DEFAULT_ROOT, _check_start, choose_root, resolve_start, solve_p_psi
+from .section import DEFAULT_ROOT, section_start
 
 DEFAULT_T_MAX = 3000.0  # the Fig 4 orbits are sticky: T <= 2000 is marginal for the verdict (indicators.py)
 
@@ -90,19 +89,12 @@ def check_run(t_max, renorm_dt) -> tuple:
 def body_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=None, root=DEFAULT_ROOT) -> tuple:
     """(params, panel key, h, theta0, ptheta0, psi0, p_psi0, x0 (9,), pars (5,)) of one orbit's start: a paper panel
     or RodParams with a chart start, pbar_psi0 the root of Hbar = h chosen by `root` (or given, h then computed),
-    mapped to the body frame.  Shared by lyapunov, lyapunov_spectrum and gali."""
-    params, key, h, theta0, ptheta0, psi0 = resolve_start(params, h, theta0, ptheta0, psi0, p_psi0)
-    theta0, ptheta0, psi0, h = _check_start(theta0, ptheta0, psi0, h)
+    mapped to the body frame.  Shared by lyapunov, lyapunov_spectrum and gali.  The start is the sections' own
+    (section_start: the same validation and error words; a given p_psi0 defines the level)."""
+    s = section_start(params, None if p_psi0 is not None else h, theta0, ptheta0, psi0, p_psi0=p_psi0, root=root)
+    params, key, h, theta0, ptheta0, psi0, p_psi0 = s.params, s.panel, s.h, s.theta0, s.ptheta0, s.psi0, s.p_psi0
     pars = params.array()
-    if p_psi0 is None:
-        if h is None:
-            raise ParameterError("h", "give an energy level h (or p_psi0)")
-        roots = solve_p_psi(params, h, theta0, ptheta0, psi0)
-        p_psi0 = float(roots[choose_root(roots, root)])
-    else:
-        p_psi0 = require_finite("p_psi0", p_psi0)
-        h = float(systems.reduced_functions()["H"]([theta0, psi0, ptheta0, p_psi0], pars)[0])
-    x0 = systems.euler_to_body(theta0, psi0, ptheta0, p_psi0, pars)
+    x0 = s.body_state()
     return params, key, h, theta0, ptheta0, psi0, p_psi0, x0, pars
 
 

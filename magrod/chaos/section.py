@@ -5,8 +5,13 @@ Public API
 solve_p_psi(params, h, theta0, ptheta0, psi0=0)  -> every real root pbar_psi of Hbar(theta0, psi0, ptheta0, .) = h
 poincare_section(params, h, theta0, ptheta0, psi0=0, *, iterates=10_000, root="smallest", direction="positive",
              branch="any", formulation="body", ...) -> PoincareResult
-poincare_section([panels...] | params, h, starts=(N, 2..4) array, ...) -> [PoincareResult] (many orbits: SIMD lanes of
-             heyoka's batch integrator, magrod/chaos/batch.py)
+poincare_sections([panels...] | params, h, starts=(N, 2..4) array, ...) -> [PoincareResult] (many orbits: SIMD
+             lanes of heyoka's batch integrator, magrod/chaos/batch.py)
+section_start(params, h, theta0, ptheta0, psi0, *, p_psi0, root) -> SectionStart (the one resolver of a start)
+SectionOptions(iterates, t_max, direction, branch, formulation, precision, tol, ...) (validated on construction)
+section_points(start, options, *, cancel=None) -> SectionPoints: the one section loop as a stream of SectionChunk;
+             .result is the PoincareResult (poincare_section drains it; the explorer draws it as it comes).  The
+             lanes of batch.py hand their crossings to the same _Orbit (branch filter, buffer, messages, assembly)
 run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.core.printed.PANELS), threads
 orbit_stretch(res, dt=0.05)             -> the axial stretch v3 along the orbit (min, fraction <= 0; two forms)
 (figures: magrod/figures/poincare.py; files: PoincareResult.arrays()/summary())
@@ -51,9 +56,10 @@ the SIMD lanes of heyoka's batch integrator (magrod/chaos/batch.py): the 8 panel
 from __future__ import annotations
 
 import os
+import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import heyoka as hy
 import numpy as np
@@ -83,8 +89,9 @@ DEFAULT_ROOT = "smallest"  # see the module docstring for the evidence
 # ----------------------------------------------------------------------------------------------------------
 # initial data
 # ----------------------------------------------------------------------------------------------------------
-def _admissible_interval(params: RodParams):
-    """Open interval of pbar_psi where the radicand mu - 2 lam pbar_psi of Hbar is > 0 (eq:alignment_condition)."""
+def admissible_interval(params: RodParams) -> tuple:
+    """Open interval (lo, hi) of pbar_psi where the radicand mu - 2 lam pbar_psi of Hbar is > 0
+    (eq:alignment_condition); ParameterError("mu") if it is empty (lam = 0 and mu <= 0)."""
     p = params.as_dict()
     slope = scalars.radicand_slope_ppsi(**p)
     if slope < 0:
@@ -95,6 +102,9 @@ def _admissible_interval(params: RodParams):
         raise ParameterError("mu", f"with lam = 0 the square root sqrt(mu - 2 lam pbar_psi) = sqrt(mu) of Hbar is "
                                    f"imaginary or zero for every pbar_psi (mu = {params.mu}); need mu > 0")
     return -np.inf, np.inf
+
+
+_admissible_interval = admissible_interval  # the name its callers inside the package use
 
 
 def _radicand(params: RodParams, ppsi) -> float:
@@ -204,17 +214,17 @@ def choose_root(roots, root="smallest") -> int:
 # integrators (built once per thread and configuration, reused by resetting time/state/pars)
 # ----------------------------------------------------------------------------------------------------------
 @systems.per_thread
-def _integrators(formulation, direction, pole_switch, radicand_switch, fp_type, tol):
+def _integrators(formulation, direction, pole_switch, radicand_switch, precision, tol):
     """(reduced, body) integrators with their events; the reduced one is None for formulation="body".
     Event 0 is the section in both; the others switch between the frames near the chart singularities
     (entering: sin(theta) < pole_switch[0] or radicand < radicand_switch[0]; leaving: both above [1])."""
     body_events = [("section", direction)]
     if formulation == "reduced":
         body_events += [("sin2_theta", "positive", pole_switch[1] ** 2), ("radicand", "positive", radicand_switch[1])]
-    ta_b = systems.integrator("body", events=body_events, fp_type=fp_type, tol=tol)
+    ta_b = systems.integrator("body", events=body_events, precision=precision, tol=tol)
     ta_r = None
     if formulation == "reduced":
-        ta_r = systems.integrator("reduced", tol=tol, fp_type=fp_type,
+        ta_r = systems.integrator("reduced", tol=tol, precision=precision,
                                   events=[("section", direction), ("sin_theta", "negative", pole_switch[0]),
                                           ("radicand", "negative", radicand_switch[0])])
     return ta_r, ta_b
@@ -276,13 +286,27 @@ class PoincareResult(Result):
     final_time: float
     n_frame_switches: int
     wall_s: float
-    fp_type: str = "float64"
+    precision: Precision = Precision.DOUBLE  # the arithmetic of the integration (issue 25: Precision all the way down)
     extra: dict = field(default_factory=dict)
     stretch: dict | None = None  # the axial stretch sampled along the run (stretch_dt); summary only, not arrays()
     retried_without_jit_cache: bool = False  # verify=True repeated the run with freshly compiled code
     panel: str | None = None
 
     _repr_fields = ("panel", "n_points", "h", "p_psi0", "final_time", "max_abs_dH", "casimir_drift", "wall_s")
+
+    @property
+    def fp_type(self) -> str:
+        """Deprecated (issue 25; goes away in the next release): the numpy name of the precision's number type
+        ("float64", "longdouble"); use `precision`."""
+        import warnings
+
+        warnings.warn("PoincareResult.fp_type is deprecated: use PoincareResult.precision (a magrod.Precision)",
+                      DeprecationWarning, stacklevel=2)
+        return self._fp_name
+
+    @property
+    def _fp_name(self) -> str:
+        return np.dtype(self.precision.fp_type).name
 
     @property
     def accuracy(self) -> dict:
@@ -341,7 +365,7 @@ class PoincareResult(Result):
                 "casimir_drift": self.casimir_drift, "n_frame_switches": self.n_frame_switches,
                 "fraction_body_frame_points": float(np.mean(self.frame == FRAME_BODY)) if self.n_points else 0.0,
                 "max_abs_section_residual": float(np.max(np.abs(self.section_residual))) if self.n_points else 0.0,
-                "wall_s": self.wall_s, "fp_type": self.fp_type, "accuracy": self.accuracy_checks(),
+                "wall_s": self.wall_s, "fp_type": self._fp_name, "accuracy": self.accuracy_checks(),
                 "retried_without_jit_cache": self.retried_without_jit_cache,
                 **({"stretch": self.stretch} if self.stretch is not None else {}), **self.extra}
 
@@ -349,24 +373,6 @@ class PoincareResult(Result):
         return {"points": self.points, "times": self.times, "branch": self.branch,
                 "psi_dot_sign": self.psi_dot_sign, "frame": self.frame, "dH": self.dH,
                 "body_points": self.body_points, "section_residual": self.section_residual, "roots": self.roots}
-
-
-def _validate_options(iterates, root, direction, branch, formulation, pole_switch, radicand_switch):
-    iterates = require_positive_int("iterates", iterates)
-    if iterates > LIMITS["iterates"]:
-        raise ParameterError("iterates", f"must be <= {LIMITS['iterates']} (the limit of what a run can finish: "
-                                         f"~200 bytes and ~0.2 ms per point), got {iterates}")
-    if direction not in DIRECTIONS:
-        raise ParameterError("direction", f"must be one of {sorted(DIRECTIONS)}, got {direction!r}")
-    if branch not in BRANCHES:
-        raise ParameterError("branch", f"must be one of {list(BRANCHES)}, got {branch!r}")
-    if formulation not in FORMULATIONS:
-        raise ParameterError("formulation", f"must be one of {list(FORMULATIONS)}, got {formulation!r}")
-    if not (0 < pole_switch[0] < pole_switch[1] < 1):
-        raise ParameterError("pole_switch", f"need 0 < enter < leave < 1, got {pole_switch}")
-    if not (0 < radicand_switch[0] < radicand_switch[1]):
-        raise ParameterError("radicand_switch", f"need 0 < enter < leave, got {radicand_switch}")
-    return iterates
 
 
 def resolve_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=None) -> tuple:
@@ -388,6 +394,194 @@ def resolve_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=N
             if v is None:
                 raise ParameterError(name, "missing: give the start (theta0, ptheta0) or a paper panel")
     return params, key, h, theta0, ptheta0, 0.0 if psi0 is None else psi0
+
+
+# ----------------------------------------------------------------------------------------------------------
+# a start and the options of a run: the values every section loop consumes (issue 25: one section loop)
+# ----------------------------------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class SectionStart:
+    """A launch point on the section sin(psi) = 0, validated: the rod, the level Hbar = h, the chart start
+    (theta0, pbar_theta0, psi0) and every real root pbar_psi of Hbar(theta0, psi0, pbar_theta0, .) = h with the
+    one chosen (`p_psi0 = roots[root_index]`).  Built by `section_start`; consumed by the scalar path, the SIMD
+    lanes (magrod/chaos/batch.py) and the explorer's stream (`section_points`).  `panel` labels the result.
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> s = mr.section_start("4a", root="largest")
+    >>> s.root_index, bool(s.p_psi0 == s.roots[-1])
+    (1, True)
+    """
+
+    params: RodParams
+    h: float
+    theta0: float
+    ptheta0: float
+    psi0: float
+    roots: np.ndarray
+    root_index: int
+    panel: str | None = None
+
+    @property
+    def p_psi0(self) -> float:
+        """pbar_psi0: the chosen root."""
+        return float(self.roots[self.root_index])
+
+    def body_state(self, fp_type=float) -> np.ndarray:
+        """The start as the 9-D body-frame state (systems.euler_to_body), in fp_type."""
+        x0 = systems.euler_to_body(self.theta0, self.psi0, self.ptheta0, self.p_psi0, self.params.array())
+        return x0 if fp_type is float else [fp_type(v) for v in x0]
+
+    def describe(self) -> str:
+        """One sentence: the roots and which one is used (the paper's rule: the smaller, fig:poincare1)."""
+        rs = ", ".join(f"{r:.6g}" for r in self.roots)
+        which = {0: "smallest"}.get(self.root_index, "largest" if self.root_index == len(self.roots) - 1 else
+                                    f"index {self.root_index}")
+        return (f"Hbar = {self.h:g} has {len(self.roots)} root(s) pbar_psi = [{rs}] at theta0 = {self.theta0:.4f}, "
+                f"pbar_theta0 = {self.ptheta0:.4f}: using the {which}, {self.p_psi0:.10g} (the paper's rule, "
+                f"fig:poincare1: the smaller root)")
+
+
+def section_start(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
+                  **overrides) -> SectionStart:
+    """The validated start of a Poincare section: the one resolver of `poincare_section`, `poincare_sections`
+    and the explorer.
+
+    Parameters
+    ----------
+    params : RodParams, Panel or str
+        The rod, or a paper panel whose level and start fill in what is not given.
+    h : float, optional
+        Energy level; pbar_psi0 is solved for (`root` picks one of the real roots).
+    theta0, ptheta0, psi0 : float
+        Start on the chart; 0 < theta0 < pi, psi0 defaults to 0.
+    p_psi0 : float, optional
+        pbar_psi0 directly: then h is Hbar at the start, or, if h is given as well, the start must lie on the
+        level within START_LEVEL_TOL.
+    root : {"smallest", "largest"} or int
+        Which root of Hbar = h.
+    **overrides : float
+        Model parameters replacing those of `params` (``section_start("4a", lam=0.15)``).
+
+    Returns
+    -------
+    SectionStart
+
+    Raises
+    ------
+    ParameterError
+        Naming the field: theta0 outside (0, pi), "h" (no root, or the start off the level), "p_psi0" (the
+        square root of Hbar imaginary at the start), "mu", "root", a missing theta0/ptheta0.
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> s = mr.section_start("4a")
+    >>> len(s.roots), s.root_index, s.panel
+    (2, 0, '4a')
+
+    Notes
+    -----
+    The roots are those of `solve_p_psi` (a dense scan polished by brentq to the last ulp of Hbar).
+    """
+    params, key, h, theta0, ptheta0, psi0 = resolve_start(with_overrides(params, overrides), h, theta0, ptheta0,
+                                                          psi0, p_psi0)
+    theta0, ptheta0, psi0, _ = _check_start(theta0, ptheta0, psi0)
+    if p_psi0 is not None:
+        p_psi0 = require_finite("p_psi0", p_psi0)
+        lo, hi = _admissible_interval(params)
+        if not lo < p_psi0 < hi:
+            raise ParameterError("p_psi0", f"the square root sqrt(mu - 2 lam pbar_psi) of Hbar is imaginary or zero "
+                                           f"at the start: mu - 2 lam pbar_psi0 = {_radicand(params, p_psi0):.6g}")
+        h_start = float(systems.reduced_functions()["H"]([theta0, psi0, ptheta0, p_psi0], params.array())[0])
+        if h is not None and not abs(h_start - require_finite("h", h)) <= START_LEVEL_TOL:
+            raise ParameterError("h", f"the start is off the level: Hbar(start) - h = {h_start - float(h):.3g} "
+                                      f"(tolerance {START_LEVEL_TOL:g})")
+        roots, ridx, h = np.array([p_psi0]), 0, h_start if h is None else float(h)
+    else:
+        if h is None:
+            raise ParameterError("h", "give an energy level h (or p_psi0)")
+        h = require_finite("h", h)
+        roots = solve_p_psi(params, h, theta0, ptheta0, psi0)
+        ridx = choose_root(roots, root)
+    return SectionStart(params=params, h=float(h), theta0=float(theta0), ptheta0=float(ptheta0), psi0=float(psi0),
+                        roots=np.asarray(roots, dtype=float), root_index=int(ridx), panel=key)
+
+
+@dataclass(frozen=True)
+class SectionOptions:
+    """How a section is integrated and which crossings it records; validated on construction (ParameterError
+    naming the option).  t_max None is the max-time guard 100 x iterates; tol None the precision's machine
+    epsilon; pole_switch / radicand_switch the (enter, leave) thresholds of the body-frame patches of the
+    formulation "reduced"; stretch_dt samples the axial stretch along the run.
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> o = mr.SectionOptions(iterates=500, precision="long double")
+    >>> o.precision, o.time_limit
+    (<Precision.LONG_DOUBLE: 'long double'>, 50000.0)
+    """
+
+    iterates: int = 10_000
+    t_max: float | None = None
+    direction: str = "positive"
+    branch: str = "any"
+    formulation: str = DEFAULT_FORMULATION
+    precision: Precision = Precision.DOUBLE
+    tol: float | None = None
+    pole_switch: tuple = (0.05, 0.1)
+    radicand_switch: tuple = (1e-3, 2e-3)
+    stretch_dt: float | None = None
+
+    def __post_init__(self):
+        put = object.__setattr__
+        iterates = require_positive_int("iterates", self.iterates)
+        if iterates > LIMITS["iterates"]:
+            raise ParameterError("iterates", f"must be <= {LIMITS['iterates']} (the limit of what a run can finish: "
+                                             f"~200 bytes and ~0.2 ms per point), got {iterates}")
+        put(self, "iterates", iterates)
+        if self.direction not in DIRECTIONS:
+            raise ParameterError("direction", f"must be one of {sorted(DIRECTIONS)}, got {self.direction!r}")
+        if self.branch not in BRANCHES:
+            raise ParameterError("branch", f"must be one of {list(BRANCHES)}, got {self.branch!r}")
+        if self.formulation not in FORMULATIONS:
+            raise ParameterError("formulation", f"must be one of {list(FORMULATIONS)}, got {self.formulation!r}")
+        pole, rad = tuple(self.pole_switch), tuple(self.radicand_switch)
+        if not (0 < pole[0] < pole[1] < 1):
+            raise ParameterError("pole_switch", f"need 0 < enter < leave < 1, got {self.pole_switch}")
+        if not (0 < rad[0] < rad[1]):
+            raise ParameterError("radicand_switch", f"need 0 < enter < leave, got {self.radicand_switch}")
+        put(self, "pole_switch", pole)
+        put(self, "radicand_switch", rad)
+        precision = Precision.parse(self.precision)
+        if precision not in (Precision.DOUBLE, Precision.LONG_DOUBLE):
+            raise ParameterError("precision", f"must be 'double' or 'long double' for sections, got "
+                                              f"{precision.value!r}")
+        if precision is not Precision.DOUBLE and self.formulation != "body":
+            raise ParameterError("precision", "extended precision is supported for formulation='body' only")
+        put(self, "precision", precision)
+        if self.t_max is not None and not require_finite("t_max", self.t_max) > 0:
+            raise ParameterError("t_max", f"must be > 0, got {self.t_max}")
+        if self.stretch_dt is not None and not require_finite("stretch_dt", self.stretch_dt) > 0:
+            raise ParameterError("stretch_dt", f"must be > 0, got {self.stretch_dt}")
+
+    @property
+    def time_limit(self) -> float:
+        """The max-time guard: t_max, default 100 x iterates."""
+        return float(100.0 * self.iterates if self.t_max is None else self.t_max)
+
+    @property
+    def taylor_tol(self) -> float:
+        """The Taylor tolerance: tol, default the precision's machine epsilon."""
+        return float(self.tol) if self.tol else float(np.finfo(self.precision.fp_type).eps)
+
+    @property
+    def batchable(self) -> bool:
+        """Whether the SIMD lanes of magrod/chaos/batch.py integrate this configuration (body frame, double
+        precision, no stretch sampling); otherwise many starts run the scalar path per start."""
+        return self.formulation == "body" and self.precision is Precision.DOUBLE and self.stretch_dt is None
 
 
 def poincare_section(params=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
@@ -519,30 +713,28 @@ def poincare_section(params=None, h=None, theta0=None, ptheta0=None, psi0=None, 
                               precision=precision, tol=tol, t_max=t_max, verify=verify, pole_switch=pole_switch,
                               radicand_switch=radicand_switch, progress=progress, stretch_dt=stretch_dt,
                               workers=workers)
-    params, key, h, theta0, ptheta0, psi0 = resolve_start(params, h, theta0, ptheta0, psi0, p_psi0)
-    precision = Precision.parse(precision)
-    if precision not in (Precision.DOUBLE, Precision.LONG_DOUBLE):
-        raise ParameterError("precision", f"must be 'double' or 'long double' for sections, got {precision.value!r}")
-    kw = dict(p_psi0=p_psi0, iterates=iterates, root=root, direction=direction, branch=branch,
-              formulation=formulation, tol=tol, t_max=t_max, pole_switch=pole_switch,
-              radicand_switch=radicand_switch, fp_type=precision.fp_type, progress=progress, stretch_dt=stretch_dt)
-    res = _iterate(params, h, theta0, ptheta0, psi0, **kw)
-    res.panel = key
+    options = SectionOptions(iterates=iterates, t_max=t_max, direction=direction, branch=branch,
+                             formulation=formulation, precision=precision, tol=tol, pole_switch=pole_switch,
+                             radicand_switch=radicand_switch, stretch_dt=stretch_dt)
+    return _verified(section_start(params, h, theta0, ptheta0, psi0, p_psi0=p_psi0, root=root), options, progress,
+                     verify)
+
+
+def _verified(start: SectionStart, options: SectionOptions, progress, verify: bool) -> PoincareResult:
+    """The scalar section of one start, gated on its own accuracy (verify): a failed check repeats the run once
+    with freshly compiled integrators, and refuses the result if it still fails."""
+    res = _iterate(start, options, progress)
     if verify and res.success and not res.accuracy_checks()["passed"]:
         # the integrator did not conserve what it must: do not trust the compiled code from the disk cache
         systems.bypass_disk_cache()
-        res = _iterate(params, h, theta0, ptheta0, psi0, **{**kw, "progress": None})
-        res.panel, res.retried_without_jit_cache = key, True
+        res = _iterate(start, options)
+        res.retried_without_jit_cache = True
         if res.accuracy_checks()["passed"]:
             systems.bypass_disk_cache(clear=True)
             systems._warn("the on-disk JIT cache gave an integrator that failed its accuracy checks; the cache was "
                           "cleared and the run repeated with freshly compiled code")
     if verify and res.success and not res.accuracy_checks()["passed"]:
-        acc = res.accuracy_checks()
-        res.success = False
-        res.message = (f"accuracy check failed: max |Hbar - h| = {res.max_abs_dH:.3g} (tol {acc['energy_tol']:g}), "
-                       f"Casimir drift {res.casimir_drift if res.casimir_drift is not None else 0:.3g} "
-                       f"(tol {acc['casimir_tol']:g})")
+        _refuse(res)
     return res
 
 
@@ -677,102 +869,48 @@ def _job_specs(params, h, theta0, ptheta0, psi0, starts, p_psi0):
             for i, row in enumerate(table)]
 
 
-def _job(spec, root):
-    """A batch.Job from one spec: validated start, energy roots (or the given p_psi0 checked against h)."""
-    from .batch import Job
-
+def _start_of(spec, root) -> SectionStart:
+    """The SectionStart of one spec of a many-start call (section_start), errors naming the entry or start."""
     name, i, params, key, h, theta0, ptheta0, psi0, p_psi0 = spec
     try:
-        theta0, ptheta0, psi0, _ = _check_start(theta0, ptheta0, psi0)
-        pars = params.array()
-        if p_psi0 is not None:
-            lo, hi = _admissible_interval(params)
-            if not lo < p_psi0 < hi:
-                raise ParameterError("p_psi0", f"the square root sqrt(mu - 2 lam pbar_psi) of Hbar is imaginary or "
-                                               f"zero at the start: mu - 2 lam pbar_psi0 = "
-                                               f"{_radicand(params, p_psi0):.6g}")
-            h_start = float(systems.reduced_functions()["H"]([theta0, psi0, ptheta0, p_psi0], pars)[0])
-            if h is not None and not abs(h_start - float(h)) <= START_LEVEL_TOL:
-                raise ParameterError("h", f"the start is off the level: Hbar(start) - h = {h_start - float(h):.3g} "
-                                          f"(tolerance {START_LEVEL_TOL:g})")
-            roots, ridx, h = np.array([p_psi0]), 0, h_start if h is None else float(h)
-        else:
-            if h is None:
-                raise ParameterError("h", "give an energy level h (or p_psi0 as the fourth column of starts)")
-            h = require_finite("h", h)
-            roots = solve_p_psi(params, h, theta0, ptheta0, psi0)
-            ridx = choose_root(roots, root)
-            p_psi0 = float(roots[ridx])
+        start = section_start(params, h, theta0, ptheta0, psi0, p_psi0=p_psi0, root=root)
     except ParameterError as exc:
         if exc.name == "root":
             raise
         what = f"entry {i}" if name == "params" else f"start {i}"
         raise ParameterError(name, f"{what} (theta0={float(theta0)!r}, ptheta0={float(ptheta0)!r}, "
                                    f"psi0={float(psi0)!r}): {exc.name}: {exc.message}") from None
-    x0 = systems.euler_to_body(theta0, psi0, ptheta0, p_psi0, pars)
-    return Job(index=i, params=params, h=float(h), theta0=float(theta0), ptheta0=float(ptheta0), psi0=float(psi0),
-               p_psi0=float(p_psi0), roots=np.asarray(roots, dtype=float), root_index=int(ridx), x0=x0, key=key)
+    return replace(start, panel=key)
 
 
-def _run_jobs(jobs, *, iterates, t_max, direction, branch, tol_eff, workers, progress) -> list:
+def _run_lanes(starts, options: SectionOptions, workers, progress) -> list:
+    """Many starts in the SIMD lanes of magrod/chaos/batch.py: one _Orbit each (the shared crossing handling)."""
     from . import batch
 
-    out = [None] * len(jobs)
-    pos = {id(j): k for k, j in enumerate(jobs)}
-
-    def finish(job, raw, times, final_time, success, message, wall):
-        res = _assemble(job.params, job.pars, job.h, job.theta0, job.ptheta0, job.psi0, job.p_psi0, job.roots,
-                        job.root_index, "body", direction, branch, tol_eff, iterates, t_max(job), raw, times,
-                        np.full(raw.shape[0], FRAME_BODY, np.int8), final_time, 0, success, message, float)
-        res.panel, res.wall_s = job.key, wall
-        out[pos[id(job)]] = res
-
-    batch.run(jobs, finish, iterates=iterates, t_max=t_max, direction=direction, branch=branch, tol=tol_eff,
-              workers=workers, progress=progress)
-    return out
+    orbits = [_Orbit(s, options, index=k, progress=progress) for k, s in enumerate(starts)]
+    batch.run(orbits, direction=options.direction, tol=options.taylor_tol, workers=workers)
+    return [o.result for o in orbits]
 
 
 def _many_sections(params, h, theta0, ptheta0, psi0, *, starts, p_psi0, iterates, root, direction, branch,
                    formulation, precision, tol, t_max, verify, pole_switch, radicand_switch, progress, stretch_dt,
                    workers) -> list:
-    precision = Precision.parse(precision)
-    if precision not in (Precision.DOUBLE, Precision.LONG_DOUBLE):
-        raise ParameterError("precision", f"must be 'double' or 'long double' for sections, got {precision.value!r}")
-    iterates = _validate_options(iterates, root, direction, branch, formulation, pole_switch, radicand_switch)
+    options = SectionOptions(iterates=iterates, t_max=t_max, direction=direction, branch=branch,
+                             formulation=formulation, precision=precision, tol=tol, pole_switch=pole_switch,
+                             radicand_switch=radicand_switch, stretch_dt=stretch_dt)
     if workers is not None:
         workers = require_positive_int("workers", workers)
-    if t_max is not None and not require_finite("t_max", t_max) > 0:
-        raise ParameterError("t_max", f"must be > 0, got {t_max}")
-    specs = _job_specs(params, h, theta0, ptheta0, psi0, starts, p_psi0)
-    if not (formulation == "body" and precision is Precision.DOUBLE and stretch_dt is None):
+    starts = [_start_of(s, root) for s in _job_specs(params, h, theta0, ptheta0, psi0, starts, p_psi0)]
+    if not options.batchable:
         # no batch kernel for this configuration: the scalar path per start, on `workers` threads
-        kw = dict(iterates=iterates, root=root, direction=direction, branch=branch, formulation=formulation,
-                  precision=precision, tol=tol, t_max=t_max, verify=verify, pole_switch=pole_switch,
-                  radicand_switch=radicand_switch, progress=progress, stretch_dt=stretch_dt)
-        for s in specs:
-            _job(s, root)  # validates every start before anything runs
-
-        def one(spec):
-            _, _, pr, key, hh, th, pt, ps, pp = spec
-            r = poincare_section(pr, None if pp is not None else hh, th, pt, ps, p_psi0=pp, **kw)
-            r.panel = key
-            return r
-
         with ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 1) as ex:
-            return list(ex.map(one, specs))
-    jobs = [_job(s, root) for s in specs]
-    tol_eff = float(tol) if tol else float(np.finfo(float).eps)
-
-    def limit(job):
-        return float(100.0 * iterates if t_max is None else t_max)
-
-    kw = dict(iterates=iterates, t_max=limit, direction=direction, branch=branch, tol_eff=tol_eff, workers=workers)
-    out = _run_jobs(jobs, progress=progress, **kw)
+            return list(ex.map(lambda s: _verified(s, options, progress, verify), starts))
+    out = _run_lanes(starts, options, workers, progress)
     if verify:
         bad = [k for k, r in enumerate(out) if r.success and not r.accuracy_checks()["passed"]]
         if bad:  # as in the scalar path: do not trust the compiled code from the disk cache, run those again
             systems.bypass_disk_cache()
-            again = _run_jobs([jobs[k] for k in bad], progress=None, **kw)
+            again = _run_lanes([starts[k] for k in bad], options, workers, None)
             for k, r in zip(bad, again):
                 r.retried_without_jit_cache = True
                 out[k] = r
@@ -794,139 +932,297 @@ def _refuse(res) -> None:
                    f"(tol {acc['casimir_tol']:g})")
 
 
-def _iterate(params: RodParams, h=None, theta0=0.1, ptheta0=0.5, psi0=0.0, *, p_psi0=None, iterates=10_000,
-             root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION, tol=None,
-             t_max=None, pole_switch=(0.05, 0.1), radicand_switch=(1e-3, 2e-3), fp_type=float,
-             progress=None, stretch_dt=None) -> PoincareResult:
-    """The section iteration itself (no accuracy gate; `poincare_section` is the public face)."""
-    t_start = time.perf_counter()
-    iterates = _validate_options(iterates, root, direction, branch, formulation, pole_switch, radicand_switch)
-    pars = params.array()
-    if p_psi0 is not None and h is not None:
-        raise ParameterError("p_psi0", "give either an energy level h or p_psi0, not both")
-    if p_psi0 is not None:
-        theta0, ptheta0, psi0, _ = _check_start(theta0, ptheta0, psi0)
-        p_psi0 = require_finite("p_psi0", p_psi0)
-        lo, hi = _admissible_interval(params)
-        if not lo < p_psi0 < hi:
-            raise ParameterError("p_psi0", f"the square root sqrt(mu - 2 lam pbar_psi) of Hbar is imaginary or zero "
-                                           f"at the start: mu - 2 lam pbar_psi0 = {_radicand(params, p_psi0):.6g}")
-        roots, ridx = np.array([p_psi0]), 0
-        h = float(systems.reduced_functions()["H"]([theta0, psi0, ptheta0, p_psi0], pars)[0])
-    else:
-        if h is None:
-            raise ParameterError("h", "give an energy level h (or p_psi0)")
-        roots = solve_p_psi(params, h, theta0, ptheta0, psi0)
-        h = float(h)
-        ridx = choose_root(roots, root)
-        p_psi0 = float(roots[ridx])
-    if fp_type is not float and formulation != "body":
-        raise ValueError("extended precision is supported for formulation='body' only")
-    t_max = float(100.0 * iterates if t_max is None else require_finite("t_max", t_max))
-    eps = float(np.finfo(fp_type).eps)
-    tol_eff = float(tol) if tol else eps
+# ----------------------------------------------------------------------------------------------------------
+# the one section loop: an orbit's crossings recorded (shared by the scalar loop and the SIMD lanes), and the
+# scalar loop itself as a stream of chunks (poincare_section drains it, the explorer draws it as it comes)
+# ----------------------------------------------------------------------------------------------------------
+PROGRESS_EVERY = 200  # section points between two progress(n) calls
 
-    # the tolerance is fixed at construction, so it is part of the integrator cache key
-    ta_r, ta_b = _integrators(formulation, direction, tuple(pole_switch), tuple(radicand_switch), fp_type, tol_eff)
 
-    start4 = np.array([theta0, psi0, ptheta0, p_psi0])
+class _Orbit:
+    """One orbit's section points as they are found: the crossing handling every section loop shares (the
+    branch filter, the point buffer, the iterate count, the progress reports, the stop messages) and the
+    assembly of its PoincareResult.  The scalar loop (`SectionPoints`) and the lanes of magrod/chaos/batch.py
+    drive it; `x0`, `pars` and `t_max` are what a lane needs to start the orbit."""
 
-    def chart_ok_4d(th, pps, leave):
-        i = 1 if leave else 0
-        return np.sin(th) > pole_switch[i] and _radicand(params, pps) > radicand_switch[i]
+    __slots__ = ("start", "options", "index", "pars", "x0", "t_max", "raw", "times", "frame", "n", "reported",
+                 "progress", "t0_wall", "result")
 
-    if formulation == "reduced" and chart_ok_4d(theta0, p_psi0, False):
-        mode = FRAME_REDUCED
-        _set(ta_r, start4, 0.0, pars)
-    else:
-        mode = FRAME_BODY
-        x0 = systems.euler_to_body(theta0, psi0, ptheta0, p_psi0, pars)
-        _set(ta_b, [fp_type(v) for v in x0] if fp_type is not float else x0, 0.0, pars)
+    def __init__(self, start: SectionStart, options: SectionOptions, *, index=None, progress=None):
+        self.start, self.options, self.index, self.progress = start, options, index, progress
+        self.pars = start.params.array()
+        self.x0 = start.body_state(options.precision.fp_type)
+        self.t_max = options.time_limit
+        # the point buffer is made by the first record (a million queued lane orbits hold none) and grown by
+        # doubling: iterates may be huge when t_max is the real limit
+        self.raw = np.full((0, NBODY), np.nan)
+        self.times = np.zeros(0)
+        self.frame = np.zeros(0, dtype=np.int8)
+        self.n = self.reported = 0
+        self.t0_wall = time.perf_counter()
+        self.result = None
 
-    cap = min(iterates, 4096)  # grown by doubling: iterates may be huge when t_max is the real limit
-    raw = np.full((cap, NBODY), np.nan)
-    times = np.zeros(cap)
-    frame = np.zeros(cap, dtype=np.int8)
-    n = switches = 0
-    success, message = True, "ok"
-    t_limit = hy.taylor_outcome.time_limit
-    t_stop = t_max if fp_type is float else fp_type(t_max)
-    last_report = 0
-    sampler = None
-    if stretch_dt is not None:
-        dt_s = float(require_finite("stretch_dt", stretch_dt))
-        if dt_s <= 0:
-            raise ParameterError("stretch_dt", f"must be > 0, got {stretch_dt}")
-        sampler = _StretchSampler(dt_s, pars)
-    while n < iterates:
-        ta = ta_r if mode == FRAME_REDUCED else ta_b
-        if sampler is None:
-            oc = ta.propagate_until(t_stop)[0]
-        else:  # dense output of the same steps: the stretch is sampled on the trajectory that gives the points
-            r = ta.propagate_until(t_stop, c_output=True)
-            oc = r[0]
-            sampler.add(r[4], mode)
-        if oc == t_limit:
-            success, message = False, (f"t_max = {t_max:g} reached after {n} of {iterates} iterates (max-time guard; "
-                                       f"raise t_max or check that the orbit crosses sin(psi) = 0)")
-            break
-        code = int(oc)
-        if code >= 0 or not np.all(np.isfinite(ta.state)):
-            success, message = False, f"integration failed at t = {float(ta.time):g} ({oc}) after {n} iterates"
-            break
-        ev = -code - 1
-        if ev == 0:  # section crossing; branch filter applied here (the event direction filtered already)
-            st = np.array(ta.state, dtype=float)
-            if mode == FRAME_REDUCED:
-                c = np.cos(st[_PSI])
-                ta.state[_PSI] = _wrap(st[_PSI])  # keep psi bounded (see module docstring)
-            else:
-                c = None
-            keep = branch == "any" or c is None or (c > 0) == (branch == "0")
-            if c is None and branch != "any":
-                c = np.cos(systems.body_to_euler(np.ascontiguousarray(st), pars)[_CHART_PSI])
-                keep = (c > 0) == (branch == "0")
-            if keep:
-                if n == raw.shape[0]:
-                    cap = min(iterates, 2 * cap)
-                    raw = np.vstack([raw, np.full((cap - n, NBODY), np.nan)])
-                    times = np.concatenate([times, np.zeros(cap - n)])
-                    frame = np.concatenate([frame, np.zeros(cap - n, dtype=np.int8)])
-                raw[n, : st.size] = st
-                times[n] = float(ta.time)
-                frame[n] = mode
-                n += 1
-                if progress is not None and n - last_report >= 200:
-                    progress(n - last_report)
-                    last_report = n
-        elif mode == FRAME_REDUCED:  # entering the neighbourhood of a chart singularity
-            st = np.array(ta.state, dtype=float)
-            xb = systems.euler_to_body(*st, pars)
-            _set(ta_b, xb, ta.time, pars)
+    def keep(self, state, cos_psi=None) -> bool:
+        """The branch filter (the event has filtered the direction already): psi = 0 (cos psi > 0) or psi = pi.
+        cos_psi is given by the 4-D chart; body-frame points are mapped to the chart first."""
+        branch = self.options.branch
+        if branch == "any":
+            return True
+        if cos_psi is None:
+            cos_psi = np.cos(systems.body_to_euler(np.ascontiguousarray(state), self.pars)[_CHART_PSI])
+        return bool((cos_psi > 0) == (branch == "0"))
+
+    def record(self, state, t: float, frame: int = FRAME_BODY) -> bool:
+        """Record a kept crossing (a 4-D chart state for frame 0, a body state for frame 1); True once the
+        requested number of iterates is reached."""
+        n = self.n
+        if n == self.raw.shape[0]:
+            cap = min(self.options.iterates, max(4096, 2 * n))
+            self.raw = np.vstack([self.raw, np.full((cap - n, NBODY), np.nan)])
+            self.times = np.concatenate([self.times, np.zeros(cap - n)])
+            self.frame = np.concatenate([self.frame, np.zeros(cap - n, dtype=np.int8)])
+        self.raw[n, : len(state)] = state
+        self.times[n] = t
+        self.frame[n] = frame
+        self.n = n = n + 1
+        if self.progress is not None and n - self.reported >= PROGRESS_EVERY:
+            self.progress(n - self.reported)
+            self.reported = n
+        return n >= self.options.iterates
+
+    def time_limit_message(self) -> str:
+        return (f"t_max = {self.t_max:g} reached after {self.n} of {self.options.iterates} iterates (max-time guard; "
+                f"raise t_max or check that the orbit crosses sin(psi) = 0)")
+
+    def failure_message(self, t, outcome) -> str:
+        return f"integration failed at t = {float(t):g} ({outcome}) after {self.n} iterates"
+
+    def finish(self, final_time, success: bool, message: str, switches: int = 0) -> PoincareResult:
+        """The orbit is over: report the last progress and assemble its PoincareResult (self.result)."""
+        if self.progress is not None and self.n > self.reported:
+            self.progress(self.n - self.reported)
+            self.reported = self.n
+        n = self.n
+        res = _assemble(self.start, self.options, self.pars, self.raw[:n], self.times[:n], self.frame[:n],
+                        float(final_time), switches, success, message)
+        res.wall_s = time.perf_counter() - self.t0_wall
+        self.result = res
+        return res
+
+
+@dataclass(frozen=True)
+class SectionChunk:
+    """Section points found since the previous chunk of a `section_points` stream (k of them): `points` (k, 4)
+    chart coordinates (theta, psi, pbar_theta, pbar_psi; psi wrapped), `times` (k,), `frame` (k,), `dH` (k,)
+    Hbar - h, and `n_total`, the points of the orbit so far.  times and frame are the result's to the bit; points
+    and dH come from the same compiled functions as the result's, evaluated on the chunk's columns only, so they
+    agree with the result's to rounding (heyoka's cfunc runs SIMD blocks and a scalar remainder)."""
+
+    points: np.ndarray
+    times: np.ndarray
+    frame: np.ndarray
+    dH: np.ndarray
+    n_total: int
+
+
+_IN_USE: set = set()  # ids of the per-thread integrators a running (possibly suspended) stream holds
+_IN_USE_LOCK = threading.Lock()
+
+
+class SectionPoints:
+    """The section loop of one orbit as an iterator of `SectionChunk` (`section_points` builds it).  After the
+    iteration `result` is the PoincareResult of every point computed, with success/message (a cancelled stream:
+    success False, message "cancelled after ...")."""
+
+    def __init__(self, start: SectionStart, options: SectionOptions, *, cancel=None, progress=None, first=None,
+                 every=None, verify=False):
+        if not isinstance(start, SectionStart):
+            raise ParameterError("start", f"must be a SectionStart (magrod.section_start), got "
+                                          f"{type(start).__name__}")
+        if not isinstance(options, SectionOptions):
+            raise ParameterError("options", f"must be a SectionOptions, got {type(options).__name__}")
+        self.start, self.options = start, options
+        self._cancel, self._first, self._every, self._verify = cancel, first, every, verify
+        self._orbit = _Orbit(start, options, progress=progress)
+        self._started = False
+
+    @property
+    def result(self) -> PoincareResult | None:
+        """The PoincareResult once the stream is exhausted (None before)."""
+        return self._orbit.result
+
+    def run(self) -> PoincareResult:
+        """Drain the stream; the result."""
+        for _ in self:
+            pass
+        return self.result
+
+    def _chunk(self, lo: int, hi: int) -> SectionChunk:
+        o = self._orbit
+        points, dH, *_ = _chart_points(o.raw[lo:hi], o.frame[lo:hi], o.pars, self.start.h, casimirs=False)
+        return SectionChunk(points, o.times[lo:hi], o.frame[lo:hi], dH, hi)
+
+    def __iter__(self):
+        if self._started:
+            raise RuntimeError("a section stream runs once; build another with section_points")
+        self._started = True
+        opts = self.options
+        # the tolerance is fixed at construction, so it is part of the integrator cache key
+        key = (opts.formulation, opts.direction, opts.pole_switch, opts.radicand_switch, opts.precision,
+               opts.taylor_tol)
+        ta_r, ta_b = _integrators(*key)
+        with _IN_USE_LOCK:
+            own = id(ta_b) in _IN_USE
+            if not own:
+                _IN_USE.add(id(ta_b))
+        if own:  # another stream is suspended on this thread's integrators (zip of two streams): build a pair
+            ta_r, ta_b = _integrators.__wrapped__(*key)
+        try:
+            yield from self._loop(ta_r, ta_b)
+        finally:
+            if not own:
+                with _IN_USE_LOCK:
+                    _IN_USE.discard(id(ta_b))
+
+    def _loop(self, ta_r, ta_b):
+        start, opts, o = self.start, self.options, self._orbit
+        formulation, iterates = opts.formulation, opts.iterates
+        pole_switch, radicand_switch = opts.pole_switch, opts.radicand_switch
+        fp_type = opts.precision.fp_type
+        params, pars = start.params, o.pars
+        theta0, ptheta0, psi0, p_psi0 = start.theta0, start.ptheta0, start.psi0, start.p_psi0
+
+        def chart_ok_4d(th, pps, leave):
+            i = 1 if leave else 0
+            return np.sin(th) > pole_switch[i] and _radicand(params, pps) > radicand_switch[i]
+
+        if formulation == "reduced" and chart_ok_4d(theta0, p_psi0, False):
+            mode = FRAME_REDUCED
+            _set(ta_r, np.array([theta0, psi0, ptheta0, p_psi0]), 0.0, pars)
+        else:
             mode = FRAME_BODY
-            switches += 1
-        else:  # leaving it: back to the 4-D chart only if both chart conditions hold with margin
-            e = systems.body_to_euler(np.ascontiguousarray(np.array(ta.state, dtype=float)), pars)[_CHART4]
-            th, pps = e[0], e[-1]
-            if chart_ok_4d(th, pps, True) or (np.sin(th) >= pole_switch[1] * (1 - 1e-9)
-                                              and _radicand(params, pps) >= radicand_switch[1] * (1 - 1e-9)):
-                _set(ta_r, e, ta.time, pars)
-                mode = FRAME_REDUCED
+            _set(ta_b, o.x0, 0.0, pars)
+        switches = 0
+        success, message = True, "ok"
+        t_limit = hy.taylor_outcome.time_limit
+        t_stop = o.t_max if fp_type is float else fp_type(o.t_max)
+        sampler = None if opts.stretch_dt is None else _StretchSampler(float(opts.stretch_dt), pars)
+        cancel, first, every = self._cancel, self._first, self._every
+        sent, last = 0, time.perf_counter()
+        while o.n < iterates:
+            if cancel is not None and cancel.is_set():
+                success, message = False, f"cancelled after {o.n} of {iterates} iterates"
+                break
+            ta = ta_r if mode == FRAME_REDUCED else ta_b
+            if sampler is None:
+                oc = ta.propagate_until(t_stop)[0]
+            else:  # dense output of the same steps: the stretch is sampled on the trajectory that gives the points
+                r = ta.propagate_until(t_stop, c_output=True)
+                oc = r[0]
+                sampler.add(r[4], mode)
+            if oc == t_limit:
+                success, message = False, o.time_limit_message()
+                break
+            code = int(oc)
+            if code >= 0 or not np.all(np.isfinite(ta.state)):
+                success, message = False, o.failure_message(ta.time, oc)
+                break
+            ev = -code - 1
+            if ev == 0:  # section crossing; branch filter applied here (the event direction filtered already)
+                st = np.array(ta.state, dtype=float)
+                c = None
+                if mode == FRAME_REDUCED:
+                    c = np.cos(st[_PSI])
+                    ta.state[_PSI] = _wrap(st[_PSI])  # keep psi bounded (see module docstring)
+                if o.keep(st, c):
+                    o.record(st, float(ta.time), mode)
+                    if first is not None and (o.n == first or time.perf_counter() - last > every):
+                        yield self._chunk(sent, o.n)
+                        sent, last = o.n, time.perf_counter()
+            elif mode == FRAME_REDUCED:  # entering the neighbourhood of a chart singularity
+                st = np.array(ta.state, dtype=float)
+                xb = systems.euler_to_body(*st, pars)
+                _set(ta_b, xb, ta.time, pars)
+                mode = FRAME_BODY
                 switches += 1
-    if progress is not None and n > last_report:
-        progress(n - last_report)
-    final_time = float((ta_r if mode == FRAME_REDUCED else ta_b).time)
-    res = _assemble(params, pars, h, theta0, ptheta0, psi0, p_psi0, roots, ridx, formulation, direction, branch,
-                    tol_eff, iterates, t_max, raw[:n], times[:n], frame[:n], final_time, switches, success,
-                    message, fp_type)
-    if sampler is not None and res.n_points:
-        res.stretch = sampler.result(res, np.dtype(fp_type).name)
-    res.wall_s = time.perf_counter() - t_start
-    return res
+            else:  # leaving it: back to the 4-D chart only if both chart conditions hold with margin
+                e = systems.body_to_euler(np.ascontiguousarray(np.array(ta.state, dtype=float)), pars)[_CHART4]
+                th, pps = e[0], e[-1]
+                if chart_ok_4d(th, pps, True) or (np.sin(th) >= pole_switch[1] * (1 - 1e-9)
+                                                  and _radicand(params, pps) >= radicand_switch[1] * (1 - 1e-9)):
+                    _set(ta_r, e, ta.time, pars)
+                    mode = FRAME_REDUCED
+                    switches += 1
+        final_time = float((ta_r if mode == FRAME_REDUCED else ta_b).time)
+        res = o.finish(final_time, success, message, switches)
+        res.panel = start.panel
+        if sampler is not None and res.n_points:
+            res.stretch = sampler.result(res, np.dtype(fp_type).name)
+        if self._verify and res.success and not res.accuracy_checks()["passed"]:
+            _refuse(res)
+        if o.n > sent:
+            yield self._chunk(sent, o.n)
 
 
-def _assemble(params, pars, h, theta0, ptheta0, psi0, p_psi0, roots, ridx, formulation, direction, branch, tol,
-              iterates, t_max, raw, times, frame, final_time, switches, success, message, fp_type):
+def section_points(start, options=None, *, cancel=None, progress=None, first=8, every=0.04,
+                   verify=True) -> SectionPoints:
+    """The Poincare section of one orbit as a stream: chunks of points as they are computed (the explorer's form
+    of `poincare_section`; the same loop, the same integrator, hence the same points to the last bit).
+
+    Parameters
+    ----------
+    start : SectionStart
+        From `section_start`.
+    options : SectionOptions, optional
+        Default SectionOptions() (10 000 iterates, body frame, double precision).
+    cancel : threading.Event, optional
+        Checked before every step to the next crossing (~0.2 ms apart): once set, the stream ends with
+        success False and the message "cancelled after n of N iterates".
+    progress : callable, optional
+        progress(n_new_points), every 200 points and at the end.
+    first, every : int, float
+        A chunk is yielded after the first `first` points, then whenever `every` seconds have passed since the
+        last one, and at the end (first=None: one chunk at the end).
+    verify : bool
+        Gate the result on ENERGY_TOL and CASIMIR_TOL (success False with the reason).  A stream is not
+        repeated with freshly compiled code, as `poincare_section(verify=True)` is: its points have been handed
+        out already.
+
+    Returns
+    -------
+    SectionPoints
+        An iterator of SectionChunk; `.result` is the PoincareResult once it is exhausted.
+
+    Raises
+    ------
+    ParameterError
+        "start" or "options" of the wrong type.
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> stream = mr.section_points(mr.section_start("4a"), mr.SectionOptions(iterates=50))
+    >>> sum(c.points.shape[0] for c in stream), stream.result.n_points
+    (50, 50)
+
+    Notes
+    -----
+    ChaosTools.jl's `poincare_cross!` drives both `poincaresos` and `orbitdiagram`; here `_Orbit` (the crossing
+    handling and the assembly) serves this loop and the SIMD lanes alike, and `poincare_section` drains this
+    stream.
+    """
+    return SectionPoints(start, SectionOptions() if options is None else options, cancel=cancel,
+                         progress=progress, first=first, every=every, verify=verify)
+
+
+def _iterate(start: SectionStart, options: SectionOptions, progress=None) -> PoincareResult:
+    """The section iteration itself (no accuracy gate; `poincare_section` is the public face)."""
+    return SectionPoints(start, options, progress=progress).run()
+
+
+def _chart_points(raw, frame, pars, h, casimirs=True):
+    """Chart points, Hbar - h, body points, section residuals and the Casimir drift of recorded crossings
+    (raw rows: 4-D chart states for frame 0, body states for frame 1)."""
     F = systems.reduced_functions()
     B = systems.body_functions()
     n = raw.shape[0]
@@ -950,19 +1246,30 @@ def _assemble(params, pars, h, theta0, ptheta0, psi0, p_psi0, roots, ridx, formu
         e = B["to_euler"](x, pars)
         points[b] = e[_CHART4].T
         dH[b] = B["H"](x, pars)[0] - h
-        cv = np.asarray(B["casimir_values"](np.zeros(0), pars))
-        casimir = float(np.max(np.abs(B["casimirs"](x, pars) - cv[:, None])))
+        if casimirs:
+            cv = np.asarray(B["casimir_values"](np.zeros(0), pars))
+            casimir = float(np.max(np.abs(B["casimirs"](x, pars) - cv[:, None])))
     points[:, _PSI] = _wrap(points[:, _PSI])
+    return points, dH, body_points, section_residual, casimir
+
+
+def _assemble(start: SectionStart, options: SectionOptions, pars, raw, times, frame, final_time, switches, success,
+              message) -> PoincareResult:
+    n = raw.shape[0]
+    points, dH, body_points, section_residual, casimir = _chart_points(raw, frame, pars, start.h)
+    F = systems.reduced_functions()
     branch_flag = np.where(np.cos(points[:, _PSI]) > 0, 1, -1).astype(np.int8)
     psi_dot = F["rhs"](np.ascontiguousarray(points.T), pars)[_PSI] if n else np.zeros(0)
     return PoincareResult(
-        success=success, message=message, params=params, h=float(h), theta0=float(theta0), ptheta0=float(ptheta0),
-        psi0=float(psi0), p_psi0=float(p_psi0), roots=np.asarray(roots, dtype=float), root_index=int(ridx),
-        formulation=formulation, direction=direction, branch_filter=branch, tol=float(tol), iterates=iterates,
-        t_max=t_max, points=points, times=times, branch=branch_flag, psi_dot_sign=np.sign(psi_dot).astype(np.int8),
-        frame=frame, dH=dH, body_points=body_points, section_residual=section_residual, max_abs_dH=float(np.max(np.abs(dH))) if n else 0.0,
-        casimir_drift=casimir, final_time=final_time, n_frame_switches=int(switches), wall_s=0.0,
-        fp_type=np.dtype(fp_type).name)
+        success=success, message=message, params=start.params, h=float(start.h), theta0=float(start.theta0),
+        ptheta0=float(start.ptheta0), psi0=float(start.psi0), p_psi0=float(start.p_psi0),
+        roots=np.asarray(start.roots, dtype=float), root_index=int(start.root_index),
+        formulation=options.formulation, direction=options.direction, branch_filter=options.branch,
+        tol=options.taylor_tol, iterates=options.iterates, t_max=options.time_limit, points=points, times=times,
+        branch=branch_flag, psi_dot_sign=np.sign(psi_dot).astype(np.int8), frame=frame, dH=dH,
+        body_points=body_points, section_residual=section_residual,
+        max_abs_dH=float(np.max(np.abs(dH))) if n else 0.0, casimir_drift=casimir, final_time=final_time,
+        n_frame_switches=int(switches), wall_s=0.0, precision=options.precision, panel=start.panel)
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -974,8 +1281,8 @@ _STRETCH_CHUNK = 8192  # grid points per propagate_grid call (memory stays ~1 MB
 
 
 @systems.per_thread
-def _stretch_integrator(fp_type):
-    return systems.integrator("body", fp_type=fp_type)
+def _stretch_integrator(precision):
+    return systems.integrator("body", precision=precision)
 
 
 class _StretchSampler:
@@ -1062,10 +1369,11 @@ def orbit_stretch(res: PoincareResult, *, dt=STRETCH_DT, precision=Precision.DOU
     dt = float(require_finite("dt", dt))
     if dt <= 0:
         raise ParameterError("dt", f"must be > 0, got {dt}")
-    fp_type = Precision.parse(precision).fp_type
+    precision = Precision.parse(precision)
+    fp_type = precision.fp_type
     T = float(res.final_time if t_final is None else require_finite("t_final", t_final))
     pars = res.params.array()
-    ta = _stretch_integrator(fp_type)
+    ta = _stretch_integrator(precision)
     x0 = systems.euler_to_body(res.theta0, res.psi0, res.ptheta0, res.p_psi0, pars)
     systems.reset(ta, [fp_type(v) for v in x0] if fp_type is not float else x0, 0.0, pars)
     sampler = _StretchSampler(dt, pars)

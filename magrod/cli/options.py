@@ -3,11 +3,10 @@ that a bad value is a ParameterError naming the option (exit 2, one line), never
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 
-from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
-from ..core.limits import LIMITS
+from ..core.errors import MAX_MAGNITUDE, require_finite
+from ..core.limits import LIMITS, integer  # noqa: F401  (integer: the count parser, defined with the limits)
 from ..generated.names import PARAMS
 
 # Counts are bounded by what memory and time allow on a workstation; the messages state the limit (one table
@@ -39,23 +38,6 @@ def params_from(args, base: dict | None = None) -> dict:
 def number(name: str, value, bound: float = MAX_MAGNITUDE) -> float:
     """A finite, normal float with |x| <= bound."""
     return require_finite(name, value, bound)
-
-
-def integer(name: str, value, minimum: int = 1, maximum: int | None = None) -> int:
-    """An integer in [minimum, maximum] (maximum defaults to LIMITS[name]); accepts integral floats ('1e4')."""
-    try:
-        f = float(value)
-    except (TypeError, ValueError, OverflowError):
-        raise ParameterError(name, f"must be an integer, got {str(value)[:40]!r}") from None
-    if not math.isfinite(f) or f != int(f):
-        raise ParameterError(name, f"must be an integer, got {str(value)[:40]!r}")
-    i = int(f)
-    if i < minimum:
-        raise ParameterError(name, f"must be >= {minimum}, got {value!r}")
-    maximum = LIMITS.get(name) if maximum is None else maximum
-    if maximum is not None and i > maximum:
-        raise ParameterError(name, f"must be <= {maximum} (the limit of what this command can finish), got {value!r}")
-    return i
 
 
 def stem(name: str, value) -> str:

@@ -10,3 +10,25 @@ LIMITS = {
     "points": 1_000_000,     # rod samples
     "jobs": 64,              # reproduce worker processes
 }
+
+
+def integer(name: str, value, minimum: int = 1, maximum: int | None = None) -> int:
+    """An integer in [minimum, maximum] (maximum defaults to LIMITS[name]); accepts integral floats and their
+    strings ('1e4').  The one count parser of the command line and the explorer; ParameterError(name)."""
+    import math
+
+    from .errors import ParameterError
+
+    try:
+        f = float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise ParameterError(name, f"must be an integer, got {str(value)[:40]!r}") from None
+    if not math.isfinite(f) or f != int(f):
+        raise ParameterError(name, f"must be an integer, got {str(value)[:40]!r}")
+    i = int(f)
+    if i < minimum:
+        raise ParameterError(name, f"must be >= {minimum}, got {value!r}")
+    maximum = LIMITS.get(name) if maximum is None else maximum
+    if maximum is not None and i > maximum:
+        raise ParameterError(name, f"must be <= {maximum} (the limit of what this command can finish), got {value!r}")
+    return i

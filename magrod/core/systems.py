@@ -8,7 +8,10 @@ Runtime parameters hy.par[i] = PARAMS[i] = (m, mu, gamma, delta, lam), so one co
 parameter value: build once, then reset time/state/pars (`reset`) and reuse.  heyoka's on-disk JIT cache makes
 a second process load instead of compile (~20 ms instead of ~1 s).
 
-Builders (keyword-only options; fp_type is float, np.longdouble, hy.real128 or hy.real with `prec` bits):
+Builders (keyword-only options; `precision` is a core.precision.Precision or its name, `bits` the significand
+width of Precision.MP runs (default MP_BITS) and nothing else.  The old spelling fp_type=/prec= (a number type and
+hy.real's bit count) is still accepted by every builder for one release and is deprecated: issue 25, one
+vocabulary):
   taylor(sys, state, pars, ...)              any system: the one place hy.taylor_adaptive is called
   build(constructor, ...)                    every heyoka constructor goes through it (damaged JIT cache entries)
   integrator(formulation, events=...)        scalar integrator of a formulation, events by name
@@ -35,7 +38,7 @@ import numpy as np
 
 from ..generated import body, names, reduced
 from .errors import MagrodWarning
-from .precision import Precision
+from .precision import MP_BITS, Precision
 
 PARAMS = names.PARAMS
 STATE = {"body": names.BODY_STATE, "reduced": names.REDUCED_STATE}
@@ -230,8 +233,28 @@ def event_expression(formulation: str, name: str):
     return EVENTS[formulation][name](*variables(formulation), *pars())
 
 
+def arithmetic(precision=Precision.DOUBLE, bits=None, *, fp_type=None, prec=None) -> tuple:
+    """(Precision, bits) of a builder call: `precision` (a Precision, its name, or for one release a number type
+    float/np.longdouble/hy.real128/hy.real) with `bits` for Precision.MP (default MP_BITS; None otherwise).
+    fp_type=/prec= are the deprecated spelling of the same (issue 25)."""
+    if fp_type is not None:
+        precision, bits = fp_type, prec if bits is None else bits
+    if not isinstance(precision, (Precision, str)):
+        precision = Precision.of(precision)
+    precision = Precision.parse(precision)
+    if precision is not Precision.MP:
+        return precision, None
+    return precision, int(bits or MP_BITS)
+
+
+def number(x, precision=Precision.DOUBLE, bits=None):
+    """x as a number of the precision (hy.real at `bits`; strings parsed in full precision)."""
+    precision, bits = arithmetic(precision, bits)
+    return _fp(precision.fp_type, x, bits)
+
+
 def _fp(fp_type, x, prec=None):
-    """x converted to fp_type (hy.real at `prec` bits)."""
+    """x converted to fp_type (hy.real at `prec` bits).  The number-type form of `number`, kept for its callers."""
     if fp_type is hy.real:
         return x if isinstance(x, hy.real) else hy.real(float(x) if not isinstance(x, str) else x, prec)
     if fp_type is float:
@@ -239,13 +262,16 @@ def _fp(fp_type, x, prec=None):
     return fp_type(x)
 
 
-def t_event(formulation: str, name: str, direction="any", offset=0.0, fp_type=float, batch=False, prec=None):
+def t_event(formulation: str, name: str, direction="any", offset=0.0, *, precision=Precision.DOUBLE, bits=None,
+            batch=False, fp_type=None, prec=None):
     """A stopping terminal event `expression - offset = 0` (no callback: the integrator stops on it and the
     state lands on the event surface to ~1e-17).  direction: "positive", "negative" or "any" (sign of d/dt of
-    the expression at the crossing)."""
+    the expression at the crossing).  precision/bits: the integrator's (fp_type/prec: deprecated spelling)."""
+    precision, bits = arithmetic(precision, bits, fp_type=fp_type, prec=prec)
+    fp_type = precision.fp_type
     e = event_expression(formulation, name)
     if offset:
-        e = e - hy.expression(_fp(fp_type, offset, prec)) if fp_type is hy.real else e - float(offset)
+        e = e - hy.expression(_fp(fp_type, offset, bits)) if fp_type is hy.real else e - float(offset)
     d = DIRECTIONS[direction]
     if batch:
         return hy.t_event_batch(e, direction=d)
@@ -257,21 +283,23 @@ def t_event(formulation: str, name: str, direction="any", offset=0.0, fp_type=fl
 # --------------------------------------------------------------------------------------------------------------
 # builders
 # --------------------------------------------------------------------------------------------------------------
-def taylor(sys, state, pars=(), *, fp_type=float, tol=None, prec=None, t_events=(), nt_events=(),
-           compact_mode=False, **kw):
-    """hy.taylor_adaptive for any system: state and pars converted to fp_type, tol None = machine epsilon of
-    fp_type (hy.real: of `prec` bits)."""
+def taylor(sys, state, pars=(), *, precision=Precision.DOUBLE, bits=None, tol=None, t_events=(), nt_events=(),
+           compact_mode=False, fp_type=None, prec=None, **kw):
+    """hy.taylor_adaptive for any system: state and pars converted to the precision, tol None = its machine
+    epsilon (Precision.MP: of `bits` bits).  fp_type=/prec=: the deprecated spelling of precision/bits."""
+    precision, bits = arithmetic(precision, bits, fp_type=fp_type, prec=prec)
+    fp_type = precision.fp_type
     if fp_type is float:
         return build(hy.taylor_adaptive, sys, [float(s) for s in state], pars=[float(p) for p in pars], tol=float(tol or 0.0),
                                   t_events=list(t_events), nt_events=list(nt_events), compact_mode=compact_mode, **kw)
-    return build(hy.taylor_adaptive, sys, [_fp(fp_type, s, prec) for s in state], pars=[_fp(fp_type, p, prec) for p in pars],
-                              tol=_fp(fp_type, tol or 0, prec), t_events=list(t_events), nt_events=list(nt_events),
+    return build(hy.taylor_adaptive, sys, [_fp(fp_type, s, bits) for s in state], pars=[_fp(fp_type, p, bits) for p in pars],
+                              tol=_fp(fp_type, tol or 0, bits), t_events=list(t_events), nt_events=list(nt_events),
                               fp_type=fp_type, compact_mode=compact_mode, **kw)
 
 
-def _events(formulation, events, fp_type, batch=False, prec=None):
-    return [t_event(formulation, *ev, fp_type=fp_type, batch=batch, prec=prec) if isinstance(ev, tuple)
-            else t_event(formulation, ev, fp_type=fp_type, batch=batch, prec=prec) for ev in events]
+def _events(formulation, events, precision=Precision.DOUBLE, bits=None, batch=False):
+    return [t_event(formulation, *ev, precision=precision, bits=bits, batch=batch) if isinstance(ev, tuple)
+            else t_event(formulation, ev, precision=precision, bits=bits, batch=batch) for ev in events]
 
 
 def _unit_state(formulation):
@@ -279,12 +307,15 @@ def _unit_state(formulation):
     return [0, 0, 1, 0, 0, 1, 0, 0, 1] if formulation == "body" else [1, 0, 0, 0]
 
 
-def integrator(formulation: str = "body", *, events=(), fp_type=float, tol=None, compact_mode=False, prec=None):
+def integrator(formulation: str = "body", *, events=(), precision=Precision.DOUBLE, bits=None, tol=None,
+               compact_mode=False, fp_type=None, prec=None):
     """Scalar Taylor integrator of a formulation.  events: names, or tuples (name, direction[, offset]), in the
     order of the event indices heyoka reports (-1 - index).  State and pars are placeholders: call `reset`
-    (`reset_any` for hy.real).  fp_type hy.real runs at `prec` bits."""
-    return taylor(system(formulation), _unit_state(formulation), [1.0] * len(PARAMS), fp_type=fp_type, tol=tol,
-                  prec=prec, t_events=_events(formulation, events, fp_type, prec=prec), compact_mode=compact_mode)
+    (`reset_any` for Precision.MP).  Precision.MP runs at `bits` bits.  fp_type=/prec=: deprecated spelling."""
+    precision, bits = arithmetic(precision, bits, fp_type=fp_type, prec=prec)
+    return taylor(system(formulation), _unit_state(formulation), [1.0] * len(PARAMS), precision=precision,
+                  bits=bits, tol=tol, t_events=_events(formulation, events, precision, bits),
+                  compact_mode=compact_mode)
 
 
 # The batch width is a setting, not a fact of the CPU: heyoka compiles any batch size on any CPU (a width the
@@ -333,21 +364,23 @@ def batch_integrator(formulation: str = "body", *, batch_size=None, events=(), t
     if variational:
         st = np.vstack([st, np.zeros((n * n, b))])  # heyoka initialises the identity block itself
     return build(hy.taylor_adaptive_batch, sys_, st, pars=np.ones((len(PARAMS), b)), tol=float(tol or 0.0),
-                                    t_events=_events(formulation, events, float, batch=True),
+                                    t_events=_events(formulation, events, batch=True),
                                     compact_mode=compact_mode or variational)
 
 
-def variational_integrator(formulation: str = "body", *, wrt_pars=True, fp_type=float, tol=None, events=()):
+def variational_integrator(formulation: str = "body", *, wrt_pars=True, precision=Precision.DOUBLE, tol=None,
+                           events=(), fp_type=None):
     """Integrator of the state and its first-order sensitivities d x(t)/d x(0) (and d x(t)/d pars if
     wrt_pars), built with hy.var_ode_sys in compact mode (compiles in ~1 s instead of minutes).  heyoka
     initialises the sensitivities to the identity (state) and zero (pars) at construction; `reset_variational`
-    does the same after a reset."""
+    does the same after a reset.  fp_type=: the deprecated spelling of precision."""
+    precision, _ = arithmetic(precision, fp_type=fp_type)
     sys_ = system(formulation)
     # explicit list: every parameter gets a column, also those absent from the vector field (mu in the body frame)
     args = [v for v, _ in sys_] + (pars() if wrt_pars else [])
     vsys = hy.var_ode_sys(sys_, args, order=1)
-    return taylor(vsys, _unit_state(formulation), [1.0] * len(PARAMS), fp_type=fp_type, tol=tol,
-                  t_events=_events(formulation, events, fp_type), compact_mode=True)
+    return taylor(vsys, _unit_state(formulation), [1.0] * len(PARAMS), precision=precision, tol=tol,
+                  t_events=_events(formulation, events, precision), compact_mode=True)
 
 
 def reset(ta, state=None, t=0.0, pars=None):
@@ -364,13 +397,13 @@ def reset(ta, state=None, t=0.0, pars=None):
         ta.reset_cooldowns()
 
 
-def reset_any(ta, state, pars, precision, t=0.0):
-    """`reset` for an integrator of any Precision (hy.real included: time, state and pars are converted at the
-    integrator's bits, which a plain `reset` cannot do)."""
-    fp, prec = precision.fp_type, precision.prec
-    ta.time = _fp(fp, t, prec)
+def reset_any(ta, state, pars, precision, t=0.0, bits=None):
+    """`reset` for an integrator of any Precision (Precision.MP included: time, state and pars are converted at
+    the integrator's bits, which a plain `reset` cannot do)."""
+    precision, bits = arithmetic(precision, bits)
+    ta.time = number(t, precision, bits)
     ta.state[:] = state
-    ta.pars[:] = fp_array(pars, fp, prec)
+    ta.pars[:] = fp_array(pars, precision, bits)
     if ta.with_events:
         ta.reset_cooldowns()
 
@@ -510,7 +543,7 @@ def cached_variational(precision=Precision.DOUBLE):
 
 @per_thread
 def _cached_variational(precision):
-    return variational_integrator("body", wrt_pars=True, fp_type=precision.fp_type)
+    return variational_integrator("body", wrt_pars=True, precision=precision)
 
 
 @cache
@@ -523,10 +556,13 @@ def body_casimir_gradients() -> CFunc:
 # --------------------------------------------------------------------------------------------------------------
 # compiled functions in any precision (magrod/splitting.py)
 # --------------------------------------------------------------------------------------------------------------
-def fp_array(values, fp_type=float, prec=None) -> np.ndarray:
-    """values as a numpy array of fp_type (hy.real at `prec` bits); strings are parsed in full precision."""
+def fp_array(values, precision=Precision.DOUBLE, bits=None) -> np.ndarray:
+    """values as a numpy array of the precision (Precision.MP at `bits`); strings are parsed in full precision.
+    A number type in place of `precision` (float, np.longdouble, hy.real128, hy.real) is the deprecated spelling."""
+    precision, bits = arithmetic(precision, bits)
+    fp_type = precision.fp_type
     if fp_type is hy.real:
-        return np.array([v if isinstance(v, hy.real) else hy.real(v if isinstance(v, str) else float(v), prec)
+        return np.array([v if isinstance(v, hy.real) else hy.real(v if isinstance(v, str) else float(v), bits)
                          for v in values])
     if fp_type is float:
         return np.array([float(v) for v in values], dtype=float)
@@ -534,41 +570,53 @@ def fp_array(values, fp_type=float, prec=None) -> np.ndarray:
 
 
 class PrecisionCFunc:
-    """A compiled heyoka function in fp_type (float, np.longdouble, hy.real128 or hy.real at `prec` bits) of
-    some variables and the runtime parameters PARAMS (only those it uses are passed)."""
+    """A compiled heyoka function in a Precision (Precision.MP at `bits`) of some variables and the runtime
+    parameters PARAMS (only those it uses are passed).  A number type in place of `precision` is deprecated."""
 
-    def __init__(self, exprs, variables_, fp_type=float, prec=None):
+    def __init__(self, exprs, variables_, precision=Precision.DOUBLE, bits=None):
+        self.precision, self.bits = arithmetic(precision, bits)
+        fp_type = self.precision.fp_type
         kw = {"fp_type": fp_type} if fp_type is not float else {}
         if fp_type is hy.real:
-            kw["prec"] = int(prec)
-        self.fp_type, self.prec = fp_type, prec
+            kw["prec"] = self.bits
         self._cf = build(hy.cfunc, list(exprs), vars=list(variables_), **kw)
 
+    @property
+    def fp_type(self):
+        """The number type (deprecated: use `precision`)."""
+        return self.precision.fp_type
+
     def __call__(self, x, pars_=()):
-        x = fp_array(x, self.fp_type, self.prec)
+        x = fp_array(x, self.precision, self.bits)
         if self._cf.nparams:
-            return self._cf(x, pars=fp_array(list(pars_)[: self._cf.nparams], self.fp_type, self.prec))
+            return self._cf(x, pars=fp_array(list(pars_)[: self._cf.nparams], self.precision, self.bits))
         return self._cf(x)
 
 
+def splitting_functions(precision=Precision.DOUBLE, bits=None) -> dict:
+    """`_splitting_functions` cached per (Precision, bits); a number type in place of `precision` is deprecated."""
+    return _splitting_functions(*arithmetic(precision, bits))
+
+
 @cache
-def splitting_functions(fp_type=float, prec=None) -> dict:
+def _splitting_functions(precision, bits) -> dict:
     """Body-frame functions evaluated in the working precision at a section crossing, and the reduced chart's
     vector field, its Jacobian (hy.diff) and the chart -> body map, all compiled for fp_type:
       "chart"     body_to_euler (theta, psi, phi, pbar_theta, pbar_psi)
       "fix"       (e31 n2 - e32 n1)/sin(theta) = rho sin(psi): the component of the force that the reversor
                   flips, i.e. the distance of a state with pbar_theta = 0 from Fix(R) (modulo rotations)
       "H", "casimirs", "casimir_values", "reduced_rhs", "reduced_jacobian", "to_body" (phi = 0)."""
+    fp_type = precision.fp_type
     x = variables("body")
     p = pars()
     q = variables("reduced")
     e31, e32 = x[state_index("body", "e31")], x[state_index("body", "e32")]
     fr = reduced.rhs(*q, *p)
-    phi0 = hy.expression(0.0) if fp_type is not hy.real else hy.expression(hy.real(0, prec))
+    phi0 = hy.expression(0.0) if fp_type is not hy.real else hy.expression(hy.real(0, bits))
     to_body = body.euler_to_body(q[0], q[1], phi0, q[2], q[3], *p)
 
     def cf(exprs, vs):
-        return PrecisionCFunc(exprs, vs, fp_type, prec)
+        return PrecisionCFunc(exprs, vs, precision, bits)
 
     return {"chart": cf(body.body_to_euler(*x, *p), x),
             "fix": cf([body.section(*x, *p) / hy.sqrt(e31**2 + e32**2)], x),

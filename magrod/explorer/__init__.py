@@ -67,7 +67,7 @@ def explore(panel="4a", *, serve=False, host="127.0.0.1", port=5006, show=True, 
     Ctrl-C cancels every computation (each checks after every crossing).
     """
     from ..core.printed import panel as paper_panel
-    from ..cli.options import integer
+    from ..core.limits import integer
 
     key = paper_panel(panel).key
     iterates = integer("iterates", iterates)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
+from ..core.limits import LIMITS, integer
 from ..core.params import RodParams
 
 GROWTH_VMAX = 1000.0  # top of the colour scale: the Fig 4 orbits reach growth exponents ~10-1000 at T = 3000
@@ -118,18 +119,16 @@ def colorbar_ticks(threshold: float, vmax: float = GROWTH_VMAX) -> dict:
 
 
 # ----------------------------------------------------------------------------------------------------------
-# inputs, parsed as the CLI parses them (magrod.cli.options), errors naming the field
+# inputs, parsed as the CLI parses them (the same parsers, core.limits.integer), errors naming the field
 # ----------------------------------------------------------------------------------------------------------
 FIELDS = ("m", "mu", "gamma", "delta", "lam", "h", "iterates")
-ITERATES_MAX = 2_000_000  # = magrod.cli.options.LIMITS["iterates"]
+ITERATES_MAX = LIMITS["iterates"]  # the limit of poincare_section and the command line (core/limits.py)
 
 
 def parse_inputs(values: dict) -> tuple[RodParams, float, int]:
     """(RodParams, h, iterates) from the widgets' strings; ParameterError names the first offending field, with
     the message `magrod poincare` would print for it (same parsers: require_finite to 1e6, RodParams' checks,
     the CLI's integer rule for --iterates)."""
-    from ..cli.options import integer
-
     nums = {}
     for name in ("m", "mu", "gamma", "delta", "lam", "h"):
         nums[name] = require_finite(name, str(values[name]).strip(), MAX_MAGNITUDE)
@@ -142,9 +141,9 @@ def check_energy_level(params: RodParams, h: float) -> dict:
     """The boundary at (params, h); ParameterError("mu") if the square root sqrt(mu - 2 lam pbar_psi) of Hbar is
     imaginary for every pbar_psi (the root solver's rule), ParameterError("h") if no point of the section
     psi = 0 is reachable."""
-    from ..chaos.section import _admissible_interval
+    from ..chaos.section import admissible_interval
 
-    _admissible_interval(params)
+    admissible_interval(params)
     b = energy_boundary(params, h)
     if not b["allowed"].any():
         raise ParameterError("h", f"no point of the section psi = 0 lies on Hbar = {h:g}: min Hbar there is "

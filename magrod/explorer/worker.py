@@ -1,13 +1,12 @@
 """The explorer's background computations: one orbit's section iterates streamed as they are computed, cancellable.
 
-`stream_section` is the section loop of `magrod.poincare_section` for its default configuration (body-frame
-formulation, tol = machine epsilon, branch "any", max-time guard 100 x iterates), with the same integrator (the
-same `systems.integrator` call, so the same compiled code) and the same propagate calls: its points are those of
-`poincare_section` for the same start, to the last bit (tests/test_explorer.py checks it).  It differs in what a
-browser needs: every few milliseconds the points found so far are handed to `emit`, and a `cancel` event is
-checked after every crossing (~0.2 ms apart), so a closed page or Ctrl-C stops it at once.  The finished (or
-cancelled) run is assembled into a genuine `PoincareResult`, which the export writes with the files of
-`magrod poincare --out` (magrod/figures/poincare.py save_result).
+`stream_section` draws on the public streaming form of the section, `magrod.section_points`: the section loop of
+`magrod.poincare_section` itself (the same integrator, the same propagate calls), so its points are those of
+`poincare_section` for the same start to the last bit (tests/test_explorer.py checks it).  What a browser needs
+is in the stream's options: a chunk after the first FIRST_CHUNK points, then every EMIT_INTERVAL seconds, and a
+`cancel` event checked before every step to the next crossing (~0.2 ms apart), so a closed page or Ctrl-C stops
+it at once.  The finished (or cancelled) run is the stream's genuine `PoincareResult`, which the export writes
+with the files of `magrod poincare --out` (magrod/figures/poincare.py save_result).
 
 `Worker` runs orbit jobs on a small thread pool (heyoka's propagate releases the GIL, so the server's event
 loop stays responsive); each job has its own cancel event and `cancel_all` stops every job of a session.
@@ -21,56 +20,23 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core import systems
+import magrod as mr
+
 from ..core.errors import ParameterError
 from ..core.params import RodParams
 
-EPS = float(np.finfo(float).eps)
 FIRST_CHUNK = 8  # the first points go out after this many crossings (~2 ms): first light fast
 EMIT_INTERVAL = 0.04  # then at most every 40 ms (the page polls at 50 ms; more often only costs transfers)
 
-
-@systems.per_thread
-def _section_integrator(direction: str):
-    # the same call as magrod.chaos.section._integrators makes for formulation="body" at tol = eps: the same
-    # compiled integrator (and, from the JIT cache, the same object code), hence the same points
-    return systems.integrator("body", events=[("section", direction)], fp_type=float, tol=EPS)
-
-
-@dataclass
-class Start:
-    """A launch point on the section and the energy root chosen for it."""
-
-    params: RodParams
-    h: float
-    theta0: float
-    ptheta0: float
-    psi0: float
-    roots: np.ndarray
-    root_index: int
-
-    @property
-    def p_psi0(self) -> float:
-        return float(self.roots[self.root_index])
-
-    def describe(self) -> str:
-        rs = ", ".join(f"{r:.6g}" for r in self.roots)
-        which = {0: "smallest"}.get(self.root_index, "largest" if self.root_index == len(self.roots) - 1 else
-                                    f"index {self.root_index}")
-        return (f"Hbar = {self.h:g} has {len(self.roots)} root(s) pbar_psi = [{rs}] at theta0 = {self.theta0:.4f}, "
-                f"pbar_theta0 = {self.ptheta0:.4f}: using the {which}, {self.p_psi0:.10g} (the paper's rule, "
-                f"fig:poincare1: the smaller root)")
+Start = mr.SectionStart  # a launch point on the section and the energy root chosen for it (magrod.section_start)
 
 
 def solve_start(params: RodParams, h: float, theta0: float, ptheta0: float, psi0: float = 0.0,
                 root="smallest") -> Start:
-    """The root pbar_psi of Hbar(theta0, psi0, pbar_theta0, .) = h by the section's rule (magrod.chaos.section:
-    solve_p_psi and choose_root).  Raises ParameterError ("h": no root on the admissible range, "mu": the square
+    """The start of an orbit by the section's rule (magrod.section_start: every root pbar_psi of Hbar = h, the
+    chosen one by `root`).  Raises ParameterError ("h": no root on the admissible range, "mu": the square
     root of Hbar is imaginary for every pbar_psi, "theta0": outside (0, pi))."""
-    from ..chaos.section import choose_root, solve_p_psi
-
-    roots = solve_p_psi(params, h, theta0, ptheta0, psi0)
-    return Start(params, float(h), float(theta0), float(ptheta0), float(psi0), roots, choose_root(roots, root))
+    return mr.section_start(params, h, theta0, ptheta0, psi0, root=root)
 
 
 @dataclass
@@ -85,78 +51,21 @@ class Chunk:
     ppsi: np.ndarray | None = None
 
 
-def _chart(raw: np.ndarray, pars) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    B = systems.body_functions()
-    x = np.ascontiguousarray(raw.T)
-    e = B["to_euler"](x, pars)
-    return (e[systems.chart_index("theta")], e[systems.chart_index("ptheta")], B["H"](x, pars)[0],
-            e[systems.chart_index("ppsi")])
-
-
 def stream_section(start: Start, iterates: int, *, direction="positive", cancel: threading.Event | None = None,
                    emit=None, t_max=None):
     """Iterate the section from `start`, handing Chunks to emit(chunk) as they come; returns the PoincareResult
-    of what was computed (success=False with message "cancelled" if `cancel` was set first)."""
-    import heyoka as hy
-
-    from ..chaos import section
-
-    t0 = time.perf_counter()
-    iterates = int(iterates)
-    params = start.params
-    pars = params.array()
-    t_max = float(100.0 * iterates if t_max is None else t_max)  # poincare_section's default guard
-    ta = _section_integrator(direction)
-    x0 = systems.euler_to_body(start.theta0, start.psi0, start.ptheta0, start.p_psi0, pars)
-    systems.reset(ta, x0, 0.0, pars)
-    n9 = systems.dim("body")
-    raw = np.empty((iterates, n9))
-    times = np.empty(iterates)
-    n = sent = 0
+    of what was computed (success=False with message "cancelled ..." if `cancel` was set first, or with the
+    reason if the accuracy check failed)."""
+    options = mr.SectionOptions(iterates=iterates, direction=direction, t_max=t_max)
+    stream = mr.section_points(start, options, cancel=cancel, first=FIRST_CHUNK, every=EMIT_INTERVAL)
     max_dH = 0.0
-    last = time.perf_counter()
-    success, message = True, "ok"
-    t_limit = hy.taylor_outcome.time_limit
-
-    def flush():
-        nonlocal sent, max_dH, last
-        if emit is None or n == sent:
-            return
-        th, pt, dH, pp = _chart(raw[sent:n], pars)
-        max_dH = max(max_dH, float(np.max(np.abs(dH - start.h))))
-        emit(Chunk(th, pt, n, max_dH, pp))
-        sent, last = n, time.perf_counter()
-
-    while n < iterates:
-        if cancel is not None and cancel.is_set():
-            success, message = False, f"cancelled after {n} of {iterates} iterates"
-            break
-        oc = ta.propagate_until(t_max)[0]
-        if oc == t_limit:
-            success, message = False, (f"t_max = {t_max:g} reached after {n} of {iterates} iterates (max-time guard; "
-                                       f"the orbit does not cross sin(psi) = 0 in that direction)")
-            break
-        if int(oc) >= 0 or not np.all(np.isfinite(ta.state)):
-            success, message = False, f"integration failed at t = {float(ta.time):g} ({oc}) after {n} iterates"
-            break
-        raw[n] = ta.state
-        times[n] = ta.time
-        n += 1
-        if n == FIRST_CHUNK or time.perf_counter() - last > EMIT_INTERVAL:
-            flush()
-    flush()
-    # the result object of poincare_section, assembled by its own code (section._assemble: dH, Casimir drift,
-    # psi' signs, residuals), so that the export has exactly the schema of `magrod poincare --out`
-    res = section._assemble(params, pars, start.h, start.theta0, start.ptheta0, start.psi0, start.p_psi0,
-                            start.roots, start.root_index, "body", direction, "any", EPS, iterates, t_max, raw[:n],
-                            times[:n], np.full(n, section.FRAME_BODY, dtype=np.int8),
-                            float(ta.time), 0, success, message, float)
-    res.wall_s = time.perf_counter() - t0
-    if res.success and not res.accuracy_checks()["passed"]:
-        acc = res.accuracy_checks()
-        res.success = False
-        res.message = f"accuracy check failed: max |Hbar - h| = {res.max_abs_dH:.3g} (tol {acc['energy_tol']:g})"
-    return res
+    for c in stream:
+        if emit is None or not c.points.shape[0]:
+            continue
+        max_dH = max(max_dH, float(np.max(np.abs(c.dH))))
+        p = c.points
+        emit(Chunk(p[:, 0].copy(), p[:, 2].copy(), c.n_total, max_dH, p[:, 3].copy()))
+    return stream.result
 
 
 def growth_indicator(start: Start, t_max: float | None = None):
@@ -255,8 +164,7 @@ class Worker:
         def one():
             from ..core.systems import rod_frame_integrator
 
-            _section_integrator(direction)
-            stream_section(start, 2, direction=direction)
+            stream_section(start, 2, direction=direction)  # builds (or loads) the section integrator
             growth_indicator(start, 20.0)
             rod_frame_integrator()
             try:

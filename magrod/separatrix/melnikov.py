@@ -38,6 +38,7 @@ import numpy as np
 
 from ..core import systems
 from ..core.errors import ParameterError
+from ..core.precision import Precision
 from ..generated import melnikov as gen
 from ..orbits.homoclinic import homoclinic, stable_expressions
 from ..core.printed import FIG2_M, FIG2_ZERO_BRACKET
@@ -47,7 +48,7 @@ INTEGRANDS = ("derived", "printed")
 
 
 @systems.per_thread
-def _quad_integrator(fp_type=float):
+def _quad_integrator(precision=Precision.DOUBLE):
     """Taylor integrator of y = (psibar, A_derived(t), A_printed(t)) along the closed-form orbit; pars (m, gamma)."""
     psib, jd, jp = hy.make_vars("psibar", "A_derived", "A_printed")
     m, g = hy.par[0], hy.par[1]
@@ -55,15 +56,17 @@ def _quad_integrator(fp_type=float):
     fd = gen.integrand_derived(e["theta"], e["ptheta"], psib, m, g)
     fp = gen.integrand_printed(e["theta"], e["ptheta"], psib, m, g)
     sys = [(psib, e["psidot"]), (jd, 2.0 * fd), (jp, 2.0 * fp)]
-    if fp_type is float:
+    if precision is Precision.DOUBLE:
         return systems.taylor(sys, [0.0, 0.0, 0.0], [1.0, 1.0])
-    return systems.taylor(sys, [0, 0, 0], [1, 1], fp_type=fp_type, compact_mode=True,
-                          tol=REAL128_QUADRATURE_TOL if fp_type is hy.real128 else 0)
+    return systems.taylor(sys, [0, 0, 0], [1, 1], precision=precision, compact_mode=True,
+                          tol=REAL128_QUADRATURE_TOL if precision is Precision.QUAD else 0)
 
 
-def _run(m, gamma, t_grid, fp_type=float) -> np.ndarray:
+def _run(m, gamma, t_grid, precision=Precision.DOUBLE) -> np.ndarray:
     """(len(t_grid), 3) array of (psibar, A_derived, A_printed) running integrals at t_grid (increasing, >= 0)."""
-    ta = _quad_integrator(fp_type)
+    precision = Precision.parse(precision)
+    fp_type = precision.fp_type
+    ta = _quad_integrator(precision)
     ta.time = fp_type(0)
     ta.state[:] = np.array([fp_type(0)] * 3)
     ta.pars[:] = np.array([fp_type(m), fp_type(gamma)])
@@ -117,7 +120,7 @@ def amplitude(m, gamma, integrand="derived", *, reference=True, theta_tail=1e-20
     aref = qerr = err = None
     extra = {}
     if reference:
-        yref = _run(orbit.m, orbit.gamma, [T], hy.real128)[-1]
+        yref = _run(orbit.m, orbit.gamma, [T], Precision.QUAD)[-1]
         aref = float(yref[col])
         qerr = abs(a64 - aref)
         if integrand == "derived":
