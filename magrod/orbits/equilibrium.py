@@ -42,8 +42,8 @@ def jacobian(x, pars) -> np.ndarray:
 def straight_rod_state(params: RodParams, precision=Precision.DOUBLE) -> np.ndarray:
     """The straight rod (generated scalars.straight_rod_state) computed in `precision` arithmetic (1/m^2 is
     rounded there, not in double)."""
-    prec = Precision.parse(precision)
-    fp, bits = prec.fp_type, prec.prec
+    precision = Precision.parse(precision)
+    fp, bits = precision.fp_type, precision.prec
     return systems.fp_array(scalars.straight_rod_state(*systems.fp_array(params.array(), fp, bits)), fp, bits)
 
 
@@ -111,10 +111,10 @@ class StraightRod(Result):
         that arithmetic; the O(eps^2) error of the linearisation is the launch error).  The angle is a symmetry
         direction: the rotations about the body 3-axis act on the unstable plane as this phase.  offset: how eps d
         is rounded ("working" or "double", `launch_offset`)."""
-        prec = self.precision if precision is None else Precision.parse(precision)
+        pr = self.precision if precision is None else Precision.parse(precision)
         d = np.real(np.exp(-1j * angle) * self.unstable_vector)
         d = d / np.linalg.norm(d)
-        return straight_rod_state(self.params, prec) + launch_offset(d, eps, prec, offset)
+        return straight_rod_state(self.params, pr) + launch_offset(d, eps, pr, offset)
 
     def at(self, params: RodParams) -> "StraightRod":
         """The straight-rod saddle at other parameters, in the same precision (ParameterError where there is

@@ -47,6 +47,7 @@ import heyoka as hy
 import numpy as np
 
 from ..core import systems
+from ..core.precision import Precision
 from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
 from ..generated import homoclinic as gen
 from ..generated import scalars
@@ -300,7 +301,7 @@ def _real(x, prec=_PREC):
 def _field_integrator(prec: int):
     th, ps, pt = hy.make_vars("theta", "psi", "ptheta")
     f = gen.field(th, pt, hy.par[0], hy.par[1])
-    return systems.taylor([(th, f[0]), (ps, f[1]), (pt, f[2])], [1, 0, 0], [1, 1], fp_type=hy.real, prec=prec,
+    return systems.taylor([(th, f[0]), (ps, f[1]), (pt, f[2])], [1, 0, 0], [1, 1], precision=Precision.MP, bits=prec,
                           compact_mode=True)
 
 

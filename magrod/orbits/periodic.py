@@ -174,15 +174,15 @@ def chart_equilibrium(params: RodParams, precision=Precision.DOUBLE) -> ChartEqu
     Newton stops at a zero residual or a step below 1e-3 ulp of the precision (relative to 1 + theta0).
     ParameterError("mu") if mu is not above 2 lam (`is_on_level`), ("m") if the equilibrium is not hyperbolic."""
     precision = Precision.parse(precision)
-    fp, prec = precision.fp_type, precision.prec
-    F = systems.splitting_functions(fp, prec)
+    fp, bits = precision.fp_type, precision.prec
+    F = systems.splitting_functions(fp, bits)
     pars = params.array()
     mu_level = scalars.straight_rod_mu(**params.as_dict())  # mu = 2 lam
     if params.mu - mu_level <= 0 or is_on_level(params):
         raise ParameterError("mu", f"the tilted straight rod exists for mu > 2 lam only (got mu - 2 lam = "
                                    f"{params.mu - mu_level:.3g}); at mu = 2 lam the saddle is the straight rod")
     th0 = math.sqrt(params.mu - mu_level)  # leading order: the tilt of the force from the field
-    q = systems.fp_array([th0, 0.0, 0.0, math.cos(th0)], fp, prec)
+    q = systems.fp_array([th0, 0.0, 0.0, math.cos(th0)], fp, bits)
     nq = systems.dim("reduced")
     for _ in range(CHART_NEWTON_ITERATIONS):
         r = F["reduced_rhs"](q, pars)
@@ -191,9 +191,9 @@ def chart_equilibrium(params: RodParams, precision=Precision.DOUBLE) -> ChartEqu
         rr = np.array([float(r[1]), float(r[2])])
         res = float(np.max(np.abs(rr)))
         step = np.linalg.solve(A, -rr)
-        q[0] += systems.fp_array([step[0]], fp, prec)[0]
-        q[3] += systems.fp_array([step[1]], fp, prec)[0]
-        if res == 0.0 or np.max(np.abs(step)) < 1e-3 * 2.0 ** -(113 if prec is None else prec) * (1 + th0):
+        q[0] += systems.fp_array([step[0]], fp, bits)[0]
+        q[3] += systems.fp_array([step[1]], fp, bits)[0]
+        if res == 0.0 or np.max(np.abs(step)) < 1e-3 * 2.0 ** -(113 if bits is None else bits) * (1 + th0):
             break
     r = F["reduced_rhs"](q, pars)
     res = float(max(abs(float(v)) for v in r))
@@ -299,19 +299,19 @@ class PeriodicSaddle(Result):
         `precision`, v_c its unstable eigenvector; the distance is relative to the tilt theta0), on the chart's
         linear unstable manifold: the launch of the separatrix's splitting.
         offset: how the offset is rounded ("working" or "double", magrod.orbits.equilibrium.launch_offset)."""
-        prec = self.precision if precision is None else Precision.parse(precision)
-        fp, bits = prec.fp_type, prec.prec
+        pr = self.precision if precision is None else Precision.parse(precision)
+        fp, bits = pr.fp_type, pr.prec
         if frame == "chart":
-            ch = self.chart_view if prec is self.precision else chart_equilibrium(self.params, prec)
+            ch = self.chart_view if pr is self.precision else chart_equilibrium(self.params, pr)
             d = np.real(np.exp(-1j * angle) * ch.vector)
-            q = ch.q + launch_offset(d / np.linalg.norm(d), eps * float(ch.q[0]), prec, offset)
+            q = ch.q + launch_offset(d / np.linalg.norm(d), eps * float(ch.q[0]), pr, offset)
             return systems.splitting_functions(fp, bits)["to_body"](q, self.params.array())
         if frame != "body":
             raise ParameterError("frame", f"must be 'body' or 'chart', got {frame!r}")
         d = np.real(np.exp(-1j * angle) * self.unstable_vector)
-        if prec is Precision.DOUBLE and offset == "working":
+        if pr is Precision.DOUBLE and offset == "working":
             return self.x + eps * d / np.linalg.norm(d)
-        return systems.fp_array(self.x, fp, bits) + launch_offset(d / np.linalg.norm(d), eps, prec, offset)
+        return systems.fp_array(self.x, fp, bits) + launch_offset(d / np.linalg.norm(d), eps, pr, offset)
 
     def at(self, params: RodParams) -> "PeriodicSaddle":
         """The periodic saddle at other parameters, in the same precision (ParameterError where there is none)."""

@@ -200,7 +200,7 @@ def crossing_integrator(precision: Precision):
     """The body-frame integrator stopping at sin(theta) pbar_theta = 0 (generated event ptheta_sin, either
     direction) in `precision`, one per thread: every crossing loop of magrod uses it.  Multiprecision (hy.real)
     is compiled in compact mode: the unrolled hy.real code took > 4 GB and minutes of LLVM time (issue 17)."""
-    return systems.integrator("body", events=["ptheta_sin"], fp_type=precision.fp_type, prec=precision.prec,
+    return systems.integrator("body", events=["ptheta_sin"], precision=precision,
                               compact_mode=precision is Precision.MP)
 
 
@@ -208,7 +208,7 @@ def crossing_integrator(precision: Precision):
 def body_integrator(precision: Precision):
     """The plain body-frame integrator (no events) in `precision`, one per thread (compact mode for hy.real, as
     crossing_integrator)."""
-    return systems.integrator("body", fp_type=precision.fp_type, prec=precision.prec,
+    return systems.integrator("body", precision=precision,
                               compact_mode=precision is Precision.MP)
 
 

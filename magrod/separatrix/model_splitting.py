@@ -60,6 +60,7 @@ import numpy as np
 
 from ..core import systems
 from ..core.errors import ParameterError
+from ..core.precision import Precision
 from ..core.results import Result
 
 # the models with the straight twisted rod's homoclinic manifold, and the parameter that perturbs it
@@ -180,7 +181,8 @@ def _integrator(directory: str, precision: str = "double"):
         return systems.taylor(sys_, list(mc.names.REFERENCE), mc.names.DEFAULTS, t_events=[ev])
     ld = np.longdouble
     ev = hy.t_event(sys_[5][1], cooldown=ld(1e-3), fp_type=ld)
-    return systems.taylor(sys_, list(mc.names.REFERENCE), mc.names.DEFAULTS, t_events=[ev], fp_type=ld)
+    return systems.taylor(sys_, list(mc.names.REFERENCE), mc.names.DEFAULTS, t_events=[ev],
+                          precision=Precision.LONG_DOUBLE)
 
 
 def melnikov_quadrature(model: str, p: dict, M: float, T: float, n: int = 4001) -> float:
