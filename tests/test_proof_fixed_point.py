@@ -22,7 +22,7 @@ from magrod.proof import fields, periodic, theorem, verify
 
 ROOT = Path(__file__).resolve().parents[1]
 FIG4A = ["--m", "17/10", "--mu", "2/5", "--gamma", "3", "--delta", "3", "--lam", "27/200"]
-SHIPPED = {"a": "27/200", "b": "63/400", "d": "93/500"}
+SHIPPED = {"a": "27/200", "b": "63/400", "d": "93/500", "a_interval": "27/200"}
 
 
 def _shipped(panel):
@@ -53,7 +53,7 @@ def test_shipped_certificates_state_their_theorem(panel):
     c = _shipped(panel)
     assert c["kind"] == "section_fixed_point" and c["level"] == "9/10"
     assert c["params"] == {"m": "17/10", "mu": "2/5", "gamma": "3/1", "delta": "3/1", "lam": SHIPPED[panel]}
-    assert c["theorem"] == theorem.section_fixed_point_theorem(c["params"], "9/10")
+    assert c["theorem"] == theorem.section_fixed_point_theorem(c["params"], "9/10", c["settings"].get("lam_rad", "0"))
 
 
 def test_the_fig4a_certificate_verifies_and_prints_the_generated_theorem(cert, tmp_path, capsys):
@@ -179,3 +179,40 @@ def test_the_docs_quote_the_certificates_intervals():
         T = [Fraction(v) for v in FIG4A_VALUES["return time T"]]
         assert any(a <= T[0] and T[1] <= b for a, b in
                    [(Fraction(a), Fraction(b)) for a, b in re.findall(r"\[([0-9.]+), ([0-9.]+)\] \(a\)", text)]), T
+
+
+def test_the_lambda_column_of_the_state_field_is_the_derivative():
+    """fields.lam_state_field: the Jacobian's lambdabar column (forward-mode _Dual) and the generated columns agree
+    with central differences of the field (float, step 1e-7: truncation ~1e-14 |f'''|, rounding ~1e-9)."""
+    from flint import arb
+
+    p = fields.ExactParams.from_values(m=Fraction(17, 10), mu=Fraction(2, 5), gamma=3, delta=3, lam=Fraction(27, 200))
+    F = fields.lam_state_field(p)
+    x0 = np.array([0.5, 0.3, 0.1, 1.1, 0.135])
+    J = F.jacobian([arb(v) for v in x0], None)
+
+    def f(x):
+        return np.array([float(v.mid()) for v in F.rhs([arb(float(v)) for v in x], None)])
+
+    for j in range(5):
+        d = np.zeros(5)
+        d[j] = 1e-7
+        fd = (f(x0 + d) - f(x0 - d)) / 2e-7
+        assert np.allclose([float(J[5 * i + j].mid()) for i in range(5)], fd, atol=1e-7), j
+
+
+def test_the_interval_certificate_states_its_theorem_and_rejects_a_wider_interval(tmp_path, capsys):
+    c = _shipped("a_interval")
+    assert c["settings"]["lam_rad"] == "1/5000000" and c["params"]["lam"] == "27/200"
+    want = theorem.section_fixed_point_theorem(c["params"], "9/10", "1/5000000")
+    assert c["theorem"] == want and "every lambdabar in [674999/5000000, 675001/5000000]" in want
+    bad = copy.deepcopy(c)  # a consistent claim for twice the interval: the level's Newton ball is recomputed wider
+    bad["settings"]["lam_rad"] = "2/5000000"
+    bad["theorem"] = theorem.section_fixed_point_theorem(c["params"], "9/10", "2/5000000")
+    _rejected(bad, tmp_path, capsys, "level (box) recomputed")
+
+
+@pytest.mark.slow
+def test_the_interval_certificate_verifies():
+    res = verify.verify(_shipped("a_interval"))
+    assert res.ok, res.reason

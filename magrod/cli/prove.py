@@ -35,6 +35,8 @@ def add_arguments(p):
     p.add_argument("--fixed-point", default=None, metavar="THETA", dest="fixed_point",
                    help="prove a hyperbolic fixed point of the section map sin psi = 0 on --level, theta* near THETA")
     p.add_argument("--level", default=None, metavar="H", help="the level Hbar = H of --fixed-point (exact)")
+    p.add_argument("--lam-rad", default="0", metavar="W", dest="lam_rad",
+                   help="--fixed-point for every lambdabar in [lam - W, lam + W] (lambdabar carried as a ball)")
     p.add_argument("--mutate", default=None, metavar="K",
                    help="control: flip the sign of the K-th term of the generated chart field (must fail)")
 
@@ -93,7 +95,14 @@ def _fixed_point(args) -> dict:
     module = fields.gen
     if args.mutate is not None:
         module = fields.mutated_module(integer("mutate", args.mutate, minimum=0, maximum=1000))
-    res = periodic.prove(p, h, theta, module=module, progress=None if args.quiet else _stage)
+    try:
+        w = Fraction(str(args.lam_rad))
+    except (ValueError, ZeroDivisionError):
+        raise ParameterError("lam_rad", f"must be an exact number >= 0, got {args.lam_rad!r}") from None
+    if w < 0 or w > 1:
+        raise ParameterError("lam_rad", f"must be in [0, 1], got {args.lam_rad!r}")
+    st = periodic.interval_settings(w) if w else periodic.FixedPointSettings()
+    res = periodic.prove(p, h, theta, st, module=module, progress=None if args.quiet else _stage)
     out = {"ok": res.ok, "params": p.as_json(), "level": f"{h.numerator}/{h.denominator}",
            "wall_time_s": round(res.wall_time_s, 3), "checks": res.checks, "reason": res.reason}
     if not res.ok:

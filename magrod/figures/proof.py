@@ -23,7 +23,8 @@ FIG4 = (("4a", "homoclinic_fig4a.json"), ("4b", "homoclinic_fig4b.json"), ("4c",
         ("4d", "homoclinic_fig4d.json"))
 # Fig 4's own level h = 0.9 (statement 11): symmetric hyperbolic fixed points of the section map sin psi = 0; panel
 # (c) has none from the float search (benchmarks/fig4_candidates.json: no hyperbolic period-1 or -2 orbit there)
-FIG4_SECTION = (("4a", "fixed_point_fig4a.json"), ("4b", "fixed_point_fig4b.json"), ("4d", "fixed_point_fig4d.json"))
+FIG4_SECTION = (("4a", "fixed_point_fig4a.json"), ("4b", "fixed_point_fig4b.json"), ("4d", "fixed_point_fig4d.json"),
+                ("4a_interval", "fixed_point_fig4a_interval.json"))  # every lambdabar in 27/200 +- 2e-7
 
 
 def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:

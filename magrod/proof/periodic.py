@@ -65,11 +65,38 @@ class FixedPointSettings:
     p_rad: Fraction = Fraction(1, 10**8)
     t1: Fraction = Fraction(1, 64)
     lead: Fraction = Fraction(1, 256)
+    #: half-width of the lambdabar interval carried as a ball through every enclosure (0: the point itself)
+    lam_rad: Fraction = Fraction(0)
 
     def as_json(self) -> dict:
         q = _q
         return {"prec": self.prec, "order": self.order, "tol": repr(self.tol), "r": q(self.r), "p_rad": q(self.p_rad),
-                "t1": q(self.t1), "lead": q(self.lead), "series_cap": ball.SERIES_CAP}
+                "t1": q(self.t1), "lead": q(self.lead), "lam_rad": q(self.lam_rad), "series_cap": ball.SERIES_CAP}
+
+
+def parameter_balls(p: fields.ExactParams, lam_rad: Fraction = Fraction(0)) -> tuple:
+    """The parameters as balls in generated/validated.py's order; lambdabar widened to [lam - lam_rad, lam + lam_rad]
+    (every enclosure computed with it holds for every lambdabar of the interval)."""
+    out = list(p.balls())
+    if lam_rad:
+        out[fields.PARAMS.index("lam")] = ball.interval(p.lam - lam_rad, p.lam + lam_rad)
+    return tuple(out)
+
+
+def interval_settings(lam_rad, base: "FixedPointSettings | None" = None) -> "FixedPointSettings":
+    """Settings for a lambdabar interval of half-width lam_rad: the theta-box r = max(r, 8 lam_rad) (theta* moves by
+    ~4.4 per unit lambdabar at Fig 4(a), 0.383 -> 0.283 from (a) to (b)) and the level box p_rad = max(p_rad,
+    16 (r + lam_rad)) (pbar_psi moves by O(1) per unit theta or lambdabar)."""
+    from dataclasses import replace
+
+    st = base or FixedPointSettings()
+    w = ball.fraction(lam_rad)
+    r = max(st.r, 8 * w)
+    return replace(st, lam_rad=w, r=r, p_rad=max(st.p_rad, 16 * (r + w)))
+
+
+def _mu_lam(pars):
+    return pars[fields.PARAMS.index("mu")], pars[fields.PARAMS.index("lam")]
 
 
 def _q(x) -> str:
@@ -155,47 +182,49 @@ def float_fixed_point(p: fields.ExactParams, h: Fraction, theta_guess: float, ro
 # --------------------------------------------------------------------------------------------------------------
 # rigorous pieces (the verifier re-implements them: verify.py)
 # --------------------------------------------------------------------------------------------------------------
-def ham_gradient(p, x, module=gen) -> list:
+def ham_gradient(pars, x, module=gen) -> list:
     """dHbar/dx_i over the box x (arb_series of length 2 on balls: an enclosure of the partial derivative)."""
     out = []
     for i in range(len(x)):
         y = [arb_series([v, 1 if j == i else 0], prec=2) for j, v in enumerate(x)]
-        c = module.chart_hamiltonian(y, p.balls())[0]
+        c = module.chart_hamiltonian(y, pars)[0]
         cs = c.coeffs() if isinstance(c, arb_series) else [c]
         out.append(cs[1] if len(cs) > 1 else arb(0))
     return out
 
 
-def level_newton(p, h, theta: arb, pc: Fraction, prad: Fraction, module=gen):
+def level_newton(pars, h, theta: arb, pc: Fraction, prad: Fraction, module=gen):
     """Interval Newton for Hbar(theta, 0, 0, pbar_psi) = h on P = [pc - prad, pc + prad], for every theta in the
     ball `theta`: (N, P, inside) with N = pc - (Hbar(theta, 0, 0, pc) - h) / dHbar/dpbar_psi(theta, 0, 0, P)."""
     P = ball.interval(pc - prad, pc + prad)
-    Hc = module.chart_hamiltonian([theta, arb(0), arb(0), ball.q(pc)], p.balls())[0]
-    dH = ham_gradient(p, [theta, arb(0), arb(0), P], module)[PP]
+    Hc = module.chart_hamiltonian([theta, arb(0), arb(0), ball.q(pc)], pars)[0]
+    dH = ham_gradient(pars, [theta, arb(0), arb(0), P], module)[PP]
     N = ball.q(pc) - (Hc - ball.q(h)) / dH
     lo, hi = ball.bounds(N)
     Plo, Phi = ball.bounds(P)
     return N, P, bool(ball.excludes_zero(dH) and Plo < lo and hi < Phi)
 
 
-def chart_section(p, module=gen):
+def chart_section(pars, module=gen):
     """g = sin psi (the section), its gradient, and the guards theta, pi - theta, radicand > 0."""
     def g(x):
         return x[PS].sin()
 
-    def dg(x):
-        return [arb(0), x[PS].cos(), arb(0), arb(0)]
+    def dg(x):  # the state may carry lambdabar as a fifth entry (fields.lam_state_field)
+        return [arb(0), x[PS].cos()] + [arb(0)] * (len(x) - 2)
+
+    mu, lam = _mu_lam(pars)
 
     def guard(Y):
-        return [Y[TH], arb.pi() - Y[TH], ball.q(p.mu) - 2 * ball.q(p.lam) * Y[PP]]
+        return [Y[TH], arb.pi() - Y[TH], mu - 2 * (Y[4] if len(Y) > 4 else lam) * Y[PP]]
 
     return g, dg, guard
 
 
-def phase_guards(p, fld, module=gen):
+def phase_guards(pars, fld, module=gen):
     """(first, second): guard functions of the two phases (module docstring, step 2).  first: d(sin psi)/dt =
     cos psi psi' > 0; second: sin psi > 0, or else d(sin psi)/dt < 0 (returned as a positive ball iff it holds)."""
-    _, _, base = chart_section(p, module)
+    _, _, base = chart_section(pars, module)
 
     def sdot(Y):
         return Y[PS].cos() * fld.f(Y)[PS]
@@ -212,9 +241,10 @@ def phase_guards(p, fld, module=gen):
     return first, second
 
 
-def initial_box(p, theta: arb, pbox: arb) -> taylor.C1Set:
-    """The chart set {theta} x {0} x {0} x pbox as a C^1 set (C = I, r0 = the box about its centre)."""
-    x = [theta, arb(0), arb(0), pbox]
+def initial_box(p, theta: arb, pbox: arb, lam: arb | None = None) -> taylor.C1Set:
+    """The chart set {theta} x {0} x {0} x pbox (x {lam} when lambdabar is a state) as a C^1 set (C = I, r0 = the
+    box about its centre)."""
+    x = [theta, arb(0), arb(0), pbox] + ([] if lam is None else [lam])
     xc = [v.mid() for v in x]
     S = taylor.initial_set(xc, c1=True)
     S.r0 = ball.vec([a - b for a, b in zip(x, xc)])
@@ -224,7 +254,7 @@ def initial_box(p, theta: arb, pbox: arb) -> taylor.C1Set:
 def section_quantities(p, fld, cr: taylor.Crossing, tangents, module=gen) -> dict:
     """At the crossing x1: pbar_theta, theta, cos psi, d(sin psi)/dt, and for each tangent t (a chart vector) the
     section derivative v = (I - f grad g^T/(grad g . f)) W t in (theta, pbar_theta)."""
-    g_grad = [arb(0), cr.x[PS].cos(), arb(0), arb(0)]
+    g_grad = [arb(0), cr.x[PS].cos()] + [arb(0)] * (len(cr.x) - 2)
     gf = sum((a * b for a, b in zip(g_grad, cr.fx)), arb(0))
     out = {"ptheta": cr.x[PT], "theta": cr.x[TH], "cospsi": cr.x[PS].cos(), "gdot": cr.gdot, "tau": cr.tau}
     if cr.W is not None:
@@ -237,10 +267,11 @@ def section_quantities(p, fld, cr: taylor.Crossing, tangents, module=gen) -> dic
     return out
 
 
-def tangents(p, Q, module=gen) -> dict:
+def tangents(pars, Q, module=gen) -> dict:
     """t_theta, t_ptheta: the tangents of the level's section at Q in chart coordinates (pbar_psi from Hbar = h)."""
-    gH = ham_gradient(p, Q, module)
-    return {"th": [arb(1), arb(0), arb(0), -gH[TH] / gH[PP]], "pt": [arb(0), arb(0), arb(1), -gH[PT] / gH[PP]]}
+    gH = ham_gradient(pars, Q[:4], module)
+    z = [arb(0)] * (len(Q) - 4)  # lambdabar (a state) is fixed along the section's tangents
+    return {"th": [arb(1), arb(0), arb(0), -gH[TH] / gH[PP]] + z, "pt": [arb(0), arb(0), arb(1), -gH[PT] / gH[PP]] + z}
 
 
 def trace_DP(a, b, c, d):
@@ -270,6 +301,9 @@ def prove(params: fields.ExactParams, h: Fraction, theta_guess: float, settings:
     theta_guess : float
         Where the float search looks (within 0.02) for theta* on Fix(R).
     settings : FixedPointSettings, optional
+        With lam_rad > 0 the statement is for every lambdabar in [lam - lam_rad, lam + lam_rad]: lambdabar is a
+        ball in every enclosure (the box Theta must then hold theta*(lambdabar) for all of them: r >~ 4.4 lam_rad at
+        Fig 4(a); `interval_settings` picks r and p_rad).
     root : int
         Which root pbar_psi of Hbar(theta, 0, 0, .) = h (index into the ascending roots; -1: the largest).
     module : module, optional
@@ -286,6 +320,8 @@ def prove(params: fields.ExactParams, h: Fraction, theta_guess: float, settings:
     Method: module docstring.  Cost at Fig 4(a): about 10 s (two chart flights of ~3 time units).
     """
     st = settings or FixedPointSettings()
+    if st.lam_rad < 0:
+        raise ParameterError("lam_rad", f"must be >= 0, got {st.lam_rad}")
     t0 = time.perf_counter()
     checks: list = []
 
@@ -313,24 +349,27 @@ def _prove(p, h, theta_guess, root, st, module, check, progress) -> dict:
     th_f, x0, x1, tau_f = float_fixed_point(p, h, theta_guess, root)
     thc = ball.fraction(float(th_f))
     pc = ball.fraction(float(x0[PP]))
-    fld = fields.chart_field(p, module)
+    pars = parameter_balls(p, st.lam_rad)
+    Lam = pars[fields.LAM] if st.lam_rad else None
+    # a lambdabar interval rides in the state (its Lohner linear part), a point in the parameters
+    fld = fields.lam_state_field(p, module) if st.lam_rad else fields.chart_field(p, module)
     say("structure")
     pts = [[ball.dyadic(v) for v in x0], [ball.dyadic(v) for v in x1]]
     for name, holds, how in structural_tests(p, module, pts):
         check(name, holds, how)
     say("level")
     Theta = ball.interval(thc - st.r, thc + st.r)
-    N, _, ok = level_newton(p, h, Theta, pc, st.p_rad, module)
+    N, _, ok = level_newton(pars, h, Theta, pc, st.p_rad, module)
     check("level Newton (box)", ok, f"pbar_psi(theta) unique in the box about {float(pc):.12g}, inside N = {N}")
-    Nc, _, okc = level_newton(p, h, ball.q(thc), pc, st.p_rad, module)
+    Nc, _, okc = level_newton(pars, h, ball.q(thc), pc, st.p_rad, module)
     check("level Newton (centre)", okc, f"pbar_psi(theta_c) inside {Nc}")
     t_a = Fraction(math.floor((tau_f - float(st.lead)) * 2**20), 2**20)
-    g, dg, base = chart_section(p, module)
-    guards = phase_guards(p, fld, module)
+    g, dg, base = chart_section(pars, module)
+    guards = phase_guards(pars, fld, module)
     vals, record = {}, {}
     for kind, theta, pbox in (("thin", ball.q(thc), Nc), ("box", Theta, N)):
         say(f"flight ({kind})")
-        S = initial_box(p, theta, pbox)
+        S = initial_box(p, theta, pbox, Lam)
         steps = []
         try:
             tr1, tr2 = taylor.Trajectory(), taylor.Trajectory()
@@ -340,8 +379,11 @@ def _prove(p, h, theta_guess, root, st, module, check, progress) -> dict:
         except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
             raise ProofFailure(f"flight ({kind}) not validated: {err}") from None
         steps = [tr1.steps, tr2.steps]
-        Q = [theta, arb(0), arb(0), pbox]
-        q = section_quantities(p, fld, cr, tangents(p, Q, module), module)
+        Q = [theta, arb(0), arb(0), pbox] + ([] if Lam is None else [Lam])
+        q = section_quantities(p, fld, cr, tangents(pars, Q, module), module)
+        bad = [k for k, v in q.items() if not v.is_finite()]
+        check(f"{kind} enclosures finite", not bad, f"the {kind} flight's crossing quantities are finite balls"
+              + (f" (not: {', '.join(bad)})" if bad else ""))
         vals[kind] = q
         record[kind] = {"steps1": [ball.decimal(s) for s in steps[0]], "steps2": [ball.decimal(s) for s in steps[1]],
                         "n_steps": len(steps[0]) + len(steps[1]), "max_width": max(tr1.widths + tr2.widths),
@@ -363,7 +405,7 @@ def _prove(p, h, theta_guess, root, st, module, check, progress) -> dict:
     lam_u = _mu_u(ball.from_json(stored(tr)))  # from the stored trace ball, as the verifier recomputes it
     return {
         "format": FORMAT, "kind": KIND,
-        "theorem": section_fixed_point_theorem(params, _q(h)),
+        "theorem": section_fixed_point_theorem(params, _q(h), _q(st.lam_rad)),
         "params": params, "level": _q(h), "settings": st.as_json(), "field_digest": digest,
         "point": {"theta_c": _q(thc), "p_c": _q(pc), "t_a": _q(t_a), "h_cross": _q(2 * st.lead),
                   "level_newton": {"box": stored(N), "centre": stored(Nc)}},

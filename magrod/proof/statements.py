@@ -199,7 +199,10 @@ STATEMENTS = (
        5.92214] (a), [3.4896, 3.5376] (b), [2.23400, 2.23406] (d), so μ_u ∈ [5.74801, 5.74817], [3.1745, 3.2278],
        [1.61469, 1.61477] (magrod/proof/certificates/fixed_point_fig4{a,b,d}.json, re-checked by the complete
        verifier; `magrod prove --fixed-point 0.383 --level 0.9 --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam
-       0.135`). Panel (c): the float search found no hyperbolic fixed point of P to prove. This is a hyperbolic
+       0.135`). At (a) also for every λ̄ in [674999/5000000, 675001/5000000] = 0.135 ± 2e−7, λ̄ carried as a state
+       variable through every enclosure (fixed_point_fig4a_interval.json, `--lam-rad 1/5000000`): θ* ∈ [0.38304326,
+       0.38304913], tr DP(x0) ∈ [4.1598, 9.0911]; the widest single box that closes (3e−7: the enclosure of DP is
+       no longer finite). Panel (c): the float search found no hyperbolic fixed point of P to prove. This is a hyperbolic
        periodic orbit, not chaos: a horseshoe on that level also needs a transverse homoclinic point, which is
        numerical only (statement 10). A hyperbolic fixed point persists, so the same holds on an open interval of
        λ̄ around each value, of unquantified size.""",

@@ -467,16 +467,18 @@ def _verify_fixed_point(cert, module, t0) -> VerifyResult:
     except _Reject as err:
         return VerifyResult(False, f"certificate rejected: {err}", checks, time.perf_counter() - t0)
     return VerifyResult(True, "certificate verified: every enclosure recomputed and every check holds", checks,
-                        time.perf_counter() - t0, section_fixed_point_theorem(p.as_json(), cert["level"]), {}, vals)
+                        time.perf_counter() - t0,
+                        section_fixed_point_theorem(p.as_json(), cert["level"], cert["settings"].get("lam_rad", "0")),
+                        {}, vals)
 
 
-def _fp_hamgrad(p, x, module):
+def _fp_hamgrad(pars, x, module):
     from flint import arb_series
 
     out = []
     for i in range(len(x)):
         y = [arb_series([v, 1 if j == i else 0], prec=2) for j, v in enumerate(x)]
-        c = module.chart_hamiltonian(y, p.balls())[0]
+        c = module.chart_hamiltonian(y, pars)[0]
         cs = c.coeffs() if isinstance(c, arb_series) else [c]
         out.append(cs[1] if len(cs) > 1 else arb(0))
     return out
@@ -489,12 +491,14 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
     r, prad, t1, lead = (_frac(s[k]) for k in ("r", "p_rad", "t1", "lead"))
     thc, pc, t_a, hc = (_frac(pt[k]) for k in ("theta_c", "p_c", "t_a", "h_cross"))
     # what the certificate must contain, and which theorem (cheap, first)
-    want = section_fixed_point_theorem(p.as_json(), cert["level"])
+    lam_rad = _frac(s.get("lam_rad", "0"))  # absent: a certificate at the point (issue 27's first ones)
+    want = section_fixed_point_theorem(p.as_json(), cert["level"], s.get("lam_rad", "0"))
     claim("theorem text", cert["theorem"] == want,
           "the certificate's theorem is the one its verified content establishes"
           + ("" if cert["theorem"] == want else f" (expected: {want[:120]}...; states: {str(cert['theorem'])[:120]}...)"))
-    claim("settings match the data", hc == 2 * lead and r > 0 and prad > 0 and 0 < t1 < t_a and thc > 0,
-          "the crossing step is 2 lead; r, p_rad > 0; 0 < t1 < t_a; theta_c > 0")
+    claim("settings match the data", hc == 2 * lead and r > 0 and prad > 0 and 0 < t1 < t_a and thc > 0
+          and lam_rad >= 0,
+          "the crossing step is 2 lead; r, p_rad > 0; 0 < t1 < t_a; theta_c > 0; lam_rad >= 0")
     fl = cert["flights"]
     claim("flights present", isinstance(fl, dict) and set(fl) == {"thin", "box"},
           f"exactly the thin flight (theta_c) and the box flight (Theta); got {sorted(fl) if isinstance(fl, dict) else fl}")
@@ -507,8 +511,14 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
     claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
           "the certificate's vector field is the installed derive-generated one (SHA-256 of generated/validated.py)")
     claim("parameters", p.m > 0 and min(p.gamma, p.delta, p.mu) >= 0, "m > 0; gamma, delta, mu >= 0")
-    fld = fields.chart_field(p, module)
-    pars = p.balls()
+    pars = list(p.balls())
+    ilam, imu = fields.PARAMS.index("lam"), fields.PARAMS.index("mu")
+    if lam_rad:  # lambdabar as the ball [lam - lam_rad, lam + lam_rad]: every enclosure holds on the interval
+        pars[ilam] = ball.interval(p.lam - lam_rad, p.lam + lam_rad)
+    pars = tuple(pars)
+    # a lambdabar interval rides in the state (fields.lam_state_field: lambdabar' = 0), a point in the parameters
+    fld = fields.lam_state_field(p, module) if lam_rad else fields.chart_field(p, module)
+    Lam = [pars[ilam]] if lam_rad else []
 
     def H(x):
         return module.chart_hamiltonian(x, pars)[0]
@@ -518,7 +528,7 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
     Pb = ball.interval(pc - prad, pc + prad)
     levels = {}
     for key, th in (("box", Theta), ("centre", ball.q(thc))):
-        dH = _fp_hamgrad(p, [th, arb(0), arb(0), Pb], module)[PP]
+        dH = _fp_hamgrad(pars, [th, arb(0), arb(0), Pb], module)[PP]
         N = ball.q(pc) - (H([th, arb(0), arb(0), ball.q(pc)]) - ball.q(h)) / dH
         claim(f"level Newton ({key})", ball.excludes_zero(dH) and _inside(N, Pb),
               f"a unique pbar_psi(theta) with Hbar(theta, 0, 0, pbar_psi) = h in the box, inside {N}")
@@ -527,7 +537,7 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
 
     # 2-3. the flights (exact steps), two phases, one negative crossing of sin psi = 0
     def base(Y):
-        return [Y[TH], arb.pi() - Y[TH], ball.q(p.mu) - 2 * ball.q(p.lam) * Y[PP]]
+        return [Y[TH], arb.pi() - Y[TH], pars[imu] - 2 * (Y[4] if len(Y) > 4 else pars[ilam]) * Y[PP]]
 
     def sdot(Y):
         return Y[PS].cos() * fld.f(Y)[PS]
@@ -543,7 +553,7 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
         return x[PS].sin()
 
     def dg(x):
-        return [arb(0), x[PS].cos(), arb(0), arb(0)]
+        return [arb(0), x[PS].cos()] + [arb(0)] * (len(x) - 2)
 
     got = {}
     for kind, th, pbox in (("thin", ball.q(thc), levels["centre"]), ("box", Theta, levels["box"])):
@@ -551,7 +561,7 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
         st2 = [_frac(v) for v in fl[kind]["steps2"]]
         claim(f"{kind} steps", sum(st1) == t1 and sum(st1) + sum(st2) == t_a and all(v > 0 for v in st1 + st2),
               f"the exact steps add up to t1 = {float(t1):.6g} (phase 1) and t_a = {float(t_a):.9g} (both phases)")
-        x = [th, arb(0), arb(0), pbox]
+        x = [th, arb(0), arb(0), pbox] + Lam
         xc = [v.mid() for v in x]
         S = taylor.initial_set(xc, c1=True)
         S.r0 = ball.vec([a - b for a, b in zip(x, xc)])
@@ -561,8 +571,10 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
             cr = taylor.cross_section(fld, S, g, dg, hc, order, guard=base)
         except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
             claim(f"{kind} flight", False, str(err))
-        gH = _fp_hamgrad(p, x, module)
-        tang = {"th": [arb(1), arb(0), arb(0), -gH[TH] / gH[PP]], "pt": [arb(0), arb(0), arb(1), -gH[PT] / gH[PP]]}
+        gH = _fp_hamgrad(pars, x[:4], module)
+        z = [arb(0)] * len(Lam)
+        tang = {"th": [arb(1), arb(0), arb(0), -gH[TH] / gH[PP]] + z,
+                "pt": [arb(0), arb(0), arb(1), -gH[PT] / gH[PP]] + z}
         gg = dg(cr.x)
         gf = sum((a * b for a, b in zip(gg, cr.fx)), arb(0))
         q = {"ptheta": cr.x[PT], "theta": cr.x[TH], "cospsi": cr.x[PS].cos(), "gdot": cr.gdot, "tau": cr.tau}
