@@ -216,3 +216,30 @@ def test_the_interval_certificate_states_its_theorem_and_rejects_a_wider_interva
 def test_the_interval_certificate_verifies():
     res = verify.verify(_shipped("a_interval"))
     assert res.ok, res.reason
+
+
+def _tiles():
+    d = resources.files("magrod.proof").joinpath("certificates", "fig4a_interval")
+    return [json.loads(f.read_text()) for f in sorted(d.iterdir(), key=lambda f: f.name) if f.name.endswith(".json")]
+
+
+def test_the_interval_tiles_cover_their_union_exactly():
+    """benchmarks/fig4_lambda_interval.py's 11 certificates: adjacent lambdabar boxes [c - w, c + w] whose union is
+    [674989/5000000, 675011/5000000] with no gap (exact rationals), each stating the theorem for its box."""
+    boxes = []
+    for c in _tiles():
+        w = Fraction(c["settings"]["lam_rad"])
+        lam = Fraction(c["params"]["lam"])
+        assert c["kind"] == "section_fixed_point" and w > 0
+        assert c["theorem"] == theorem.section_fixed_point_theorem(c["params"], c["level"], c["settings"]["lam_rad"])
+        boxes.append((lam - w, lam + w))
+    boxes.sort()
+    assert len(boxes) == 11 and all(a[1] == b[0] for a, b in zip(boxes, boxes[1:]))
+    assert (boxes[0][0], boxes[-1][1]) == (Fraction(674989, 5000000), Fraction(675011, 5000000))
+
+
+@pytest.mark.slow
+def test_every_interval_tile_verifies():
+    for c in _tiles():
+        res = verify.verify(c)
+        assert res.ok, res.reason

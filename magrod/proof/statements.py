@@ -202,7 +202,10 @@ STATEMENTS = (
        0.135`). At (a) also for every λ̄ in [674999/5000000, 675001/5000000] = 0.135 ± 2e−7, λ̄ carried as a state
        variable through every enclosure (fixed_point_fig4a_interval.json, `--lam-rad 1/5000000`): θ* ∈ [0.38304326,
        0.38304913], tr DP(x0) ∈ [4.1598, 9.0911]; the widest single box that closes (3e−7: the enclosure of DP is
-       no longer finite). Panel (c): the float search found no hyperbolic fixed point of P to prove. This is a hyperbolic
+       no longer finite). By 11 adjacent such boxes, for every λ̄ in [674989/5000000, 675011/5000000] = 0.135 ±
+       2.2e−6 (magrod/proof/certificates/fig4a_interval/, `benchmarks/fig4_lambda_interval.py`: 191 s prove + 162 s
+       verify, each certificate re-checked by the complete verifier in that run and by a slow test; `magrod
+       reproduce` verifies only the single box). Panel (c): the float search found no hyperbolic fixed point of P to prove. This is a hyperbolic
        periodic orbit, not chaos: a horseshoe on that level also needs a transverse homoclinic point, which is
        numerical only (statement 10). A hyperbolic fixed point persists, so the same holds on an open interval of
        λ̄ around each value, of unquantified size.""",
