@@ -102,3 +102,7 @@ ENCLOSURE_TAIL_TOL = 1e-20
 # box_theorem decides the sign of S on a box: the tail only has to be small against |S| there (>= 9e-5), so 1e-8
 # keeps T short (the boxes' cost grows with T) with a margin of 10^4.
 BOX_TAIL_TOL = 1e-8
+# The float search of magrod.proof.periodic (where to look for the section map's symmetric fixed point): heyoka at
+# 1e-15 keeps the bisected theta* (and the half-way crossing time) within ~1e-13 of the true ones over the ~3-unit
+# half-orbit, far inside the 1e-10 .. 4e-6 theta-boxes the proof then decides on; a search choice, never a decision.
+FIXED_POINT_SEARCH_TOL = 1e-15

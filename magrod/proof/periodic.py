@@ -41,7 +41,7 @@ import numpy as np
 from flint import arb, arb_series
 
 from ..core.errors import ParameterError
-from ..core.tolerances import PROOF_STEP_TOL
+from ..core.tolerances import FIXED_POINT_SEARCH_TOL, PROOF_STEP_TOL
 from ..generated import validated as gen
 from . import ball, fields, taylor
 from .search import ProofFailure, ProofResult, stored, structural_tests
@@ -140,7 +140,8 @@ def float_fixed_point(p: fields.ExactParams, h: Fraction, theta_guess: float, ro
     rp = RodParams(*p.floats())
     v = hy.make_vars(*systems.STATE["reduced"])
     ta = systems.taylor(systems.system("reduced"), [1.0, 0.0, 0.0, 1.0], rp.array(),
-                        t_events=[hy.t_event(hy.sin(v[PS]), direction=hy.event_direction.negative)], tol=1e-15)
+                        t_events=[hy.t_event(hy.sin(v[PS]), direction=hy.event_direction.negative)],
+                        tol=FIXED_POINT_SEARCH_TOL)
 
     def start(th, pt=0.0):
         roots = solve_p_psi(rp, float(h), th, pt, 0.0)
