@@ -50,10 +50,7 @@ def tolerance_literals(root: Path = ROOT) -> list:
     return out
 
 
-# The computer-assisted proof's and the enclosure's own step controls move into tolerances.py together with
-# issue 27's changes to those modules (being merged); until then they are listed here, each by file and name.
-PENDING = {("magrod/proof/search.py", "tol"), ("magrod/proof/taylor.py", "tol"),
-           ("magrod/separatrix/enclosure.py", "tail_tol"), ("magrod/separatrix/enclosure.py", "DEFAULT_TAIL_TOL")}
+PENDING: set = set()  # issue 27 moved the proof's and the enclosure's step controls into tolerances.py
 
 
 def test_no_tolerance_literals_outside_tolerances_py():

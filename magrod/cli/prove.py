@@ -9,7 +9,11 @@ Exit codes: 0 proved / verified; 1 a step could not be established (one line: wh
 was rejected; 2 bad input (mu <= 2 lambdabar, m >= m_c, a non-finite value, an unreadable certificate).  Nothing
 is written unless the proof holds.  A certificate whose content does not establish a theorem (a missing, repeated
 or unknown target, a theorem text that is not the verified one) is rejected: exit 1.  `--mutate K` is a control:
-it flips the sign of the K-th term of the generated chart field, and the run must fail."""
+it flips the sign of the K-th term of the generated chart field, and the run must fail.
+
+`magrod prove --fixed-point THETA --level H ...` proves instead a symmetric hyperbolic fixed point of the section map
+sin psi = 0 on the level Hbar = H (magrod/proof/periodic.py; statement 11), the float search looking for theta* on
+Fix(R) within 0.02 of THETA (no condition mu > 2 lambdabar: the level need not hold the tilted saddle)."""
 from __future__ import annotations
 
 from fractions import Fraction
@@ -28,6 +32,11 @@ def add_arguments(p):
     p.add_argument("--out", default=None, help="directory for certificate.json (required unless --verify)")
     p.add_argument("--verify", default=None, metavar="CERT", help="re-check the certificate CERT instead")
     p.add_argument("--targets", default="0,pi", help="which symmetric orbits: 0, pi or both (0,pi)")
+    p.add_argument("--fixed-point", default=None, metavar="THETA", dest="fixed_point",
+                   help="prove a hyperbolic fixed point of the section map sin psi = 0 on --level, theta* near THETA")
+    p.add_argument("--level", default=None, metavar="H", help="the level Hbar = H of --fixed-point (exact)")
+    p.add_argument("--lam-rad", default="0", metavar="W", dest="lam_rad",
+                   help="--fixed-point for every lambdabar in [lam - W, lam + W] (lambdabar carried as a ball)")
     p.add_argument("--mutate", default=None, metavar="K",
                    help="control: flip the sign of the K-th term of the generated chart field (must fail)")
 
@@ -35,6 +44,8 @@ def add_arguments(p):
 def run(args) -> dict:
     if args.verify is not None:
         return _verify(args)
+    if args.fixed_point is not None:
+        return _fixed_point(args)
     from ..proof import fields, search
 
     p = search.validate_params(args.m, args.mu, args.gamma, args.delta, args.lam)
@@ -64,6 +75,47 @@ def run(args) -> dict:
     return out
 
 
+def _fixed_point(args) -> dict:
+    import math
+
+    from ..proof import fields, periodic
+
+    if args.level is None:
+        raise ParameterError("level", "--fixed-point needs the level: --level H (exact decimal or p/q)")
+    p, h = periodic.validate(args.m, args.mu, args.gamma, args.delta, args.lam, args.level)
+    try:
+        theta = float(args.fixed_point)
+    except ValueError:
+        raise ParameterError("fixed_point", f"must be a number theta in (0, pi), got {args.fixed_point!r}") from None
+    if not 0 < theta < math.pi:
+        raise ParameterError("fixed_point", f"must be a number theta in (0, pi), got {args.fixed_point!r}")
+    if args.out is None:
+        raise ParameterError("out", "an output directory is required (or --verify CERT)")
+    dest = out_dir("out", args.out)
+    module = fields.gen
+    if args.mutate is not None:
+        module = fields.mutated_module(integer("mutate", args.mutate, minimum=0, maximum=1000))
+    try:
+        w = Fraction(str(args.lam_rad))
+    except (ValueError, ZeroDivisionError):
+        raise ParameterError("lam_rad", f"must be an exact number >= 0, got {args.lam_rad!r}") from None
+    if w < 0 or w > 1:
+        raise ParameterError("lam_rad", f"must be in [0, 1], got {args.lam_rad!r}")
+    st = periodic.interval_settings(w) if w else periodic.FixedPointSettings()
+    res = periodic.prove(p, h, theta, st, module=module, progress=None if args.quiet else _stage)
+    out = {"ok": res.ok, "params": p.as_json(), "level": f"{h.numerator}/{h.denominator}",
+           "wall_time_s": round(res.wall_time_s, 3), "checks": res.checks, "reason": res.reason}
+    if not res.ok:
+        out["error"] = res.reason
+        return out
+    from ..core import io
+
+    io.ensure_writable_dir(dest, "out")
+    out["certificate"] = str(io.atomic_write_json(dest / "certificate.json", res.certificate))
+    out["fixed_point"] = {k: res.certificate[k] for k in ("newton", "trace", "mu_u")}
+    return out
+
+
 def _stage(msg):
     import sys
 
@@ -82,7 +134,7 @@ def _verify(args) -> dict:
 
 
 def format_text(d) -> str:
-    if "certificate" in d and "crossings" not in d:  # --verify
+    if "certificate" in d and "params" not in d:  # --verify (a prove result always carries its params)
         head = f"{d['certificate']}: {d['reason']} ({len(d['checks'])} checks, {d['wall_time_s']:.1f} s)"
         if not d["ok"]:
             return head
@@ -90,9 +142,17 @@ def format_text(d) -> str:
         lines = [head, f"theorem: {d['theorem']}"]
         for t, (lo, hi) in d["slopes"].items():
             lines.append(f"  psi = {t}: dtheta_u/dpsi in [{float(Fraction(lo)):.6e}, {float(Fraction(hi)):.6e}]")
+        for k, (lo, hi) in d.get("values", {}).items():
+            lines.append(f"  {k} in [{float(Fraction(lo)):.12g}, {float(Fraction(hi)):.12g}]")
         return "\n".join(lines)
     if not d["ok"]:
         return f"not proved: {d['reason']}"
+    if "fixed_point" in d:
+        fp = {k: [float(Fraction(b["mid"]) - Fraction(b["rad"])), float(Fraction(b["mid"]) + Fraction(b["rad"]))]
+              for k, b in d["fixed_point"].items()}
+        return (f"proved: {len(d['checks'])} checks hold ({d['wall_time_s']:.1f} s); certificate {d['certificate']}\n"
+                + "\n".join(f"  {name} in [{fp[k][0]:.12g}, {fp[k][1]:.12g}]" for k, name in
+                            (("newton", "theta*"), ("trace", "tr DP(x0)"), ("mu_u", "mu_u"))))
     lines = [f"proved: {len(d['checks'])} checks hold ({d['wall_time_s']:.1f} s); certificate {d['certificate']}"]
     for c in d["crossings"]:
         lines.append(f"  psi = {c['target']}: phi* in [{c['phi_star']['mid']} +- {c['phi_star']['rad']}], "

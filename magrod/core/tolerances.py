@@ -87,3 +87,22 @@ GENERIC_AGREEMENT = 1e-4
 # by Gauss-Newton steps until |g(x) - g0| <= MODEL_LEVEL_TOL: a few ulp of the O(1) values, far inside the
 # conservation gates ENERGY_TOL and CASIMIR_TOL the sections are then held to.
 MODEL_LEVEL_TOL = 64 * EPS
+
+# --- computer-assisted proofs and rigorous enclosures (issues 20, 21, 27) ------------------------------------------
+# The validated Taylor integrator (magrod.proof.taylor) picks each step so that the centre trajectory's last two
+# Taylor terms are ~PROOF_STEP_TOL (Jorba-Zou): the Lagrange remainder then adds ~1e-25 per step, ~1e-22 over the
+# ~10^3 steps of a flight, far below the 1e-12 .. 1e-5 radii of every box a proof flies (so it never decides a
+# check), and above the 128-bit rounding (~1e-38 relative), so the steps are not wasted on rounding noise.  A step
+# control, not an accuracy claim: every enclosure is rigorous whatever its value.
+PROOF_STEP_TOL = 1e-25
+# magrod.separatrix.enclosure.enclose_S: the improper integral is cut at T where its rigorous tail bound is
+# <= ENCLOSURE_TAIL_TOL; 1e-20 is far below |S| (>= 9e-5 on the issue's box) and the 1e-10 asked of the six table
+# points, and costs only a few units of tau_T (the tail decays like e^(-kappa T)).
+ENCLOSURE_TAIL_TOL = 1e-20
+# box_theorem decides the sign of S on a box: the tail only has to be small against |S| there (>= 9e-5), so 1e-8
+# keeps T short (the boxes' cost grows with T) with a margin of 10^4.
+BOX_TAIL_TOL = 1e-8
+# The float search of magrod.proof.periodic (where to look for the section map's symmetric fixed point): heyoka at
+# 1e-15 keeps the bisected theta* (and the half-way crossing time) within ~1e-13 of the true ones over the ~3-unit
+# half-orbit, far inside the 1e-10 .. 4e-6 theta-boxes the proof then decides on; a search choice, never a decision.
+FIXED_POINT_SEARCH_TOL = 1e-15

@@ -21,6 +21,10 @@ SHIPPED = "homoclinic_target.json"
 # Fig 4's rod at the panels' lambdabar where `magrod prove` succeeds: the saddle-focus's own level (statement 5a)
 FIG4 = (("4a", "homoclinic_fig4a.json"), ("4b", "homoclinic_fig4b.json"), ("4c", "homoclinic_fig4c.json"),
         ("4d", "homoclinic_fig4d.json"))
+# Fig 4's own level h = 0.9 (statement 11): symmetric hyperbolic fixed points of the section map sin psi = 0; panel
+# (c) has none from the float search (benchmarks/fig4_candidates.json: no hyperbolic period-1 or -2 orbit there)
+FIG4_SECTION = (("4a", "fixed_point_fig4a.json"), ("4b", "fixed_point_fig4b.json"), ("4d", "fixed_point_fig4d.json"),
+                ("4a_interval", "fixed_point_fig4a_interval.json"))  # every lambdabar in 27/200 +- 2e-7
 
 
 def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
@@ -52,6 +56,15 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
                              "theorem": v4.theorem, "slopes": v4.slopes,
                              "verify_wall_time_s": round(v4.wall_time_s, 1)})
         paths.append(str(atomic_write_json(out / f"proof_certificate_fig{key}.json", other)))
+    side["fig4_section"] = []
+    for key, name in FIG4_SECTION:
+        other = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
+        v4 = verify.verify(other)
+        side["fig4_section"].append({"panel": key, "params": other["params"], "level": other["level"], "ok": v4.ok,
+                                     "reason": v4.reason, "n_checks": len(v4.checks), "theorem": v4.theorem,
+                                     "values": v4.values, "certificate": f"magrod/proof/certificates/{name}",
+                                     "verify_wall_time_s": round(v4.wall_time_s, 1)})
+        paths.append(str(atomic_write_json(out / f"proof_certificate_fixed_point_fig{key}.json", other)))
     side["wall_time_s"] = round(time.perf_counter() - t0, 1)
     paths.append(str(atomic_write_json(out / "proof.json", side)))
     paths.append(str(_figure(out, side, quick)))

@@ -115,3 +115,95 @@ def mutated_module(term: int = 0, function: str = "chart_rhs"):
     exec(compile(new, "<mutated generated/validated.py>", "exec"), mod.__dict__)  # noqa: S102 - our own source
     mod.SOURCE = new
     return mod
+
+
+# --------------------------------------------------------------------------------------------------------------
+# lambdabar as a state variable (issue 27: a statement for every lambdabar of an interval)
+# --------------------------------------------------------------------------------------------------------------
+class _Dual:
+    """a + b eps (eps^2 = 0) over balls or power series: forward-mode derivative of the generated field in one
+    parameter.  Only the operations the generated chart code uses (+ - * /, unary -, sin, cos, sqrt); each is the
+    exact derivative rule, evaluated in ball arithmetic, so the eps part encloses the exact partial derivative."""
+
+    __slots__ = ("a", "b")
+
+    def __init__(self, a, b):
+        self.a, self.b = a, b
+
+    @staticmethod
+    def _d(x):
+        return x if isinstance(x, _Dual) else _Dual(x, 0 * x if not isinstance(x, (int, Fraction)) else 0)
+
+    def __add__(self, o):
+        o = self._d(o)
+        return _Dual(self.a + o.a, self.b + o.b)
+
+    __radd__ = __add__
+
+    def __sub__(self, o):
+        o = self._d(o)
+        return _Dual(self.a - o.a, self.b - o.b)
+
+    def __rsub__(self, o):
+        return self._d(o) - self
+
+    def __neg__(self):
+        return _Dual(-self.a, -self.b)
+
+    def __mul__(self, o):
+        o = self._d(o)
+        return _Dual(self.a * o.a, self.a * o.b + self.b * o.a)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o):
+        o = self._d(o)
+        return _Dual(self.a / o.a, (self.b * o.a - self.a * o.b) / (o.a * o.a))
+
+    def __rtruediv__(self, o):
+        return self._d(o) / self
+
+    def sin(self):
+        return _Dual(self.a.sin(), self.a.cos() * self.b)
+
+    def cos(self):
+        return _Dual(self.a.cos(), -(self.a.sin()) * self.b)
+
+    def sqrt(self):
+        s = self.a.sqrt()
+        return _Dual(s, self.b / (2 * s))
+
+
+LAM = gen.PARAMS.index("lam")
+
+
+def lam_state_field(p: ExactParams, module=gen):
+    """The chart field with lambdabar as a fifth state variable (lambdabar' = 0): x = (theta, psi, pbar_theta,
+    pbar_psi, lambdabar).  Its Jacobian's last column, d f / d lambdabar, by forward-mode differentiation (_Dual) of
+    the generated chart_rhs; the other columns are the generated chart_jacobian.  A Lohner set of this field carries
+    the lambdabar-interval in its linear part (C r0), as it does the initial box, instead of wrapping it into the
+    remainder at every step."""
+    from .taylor import Field
+
+    base = list(p.balls())
+    n = len(CHART_STATE)
+
+    def pars_with(lam):
+        q = list(base)
+        q[LAM] = lam
+        return q
+
+    def rhs(x, _p):
+        f = module.chart_rhs(list(x[:n]), pars_with(x[n]))
+        return list(f) + [0 * x[n]]
+
+    def jacobian(x, _p):
+        J = list(module.chart_jacobian(list(x[:n]), pars_with(x[n])))
+        dl = module.chart_rhs([_Dual(v, 0 * v) for v in x[:n]], pars_with(_Dual(x[n], 0 * x[n] + 1)))
+        z = 0 * x[n]
+        out = []
+        for i in range(n):
+            out += J[n * i: n * (i + 1)] + [dl[i].b if isinstance(dl[i], _Dual) else z]
+        return out + [z] * (n + 1)
+
+    return Field(rhs, jacobian, n + 1, tuple(base), "chart+lambdabar")

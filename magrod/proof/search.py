@@ -32,6 +32,7 @@ import numpy as np
 from flint import arb
 
 from ..core.errors import ParameterError
+from ..core.tolerances import PROOF_STEP_TOL
 from ..generated import validated as gen
 from . import ball, fields, manifold, saddle, taylor
 from .theorem import homoclinic_theorem
@@ -51,7 +52,7 @@ class ProofSettings:
 
     prec: int = 128
     order: int = 20
-    tol: float = 1e-25
+    tol: float = PROOF_STEP_TOL
     r: Fraction = Fraction(1, 100000)
     dphi: Fraction = Fraction(5, 10**7)
     saddle_radius: Fraction = Fraction(1, 10**25)

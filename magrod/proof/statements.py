@@ -182,12 +182,41 @@ STATEMENTS = (
        errata), and the chaos indicator classifies Fig 4(a)–(c) chaotic and 4(d) regular: evidence, not a proof,
        for the non-perturbative regime. Fig 4's level h = 0.9 does not contain the helical saddle (its H̄ is
        0.8305, 0.7720, 0.7253, 0.6955 at the four λ̄), so the homoclinic orbits of 5a are not about the figure's
-       section; a horseshoe on h = 0.9 is not established. Numerically (float64) at λ̄ = 0.135 the section map has a
-       symmetric period-2 saddle (eigenvalue 33.0) whose unstable manifold meets Fix(R) transversally (W^u and W^s
-       cross at 0.72°): a candidate, not a proof (docs/nonintegrability.md, "Fig 4 on its own level").""",
+       section; a horseshoe on h = 0.9 is not established. Numerically (float64) at λ̄ = 0.135 the unstable
+       manifold of the section map's symmetric saddle (the fixed point of statement 11; eigenvalue 5.748 of DP,
+       33.04 of DP²) meets Fix(R) transversally (W^u and W^s cross at 0.72°): a candidate, not a proof
+       (docs/nonintegrability.md, "Fig 4 on its own level").""",
        [Step("Poincaré sections and Lyapunov/FLI indicators in floating point, conservation budgets", "numerical",
              "magrod poincare, magrod lyapunov")],
-       phrases=(r"Figs? 4(?!\(a\)'s rod|'s rod)", r"Figs? 5", r"h = 0\.9", r"Poincaré sections?")),
+       phrases=(r"Figs? 4(?!\(a\)'s rod|'s rod|'s own level h = 9/10|'s section level h = 9/10)", r"Figs? 5",
+                r"h = 0\.9(?! \(statement 11)", r"Poincaré sections?")),
+    _s("11", "a saddle of the section map on Fig 4's section level h = 9/10",
+       """At (m, μ, γ, δ) = (17/10, 2/5, 3, 3) on Fig 4's section level h = 9/10 (the level the figure shows), at
+       λ̄ = 27/200, 63/400 and 93/500 (panels (a), (b), (d)): the section map P of {sin ψ = 0, d sin ψ/dt > 0} has a
+       fixed point x0 on Fix(R), θ* = 0.3830461903149027 ± 9e−16 (a), 0.2830297097565 ± 6e−11 (b), 3.0572884842554857 ±
+       1e−18 (d), whose orbit is periodic with return time T ∈ [5.7054660731, 5.7054660794] (a), [5.1345326717,
+       5.1345326773] (b), [3.1910215795, 3.1910215818] (d), and DP(x0) is a saddle: det 1, tr DP(x0) ∈ [5.92198,
+       5.92214] (a), [3.4896, 3.5376] (b), [2.23400, 2.23406] (d), so μ_u ∈ [5.74801, 5.74817], [3.1745, 3.2278],
+       [1.61469, 1.61477] (magrod/proof/certificates/fixed_point_fig4{a,b,d}.json, re-checked by the complete
+       verifier; `magrod prove --fixed-point 0.383 --level 0.9 --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam
+       0.135`). At (a) also for every λ̄ in [674999/5000000, 675001/5000000] = 0.135 ± 2e−7, λ̄ carried as a state
+       variable through every enclosure (fixed_point_fig4a_interval.json, `--lam-rad 1/5000000`): θ* ∈ [0.38304326,
+       0.38304913], tr DP(x0) ∈ [4.1598, 9.0911]; the widest single box that closes (3e−7: the enclosure of DP is
+       no longer finite). By 11 adjacent such boxes, for every λ̄ in [674989/5000000, 675011/5000000] = 0.135 ±
+       2.2e−6 (magrod/proof/certificates/fig4a_interval/, `benchmarks/fig4_lambda_interval.py`: 191 s prove + 162 s
+       verify, each certificate re-checked by the complete verifier in that run and by a slow test; `magrod
+       reproduce` verifies only the single box). Panel (c): the float search found no hyperbolic fixed point of P to prove. This is a hyperbolic
+       periodic orbit, not chaos: a horseshoe on that level also needs a transverse homoclinic point, which is
+       numerical only (statement 10). A hyperbolic fixed point persists, so the same holds on an open interval of
+       λ̄ around each value, of unquantified size.""",
+       [Step("level, two-phase flight (no positive crossing before the half-way point), Fix(R) Newton, |tr DP| > 2",
+             "computer-verified", "magrod prove --fixed-point; magrod prove --verify (complete verifier)"),
+        Step("the chart field is Hamilton's, R is a reversor", "proved", "report keys validated_fields, "
+             "reversor_reduced"),
+        Step("an orbit through two points of Fix(R) is periodic, crossings at ±t have one direction, DQ2 = R DQ⁻¹ R "
+             "(reversibility; Devaney 1976)", "proved", "the argument of magrod/proof/periodic.py, hypotheses "
+             "checked by the certificate")],
+       phrases=(r"fixed point of (the section map )?P", r"section map's (symmetric )?saddle", r"h = 9/10")),
 )
 
 BY_NUMBER = {s.number: s for s in STATEMENTS}
@@ -244,7 +273,9 @@ def render_summary() -> str:
             f"(**{status('7')}**, statement 7); both hold on an open neighbourhood of that point, of unquantified "
             f"size (cited persistence). Nonintegrability of the 9-D rod against every integral (not only those in "
             f"involution with m3), and near the perturbative regime, is **{status('7b')}** (7b; 4 rests on the "
-            f"formal expansion 3). Fig 4 on its own level h = 0.9 is **{status('10')}** evidence (10). The paper's own "
+            f"formal expansion 3). On Fig 4's own level h = 9/10 the section map has a hyperbolic fixed point (a "
+            f"saddle) at panels (a), (b), (d) (**{status('11')}**, 11), but chaos there is **{status('10')}** "
+            f"evidence only (10): the transverse homoclinic point is not proved. The paper's own "
             f"argument (sec. 7) does not prove it (1).")
 
 
@@ -257,7 +288,9 @@ def render_readme() -> str:
             f"own level (**{status('5a')}**; that level is not the one Fig 4 shows), and for the 9-D rod none in "
             f"involution with m3 "
             f"(**{status('7')}**); every other nonintegrability claim (every integral, not only those in involution with "
-            f"m3; the perturbative regime) is **{status('7b')}**, and Figs 4–5 are **{status('10')}** evidence "
+            f"m3; the perturbative regime) is **{status('7b')}**; on Fig 4's own level h = 9/10 a saddle of the section "
+            f"map at three of the four panels is **{status('11')}** (a hyperbolic periodic orbit, not yet chaos), "
+            f"and the chaos of Figs 4–5 is **{status('10')}** evidence "
             f"(`docs/nonintegrability.md`, \"Verdict\").").replace("\n   ", "\n  ")
 
 

@@ -46,6 +46,7 @@ from fractions import Fraction
 import numpy as np
 from flint import arb, arb_mat, arb_series
 
+from ..core.tolerances import PROOF_STEP_TOL
 from . import ball
 
 # --------------------------------------------------------------------------------------------------------------
@@ -408,7 +409,7 @@ def step(fld: Field, S: C1Set, h, order: int, guard=None, record: Trajectory | N
     return S2
 
 
-def propagate(fld: Field, S: C1Set, t_end=None, *, order: int = 20, tol: float = 1e-25, h_max: float = 1.0,
+def propagate(fld: Field, S: C1Set, t_end=None, *, order: int = 20, tol: float = PROOF_STEP_TOL, h_max: float = 1.0,
               steps=None, guard=None, record: Trajectory | None = None) -> C1Set:
     """Propagate S to the exact dyadic time t_end with adaptive dyadic steps, or by the given exact `steps`
     (how a verifier replays a certificate).  `guard(Y)` -> balls that must be > 0 on every a priori enclosure.

@@ -70,3 +70,46 @@ def homoclinic_theorem(params: dict, targets) -> str:
             f"Fix(R) at {where}, with dtheta_u/dpsi != 0 there, so W^u(q*) and W^s(q*) = R(W^u(q*)) intersect "
             f"transversally inside the energy level: {what} to q* "
             f"(docs/nonintegrability.md, Theorem (computer-assisted)).")
+
+
+def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0") -> str:
+    """The statement established by a verified section-fixed-point certificate (kind "section_fixed_point").
+
+    Parameters
+    ----------
+    params : dict
+        Exact parameters as strings "p/q", keys m, mu, gamma, delta, lam.
+    level : str
+        The level h as an exact rational string.
+    lam_rad : str
+        Half-width of the lambdabar interval the certificate carries (exact rational string; "0": the point).
+
+    Returns
+    -------
+    str
+        One paragraph.
+
+    Notes
+    -----
+    The periodic orbit's hyperbolicity is what the certificate establishes; it is not chaos: positive topological
+    entropy needs a transverse homoclinic point as well (docs/nonintegrability.md, statement 11).
+    """
+    w = Fraction(lam_rad)
+    if w < 0:
+        raise ValueError(f"lam_rad must be >= 0, got {lam_rad!r}")
+    if w == 0:
+        vals = ", ".join(_rational(params[k]) for k in ("m", "mu", "gamma", "delta", "lam"))
+        where = f"At (m, mu, gamma, delta, lambdabar) = ({vals})"
+        each = ""
+    else:
+        vals = ", ".join(_rational(params[k]) for k in ("m", "mu", "gamma", "delta"))
+        lam = Fraction(params["lam"])
+        where = (f"At (m, mu, gamma, delta) = ({vals}) and every lambdabar in [{_rational(str(lam - w))}, "
+                 f"{_rational(str(lam + w))}]")
+        each = " (for each lambdabar its own x0, unique in the certificate's box)"
+    return (f"{where}, on the level Hbar = {_rational(level)} of the reduced "
+            f"chart field of Hbar (eq:full_ham_nondim): the section map P of {{sin psi = 0, d(sin psi)/dt > 0}} "
+            f"has a fixed point x0{each} on Fix(R) (psi = 0, pbar_theta = 0) with theta in the certificate's Newton "
+            f"ball, whose orbit is R-symmetric and periodic with period twice the certificate's crossing time, "
+            f"and DP(x0) is hyperbolic: det DP(x0) = 1 and |tr DP(x0)| > 2, so its eigenvalues are real, mu and "
+            f"1/mu with |mu| > 1 (a saddle of P; docs/nonintegrability.md, statement 11).")

@@ -33,9 +33,12 @@ from flint import acb, acb_mat, arb, arb_mat
 
 from ..core.errors import ParameterError
 from . import ball, fields, taylor
-from .theorem import TARGETS, homoclinic_theorem
+from .theorem import TARGETS, homoclinic_theorem, section_fixed_point_theorem
 
 FORMAT = "magrod-proof-certificate/1"
+#: the statement kinds a certificate may carry ("kind"; absent means the homoclinic kind of issue 21)
+HOMOCLINIC, SECTION_FIXED_POINT = "homoclinic", "section_fixed_point"
+KINDS = (HOMOCLINIC, SECTION_FIXED_POINT)
 
 
 class CertificateError(ParameterError):
@@ -55,10 +58,12 @@ class VerifyResult:
     theorem: str = ""
     #: per verified target: the certificate's enclosure of dtheta_u/dpsi (exact decimal bounds; empty unless ok)
     slopes: dict = field(default_factory=dict)
+    #: other verified enclosures by name (kind section_fixed_point: theta*, tr DP(x0), mu_u), exact decimal bounds
+    values: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         return {"ok": self.ok, "reason": self.reason, "theorem": self.theorem, "slopes": self.slopes,
-                "checks": self.checks, "wall_time_s": round(self.wall_time_s, 3)}
+                "values": self.values, "checks": self.checks, "wall_time_s": round(self.wall_time_s, 3)}
 
 
 class _Reject(Exception):
@@ -122,6 +127,11 @@ def verify(cert: dict, *, module=fields.gen) -> VerifyResult:
         if not holds:
             raise _Reject(f"{name}: {how}")
 
+    kind = cert.get("kind", HOMOCLINIC) if isinstance(cert, dict) else None
+    if kind not in KINDS:
+        raise CertificateError(f"unknown certificate kind {str(kind)[:40]!r} (recognised: {', '.join(KINDS)})")
+    if kind == SECTION_FIXED_POINT:
+        return _verify_fixed_point(cert, module, t0)
     try:
         p, st = _inputs(cert)
         with ball.workprec(st["prec"], st["series_cap"]):
@@ -428,3 +438,171 @@ def _check_crossing(c, p, fb, xhat, V, rho_eff, L, r, order, module, claim):
     _recomputed(claim, f"psi={tgt} dtheta/dpsi", dtdp, c["dtheta_dpsi"])
     claim(f"psi={tgt} transversality", ball.excludes_zero(ball.from_json(c["dtheta_dpsi"])),
           "dtheta_u/dpsi excludes 0 (transverse intersection of W^u and W^s)")
+
+
+# --------------------------------------------------------------------------------------------------------------
+# kind "section_fixed_point": a symmetric hyperbolic fixed point of the section map sin psi = 0 on Hbar = h
+# (the prover is magrod/proof/periodic.py; everything below is re-implemented from its module docstring)
+# --------------------------------------------------------------------------------------------------------------
+def _verify_fixed_point(cert, module, t0) -> VerifyResult:
+    checks: list = []
+
+    def claim(name, holds, how):
+        checks.append({"name": name, "holds": bool(holds), "how": how})
+        if not holds:
+            raise _Reject(f"{name}: {how}")
+
+    try:
+        p = fields.ExactParams(**{k: _frac(cert["params"][k]) for k in fields.PARAMS})
+        s = cert["settings"]
+        prec, cap, order = int(s["prec"]), int(s["series_cap"]), int(s["order"])
+        if not (64 <= prec <= 1024 and 4 <= order < cap <= 256):
+            raise CertificateError("settings out of range (prec 64..1024 bits, 4 <= order < series_cap <= 256)")
+        with ball.workprec(prec, cap):
+            vals = _fixed_point(cert, p, order, module, claim)
+    except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
+        if isinstance(err, ParameterError):
+            raise
+        raise CertificateError(f"malformed certificate ({type(err).__name__}: {str(err)[:120]})") from None
+    except _Reject as err:
+        return VerifyResult(False, f"certificate rejected: {err}", checks, time.perf_counter() - t0)
+    return VerifyResult(True, "certificate verified: every enclosure recomputed and every check holds", checks,
+                        time.perf_counter() - t0,
+                        section_fixed_point_theorem(p.as_json(), cert["level"], cert["settings"].get("lam_rad", "0")),
+                        {}, vals)
+
+
+def _fp_hamgrad(pars, x, module):
+    from flint import arb_series
+
+    out = []
+    for i in range(len(x)):
+        y = [arb_series([v, 1 if j == i else 0], prec=2) for j, v in enumerate(x)]
+        c = module.chart_hamiltonian(y, pars)[0]
+        cs = c.coeffs() if isinstance(c, arb_series) else [c]
+        out.append(cs[1] if len(cs) > 1 else arb(0))
+    return out
+
+
+def _fixed_point(cert, p, order, module, claim) -> dict:
+    TH, PS, PT, PP = fields.THETA, fields.PSI, fields.PTHETA, fields.PPSI
+    s, pt = cert["settings"], cert["point"]
+    h = _frac(cert["level"])
+    r, prad, t1, lead = (_frac(s[k]) for k in ("r", "p_rad", "t1", "lead"))
+    thc, pc, t_a, hc = (_frac(pt[k]) for k in ("theta_c", "p_c", "t_a", "h_cross"))
+    # what the certificate must contain, and which theorem (cheap, first)
+    lam_rad = _frac(s.get("lam_rad", "0"))  # absent: a certificate at the point (issue 27's first ones)
+    want = section_fixed_point_theorem(p.as_json(), cert["level"], s.get("lam_rad", "0"))
+    claim("theorem text", cert["theorem"] == want,
+          "the certificate's theorem is the one its verified content establishes"
+          + ("" if cert["theorem"] == want else f" (expected: {want[:120]}...; states: {str(cert['theorem'])[:120]}...)"))
+    claim("settings match the data", hc == 2 * lead and r > 0 and prad > 0 and 0 < t1 < t_a and thc > 0
+          and lam_rad >= 0,
+          "the crossing step is 2 lead; r, p_rad > 0; 0 < t1 < t_a; theta_c > 0; lam_rad >= 0")
+    fl = cert["flights"]
+    claim("flights present", isinstance(fl, dict) and set(fl) == {"thin", "box"},
+          f"exactly the thin flight (theta_c) and the box flight (Theta); got {sorted(fl) if isinstance(fl, dict) else fl}")
+    sb = {k: ball.from_json(v) for k, v in fl["box"]["enclosures"].items()}
+    tr_s = ball.from_json(cert["trace"])
+    claim("claims on the certificate's balls", ball.negative(sb["gdot"]) and ball.excludes_zero(sb["dth_ptheta"])
+          and _inside(ball.from_json(cert["newton"]), ball.interval(thc - r, thc + r))
+          and ball.bounds(abs(tr_s))[0] > 2,
+          "negative crossing, F' excludes 0, Newton inside Theta, |tr DP| > 2")
+    claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
+          "the certificate's vector field is the installed derive-generated one (SHA-256 of generated/validated.py)")
+    claim("parameters", p.m > 0 and min(p.gamma, p.delta, p.mu) >= 0, "m > 0; gamma, delta, mu >= 0")
+    pars = list(p.balls())
+    ilam, imu = fields.PARAMS.index("lam"), fields.PARAMS.index("mu")
+    if lam_rad:  # lambdabar as the ball [lam - lam_rad, lam + lam_rad]: every enclosure holds on the interval
+        pars[ilam] = ball.interval(p.lam - lam_rad, p.lam + lam_rad)
+    pars = tuple(pars)
+    # a lambdabar interval rides in the state (fields.lam_state_field: lambdabar' = 0), a point in the parameters
+    fld = fields.lam_state_field(p, module) if lam_rad else fields.chart_field(p, module)
+    Lam = [pars[ilam]] if lam_rad else []
+
+    def H(x):
+        return module.chart_hamiltonian(x, pars)[0]
+
+    # 1. the level: pbar_psi(theta) by interval Newton, on the box and at the centre
+    Theta = ball.interval(thc - r, thc + r)
+    Pb = ball.interval(pc - prad, pc + prad)
+    levels = {}
+    for key, th in (("box", Theta), ("centre", ball.q(thc))):
+        dH = _fp_hamgrad(pars, [th, arb(0), arb(0), Pb], module)[PP]
+        N = ball.q(pc) - (H([th, arb(0), arb(0), ball.q(pc)]) - ball.q(h)) / dH
+        claim(f"level Newton ({key})", ball.excludes_zero(dH) and _inside(N, Pb),
+              f"a unique pbar_psi(theta) with Hbar(theta, 0, 0, pbar_psi) = h in the box, inside {N}")
+        _recomputed(claim, f"level ({key})", N, pt["level_newton"][key])
+        levels[key] = N
+
+    # 2-3. the flights (exact steps), two phases, one negative crossing of sin psi = 0
+    def base(Y):
+        return [Y[TH], arb.pi() - Y[TH], pars[imu] - 2 * (Y[4] if len(Y) > 4 else pars[ilam]) * Y[PP]]
+
+    def sdot(Y):
+        return Y[PS].cos() * fld.f(Y)[PS]
+
+    def first(Y):
+        return base(Y) + [sdot(Y)]
+
+    def second(Y):
+        sn = Y[PS].sin()
+        return base(Y) + [sn if ball.positive(sn) else -sdot(Y)]
+
+    def g(x):
+        return x[PS].sin()
+
+    def dg(x):
+        return [arb(0), x[PS].cos()] + [arb(0)] * (len(x) - 2)
+
+    got = {}
+    for kind, th, pbox in (("thin", ball.q(thc), levels["centre"]), ("box", Theta, levels["box"])):
+        st1 = [_frac(v) for v in fl[kind]["steps1"]]
+        st2 = [_frac(v) for v in fl[kind]["steps2"]]
+        claim(f"{kind} steps", sum(st1) == t1 and sum(st1) + sum(st2) == t_a and all(v > 0 for v in st1 + st2),
+              f"the exact steps add up to t1 = {float(t1):.6g} (phase 1) and t_a = {float(t_a):.9g} (both phases)")
+        x = [th, arb(0), arb(0), pbox] + Lam
+        xc = [v.mid() for v in x]
+        S = taylor.initial_set(xc, c1=True)
+        S.r0 = ball.vec([a - b for a, b in zip(x, xc)])
+        try:
+            S = taylor.propagate(fld, S, steps=st1, order=order, guard=first)
+            S = taylor.propagate(fld, S, steps=st2, order=order, guard=second)
+            cr = taylor.cross_section(fld, S, g, dg, hc, order, guard=base)
+        except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
+            claim(f"{kind} flight", False, str(err))
+        gH = _fp_hamgrad(pars, x[:4], module)
+        z = [arb(0)] * len(Lam)
+        tang = {"th": [arb(1), arb(0), arb(0), -gH[TH] / gH[PP]] + z,
+                "pt": [arb(0), arb(0), arb(1), -gH[PT] / gH[PP]] + z}
+        gg = dg(cr.x)
+        gf = sum((a * b for a, b in zip(gg, cr.fx)), arb(0))
+        q = {"ptheta": cr.x[PT], "theta": cr.x[TH], "cospsi": cr.x[PS].cos(), "gdot": cr.gdot, "tau": cr.tau}
+        for name, t in tang.items():
+            u = ball.column(cr.W * ball.vec(t))
+            gu = sum((a * b for a, b in zip(gg, u)), arb(0))
+            v = [ui - fi * gu / gf for ui, fi in zip(u, cr.fx)]
+            q[f"d{name}_theta"], q[f"d{name}_ptheta"] = v[TH], v[PT]
+        for k, val in q.items():
+            _recomputed(claim, f"{kind} {k}", val, fl[kind]["enclosures"][k])
+        got[kind] = q
+    thin, bx = got["thin"], got["box"]
+    claim("negative crossing", ball.negative(sb["gdot"]),
+          "d(sin psi)/dt < 0 over the crossing step: the half-way point on Fix(R), not a return to Sigma+")
+    # 4. Fix(R): one theta* in Theta whose orbit meets pbar_theta = 0 at the crossing
+    N = ball.q(thc) - thin["ptheta"] / bx["dth_ptheta"]
+    _recomputed(claim, "Fix(R) Newton", N, cert["newton"])
+    claim("unique theta*", ball.excludes_zero(sb["dth_ptheta"]) and _inside(ball.from_json(cert["newton"]), Theta),
+          "the interval Newton image lies inside Theta: exactly one theta* in Theta, its orbit meets Fix(R)")
+    # 5. hyperbolicity: DP(x0) = R A^-1 R A, tr = 2 (ad + bc) / (ad - bc)
+    a, b, c, d = bx["dth_theta"], bx["dpt_theta"], bx["dth_ptheta"], bx["dpt_ptheta"]
+    tr = 2 * (a * d + b * c) / (a * d - b * c)
+    _recomputed(claim, "tr DP(x0)", tr, cert["trace"])
+    claim("hyperbolic", ball.bounds(abs(tr_s))[0] > 2, f"|tr DP(x0)| > 2 on the certificate's ball {tr_s}: a saddle")
+    sq = (tr_s * tr_s - 4).sqrt()
+    mu = (tr_s + sq) / 2 if ball.positive(tr_s) else (tr_s - sq) / 2
+    _recomputed(claim, "mu_u", mu, cert["mu_u"])
+    T = ball.q(2 * t_a) + 2 * ball.from_json(fl["box"]["enclosures"]["tau"])
+    return {k: [ball.decimal(v) for v in ball.json_bounds(x)]
+            for k, x in (("theta*", cert["newton"]), ("tr DP(x0)", cert["trace"]), ("mu_u", cert["mu_u"]),
+                         ("return time T", ball.to_json(T)))}

@@ -50,10 +50,11 @@ from fractions import Fraction
 from flint import acb, arb, ctx, fmpq
 
 from ..core.errors import ParameterError
+from ..core.tolerances import BOX_TAIL_TOL, ENCLOSURE_TAIL_TOL
 from ..generated import splitting_ball as _gen
 
 DEFAULT_PREC = 96  # bits; radius ~1e-25 at the six table points, far below the 1e-10 asked for
-DEFAULT_TAIL_TOL = 1e-20
+DEFAULT_TAIL_TOL = ENCLOSURE_TAIL_TOL  # the public default (core/tolerances.py says why)
 MAX_ABS = 10**6  # inputs beyond this are refused (the model's terms go up to m^4 and 1/m^4)
 
 
@@ -486,7 +487,7 @@ def _decide(mod, mb, gb, db, tail_tol, counter):
 
 
 def box_theorem(m=("1.0", "2.2"), gamma=("0.25", "3"), delta=("0.25", "3"), *, initial=(4, 4, 1),
-                min_width=1e-3, max_boxes: int = 20000, prec: int = 64, tail_tol: float = 1e-8,
+                min_width=1e-3, max_boxes: int = 20000, prec: int = 64, tail_tol: float = BOX_TAIL_TOL,
                 progress=None, module=None) -> BoxTheorem:
     """Prove S(m, gamma, delta) != 0, with its sign, on a parameter box by interval subdivision.
 

@@ -1,0 +1,51 @@
+"""Issue 27 / statement 11 over a lambdabar interval at Fig 4(a) (h = 9/10): adjacent lambdabar boxes
+[c_i - w, c_i + w], c_i = 27/200 + 2 i w (i = -n .. n), each proved by `periodic.prove` with lambdabar carried as a
+state variable (fields.lam_state_field) and re-checked by the complete verifier; their union is
+[27/200 - (2n + 1) w, 27/200 + (2n + 1) w].  Writes each certificate to DIR and a summary (widths, costs).
+
+    python benchmarks/fig4_lambda_interval.py DIR [--w=1/5000000] [--n=5]
+"""
+from __future__ import annotations
+
+import json
+import sys
+import time
+from fractions import Fraction
+from pathlib import Path
+
+from magrod.proof import periodic, verify
+
+DIR = Path(next(a for a in sys.argv[1:] if not a.startswith("--")))
+W = Fraction(next((a.split("=", 1)[1] for a in sys.argv[1:] if a.startswith("--w=")), "1/5000000"))
+NB = int(next((a.split("=", 1)[1] for a in sys.argv[1:] if a.startswith("--n=")), "5"))
+K = 20  # theta-box r = K w: theta* moves by up to ~14 w (the measured Newton radius at w = 1e-7, 2e-7)
+
+
+def main():
+    DIR.mkdir(parents=True, exist_ok=True)
+    rows = []
+    t_all = time.perf_counter()
+    for i in range(-NB, NB + 1):
+        c = Fraction(27, 200) + 2 * i * W
+        p, h = periodic.validate("17/10", "2/5", "3", "3", c, "9/10")
+        st = periodic.FixedPointSettings(lam_rad=W, r=K * W, p_rad=max(Fraction(1, 10**8), 16 * (K + 1) * W))
+        res = periodic.prove(p, h, 0.3830461903149033, st)
+        row = {"lam_c": f"{c.numerator}/{c.denominator}", "w": str(W), "ok": res.ok, "reason": res.reason,
+               "prove_s": round(res.wall_time_s, 1)}
+        if res.ok:
+            path = DIR / f"fixed_point_fig4a_lam_{i:+d}.json"
+            path.write_text(json.dumps(res.certificate, indent=1))
+            v = verify.verify(json.loads(path.read_text()))
+            row.update(verified=v.ok, verify_s=round(v.wall_time_s, 1), values=v.values, certificate=str(path))
+        rows.append(row)
+        print(json.dumps({k: row[k] for k in row if k != "values"}), flush=True)
+    ok = all(r["ok"] and r.get("verified") for r in rows)
+    lo, hi = Fraction(27, 200) - (2 * NB + 1) * W, Fraction(27, 200) + (2 * NB + 1) * W
+    out = {"interval": [str(lo), str(hi)], "all_verified": ok, "boxes": len(rows), "w": str(W),
+           "wall_s": round(time.perf_counter() - t_all, 1), "rows": rows}
+    (DIR / "summary.json").write_text(json.dumps(out, indent=1))
+    print(json.dumps({k: out[k] for k in out if k != "rows"}))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,245 @@
+"""Statement 11 (issue 27): a symmetric hyperbolic fixed point of the section map sin psi = 0 on Fig 4's level
+h = 9/10 (magrod/proof/periodic.py), its certificate kind "section_fixed_point" and the complete verifier's checks of
+it (verify.py).  The shipped certificates verify; every tampering is rejected, most of them before any flight is
+replayed (< 1 s); the shifted-box and mutated-field controls fail; the docs quote the certificates' intervals.
+
+Each rejection test was seen to fail once with the check it names removed from verify._fixed_point (the tampered
+certificate then verified or failed elsewhere)."""
+from __future__ import annotations
+
+import copy
+import json
+import re
+from fractions import Fraction
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from magrod.cli import main
+from magrod.proof import fields, periodic, theorem, verify
+
+ROOT = Path(__file__).resolve().parents[1]
+FIG4A = ["--m", "17/10", "--mu", "2/5", "--gamma", "3", "--delta", "3", "--lam", "27/200"]
+SHIPPED = {"a": "27/200", "b": "63/400", "d": "93/500", "a_interval": "27/200"}
+
+
+def _shipped(panel):
+    return json.loads(resources.files("magrod.proof").joinpath("certificates", f"fixed_point_fig4{panel}.json")
+                      .read_text())
+
+
+@pytest.fixture(scope="module")
+def cert():
+    return _shipped("a")
+
+
+def _run(c, tmp_path, capsys):
+    p = tmp_path / "c.json"
+    p.write_text(json.dumps(c))
+    code = main(["prove", "--verify", str(p)])
+    cap = capsys.readouterr()
+    return code, cap.out, cap.err.strip().splitlines()
+
+
+def _rejected(c, tmp_path, capsys, check):
+    code, _, err = _run(c, tmp_path, capsys)
+    assert code == 1 and len(err) == 1 and "certificate rejected" in err[0] and check in err[0], (code, err)
+
+
+@pytest.mark.parametrize("panel", sorted(SHIPPED))
+def test_shipped_certificates_state_their_theorem(panel):
+    c = _shipped(panel)
+    assert c["kind"] == "section_fixed_point" and c["level"] == "9/10"
+    assert c["params"] == {"m": "17/10", "mu": "2/5", "gamma": "3/1", "delta": "3/1", "lam": SHIPPED[panel]}
+    assert c["theorem"] == theorem.section_fixed_point_theorem(c["params"], "9/10", c["settings"].get("lam_rad", "0"))
+
+
+def test_the_fig4a_certificate_verifies_and_prints_the_generated_theorem(cert, tmp_path, capsys):
+    p = tmp_path / "c.json"
+    p.write_text(json.dumps(cert))
+    assert main(["prove", "--verify", str(p), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["ok"] and out["theorem"] == theorem.section_fixed_point_theorem(cert["params"], "9/10")
+    # the float benchmark's saddle (benchmarks/fig4_candidates.json, panel 0.135: theta 0.3830461903149033,
+    # |eigenvalues of DP^2| 33.0405 = mu_u^2, return time of P^2 11.4109 = 2 T) lies in the verified balls
+    vals = {k: [float(Fraction(v)) for v in b] for k, b in out["values"].items()}
+    assert vals["theta*"][0] - 1e-12 <= 0.3830461903149033 <= vals["theta*"][1] + 1e-12
+    mu = 33.04052256946038 ** 0.5
+    assert vals["mu_u"][0] <= mu * (1 + 1e-6) and vals["mu_u"][1] >= mu * (1 - 1e-6)
+    assert vals["return time T"][0] - 1e-6 <= 11.410932152563042 / 2 <= vals["return time T"][1] + 1e-6
+    FIG4A_VALUES.update(out["values"])
+
+
+FIG4A_VALUES: dict = {}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("panel", ["b", "d"])
+def test_the_other_shipped_certificates_verify(panel):
+    res = verify.verify(_shipped(panel))
+    assert res.ok, res.reason
+
+
+def test_a_theorem_text_that_claims_more_is_rejected(cert, tmp_path, capsys):
+    bad = copy.deepcopy(cert)
+    bad["theorem"] = bad["theorem"].replace("(a saddle of P;", "(a saddle of P with a transverse homoclinic point;")
+    _rejected(bad, tmp_path, capsys, "theorem text")
+
+
+def test_a_missing_flight_is_rejected(cert, tmp_path, capsys):
+    bad = copy.deepcopy(cert)
+    del bad["flights"]["box"]
+    _rejected(bad, tmp_path, capsys, "flights present")
+
+
+def test_a_trace_ball_inside_the_unit_band_is_rejected(cert, tmp_path, capsys):
+    bad = copy.deepcopy(cert)
+    bad["trace"] = {"mid": "1.5", "rad": "0.001"}
+    _rejected(bad, tmp_path, capsys, "claims on the certificate's balls")
+
+
+def test_another_level_is_rejected(cert, tmp_path, capsys):
+    """The level changed consistently (theorem text too): the level's interval Newton no longer holds."""
+    bad = copy.deepcopy(cert)
+    bad["level"] = "1/1"
+    bad["theorem"] = theorem.section_fixed_point_theorem(bad["params"], "1/1")
+    _rejected(bad, tmp_path, capsys, "level Newton (box)")
+
+
+@pytest.mark.parametrize("shift, check", [(10, "claims on the certificate's balls"), (Fraction(1, 2), "level (box) recomputed")])
+def test_the_shifted_box_control_is_rejected(cert, tmp_path, capsys, shift, check):
+    """theta_c moved by 10 r: the stored Newton ball is no longer inside the box (rejected before any
+    recomputation); by r/2: every stored claim still holds, and the first recomputed enclosure (the level's Newton
+    ball over the shifted box) is outside the certificate's ball."""
+    bad = copy.deepcopy(cert)
+    bad["point"]["theta_c"] = str(Fraction(bad["point"]["theta_c"]) + shift * Fraction(bad["settings"]["r"]))
+    _rejected(bad, tmp_path, capsys, check)
+
+
+def test_a_dropped_step_is_rejected(cert, tmp_path, capsys):
+    bad = copy.deepcopy(cert)
+    bad["flights"]["thin"]["steps2"] = bad["flights"]["thin"]["steps2"][:-1]
+    _rejected(bad, tmp_path, capsys, "thin steps")
+
+
+def test_an_unknown_kind_is_bad_input(cert, tmp_path, capsys):
+    bad = copy.deepcopy(cert)
+    bad["kind"] = "horseshoe"
+    code, _, err = _run(bad, tmp_path, capsys)
+    assert code == 2 and len(err) == 1 and "unknown certificate kind" in err[0]
+
+
+def test_the_mutated_field_control_fails_to_prove():
+    p, h = periodic.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
+    res = periodic.prove(p, h, 0.3830461903149033, module=fields.mutated_module(0))
+    assert not res.ok and res.certificate is None and "not established" in res.reason
+
+
+def test_the_monodromy_formula():
+    """DP = R A^-1 R A (reversibility) has trace 2 (ad + bc)/(ad - bc) and determinant 1, for any invertible A."""
+    from flint import arb
+
+    rng = np.random.default_rng(3)
+    R = np.diag([1.0, -1.0])
+    for _ in range(5):
+        A = rng.normal(size=(2, 2))
+        M = R @ np.linalg.inv(A) @ R @ A
+        tr = periodic.trace_DP(*(arb(float(v)) for v in A.flatten()))
+        assert abs(float(tr.mid()) - np.trace(M)) < 1e-9 * (1 + abs(np.trace(M)))
+        assert abs(np.linalg.det(M) - 1) < 1e-9
+
+
+@pytest.mark.parametrize("args, name", [(["--fixed-point", "4", "--level", "0.9"], "fixed_point"),
+                                        (["--fixed-point", "0.383"], "level"),
+                                        (["--fixed-point", "x", "--level", "0.9"], "fixed_point")])
+def test_bad_input_is_exit_2_naming_the_parameter(args, name, tmp_path, capsys):
+    out = tmp_path / "never"
+    code = main(["prove", *FIG4A, *args, "--out", str(out), "--quiet", "--json"])
+    cap = capsys.readouterr()
+    assert code == 2 and len(cap.err.strip().splitlines()) == 1 and json.loads(cap.out)["parameter"] == name
+    assert not out.exists()
+
+
+def test_the_docs_quote_the_certificates_intervals():
+    """Statement 11's text (rendered into docs/nonintegrability.md) quotes tr DP, mu_u and T per panel: each quoted
+    interval contains the certificate's (outward rounding)."""
+    from magrod.proof import statements
+
+    text = statements.BY_NUMBER["11"].text
+    for panel in "abd":
+        c = _shipped(panel)
+        tr = [Fraction(c["trace"]["mid"]) - Fraction(c["trace"]["rad"]),
+              Fraction(c["trace"]["mid"]) + Fraction(c["trace"]["rad"])]
+        quoted = [(Fraction(a), Fraction(b)) for a, b in re.findall(r"\[([0-9.]+), ([0-9.]+)\] \(" + panel + r"\)",
+                                                                       text.replace("−", "-"))]
+        assert any(a <= tr[0] and tr[1] <= b for a, b in quoted), (panel, tr, quoted)
+    if FIG4A_VALUES:  # the verified return time of (a) (from the verification test above)
+        T = [Fraction(v) for v in FIG4A_VALUES["return time T"]]
+        assert any(a <= T[0] and T[1] <= b for a, b in
+                   [(Fraction(a), Fraction(b)) for a, b in re.findall(r"\[([0-9.]+), ([0-9.]+)\] \(a\)", text)]), T
+
+
+def test_the_lambda_column_of_the_state_field_is_the_derivative():
+    """fields.lam_state_field: the Jacobian's lambdabar column (forward-mode _Dual) and the generated columns agree
+    with central differences of the field (float, step 1e-7: truncation ~1e-14 |f'''|, rounding ~1e-9)."""
+    from flint import arb
+
+    p = fields.ExactParams.from_values(m=Fraction(17, 10), mu=Fraction(2, 5), gamma=3, delta=3, lam=Fraction(27, 200))
+    F = fields.lam_state_field(p)
+    x0 = np.array([0.5, 0.3, 0.1, 1.1, 0.135])
+    J = F.jacobian([arb(v) for v in x0], None)
+
+    def f(x):
+        return np.array([float(v.mid()) for v in F.rhs([arb(float(v)) for v in x], None)])
+
+    for j in range(5):
+        d = np.zeros(5)
+        d[j] = 1e-7
+        fd = (f(x0 + d) - f(x0 - d)) / 2e-7
+        assert np.allclose([float(J[5 * i + j].mid()) for i in range(5)], fd, atol=1e-7), j
+
+
+def test_the_interval_certificate_states_its_theorem_and_rejects_a_wider_interval(tmp_path, capsys):
+    c = _shipped("a_interval")
+    assert c["settings"]["lam_rad"] == "1/5000000" and c["params"]["lam"] == "27/200"
+    want = theorem.section_fixed_point_theorem(c["params"], "9/10", "1/5000000")
+    assert c["theorem"] == want and "every lambdabar in [674999/5000000, 675001/5000000]" in want
+    bad = copy.deepcopy(c)  # a consistent claim for twice the interval: the level's Newton ball is recomputed wider
+    bad["settings"]["lam_rad"] = "2/5000000"
+    bad["theorem"] = theorem.section_fixed_point_theorem(c["params"], "9/10", "2/5000000")
+    _rejected(bad, tmp_path, capsys, "level (box) recomputed")
+
+
+@pytest.mark.slow
+def test_the_interval_certificate_verifies():
+    res = verify.verify(_shipped("a_interval"))
+    assert res.ok, res.reason
+
+
+def _tiles():
+    d = resources.files("magrod.proof").joinpath("certificates", "fig4a_interval")
+    return [json.loads(f.read_text()) for f in sorted(d.iterdir(), key=lambda f: f.name) if f.name.endswith(".json")]
+
+
+def test_the_interval_tiles_cover_their_union_exactly():
+    """benchmarks/fig4_lambda_interval.py's 11 certificates: adjacent lambdabar boxes [c - w, c + w] whose union is
+    [674989/5000000, 675011/5000000] with no gap (exact rationals), each stating the theorem for its box."""
+    boxes = []
+    for c in _tiles():
+        w = Fraction(c["settings"]["lam_rad"])
+        lam = Fraction(c["params"]["lam"])
+        assert c["kind"] == "section_fixed_point" and w > 0
+        assert c["theorem"] == theorem.section_fixed_point_theorem(c["params"], c["level"], c["settings"]["lam_rad"])
+        boxes.append((lam - w, lam + w))
+    boxes.sort()
+    assert len(boxes) == 11 and all(a[1] == b[0] for a, b in zip(boxes, boxes[1:]))
+    assert (boxes[0][0], boxes[-1][1]) == (Fraction(674989, 5000000), Fraction(675011, 5000000))
+
+
+@pytest.mark.slow
+def test_every_interval_tile_verifies():
+    for c in _tiles():
+        res = verify.verify(c)
+        assert res.ok, res.reason
