@@ -519,7 +519,7 @@ def _leading_integrator(fp_type=float):
     sys = [(Psi, e["psidot"]), (S, gen_split.leading_integrand(e["theta"], e["ptheta"], Psi, m, g, dl))]
     if fp_type is float:
         return systems.taylor(sys, [0.0, 0.0], [1.0, 1.0, 1.0])
-    return systems.taylor(sys, [0, 0], [1, 1, 1], precision=Precision.parse(fp_type), compact_mode=True,
+    return systems.taylor(sys, [0, 0], [1, 1, 1], precision=Precision.of(fp_type), compact_mode=True,
                           tol=REAL128_QUADRATURE_TOL if fp_type is hy.real128 else 0)
 
 
