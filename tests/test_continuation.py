@@ -212,7 +212,7 @@ def test_primaries_tend_to_the_mu_2lam_limits():
         b - a - pi = -2 asin(c / sqrt(mu - 2 lam)): sin psi at the turning point is psi0 + A sqrt(gap) cos(angle -
         angle0) to leading order, psi0 = psi at the straight rod's turning point, c = |psi0| / A.  The two
         primaries merge at the midpoint when sqrt(gap) = c (the fold reported in docs/errata.md)."""
-    mu0 = scalars.straight_rod_mu(**P.as_dict())
+    mu0 = scalars.straight_rod_mu(**P.to_dict())
     turn = shooting.unstable_branch(straight_rod(P.replace(mu=mu0)), crossings=1, eps=1e-7)[0]
     prim = [(26.4567663389, 1.298695337565), (26.4567330589, 4.440084038851)]  # docs/errata.md table, gap 1e-4
     rows = {}

@@ -217,7 +217,7 @@ def test_click_stream_export_messages(server, browser):
     # the click landed on the Fig 4(a) start to within a pixel of the plot
     px = np.pi / 554 * 2  # ~2 pixels in theta
     assert abs(side["theta0"] - 0.1) < px and abs(side["ptheta0"] - 0.5) < 0.02
-    assert side["parameters"] == mr.panel("4a").params.as_dict() and side["h"] == 0.9
+    assert side["parameters"] == mr.panel("4a").params.to_dict() and side["h"] == 0.9
     ref = mr.poincare_section(mr.panel("4a").params, 0.9, side["theta0"], side["ptheta0"], 0.0,
                               iterates=points.shape[0])
     assert ref.p_psi0 == side["p_psi0"] and side["root_index"] == 0

@@ -74,7 +74,7 @@ def test_circle_predicts_the_primaries_as_mu_to_2lam():
     from magrod.orbits.periodic import periodic_saddle
 
     P = RodParams(1.7, 0.0021, 1.0, 1.0, 0.001)
-    mu0 = scalars.straight_rod_mu(**P.as_dict())
+    mu0 = scalars.straight_rod_mu(**P.to_dict())
     pred = G.circle_prediction(1.7, 1.0, 1.0, 0.001)
     T0 = 26.458268971  # errata: time to the straight rod's first turning point (mu = 2 lambdabar)
     starts = {1e-8: [(T0 - 1.17e-6, 1.307617), (T0 - 1.50e-6, 4.432634)],
@@ -105,7 +105,7 @@ def test_guard_refuses_a_clustered_curve_and_reports_fit_and_coverage():
     assert raw.guard.startswith("refused") and raw.psi_max_gap > raw.coverage_bound
     ok = SPL.tilted_curve(1.7, 1, 1, 4, 1, 0.01, "double")
     assert ok.guard.startswith("passed") and ok.psi_max_gap <= ok.coverage_bound and ok.fit_residual <= ok.fit_bound
-    d = ok.as_dict()
+    d = ok.to_dict()
     assert {"fit_residual", "psi_max_gap", "coverage_bound", "fit_bound", "guard"} <= set(d)
 
 

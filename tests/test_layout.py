@@ -240,3 +240,15 @@ def test_every_package_is_installed():
             found.add(".".join([name, *rel.parts]))
     assert found - listed == set(), f"packages with an __init__.py that pyproject.toml does not install: {found - listed}"
     assert listed - found == set(), f"pyproject.toml lists packages that do not exist: {listed - found}"
+
+
+def test_one_class_per_name_for_the_shared_concepts():
+    """One Crossing (issue 25: orbits/shooting.py's record and proof/taylor.py's enclosure were both `Crossing`; the
+    rigorous one is CrossingEnclosure).  Read from the source: a second class of a listed name anywhere fails."""
+    names = {"Crossing", "Saddle", "SectionStart", "SectionOptions", "Branch"}
+    seen = {}
+    for path, tree in _modules(*NUMERICS, "store", "figures", "cli", "explorer"):
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ClassDef) and node.name in names:
+                seen.setdefault(node.name, []).append(_rel(path))
+    assert {k: v for k, v in seen.items() if len(v) > 1} == {}

@@ -1,6 +1,6 @@
 """magrod.proof.saddle (Krawczyk enclosures of the tilted saddle and its eigenpairs) and magrod.proof.manifold
 (cone/slab conditions for the local unstable manifold).  References: magrod's own float64 / long-double saddle
-(magrod.separatrix.splitting.working_saddle), numpy's eigenvalues, and heyoka long-double points of W^u."""
+(magrod.separatrix.splitting.splitting_saddle), numpy's eigenvalues, and heyoka long-double points of W^u."""
 from __future__ import annotations
 
 from fractions import Fraction
@@ -20,7 +20,7 @@ PREC = 128
 def setup():
     p = fields.ExactParams.from_values(**TARGET)
     out = {"p": p}
-    out["float"] = {pr: splitting.working_saddle(RodParams(*p.floats()), pr) for pr in ("double", "long double")}
+    out["float"] = {pr: splitting.splitting_saddle(RodParams(*p.floats()), pr) for pr in ("double", "long double")}
     with ball.workprec(PREC):
         fld = fields.chart_field(p)
         xhat = saddle.refine(fld, [float(v) for v in out["float"]["long double"].q])
@@ -73,7 +73,7 @@ def test_krawczyk_rejects_a_box_without_the_zero(setup):
 
 
 def test_enclosure_does_not_contain_the_saddle_of_a_mutated_parameter(setup):
-    sd = splitting.working_saddle(RodParams(1.7, 0.0401, 1.0, 1.0, 0.01), "long double")
+    sd = splitting.splitting_saddle(RodParams(1.7, 0.0401, 1.0, 1.0, 0.01), "long double")
     E = setup["E"]
     assert not E.K[fields.THETA].contains(ball.q(Fraction(*sd.q[0].as_integer_ratio())))
 

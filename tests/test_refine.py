@@ -162,7 +162,7 @@ def test_refine_off_is_todays_map_and_todays_identity(brute):
 
     spec = brute.spec
     assert spec.refine == 0 and "inferred" not in brute.fields
-    assert set(spec.as_dict()) == {"x", "y", "base", "panel", "root", "t_max", "tol", "renorm_dt", "tile",
+    assert set(spec.to_dict()) == {"x", "y", "base", "panel", "root", "t_max", "tol", "renorm_dt", "tile",
                                    "batch_size"}
     for t in maps.tiles(spec):
         ref = maps.compute_tile(spec, t)

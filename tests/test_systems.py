@@ -122,7 +122,7 @@ def test_scalars_agree_with_heyoka_expressions():
     assert scalars.m_critical(g) == pytest.approx(mc, rel=4 * EPS)
     assert scalars.potential_dd0(m, g) < 0 < scalars.potential_dd0(1.01 * mc, g)
     x = np.array(scalars.straight_rod_state(*P4A.array()))
-    p = P4A.replace(mu=scalars.straight_rod_mu(**P4A.as_dict()))
+    p = P4A.replace(mu=scalars.straight_rod_mu(**P4A.to_dict()))
     f = systems.body_functions()
     assert np.all(f["rhs"](x, p.array()) == 0)  # an equilibrium
     cas = f["casimirs"](x, p.array()) - np.array(scalars.casimir_values(*p.array()))

@@ -14,6 +14,7 @@ import numpy as np
 from ..core import systems
 from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite, require_positive_int
 from ..core.params import RodParams
+from ..core.deprecation import deprecated_alias
 from ..core.results import Result
 from ..core.tolerances import DRIFT_LIMIT
 from ..generated.names import BODY_STATE, PARAMS
@@ -164,7 +165,9 @@ class MapSpec:
     def shape(self) -> tuple:
         return (self.y.n, self.x.n)
 
-    def as_dict(self) -> dict:
+    as_dict = deprecated_alias("to_dict", "as_dict")
+
+    def to_dict(self) -> dict:
         d = asdict(self)
         d["base"] = {k: float(v) for k, v in sorted(self.base.items())}
         if not self.refine:  # a brute-force map's dict (and so its store identity) is what it was before issue 28
@@ -265,13 +268,13 @@ def panel_base(key) -> dict:
     from ..core.printed import PANELS, Panel
 
     if isinstance(key, RodParams):
-        return key.as_dict()
+        return key.to_dict()
     if isinstance(key, Panel):
-        return {**key.params.as_dict(), **key.start()}
+        return {**key.params.to_dict(), **key.start()}
     if key not in PANELS:
         raise ParameterError("panel", f"unknown panel {key!r}; choose from {', '.join(PANELS)}")
     pk = PANELS[key]
-    return {**pk["params"].as_dict(), "h": pk["h"], "theta0": pk["theta0"], "ptheta0": pk["ptheta0"],
+    return {**pk["params"].to_dict(), "h": pk["h"], "theta0": pk["theta0"], "ptheta0": pk["ptheta0"],
             "psi0": pk["psi0"]}
 
 
@@ -411,7 +414,7 @@ def compute_refined(spec: MapSpec, *, progress=None, client=None, on_round=None)
     t0 = time.perf_counter()
     fields = empty_fields(spec)
     ref = Refinement(spec.shape, spec.refine, spec.refine_bound)
-    sd = spec.as_dict()
+    sd = spec.to_dict()
     n_computed = 0
     while not ref.done:
         iy, ix = ref.points()
@@ -494,7 +497,7 @@ class ChaosMap(Result):
         from ..core.results import INLINE_ARRAY_MAX, jsonable
 
         # the fields as references {"npz": "fields.<name>", ...} into arrays() (small maps inline)
-        return {**jsonable({"success": self.success, "message": self.message, "spec": self.spec.as_dict(),
+        return {**jsonable({"success": self.success, "message": self.message, "spec": self.spec.to_dict(),
                             "summary": self.summary(), "store": self.store,
                             **({"run": self.run} if self.run is not None else {})}),
                 "fields": jsonable(self.fields, INLINE_ARRAY_MAX, "fields")}
@@ -513,7 +516,7 @@ class ChaosMap(Result):
         ds = xr.Dataset({k: (dims, np.asarray(v), variable_attrs(k)) for k, v in self.fields.items()},
                         coords={sx.name: (sx.name, sx.values(), coord_attrs(sx.name)),
                                 sy.name: (sy.name, sy.values(), coord_attrs(sy.name))})
-        ds.attrs.update({**dataset_attrs(self.spec), "spec": json.dumps(self.spec.as_dict()),
+        ds.attrs.update({**dataset_attrs(self.spec), "spec": json.dumps(self.spec.to_dict()),
                          "criterion": self.summary()["criterion"], "summary": json.dumps(jsonable(self.summary()))})
         return ds
 
@@ -573,7 +576,7 @@ def compute_map(spec: MapSpec, *, progress=None, client=None) -> ChaosMap:
     else:
         from dask.distributed import as_completed
 
-        sd = spec.as_dict()
+        sd = spec.to_dict()
         futs = {client.submit(_tile_task, sd, t.key, pure=False): t for t in all_tiles}
         done = ((futs[f], f.result()) for f in as_completed(futs))
     for tile, res in done:

@@ -132,7 +132,7 @@ class SectionPortrait(Result):
 
     def summary(self) -> dict:
         return jsonable({"success": self.success, "message": self.message, "panel": self.panel,
-                         "parameters": self.params.as_dict(), "h": self.h, "n_orbits": self.n_orbits,
+                         "parameters": self.params.to_dict(), "h": self.h, "n_orbits": self.n_orbits,
                          "iterates": [r.n_points for r in self.orbits], "indicator": self.indicator,
                          "t_indicator": self.t_indicator, "threshold": self.threshold,
                          "fraction_chaotic": self.fraction_chaotic, "accuracy": self.accuracy,

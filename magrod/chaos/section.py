@@ -92,7 +92,7 @@ DEFAULT_ROOT = "smallest"  # see the module docstring for the evidence
 def admissible_interval(params: RodParams) -> tuple:
     """Open interval (lo, hi) of pbar_psi where the radicand mu - 2 lam pbar_psi of Hbar is > 0
     (eq:alignment_condition); ParameterError("mu") if it is empty (lam = 0 and mu <= 0)."""
-    p = params.as_dict()
+    p = params.to_dict()
     slope = scalars.radicand_slope_ppsi(**p)
     if slope < 0:
         return -np.inf, scalars.radicand_root_ppsi(**p)
@@ -356,7 +356,7 @@ class PoincareResult(Result):
     def summary(self) -> dict:
         """JSON-able metadata (everything except the per-point arrays)."""
         return {"success": self.success, "message": self.message, "panel": self.panel,
-                "parameters": self.params.as_dict(),
+                "parameters": self.params.to_dict(),
                 "h": self.h, "theta0": self.theta0, "ptheta0": self.ptheta0, "psi0": self.psi0,
                 "p_psi0": self.p_psi0, "roots": [float(r) for r in self.roots], "root_index": self.root_index,
                 "formulation": self.formulation, "direction": self.direction, "branch": self.branch_filter,

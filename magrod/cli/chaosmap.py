@@ -214,7 +214,7 @@ def run(args) -> dict:
         return {"ok": False, "error": cm.message, "tiles": cm.run["tiles"]}
     run = dict(cm.run)
     identity = run.pop("store_identity")
-    result = {"ok": True, "spec": spec.as_dict(), **cm.summary(threshold), **run, "store_identity": identity,
+    result = {"ok": True, "spec": spec.to_dict(), **cm.summary(threshold), **run, "store_identity": identity,
               "output": {k: str(v) for k, v in pth.items() if k in ("store", "png", "json")}}
     result["wall_s"] = cm.wall_s
     if not cm.success:  # never hand back a map we cannot vouch for: no PNG, no summary file

@@ -91,7 +91,7 @@ def run(args) -> dict:
     else:
         found = pm.find(base, N, samples=121)
         if not found:
-            return {"ok": False, "error": f"no symmetric {N}-pulse homoclinic orbit to the periodic saddle at {base.as_dict()}"}
+            return {"ok": False, "error": f"no symmetric {N}-pulse homoclinic orbit to the periodic saddle at {base.to_dict()}"}
         r = found[0]
     # the branch itself is the library's continue_branch (issue 25: the command no longer rebuilds it)
     with bar(steps, "continue", not args.quiet) as update:
@@ -102,7 +102,7 @@ def run(args) -> dict:
     stem = "branch_mu2lam" if args.mu2lam else f"branch_N{N}_{name}"
     folds = C.fold_summary(br)
     meta = {"ok": True, "kind": "mu = 2 lam (codimension one)" if args.mu2lam else "periodic saddle (mu > 2 lam)",
-            "start_params": base.as_dict(), "pulses": N, "parameter": name, "names": list(names),
+            "start_params": base.to_dict(), "pulses": N, "parameter": name, "names": list(names),
             "points": int(len(br.u)), "success": br.success, "message": br.message, "folds": folds,
             "max_residual": float(np.max(br.residuals)), "wall_time_s": wall, "tolerance": CONTINUATION_TOL,
             "algorithm": "pseudo-arclength (Keller), Newton + heyoka variational Jacobians",

@@ -41,7 +41,7 @@ def run(args) -> dict:
     if args.gamma is None:
         raise ParameterError("gamma", "missing: give --gamma (or --find-zero)")
     gamma = number("gamma", args.gamma)
-    out["amplitudes"] = {k: amplitude(m, gamma, k).as_dict() for k in which}
+    out["amplitudes"] = {k: amplitude(m, gamma, k).to_dict() for k in which}
     return out
 
 

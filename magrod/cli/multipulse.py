@@ -32,7 +32,7 @@ def run(args) -> dict:
     from ..figures.multipulse import write_search
     from ..orbits.multipulse import multipulse_orbits
 
-    base = MULTIPULSE[args.figure]["params"].as_dict() if args.figure else {}
+    base = MULTIPULSE[args.figure]["params"].to_dict() if args.figure else {}
     vals = params_from(args, base)
     if args.figure is None and any(k not in vals for k in PARAMS):
         raise ParameterError("figure", "give --figure 6|7 or all of " + " ".join(f"--{k}" for k in PARAMS))

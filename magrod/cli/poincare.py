@@ -64,7 +64,7 @@ def _inputs(args) -> tuple[dict, str | None]:
         except ParameterError as exc:
             raise ParameterError("panel", exc.message) from None
         key = P.key
-        vals = dict(P.params.as_dict(), **P.start())
+        vals = dict(P.params.to_dict(), **P.start())
     vals = params_from(args, vals)
     for name in _START:
         v = getattr(args, name)
@@ -177,7 +177,7 @@ def _inputs_portrait(args) -> tuple[dict, str | None]:
             P = panel(args.panel)
         except ParameterError as exc:
             raise ParameterError("panel", exc.message) from None
-        key, vals = P.key, dict(P.params.as_dict(), h=P.h)
+        key, vals = P.key, dict(P.params.to_dict(), h=P.h)
     vals = params_from(args, vals)
     if args.h is not None:
         vals["h"] = number("h", args.h)

@@ -127,7 +127,7 @@ def _verify(args) -> dict:
 
     cert = verify.load(args.verify)
     res = verify.verify(cert)
-    out = {"ok": res.ok, "certificate": str(args.verify), **res.as_dict()}
+    out = {"ok": res.ok, "certificate": str(args.verify), **res.to_dict()}
     if not res.ok:
         out["error"] = res.reason
     return out

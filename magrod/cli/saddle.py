@@ -25,7 +25,7 @@ def run(args) -> dict:
     base = {}
     if args.panel is not None:
         try:
-            base = mr.panel(args.panel).params.as_dict()
+            base = mr.panel(args.panel).params.to_dict()
         except ParameterError as exc:
             raise ParameterError("panel", exc.message) from None
     vals = params_from(args, base)

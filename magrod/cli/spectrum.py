@@ -35,7 +35,7 @@ def run(args) -> dict:
         P = panel(args.panel)
     except ParameterError as exc:
         raise ParameterError("panel", exc.message) from None
-    vals = params_from(args, P.params.as_dict())
+    vals = params_from(args, P.params.to_dict())
     start = dict(P.start())
     for name in _START:
         v = getattr(args, name)
@@ -61,7 +61,7 @@ def run(args) -> dict:
     sp = lyapunov_spectrum(what, **kw)
     g = gali(what, **kw) if args.gali else None
     res = {"ok": bool(sp.success and (g is None or g.success)), "panel": P.key if not overridden else None,
-           "params": params.as_dict(), "start": start, "t_max": t_max, "renorm_dt": sp.renorm_dt,
+           "params": params.to_dict(), "start": start, "t_max": t_max, "renorm_dt": sp.renorm_dt,
            "exponents": sp.exponents.tolist(), "pairing": sp.pairing.tolist(), "accuracy": sp.accuracy,
            "message": sp.message}
     if g is not None:

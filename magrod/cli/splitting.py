@@ -48,7 +48,7 @@ def run(args) -> dict:
     if spl.kind == "equilibrium":
         out = {"ok": True, "case": "equilibrium (a = 2b)", **S.scan_summary(res)}
     else:
-        out = {"ok": True, "case": "tilted saddle-focus (a > 2b)", **res.as_dict(), "precisions": list(precs)}
+        out = {"ok": True, "case": "tilted saddle-focus (a > 2b)", **res.to_dict(), "precisions": list(precs)}
     if spl.leading is not None:
         out["leading"] = spl.leading
     if dest is not None:

@@ -308,7 +308,7 @@ def write_orbit(out_dir, stem: str, orbit, *, samples: dict | None = None, meta:
     if orbit.kind != "equilibrium":  # the straight rod's angle is a symmetry (always 0): its files omit it
         arrays["angle"] = orbit.angle
     npz = atomic_savez(out / f"{stem}.npz", **arrays)
-    side = {**(meta or {}), "shooting": orbit.as_dict(), "history": orbit.history, "versions": versions(),
+    side = {**(meta or {}), "shooting": orbit.to_dict(arrays=False), "history": orbit.history, "versions": versions(),
             "scale": ORBIT_SCALE, "arrays": sorted(arrays)}
     js = atomic_write_json(out / f"{stem}.json", side)
     return [str(npz), str(js)]

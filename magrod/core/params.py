@@ -7,6 +7,7 @@ import numpy as np
 
 from .errors import MAX_MAGNITUDE, ParameterError, require_finite
 from ..generated.names import PARAMS
+from .deprecation import deprecated_alias
 
 
 M_MIN = 1e-3
@@ -62,11 +63,13 @@ class RodParams:
 
     def replace(self, **changes) -> "RodParams":
         """A copy with some fields changed (validated again)."""
-        return RodParams(**{**self.as_dict(), **changes})
+        return RodParams(**{**self.to_dict(), **changes})
 
     @classmethod
     def from_array(cls, values) -> "RodParams":
         return cls(**dict(zip(PARAMS, map(float, values))))
 
-    def as_dict(self) -> dict:
+    as_dict = deprecated_alias("to_dict", "as_dict")
+
+    def to_dict(self) -> dict:
         return asdict(self)

@@ -9,6 +9,8 @@ import dataclasses
 import math
 from enum import Enum
 
+from .deprecation import deprecated_alias  # noqa: F401  (re-exported: results use it)
+
 REPR_LIMIT = 1000  # characters: a repr is a summary, never a data dump
 # to_dict() stays small: an array of more elements than this is written as a reference {"npz": key, "shape",
 # "dtype"} to the key of `arrays()` (what `save()` writes to <stem>.npz, as magrod poincare --out does)

@@ -137,7 +137,7 @@ class Explorer(pn.viewable.Viewer):
     # widgets and plot
     # ------------------------------------------------------------------------------------------------------
     def _build_widgets(self, P):
-        values = {**P.params.as_dict(), "h": P.h, "iterates": self.iterates}
+        values = {**P.params.to_dict(), "h": P.h, "iterates": self.iterates}
         self.inputs, self.errors = {}, {}
         for name in model.FIELDS:
             w = pn.widgets.TextInput(label=PARAM_LABELS[name], value=f"{values[name]:g}", width=150,
@@ -304,7 +304,7 @@ class Explorer(pn.viewable.Viewer):
     def _on_panel(self, event):
         P = paper_panel(event.new)
         self.panel_key = P.key
-        vals = {**P.params.as_dict(), "h": P.h}
+        vals = {**P.params.to_dict(), "h": P.h}
         self._suspend = True
         try:
             for k, v in vals.items():
@@ -800,7 +800,7 @@ class Explorer(pn.viewable.Viewer):
         self.status.object = f'<span style="color:{colour}">{_escape(text)}</span>'
 
     def summary(self) -> dict:
-        return {"panel": self.panel_key, "parameters": self.params.as_dict(), "h": self.h, "psi0": self.psi0,
+        return {"panel": self.panel_key, "parameters": self.params.to_dict(), "h": self.h, "psi0": self.psi0,
                 "direction": self.direction, "iterates": self.iterates, "threshold": self.threshold,
                 "orbits": [{"id": o.id, "theta0": o.theta0, "ptheta0": o.ptheta0, "status": o.status,
                             "n_points": o.n_points, "message": o.message,

@@ -164,7 +164,7 @@ def plot_lyapunov(res, ax=None, **kw):
     ax.loglog(res.times, np.abs(res.lyap_history), "k-", lw=1, **kw)
     ax.set_xlabel("t (scaled arclength)")
     ax.set_ylabel(r"$|\ln|w(t)|\,/\,t|$")
-    where = f"panel {res.panel}" if res.panel else ", ".join(f"{k}={v:g}" for k, v in res.params.as_dict().items())
+    where = f"panel {res.panel}" if res.panel else ", ".join(f"{k}={v:g}" for k, v in res.params.to_dict().items())
     ax.set_title(f"{where}: lyap(T={res.t_max:g}) = {res.lyap:.3g}, growth exponent {res.growth_exponent:.3g}"
                  f"\n({'chaotic' if res.chaotic else 'regular'}: {res.criterion()})", fontsize=8)
     return ax
@@ -185,7 +185,7 @@ def build(out_dir, *, quick=False, progress=False) -> list[str]:
     npz = atomic_savez(out / "chaos.npz", **{k: np.asarray(v) for k, v in res.fields.items()},
                        x=spec.x.values(), y=spec.y.values())
     side = atomic_write_json(out / "chaos.json", {
-        "label": "fig:poincare1 (chaos map)", "spec": spec.as_dict(), "summary": res.summary(),
+        "label": "fig:poincare1 (chaos map)", "spec": spec.to_dict(), "summary": res.summary(),
         "panels": panels, "panel_t_max": PANEL_T_MAX[bool(quick)], "quick": bool(quick),
         "wall_s": res.wall_s + time.perf_counter() - t0, "versions": versions()})
     return [str(png), str(npz), str(side)]

@@ -108,7 +108,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     paths.append(str(atomic_savez(out / "continuation_periodic.npz", **data)))
     paths.append(str(atomic_write_json(out / "continuation_periodic.json", {
         "what": "primary symmetric homoclinic orbits to the periodic saddle continued in mu towards 2 lam",
-        "columns": ["T", "angle", "mu"], "start": P.as_dict(), "wall_time_s": time.perf_counter() - t0,
+        "columns": ["T", "angle", "mu"], "start": P.to_dict(), "wall_time_s": time.perf_counter() - t0,
         "versions": versions()})))
     paths.append(str(atomic_savefig(fig, out / "continuation_periodic.png", dpi=140)))
     plt.close(fig)
@@ -126,7 +126,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
                                   residuals=b2.residuals)))
     paths.append(str(atomic_write_json(out / "continuation_fold.json", {
         "what": "symmetric 2-pulse orbits to the periodic saddle continued in mu across a fold (lam = 0.001, m = 1.7, "
-                "gamma = delta = 1, long double, eps = 1e-9)", "columns": ["T", "angle", "mu"], "start": P.as_dict(),
+                "gamma = delta = 1, long double, eps = 1e-9)", "columns": ["T", "angle", "mu"], "start": P.to_dict(),
         "folds": folds2, "max_residual": float(np.max(b2.residuals)), "tol": tol2, "message": b2.message,
         "wall_time_s": time.perf_counter() - t0, "versions": versions()})))
     paths.append(str(plot_branch(b2, out / "continuation_fold.png",

@@ -81,7 +81,7 @@ def figure_2(out_dir, *, quick=False, progress=False) -> list[str]:
     paths.append(str(atomic_savez(out / "fig2.npz", **arrays)))
     meta = {"figure": "fig:Mel_ext", "m": m, "quick": quick,
             "convention": amps["printed"][0].convention,
-            "amplitudes": {k: [a.as_dict() for a in amps[k]] for k in INTEGRANDS},
+            "amplitudes": {k: [a.to_dict() for a in amps[k]] for k in INTEGRANDS},
             "zero_search_1.8_2.0": zeros,
             "scan_sign_changes": {k: int(np.sum(np.diff(np.sign(scan_a[k])) != 0)) for k in INTEGRANDS},
             # derived: signs are rounding noise (|A| <= error), so only the printed sign changes are meaningful

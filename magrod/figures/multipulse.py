@@ -32,7 +32,7 @@ def write_search(search, out_dir, stem: str = "multipulse") -> dict:
     out = ensure_writable_dir(out_dir)
     files, rows = [], []
     if search.kind == "equilibrium":
-        extra = {"nominal_params": search.params.as_dict(), "free": search.free}
+        extra = {"nominal_params": search.params.to_dict(), "free": search.free}
         for ps in search.searches:
             row = ps.row()
             if ps.success:
@@ -41,7 +41,7 @@ def write_search(search, out_dir, stem: str = "multipulse") -> dict:
                                            meta=meta)
                 files.append(row["paths"])
             rows.append(row)
-        table = {"ok": True, "params": search.params.as_dict(), "free": search.free, "span": search.span,
+        table = {"ok": True, "params": search.params.to_dict(), "free": search.free, "span": search.span,
                  "samples": search.samples, "orbits": rows, "wall_time_s": search.wall_time_s,
                  "uncertainty_method": UNCERTAINTY_METHOD.format(free=search.free),
                  "note": "symmetric homoclinic orbits of the straight rod are of codimension one (the launch phase is "
@@ -53,7 +53,7 @@ def write_search(search, out_dir, stem: str = "multipulse") -> dict:
         if not ps.success:
             rows.append(ps.row())
         for k, r in enumerate(ps.orbits):
-            row = {"pulses_target": ps.pulses_target, "pulses": ps.pulses_target, "index": k, **r.as_dict()}
+            row = {"pulses_target": ps.pulses_target, "pulses": ps.pulses_target, "index": k, **r.to_dict(arrays=False)}
             row["paths"] = write_orbit(out, f"{stem}_periodic_N{ps.pulses_target}_{k}", r, meta=dict(row))
             files.append(row["paths"])
             rows.append(row)

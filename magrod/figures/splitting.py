@@ -18,7 +18,7 @@ from .common import atomic_savefig, pyplot
 
 def write(res, out_dir, stem: str = "splitting") -> list[str]:
     out = ensure_writable_dir(out_dir)
-    d = res.as_dict() if not isinstance(res, S.SplittingScan) else S.scan_summary(res)
+    d = res.to_dict() if not isinstance(res, S.SplittingScan) else S.scan_summary(res)
     paths = [str(atomic_write_json(out / f"{stem}.json", {**d, "versions": versions()}))]
     if isinstance(res, S.SplittingScan):
         ref = res.crossings[res.precisions[-1]]
@@ -78,7 +78,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     lead = [S.compare_leading(*c) for c in (LEADING_CASES[:2] if quick else LEADING_CASES)]
     control = S.leading_coefficient(1.7, 0.0, 0.0)
     paths = [str(atomic_write_json(out / "splitting_leading.json",
-                                   {"cases": lead, "control_gamma_delta_0": control.as_dict(),
+                                   {"cases": lead, "control_gamma_delta_0": control.to_dict(),
                                     "versions": versions()}))]
     paths += _enclosure_and_generic(out, quick)
     for r, stem in ((eq, "splitting_a2b"), (ctl, "splitting_a2b_control"), (ti, "splitting_tilted"),

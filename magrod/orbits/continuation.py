@@ -81,7 +81,7 @@ class Branch(Result):
     def to_dict(self) -> dict:
         d = {k: jsonable(getattr(self, k)) for k in ("success", "message", "names", "kind", "parameter", "pulses",
                                                       "u", "tangents", "residuals", "iterations")}
-        d.update({"folds": fold_summary(self), "start": self.start.as_dict() if self.start else None})
+        d.update({"folds": fold_summary(self), "start": self.start.to_dict() if self.start else None})
         return d
 
 

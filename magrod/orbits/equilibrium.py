@@ -51,7 +51,7 @@ def is_on_level(params: RodParams) -> bool:
     """True iff mu = 2 lam (generated straight_rod_mu) to MU_TOL (64 ulp, relative above 1: the rounding of a
     decimal input): the one test of which saddle exists, used by `straight_rod`, magrod.orbits.shooting.saddle,
     magrod.orbits.periodic and the splitting of the separatrix alike."""
-    gap = params.mu - scalars.straight_rod_mu(**params.as_dict())
+    gap = params.mu - scalars.straight_rod_mu(**params.to_dict())
     return abs(gap) <= MU_TOL * max(1.0, abs(params.mu))
 
 
@@ -77,7 +77,7 @@ def launch_offset(d, eps, precision: Precision, offset: str = "working") -> np.n
 def on_level(params: RodParams, **changes) -> RodParams:
     """params with `changes` and mu on the straight rod's level (generated straight_rod_mu: mu = 2 lam), where the
     straight rod is the saddle: the one helper that moves a parameter with mu following it."""
-    kw = {**params.as_dict(), **{k: float(v) for k, v in changes.items()}}
+    kw = {**params.to_dict(), **{k: float(v) for k, v in changes.items()}}
     kw["mu"] = scalars.straight_rod_mu(**kw)
     return RodParams(**kw)
 
@@ -142,7 +142,7 @@ def straight_rod(params: RodParams, *, precision=Precision.DOUBLE) -> StraightRo
     ParameterError otherwise), its launch points formed in `precision` by default."""
     p = params
     precision = Precision.parse(precision)
-    mu_level = scalars.straight_rod_mu(**p.as_dict())
+    mu_level = scalars.straight_rod_mu(**p.to_dict())
     if not is_on_level(p):
         raise ParameterError("mu", f"the straight rod is the saddle only at mu = 2 lam (got mu = {p.mu}, 2 lam = "
                                    f"{mu_level}): for mu > 2 lam the saddle is the periodic (helical) one, "

@@ -176,7 +176,7 @@ def summarize(result: MultipulseOrbit, orb: dict | None = None) -> dict:
             "H": float(np.mean(orb["H"])), "H_saddle": result.saddle_H,
             "max_abs_H_minus_saddle": float(np.max(np.abs(orb["H"] - result.saddle_H))),
             "theta_max": float(np.max(orb["theta"])), "free": result.free,
-            "params": result.params.as_dict()}
+            "params": result.params.to_dict()}
 
 
 # --- search ----------------------------------------------------------------------------------------------------
@@ -441,7 +441,7 @@ class MultipulseSearch(Result):
 
     def to_dict(self) -> dict:
         return {"success": self.success, "status": self.status, "message": self.message, "kind": self.kind,
-                "params": self.params.as_dict(), "saddle_H": self.saddle.H, "max_pulses": self.max_pulses,
+                "params": self.params.to_dict(), "saddle_H": self.saddle.H, "max_pulses": self.max_pulses,
                 "free": self.free, "span": self.span, "samples": self.samples,
                 "with_uncertainty": self.with_uncertainty, "orbits": [o.to_dict() for o in self.orbits],
                 "searches": [ps.to_dict() for ps in self.searches],

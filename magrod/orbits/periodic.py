@@ -113,7 +113,7 @@ def relative_equilibrium(params: RodParams, *, tol: float = RELATIVE_EQUILIBRIUM
     straight rod (mu < 2 lambdabar, or too far from it)."""
     p = params
     pars = p.array()
-    mu_level = scalars.straight_rod_mu(**p.as_dict())  # mu = 2 lam: the straight rod on the chart's level
+    mu_level = scalars.straight_rod_mu(**p.to_dict())  # mu = 2 lam: the straight rod on the chart's level
     delta_mu = p.mu - mu_level
     if delta_mu <= 0 or is_on_level(p):
         raise ParameterError("mu", f"no periodic saddle near the straight rod for mu <= 2 lam (got mu - 2 lam = "
@@ -141,7 +141,7 @@ def relative_equilibrium(params: RodParams, *, tol: float = RELATIVE_EQUILIBRIUM
         best = (z, res)
     z, res = best
     if z is None or res > tol:
-        raise ParameterError("mu", f"no periodic saddle (helical relative equilibrium) found at {p.as_dict()} "
+        raise ParameterError("mu", f"no periodic saddle (helical relative equilibrium) found at {p.to_dict()} "
                                    f"(Gauss-Newton residual {res:.2e})")
     x0 = z[:N].copy()
     if x0[systems.state_index("body", "e31")] > 0:  # G_pi: the same orbit, the phi = 0 representative
@@ -177,7 +177,7 @@ def chart_equilibrium(params: RodParams, precision=Precision.DOUBLE) -> ChartEqu
     fp, bits = precision.fp_type, precision.prec
     F = systems.splitting_functions(fp, bits)
     pars = params.array()
-    mu_level = scalars.straight_rod_mu(**params.as_dict())  # mu = 2 lam
+    mu_level = scalars.straight_rod_mu(**params.to_dict())  # mu = 2 lam
     if params.mu - mu_level <= 0 or is_on_level(params):
         raise ParameterError("mu", f"the tilted straight rod exists for mu > 2 lam only (got mu - 2 lam = "
                                    f"{params.mu - mu_level:.3g}); at mu = 2 lam the saddle is the straight rod")
@@ -319,7 +319,7 @@ class PeriodicSaddle(Result):
 
     def summary(self) -> dict:
         q = self.quartet
-        return {"params": self.params.as_dict(), "x": self.x.tolist(), "omega": self.omega, "T": self.T,
+        return {"params": self.params.to_dict(), "x": self.x.tolist(), "omega": self.omega, "T": self.T,
                 "chart": dict(zip(("theta", "psi", "phi", "ptheta", "ppsi"), self.chart.tolist())), "H": self.H,
                 "multipliers": [[float(z.real), float(z.imag)] for z in self.multipliers],
                 "quartet_abs": [float(abs(z)) for z in q],

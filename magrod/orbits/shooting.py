@@ -132,7 +132,7 @@ def saddle(params: RodParams, *, precision=Precision.DOUBLE) -> Saddle:
     precision = Precision.parse(precision)
     if is_on_level(params):
         return straight_rod(params, precision=precision)
-    gap = params.mu - scalars.straight_rod_mu(**params.as_dict())
+    gap = params.mu - scalars.straight_rod_mu(**params.to_dict())
     if gap < 0:
         raise ParameterError("mu", f"no saddle near the straight rod for mu < 2 lam (got mu - 2 lam = {gap:.3g}): "
                                    "the radicand mu - 2 lam pbar_psi of eq:alignment_condition is negative there")
@@ -157,7 +157,7 @@ def parameter_direction(s: Saddle, name: str) -> np.ndarray:
     d = np.zeros(len(PARAMS))
     d[i] = 1.0
     if s.kind == "equilibrium":
-        d[systems.par_index("mu")] = scalars.straight_rod_mu_gradient(**s.params.as_dict())[i]
+        d[systems.par_index("mu")] = scalars.straight_rod_mu_gradient(**s.params.to_dict())[i]
     return d
 
 
@@ -165,7 +165,7 @@ def _parameter_step(s: Saddle, name: str, h_rel: float) -> float:
     v = getattr(s.params, name)
     h = h_rel * max(1.0, abs(v))
     if s.kind == "periodic" and name in ("mu", "lam"):  # stay on the side mu > 2 lam where the saddle exists
-        gap = s.params.mu - scalars.straight_rod_mu(**s.params.as_dict())
+        gap = s.params.mu - scalars.straight_rod_mu(**s.params.to_dict())
         h = min(h, 0.25 * gap / (2.0 if name == "lam" else 1.0))
     return h
 
@@ -570,19 +570,28 @@ class MultipulseOrbit(Result):
         return {"residual": self.residual, "noise_floor": self.noise_floor, "resolution": self.resolution,
                 "energy_error": self.energy_error, "eps": self.eps, "precision": self.precision.value}
 
-    def as_dict(self) -> dict:
-        """The scalar fields (JSON-able; no arrays, no history)."""
-        return {"success": self.success, "message": self.message, "kind": self.kind, "iterations": self.iterations,
-                "residual": self.residual, "pulses": self.pulses, "free": self.free, "free_value": self.free_value,
-                "params": self.params.as_dict(), "T": self.T, "angle": self.angle, "eps": self.eps,
-                "noise_floor": self.noise_floor, "precision": self.precision.value, "resolution": self.resolution,
-                "energy_error": self.energy_error, "saddle_H": self.saddle.H}
-
-    def to_dict(self) -> dict:
-        d = jsonable(self.as_dict())
+    def to_dict(self, arrays: bool = True) -> dict:
+        """The result as a dict: its scalar fields, and with `arrays` (default) also x0, the Newton history, the
+        uncertainty and the pulses counted (JSON-able).  arrays=False: the scalar fields only, as they are."""
+        d = {"success": self.success, "message": self.message, "kind": self.kind, "iterations": self.iterations,
+             "residual": self.residual, "pulses": self.pulses, "free": self.free, "free_value": self.free_value,
+             "params": self.params.to_dict(), "T": self.T, "angle": self.angle, "eps": self.eps,
+             "noise_floor": self.noise_floor, "precision": self.precision.value, "resolution": self.resolution,
+             "energy_error": self.energy_error, "saddle_H": self.saddle.H}
+        if not arrays:
+            return d
+        d = jsonable(d)
         d.update({"x0": jsonable(self.x0), "history": jsonable(self.history),
                   "uncertainty": jsonable(self.uncertainty), "pulses_counted": self.pulses_counted})
         return d
+
+    def as_dict(self) -> dict:
+        """Deprecated spelling of to_dict(arrays=False) (kept for one release)."""
+        import warnings
+
+        warnings.warn("MultipulseOrbit.as_dict() is deprecated: use to_dict(arrays=False)", DeprecationWarning,
+                      stacklevel=2)
+        return self.to_dict(arrays=False)
 
 
 @dataclass(repr=False)

@@ -252,7 +252,7 @@ def initial_box(p, theta: arb, pbox: arb, lam: arb | None = None) -> taylor.C1Se
     return S
 
 
-def section_quantities(p, fld, cr: taylor.Crossing, tangents, module=gen) -> dict:
+def section_quantities(p, fld, cr: taylor.CrossingEnclosure, tangents, module=gen) -> dict:
     """At the crossing x1: pbar_theta, theta, cos psi, d(sin psi)/dt, and for each tangent t (a chart vector) the
     section derivative v = (I - f grad g^T/(grad g . f)) W t in (theta, pbar_theta)."""
     g_grad = [arb(0), cr.x[PS].cos()] + [arb(0)] * (len(cr.x) - 2)

@@ -122,7 +122,7 @@ def _float_saddle(p: fields.ExactParams):
 
     rp = RodParams(*p.floats())
     try:
-        return splitting.working_saddle(rp, "long double")
+        return splitting.splitting_saddle(rp, "long double")
     except ParameterError as err:  # not hyperbolic: a failed proof, not bad input
         raise ProofFailure(f"saddle: {err.message}") from None
 
@@ -270,7 +270,7 @@ def body_section(p, module=gen):
     return g, dg, guard
 
 
-def crossing_quantities(p, cr: taylor.Crossing, tangent, module=gen) -> dict:
+def crossing_quantities(p, cr: taylor.CrossingEnclosure, tangent, module=gen) -> dict:
     """At the crossing of Sigma: Gs, Gc, s2 on the state enclosure, and the phase derivatives along the curve
     c(phi) = crossing point: v = (I - f grad g^T / (grad g . f)) DPhi tangent, dGs = grad Gs . v, de33 = v_e33."""
     ev = fields.body_events(p, cr.x, module)

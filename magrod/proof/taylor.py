@@ -446,10 +446,11 @@ def propagate(fld: Field, S: C1Set, t_end=None, *, order: int = 20, tol: float =
 # crossing a section {g = 0}
 # --------------------------------------------------------------------------------------------------------------
 @dataclass
-class Crossing:
-    """The crossing of {g = 0} by every trajectory of a set: time enclosure tau relative to the set's time t0,
-    state enclosure x (n balls), DPhi enclosure W (arb_mat; None for a C^0 set), f at x, and gdot = grad g . f
-    over the step's a priori enclosure (excludes 0)."""
+class CrossingEnclosure:
+    """The crossing of {g = 0} by every trajectory of a set, enclosed (the rigorous counterpart of
+    magrod.orbits.shooting.Crossing, the one floating-point crossing record): time enclosure tau relative to the
+    set's time t0, state enclosure x (n balls), DPhi enclosure W (arb_mat; None for a C^0 set), f at x, and
+    gdot = grad g . f over the step's a priori enclosure (excludes 0)."""
 
     t0: Fraction
     h: Fraction
@@ -464,7 +465,7 @@ class CrossingError(RuntimeError):
     pass
 
 
-def cross_section(fld: Field, S: C1Set, g, dg, h, order: int, newton: int = 4, guard=None) -> Crossing:
+def cross_section(fld: Field, S: C1Set, g, dg, h, order: int, newton: int = 4, guard=None) -> CrossingEnclosure:
     """Every trajectory of S crosses {g = 0} exactly once in (0, h), with g(x) -> ball, dg(x) -> gradient (n
     balls).  Checked: g on the set and at S.t + h of opposite definite signs, and grad g . f over the step's a
     priori enclosure excludes 0 (so g is strictly monotone along each trajectory: one transversal crossing).  The
@@ -496,7 +497,7 @@ def cross_section(fld: Field, S: C1Set, g, dg, h, order: int, newton: int = 4, g
     if c1:
         A = _step_matrix(sd, T, True)
         W = A * S.Wbar + (A * S.B) * S.E
-    return Crossing(S.t, hf, T, x, W, fld.f(x), gdot)
+    return CrossingEnclosure(S.t, hf, T, x, W, fld.f(x), gdot)
 def _lohner_value(S: C1Set, sd: StepData, t: arb) -> list:
     """Enclosure of Phi_t(S) for a (ball) time t in [0, h], as n balls: T_p(t, xbar) + R + DT_p(t) B [r]."""
     z = _point_value(sd, t)

@@ -62,6 +62,14 @@ class VerifyResult:
     values: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
+        """Deprecated spelling of to_dict() (kept for one release; written here, not imported, to keep the
+        verifier's trust base to ball, fields, taylor, theorem and core.errors)."""
+        import warnings
+
+        warnings.warn("VerifyResult.as_dict() is deprecated: use to_dict()", DeprecationWarning, stacklevel=2)
+        return self.to_dict()
+
+    def to_dict(self) -> dict:
         return {"ok": self.ok, "reason": self.reason, "theorem": self.theorem, "slopes": self.slopes,
                 "values": self.values, "checks": self.checks, "wall_time_s": round(self.wall_time_s, 3)}
 

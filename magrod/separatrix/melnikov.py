@@ -43,6 +43,7 @@ from ..generated import melnikov as gen
 from ..orbits.homoclinic import homoclinic, stable_expressions
 from ..core.printed import FIG2_M, FIG2_ZERO_BRACKET
 from ..core.tolerances import MELNIKOV_ZERO_XTOL, REAL128_QUADRATURE_TOL
+from ..core.deprecation import deprecated_alias
 
 INTEGRANDS = ("derived", "printed")
 
@@ -94,7 +95,9 @@ class Amplitude:
     checks: dict  # derived integrand: 2 Phi(T) (exact truncated integral) and the real128 quadrature minus it
     convention: str = "M(psi0) = A * sin(psi0) * sqrt(a - 2b), A = Int F dt over the homoclinic orbit"
 
-    def as_dict(self) -> dict:
+    as_dict = deprecated_alias("to_dict", "as_dict")
+
+    def to_dict(self) -> dict:
         return asdict(self)
 
 

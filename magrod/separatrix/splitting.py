@@ -60,6 +60,7 @@ from ..core.tolerances import MU_TOL, REAL128_QUADRATURE_TOL, SPLITTING_LAUNCH
 from ..generated import scalars
 from ..orbits.shooting import Crossing, crossing_events
 from ..orbits.shooting import saddle as orbit_saddle
+from ..core.deprecation import deprecated_alias
 
 THETA_TURN_MIN = 0.3  # a zero of pbar_theta counts as the turning point only where theta exceeds this
 T_MAX = 2000.0
@@ -242,7 +243,9 @@ class PowerFit:
     C0_fit_max_rel_residual: float
     n: int
 
-    def as_dict(self):
+    as_dict = deprecated_alias("to_dict", "as_dict")
+
+    def to_dict(self) -> dict:
         return asdict(self)
 
 
@@ -301,7 +304,9 @@ class SplittingScan:
         pr = Precision.parse(precision) if precision is not None else self.precisions[-1]
         return [asdict(c) for c in self.crossings[pr]]
 
-    def as_dict(self):
+    as_dict = deprecated_alias("to_dict", "as_dict")
+
+    def to_dict(self) -> dict:
         d = asdict(self)
         return d
 
@@ -374,7 +379,9 @@ class TiltedCurve:
     fit_bound: float | None = None  # the guard's bound on fit_residual: FIT_REL_BOUND max_k |s_k| (None for b = 0)
     guard: str = ""  # what the guard checked, and the outcome
 
-    def as_dict(self):
+    as_dict = deprecated_alias("to_dict", "as_dict")
+
+    def to_dict(self) -> dict:
         d = asdict(self)
         d["eigenvalue"] = [self.eigenvalue.real, self.eigenvalue.imag]
         return d
@@ -460,11 +467,13 @@ class TiltedScan:
     max_fit_residual: float
     wall_time_s: float
 
-    def as_dict(self):
+    as_dict = deprecated_alias("to_dict", "as_dict")
+
+    def to_dict(self) -> dict:
         return {**{k: getattr(self, k) for k in ("m", "gamma", "delta", "a", "b", "eps", "agreement_s1",
                                                   "max_abs_sin", "max_fit_residual", "wall_time_s")},
-                "curves": [c.as_dict() for c in self.curves], "check": [c.as_dict() for c in self.check],
-                "fit_s1": self.fit_s1.as_dict() if self.fit_s1 else None}
+                "curves": [c.to_dict() for c in self.curves], "check": [c.to_dict() for c in self.check],
+                "fit_s1": self.fit_s1.to_dict() if self.fit_s1 else None}
 
 
 def tilted_scan(m, gamma, delta, a, b, eps, precisions=(Precision.DOUBLE, Precision.LONG_DOUBLE), *, n_phases=64,
@@ -493,8 +502,8 @@ def scan_summary(res) -> dict:
             "precisions": res.precisions, "rows": res.table(ref),
             "check_rows": res.table(res.precisions[0]) if len(res.precisions) > 1 else [],
             "agreement_psi": res.agreement_psi, "agreement_d": res.agreement_d,
-            "fit_psi": res.fit_psi.as_dict() if res.fit_psi else None,
-            "fit_d": res.fit_d.as_dict() if res.fit_d else None,
+            "fit_psi": res.fit_psi.to_dict() if res.fit_psi else None,
+            "fit_d": res.fit_d.to_dict() if res.fit_d else None,
             "max_abs_psi": res.max_abs_psi, "max_abs_d": res.max_abs_d, "notes": res.notes,
             "wall_time_s": res.wall_time_s,
             "measure": "psi_u: chart angle psi at the first turning point of W^u (W^s there: -psi_u); "
@@ -559,7 +568,9 @@ class LeadingTerm:
     wall_time_s: float
     S_reference_text: str | None = None  # the real128 value in full (str of hy.real128), for exact comparisons
 
-    def as_dict(self) -> dict:
+    as_dict = deprecated_alias("to_dict", "as_dict")
+
+    def to_dict(self) -> dict:
         return asdict(self)
 
 
@@ -615,7 +626,7 @@ def compare_leading(m, gamma, delta, a, b, eps=(0.02, 0.014, 0.01, 0.007, 0.005,
     return {"m": m, "gamma": gamma, "delta": delta, "a": a, "b": b, "eps": list(eps), "precisions": list(precisions),
             "derived_psi": dp, "measured_psi": sc.fit_psi.C0, "digits_psi": digits_agreeing(sc.fit_psi.C0, dp),
             "derived_d": dd, "measured_d": sc.fit_d.C0, "digits_d": digits_agreeing(sc.fit_d.C0, dd),
-            "measured_fit_rel_residual": sc.fit_psi.C0_fit_max_rel_residual, "leading": lt.as_dict()}
+            "measured_fit_rel_residual": sc.fit_psi.C0_fit_max_rel_residual, "leading": lt.to_dict()}
 
 
 # --------------------------------------------------------------------------------------------------------------
@@ -773,7 +784,7 @@ def splitting(m, gamma=None, delta=None, a=None, b=None, eps=EPS_SCAN, *, precis
         measure = np.array([c.psi for c in ref])
         d = np.array([c.d for c in ref])
         agreement = max(sc.agreement_psi.values(), default=0.0)
-        fit = sc.fit_psi.as_dict() if sc.fit_psi else None
+        fit = sc.fit_psi.to_dict() if sc.fit_psi else None
         leading = None
         if sc.fit_psi is not None and b > 0:
             lt = leading_coefficient(m, gamma, delta)
@@ -787,7 +798,7 @@ def splitting(m, gamma=None, delta=None, a=None, b=None, eps=EPS_SCAN, *, precis
         measure = np.array([c.sin_coeffs[0] for c in sc.curves])
         d = np.array([c.D_amplitude for c in sc.curves])
         agreement = sc.agreement_s1 / max(float(np.max(np.abs(measure))), 1e-300)
-        fit = sc.fit_s1.as_dict() if sc.fit_s1 else None
+        fit = sc.fit_s1.to_dict() if sc.fit_s1 else None
         leading = None
     if not equilibrium and fit is None:
         notes.append("no power-law fit: b = 0 or fewer than 4 eps")

@@ -78,7 +78,7 @@ def paths(out: Path, stem: str) -> dict:
 # identity and content hashes
 # ------------------------------------------------------------------------------------------------------------
 def _spec_json(spec: maps.MapSpec) -> str:
-    return json.dumps(spec.as_dict(), sort_keys=True)
+    return json.dumps(spec.to_dict(), sort_keys=True)
 
 
 def code_versions() -> dict:
@@ -92,7 +92,7 @@ def code_versions() -> dict:
 
 def identity(spec: maps.MapSpec) -> str:
     """sha256 of what a map is: spec (grid, parameters, tolerances, tile, batch size), store format, code."""
-    doc = {"spec": spec.as_dict(), "format": STORE_FORMAT, "code": code_versions()}
+    doc = {"spec": spec.to_dict(), "format": STORE_FORMAT, "code": code_versions()}
     return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
 
 
@@ -365,7 +365,7 @@ def create_or_open(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, force=Fa
 
 
 def _spec_diff(other: dict, spec: maps.MapSpec) -> str:
-    mine = spec.as_dict()
+    mine = spec.to_dict()
     keys = [k for k in sorted(set(mine) | set(other)) if mine.get(k) != other.get(k)]
     return "differs in " + ", ".join(keys) if keys else "same spec, other code version"
 
@@ -389,7 +389,7 @@ def _create(spec, ident, store: Path, tiles_dir: Path) -> StoreState:
 
 def _write_record(spec, ident, tiles_dir: Path, skeleton: dict, tiles: dict | None) -> None:
     atomic_write_json(tiles_dir / "store.record", {
-        "identity": ident, "format": STORE_FORMAT, "spec": spec.as_dict(), "code": code_versions(),
+        "identity": ident, "format": STORE_FORMAT, "spec": spec.to_dict(), "code": code_versions(),
         "skeleton": skeleton, "complete": tiles is not None, "tiles": tiles or {}})
 
 
@@ -686,7 +686,7 @@ def run_refined(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, 
     ref = Refinement(spec.shape, spec.refine, spec.refine_bound)
     cluster, pids, own = None, [], client is None
     interrupted = False
-    sd = spec.as_dict()
+    sd = spec.to_dict()
     try:
         while not ref.done:
             if max_rounds is not None and ref.round >= max_rounds:
@@ -780,7 +780,7 @@ def run_tiles(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, sc
     interrupted = False
     try:
         client.run(worker_env)
-        sd = spec.as_dict()
+        sd = spec.to_dict()
         futs = {client.submit(tile_task, sd, k, str(store), str(tiles_dir), state.identity, pure=False): k
                 for k in todo}
         if on_submitted is not None:
