@@ -47,6 +47,7 @@ PENDING = {
     ("magrod.cli.poincare", "magrod.chaos.portrait"),
     ("magrod.cli.poincare", "magrod.chaos.section"),
     ("magrod.cli.prove", "magrod.proof.fields"),
+    ("magrod.cli.prove", "magrod.proof.periodic"),
     ("magrod.cli.prove", "magrod.proof.search"),
     ("magrod.cli.prove", "magrod.proof.verify"),
     ("magrod.cli.spectrum", "magrod.chaos.spectrum"),
