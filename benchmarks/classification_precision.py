@@ -33,9 +33,9 @@ def uptime() -> str:
         return str(os.getloadavg())
 
 
-def spec(n, t_max, tol):
+def spec(n, t_max, tol, refine=0):
     return maps.MapSpec(maps.parse_axis("x", f"lam:0:0.3:{n}"), maps.parse_axis("y", f"gamma:0:3:{n}"),
-                        base=maps.panel_base("4a"), t_max=float(t_max), tol=float(tol))
+                        base=maps.panel_base("4a"), t_max=float(t_max), tol=float(tol), refine=int(refine))
 
 
 def run(s, workers):
@@ -50,29 +50,95 @@ def run(s, workers):
 
 def study(a):
     os.makedirs(a.cache, exist_ok=True)
-    out = {"grid": a.n, "workers": a.workers, "uptime_before": uptime(), "maps": {}}
+    out = {"grid": a.n, "workers": a.workers, "refine": a.refine, "uptime_before": uptime(), "maps": {}}
     fields = {}
-    for T in T_MAX:
+    for T in (T_MAX if a.t_max is None else (a.t_max,)):
         for tol in (0.0,) + TOLS[:-1]:  # the reference first
             key = f"T{T:g}_tol{tol:g}"
-            path = os.path.join(a.cache, f"{key}_{a.n}.npz")
+            path = os.path.join(a.cache, f"{key}_{a.n}{f'_L{a.refine}' if a.refine else ''}.npz")
             if os.path.exists(path):
                 d = np.load(path)
                 fields[key], wall = {k: d[k] for k in d.files if k != "wall_s"}, float(d["wall_s"])
             else:
-                wall, fields[key] = run(spec(a.n, T, tol), a.workers)
+                wall, fields[key] = run(spec(a.n, T, tol, a.refine), a.workers)
                 np.savez(path, wall_s=wall, **fields[key])
             ref = fields[f"T{T:g}_tol0"]
             both = (ref["status"] == indicators.OK) & (fields[key]["status"] == indicators.OK)
+            if a.refine:  # a refined map: compare the points both maps computed (inferred ones separately)
+                comp = (ref["inferred"] == 0) & (fields[key]["inferred"] == 0)
+                cr_all = ref["growth_exponent"][both] > indicators.GROWTH_THRESHOLD
+                cf_all = fields[key]["growth_exponent"][both] > indicators.GROWTH_THRESHOLD
+                inf_extra = {"computed_in_both_maps": int(comp.sum()),
+                             "points_computed": int((fields[key]["inferred"] == 0).sum()),
+                             "misclassified_incl_inferred": int((cr_all != cf_all).sum()),
+                             "physical_incl_inferred": int(both.sum()),
+                             "status_differs_incl_inferred": int((ref["status"] != fields[key]["status"]).sum())}
+                both = both & comp
+                status_mask = comp
+            else:
+                inf_extra, status_mask = {}, np.ones(ref["status"].shape, bool)
             cr = ref["growth_exponent"][both] > indicators.GROWTH_THRESHOLD
             cf = fields[key]["growth_exponent"][both] > indicators.GROWTH_THRESHOLD
             out["maps"][key] = {"t_max": T, "tol": tol or "eps", "wall_s": wall, "computed_both": int(both.sum()),
                                 "misclassified": int((cr != cf).sum()),
                                 "fraction_misclassified": float((cr != cf).mean()) if both.any() else None,
-                                "status_differs": int((ref["status"] != fields[key]["status"]).sum()),
-                                "fraction_chaotic": float(cf.mean()) if both.any() else None}
+                                "status_differs": int(((ref["status"] != fields[key]["status"]) & status_mask).sum()),
+                                "fraction_chaotic": float(cf.mean()) if both.any() else None, **inf_extra}
             print(key, json.dumps(out["maps"][key]), flush=True)
     out["uptime_after"] = uptime()
+    return out
+
+
+def compare(ref: dict, f: dict) -> dict:
+    """How map f differs from the reference map ref (same grid and T): among the points computed (not inferred)
+    in f whose status is ok in both, the misclassified ones (growth exponent against the threshold), and the
+    points computed in f whose status differs from ref's (lost or gained); the same over every point, inferred ones
+    included.  A refined map's computed points cluster at the class boundaries, so the first fraction is a
+    conservative (boundary-weighted) sample of the misclassification a brute-force map at that setting would show."""
+    comp = (f["inferred"] == 0) if "inferred" in f else np.ones(f["status"].shape, bool)
+    comp = comp & ((ref["inferred"] == 0) if "inferred" in ref else True)
+    okb = (ref["status"] == indicators.OK) & (f["status"] == indicators.OK)
+    with np.errstate(invalid="ignore"):
+        cr = ref["growth_exponent"] > indicators.GROWTH_THRESHOLD
+        cf = f["growth_exponent"] > indicators.GROWTH_THRESHOLD
+    mis = okb & (cr != cf)
+    st = ref["status"] != f["status"]
+    n_c = int((okb & comp).sum())
+    return {"computed_both": n_c, "misclassified": int((mis & comp).sum()),
+            "fraction_misclassified": float((mis & comp).sum() / n_c) if n_c else None,
+            "status_differs": int((st & comp).sum()), "points_compared": int(comp.sum()),
+            "all_points_ok_both": int(okb.sum()), "misclassified_all_points": int(mis.sum()),
+            "status_differs_all_points": int(st.sum()),
+            "fraction_chaotic": float(cf[f["status"] == indicators.OK].mean())}
+
+
+def report(dirs, n) -> dict:
+    """The study from the maps cached in `dirs` (npz files of study() runs, brute force or refined): per T the
+    reference is the brute-force tol = eps map if there is one, else the refined one; every other map is compared
+    with it (compare())."""
+    import glob
+    import re
+
+    found = {}
+    for d in dirs:
+        for path in glob.glob(os.path.join(d, f"T*_tol*_{n}*.npz")):
+            m = re.match(rf"T([\d.e+]+)_tol([\d.e+-]+)_{n}(?:_L(\d+))?\.npz$", os.path.basename(path))
+            if m:
+                found[(float(m.group(1)), float(m.group(2)), int(m.group(3) or 0))] = path
+    out = {"grid": n, "maps": {}}
+    for T in sorted({k[0] for k in found}):
+        refs = [k for k in found if k[0] == T and k[1] == 0.0]
+        if not refs:
+            continue
+        rk = min(refs, key=lambda k: k[2])  # brute force (L = 0) first
+        ref = dict(np.load(found[rk]))
+        for k in sorted(found):
+            if k[0] != T or k == rk:
+                continue
+            f = dict(np.load(found[k]))
+            out["maps"][f"T{T:g}_tol{k[1]:g}_L{k[2]}"] = {
+                "t_max": T, "tol": k[1] or "eps", "refine": k[2], "reference": f"tol eps, L = {rk[2]}",
+                "wall_s": float(f["wall_s"]), "reference_wall_s": float(ref["wall_s"]), **compare(ref, f)}
     return out
 
 
@@ -144,7 +210,10 @@ def main():
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--cache", default="/tmp/magrod-classification-precision")
     ap.add_argument("--out", default=None)
+    ap.add_argument("--refine", type=int, default=0, help="refined maps of this many levels (0: brute force)")
+    ap.add_argument("--t-max", type=float, default=None, help="only this T (default: 1000 and 3000)")
     ap.add_argument("--plot", default=None, help="draw the JSON of a finished study next to it (.png)")
+    ap.add_argument("--report", default=None, help="comma-separated cache directories: the study from their maps")
     ap.add_argument("--cost", default=None, help="only the in-process cost per orbit at each (T, tol), into this JSON")
     a = ap.parse_args()
     if a.cost:
@@ -154,6 +223,14 @@ def main():
         return
     if a.plot:
         plot(a.plot, a.plot.replace(".json", ".png"))
+        return
+    if a.report:
+        out = report(a.report.split(","), a.n)
+        text = json.dumps(out, indent=2)
+        print(text)
+        if a.out:
+            with open(a.out, "w") as fh:
+                fh.write(text + "\n")
         return
     out = study(a)
     text = json.dumps(out, indent=2)
