@@ -53,7 +53,7 @@ def study(a):
     out = {"grid": a.n, "workers": a.workers, "refine": a.refine, "uptime_before": uptime(), "maps": {}}
     fields = {}
     for T in (T_MAX if a.t_max is None else (a.t_max,)):
-        for tol in (0.0,) + TOLS[:-1]:  # the reference first
+        for tol in (0.0,) + (TOLS[:-1] if a.tols is None else tuple(float(t) for t in a.tols.split(","))):  # ref first
             key = f"T{T:g}_tol{tol:g}"
             path = os.path.join(a.cache, f"{key}_{a.n}{f'_L{a.refine}' if a.refine else ''}.npz")
             if os.path.exists(path):
@@ -212,6 +212,7 @@ def main():
     ap.add_argument("--out", default=None)
     ap.add_argument("--refine", type=int, default=0, help="refined maps of this many levels (0: brute force)")
     ap.add_argument("--t-max", type=float, default=None, help="only this T (default: 1000 and 3000)")
+    ap.add_argument("--tols", default=None, help="comma-separated tolerances after the eps reference, in this order")
     ap.add_argument("--plot", default=None, help="draw the JSON of a finished study next to it (.png)")
     ap.add_argument("--report", default=None, help="comma-separated cache directories: the study from their maps")
     ap.add_argument("--cost", default=None, help="only the in-process cost per orbit at each (T, tol), into this JSON")
