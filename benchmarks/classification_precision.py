@@ -204,6 +204,38 @@ def plot(path_json, path_png):
     fig.savefig(path_png, dpi=120)
 
 
+def plot_report(path_json, path_png):
+    """The report's study: fraction of the compared points that differ from the tol = eps reference (a class, or
+    the status), against tol, one line per T; a map where nothing differs is drawn at 1/points (down-triangle)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    d = json.load(open(path_json))
+    fig, ax = plt.subplots(figsize=(5.5, 4.0), layout="constrained")
+    for T, mk in zip(sorted({r["t_max"] for r in d["maps"].values()}), "os^"):
+        rows = sorted((r for r in d["maps"].values() if r["t_max"] == T and r["tol"] != "eps"), key=lambda r: r["tol"])
+        if not rows:
+            continue
+        x = [r["tol"] for r in rows]
+        frac = [(r["misclassified"] + r["status_differs"]) / max(1, r["points_compared"]) for r in rows]
+        floor = [1.0 / max(1, r["points_compared"]) for r in rows]
+        ln, = ax.loglog(x, [max(f, fl) for f, fl in zip(frac, floor)], mk + "-", mfc="none",
+                        label=f"T = {T:g} (refined L = {rows[0]['refine']}; reference {rows[0]['reference']})")
+        for xi, f, fl, r in zip(x, frac, floor, rows):
+            if f == 0:
+                ax.plot([xi], [fl], "v", color=ln.get_color())
+            ax.annotate(f"{r['misclassified']} class, {r['status_differs']} status / {r['points_compared']}",
+                        (xi, max(f, fl)), fontsize=6, textcoords="offset points", xytext=(4, 4))
+    ax.set_xlabel("Taylor tolerance tol")
+    ax.set_ylabel("fraction differing from tol = eps (class or status)")
+    ax.set_title(f"{d['grid']}^2 map lam x gamma, Fig 4 start rule; computed points compared; v: none differs",
+                 fontsize=8)
+    ax.legend(fontsize=6)
+    fig.savefig(path_png, dpi=120)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=128)
@@ -232,6 +264,7 @@ def main():
         if a.out:
             with open(a.out, "w") as fh:
                 fh.write(text + "\n")
+            plot_report(a.out, a.out.replace(".json", ".png"))
         return
     out = study(a)
     text = json.dumps(out, indent=2)
