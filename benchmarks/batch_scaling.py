@@ -143,7 +143,14 @@ def main(argv=None):
     ap.add_argument("--n", type=int, default=64)
     ap.add_argument("--iterates", type=int, default=1000)
     ap.add_argument("--json", default=None)
+    ap.add_argument("--processes", action="store_true", help="only: 1 thread vs 2 threads vs 2 processes")
     a = ap.parse_args(argv)
+    if a.processes:
+        rows = processes(a.n, a.iterates, a.repeat)
+        if a.json:
+            with open(a.json, "w") as fh:
+                json.dump({"width": systems.batch_width(), "rows": rows}, fh, indent=1)
+        return 0
     starts = grid_starts("4a", theta0=(0.1, 3.0, 10), ptheta0=(-1.0, 1.0, 10))[: a.n]
     poincare_section("4a", starts=starts[:8], iterates=10, workers=2)  # JIT load / compile once
     out = {"uptime_before": uptime(), "width": systems.batch_width(), "cores": os.cpu_count(), "n": len(starts),
@@ -166,6 +173,50 @@ def main(argv=None):
         with open(a.json, "w") as fh:
             json.dump(out, fh, indent=1)
     return 0
+
+
+def _half(args):
+    starts, iterates = args
+    import warnings as _w
+
+    _w.simplefilter("ignore")
+    from magrod.chaos.section import poincare_sections as ps
+
+    t0 = time.perf_counter()
+    res = ps("4a", starts=starts, iterates=iterates, workers=1)
+    return time.perf_counter() - t0, len(res)
+
+
+def processes(n=64, iterates=1000, repeat=3):
+    """The same ensemble on 1 thread, on 2 threads, and split in two halves over 2 processes (one GIL each; the
+    pool is started and warmed before the timing).  A GIL hand-off per section point is what the process variant
+    removes; its wall time against the 2-thread one is the gain a process-based batch.run would bring."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    starts = grid_starts("4a", theta0=(0.1, 3.0, 10), ptheta0=(-1.0, 1.0, 10))[:n]
+    halves = [(starts[0::2], iterates), (starts[1::2], iterates)]
+    rows = []
+    with ProcessPoolExecutor(2) as ex:
+        list(ex.map(_half, [(starts[:4], 5)] * 2))  # start and warm both processes
+        poincare_section("4a", starts=starts[:8], iterates=10, workers=2)
+        for rep in range(repeat):
+            row = {}
+            order = ("t1", "t2", "p2") if rep % 2 == 0 else ("p2", "t2", "t1")  # alternated: the load drifts
+            for what in order:
+                t0, c0 = time.perf_counter(), time.process_time()
+                if what == "p2":
+                    inner = list(ex.map(_half, halves))
+                    row["processes_inner_wall_s"] = [w for w, _ in inner]
+                else:
+                    poincare_section("4a", starts=starts, iterates=iterates, workers=int(what[1]))
+                    row[f"threads_{what[1]}_cpu_s"] = time.process_time() - c0
+                row[{"t1": "threads_1_wall_s", "t2": "threads_2_wall_s", "p2": "processes_2_wall_s"}[what]] = \
+                    time.perf_counter() - t0
+            row["order"] = list(order)
+            row["uptime"] = uptime()
+            rows.append(row)
+            print(json.dumps(row), flush=True)
+    return rows
 
 
 if __name__ == "__main__":
