@@ -722,13 +722,13 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     The default tolerance stays machine epsilon, by the work-precision study of the classification
     (benchmarks/classification_precision.py, benchmarks/README.md "Issue 28"; numerical evidence, two machines, the
     map lam x gamma = [0, 0.3] x [0, 3] at Figure 4's start rule):
-    * 128 x 128, T = 1000, against the brute-force tol = eps map: refined maps (L = 3, whose computed points are the
-      brute-force map's bit for bit and sit at the class boundaries) at tol = 1e-12 and 1e-10 misclassify none of
-      the 1606 computed points and take the same refinement as tol = eps; tol = 1e-8 misclassifies none but loses
-      42 of 2172 points (1.9 %) to left_physical_range: its energy error exceeds the conservation budget
-      DRIFT_LIMIT = 1e-8, the check that makes a computed point trustworthy.
-    * 128 x 128, T = 3000 (refined, against the refined tol = eps map): tol = 1e-10 moves 1 of 1609 computed points
-      across the threshold (0.06 %).
+    * 128 x 128, T = 1000, against the brute-force tol = eps map: the brute-force tol = 1e-10 map has the same
+      class and status at all 10857 physical points; refined maps (L = 3, whose computed points are the
+      brute-force map's bit for bit and sit at the class boundaries) at 1e-12 and 1e-10 misclassify none of their
+      1606 computed points; 1e-8 misclassifies none but loses 42 of 2172 (1.9 %) to left_physical_range: its
+      energy error exceeds the conservation budget DRIFT_LIMIT = 1e-8, the check that makes a point trustworthy.
+    * 128 x 128, T = 3000 (refined, against the refined tol = eps map): 1e-12 changes nothing (1621 computed
+      points); 1e-10 moves 1 of 1609 across the threshold (0.06 %); 1e-8 loses 44 % of the map's points.
     * 64 x 64 brute force, T = 1000 and 3000: 1e-12 and 1e-10 misclassify none of 2700 points; 1e-8 loses 0.3 %
       (T = 1000) and 45 % (T = 3000) of them.
     So a looser tolerance barely changes the answer (1e-12: not at all here), its gain is bounded by the
