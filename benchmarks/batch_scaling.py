@@ -30,7 +30,6 @@ import sys
 import threading
 import time
 
-import numpy as np
 
 from magrod.chaos import batch
 from magrod.chaos.portrait import grid_starts
@@ -73,8 +72,7 @@ _queue_empty_at: list = []
 
 
 def _instrument():
-    orig_worker, orig_integrator, orig_run, orig_take = (batch._worker, batch.batch_section_integrator, batch.run,
-                                                         batch._Queue.take)
+    orig_worker, orig_integrator, orig_take = batch._worker, batch.batch_section_integrator, batch._Queue.take
 
     def worker(queue, finish, **kw):
         rec = dict(prop_wall=0.0, prop_cpu=0.0, calls=0, finish_cpu=0.0, lane_s=0.0, orbits=0,

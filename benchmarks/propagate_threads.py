@@ -11,41 +11,59 @@ GIL, re-acquired on every return from propagate) shows as ~1 when the calls are 
 import sys
 import threading
 import time
+import warnings
 
 import numpy as np
+
 from magrod.chaos import batch
-from magrod.core import systems
-from magrod.chaos.portrait import grid_starts
-import warnings; warnings.simplefilter("ignore")
-mode = sys.argv[1]
-def make():
-    ta = systems.batch_integrator("body", events=[], tol=float(np.finfo(float).eps), batch_size=4) if mode=="noev" else batch.batch_section_integrator("positive", float(np.finfo(float).eps))
-    return ta
-# start: Fig 4a
 from magrod.chaos.section import poincare_section
-r = poincare_section("4a", iterates=8)
-X = r.body_points[[0, 3, 5, 7]].T.copy()
-def work(ta, n):
-    for k in range(n):
-        ta.propagate_until(np.asarray(ta.time) + 50.0)
-def one(nthreads, n=3000):
-    tas = []
-    def mk():
-        ta = make(); ta.state[:] = X; ta.pars[:] = np.repeat(r.params.array()[:, None], 4, axis=1); tas.append(ta)
-    # build integrators in their threads (per_thread cache)
+from magrod.core import systems
+
+
+def make(mode):
+    eps = float(np.finfo(float).eps)
+    if mode == "noev":
+        return systems.batch_integrator("body", events=[], tol=eps, batch_size=4)
+    return batch.batch_section_integrator("positive", eps, 4)
+
+
+def one(mode, nthreads, X, pars, n=3000):
+    """nthreads threads, each with its own 4-lane integrator (lanes at four different crossings of Fig 4(a), so
+    that a section call stops at the first of four phases) and n calls."""
     res = {}
+
     def run(i):
-        ta = make(); ta.state[:] = X; ta.pars[:] = np.repeat(r.params.array()[:, None], 4, axis=1)
+        ta = make(mode)
+        ta.state[:] = X
+        ta.pars[:] = pars
         ta.set_time(0.0)
-        c0 = time.thread_time(); w0 = time.perf_counter()
-        work(ta, n)
-        res[i] = (time.thread_time()-c0, time.perf_counter()-w0)
+        c0, w0 = time.thread_time(), time.perf_counter()
+        for _ in range(n):
+            ta.propagate_until(np.asarray(ta.time) + 50.0)
+        res[i] = (time.thread_time() - c0, time.perf_counter() - w0)
+
     th = [threading.Thread(target=run, args=(i,)) for i in range(nthreads)]
-    w0 = time.perf_counter(); p0 = time.process_time()
-    [t.start() for t in th]; [t.join() for t in th]
-    return time.perf_counter()-w0, time.process_time()-p0, res
-NT = [int(sys.argv[2])] if len(sys.argv) > 2 else (1, 2)
-for rep in range(2):
-    for n in NT:
-        w, c, res = one(n)
-        print(mode, "threads", n, f"wall {w:.2f} cpu {c:.2f}", {k: (round(a,2), round(b,2)) for k,(a,b) in res.items()}, flush=True)
+    w0, p0 = time.perf_counter(), time.process_time()
+    for t in th:
+        t.start()
+    for t in th:
+        t.join()
+    return time.perf_counter() - w0, time.process_time() - p0, res
+
+
+def main():
+    warnings.simplefilter("ignore")
+    mode = sys.argv[1] if len(sys.argv) > 1 else "ev"
+    counts = [int(sys.argv[2])] if len(sys.argv) > 2 else (1, 2)
+    r = poincare_section("4a", iterates=8)
+    X = r.body_points[[0, 3, 5, 7]].T.copy()
+    pars = np.repeat(r.params.array()[:, None], 4, axis=1)
+    for _ in range(2):
+        for n in counts:
+            w, c, res = one(mode, n, X, pars)
+            print(mode, "threads", n, f"wall {w:.2f} cpu {c:.2f}",
+                  {k: (round(a, 2), round(b, 2)) for k, (a, b) in res.items()}, flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -733,8 +733,9 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
       (T = 1000) and 45 % (T = 3000) of them.
     So a looser tolerance barely changes the answer (1e-12: not at all here), its gain is bounded by the
     integration's share of a point's cost (an orbit at 1e-10 / 1e-12 costs ~0.3-0.4x the one at eps, in-process),
-    and 1e-8 breaks the conservation budget.  The default keeps every existing store's identity and REPORT.md's map; tol = 1e-10 is a sound
-    choice for a large exploratory map, at a measured disagreement of <= 0.06 % of the boundary points.
+    and 1e-8 breaks the conservation budget.  The default keeps every existing store's identity and REPORT.md's
+    map; tol = 1e-10 is a sound choice for a large exploratory map, at a measured disagreement of <= 0.06 % of the
+    boundary points.
 
     A refined map (`refine` = L) computes each point it computes exactly as the brute-force map does (the same
     bits), in rounds (one Dask wave each); what it can miss is an island of another class inside one coarse cell
