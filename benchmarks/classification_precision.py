@@ -214,20 +214,24 @@ def plot_report(path_json, path_png):
 
     d = json.load(open(path_json))
     fig, ax = plt.subplots(figsize=(5.5, 4.0), layout="constrained")
-    for T, mk in zip(sorted({r["t_max"] for r in d["maps"].values()}), "os^"):
-        rows = sorted((r for r in d["maps"].values() if r["t_max"] == T and r["tol"] != "eps"), key=lambda r: r["tol"])
+    groups = sorted({(r["t_max"], r["refine"]) for r in d["maps"].values()})
+    for gi, ((T, L), mk) in enumerate(zip(groups, "os^dv<>")):
+        rows = sorted((r for r in d["maps"].values() if r["t_max"] == T and r["refine"] == L and r["tol"] != "eps"),
+                      key=lambda r: r["tol"])
         if not rows:
             continue
         x = [r["tol"] for r in rows]
         frac = [(r["misclassified"] + r["status_differs"]) / max(1, r["points_compared"]) for r in rows]
         floor = [1.0 / max(1, r["points_compared"]) for r in rows]
         ln, = ax.loglog(x, [max(f, fl) for f, fl in zip(frac, floor)], mk + "-", mfc="none",
-                        label=f"T = {T:g} (refined L = {rows[0]['refine']}; reference {rows[0]['reference']})")
+                        label=f"T = {T:g}, {'brute force' if not L else f'refined L = {L}'} (reference "
+                              f"{rows[0]['reference'].replace('L = 0', 'brute force')})")
         for xi, f, fl, r in zip(x, frac, floor, rows):
             if f == 0:
                 ax.plot([xi], [fl], "v", color=ln.get_color())
             ax.annotate(f"{r['misclassified']} class, {r['status_differs']} status / {r['points_compared']}",
-                        (xi, max(f, fl)), fontsize=6, textcoords="offset points", xytext=(4, 4))
+                        (xi, max(f, fl)), fontsize=6, textcoords="offset points", xytext=(4, 4 - 9 * gi),
+                        color=ln.get_color())
     ax.set_xlabel("Taylor tolerance tol")
     ax.set_ylabel("fraction differing from tol = eps (class or status)")
     ax.set_title(f"{d['grid']}^2 map lam x gamma, Fig 4 start rule; computed points compared; v: none differs",
