@@ -33,9 +33,9 @@ def uptime() -> str:
         return str(os.getloadavg())
 
 
-def spec(n, t_max, tol):
+def spec(n, t_max, tol, refine=0):
     return maps.MapSpec(maps.parse_axis("x", f"lam:0:0.3:{n}"), maps.parse_axis("y", f"gamma:0:3:{n}"),
-                        base=maps.panel_base("4a"), t_max=float(t_max), tol=float(tol))
+                        base=maps.panel_base("4a"), t_max=float(t_max), tol=float(tol), refine=int(refine))
 
 
 def run(s, workers):
@@ -50,29 +50,95 @@ def run(s, workers):
 
 def study(a):
     os.makedirs(a.cache, exist_ok=True)
-    out = {"grid": a.n, "workers": a.workers, "uptime_before": uptime(), "maps": {}}
+    out = {"grid": a.n, "workers": a.workers, "refine": a.refine, "uptime_before": uptime(), "maps": {}}
     fields = {}
-    for T in T_MAX:
-        for tol in (0.0,) + TOLS[:-1]:  # the reference first
+    for T in (T_MAX if a.t_max is None else (a.t_max,)):
+        for tol in (0.0,) + (TOLS[:-1] if a.tols is None else tuple(float(t) for t in a.tols.split(","))):  # ref first
             key = f"T{T:g}_tol{tol:g}"
-            path = os.path.join(a.cache, f"{key}_{a.n}.npz")
+            path = os.path.join(a.cache, f"{key}_{a.n}{f'_L{a.refine}' if a.refine else ''}.npz")
             if os.path.exists(path):
                 d = np.load(path)
                 fields[key], wall = {k: d[k] for k in d.files if k != "wall_s"}, float(d["wall_s"])
             else:
-                wall, fields[key] = run(spec(a.n, T, tol), a.workers)
+                wall, fields[key] = run(spec(a.n, T, tol, a.refine), a.workers)
                 np.savez(path, wall_s=wall, **fields[key])
             ref = fields[f"T{T:g}_tol0"]
             both = (ref["status"] == indicators.OK) & (fields[key]["status"] == indicators.OK)
+            if a.refine:  # a refined map: compare the points both maps computed (inferred ones separately)
+                comp = (ref["inferred"] == 0) & (fields[key]["inferred"] == 0)
+                cr_all = ref["growth_exponent"][both] > indicators.GROWTH_THRESHOLD
+                cf_all = fields[key]["growth_exponent"][both] > indicators.GROWTH_THRESHOLD
+                inf_extra = {"computed_in_both_maps": int(comp.sum()),
+                             "points_computed": int((fields[key]["inferred"] == 0).sum()),
+                             "misclassified_incl_inferred": int((cr_all != cf_all).sum()),
+                             "physical_incl_inferred": int(both.sum()),
+                             "status_differs_incl_inferred": int((ref["status"] != fields[key]["status"]).sum())}
+                both = both & comp
+                status_mask = comp
+            else:
+                inf_extra, status_mask = {}, np.ones(ref["status"].shape, bool)
             cr = ref["growth_exponent"][both] > indicators.GROWTH_THRESHOLD
             cf = fields[key]["growth_exponent"][both] > indicators.GROWTH_THRESHOLD
             out["maps"][key] = {"t_max": T, "tol": tol or "eps", "wall_s": wall, "computed_both": int(both.sum()),
                                 "misclassified": int((cr != cf).sum()),
                                 "fraction_misclassified": float((cr != cf).mean()) if both.any() else None,
-                                "status_differs": int((ref["status"] != fields[key]["status"]).sum()),
-                                "fraction_chaotic": float(cf.mean()) if both.any() else None}
+                                "status_differs": int(((ref["status"] != fields[key]["status"]) & status_mask).sum()),
+                                "fraction_chaotic": float(cf.mean()) if both.any() else None, **inf_extra}
             print(key, json.dumps(out["maps"][key]), flush=True)
     out["uptime_after"] = uptime()
+    return out
+
+
+def compare(ref: dict, f: dict) -> dict:
+    """How map f differs from the reference map ref (same grid and T): among the points computed (not inferred)
+    in f whose status is ok in both, the misclassified ones (growth exponent against the threshold), and the
+    points computed in f whose status differs from ref's (lost or gained); the same over every point, inferred ones
+    included.  A refined map's computed points cluster at the class boundaries, so the first fraction is a
+    conservative (boundary-weighted) sample of the misclassification a brute-force map at that setting would show."""
+    comp = (f["inferred"] == 0) if "inferred" in f else np.ones(f["status"].shape, bool)
+    comp = comp & ((ref["inferred"] == 0) if "inferred" in ref else True)
+    okb = (ref["status"] == indicators.OK) & (f["status"] == indicators.OK)
+    with np.errstate(invalid="ignore"):
+        cr = ref["growth_exponent"] > indicators.GROWTH_THRESHOLD
+        cf = f["growth_exponent"] > indicators.GROWTH_THRESHOLD
+    mis = okb & (cr != cf)
+    st = ref["status"] != f["status"]
+    n_c = int((okb & comp).sum())
+    return {"computed_both": n_c, "misclassified": int((mis & comp).sum()),
+            "fraction_misclassified": float((mis & comp).sum() / n_c) if n_c else None,
+            "status_differs": int((st & comp).sum()), "points_compared": int(comp.sum()),
+            "all_points_ok_both": int(okb.sum()), "misclassified_all_points": int(mis.sum()),
+            "status_differs_all_points": int(st.sum()),
+            "fraction_chaotic": float(cf[f["status"] == indicators.OK].mean())}
+
+
+def report(dirs, n) -> dict:
+    """The study from the maps cached in `dirs` (npz files of study() runs, brute force or refined): per T the
+    reference is the brute-force tol = eps map if there is one, else the refined one; every other map is compared
+    with it (compare())."""
+    import glob
+    import re
+
+    found = {}
+    for d in dirs:
+        for path in glob.glob(os.path.join(d, f"T*_tol*_{n}*.npz")):
+            m = re.match(rf"T([\d.e+]+)_tol([\d.e+-]+)_{n}(?:_L(\d+))?\.npz$", os.path.basename(path))
+            if m:
+                found[(float(m.group(1)), float(m.group(2)), int(m.group(3) or 0))] = path
+    out = {"grid": n, "maps": {}}
+    for T in sorted({k[0] for k in found}):
+        refs = [k for k in found if k[0] == T and k[1] == 0.0]
+        if not refs:
+            continue
+        rk = min(refs, key=lambda k: k[2])  # brute force (L = 0) first
+        ref = dict(np.load(found[rk]))
+        for k in sorted(found):
+            if k[0] != T or k == rk:
+                continue
+            f = dict(np.load(found[k]))
+            out["maps"][f"T{T:g}_tol{k[1]:g}_L{k[2]}"] = {
+                "t_max": T, "tol": k[1] or "eps", "refine": k[2], "reference": f"tol eps, L = {rk[2]}",
+                "wall_s": float(f["wall_s"]), "reference_wall_s": float(ref["wall_s"]), **compare(ref, f)}
     return out
 
 
@@ -138,13 +204,53 @@ def plot(path_json, path_png):
     fig.savefig(path_png, dpi=120)
 
 
+def plot_report(path_json, path_png):
+    """The report's study: fraction of the compared points that differ from the tol = eps reference (a class, or
+    the status), against tol, one line per T; a map where nothing differs is drawn at 1/points (down-triangle)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    d = json.load(open(path_json))
+    fig, ax = plt.subplots(figsize=(5.5, 4.0), layout="constrained")
+    groups = sorted({(r["t_max"], r["refine"]) for r in d["maps"].values()})
+    for gi, ((T, L), mk) in enumerate(zip(groups, "os^dv<>")):
+        rows = sorted((r for r in d["maps"].values() if r["t_max"] == T and r["refine"] == L and r["tol"] != "eps"),
+                      key=lambda r: r["tol"])
+        if not rows:
+            continue
+        x = [r["tol"] for r in rows]
+        frac = [(r["misclassified"] + r["status_differs"]) / max(1, r["points_compared"]) for r in rows]
+        floor = [1.0 / max(1, r["points_compared"]) for r in rows]
+        ln, = ax.loglog(x, [max(f, fl) for f, fl in zip(frac, floor)], mk + "-", mfc="none",
+                        label=f"T = {T:g}, {'brute force' if not L else f'refined L = {L}'} (reference "
+                              f"{rows[0]['reference'].replace('L = 0', 'brute force')})")
+        for xi, f, fl, r in zip(x, frac, floor, rows):
+            if f == 0:
+                ax.plot([xi], [fl], "v", color=ln.get_color())
+            ax.annotate(f"{r['misclassified']} class, {r['status_differs']} status / {r['points_compared']}",
+                        (xi, max(f, fl)), fontsize=6, textcoords="offset points", xytext=(4, 4 - 9 * gi),
+                        color=ln.get_color())
+    ax.set_xlabel("Taylor tolerance tol")
+    ax.set_ylabel("fraction differing from tol = eps (class or status)")
+    ax.set_title(f"{d['grid']}^2 map lam x gamma, Fig 4 start rule; computed points compared; v: none differs",
+                 fontsize=8)
+    ax.legend(fontsize=6)
+    fig.savefig(path_png, dpi=120)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=128)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--cache", default="/tmp/magrod-classification-precision")
     ap.add_argument("--out", default=None)
+    ap.add_argument("--refine", type=int, default=0, help="refined maps of this many levels (0: brute force)")
+    ap.add_argument("--t-max", type=float, default=None, help="only this T (default: 1000 and 3000)")
+    ap.add_argument("--tols", default=None, help="comma-separated tolerances after the eps reference, in this order")
     ap.add_argument("--plot", default=None, help="draw the JSON of a finished study next to it (.png)")
+    ap.add_argument("--report", default=None, help="comma-separated cache directories: the study from their maps")
     ap.add_argument("--cost", default=None, help="only the in-process cost per orbit at each (T, tol), into this JSON")
     a = ap.parse_args()
     if a.cost:
@@ -154,6 +260,15 @@ def main():
         return
     if a.plot:
         plot(a.plot, a.plot.replace(".json", ".png"))
+        return
+    if a.report:
+        out = report(a.report.split(","), a.n)
+        text = json.dumps(out, indent=2)
+        print(text)
+        if a.out:
+            with open(a.out, "w") as fh:
+                fh.write(text + "\n")
+            plot_report(a.out, a.out.replace(".json", ".png"))
         return
     out = study(a)
     text = json.dumps(out, indent=2)

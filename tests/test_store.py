@@ -120,3 +120,22 @@ def test_the_store_rule_finds_a_violation(tmp_path):
     (tmp_path / "core" / "c.py").write_text("import magrod.store.cluster\n")
     (tmp_path / "orbits" / "d.py").write_text("from .. import store\n")
     assert sorted(m for m, _ in store_imports(tmp_path)) == ["chaos/a.py", "chaos/b.py", "core/c.py", "orbits/d.py"]
+
+
+def test_a_stored_map_keeps_its_exit_times(tmp_path):
+    """Early exit in a store (issue 28): the store holds exit_time, equal to the in-memory map's bit for bit, and a
+    second call verifies it in each tile's content hash (computes nothing).  Seen to fail before the store knew the
+    field (exit_time was silently not written)."""
+    axes = (("lam", 0.1, 0.2, 4), ("gamma", 2.0, 3.5, 4))
+    kw = {"t_max": 600.0, "tile": 2, "early_exit": True}
+    ref = mr.chaos_map(*axes, **kw)
+    cm = mr.chaos_map(*axes, **kw, store=tmp_path, workers=1)
+    assert cm.success and "exit_time" in cm.fields
+    _same_fields(cm.fields, ref.fields)
+    assert (tmp_path / "chaosmap.zarr" / "exit_time").is_dir()
+    again = mr.chaos_map(*axes, **kw, store=tmp_path, workers=1)
+    assert again.run["tiles"]["computed"] == 0
+    _same_fields(again.fields, ref.fields)
+    with pytest.raises(ParameterError) as e:
+        mr.chaos_map(*axes, **kw, refine=1, store=tmp_path / "r", workers=1)
+    assert e.value.name == "early_exit"

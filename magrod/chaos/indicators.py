@@ -54,6 +54,12 @@ from ..core.tolerances import DRIFT_LIMIT
 from .fields import KEYS
 
 GROWTH_THRESHOLD = 3.0
+# Early exit (issue 28): an orbit stops at the first sample time t_k >= T/2 at which its growth exponent so far,
+# (max_{t_j <= t_k} L(t_j) - FLI(T/2))/ln 2, exceeds the classification threshold by EXIT_MARGIN.  The margin is
+# not what makes the class safe (the running maximum never decreases, so the full-T growth exponent is at least the
+# value at the exit: chaotic stays chaotic for any threshold up to the exit level); it makes the exited orbit's
+# recorded growth exponent, a lower bound, chaotic by a visible margin rather than by round-off.
+EXIT_MARGIN = 1.0
 DEFAULT_RENORM_DT = 10.0
 # status codes of a grid point; NaN indicators carry one of these reasons
 OK, NO_ROOT, UNPHYSICAL, LEFT_RANGE, FAILED = 0, 1, 2, 3, 4
@@ -83,6 +89,9 @@ class Indicators:
     renorm_dt: float
     # with history=True: ln |w(t_k)| (N, K) at the renormalisation times t_k = k renorm_dt, k = 1..K
     log_growth: np.ndarray | None = None
+    # with exit_above (early exit, issue 28): the time each orbit stopped, t_max or an earlier sample time (NaN
+    # where status != OK); see tangent_indicators
+    exit_time: np.ndarray | None = None
 
     @property
     def times(self) -> np.ndarray:
@@ -110,7 +119,7 @@ def _steps(t_max, renorm_dt):
 
 
 def tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=DEFAULT_RENORM_DT, project=None, check=None,
-                       valid=None, history=False) -> Indicators:
+                       valid=None, history=False, exit_above=None) -> Indicators:
     """Indicators of N orbits with a batch tangent integrator (systems.tangent_batch).
 
     x0 (n, N) starts, w0 (n, N) tangent vectors (normalised here), pars (npars, N); project(x, w, p) -> w
@@ -122,7 +131,16 @@ def tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=DEFAULT_RENORM_DT, 
     Lanes are filled in order, padded with a copy of a valid lane: a lane's result does not depend on its
     neighbours (heyoka batch lanes step independently), and the fixed order makes results reproducible.  The
     checker is built on the padded lanes, so N may be smaller than the batch width (any width: 1, 2, 4, 8, ...).
-    Cost: N/batch_size batch propagations of t_max plus ~t_max/renorm_dt Python-level renormalisations each."""
+    Cost: N/batch_size batch propagations of t_max plus ~t_max/renorm_dt Python-level renormalisations each.
+
+    exit_above (a growth exponent, e.g. GROWTH_THRESHOLD + EXIT_MARGIN; None: off, the default): early exit.  The
+    lanes are then refilled as orbits end (`_run_lanes`), and an orbit ends at T, or when it fails or leaves the
+    physical range (its numbers are NaN either way), or at the first sample time t_e >= T/2 at which
+    (fli(t_e) - fli_half)/ln 2 > exit_above.  An exited orbit reports lyap = L(t_e)/t_e, fli = max_{t_k <= t_e}
+    L(t_k), fli_half as usual, growth_exponent = (fli(t_e) - fli_half)/ln 2 (a lower bound of its full-T value:
+    the running maximum never decreases, so its class at any threshold <= exit_above is the full run's), the
+    conservation maxima over [0, t_e], and exit_time = t_e; every other orbit's numbers are bit for bit those of
+    exit_above=None (each orbit has its own lane, time and start tangent vector; tests/test_early_exit.py)."""
     t_max = float(t_max)
     x0, w0, pars = (np.atleast_2d(np.asarray(a, float)) for a in (x0, w0, pars))
     n, N = x0.shape
@@ -131,6 +149,16 @@ def tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=DEFAULT_RENORM_DT, 
     out = {k: np.full(N, np.nan) for k in _KEYS}
     status = np.where(valid, OK, FAILED).astype(np.int8)
     nsteps, dt = _steps(t_max, renorm_dt)
+    if exit_above is not None:
+        if history:
+            raise ValueError("history is not recorded with an early exit (orbits end at different times)")
+        t_exit = np.full(N, np.nan)
+        _run_lanes(ta, x0, w0, pars, valid, nsteps, dt, project, check, float(exit_above), out, status, t_exit)
+        bad = status != OK
+        for key in out:
+            out[key][bad] = np.nan
+        t_exit[bad] = np.nan
+        return Indicators(**out, status=status, t_max=t_max, renorm_dt=dt, exit_time=t_exit)
     hist = np.full((N, nsteps), np.nan) if history else None
     for s in range(0, N, b):
         idx = np.arange(s, min(s + b, N))
@@ -218,6 +246,113 @@ def _run_batch(ta, x, w, p, nsteps, dt, project, check, history=False) -> dict:
             "history": hist}
 
 
+def _run_lanes(ta, x0, w0, pars, valid, nsteps, dt, project, check, exit_above, out, status, t_exit) -> None:
+    """The early-exit loop of tangent_indicators: the valid orbits in order through the b lanes, a lane refilled
+    as soon as its orbit ends (at T, failed, out of range, or exited); fills out, status and t_exit in place.
+
+    Each propagate call moves every busy lane by one renormalisation interval of its own (time reset per lane with
+    set_dtime, targets k dt as in _run_batch); parked lanes (no work left) sit at time 0 with target 0.  Per lane,
+    the arithmetic is _run_batch's: the same start normalisation, compiled calls and projection over the b lanes'
+    columns (a column's value does not depend on its neighbours), the same order of the status updates."""
+    n, N = x0.shape
+    b = ta.batch_size
+    todo = [int(i) for i in np.flatnonzero(valid)]
+    if not todo:
+        return
+    jobs = np.full(b, -1)              # the orbit in each lane (-1: parked)
+    k = np.zeros(b, np.int64)          # renormalisations done in the lane
+    xs0 = np.repeat(x0[:, todo[:1]], b, axis=1)   # each lane's start (a parked lane keeps a valid one)
+    ws0 = np.repeat(w0[:, todo[:1]], b, axis=1)
+    p = np.repeat(pars[:, todo[:1]], b, axis=1)
+    L, fli, fli_half = np.zeros(b), np.zeros(b), np.zeros(b)
+    st_l = np.zeros(b, np.int8)
+    drift = np.full((3, b), -np.inf)
+    target = np.zeros(b)
+    nxt = 0
+    T = nsteps * dt
+
+    def start(lanes):
+        """Put the next orbits into `lanes` (or park them): start values, normalised w0, time 0, checker."""
+        nonlocal nxt, chk, wn0
+        for j in lanes:
+            if nxt < len(todo):
+                i = todo[nxt]
+                nxt += 1
+                jobs[j] = i
+                xs0[:, j], ws0[:, j], p[:, j] = x0[:, i], w0[:, i], pars[:, i]
+            else:
+                jobs[j] = -1
+            k[j] = 0
+            L[j] = fli[j] = fli_half[j] = 0.0
+            st_l[j] = OK
+            drift[:, j] = -np.inf
+        wn0, _ = _normalise(xs0, ws0, p, project)  # over all b columns, as _run_batch does per batch
+        chk = None if check is None else check(xs0, p)
+        hi, lo = (np.array(a) for a in ta.dtime)
+        hi[lanes] = lo[lanes] = 0.0
+        ta.set_dtime(hi, lo)
+        ta.pars[:] = p
+        st = np.array(ta.state)
+        st[:n, lanes], st[n:, lanes] = xs0[:, lanes], wn0[:, lanes]
+        ta.state[:] = st
+
+    chk = wn0 = None
+    start(list(range(b)))
+    fused = isinstance(chk, _BodyCheck) and project is project_neutral  # as in _run_batch
+    tv = ta.time
+    while (jobs >= 0).any():
+        busy = jobs >= 0
+        target[:] = np.where(busy, (k + 1) * dt, 0.0)
+        ta.propagate_until(target)
+        k[busy] += 1
+        st = np.array(ta.state)
+        failed = busy & ((tv != target) | ~np.all(np.isfinite(st), axis=0))
+        xs, ws = st[:n], st[n:]
+        if failed.any():  # back to the start, so the batched numpy below sees finite numbers; results discarded
+            xs[:, failed], ws[:, failed] = xs0[:, failed], wn0[:, failed]
+        if fused:
+            vals = systems.body_renorm_functions()(xs, p)
+            in_range, d = chk.judge(vals[0], vals[1:4], vals[4])
+            drift = np.maximum(drift, d)
+            st_l[(st_l == OK) & ~in_range] = LEFT_RANGE
+            wk = _project(vals[5:], xs, ws)
+            nrm = np.linalg.norm(wk, axis=0)
+            wk = wk / nrm
+        else:
+            if chk is not None:
+                in_range, d = chk(xs, p)
+                drift = np.maximum(drift, d)
+                st_l[(st_l == OK) & ~in_range] = LEFT_RANGE
+            wk, nrm = _normalise(xs, ws, p, project)
+        st_l[(st_l == OK) & failed] = FAILED
+        st[n:] = wk
+        ta.state[:] = st
+        L[busy] += np.log(nrm[busy])
+        fli[busy] = np.maximum(fli[busy], L[busy])
+        half = busy & (2 * k == nsteps)
+        fli_half[half] = fli[half]
+        with np.errstate(invalid="ignore"):
+            growth = (fli - fli_half) / math.log(2.0)
+        ended = busy & ((k == nsteps) | (st_l != OK) | ((2 * k >= nsteps) & (growth > exit_above)))
+        if not ended.any():
+            continue
+        lanes = [int(j) for j in np.flatnonzero(ended)]
+        for j in lanes:
+            i = jobs[j]
+            full = k[j] == nsteps
+            t_e = T if full else k[j] * dt
+            out["lyap"][i] = L[j] / T if full else L[j] / t_e
+            out["fli"][i], out["fli_half"][i], out["growth_exponent"][i] = fli[j], fli_half[j], growth[j]
+            if check is None:
+                out["max_abs_dH"][i] = out["casimir_drift"][i] = out["min_stretch"][i] = np.nan
+            else:
+                out["max_abs_dH"][i], out["casimir_drift"][i], out["min_stretch"][i] = drift[0, j], drift[1, j], \
+                    -drift[2, j]
+            status[i] = st_l[j]
+            t_exit[i] = t_e
+        start(lanes)
+
+
 def generic_w0(n: int, N: int) -> np.ndarray:
     """The fixed generic start direction (seeded Gaussian, unit norm), repeated for N orbits: (n, N)."""
     v = np.random.default_rng(_W0_SEED).standard_normal(n)
@@ -287,7 +422,7 @@ def body_check(x0, p) -> _BodyCheck:
 
 
 def body_indicators(x0, pars, *, t_max, tol=None, renorm_dt=DEFAULT_RENORM_DT, project=True, batch_size=None,
-                    w0=None, valid=None, history=False) -> Indicators:
+                    w0=None, valid=None, history=False, exit_above=None) -> Indicators:
     """Indicators of body-frame orbits x0 (9, N) with parameters pars (5, N) in PARAMS order.
 
     Defaults: tol None = machine epsilon, renorm_dt 10, project onto the invariant level set (module docstring),
@@ -305,7 +440,7 @@ def body_indicators(x0, pars, *, t_max, tol=None, renorm_dt=DEFAULT_RENORM_DT, p
     # each batch's checker holds its own (padded) lanes' start values of H and the Casimirs (tangent_indicators)
     return tangent_indicators(ta, x0, w0, pars, t_max=t_max, renorm_dt=renorm_dt,
                               project=project_neutral if project else None, check=body_check, valid=valid,
-                              history=history)
+                              history=history, exit_above=exit_above)
 
 
 # ----------------------------------------------------------------------------------------------------------

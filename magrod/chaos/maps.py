@@ -18,9 +18,9 @@ from ..core.deprecation import deprecated_alias
 from ..core.results import Result
 from ..core.tolerances import DRIFT_LIMIT
 from ..generated.names import BODY_STATE, PARAMS
-from .fields import BY_NAME, MAP_EXTRA_FIELDS
-from .indicators import (_KEYS, DEFAULT_RENORM_DT, FAILED, GROWTH_THRESHOLD, NO_ROOT, OK, REASONS, UNPHYSICAL,
-                         body_indicators)
+from .fields import BY_NAME, EXIT_FIELDS, MAP_EXTRA_FIELDS
+from .indicators import (_KEYS, DEFAULT_RENORM_DT, EXIT_MARGIN, FAILED, GROWTH_THRESHOLD, NO_ROOT, OK, REASONS,
+                         UNPHYSICAL, body_indicators)
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -130,6 +130,7 @@ class MapSpec:
     refine: int = 0
     refine_bound: float | None = None
     refine_threshold: float = GROWTH_THRESHOLD
+    early_exit: bool = False
 
     def __post_init__(self):
         if self.x.name == self.y.name:
@@ -158,6 +159,7 @@ class MapSpec:
         _check_theta0(self)
         _check_some_point_physical(self)
         _check_refine(self)
+        _check_early_exit(self)
         if not self.batch_size:
             object.__setattr__(self, "batch_size", systems.batch_width())
 
@@ -173,7 +175,17 @@ class MapSpec:
         if not self.refine:  # a brute-force map's dict (and so its store identity) is what it was before issue 28
             for k in REFINE_KEYS:
                 d.pop(k)
+        if not self.early_exit:  # likewise without early exit
+            d.pop("early_exit")
         return d
+
+    @property
+    def exit_above(self) -> float | None:
+        """The growth exponent above which an orbit stops early (None: no early exit): the map's classification
+        threshold (refine_threshold, GROWTH_THRESHOLD for a brute-force map) + indicators.EXIT_MARGIN."""
+        if not self.early_exit:
+            return None
+        return (self.refine_threshold if self.refine else GROWTH_THRESHOLD) + EXIT_MARGIN
 
     @classmethod
     def from_dict(cls, d: dict) -> "MapSpec":
@@ -208,6 +220,17 @@ def _check_refine(spec: "MapSpec") -> None:
     if not spec.refine and (spec.refine_bound is not None or spec.refine_threshold != GROWTH_THRESHOLD):
         raise ParameterError("refine_bound" if spec.refine_bound is not None else "refine_threshold",
                              "applies to a refined map only: give refine = a number of levels")
+
+
+def _check_early_exit(spec: "MapSpec") -> None:
+    """early_exit a bool; not with refine_bound (that compares growth exponents, which an exit makes lower
+    bounds; the classes an exit keeps are the ones below its level, magrod.chaos.indicators)."""
+    if not isinstance(spec.early_exit, (bool, np.bool_)):
+        raise ParameterError("early_exit", f"must be True or False, got {spec.early_exit!r}")
+    object.__setattr__(spec, "early_exit", bool(spec.early_exit))
+    if spec.early_exit and spec.refine_bound is not None:
+        raise ParameterError("early_exit", "not with refine_bound: an early exit leaves a chaotic orbit's growth "
+                                           "exponent a lower bound, and refine_bound compares their spread")
 
 
 def _check_theta0(spec: "MapSpec") -> None:
@@ -328,6 +351,7 @@ def tile_of(spec: MapSpec, key: str) -> Tile:
 
 
 MAP_FIELDS = _KEYS + tuple(f.name for f in MAP_EXTRA_FIELDS)
+EARLY_EXIT_FIELDS = tuple(f.name for f in EXIT_FIELDS)  # what a map with early exit adds ("exit_time")
 
 
 def compute_tile(spec: MapSpec, tile: Tile) -> dict:
@@ -341,11 +365,14 @@ def compute_tile(spec: MapSpec, tile: Tile) -> dict:
     p = np.array([s[1] for s in starts]).T
     st0 = np.array([s[2] for s in starts], np.int8)
     ind = body_indicators(np.nan_to_num(x0), np.nan_to_num(p, nan=1.0), t_max=spec.t_max, tol=spec.tol or None,
-                          renorm_dt=spec.renorm_dt, batch_size=spec.batch_size, valid=st0 == OK)
+                          renorm_dt=spec.renorm_dt, batch_size=spec.batch_size, valid=st0 == OK,
+                          exit_above=spec.exit_above)
     shape = (len(iys), len(ixs))
     out = {k: getattr(ind, k).reshape(shape) for k in _KEYS}
     out["p_psi0"] = np.array([s[3] for s in starts]).reshape(shape)
     out["status"] = np.where(st0 == OK, ind.status, st0).astype(np.int8).reshape(shape)
+    if spec.early_exit:
+        out["exit_time"] = ind.exit_time.reshape(shape)
     return out
 
 
@@ -362,10 +389,13 @@ def compute_points(spec: MapSpec, iy, ix) -> dict:
     p = np.array([s[1] for s in starts]).T.reshape(len(PARAMS), -1)
     st0 = np.array([s[2] for s in starts], np.int8)
     ind = body_indicators(np.nan_to_num(x0), np.nan_to_num(p, nan=1.0), t_max=spec.t_max, tol=spec.tol or None,
-                          renorm_dt=spec.renorm_dt, batch_size=spec.batch_size, valid=st0 == OK)
+                          renorm_dt=spec.renorm_dt, batch_size=spec.batch_size, valid=st0 == OK,
+                          exit_above=spec.exit_above)
     out = {k: np.asarray(getattr(ind, k), float) for k in _KEYS}
     out["p_psi0"] = np.array([s[3] for s in starts], float)
     out["status"] = np.where(st0 == OK, ind.status, st0).astype(np.int8)
+    if spec.early_exit:
+        out["exit_time"] = np.asarray(ind.exit_time, float)
     return out
 
 
@@ -539,7 +569,19 @@ def map_summary(spec: MapSpec, fields: dict, wall_s: float, threshold=GROWTH_THR
             "max_casimir_drift": float(np.max(np.asarray(fields["casimir_drift"])[ok])) if n_ok else None,
             "fraction_compressed": float((np.asarray(fields["min_stretch"])[ok] <= 0).mean()) if n_ok else None,
             "t_max": spec.t_max, "wall_s": wall_s, "orbits_per_s": st.size / wall_s if wall_s > 0 else None,
-            **_refined_summary(spec, fields, wall_s)}
+            **_refined_summary(spec, fields, wall_s), **_exit_summary(spec, fields)}
+
+
+def _exit_summary(spec: MapSpec, fields: dict) -> dict:
+    """What an early-exit map adds to its summary: the exit level, how many orbits stopped before T, and the
+    integrated time as a fraction of the full T per computed orbit (nothing without early exit)."""
+    if "exit_time" not in fields:
+        return {}
+    te = np.asarray(fields["exit_time"])
+    run = np.isfinite(te)
+    return {"early_exit": {"exit_above": spec.exit_above, "orbits_exited": int((te[run] < spec.t_max).sum()),
+                           "orbits_run": int(run.sum()),
+                           "time_fraction": float(te[run].sum() / (run.sum() * spec.t_max)) if run.any() else None}}
 
 
 def _refined_summary(spec: MapSpec, fields: dict, wall_s: float) -> dict:
@@ -557,7 +599,7 @@ def _refined_summary(spec: MapSpec, fields: dict, wall_s: float) -> dict:
 
 
 def empty_fields(spec: MapSpec) -> dict:
-    f = {k: np.full(spec.shape, np.nan) for k in MAP_FIELDS}
+    f = {k: np.full(spec.shape, np.nan) for k in MAP_FIELDS + (EARLY_EXIT_FIELDS if spec.early_exit else ())}
     f["status"] = np.full(spec.shape, FAILED, np.int8)
     return f
 
@@ -611,8 +653,8 @@ def _tile_task(spec_dict: dict, tile_key: str) -> dict:
 
 
 def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_dt=DEFAULT_RENORM_DT,
-              root="smallest", tile=DEFAULT_TILE, refine=0, refine_bound=None, client=None, progress=None,
-              model=None, **values) -> ChaosMap:
+              root="smallest", tile=DEFAULT_TILE, refine=0, refine_bound=None, early_exit=False, client=None,
+              progress=None, model=None, **values) -> ChaosMap:
     """Chaos indicators over a plane of two parameters or start values, around a paper panel.
 
     Parameters
@@ -634,6 +676,11 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
         points are inferred from their cell and flagged in the fields "inferred" (1) and "level" (-1).
     refine_bound : float, optional
         With `refine`: also split a cell of regular or chaotic points whose growth exponents span more than this.
+    early_exit : bool
+        False (default): every orbit runs for T.  True: an orbit stops at the first sample time t_e >= T/2 at
+        which its growth exponent so far exceeds the classification threshold + EXIT_MARGIN (MapSpec.exit_above),
+        and the field "exit_time" records t_e (T for an orbit that ran to the end).  No class changes (see Notes);
+        an exited orbit's growth_exponent is a lower bound, its lyap L(t_e)/t_e.  Not with refine_bound.
     client : dask.distributed.Client, optional
         Run the tiles on this cluster (the workers need magrod installed); None: in this process.
     progress : callable, optional
@@ -650,7 +697,8 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     -------
     ChaosMap
         fields (ny, nx) of lyap, fli, fli_half, growth_exponent, max_abs_dH, casimir_drift, min_stretch, p_psi0,
-        status (and, refined, inferred and level); `summary()`, `to_xarray()`, `plot()`.
+        status (and, refined, inferred and level; with early_exit, exit_time); `summary()`, `to_xarray()`,
+        `plot()`.
 
     Raises
     ------
@@ -678,19 +726,36 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     magrod.store.resumable; `magrod chaosmap --out DIR` is that).
 
     The default tolerance stays machine epsilon, by the work-precision study of the classification
-    (benchmarks/classification_precision.py, benchmarks/README.md "Issue 28"): on the 64 x 64 map lam x gamma =
-    [0, 0.3] x [0, 3] at T = 1000, tol = 1e-12 and 1e-10 classify every one of the 2700 computed points as
-    tol = eps does, and tol = 1e-8 as well on the 2691 points it keeps -- but it loses 9 points (0.3 %) to
-    left_physical_range, because its energy error exceeds the map's conservation budget DRIFT_LIMIT = 1e-8, the
-    check that makes a computed point trustworthy.  So a looser tolerance does not change the answer, and the
-    saving is at most the integration's share of a point's cost (issue 18: tol = 1e-10 halves the cost of an
-    exponent); tol = 1e-10 is a sound choice for a large exploratory map, while the default keeps every existing
-    store's identity and the numbers of REPORT.md (its map runs at the default).
+    (benchmarks/classification_precision.py, benchmarks/README.md "Issue 28"; numerical evidence, two machines, the
+    map lam x gamma = [0, 0.3] x [0, 3] at Figure 4's start rule):
+    * 128 x 128, T = 1000, against the brute-force tol = eps map: the brute-force maps at 1e-12 and 1e-10 have the
+      same class and status at all 10857 physical points, the one at 1e-8 misclassifies none of the 10813 it
+      keeps and loses 44 (0.4 %); refined maps (L = 3, whose computed points are the
+      brute-force map's bit for bit and sit at the class boundaries) at 1e-12 and 1e-10 misclassify none of their
+      1606 computed points; 1e-8 misclassifies none but loses 42 of 2172 (1.9 %) to left_physical_range: its
+      energy error exceeds the conservation budget DRIFT_LIMIT = 1e-8, the check that makes a point trustworthy.
+    * 128 x 128, T = 3000, against the brute-force tol = eps map: brute force at 1e-12 changes nothing, at 1e-10
+      one point of 10857 crosses the threshold (0.009 %, a sticky orbit at the boundary), at 1e-8 none of the 6055
+      points it keeps does, but it loses 4802 (44 %) to the conservation budget.
+    * 64 x 64 brute force, T = 1000 and 3000: 1e-12 and 1e-10 misclassify none of 2700 points; 1e-8 loses 0.3 %
+      (T = 1000) and 45 % (T = 3000) of them.
+    So a looser tolerance barely changes the answer (1e-12: not at all here), its gain is bounded by the
+    integration's share of a point's cost (an orbit at 1e-10 / 1e-12 costs ~0.3-0.4x the one at eps, in-process),
+    and 1e-8 breaks the conservation budget.  The default keeps every existing store's identity and REPORT.md's
+    map; tol = 1e-10 is a sound choice for a large exploratory map (measured: 0 and 1 points of 10857 classified
+    differently at T = 1000 and 3000).
 
     A refined map (`refine` = L) computes each point it computes exactly as the brute-force map does (the same
     bits), in rounds (one Dask wave each); what it can miss is an island of another class inside one coarse cell
     that touches none of the cell's computed points (magrod.chaos.refine).  benchmarks/refine_vs_brute.py measures
     its agreement with and its cost against the brute-force map.
+
+    Early exit (`early_exit=True`) stops an orbit only after T/2, once (FLI(t_e) - FLI(T/2))/ln 2 exceeds the exit
+    level; FLI(t) is a running maximum and never decreases, so the orbit's growth exponent at T is at least that
+    value, and its class at any threshold up to the exit level is the one the full run gives (by the definition,
+    not by a numerical comparison).  The lanes of the SIMD batch are refilled as orbits end, so the time saved is
+    real: at most half of each chaotic orbit's T, nothing on regular ones (benchmarks/README.md, "early exit").
+    Every orbit that does not exit has the brute-force map's numbers bit for bit (tests/test_early_exit.py).
     """
     if model is not None:  # issue 26: the model family
         from .model_chaos import model_chaos_map
@@ -703,13 +768,13 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
         check_cost(x, _n_workers(client))
         return compute_map(x, progress=progress, client=client)
     spec = map_spec(x, y, panel=panel, t_max=t_max, tol=tol, renorm_dt=renorm_dt, root=root, tile=tile,
-                    refine=refine, refine_bound=refine_bound, **values)
+                    refine=refine, refine_bound=refine_bound, early_exit=early_exit, **values)
     check_cost(spec, _n_workers(client))
     return compute_map(spec, progress=progress, client=client)
 
 
 def map_spec(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_dt=DEFAULT_RENORM_DT,
-             root="smallest", tile=DEFAULT_TILE, refine=0, refine_bound=None, **values) -> MapSpec:
+             root="smallest", tile=DEFAULT_TILE, refine=0, refine_bound=None, early_exit=False, **values) -> MapSpec:
     """The MapSpec `chaos_map` computes (same arguments, validated the same way; a MapSpec given as x alone is
     returned as it is): for a stored map (magrod.store.resumable) or to inspect a map's grid and cost first."""
     if isinstance(x, MapSpec):
@@ -727,7 +792,7 @@ def map_spec(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_dt
             raise ParameterError(k, f"is varied on the {'x' if k == ax.name else 'y'} axis: do not also fix it")
         base[k] = require_finite(k, v, MAX_MAGNITUDE)
     return MapSpec(ax, ay, base=base, panel=panel, root=root, t_max=t_max, tol=tol, renorm_dt=renorm_dt, tile=tile,
-                   refine=refine, refine_bound=refine_bound)
+                   refine=refine, refine_bound=refine_bound, early_exit=early_exit)
 
 
 def _n_workers(client) -> int:
@@ -774,7 +839,12 @@ def coord_attrs(name: str) -> dict:
 
 def dataset_attrs(spec) -> dict:
     """The global attributes that describe a map (not its store's identity or the versions that wrote it)."""
-    return {"title": "magrod chaos map (Sinden & van der Heijden, spatial chaos of a conducting rod)",
+    return {**({"early_exit": f"orbits stop at the first sample time t_e >= T/2 with (FLI(t_e) - FLI(T/2))/ln 2 > "
+                              f"{spec.exit_above:g} (exit_time): their lyap is L(t_e)/t_e, fli, max_abs_dH, "
+                              f"casimir_drift and min_stretch are over t <= t_e, growth_exponent is a lower bound "
+                              f"of its value at T (classes at thresholds <= {spec.exit_above:g} unchanged)"}
+               if getattr(spec, "early_exit", False) else {}),
+            "title": "magrod chaos map (Sinden & van der Heijden, spatial chaos of a conducting rod)",
             "criterion": f"chaotic iff growth_exponent > {GROWTH_THRESHOLD:g}",
             "tolerance": "machine epsilon" if not spec.tol else repr(spec.tol),
             "formulation": "body (9-D, generated/body.py)",

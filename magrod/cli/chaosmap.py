@@ -44,6 +44,9 @@ def add_arguments(p):
                         "flagged (store arrays 'inferred', 'level'); 0 = every point, brute force")
     p.add_argument("--refine-bound", default=None,
                    help="with --refine: also split a cell whose growth exponents span more than this")
+    p.add_argument("--early-exit", action="store_true",
+                   help="stop an orbit after T/2 once its growth exponent passes the threshold with a margin (no class "
+                        "changes; store array 'exit_time'); default: every orbit runs for T")
     p.add_argument("--workers", default=None,
                    help="LocalCluster worker processes (1 thread and ~300 MB each; default 2, at most the CPUs "
                         "this process may use)")
@@ -119,10 +122,15 @@ def spec_from_args(args):
     refine = integer("refine", args.refine, minimum=0, maximum=MAX_LEVELS) if args.refine != "0" else 0
     bound = None if args.refine_bound is None else number("refine_bound", args.refine_bound)
     threshold = number("threshold", args.threshold)
-    return MapSpec(x, y, base=base, panel=str(args.panel).lower(), root=args.root,
+    spec = MapSpec(x, y, base=base, panel=str(args.panel).lower(), root=args.root,
                    t_max=number("t_max", args.t_max, bound=1e7), tol=number("tol", args.tol, bound=1.0),
                    renorm_dt=number("renorm_dt", args.renorm_dt), tile=integer("tile", args.tile, maximum=1024),
-                   refine=refine, refine_bound=bound, **({"refine_threshold": threshold} if refine else {}))
+                   refine=refine, refine_bound=bound, early_exit=bool(getattr(args, "early_exit", False)),
+                   **({"refine_threshold": threshold} if refine else {}))
+    if spec.early_exit and threshold > spec.exit_above:  # an exited orbit's growth exponent is a lower bound
+        raise ParameterError("threshold", f"with --early-exit at most the exit level {spec.exit_above:g} (orbits "
+                                          f"stop once their growth exponent passes it), got {threshold:g}")
+    return spec
 
 
 def _cluster_from_args(args):

@@ -85,6 +85,9 @@ def stored_map(spec: maps.MapSpec, out, *, stem: str = "chaosmap", workers: int 
     from ..core.io import DirectoryLock, check_out_path, check_stem, ensure_writable_dir
 
     name = check_stem(stem)
+    if spec.refine and spec.early_exit:
+        raise ParameterError("early_exit", "a refined map in a store does not keep exit times yet: give refine or "
+                                           "early_exit, not both (in memory both work)")
     out = check_out_path(out, "out").absolute()  # workers may run elsewhere: they get the absolute path
 
     pth = _tiles.paths(out, name)

@@ -55,13 +55,16 @@ from .cluster import check_cluster, close_quietly, connect, start_local_cluster,
 
 STORE_FORMAT = 2  # 1: markers without hashes (before issue 17)
 FIELDS = tuple(maps.MAP_FIELDS) + ("status",)  # the order of the content hash
-ALL_FIELDS = FIELDS + maps.REFINE_FIELDS  # every array a store may hold (what starting over may remove)
+_REFINED = FIELDS + maps.REFINE_FIELDS  # the arrays of a refined store
+# every array a store may hold (what starting over may remove), in the order of the content hash
+ALL_FIELDS = _REFINED + maps.EARLY_EXIT_FIELDS
 
 
 def names_of(spec: maps.MapSpec) -> tuple:
-    """The arrays of this map's store, in the order of the content hash: FIELDS, and for a refined map (issue 28)
-    "inferred" and "level" after them (a brute-force store is what it was before)."""
-    return ALL_FIELDS if spec.refine else FIELDS
+    """The arrays of this map's store, in the order of the content hash: FIELDS, for a refined map (issue 28)
+    "inferred" and "level" after them, for a map with early exit "exit_time" (a brute-force store without early
+    exit is what it was before)."""
+    return FIELDS + (maps.REFINE_FIELDS if spec.refine else ()) + (maps.EARLY_EXIT_FIELDS if spec.early_exit else ())
 
 
 # the CF attributes (units, long names, status flags) are defined once, in maps.py (ChaosMap.to_xarray uses them)
@@ -267,6 +270,8 @@ def _write_skeleton(spec: maps.MapSpec, ident: str, target: Path) -> None:
     if spec.refine:  # issue 28: which points were computed, and in which round
         data["inferred"] = (dims, da.full(spec.shape, 0, dtype=np.int8, chunks=chunks), variable_attrs("inferred"))
         data["level"] = (dims, da.full(spec.shape, -1, dtype=np.int8, chunks=chunks), variable_attrs("level"))
+    for k in maps.EARLY_EXIT_FIELDS if spec.early_exit else ():  # issue 28: the time an orbit stopped
+        data[k] = (dims, da.full(spec.shape, np.nan, chunks=chunks), variable_attrs(k))
     coords = {spec.x.name: (spec.x.name, spec.x.values(), coord_attrs(spec.x.name)),
               spec.y.name: (spec.y.name, spec.y.values(), coord_attrs(spec.y.name))}
     ds = xr.Dataset(data, coords=coords, attrs={
@@ -537,7 +542,7 @@ def write_tile(store: Path, tiles_dir: Path, tile: maps.Tile, fields: dict, wall
         raise EnvironmentFault("out", f"the store at {str(store)!r} on this worker is another map: the workers need "
                                       f"the same --out path as the client (a shared filesystem)")
     fields = _store_dtypes(fields)
-    names = ALL_FIELDS if "inferred" in fields else FIELDS
+    names = tuple(k for k in ALL_FIELDS if k in fields)  # = names_of(spec): the fields a tile of this map has
     for k in names:
         g[k][tile.ys, tile.xs] = fields[k]
     digest = tile_hash(fields, names)
@@ -616,7 +621,7 @@ def _write_part(spec, rnd, tile_key, iy, ix, vals, wall, store, tiles_dir, ident
     tile = maps.tile_of(spec, tile_key)
     try:
         g = zarr.open_group(str(store), mode="r")
-        cur = {k: np.array(g[k][tile.ys, tile.xs]) for k in ALL_FIELDS}
+        cur = {k: np.array(g[k][tile.ys, tile.xs]) for k in _REFINED}
     except Exception:  # noqa: BLE001 - a damaged chunk: write_tile below says so if the store itself is missing
         cur = _empty_tile(spec, tile)
     ly, lx = np.asarray(iy) - tile.ys.start, np.asarray(ix) - tile.xs.start
@@ -625,10 +630,10 @@ def _write_part(spec, rnd, tile_key, iy, ix, vals, wall, store, tiles_dir, ident
     cur["level"][ly, lx] = rnd
     cur["inferred"][ly, lx] = 0
     digest = write_tile(Path(store), Path(tiles_dir), tile, cur, wall, ident, marker=False)
-    pts = _store_dtypes({k: cur[k][ly, lx] for k in ALL_FIELDS})
+    pts = _store_dtypes({k: cur[k][ly, lx] for k in _REFINED})
     atomic_write_json(_round_marker(tiles_dir, rnd, tile_key), {
         "tile": tile_key, "round": rnd, "identity": ident, "points": len(iy),
-        "sha256": points_hash(pts, iy, ix, ALL_FIELDS), "wall_s": wall})
+        "sha256": points_hash(pts, iy, ix, _REFINED), "wall_s": wall})
     return tile_key, wall, digest
 
 
@@ -641,7 +646,7 @@ def _load_tolerant(spec: maps.MapSpec, store: Path) -> dict:
         g = zarr.open_group(str(store), mode="r")
     except Exception:  # noqa: BLE001 - nothing readable: every round is recomputed
         g = None
-    for k in ALL_FIELDS:
+    for k in _REFINED:
         try:
             out[k] = np.array(g[k][...])
             continue
@@ -699,7 +704,7 @@ def run_refined(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, 
                 m = _read_json(_round_marker(tiles_dir, rnd, key))
                 ok = (isinstance(m, dict) and m.get("identity") == state.identity and m.get("tile") == key
                       and m.get("round") == rnd and m.get("sha256") == points_hash(
-                          _store_dtypes({k: fields[k][gy, gx] for k in ALL_FIELDS}), gy, gx, ALL_FIELDS))
+                          _store_dtypes({k: fields[k][gy, gx] for k in _REFINED}), gy, gx, _REFINED))
                 if ok:
                     res["skipped"].append(f"r{rnd}_{key}")
                     continue
@@ -725,7 +730,7 @@ def run_refined(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, 
                 g = zarr.open_group(str(store), mode="r")
                 for key in part["computed"]:
                     t = maps.tile_of(spec, key)
-                    for k in ALL_FIELDS:
+                    for k in _REFINED:
                         fields[k][t.ys, t.xs] = np.asarray(g[k][t.ys, t.xs])
                     res["points_computed"] += int(groups[key][0].size)
                 res["computed"] += [f"r{rnd}_{k}" for k in part["computed"]]
@@ -738,7 +743,7 @@ def run_refined(spec: maps.MapSpec, store: Path, tiles_dir: Path, *, workers=2, 
         final = maps.finish_refined(ref, {k: fields[k] for k in FIELDS})
         for t in all_tiles:  # the inferred points, and each tile's final marker (client side: I/O only)
             if t.key not in state.done:
-                write_tile(store, tiles_dir, t, {k: final[k][t.ys, t.xs] for k in ALL_FIELDS}, 0.0, state.identity)
+                write_tile(store, tiles_dir, t, {k: final[k][t.ys, t.xs] for k in _REFINED}, 0.0, state.identity)
                 state.done.add(t.key)
     except BaseException:
         interrupted = True
