@@ -728,6 +728,7 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     The default tolerance stays machine epsilon, by the work-precision study of the classification
     (benchmarks/classification_precision.py, benchmarks/README.md "Issue 28"; numerical evidence, two machines, the
     map lam x gamma = [0, 0.3] x [0, 3] at Figure 4's start rule):
+
     * 128 x 128, T = 1000, against the brute-force tol = eps map: the brute-force maps at 1e-12 and 1e-10 have the
       same class and status at all 10857 physical points, the one at 1e-8 misclassifies none of the 10813 it
       keeps and loses 44 (0.4 %); refined maps (L = 3, whose computed points are the
@@ -739,6 +740,7 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
       points it keeps does, but it loses 4802 (44 %) to the conservation budget.
     * 64 x 64 brute force, T = 1000 and 3000: 1e-12 and 1e-10 misclassify none of 2700 points; 1e-8 loses 0.3 %
       (T = 1000) and 45 % (T = 3000) of them.
+
     So a looser tolerance barely changes the answer (1e-12: not at all here), its gain is bounded by the
     integration's share of a point's cost (an orbit at 1e-10 / 1e-12 costs ~0.3-0.4x the one at eps, in-process),
     and 1e-8 breaks the conservation budget.  The default keeps every existing store's identity and REPORT.md's
