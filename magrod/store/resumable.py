@@ -20,6 +20,7 @@ worker killed, out of memory, the scheduler lost, a full disk) is an Environment
 """
 from __future__ import annotations
 
+import contextlib
 import inspect
 import json
 import time
@@ -29,12 +30,6 @@ from ..chaos import maps
 from ..core.errors import EnvironmentFault, MagrodWarning, ParameterError
 from . import cluster as _cluster
 from . import tiles as _tiles
-
-
-def _nothing():
-    import contextlib
-
-    return contextlib.nullcontext()
 
 
 def stored_map(spec: maps.MapSpec, out, *, stem: str = "chaosmap", workers: int | None = None,
@@ -99,7 +94,7 @@ def stored_map(spec: maps.MapSpec, out, *, stem: str = "chaosmap", workers: int 
         maps.check_cost(spec, workers)
         _cluster.check_open_files(workers)
         _cluster.check_address_space()
-    guard = start_guard or _nothing
+    guard = start_guard or contextlib.nullcontext
     cluster = None
     own_client = client is None
     pids: list = []
