@@ -10,7 +10,6 @@ function that needs them is first used (PEP 562 module ``__getattr__``).
 """
 from __future__ import annotations
 
-import importlib
 import importlib.util
 import sys
 from pathlib import Path
@@ -39,6 +38,8 @@ def _source_checkout() -> None:
 
 
 _source_checkout()
+
+from .core.lazy import namespace  # noqa: E402  (after the checkout's generated/ is importable)
 
 # public name -> module that defines it (relative to magrod); imported on first attribute access
 _API = {
@@ -74,16 +75,5 @@ _API = {
     "explore": "explorer",
 }
 
-__all__ = sorted(_API)
-
-
-def __getattr__(name: str):
-    if name in _API:
-        value = getattr(importlib.import_module(f"{__name__}.{_API[name]}"), name)
-        globals()[name] = value  # later lookups skip __getattr__
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__, __all__ = namespace(__name__, _API)
+del namespace

@@ -16,7 +16,7 @@ import logging
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from ..chaos.fields import MAPPABLE
+from ..chaos import MAPPABLE
 from .options import PARAM_HELP, ROOT_HELP, START_HELP, integer, number, out_dir, stem
 
 _OVERRIDES = (*PARAMS, "h", "theta0", "ptheta0", "psi0")
@@ -99,7 +99,7 @@ class quiet_distributed:
 
 def spec_from_args(args):
     """Validate everything and build the MapSpec; raises ParameterError before anything is written."""
-    from ..chaos.maps import MapSpec, panel_base, parse_axis
+    from ..chaos import MapSpec, panel_base, parse_axis
     from ..core.printed import panel
 
     x, y = parse_axis("x", args.x), parse_axis("y", args.y)
@@ -117,7 +117,7 @@ def spec_from_args(args):
                                            f"{(x if axis == 'x' else y).lo:g} to {(x if axis == 'x' else y).hi:g}): "
                                            f"do not also fix it")
             base[name] = number(name, v)
-    from ..chaos.refine import MAX_LEVELS
+    from ..chaos import MAX_LEVELS
 
     refine = integer("refine", args.refine, minimum=0, maximum=MAX_LEVELS) if args.refine != "0" else 0
     bound = None if args.refine_bound is None else number("refine_bound", args.refine_bound)

@@ -44,19 +44,19 @@ def run(args) -> dict:
     if args.integrals:
         if args.rederive or args.all:
             raise ParameterError("integrals", "searches first integrals: do not combine it with --rederive or --all")
-        from ..integrability.first_integrals import DEFAULT_SEED, MAX_DEGREE
+        from ..integrability import DEFAULT_SEED, MAX_DEGREE
 
         degree = options.integer("degree", "4" if args.degree is None else args.degree, 1, MAX_DEGREE)
         seed = options.integer("seed", DEFAULT_SEED if args.seed is None else args.seed, 0, 2**62)
         if args.subs is not None and not args.subs.strip():
             raise ParameterError("subs", "is empty")
-        from ..integrability.first_integrals import first_integral_search
+        from ..integrability import first_integral_search
 
         return first_integral_search(degree, args.subs, seed=seed).to_dict()
     if args.degree is not None or args.seed is not None:
         raise ParameterError("degree" if args.degree is not None else "seed", "applies only with --integrals")
 
-    from ..integrability.report import custom_involution, summary
+    from ..integrability import custom_involution, report_summary as summary
 
     if args.subs is not None:
         if args.rederive or args.all:
@@ -80,13 +80,13 @@ def _run_model(args) -> dict:
         for opt in ("model_params", "level", "degree", "seed"):
             if getattr(args, opt) is not None:
                 raise ParameterError(opt.replace("_", "-"), "applies only with --integrals")
-        from ..integrability.report import model_report
+        from ..integrability import model_report
 
         rep = model_report(mc)
         return {"ok": rep.success, "model": mc.name, "source": rep.source, "results": rep.rows,
                 "statuses": rep.statuses, "disagreements_with_paper": []}
-    from ..integrability.first_integrals import DEFAULT_SEED, MAX_DEGREE
-    from ..integrability.model_search import model_search
+    from ..integrability import DEFAULT_SEED, MAX_DEGREE
+    from ..integrability import search_model as model_search
 
     degree = options.integer("degree", "4" if args.degree is None else args.degree, 1, MAX_DEGREE)
     seed = options.integer("seed", DEFAULT_SEED if args.seed is None else args.seed, 0, 2**62)
@@ -112,9 +112,9 @@ def format_text(out: dict) -> str:
         lines += [f"    {out['message']}  ({out['wall_time_s']:.2f} s)", "", out["statement"]]
         return "\n".join(lines)
     if "controls" in out:
-        from ..integrability.first_integrals import format_text as fmt_integrals
+        from ..integrability import format_integrals as fmt_integrals
 
         return fmt_integrals(out)
-    from ..integrability.report import format_text as fmt
+    from ..integrability import format_report as fmt
 
     return fmt(out)

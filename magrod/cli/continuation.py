@@ -31,8 +31,7 @@ def add_arguments(p):
 
 
 def _check_range(params, name: str, rng, mu2lam: bool):
-    from ..orbits.equilibrium import on_level, straight_rod
-    from ..orbits.periodic import periodic_saddle
+    from ..orbits import on_level, periodic_saddle, straight_rod
 
     for v in rng:
         try:
@@ -52,9 +51,8 @@ def run(args) -> dict:
 
     from ..core.tolerances import CONTINUATION_TOL
     from ..figures.continuation import write_branch
-    from ..orbits import continuation as C
-    from ..orbits import multipulse as mp
-    from ..orbits import periodic_multipulse as pm
+    from .. import continue_branch
+    from ..orbits import find_multipulse, find_periodic_multipulse, fold_summary, shoot_multipulse
     from ..generated import scalars
     from ..core.params import RodParams
     from ..core.progress import bar
@@ -80,27 +78,27 @@ def run(args) -> dict:
     out = out_dir("out", args.out)
     t0 = time.perf_counter()
     if args.mu2lam:
-        r = mp.shoot(base, N)
+        r = shoot_multipulse(base, N)
         if not r.success:  # Newton from the default guess did not converge: scan lam and bisect, as multipulse does
-            found = mp.find_orbits(base, free="lam", max_pulses=N)
+            found = find_multipulse(base, free="lam", max_pulses=N)
             if not found[N - 1].success:
                 return {"ok": False, "error": f"no {N}-pulse orbit on mu = 2 lam near lam = {base.lam}: "
                                               f"{r.message}; scan: {found[N - 1].message} (near Figure 6 the "
                                               f"orbits on mu = 2 lam have 2 and 4 pulses: try --pulses 2)"}
             r = found[N - 1].orbit
     else:
-        found = pm.find(base, N, samples=121)
+        found = find_periodic_multipulse(base, N, samples=121)
         if not found:
             return {"ok": False, "error": f"no symmetric {N}-pulse homoclinic orbit to the periodic saddle at {base.to_dict()}"}
         r = found[0]
     # the branch itself is the library's continue_branch (issue 25: the command no longer rebuilds it)
     with bar(steps, "continue", not args.quiet) as update:
-        br = C.continue_branch(r, name, steps, ds=ds, direction=args.direction,
+        br = continue_branch(r, name, steps, ds=ds, direction=args.direction,
                                bounds=(lo, hi) if args.range else None, progress=update)
     names = br.names
     wall = time.perf_counter() - t0
     stem = "branch_mu2lam" if args.mu2lam else f"branch_N{N}_{name}"
-    folds = C.fold_summary(br)
+    folds = fold_summary(br)
     meta = {"ok": True, "kind": "mu = 2 lam (codimension one)" if args.mu2lam else "periodic saddle (mu > 2 lam)",
             "start_params": base.to_dict(), "pulses": N, "parameter": name, "names": list(names),
             "points": int(len(br.u)), "success": br.success, "message": br.message, "folds": folds,

@@ -17,7 +17,7 @@ def add_arguments(p):
 
 def run(args) -> dict:
     from ..core.errors import ParameterError
-    from ..orbits.homoclinic import homoclinic, verify
+    from ..orbits import homoclinic_closed_form as homoclinic, verify_homoclinic as verify
 
     if args.no_verify and (args.theta_stop is not None or args.n is not None):
         raise ParameterError("no_verify", "--theta-stop and --n set up the verification that --no-verify skips")

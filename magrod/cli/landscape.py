@@ -15,8 +15,8 @@ def add_arguments(p):
 
 
 def run(args) -> dict:
-    from ..integrability.first_integrals import MAX_DEGREE
-    from ..integrability.landscape import landscape
+    from ..integrability import MAX_DEGREE
+    from ..integrability import rod_landscape as landscape
     from . import options
 
     degree = options.integer("degree", args.degree, 1, MAX_DEGREE)
@@ -29,6 +29,6 @@ def run(args) -> dict:
 
 
 def format_text(out: dict) -> str:
-    from ..integrability.landscape import format_text as fmt
+    from ..integrability import format_landscape as fmt
 
     return fmt(out)

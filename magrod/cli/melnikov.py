@@ -19,7 +19,7 @@ def add_arguments(p):
 
 
 def run(args) -> dict:
-    from ..separatrix.melnikov import INTEGRANDS, amplitude, amplitude_zero
+    from ..separatrix import INTEGRANDS, melnikov_amplitude as amplitude, melnikov_amplitude_zero as amplitude_zero
 
     which = list(INTEGRANDS) if args.integrand == "both" else [args.integrand]
     out = {"ok": True, "convention": "M(psi0) = A * sin(psi0) * sqrt(a - 2b), A = Int F dt along the "
@@ -33,7 +33,7 @@ def run(args) -> dict:
         lo, hi = (number("bracket", b) for b in (args.bracket or ("1.8", "2.0")))
         if not 0.0 <= lo < hi:
             raise ParameterError("bracket", f"need 0 <= LO < HI, got {lo}, {hi}")
-        from ..orbits.homoclinic import validate
+        from ..orbits import validate_homoclinic as validate
 
         validate(m, lo)
         out["zeros"] = {k: amplitude_zero(m, k, (lo, hi)) for k in which}

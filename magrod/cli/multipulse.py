@@ -30,7 +30,7 @@ def run(args) -> dict:
     from ..core.printed import MULTIPULSE
     from ..core.progress import bar
     from ..figures.multipulse import write_search
-    from ..orbits.multipulse import multipulse_orbits
+    from .. import multipulse_orbits
 
     base = MULTIPULSE[args.figure]["params"].to_dict() if args.figure else {}
     vals = params_from(args, base)

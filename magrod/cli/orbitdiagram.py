@@ -86,7 +86,7 @@ def run(args) -> dict:
                                                                                             "psi0")):
             marks[f"{k[0]}({k[1]})"] = val
 
-    from ..chaos.portrait import orbit_diagram
+    from .. import orbit_diagram
     from ..core.progress import bar
 
     with bar(len(values) * (iterates + transient), "orbit diagram", not args.quiet) as update:

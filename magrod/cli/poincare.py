@@ -115,13 +115,14 @@ def parse_starts(value):
             a = np.array([[float(x) for x in r] for r in rows]) if rows else np.zeros((0, 2))
     except (OSError, ValueError) as exc:
         raise ParameterError("starts", f"cannot read {text[:120]!r}: {str(exc)[:120]}") from None
-    from ..chaos.section import start_table
+    from ..chaos import start_table
 
     return "file", start_table(a, "starts")
 
 
 def _run_portrait(args, vals, key, params) -> dict:
-    from ..chaos.portrait import grid_starts, section_portrait
+    from .. import section_portrait
+    from ..chaos import grid_starts
     from ..core.progress import bar
 
     for name in ("theta0", "ptheta0", "psi0", "ppsi0"):
@@ -190,7 +191,7 @@ def _inputs_portrait(args) -> tuple[dict, str | None]:
 def run(args) -> dict:
     """Parse, call magrod.chaos.section.poincare_section (which validates the start and checks its own accuracy),
     write the files of a successful run."""
-    from ..chaos.section import poincare_section
+    from .. import poincare_section
     from ..core.params import RodParams
     from ..core.progress import bar
 

@@ -46,20 +46,21 @@ def run(args) -> dict:
         return _verify(args)
     if args.fixed_point is not None:
         return _fixed_point(args)
-    from ..proof import fields, search
+    from ..proof import (TARGET_ANGLES, ProofSettings, mutated_fields, prove_homoclinic, validate_proof_params,
+                         validated_fields)
 
-    p = search.validate_params(args.m, args.mu, args.gamma, args.delta, args.lam)
+    p = validate_proof_params(args.m, args.mu, args.gamma, args.delta, args.lam)
     targets = tuple(t.strip() for t in str(args.targets).split(",") if t.strip())
-    if not targets or any(t not in search.TARGETS for t in targets) or len(set(targets)) != len(targets):
+    if not targets or any(t not in TARGET_ANGLES for t in targets) or len(set(targets)) != len(targets):
         raise ParameterError("targets", f"must be 0, pi or 0,pi, got {args.targets!r}")
     if args.out is None:
         raise ParameterError("out", "an output directory is required (or --verify CERT)")
     dest = out_dir("out", args.out)
-    module = fields.gen
+    module = validated_fields
     if args.mutate is not None:
-        module = fields.mutated_module(integer("mutate", args.mutate, minimum=0, maximum=1000))
+        module = mutated_fields(integer("mutate", args.mutate, minimum=0, maximum=1000))
     say = None if args.quiet else _stage
-    res = search.prove(p, search.ProofSettings(targets=targets), module=module, progress=say)
+    res = prove_homoclinic(p, ProofSettings(targets=targets), module=module, progress=say)
     out = {"ok": res.ok, "params": p.as_json(), "wall_time_s": round(res.wall_time_s, 3),
            "checks": res.checks, "reason": res.reason}
     if not res.ok:
@@ -78,11 +79,12 @@ def run(args) -> dict:
 def _fixed_point(args) -> dict:
     import math
 
-    from ..proof import fields, periodic
+    from ..proof import (FixedPointSettings, interval_settings, mutated_fields, prove_fixed_point,
+                         validate_fixed_point, validated_fields)
 
     if args.level is None:
         raise ParameterError("level", "--fixed-point needs the level: --level H (exact decimal or p/q)")
-    p, h = periodic.validate(args.m, args.mu, args.gamma, args.delta, args.lam, args.level)
+    p, h = validate_fixed_point(args.m, args.mu, args.gamma, args.delta, args.lam, args.level)
     try:
         theta = float(args.fixed_point)
     except ValueError:
@@ -92,17 +94,17 @@ def _fixed_point(args) -> dict:
     if args.out is None:
         raise ParameterError("out", "an output directory is required (or --verify CERT)")
     dest = out_dir("out", args.out)
-    module = fields.gen
+    module = validated_fields
     if args.mutate is not None:
-        module = fields.mutated_module(integer("mutate", args.mutate, minimum=0, maximum=1000))
+        module = mutated_fields(integer("mutate", args.mutate, minimum=0, maximum=1000))
     try:
         w = Fraction(str(args.lam_rad))
     except (ValueError, ZeroDivisionError):
         raise ParameterError("lam_rad", f"must be an exact number >= 0, got {args.lam_rad!r}") from None
     if w < 0 or w > 1:
         raise ParameterError("lam_rad", f"must be in [0, 1], got {args.lam_rad!r}")
-    st = periodic.interval_settings(w) if w else periodic.FixedPointSettings()
-    res = periodic.prove(p, h, theta, st, module=module, progress=None if args.quiet else _stage)
+    st = interval_settings(w) if w else FixedPointSettings()
+    res = prove_fixed_point(p, h, theta, st, module=module, progress=None if args.quiet else _stage)
     out = {"ok": res.ok, "params": p.as_json(), "level": f"{h.numerator}/{h.denominator}",
            "wall_time_s": round(res.wall_time_s, 3), "checks": res.checks, "reason": res.reason}
     if not res.ok:
@@ -123,10 +125,10 @@ def _stage(msg):
 
 
 def _verify(args) -> dict:
-    from ..proof import verify
+    from ..proof import load_certificate, verify_certificate
 
-    cert = verify.load(args.verify)
-    res = verify.verify(cert)
+    cert = load_certificate(args.verify)
+    res = verify_certificate(cert)
     out = {"ok": res.ok, "certificate": str(args.verify), **res.to_dict()}
     if not res.ok:
         out["error"] = res.reason

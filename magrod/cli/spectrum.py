@@ -56,7 +56,7 @@ def run(args) -> dict:
     if not overridden:
         kw = dict(root=args.root, t_max=t_max, renorm_dt=renorm_dt, tol=tol or None)
 
-    from ..chaos.spectrum import gali, lyapunov_spectrum
+    from .. import gali, lyapunov_spectrum
 
     sp = lyapunov_spectrum(what, **kw)
     g = gali(what, **kw) if args.gali else None

@@ -33,7 +33,8 @@ def _eps_list(s):
 
 
 def run(args) -> dict:
-    from ..separatrix import splitting as S
+    from .. import splitting
+    from ..separatrix import scan_summary
     from ..core.progress import bar
 
     vals = {k: number(k, getattr(args, k)) for k in ("m", "gamma", "delta", "a", "b")}
@@ -42,11 +43,11 @@ def run(args) -> dict:
     dest = out_dir("out", args.out) if args.out is not None else None
     precs = tuple(p for p in (CHECK[args.precision], args.precision) if p)
     with bar(len(eps), "splitting", not args.quiet, unit="eps") as update:
-        spl = S.splitting(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], eps, precisions=precs,
+        spl = splitting(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], eps, precisions=precs,
                           n_phases=n, progress=update)
     res = spl.scan
     if spl.kind == "equilibrium":
-        out = {"ok": True, "case": "equilibrium (a = 2b)", **S.scan_summary(res)}
+        out = {"ok": True, "case": "equilibrium (a = 2b)", **scan_summary(res)}
     else:
         out = {"ok": True, "case": "tilted saddle-focus (a > 2b)", **res.to_dict(), "precisions": list(precs)}
     if spl.leading is not None:

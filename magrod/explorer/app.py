@@ -97,7 +97,7 @@ class Explorer(pn.viewable.Viewer):
                  rod_length: float = 100.0, max_workers: int = 2, out_dir=None, registry=None, **params):
         super().__init__(**params)
         P = paper_panel(panel)
-        from ..chaos.indicators import GROWTH_THRESHOLD
+        from ..chaos import GROWTH_THRESHOLD
 
         self.threshold = GROWTH_THRESHOLD
         self.panel_key = P.key

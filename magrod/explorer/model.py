@@ -141,7 +141,7 @@ def check_energy_level(params: RodParams, h: float) -> dict:
     """The boundary at (params, h); ParameterError("mu") if the square root sqrt(mu - 2 lam pbar_psi) of Hbar is
     imaginary for every pbar_psi (the root solver's rule), ParameterError("h") if no point of the section
     psi = 0 is reachable."""
-    from ..chaos.section import admissible_interval
+    from ..chaos import admissible_interval
 
     admissible_interval(params)
     b = energy_boundary(params, h)
@@ -160,7 +160,7 @@ def rod_of(start, length: float = 100.0, n: int = 2001) -> dict:
     and the checks of the frame."""
     from ..core import systems
     from ..figures.rod import magnification
-    from ..orbits.rod import reconstruct
+    from ..orbits import reconstruct_rod as reconstruct
 
     length = require_finite("rod_length", length)
     if not 0 < length <= 1e5:

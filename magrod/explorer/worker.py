@@ -70,7 +70,8 @@ def stream_section(start: Start, iterates: int, *, direction="positive", cancel:
 
 def growth_indicator(start: Start, t_max: float | None = None):
     """The chaos indicator of the orbit from `start` (magrod.lyapunov at the chosen root): a LyapunovResult."""
-    from ..chaos.lyapunov import DEFAULT_T_MAX, lyapunov
+    from .. import lyapunov
+    from ..chaos import DEFAULT_T_MAX
 
     return lyapunov(start.params, theta0=start.theta0, ptheta0=start.ptheta0, psi0=start.psi0, p_psi0=start.p_psi0,
                     t_max=DEFAULT_T_MAX if t_max is None else t_max)

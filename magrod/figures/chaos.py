@@ -14,8 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..chaos import indicators as chaos, maps
-from ..chaos.fields import MAPPABLE
+from ..chaos import AXIS_NAMES, GROWTH_THRESHOLD, MAPPABLE, OK, MapSpec, map_tiles, panel_base, panel_indicators, parse_axis
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import PANELS
 from ..core.progress import bar
@@ -27,13 +26,13 @@ REPRODUCE_AXES = ("lam:0.12:0.2", "gamma:2.0:4.0")
 PANEL_T_MAX = {False: 5000.0, True: 3000.0}
 
 
-def panel_marks(spec: maps.MapSpec) -> list[tuple]:
+def panel_marks(spec: MapSpec) -> list[tuple]:
     """(key, x, y) of every paper panel that lies in the map's plane: its values of all non-axis parameters equal
     the map's base values and its axis values are inside the ranges."""
     marks = []
     for key in PANELS:
-        v = maps.panel_base(key)
-        others = [k for k in maps.AXIS_NAMES if k not in (spec.x.name, spec.y.name)]
+        v = panel_base(key)
+        others = [k for k in AXIS_NAMES if k not in (spec.x.name, spec.y.name)]
         if all(np.isclose(v[k], spec.base.get(k, np.nan)) for k in others):
             x, y = v[spec.x.name], v[spec.y.name]
             if spec.x.lo <= x <= spec.x.hi and spec.y.lo <= y <= spec.y.hi:
@@ -76,11 +75,11 @@ def growth_ticks(vmax: float, threshold: float) -> list:
     return ticks
 
 
-def map_axes(ax, fields: dict, spec: maps.MapSpec, *, indicator="growth", threshold=chaos.GROWTH_THRESHOLD,
+def map_axes(ax, fields: dict, spec: MapSpec, *, indicator="growth", threshold=GROWTH_THRESHOLD,
              title=None, colorbar=True):
     """Draw one indicator of a map on `ax` ("growth", "fli" or "lyap"); missing points grey; the classification
     boundary growth = threshold as a contour; paper panels starred.  Returns the QuadMesh."""
-    g = np.where(np.asarray(fields["status"]) == chaos.OK, fields[FIELD_NAMES[indicator]], np.nan)
+    g = np.where(np.asarray(fields["status"]) == OK, fields[FIELD_NAMES[indicator]], np.nan)
     import matplotlib
 
     cmap = matplotlib.colormaps["RdYlBu_r" if indicator == "growth" else "magma"].with_extremes(bad="0.8")
@@ -137,8 +136,8 @@ def map_axes(ax, fields: dict, spec: maps.MapSpec, *, indicator="growth", thresh
     return im
 
 
-def draw_map(fields: dict, spec: maps.MapSpec, path, *, indicator="growth", title=None,
-             threshold=chaos.GROWTH_THRESHOLD) -> Path:
+def draw_map(fields: dict, spec: MapSpec, path, *, indicator="growth", title=None,
+             threshold=GROWTH_THRESHOLD) -> Path:
     """PNG heat map of one indicator ("growth", "fli" or "lyap") written to `path` (map_axes)."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 5.0), layout="constrained")
@@ -174,13 +173,15 @@ def build(out_dir, *, quick=False, progress=False) -> list[str]:
     """The reproduce map (REPRODUCE_GRID) and the Figure 4 panel indicators; see the module docstring."""
     out = ensure_writable_dir(out_dir)
     n, t_max = REPRODUCE_GRID[bool(quick)]
-    spec = maps.MapSpec(maps.parse_axis("x", f"{REPRODUCE_AXES[0]}:{n}"),
-                         maps.parse_axis("y", f"{REPRODUCE_AXES[1]}:{n}"), base=maps.panel_base("4a"),
-                         panel="4a", t_max=t_max)
-    with bar(len(maps.tiles(spec)), "chaos map", progress, unit="tile") as update:
-        res = maps.chaos_map(spec, progress=update)
+    spec = MapSpec(parse_axis("x", f"{REPRODUCE_AXES[0]}:{n}"),
+                   parse_axis("y", f"{REPRODUCE_AXES[1]}:{n}"), base=panel_base("4a"),
+                   panel="4a", t_max=t_max)
+    with bar(len(map_tiles(spec)), "chaos map", progress, unit="tile") as update:
+        from .. import chaos_map
+
+        res = chaos_map(spec, progress=update)
     t0 = time.perf_counter()
-    panels = maps.panel_indicators(("4a", "4b", "4c", "4d"), t_max=PANEL_T_MAX[bool(quick)])
+    panels = panel_indicators(("4a", "4b", "4c", "4d"), t_max=PANEL_T_MAX[bool(quick)])
     png = draw_map(res.fields, spec, out / "chaos.png")
     npz = atomic_savez(out / "chaos.npz", **{k: np.asarray(v) for k, v in res.fields.items()},
                        x=spec.x.values(), y=spec.y.values())

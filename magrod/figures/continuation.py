@@ -16,10 +16,8 @@ import numpy as np
 
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.params import RodParams
-from ..orbits import continuation as C
-from ..orbits import multipulse as mp
-from ..orbits import periodic_multipulse as pm
-from ..orbits.equilibrium import on_level
+from ..orbits import (find_periodic_multipulse, fold_summary, mu2lam_problem, on_level, periodic_problem, point_at,
+                      pseudo_arclength, shoot_multipulse)
 from ..core.printed import MULTIPULSE
 from ..core.tolerances import FOLD_BRANCH_TOL
 from .common import atomic_savefig, label, pyplot
@@ -53,17 +51,17 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     t0 = time.perf_counter()
     base = MULTIPULSE[6]["params"]
     lam0 = 0.0012620808  # Newton start near the Fig 6 2-pulse orbit (docs/errata.md); shoot() solves for lam
-    r = mp.shoot(on_level(base, lam=lam0), 2)
-    F, _ = C.mu2lam_problem(r.params, "m")
+    r = shoot_multipulse(on_level(base, lam=lam0), 2)
+    F, _ = mu2lam_problem(r.params, "m")
     scale = [r.T, 1e-3, 1.0]
     steps = 8 if quick else 60
     branches = []
     for d in (-1, 1):
-        branches.append(C.pseudo_arclength(F, [r.T, r.params.lam, 1.7], scale=scale, ds=0.02, ds_max=0.1,
+        branches.append(pseudo_arclength(F, [r.T, r.params.lam, 1.7], scale=scale, ds=0.02, ds_max=0.1,
                                            steps=steps, par=2, direction=d, names=("T", "lam", "m"),
                                            bounds={2: (1.0, 2.8)}))
     u = np.vstack([branches[0].u[::-1], branches[1].u[1:]])
-    folds = C.fold_summary(branches[0]) + C.fold_summary(branches[1])
+    folds = fold_summary(branches[0]) + fold_summary(branches[1])
     paths.append(str(atomic_savez(out / "continuation_mu2lam.npz", u=u)))
     paths.append(str(atomic_write_json(out / "continuation_mu2lam.json", {
         "what": "Fig 6 2-pulse orbit (fig:multimodal1) continued on mu = 2 lam in (lam, m), gamma = delta = 1",
@@ -86,12 +84,12 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     # --- periodic saddle: the two primaries at lam = 0.001 continued in mu -> 2 lam
     t0 = time.perf_counter()
     P = RodParams(1.7, 0.0021, 1.0, 1.0, 0.001)
-    prim = pm.find(P, 1, samples=91)
+    prim = find_periodic_multipulse(P, 1, samples=91)
     fig, axs = plt.subplots(1, 2, figsize=(9, 3.4))
     data = {}
     for k, rr in enumerate(prim):
-        Fp, _ = C.periodic_problem(P, "mu", 1)
-        b = C.pseudo_arclength(Fp, [rr.T, rr.angle, P.mu], scale=[10, 1.0, 1e-4], ds=0.3, ds_max=1.0,
+        Fp, _ = periodic_problem(P, "mu", 1)
+        b = pseudo_arclength(Fp, [rr.T, rr.angle, P.mu], scale=[10, 1.0, 1e-4], ds=0.3, ds_max=1.0,
                                steps=10 if quick else 40, par=2, direction=-1, names=("T", "angle", "mu"),
                                bounds={2: (0.0020000001, 0.01)})
         data[f"primary{k}"] = b.u
@@ -114,14 +112,14 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     plt.close(fig)
     # --- a fold: the 2-pulse branch (launch angle ~ 20.07) to the periodic saddle in mu (docs/errata.md)
     t0 = time.perf_counter()
-    F2, _ = C.periodic_problem(P, "mu", 2)
+    F2, _ = periodic_problem(P, "mu", 2)
     sc = np.array([40.0, 1.0, 1e-4])
     tol2 = FOLD_BRANCH_TOL  # long double noise floor of this branch's residual is 1e-13 .. 1e-12
     mu_start = 4.87e-3
-    u0, _ = C.point_at(F2, [42.9, 20.07, mu_start], 2, mu_start, scale=sc, tol=tol2)
-    b2 = C.pseudo_arclength(F2, u0, scale=sc, ds=0.1, ds_max=0.3, steps=6 if quick else 24, par=2, direction=-1,
+    u0, _ = point_at(F2, [42.9, 20.07, mu_start], 2, mu_start, scale=sc, tol=tol2)
+    b2 = pseudo_arclength(F2, u0, scale=sc, ds=0.1, ds_max=0.3, steps=6 if quick else 24, par=2, direction=-1,
                             tol=tol2, names=("T", "angle", "mu"))
-    folds2 = C.fold_summary(b2)
+    folds2 = fold_summary(b2)
     paths.append(str(atomic_savez(out / "continuation_fold.npz", u=b2.u, tangents=b2.tangents,
                                   residuals=b2.residuals)))
     paths.append(str(atomic_write_json(out / "continuation_fold.json", {

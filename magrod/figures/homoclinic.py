@@ -6,7 +6,7 @@ import time
 import numpy as np
 
 from ..generated import scalars
-from ..orbits.homoclinic import homoclinic, phase_portrait_energy, verify
+from ..orbits import homoclinic_closed_form as homoclinic, phase_portrait_energy, verify_homoclinic as verify
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..core.printed import FIG3
 from ..core.progress import bar

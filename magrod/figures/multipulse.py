@@ -11,8 +11,8 @@ from ..core.io import atomic_write_json, ensure_writable_dir, versions, write_or
 from ..core.printed import MULTIPULSE
 from ..core.progress import bar
 from ..core.tolerances import LAUNCH_DISTANCES
-from ..orbits.multipulse import multipulse_orbits
-from ..orbits.shooting import THETA_CUT
+from .. import multipulse_orbits
+from ..orbits import THETA_CUT
 from .common import atomic_savefig, pyplot
 from .rod import plot_rod, rod_from_orbit_file
 

@@ -71,7 +71,7 @@ def save_result(res, out_dir, stem: str, *, key=None, label=None, formats=("png"
 
 
 def _figure(fig_no: str, out_dir, quick=False, progress=False, iterates=None, workers=2) -> list[str]:
-    from ..chaos.section import DEFAULT_FORMULATION, STRETCH_DT, run_panels
+    from ..chaos import DEFAULT_FORMULATION, STRETCH_DT, run_panels
 
     plt = pyplot()
     out = ensure_writable_dir(out_dir)

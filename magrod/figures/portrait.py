@@ -73,7 +73,7 @@ def draw_orbit_diagram(ax, res, title=None, colors=None):
     if colors is None or not np.isfinite(colors).any():
         ax.plot(x, y, ",", color="k", rasterized=True)
     else:
-        from ..chaos.indicators import GROWTH_THRESHOLD
+        from ..chaos import GROWTH_THRESHOLD
         from matplotlib.cm import ScalarMappable
 
         norm = _norm(float(np.nanmax(colors)), GROWTH_THRESHOLD)
@@ -138,7 +138,7 @@ def accessible_threshold(base="4a", parameter="lam", lo=0.12, hi=0.2, xtol=THRES
     """The smallest value of `parameter` in [lo, hi] at which the base panel's start reaches its level (Hbar = h
     has a real root pbar_psi), by bisection on the existence of a root (assumed monotone on [lo, hi]: checked at
     the grid values by the caller); lo if the level is reached there already."""
-    from ..chaos.section import solve_p_psi
+    from ..chaos import solve_p_psi
     from ..core.errors import ParameterError
     from ..core.printed import panel
 
@@ -164,9 +164,10 @@ def build(out_dir, *, quick=False, progress=False) -> list[str]:
     """The reproduce orbit diagram (module docstring).  At Figure 4's start the level h = 0.9 is reached only for
     lambdabar above ~0.1305 (Hbar(theta0, psi0, pbar_theta0, .) > 0.9 for every pbar_psi below): the values under
     that threshold have no orbit and are drawn as a grey band; the threshold is in the sidecar."""
-    from ..chaos.indicators import GROWTH_THRESHOLD
-    from ..chaos.maps import panel_indicators
-    from ..chaos.portrait import orbit_diagram, start_indicators
+    from ..chaos import GROWTH_THRESHOLD
+    from ..chaos import panel_indicators
+    from .. import orbit_diagram
+    from ..chaos import start_indicators
 
     n, iterates, t_ind = REPRODUCE[bool(quick)]
     marks = {f"4({k[1]})": PANELS[k]["vary"][1] for k in ("4a", "4b", "4c", "4d")}

@@ -31,12 +31,12 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     import json
     from importlib import resources
 
-    from ..proof import verify
+    from ..proof import verify_certificate
 
     out = ensure_writable_dir(out_dir)
     t0 = time.perf_counter()
     cert = json.loads(resources.files("magrod.proof").joinpath("certificates", SHIPPED).read_text())
-    v = verify.verify(cert)
+    v = verify_certificate(cert)
     side = {"params": cert["params"], "ok": v.ok, "reason": v.reason, "n_checks": len(v.checks), "quick": quick,
             "certificate": f"magrod/proof/certificates/{SHIPPED}", "re_proved": False, "versions": versions()}
     paths = [str(atomic_write_json(out / "proof_certificate.json", cert))]
@@ -54,7 +54,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     side["not_verified_in_quick"] = [n for _, n in (*FIG4[len(fig4):], *FIG4_SECTION[len(fig4_section):])]
     for key, name in fig4:
         other = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
-        v4 = verify.verify(other)
+        v4 = verify_certificate(other)
         side["fig4"].append({"panel": key, "params": other["params"], "ok": v4.ok, "reason": v4.reason,
                              "n_checks": len(v4.checks), "certificate": f"magrod/proof/certificates/{name}",
                              "theorem": v4.theorem, "slopes": v4.slopes,
@@ -63,7 +63,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     side["fig4_section"] = []
     for key, name in fig4_section:
         other = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
-        v4 = verify.verify(other)
+        v4 = verify_certificate(other)
         side["fig4_section"].append({"panel": key, "params": other["params"], "level": other["level"], "ok": v4.ok,
                                      "reason": v4.reason, "n_checks": len(v4.checks), "theorem": v4.theorem,
                                      "values": v4.values, "certificate": f"magrod/proof/certificates/{name}",
@@ -77,10 +77,10 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
 
 def _figure(out, side, quick):
     plt = pyplot()
-    from ..separatrix import splitting
+    from ..separatrix import tilted_curve
 
     fig, ax = plt.subplots(figsize=(6, 4))
-    c = splitting.tilted_curve(1.7, 1.0, 1.0, 4.0, 1.0, 0.1, "double", n_phases=32 if quick else 96)
+    c = tilted_curve(1.7, 1.0, 1.0, 4.0, 1.0, 0.1, "double", n_phases=32 if quick else 96)
     psi = np.array(c.psi)
     o = np.argsort(psi)
     ax.plot(psi[o], np.array(c.theta)[o], ".", ms=3, label=r"$W^u\cap\Sigma$ (float64)")

@@ -11,7 +11,7 @@ from pathlib import Path
 from .. import __version__
 from ..core.io import versions
 from ..core.printed import PAPER_CLAIMS, MULTIPULSE
-from ..proof import statements
+from ..proof import statement_status
 
 
 def _verdict(status: str) -> str:
@@ -307,7 +307,7 @@ def mark_failed(rows, failures: dict) -> list[dict]:
 def report_markdown(rows, done, failures, quick, wall) -> str:
     from importlib import resources
 
-    from ..integrability.report import format_text as check_text, load_report
+    from ..integrability import format_report as check_text, load_report
 
     lines = ["# magrod reproduction report", "",
              f"Paper: Sinden & van der Heijden, *Spatial chaos of an extensible conducting rod in a uniform magnetic "
@@ -465,7 +465,7 @@ def _proof(out, quick):
                          f"{rows} (the shipped certificate {d.get('certificate', '')} re-checked by the complete "
                          f"verifier: {d.get('verify_reason', 'not run')}; {d['n_checks']} checks, "
                          f"{d['wall_time_s']:.0f} s; `magrod prove` re-proves it)",
-             "verdict": (f"{statements.status('5')} (statement 5): transverse symmetric homoclinic orbit(s) to "
+             "verdict": (f"{statement_status('5')} (statement 5): transverse symmetric homoclinic orbit(s) to "
                          "the saddle-focus (docs/nonintegrability.md, Theorem (computer-assisted))") if ok else
                         "certificate NOT verified"}] + _proof_fig4a(d) + _proof_fig4_section(d) + _proof_skipped(d)
 
@@ -485,7 +485,7 @@ def _proof_fig4a(d) -> list:
             "computed": f"({', '.join(PARAMS)}) = ({', '.join(f['params'][k] for k in PARAMS)}): the shipped "
                         f"certificate {f['certificate']} re-checked by the complete verifier: {f['reason']} "
                         f"({f['n_checks']} checks, {f['verify_wall_time_s']:.0f} s); {slopes}",
-            "verdict": (f"{statements.status('5a')} (statement 5a): "
+            "verdict": (f"{statement_status('5a')} (statement 5a): "
                         f"{'two transverse symmetric homoclinic orbits' if len(f['slopes']) == 2 else 'a transverse symmetric homoclinic orbit'} to "
                         "the tilted saddle-focus on its own level H = H(q*); not a proof about Fig 4's section "
                         "h = 0.9 (statement 10)") if f["ok"] else "certificate NOT verified"})
@@ -508,9 +508,9 @@ def _proof_fig4_section(d) -> list:
                         f"certificate {f['certificate']} re-checked by the complete verifier: {f['reason']} "
                         f"({f['n_checks']} checks, {f['verify_wall_time_s']:.0f} s)"
                         + (f"; tr DP in {tr}" if tr is not None else ""),
-            "verdict": (f"{statements.status('11')} (statement 11): a symmetric hyperbolic fixed point (a saddle) of "
+            "verdict": (f"{statement_status('11')} (statement 11): a symmetric hyperbolic fixed point (a saddle) of "
                         "the section map on the figure's own level; chaos there is statement 10's "
-                        f"({statements.status('10')})") if f["ok"] else "certificate NOT verified"})
+                        f"({statement_status('10')})") if f["ok"] else "certificate NOT verified"})
     return rows
 
 
@@ -560,9 +560,9 @@ def _enclosure_rows(out) -> list:
              "computed": f"ball arithmetic (python-flint acb.integral + a rigorous tail bound; inputs exact): {vals}; "
                          f"max radius {rad:.1e}; control gamma = delta = 0: {ctl['S']['ball']}; box "
                          f"{d['box']['statement']}",
-             "verdict": (f"{statements.status('2')} (statement 2): S < 0 at every case; the control ball "
+             "verdict": (f"{statement_status('2')} (statement 2): S < 0 at every case; the control ball "
                          f"contains 0. That S is the leading coefficient of the splitting is statement 3, "
-                         f"{statements.status('3')}" if signs == {-1} and ctl["sign"] is None else
+                         f"{statement_status('3')}" if signs == {-1} and ctl["sign"] is None else
                          "NOT verified: a ball contains 0 or the control excludes it")}]
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.io import atomic_write_text, ensure_writable_dir, load_orbit_file
-from ..orbits.rod import from_orbit
+from ..orbits import rod_from_orbit as from_orbit
 from .common import atomic_savefig, pyplot
 
 

@@ -11,16 +11,17 @@ from pathlib import Path
 import numpy as np
 
 from ..core.precision import Precision
-from ..separatrix import splitting as S
+from ..separatrix import (EPS_SCAN, SplittingScan, compare_leading, leading_coefficient, scan_summary,
+                          splitting_scan, tilted_scan)
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from .common import atomic_savefig, pyplot
 
 
 def write(res, out_dir, stem: str = "splitting") -> list[str]:
     out = ensure_writable_dir(out_dir)
-    d = res.to_dict() if not isinstance(res, S.SplittingScan) else S.scan_summary(res)
+    d = res.to_dict() if not isinstance(res, SplittingScan) else scan_summary(res)
     paths = [str(atomic_write_json(out / f"{stem}.json", {**d, "versions": versions()}))]
-    if isinstance(res, S.SplittingScan):
+    if isinstance(res, SplittingScan):
         ref = res.crossings[res.precisions[-1]]
         arrays = {"eps": np.array(res.eps), "psi": np.array([c.psi for c in ref]), "d": np.array([c.d for c in ref]),
                   "theta": np.array([c.theta for c in ref])}
@@ -44,7 +45,7 @@ def _loglog(ax, eps, y, fit, label, marker):
 def plot(res, out_dir, stem: str = "splitting") -> str:
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(5, 3.6))
-    if isinstance(res, S.SplittingScan):
+    if isinstance(res, SplittingScan):
         ref = res.crossings[res.precisions[-1]]
         _loglog(ax, res.eps, np.array([c.psi for c in ref]), res.fit_psi, r"$|\psi_u|$", "o-")
         _loglog(ax, res.eps, np.array([c.d for c in ref]), res.fit_d, r"$|d| = |\rho\sin\psi_u|$", "s-")
@@ -68,15 +69,15 @@ LEADING_CASES = [(1.7, 1.0, 1.0, 2.0, 1.0), (1.7, 1.0, 0.0, 2.0, 1.0), (1.7, 0.0
 def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     plt = pyplot()
     out = ensure_writable_dir(out_dir)
-    eps = S.EPS_SCAN[::2] if quick else S.EPS_SCAN
+    eps = EPS_SCAN[::2] if quick else EPS_SCAN
     eps_t = [0.1, 0.03, 0.01] if quick else [0.1, 0.0541, 0.0292, 0.0158, 0.00855, 0.00462, 0.0025]
     prec = (Precision.DOUBLE, Precision.LONG_DOUBLE) if quick else (Precision.LONG_DOUBLE, Precision.QUAD)
-    eq = S.scan(**FIGURE, a=2.0, b=1.0, eps=eps, precisions=prec)
-    ctl = S.scan(1.7, 0.0, 0.0, 2.0, 1.0, eps, prec, fit=False)
-    ti = S.tilted_scan(**FIGURE, a=4.0, b=1.0, eps=eps_t)
-    ti0 = S.tilted_scan(**FIGURE, a=1.0, b=0.0, eps=eps_t[:3])
-    lead = [S.compare_leading(*c) for c in (LEADING_CASES[:2] if quick else LEADING_CASES)]
-    control = S.leading_coefficient(1.7, 0.0, 0.0)
+    eq = splitting_scan(**FIGURE, a=2.0, b=1.0, eps=eps, precisions=prec)
+    ctl = splitting_scan(1.7, 0.0, 0.0, 2.0, 1.0, eps, prec, fit=False)
+    ti = tilted_scan(**FIGURE, a=4.0, b=1.0, eps=eps_t)
+    ti0 = tilted_scan(**FIGURE, a=1.0, b=0.0, eps=eps_t[:3])
+    lead = [compare_leading(*c) for c in (LEADING_CASES[:2] if quick else LEADING_CASES)]
+    control = leading_coefficient(1.7, 0.0, 0.0)
     paths = [str(atomic_write_json(out / "splitting_leading.json",
                                    {"cases": lead, "control_gamma_delta_0": control.to_dict(),
                                     "versions": versions()}))]
@@ -126,17 +127,16 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
 def _enclosure_and_generic(out, quick: bool) -> list[str]:
     """Sidecars of issue 20: S in ball arithmetic at the six a = 2b cases and the integrable control
     (splitting_enclosure.json), and the derived a > 2b coefficient against the measurement (splitting_generic.json)."""
-    from ..separatrix import enclosure as E
-    from ..separatrix import generic as G
+    from ..separatrix import GENERIC_CASES, box_theorem, circle_prediction, compare_generic, enclose_S
 
-    enc = [E.enclose_S(repr(m), repr(g), repr(d)).to_dict() for m, g, d, _, _ in LEADING_CASES]  # decimal = exact
-    ctl = E.enclose_S(1.7, 0, 0).to_dict()
-    box = E.box_theorem(("1.65", "1.75"), ("0.95", "1.05"), ("0.25", "3"), initial=(1, 1, 1))
+    enc = [enclose_S(repr(m), repr(g), repr(d)).to_dict() for m, g, d, _, _ in LEADING_CASES]  # decimal = exact
+    ctl = enclose_S(1.7, 0, 0).to_dict()
+    box = box_theorem(("1.65", "1.75"), ("0.95", "1.05"), ("0.25", "3"), initial=(1, 1, 1))
     paths = [str(atomic_write_json(out / "splitting_enclosure.json",
                                    {"cases": enc, "control_gamma_delta_0": ctl, "box": box.to_dict(),
                                     "versions": versions()}))]
-    cmp_ = G.compare_generic(G.CASES[:2] if quick else G.CASES)
-    circle = G.circle_prediction(1.7, 1.0, 1.0, 1e-3).to_dict()
+    cmp_ = compare_generic(GENERIC_CASES[:2] if quick else GENERIC_CASES)
+    circle = circle_prediction(1.7, 1.0, 1.0, 1e-3).to_dict()
     paths.append(str(atomic_write_json(out / "splitting_generic.json",
                                        {**cmp_.to_dict(), "circle_lam_1e-3": circle, "versions": versions()})))
     return paths

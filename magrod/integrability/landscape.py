@@ -332,6 +332,8 @@ def landscape(degree: int = 4, *, quick: bool = False, scan: bool = True, t_max:
 
 
 def format_text(d: dict) -> str:
+    """The landscape (`landscape()`) as the text `magrod landscape` prints: one block per line of sec. 1, its
+    agreement, verdict and evidence."""
     out = [f"the landscape of sec. 1, re-derived (exact search to degree {d['degree']}; Lyapunov t = {d['t_max']:g})", ""]
     for ln in d["lines"]:
         out.append(f"[{ln['agreement']}] {ln['model']}: \"{ln['claim']}\" [{ln['reference']}]")

@@ -13,6 +13,8 @@ SECTIONS = ("casimirs", "involution", "jacobi", "poisson_map", "I2bar_conservati
 
 
 def load_report(rederive: bool = False) -> dict:
+    """The symbolic integrability report: generated/report.json as shipped, or (rederive=True) every result
+    re-derived now with SymPy (magrod.derive; slow)."""
     if rederive:
         from ..derive.build import all_results
 

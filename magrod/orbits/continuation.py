@@ -273,6 +273,8 @@ def periodic_problem(base: RodParams, free: str, pulses: int, *, eps: float | No
 
 
 def fold_summary(branch: Branch) -> list[dict]:
+    """The branch's folds as plain data: per fold its index on the branch, the unknowns there by name (when the
+    fold was located) and the residual of the located point."""
     return [{"index": f["index"], **({n: float(v) for n, v in zip(branch.names, f["u"])} if f["u"] is not None
                                      else {}), "residual": f.get("residual")} for f in branch.folds]
 

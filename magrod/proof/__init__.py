@@ -8,4 +8,31 @@ Layers (each tested on its own, tests/test_proof_*.py):
   manifold.py  the local unstable manifold by cone/slab conditions; its boundary circle with C^1 bounds
   search.py    the prover: floating-point search + the rigorous steps -> certificate
   verify.py    the independent checker of a certificate (imports neither search.py nor saddle.py/manifold.py)
+
+The names below are the package's public tier (docs/architecture.md, the API reference; tests/test_wings.py allows these and nothing deeper
+for the command line and the figures), imported lazily.
 """
+from ..core.lazy import namespace
+
+_API = {
+    # the generated ball-arithmetic fields, and the mutated control
+    "validated_fields": ("fields", "gen"),
+    "mutated_fields": ("fields", "mutated_module"),
+    # the prover of transverse homoclinic orbits to the tilted saddle
+    "ProofSettings": ("search", "ProofSettings"),
+    "TARGET_ANGLES": ("search", "TARGETS"),
+    "validate_proof_params": ("search", "validate_params"),
+    "prove_homoclinic": ("search", "prove"),
+    # the prover of the section map's fixed point (statement 11)
+    "FixedPointSettings": ("periodic", "FixedPointSettings"),
+    "interval_settings": ("periodic", "interval_settings"),
+    "validate_fixed_point": ("periodic", "validate"),
+    "prove_fixed_point": ("periodic", "prove"),
+    # the independent checker, and the statements' verdicts
+    "load_certificate": ("verify", "load"),
+    "verify_certificate": ("verify", "verify"),
+    "statement_status": ("statements", "status"),
+}
+
+__getattr__, __dir__, __all__ = namespace(__name__, _API)
+del namespace

@@ -478,6 +478,9 @@ class TiltedScan:
 
 def tilted_scan(m, gamma, delta, a, b, eps, precisions=(Precision.DOUBLE, Precision.LONG_DOUBLE), *, n_phases=64,
                 harmonics=4, progress=None) -> TiltedScan:
+    """The splitting at the tilted saddle-focus (a > 2b) for each perturbation parameter eps: the first-turning-point
+    curve (`tilted_curve`) in the last of `precisions`, checked against the first; its leading harmonics and the
+    agreement of the two precisions (TiltedScan)."""
     t0 = time.perf_counter()
     precisions = [Precision.parse(pr) for pr in precisions]
     ref, chk = [], []
