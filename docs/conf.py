@@ -76,6 +76,24 @@ def _write_api_page() -> None:
         kind = "autoclass" if isinstance(obj, type) else "autofunction"
         title = f"``mr.{name}``"
         lines += [title, "-" * len(title), "", f".. {kind}:: {obj.__module__}.{obj.__qualname__}", ""]
+    # the second tier (docs/architecture.md): the numerics packages' public names that the commands, figures and
+    # explorer use besides the face; listed, not autodoc'ed (their docstrings are one-paragraph, not numpydoc)
+    import importlib
+
+    lines += ["The second tier", "===============", "",
+              "Besides the face, each numerics package has a small public namespace: what the command line, the "
+              "figures and the explorer use (format helpers, the scans behind a figure, the prover and the "
+              "verifier, constants of a picture).  ``from magrod.chaos import MAPPABLE`` is public; "
+              "``magrod.chaos.section`` and the names it does not list are internals.", ""]
+    for pkg in ("chaos", "orbits", "separatrix", "integrability", "proof"):
+        mod = importlib.import_module(f"magrod.{pkg}")
+        title = f"``magrod.{pkg}``"
+        lines += [title, "-" * len(title), ""]
+        for name in mod.__all__:
+            target = mod._API[name]
+            where, attr = (target, name) if isinstance(target, str) else target
+            lines.append(f"* ``{name}`` (``magrod.{pkg}.{where}.{attr}``)")
+        lines.append("")
     text = "\n".join(lines)
     path = HERE / "api.rst"
     if not path.exists() or path.read_text() != text:

@@ -213,12 +213,12 @@ def test_primaries_tend_to_the_mu_2lam_limits():
         angle0) to leading order, psi0 = psi at the straight rod's turning point, c = |psi0| / A.  The two
         primaries merge at the midpoint when sqrt(gap) = c (the fold reported in docs/errata.md)."""
     mu0 = scalars.straight_rod_mu(**P.to_dict())
-    turn = shooting.unstable_branch(straight_rod(P.replace(mu=mu0)), crossings=1, eps=1e-7)[0]
+    turn = shooting.unstable_branch(straight_rod(P.replace(mu=mu0)), crossings=1, launch_distance=1e-7)[0]
     prim = [(26.4567663389, 1.298695337565), (26.4567330589, 4.440084038851)]  # docs/errata.md table, gap 1e-4
     rows = {}
     for gap in (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10):
         p = P.replace(mu=mu0 + gap)
-        rs = [hp.shoot(p, 1, a, T, eps=1e-7) for T, a in prim]
+        rs = [hp.shoot(p, 1, a, T, launch_distance=1e-7) for T, a in prim]
         assert all(r.success and r.residual <= 1e-10 and hp.count_pulses(r) == 1 for r in rs)
         prim = [(r.T, r.angle) for r in rs]
         rows[gap] = prim
@@ -231,7 +231,7 @@ def test_primaries_tend_to_the_mu_2lam_limits():
     c = {g: math.sin(-spread[g] / 2) * math.sqrt(g) for g in (1e-7, 1e-8, 1e-9, 1e-10)}
     assert all(abs(c[g] / c[1e-9] - 1) <= 1e-2 for g in c)  # the sqrt(gap) law, c = 8.30e-7
     # c = |psi0| / A with A from the range of sin psi over a launch-angle scan at gap = 1e-8 (half-width / sqrt(gap))
-    _, _, sp = hp.scan_angles(periodic_saddle(P.replace(mu=mu0 + 1e-8)), 1, 61, eps=1e-7)
+    _, _, sp = hp.scan_angles(periodic_saddle(P.replace(mu=mu0 + 1e-8)), 1, 61, launch_distance=1e-7)
     A = (np.nanmax(sp) - np.nanmin(sp)) / 2 / math.sqrt(1e-8)
     assert abs(c[1e-9] * A / abs(turn.psi) - 1) <= 2e-2
 
@@ -244,12 +244,12 @@ def test_three_pulse_orbits_to_the_periodic_saddle():
     found = hp.find(P, 3, samples=181)
     assert len(found) == 2
     for r in found:
-        assert r.success and r.residual <= 1e-10 and r.energy_error <= 1e-13 and r.eps == 1e-9
+        assert r.success and r.residual <= 1e-10 and r.energy_error <= 1e-13 and r.launch_distance == 1e-9
         assert hp.count_pulses(r) == 3
         a = math.log(abs(r.saddle.unstable_multiplier)) / r.saddle.T
         shift = math.log(100.0) / a  # 6.929
         b = math.atan2(r.saddle.unstable_multiplier.imag, r.saddle.unstable_multiplier.real) / r.saddle.T
-        r7 = hp.shoot(P, 3, r.angle - math.remainder(b * shift, math.pi), r.T - shift, eps=1e-7, precision="double",
+        r7 = hp.shoot(P, 3, r.angle - math.remainder(b * shift, math.pi), r.T - shift, launch_distance=1e-7, precision="double",
                       saddle=r.saddle)
         assert r7.success and hp.count_pulses(r7) == 3
         assert abs((r.T - r7.T) / shift - 1) <= 1e-3  # O(eps) corrections to the linear launch

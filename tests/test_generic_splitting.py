@@ -80,13 +80,13 @@ def test_circle_predicts_the_primaries_as_mu_to_2lam():
     starts = {1e-8: [(T0 - 1.17e-6, 1.307617), (T0 - 1.50e-6, 4.432634)],
               1e-9: [(T0 - 1.15e-6, 1.325540), (T0 - 1.25e-6, 4.414711)]}
     for nu, prim in starts.items():
-        rs = [hp.shoot(P.replace(mu=mu0 + nu), 1, a, T, eps=1e-7) for T, a in prim]
+        rs = [hp.shoot(P.replace(mu=mu0 + nu), 1, a, T, launch_distance=1e-7) for T, a in prim]
         assert all(r.success and r.residual <= 1e-10 for r in rs)
         spread = rs[1].angle - rs[0].angle - math.pi
         assert abs(spread / pred.spread(nu) - 1) <= 1e-2, (nu, spread, pred.spread(nu))
     assert pred.primaries_exist(1e-12) and not pred.primaries_exist(1e-13)  # merge at nu* = 6.8e-13
     # sin(psi) over the launch angle: psi0 + A sqrt(nu) sin(phi + const); least-squares first harmonic of a scan
-    ang, _, sp = hp.scan_angles(periodic_saddle(P.replace(mu=mu0 + 1e-8)), 1, 61, eps=1e-7)
+    ang, _, sp = hp.scan_angles(periodic_saddle(P.replace(mu=mu0 + 1e-8)), 1, 61, launch_distance=1e-7)
     ok = np.isfinite(sp)
     cols = np.column_stack([np.ones(ok.sum()), np.cos(ang[ok]), np.sin(ang[ok])])
     (p0, p1, p2), *_ = np.linalg.lstsq(cols, sp[ok], rcond=None)

@@ -72,28 +72,28 @@ def test_residual_and_jacobian_columns_against_differences():
     (periodic saddle) and d/dq with the saddle recomputed at q +- h (mu following lam for the straight rod: a
     column without mu's share would miss d mu/d lam = 2)."""
     s = shooting.saddle(FIG6)
-    T = shooting.unstable_branch(s, crossings=1, eps=1e-7)[0].t
-    ev = shooting.residual_and_jacobian(s, T, eps=1e-7, free=("lam", "gamma"))
+    T = shooting.unstable_branch(s, crossings=1, launch_distance=1e-7)[0].t
+    ev = shooting.residual_and_jacobian(s, T, launch_distance=1e-7, free=("lam", "gamma"))
     hT = 1e-6
-    dT = (shooting.residual_and_jacobian(s, T + hT, eps=1e-7, jacobian=False).r
-          - shooting.residual_and_jacobian(s, T - hT, eps=1e-7, jacobian=False).r) / (2 * hT)
+    dT = (shooting.residual_and_jacobian(s, T + hT, launch_distance=1e-7, jacobian=False).r
+          - shooting.residual_and_jacobian(s, T - hT, launch_distance=1e-7, jacobian=False).r) / (2 * hT)
     assert np.allclose(ev.J[:, 0], dT, rtol=1e-6, atol=1e-9)
     for j, (name, h) in enumerate((("lam", 1e-8), ("gamma", 1e-6)), start=1):
         v = getattr(FIG6, name)
-        rp = shooting.residual_and_jacobian(s.at(on_level(FIG6, **{name: v + h})), T, eps=1e-7, jacobian=False).r
-        rm = shooting.residual_and_jacobian(s.at(on_level(FIG6, **{name: v - h})), T, eps=1e-7, jacobian=False).r
+        rp = shooting.residual_and_jacobian(s.at(on_level(FIG6, **{name: v + h})), T, launch_distance=1e-7, jacobian=False).r
+        rm = shooting.residual_and_jacobian(s.at(on_level(FIG6, **{name: v - h})), T, launch_distance=1e-7, jacobian=False).r
         assert np.allclose(ev.J[:, j], (rp - rm) / (2 * h), rtol=1e-4, atol=1e-6 * np.max(np.abs(ev.J[:, j])))
     ps = shooting.saddle(GENERIC)
     T = 26.4567663389
-    ev = shooting.residual_and_jacobian(ps, T, 1.2987, eps=1e-7, free=("mu",))
+    ev = shooting.residual_and_jacobian(ps, T, 1.2987, launch_distance=1e-7, free=("mu",))
     ha = 1e-6
-    da = (shooting.residual_and_jacobian(ps, T, 1.2987 + ha, eps=1e-7, jacobian=False).r
-          - shooting.residual_and_jacobian(ps, T, 1.2987 - ha, eps=1e-7, jacobian=False).r) / (2 * ha)
+    da = (shooting.residual_and_jacobian(ps, T, 1.2987 + ha, launch_distance=1e-7, jacobian=False).r
+          - shooting.residual_and_jacobian(ps, T, 1.2987 - ha, launch_distance=1e-7, jacobian=False).r) / (2 * ha)
     assert np.allclose(ev.J[:, 1], da, rtol=1e-5, atol=1e-8)
     hm = 1e-9
-    rp = shooting.residual_and_jacobian(ps.at(GENERIC.replace(mu=GENERIC.mu + hm)), T, 1.2987, eps=1e-7,
+    rp = shooting.residual_and_jacobian(ps.at(GENERIC.replace(mu=GENERIC.mu + hm)), T, 1.2987, launch_distance=1e-7,
                                         jacobian=False).r
-    rm = shooting.residual_and_jacobian(ps.at(GENERIC.replace(mu=GENERIC.mu - hm)), T, 1.2987, eps=1e-7,
+    rm = shooting.residual_and_jacobian(ps.at(GENERIC.replace(mu=GENERIC.mu - hm)), T, 1.2987, launch_distance=1e-7,
                                         jacobian=False).r
     assert np.allclose(ev.J[:, 2], (rp - rm) / (2 * hm), rtol=1e-3)
 

@@ -29,8 +29,8 @@ def test_primary_orbit_equals_closed_form():
     win = orb["theta"] > 1e-3
     n = int(np.count_nonzero(win))
     vals = cf(np.vstack([tt[win], np.full(n, p.m), np.full(n, p.gamma)]))
-    # the linear launch is off the manifold by O(eps^2); measured 3e-15 (cos) and 1.3e-13 (pbar_theta) at eps=1e-7
-    tol = 1e2 * r.eps**2 + 1e3 * EPS
+    # the linear launch is off the manifold by O(eps^2); measured 3e-15 (cos) and 1.3e-13 (pbar_theta) at launch_distance=1e-7
+    tol = 1e2 * r.launch_distance**2 + 1e3 * EPS
     np.testing.assert_allclose(np.cos(orb["theta"][win]), vals[0], atol=tol)
     np.testing.assert_allclose(orb["ptheta"][win], vals[1], atol=tol)
     assert np.max(np.abs(orb["H"] - r.saddle_H)) <= 64 * EPS
@@ -38,7 +38,7 @@ def test_primary_orbit_equals_closed_form():
 
 def test_phase_is_a_symmetry():
     # different launch phases on the unstable circle give the same reduced orbit (first crossing: double precision)
-    assert shooting.phase_independence(straight_rod(FIG6), crossings=1, eps=LAUNCH_DISTANCE[Precision.DOUBLE]) <= 1e-9
+    assert shooting.phase_independence(straight_rod(FIG6), crossings=1, launch_distance=LAUNCH_DISTANCE[Precision.DOUBLE]) <= 1e-9
 
 
 def test_two_pulse_orbit_reversible_and_on_level():
@@ -62,8 +62,8 @@ def test_two_pulse_orbit_reversible_and_on_level():
 
 def test_eps_insensitivity():
     p = RodParams(1.7, 0.0025, 1.0, 1.0, 0.00125)
-    a = multipulse.shoot(p, 2, eps=1e-9)
-    b = multipulse.shoot(p, 2, eps=1e-8)
+    a = multipulse.shoot(p, 2, launch_distance=1e-9)
+    b = multipulse.shoot(p, 2, launch_distance=1e-8)
     assert a.success and b.success
     assert abs(a.params.lam - b.params.lam) <= 1e-9 * a.params.lam
 
@@ -114,7 +114,7 @@ def test_six_pulse_found_by_bisection_then_newton():
     at the 6th crossing in long double, then Newton; the noise floor of long double after five near-saddle
     passages (~1e-9) is above tol, so the result is accepted at the measured floor and says so."""
     p = FIG6
-    r = multipulse.free_star(p, "lam", 6, 0.001125, 0.0011375, eps=LAUNCH_DISTANCE[Precision.LONG_DOUBLE], precision="long double")
+    r = multipulse.free_star(p, "lam", 6, 0.001125, 0.0011375, launch_distance=LAUNCH_DISTANCE[Precision.LONG_DOUBLE], precision="long double")
     assert r is not None and r.success
     assert r.residual <= max(SHOOTING_TOL, FLOOR_FACTOR * r.noise_floor)
     assert r.residual <= FLOOR_CAP

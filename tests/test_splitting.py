@@ -28,7 +28,7 @@ def test_equilibrium_two_precisions_and_independent_path(eps):
     assert abs(lo.psi - q.psi) <= 1e4 * ULP["long double"] / rho
     assert abs(lo.d - q.d) <= 1e4 * ULP["long double"] * abs(q.d) / rho
     # shooting.unstable_branch: float64, other launch distance and event code, psi from float64 chart map
-    c = unstable_branch(straight_rod(p), crossings=1, eps=1e-7)[0]
+    c = unstable_branch(straight_rod(p), crossings=1, launch_distance=1e-7)[0]
     assert abs(c.theta - q.theta) <= 1e-12
     assert abs(c.psi - q.psi) <= 1e4 * ULP["double"] / rho
     assert abs(q.H_drift) <= 1e3 * ULP["quad"] and q.casimir_drift <= 1e3 * ULP["quad"]
@@ -177,28 +177,28 @@ def test_mu_within_mu_tol_of_2lam_is_the_straight_rod_for_both():
 
 @pytest.mark.parametrize("a", [2.0, 4.0])
 def test_splitting_launch_rounds_the_offset_in_double(a):
-    """LAUNCH: the splitting's launch forms eta d in float64 and converts it (the convention of REPORT.md's
+    """LAUNCH: the splitting's launch forms launch_distance d in float64 and converts it (the convention of REPORT.md's
     digits), an explicit option of the orbits' launch_point; the shooting engine's default forms it in the
-    working precision.  Both are at distance eta to rounding; in long double they differ in the last bits."""
+    working precision.  Both are at distance launch_distance to rounding; in long double they differ in the last bits."""
     from magrod.core import systems
 
     p = S.scaled_params(M, G, DL, a, 1.0, 0.03)
     sd = S.splitting_saddle(p, "long double")
-    eta, phase = 1e-10, 0.7
-    x = S.launch_point(sd, eta, phase)
+    launch_distance, phase = 1e-10, 0.7
+    x = S.launch_point(sd, launch_distance, phase)
     if sd.kind == "equilibrium":
         d = np.real(np.exp(-1j * phase) * sd.unstable_vector)
         from magrod.orbits.equilibrium import straight_rod_state
 
-        dist = eta
-        ref = straight_rod_state(p, "long double") + systems.fp_array(eta * (d / np.linalg.norm(d)), np.longdouble)
-        other = sd.launch_point(eta, phase)  # offset "working"
+        dist = launch_distance
+        ref = straight_rod_state(p, "long double") + systems.fp_array(launch_distance * (d / np.linalg.norm(d)), np.longdouble)
+        other = sd.launch_point(launch_distance, phase)  # offset "working"
     else:
         d = np.real(np.exp(-1j * phase) * sd.chart_vector)
-        dist = eta * float(sd.q[0])
+        dist = launch_distance * float(sd.q[0])
         q = sd.q + systems.fp_array(dist * (d / np.linalg.norm(d)), np.longdouble)
         ref = systems.splitting_functions(np.longdouble)["to_body"](q, p.array())
-        other = sd.launch_point(eta, phase, frame="chart")
+        other = sd.launch_point(launch_distance, phase, frame="chart")
     assert np.array_equal(x, ref)
     assert not np.array_equal(x, other)  # the keyword is not a no-op in long double
     assert float(np.max(np.abs(x - other))) <= 8 * float(np.finfo(np.longdouble).eps) * max(dist, float(np.max(np.abs(x))) * 1e-3)

@@ -71,7 +71,7 @@ def format_text(d: dict) -> str:
                 f"{u['double_check']['max_abs_difference']:.1e}) " if u.get("success") and "double_check" in u
                 else f"{d['free']}={row['free_value']:.12g} ")
             lines.append(f"  N={N}: {fv}residual={row['residual']:.2e} arclength={row['arclength']:.6g} "
-                         f"(eps={row['eps']:g}) H={row['H']:.15g} |H-H_saddle|={row['max_abs_H_minus_saddle']:.1e} "
+                         f"(launch distance {row['launch_distance']:g}) H={row['H']:.15g} |H-H_saddle|={row['max_abs_H_minus_saddle']:.1e} "
                          f"files={files[0] if files else []}")
     lines.append(f"  {d['message']}")
     if d.get("table"):

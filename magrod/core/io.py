@@ -287,8 +287,8 @@ def atomic_savefig(fig, path, **kw) -> Path:
 # The one orbit-file schema (every orbit file magrod writes, `write_orbit`; `magrod rod --from` reads them all):
 # arrays of the sampled symmetric orbit, t in [0, 2T] (n,), body states x (n, N), chart coordinates, Hbar, the
 # scaled arclength tau of the plotted window, and what reproduces it: launch point x0, time T to the symmetric
-# point, launch distance eps, angle, parameters pars (PARAMS order) and the reversor at the symmetric point.
-ORBIT_ARRAYS = ("t", "x", "theta", "psi", "ptheta", "ppsi", "H", "tau", "x0", "T", "eps", "pars", "reversor",
+# point, launch distance ("eps" in files before issue 25; not read back), angle, parameters pars (PARAMS order) and the reversor at the symmetric point.
+ORBIT_ARRAYS = ("t", "x", "theta", "psi", "ptheta", "ppsi", "H", "tau", "x0", "T", "launch_distance", "pars", "reversor",
                 "angle")
 ORBIT_KEYS = ("x0", "T", "pars", "t", "tau", "x")  # what load_orbit_file requires (and validates)
 ORBIT_SCALE = "B = C = m3 = 1 (derive/numeric_scale.py): t = s, lengths in units of B/m3"
@@ -303,8 +303,8 @@ def write_orbit(out_dir, stem: str, orbit, *, samples: dict | None = None, meta:
         raise ValueError("samples must contain the scaled arclength tau (MultipulseOrbit.sample)")
     out = Path(out_dir)
     arrays = {"t": orb["t"], "x": orb["x"], "theta": orb["theta"], "psi": orb["psi"], "ptheta": orb["ptheta"],
-              "ppsi": orb["ppsi"], "H": orb["H"], "tau": orb["tau"], "x0": orbit.x0, "T": orbit.T, "eps": orbit.eps,
-              "pars": orbit.params.array(), "reversor": orb["reversor"]}
+              "ppsi": orb["ppsi"], "H": orb["H"], "tau": orb["tau"], "x0": orbit.x0, "T": orbit.T,
+              "launch_distance": orbit.launch_distance, "pars": orbit.params.array(), "reversor": orb["reversor"]}
     if orbit.kind != "equilibrium":  # the straight rod's angle is a symmetry (always 0): its files omit it
         arrays["angle"] = orbit.angle
     npz = atomic_savez(out / f"{stem}.npz", **arrays)

@@ -50,7 +50,7 @@ FLOOR_FACTOR = 2.0
 FLOOR_CAP = 1e-6
 
 # --- splitting of the separatrix --------------------------------------------------------------------------------
-# launch distance (relative to theta0 for the tilted saddle) per precision: eta^2 below the rounding unit
+# launch distance (relative to theta0 for the tilted saddle) per precision: its square below the rounding unit
 SPLITTING_LAUNCH = {Precision.DOUBLE: 1e-8, Precision.LONG_DOUBLE: 1e-10, Precision.QUAD: 1e-17, Precision.MP: 1e-30}
 
 # --- root finding and bisection (issue 25: every tolerance here, none as a literal elsewhere) -------------------

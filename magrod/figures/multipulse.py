@@ -17,8 +17,8 @@ from .common import atomic_savefig, pyplot
 from .rod import plot_rod, rod_from_orbit_file
 
 TAU = f"(s - T)/L, L = T - s(theta first >= {THETA_CUT})"
-UNCERTAINTY_METHOD = (f"{{free}}* at launch distances eps = {LAUNCH_DISTANCES} in double and long double; value = long "
-                      "double at the smaller eps, uncertainty = max(long double spread over eps, Newton resolution "
+UNCERTAINTY_METHOD = (f"{{free}}* at launch distances {LAUNCH_DISTANCES} in double and long double; value = long "
+                      "double at the smaller launch distance, uncertainty = max(long double spread over launch distances, Newton resolution "
                       "through J^-1 at the residual or noise floor); double_check = |double - value| (double floor "
                       "1e-8..1e-6 after near-saddle passages)")
 

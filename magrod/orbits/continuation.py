@@ -231,7 +231,7 @@ def point_at(F, u_guess, index: int, value: float, *, scale=None, tol=CONTINUATI
 MU2LAM_FREE = ("m", "gamma", "delta")
 
 
-def mu2lam_problem(base: RodParams, second: str = "m", *, eps: float = LAUNCH_DISTANCE[Precision.LONG_DOUBLE],
+def mu2lam_problem(base: RodParams, second: str = "m", *, launch_distance: float = LAUNCH_DISTANCE[Precision.LONG_DOUBLE],
                    precision=Precision.LONG_DOUBLE):
     """F(T, lam, q) = (pbar_theta, sin psi)(x(T)) for the straight rod's unstable manifold on mu = 2 lam, q =
     `second` (m, gamma or delta); residual and Jacobian from the one engine (shooting.residual_and_jacobian, mu
@@ -245,7 +245,7 @@ def mu2lam_problem(base: RodParams, second: str = "m", *, eps: float = LAUNCH_DI
         return on_level(base, lam=float(u[1]), **{second: float(u[2])})
 
     def F(u):
-        ev = residual_and_jacobian(straight_rod(params_of(u)), u[0], eps=eps, precision=prec, free=("lam", second))
+        ev = residual_and_jacobian(straight_rod(params_of(u)), u[0], launch_distance=launch_distance, precision=prec, free=("lam", second))
         return ev.r, ev.J
 
     return F, params_of
@@ -254,19 +254,19 @@ def mu2lam_problem(base: RodParams, second: str = "m", *, eps: float = LAUNCH_DI
 PERIODIC_FREE = ("lam", "mu", "m", "gamma", "delta")
 
 
-def periodic_problem(base: RodParams, free: str, pulses: int, *, eps: float | None = None, precision=None):
+def periodic_problem(base: RodParams, free: str, pulses: int, *, launch_distance: float | None = None, precision=None):
     """F(T, angle, q) for symmetric homoclinic orbits to the periodic saddle (magrod.orbits.periodic_multipulse),
     q = `free`; the periodic saddle is computed once per point u.  Returns (F, params_of(u))."""
     if free not in PERIODIC_FREE:
         raise ParameterError("free", f"must be one of {PERIODIC_FREE}, got {free!r}")
     prec = shooting_precision(pulses, precision)
-    eps = eps if eps is not None else LAUNCH_DISTANCE[prec]
+    launch_distance = launch_distance if launch_distance is not None else LAUNCH_DISTANCE[prec]
 
     def params_of(u):
         return base.replace(**{free: float(u[2])})
 
     def F(u):
-        ev = residual_and_jacobian(periodic_saddle(params_of(u)), u[0], u[1], eps=eps, precision=prec, free=(free,))
+        ev = residual_and_jacobian(periodic_saddle(params_of(u)), u[0], u[1], launch_distance=launch_distance, precision=prec, free=(free,))
         return ev.r, ev.J
 
     return F, params_of
@@ -339,7 +339,7 @@ def continue_branch(orbit, parameter: str = "mu", steps: int = 50, *, ds: float 
     sec. 10.2) of F(u) = (pbar_theta, sin psi)(x(T)) = 0 with the one shooting engine's Jacobian (variational
     equations; launch-point differences with the saddle recomputed at each point); folds are sign changes of the
     tangent's parameter component, located by Illinois regula falsi.  The orbit's launch distance and precision
-    are kept (T depends on eps).  Cost: one variational integration and two saddle constructions per parameter
+    are kept (T depends on launch_distance).  Cost: one variational integration and two saddle constructions per parameter
     direction per Newton step (~0.05-0.5 s per point).  Accuracy: every point has max|F| <= tol.
     """
     from .shooting import MultipulseOrbit
@@ -356,14 +356,14 @@ def continue_branch(orbit, parameter: str = "mu", steps: int = 50, *, ds: float 
         if parameter not in MU2LAM_FREE:
             raise ParameterError("parameter", f"an orbit of the straight rod (mu = 2 lam) is continued in one of "
                                               f"{MU2LAM_FREE} (lam is an unknown and mu follows it), got {parameter!r}")
-        F, _ = mu2lam_problem(p, parameter, eps=orbit.eps, precision=orbit.precision)
+        F, _ = mu2lam_problem(p, parameter, launch_distance=orbit.launch_distance, precision=orbit.precision)
         v = getattr(p, parameter)
         u0, names = [orbit.T, p.lam, v], ("T", "lam", parameter)
         scale = [orbit.T, abs(p.lam) or 1e-3, max(1.0, abs(v))]
     else:
         if parameter not in PERIODIC_FREE:
             raise ParameterError("parameter", f"must be one of {PERIODIC_FREE}, got {parameter!r}")
-        F, _ = periodic_problem(p, parameter, orbit.pulses, eps=orbit.eps, precision=orbit.precision)
+        F, _ = periodic_problem(p, parameter, orbit.pulses, launch_distance=orbit.launch_distance, precision=orbit.precision)
         v = getattr(p, parameter)
         u0, names = [orbit.T, orbit.angle, v], ("T", "angle", parameter)
         gap = p.mu - 2 * p.lam

@@ -55,23 +55,23 @@ def is_on_level(params: RodParams) -> bool:
     return abs(gap) <= MU_TOL * max(1.0, abs(params.mu))
 
 
-OFFSETS = ("working", "double")  # how a launch offset eps d is rounded (StraightRod.launch_point)
+OFFSETS = ("working", "double")  # how a launch offset launch_distance d is rounded (StraightRod.launch_point)
 
 
-def launch_offset(d, eps, precision: Precision, offset: str = "working") -> np.ndarray:
-    """eps d (d a float64 unit vector) in `precision`: offset "working" forms the product there (eps and d
+def launch_offset(d, launch_distance, precision: Precision, offset: str = "working") -> np.ndarray:
+    """launch_distance d (d a float64 unit vector) in `precision`: offset "working" forms the product there (launch_distance and d
     converted first), "double" forms it in float64 and converts the result.  The eigenvector is a float64
-    quantity either way, so both are launches at distance eps to rounding; the splitting of the separatrix
+    quantity either way, so both are launches at the launch distance to rounding; the splitting of the separatrix
     (magrod.separatrix.splitting) uses "double", the convention its REPORT.md digits were measured with (the long
     double runs see the difference at their noise level, ~1e-9 relative), everything else "working"."""
     if offset not in OFFSETS:
         raise ParameterError("offset", f"must be one of {OFFSETS}, got {offset!r}")
     fp, bits = precision.fp_type, precision.prec
     if offset == "double":
-        return systems.fp_array(eps * d, fp, bits)
+        return systems.fp_array(launch_distance * d, fp, bits)
     if precision in (Precision.DOUBLE, Precision.LONG_DOUBLE):
-        return fp(eps) * d.astype(fp)
-    return systems._fp(fp, eps, bits) * systems.fp_array(d, fp, bits)
+        return fp(launch_distance) * d.astype(fp)
+    return systems._fp(fp, launch_distance, bits) * systems.fp_array(d, fp, bits)
 
 
 def on_level(params: RodParams, **changes) -> RodParams:
@@ -105,16 +105,16 @@ class StraightRod(Result):
     kind = "equilibrium"
     _repr_fields = ("kind", "params", "unstable_eigenvalue", "H")
 
-    def launch_point(self, eps: float, angle: float = 0.0, precision=None, *, offset: str = "working") -> np.ndarray:
-        """x_eq + eps Re(e^{-i angle} v)/|Re(e^{-i angle} v)|: a point at distance eps on the linear unstable
+    def launch_point(self, launch_distance: float, angle: float = 0.0, precision=None, *, offset: str = "working") -> np.ndarray:
+        """x_eq + launch_distance Re(e^{-i angle} v)/|Re(e^{-i angle} v)|: a point at the launch distance on the linear unstable
         manifold, formed in `precision` (default: the saddle's; x_eq computed there too, so that it is exact in
-        that arithmetic; the O(eps^2) error of the linearisation is the launch error).  The angle is a symmetry
-        direction: the rotations about the body 3-axis act on the unstable plane as this phase.  offset: how eps d
+        that arithmetic; the O(launch_distance^2) error of the linearisation is the launch error).  The angle is a symmetry
+        direction: the rotations about the body 3-axis act on the unstable plane as this phase.  offset: how launch_distance d
         is rounded ("working" or "double", `launch_offset`)."""
         pr = self.precision if precision is None else Precision.parse(precision)
         d = np.real(np.exp(-1j * angle) * self.unstable_vector)
         d = d / np.linalg.norm(d)
-        return straight_rod_state(self.params, pr) + launch_offset(d, eps, pr, offset)
+        return straight_rod_state(self.params, pr) + launch_offset(d, launch_distance, pr, offset)
 
     def at(self, params: RodParams) -> "StraightRod":
         """The straight-rod saddle at other parameters, in the same precision (ParameterError where there is

@@ -43,7 +43,7 @@ FREE_PARAMETERS = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))
 
 
 # --- Newton ------------------------------------------------------------------------------------------------
-def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", eps: float | None = None,
+def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", launch_distance: float | None = None,
           tol: float = SHOOTING_TOL, max_iter: int = 25, T_guess: float | None = None, precision=None,
           saddle: StraightRod | None = None) -> MultipulseOrbit:
     """Newton on (T, free parameter) for (pbar_theta, sin psi)(x(T)) = 0 at the `crossing`-th zero of pbar_theta.
@@ -53,11 +53,11 @@ def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", eps: fl
     integration (135 equations) per iteration, ~10-50 ms each (x10 in long double).  saddle: the straight rod
     at `params` if already computed.
 
-    precision None (automatic): double for the first crossing, long double and eps = LAUNCH_DISTANCE[long double]
+    precision None (automatic): double for the first crossing, long double and launch_distance = LAUNCH_DISTANCE[long double]
     (1e-9) for later crossings.  Near the saddle psi is the angle of the transverse force rho ~ sqrt(lam) theta
-    (~1e-6 there), so psi after (or at) a near-saddle passage inherits the O(eps^2) error of the linear launch
+    (~1e-6 there), so psi after (or at) a near-saddle passage inherits the O(launch_distance^2) error of the linear launch
     and the rounding of n divided by rho: in double precision this puts a floor of ~1e-8..1e-7 on the residual
-    (measured), in long double with eps = 1e-9 it is ~1e-11 for N = 2 and grows with N (~1e-9 for N = 6: each
+    (measured), in long double with launch_distance = 1e-9 it is ~1e-11 for N = 2 and grows with N (~1e-9 for N = 6: each
     near-saddle passage amplifies the rounding).
 
     Near the root the residual is noise, so Newton keeps its best iterate and stops after STALL_ITERATIONS
@@ -67,8 +67,8 @@ def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", eps: fl
     saying so (`resolution`: how far the free parameter can be from the root, through J^-1)."""
     crossing = require_positive_int("crossing", crossing)
     prec = shooting_precision(crossing, precision)
-    if eps is None:
-        eps = LAUNCH_DISTANCE[prec]
+    if launch_distance is None:
+        launch_distance = LAUNCH_DISTANCE[prec]
     if free is not None and free not in FREE_PARAMETERS:
         raise ParameterError("free", f"must be one of {FREE_PARAMETERS} or None, got {free!r}")
     void_psi = params.lam == 0.0
@@ -77,11 +77,11 @@ def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", eps: fl
                                      "(the launch phase is a symmetry): a free parameter is needed unless lam = 0")
     if void_psi:
         free = None
-    if not (0 < eps < 1e-2):
-        raise ParameterError("eps", f"must be in (0, 1e-2), got {eps}")
+    if not (0 < launch_distance < 1e-2):
+        raise ParameterError("launch_distance", f"must be in (0, 1e-2), got {launch_distance}")
     s = saddle if saddle is not None else straight_rod(params)
     if T_guess is None:
-        br = unstable_branch(s, crossings=crossing, eps=eps)
+        br = unstable_branch(s, crossings=crossing, launch_distance=launch_distance)
         if len(br) < crossing:
             raise ParameterError("crossing", f"the unstable branch has only {len(br)} zeros of pbar_theta before "
                                              f"t = 2000 (no homoclinic level reached)")
@@ -96,14 +96,14 @@ def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", eps: fl
         if v not in saddles:
             saddles.clear()
             saddles[v] = straight_rod(on_level(params, **{free: v}))
-        ev = residual_and_jacobian(saddles[v], float(z[0]), eps=eps, precision=prec,
+        ev = residual_and_jacobian(saddles[v], float(z[0]), launch_distance=launch_distance, precision=prec,
                                    free=() if free is None else (free,))
         if void_psi:  # the sin psi condition is void: unknown T, condition pbar_theta = 0
             ev.r, ev.J = ev.r[:1], ev.J[:1, :1]
         return ev
 
     def floor(ev, z):
-        return noise_floor(ev.saddle, free, float(z[0]), ev.r, ev.J[:, 1], eps=eps, precision=prec)
+        return noise_floor(ev.saddle, free, float(z[0]), ev.r, ev.J[:, 1], launch_distance=launch_distance, precision=prec)
 
     z0 = [T] if free is None else [T, getattr(s.params, free)]
     # damp steps that would leave the region where the crossing index is meaningful: |d free| <= |free| / 4
@@ -116,13 +116,13 @@ def shoot(params: RodParams, crossing: int, *, free: str | None = "lam", eps: fl
     ev = run.evaluation
     if ev is None:  # no evaluation (max_iter = 0)
         return MultipulseOrbit(False, f"not converged after 0 iterations (last residual inf > tol {tol:.1e})",
-                               s.params, s, crossing, T, s.launch_point(eps), math.inf, 0, eps, prec, free=free,
+                               s.params, s, crossing, T, s.launch_point(launch_distance), math.inf, 0, launch_distance, prec, free=free,
                                history=history)
     s_, T_ = ev.saddle, float(run.z[0])
 
     def result(success, message, **kw):
         return MultipulseOrbit(success, message, s_.params, s_, crossing, T_, ev.x0, run.residual, run.iterations,
-                               eps, prec, free=free, history=history, **kw)
+                               launch_distance, prec, free=free, history=history, **kw)
 
     if run.outcome == "converged":
         kw = {} if void_psi else {"resolution": _resolution(ev.J, ev.r)}
@@ -146,7 +146,7 @@ def _resolution(Jm, r) -> float:
         return math.nan
 
 
-def noise_floor(s: StraightRod, free: str, T: float, r0, drdv, *, eps: float, precision=Precision.DOUBLE,
+def noise_floor(s: StraightRod, free: str, T: float, r0, drdv, *, launch_distance: float, precision=Precision.DOUBLE,
                 ulps: int = 64) -> np.ndarray:
     """Rounding noise of the shooting residual at (s.params, T), per component: max over k = +-1 .. +-4 of
     |r(v + k h) - r(v) - k h dr/dv| with h = `ulps` ulp of the free value v (T fixed).  The linear part is
@@ -158,7 +158,7 @@ def noise_floor(s: StraightRod, free: str, T: float, r0, drdv, *, eps: float, pr
     worst = np.zeros(2)
     for k in (-4, -3, -2, -1, 1, 2, 3, 4):
         q = straight_rod(on_level(s.params, **{free: v + k * h}))
-        x = shooting.propagate(q.launch_point(eps, 0.0, precision), q.params.array(), T, precision)
+        x = shooting.propagate(q.launch_point(launch_distance, 0.0, precision), q.params.array(), T, precision)
         worst = np.maximum(worst, np.abs(fcond(x, []) - np.asarray(r0) - k * h * np.asarray(drdv)))
     return worst
 
@@ -169,10 +169,10 @@ def orbit(result: MultipulseOrbit, n: int = 4001) -> dict:
 
 
 def summarize(result: MultipulseOrbit, orb: dict | None = None) -> dict:
-    """pulses, residual, arclength (between the two eps-points: 2 T), H (and its deviation from the saddle's)."""
+    """pulses, residual, arclength (between the two launch_distance-points: 2 T), H (and its deviation from the saddle's)."""
     orb = orb or orbit(result)
     return {"pulses": count_pulses(orb["theta"]), "crossing": result.pulses, "residual": result.residual,
-            "noise_floor": result.noise_floor, "iterations": result.iterations, "arclength": 2 * result.T, "eps": result.eps,
+            "noise_floor": result.noise_floor, "iterations": result.iterations, "arclength": 2 * result.T, "launch_distance": result.launch_distance,
             "H": float(np.mean(orb["H"])), "H_saddle": result.saddle_H,
             "max_abs_H_minus_saddle": float(np.max(np.abs(orb["H"] - result.saddle_H))),
             "theta_max": float(np.max(orb["theta"])), "free": result.free,
@@ -188,42 +188,42 @@ def _saddle_at(params: RodParams, free: str, value: float) -> StraightRod | None
         return None
 
 
-def scan(params: RodParams, free: str, values, crossings: int, eps: float = LAUNCH_DISTANCE[Precision.DOUBLE],
+def scan(params: RodParams, free: str, values, crossings: int, launch_distance: float = LAUNCH_DISTANCE[Precision.DOUBLE],
          progress=None):
     """sin(psi) at the first `crossings` zeros of pbar_theta along the unstable branch for each value of the
     free parameter: array (len(values), crossings) (nan where the branch has fewer crossings)."""
     out = np.full((len(values), crossings), np.nan)
     for i, v in enumerate(values):
         s = _saddle_at(params, free, v)
-        for c in unstable_branch(s, crossings=crossings, eps=eps) if s is not None else []:
+        for c in unstable_branch(s, crossings=crossings, launch_distance=launch_distance) if s is not None else []:
             out[i, c.index - 1] = c.sinpsi
         if progress is not None:
             progress(1)
     return out
 
 
-def crossing_sinpsi(params: RodParams, free: str, value: float, crossing: int, *, eps: float,
+def crossing_sinpsi(params: RodParams, free: str, value: float, crossing: int, *, launch_distance: float,
                     precision=Precision.DOUBLE):
     """(sin psi, t) at the `crossing`-th zero of pbar_theta on the unstable branch at free = value (mu on the
     straight rod's level), or None if the branch does not get there (or there is no saddle)."""
     s = _saddle_at(params, free, value)
     if s is None:
         return None
-    br = unstable_branch(s, crossings=crossing, eps=eps, precision=precision)
+    br = unstable_branch(s, crossings=crossing, launch_distance=launch_distance, precision=precision)
     if len(br) < crossing:
         return None
     return br[-1].sinpsi, br[-1].t
 
 
-def bisect(params: RodParams, free: str, crossing: int, a: float, b: float, *, eps: float,
+def bisect(params: RodParams, free: str, crossing: int, a: float, b: float, *, launch_distance: float,
            precision=Precision.DOUBLE, rtol: float = BISECTION_RTOL, max_iter: int = 60) -> dict | None:
     """Bisection on g(v) = sin psi at the `crossing`-th zero of pbar_theta over a bracket [a, b] of the free
     parameter (the pbar_theta condition holds exactly at the event, so this is the 1-D form of the shooting
     problem).  Stops at relative width rtol (a few ulp: inside the noise band it just picks a point in it).
-    Returns {value, T, g, width, iterations} or None if [a, b] is not a sign change in this precision and eps
+    Returns {value, T, g, width, iterations} or None if [a, b] is not a sign change in this precision and launch_distance
     (or is a jump of psi through the chart's cut, |g(a) - g(b)| >= 1).  Cost: one crossing integration per step
     (~5-50 ms in double, x10 in long double)."""
-    ga, gb = (crossing_sinpsi(params, free, v, crossing, eps=eps, precision=precision) for v in (a, b))
+    ga, gb = (crossing_sinpsi(params, free, v, crossing, launch_distance=launch_distance, precision=precision) for v in (a, b))
     if ga is None or gb is None or np.sign(ga[0]) == np.sign(gb[0]) or abs(ga[0] - gb[0]) >= 1.0:
         return None
     it = 0
@@ -231,7 +231,7 @@ def bisect(params: RodParams, free: str, crossing: int, a: float, b: float, *, e
     while abs(b - a) > rtol * max(abs(a), abs(b)) and it < max_iter:
         it += 1
         m = 0.5 * (a + b)
-        gm = crossing_sinpsi(params, free, m, crossing, eps=eps, precision=precision)
+        gm = crossing_sinpsi(params, free, m, crossing, launch_distance=launch_distance, precision=precision)
         if gm is None or abs(gm[0] - ga[0]) >= 1.0 and abs(gm[0] - gb[0]) >= 1.0:
             return None
         mid = gm
@@ -246,23 +246,23 @@ def bisect(params: RodParams, free: str, crossing: int, a: float, b: float, *, e
     return {"value": v, "T": mid[1], "g": mid[0], "width": abs(b - a), "iterations": it}
 
 
-def free_star(params: RodParams, free: str, crossing: int, a: float, b: float, *, eps: float, precision,
+def free_star(params: RodParams, free: str, crossing: int, a: float, b: float, *, launch_distance: float, precision,
               tol: float = SHOOTING_TOL) -> MultipulseOrbit | None:
-    """The orbit at the `crossing`-th zero in the bracket [a, b]: bisection (same eps and precision) then
+    """The orbit at the `crossing`-th zero in the bracket [a, b]: bisection (same launch_distance and precision) then
     Newton on (T, free) from the bisected value; None if the bracket is not a sign change here.  A failed Newton
     is returned as such (success False)."""
     prec = Precision.parse(precision)
-    bis = bisect(params, free, crossing, a, b, eps=eps, precision=prec)
+    bis = bisect(params, free, crossing, a, b, launch_distance=launch_distance, precision=prec)
     if bis is None:
         return None
     q = on_level(params, **{free: bis["value"]})
-    return shoot(q, crossing, free=free, eps=eps, tol=tol, T_guess=bis["T"], precision=prec)
+    return shoot(q, crossing, free=free, launch_distance=launch_distance, tol=tol, T_guess=bis["T"], precision=prec)
 
 
 def uncertainty(params: RodParams, free: str, crossing: int, a: float, b: float, *, tol: float = SHOOTING_TOL,
                 eps_values=LAUNCH_DISTANCES) -> dict:
     """The free parameter of one orbit (bracket [a, b], `crossing`) at two launch distances (eps_values) in
-    double and in long double.  value: the long double run at the smaller eps; uncertainty: the larger of the
+    double and in long double.  value: the long double run at the smaller launch_distance; uncertainty: the larger of the
     two long double values' difference and their Newton resolutions (residual or noise floor through J^-1);
     double_check: the largest |double - value| with the double runs' resolution (the double floor after
     near-saddle passages is 1e-8..1e-6, so double only confirms the leading digits); significant: value to its
@@ -270,8 +270,8 @@ def uncertainty(params: RodParams, free: str, crossing: int, a: float, b: float,
     runs = []
     for prec in (Precision.DOUBLE, Precision.LONG_DOUBLE):
         for e in eps_values:
-            r = free_star(params, free, crossing, a, b, eps=e, precision=prec, tol=tol)
-            row = {"eps": e, "precision": prec.value, "success": bool(r is not None and r.success)}
+            r = free_star(params, free, crossing, a, b, launch_distance=e, precision=prec, tol=tol)
+            row = {"launch_distance": e, "precision": prec.value, "success": bool(r is not None and r.success)}
             if r is not None:
                 row.update({"value": getattr(r.params, free), "residual": r.residual, "T": r.T,
                             "noise_floor": r.noise_floor, "resolution": r.resolution, "message": r.message})
@@ -309,14 +309,14 @@ def significant(value: float, uncertainty: float) -> str:
 
 
 def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, span: float = 0.5,
-                samples: int = SCAN_INTERVALS + 1, eps: float | None = None, tol: float = SHOOTING_TOL, progress=None,
+                samples: int = SCAN_INTERVALS + 1, launch_distance: float | None = None, tol: float = SHOOTING_TOL, progress=None,
                 max_brackets: int = 8, with_uncertainty: bool = False,
                 saddle: StraightRod | None = None) -> list[PulseSearch]:
     """For N = 1..max_pulses: scan the free parameter over value * [1 - span, 1 + span] (linearly, `samples`
     points, double precision), bracket sign changes of sin(psi) at the N-th crossing, and from the brackets
     nearest to the nominal value (at most max_brackets): bisect on sin(psi) in the shooting precision (long
     double for N >= 2, as `shoot`), then Newton on (T, free) from the bisected value; keep converged orbits
-    whose counted pulses equal N.  with_uncertainty: also the free parameter at two eps and two precisions
+    whose counted pulses equal N.  with_uncertainty: also the free parameter at two launch_distance and two precisions
     (`uncertainty`, ~4x the cost).  Returns one PulseSearch per N (success: the converged orbit closest to the
     nominal value, its samples and summary row; failure: what each bracket gave).  saddle: the straight rod at
     `params` if already computed."""
@@ -327,7 +327,7 @@ def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, sp
     s = saddle if saddle is not None else straight_rod(params)  # ParameterError early if there is no saddle
     if params.lam == 0:
         # integrable case (psi is a gauge): only the primary orbit, unknown T alone
-        r = shoot(params, 1, free=None, eps=eps, tol=tol, saddle=s)
+        r = shoot(params, 1, free=None, launch_distance=launch_distance, tol=tol, saddle=s)
         if not r.success:
             return [PulseSearch(False, r.message, 1, iterations=r.iterations, residual=r.residual)]
         orb = orbit(r)
@@ -349,16 +349,16 @@ def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, sp
         entry = PulseSearch(False, f"no sign change of sin(psi) at crossing {N} for {free} in [{vals[0]:.6g}, "
                                    f"{vals[-1]:.6g}]", N, brackets=len(idx), attempts=[])
         prec = shooting_precision(N)
-        e_N = eps if eps is not None else LAUNCH_DISTANCE[prec]
+        e_N = launch_distance if launch_distance is not None else LAUNCH_DISTANCE[prec]
         for i in idx[:max_brackets]:
             a, b = float(vals[i]), float(vals[i + 1])
             try:
-                r = free_star(params, free, N, a, b, eps=e_N, precision=prec, tol=tol)
+                r = free_star(params, free, N, a, b, launch_distance=e_N, precision=prec, tol=tol)
             except ParameterError as exc:
                 entry.attempts.append(f"[{a:.6g}, {b:.6g}]: {exc}")
                 continue
             if r is None:
-                entry.attempts.append(f"[{a:.6g}, {b:.6g}]: no sign change in {prec.value} at eps = {e_N:g}")
+                entry.attempts.append(f"[{a:.6g}, {b:.6g}]: no sign change in {prec.value} at launch_distance = {e_N:g}")
                 continue
             if not r.success:
                 entry.attempts.append(f"[{a:.6g}, {b:.6g}]: {r.message}")

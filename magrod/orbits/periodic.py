@@ -287,15 +287,15 @@ class PeriodicSaddle(Result):
     def chart_vector(self) -> np.ndarray:
         return self.chart_view.vector
 
-    def launch_point(self, eps: float, angle: float = 0.0, precision=None, *, offset: str = "working",
+    def launch_point(self, launch_distance: float, angle: float = 0.0, precision=None, *, offset: str = "working",
                      frame: str = "body") -> np.ndarray:
-        """A point on the linear unstable manifold at launch distance eps and angle `angle`, formed in `precision`
-        (default: the saddle's; the O(eps^2) error of the linearisation is the launch error).
+        """A point on the linear unstable manifold at launch distance and angle `angle`, formed in `precision`
+        (default: the saddle's; the O(launch_distance^2) error of the linearisation is the launch error).
 
-        frame "body": x + eps Re(e^{-i angle} v)/|.| on the unstable fibre of the periodic orbit at phase 0 (v the
+        frame "body": x + launch_distance Re(e^{-i angle} v)/|.| on the unstable fibre of the periodic orbit at phase 0 (v the
         monodromy's eigenvector; x the double-precision relative equilibrium, exact in every wider type).  The
         angle is a genuine unknown of the shooting problem (module docstring of magrod.orbits.shooting).
-        frame "chart": the body state of q + eps theta0 Re(e^{-i angle} v_c)/|.| (q the chart equilibrium in
+        frame "chart": the body state of q + launch_distance theta0 Re(e^{-i angle} v_c)/|.| (q the chart equilibrium in
         `precision`, v_c its unstable eigenvector; the distance is relative to the tilt theta0), on the chart's
         linear unstable manifold: the launch of the separatrix's splitting.
         offset: how the offset is rounded ("working" or "double", magrod.orbits.equilibrium.launch_offset)."""
@@ -304,14 +304,14 @@ class PeriodicSaddle(Result):
         if frame == "chart":
             ch = self.chart_view if pr is self.precision else chart_equilibrium(self.params, pr)
             d = np.real(np.exp(-1j * angle) * ch.vector)
-            q = ch.q + launch_offset(d / np.linalg.norm(d), eps * float(ch.q[0]), pr, offset)
+            q = ch.q + launch_offset(d / np.linalg.norm(d), launch_distance * float(ch.q[0]), pr, offset)
             return systems.splitting_functions(fp, bits)["to_body"](q, self.params.array())
         if frame != "body":
             raise ParameterError("frame", f"must be 'body' or 'chart', got {frame!r}")
         d = np.real(np.exp(-1j * angle) * self.unstable_vector)
         if pr is Precision.DOUBLE and offset == "working":
-            return self.x + eps * d / np.linalg.norm(d)
-        return systems.fp_array(self.x, fp, bits) + launch_offset(d / np.linalg.norm(d), eps, pr, offset)
+            return self.x + launch_distance * d / np.linalg.norm(d)
+        return systems.fp_array(self.x, fp, bits) + launch_offset(d / np.linalg.norm(d), launch_distance, pr, offset)
 
     def at(self, params: RodParams) -> "PeriodicSaddle":
         """The periodic saddle at other parameters, in the same precision (ParameterError where there is none)."""

@@ -5,9 +5,9 @@ Unknowns.  The periodic orbit is a G-orbit (rotations about the body 3-axis), so
 is the G_{omega s}-image of a launch at phase 0 with the unstable-plane coordinate multiplied by
 exp(-s (a + i b)) (d Phi_s = G_{omega s} exp(s A), magrod.orbits.periodic).  Fix(R) = {pbar_theta = 0, sin psi = 0} is
 G-invariant, so the phase along the periodic orbit and the launch angle on the unstable plane are one unknown:
-we launch at phase 0, distance eps, angle `angle` (x_L = x_p + eps Re(e^{-i angle} v)/|.|, v the monodromy's
+we launch at phase 0, launch distance, angle `angle` (x_L = x_p + launch_distance Re(e^{-i angle} v)/|.|, v the monodromy's
 unstable eigenvector) -- the phase along the periodic orbit s corresponds to angle = b s at distance
-eps e^{a s}.  With the time T to the symmetric point this gives two unknowns for the two conditions
+launch_distance e^{a s}.  With the time T to the symmetric point this gives two unknowns for the two conditions
 r = (pbar_theta, sin psi)(x(T)) = 0: symmetric homoclinic orbits to the periodic saddle are generic (isolated
 at fixed parameters, in one-parameter branches), unlike those of the straight rod at mu = 2 lambdabar
 (magrod.orbits.multipulse), which are of codimension one.
@@ -36,7 +36,7 @@ from .shooting import (MultipulseOrbit, crossing_events, fix_residual, limit_com
 THETA_GATE = 0.3  # a zero of pbar_theta with theta above this is a pulse maximum; below it, a near-saddle one
 
 
-def crossings(saddle: PeriodicSaddle, angle: float, pulses: int, *, eps: float = LAUNCH_DISTANCE[Precision.DOUBLE],
+def crossings(saddle: PeriodicSaddle, angle: float, pulses: int, *, launch_distance: float = LAUNCH_DISTANCE[Precision.DOUBLE],
               t_max: float = 3000.0, gate: float = THETA_GATE, max_events: int = 400):
     """Candidate symmetric points for a `pulses`-pulse orbit on the unstable branch launched at `angle`: list of
     (t, sin psi) at zeros of pbar_theta sin(theta).  Odd pulses = 2j - 1: the j-th zero with theta > gate (the
@@ -47,7 +47,7 @@ def crossings(saddle: PeriodicSaddle, angle: float, pulses: int, *, eps: float =
     pars = saddle.params.array()
     j = (pulses + 1) // 2
     big, out = 0, []
-    for t, x in crossing_events(saddle.launch_point(eps, angle, Precision.DOUBLE), pars, t_max=t_max, max_events=max_events):
+    for t, x in crossing_events(saddle.launch_point(launch_distance, angle, Precision.DOUBLE), pars, t_max=t_max, max_events=max_events):
         th = float(systems.body_to_euler(x, pars)[0])
         if th > gate:
             big += 1
@@ -60,19 +60,19 @@ def crossings(saddle: PeriodicSaddle, angle: float, pulses: int, *, eps: float =
     return [] if pulses % 2 == 1 else out
 
 
-def shoot(params: RodParams, pulses: int, angle: float, T: float, *, eps: float | None = None,
+def shoot(params: RodParams, pulses: int, angle: float, T: float, *, launch_distance: float | None = None,
           tol: float = SHOOTING_TOL, max_iter: int = 20, precision=None,
           saddle: PeriodicSaddle | None = None) -> MultipulseOrbit:
     """Newton on (T, angle) at fixed parameters from the guess (angle, T) of a `pulses`-pulse orbit (precision
-    None: double for one pulse, long double from two on; eps None: LAUNCH_DISTANCE of that precision).  saddle:
+    None: double for one pulse, long double from two on; launch_distance None: LAUNCH_DISTANCE of that precision).  saddle:
     the periodic saddle at `params` if already computed."""
     crossing = require_positive_int("pulses", pulses)
     prec = shooting_precision(crossing, precision)
-    eps = eps if eps is not None else LAUNCH_DISTANCE[prec]
+    launch_distance = launch_distance if launch_distance is not None else LAUNCH_DISTANCE[prec]
     s = saddle if saddle is not None else periodic_saddle(params)
 
     def evaluate(z):
-        return residual_and_jacobian(s, float(z[0]), float(z[1]), eps=eps, precision=prec)
+        return residual_and_jacobian(s, float(z[0]), float(z[1]), launch_distance=launch_distance, precision=prec)
 
     # the one damped Newton (magrod.orbits.shooting.newton): |d angle| <= 0.5 (a wrong crossing index otherwise);
     # the periodic searches converge to tol at their launch distance, so no stall/noise-floor acceptance here
@@ -84,16 +84,16 @@ def shoot(params: RodParams, pulses: int, angle: float, T: float, *, eps: float 
     if run.success:
         H = float(systems.body_functions()["H"](ev.xT, params.array())[0])
         return MultipulseOrbit(True, f"converged in {run.iterations} Newton steps", params, s, crossing, T, ev.x0,
-                               run.residual, run.iterations, eps, prec, angle=angle, history=hist, xT=ev.xT,
+                               run.residual, run.iterations, launch_distance, prec, angle=angle, history=hist, xT=ev.xT,
                                energy_error=abs(H - s.H))
     x0, xT = (ev.x0, ev.xT) if ev is not None else (np.full(systems.dim("body"), np.nan),) * 2
     return MultipulseOrbit(False, f"not converged after {len(hist)} evaluations (last residual {run.residual:.3e} > "
                                   f"tol {tol:.1e}; {run.outcome})", params, s, crossing, T, x0, run.residual,
-                           len(hist), eps, prec, angle=angle, history=hist, xT=xT)
+                           len(hist), launch_distance, prec, angle=angle, history=hist, xT=xT)
 
 
 def scan_angles(saddle: PeriodicSaddle, pulses: int, samples: int = 181, *,
-                eps: float = LAUNCH_DISTANCE[Precision.DOUBLE], k: int = 1):
+                launch_distance: float = LAUNCH_DISTANCE[Precision.DOUBLE], k: int = 1):
     """sin psi at the candidate symmetric point (the k-th near-saddle zero for even pulses) for launch angles on
     [0, 2 pi): (angles, t, sinpsi), nan where the branch has no such point."""
     s = saddle
@@ -101,13 +101,13 @@ def scan_angles(saddle: PeriodicSaddle, pulses: int, samples: int = 181, *,
     t = np.full(samples, np.nan)
     sp_ = np.full(samples, np.nan)
     for i, a in enumerate(ang):
-        c = crossings(s, a, pulses, eps=eps)
+        c = crossings(s, a, pulses, launch_distance=launch_distance)
         if len(c) >= k:
             t[i], sp_[i] = c[k - 1]
     return ang, t, sp_
 
 
-def bisect_angle(saddle: PeriodicSaddle, pulses: int, a: float, b: float, *, eps: float, k: int = 1,
+def bisect_angle(saddle: PeriodicSaddle, pulses: int, a: float, b: float, *, launch_distance: float, k: int = 1,
                  width: float = 1e-12, max_iter: int = 60):
     """Bisection on g(angle) = sin psi at the candidate symmetric point (`crossings`, k-th one for even pulses) over
     a sign change [a, b] of the launch angle: the 1-D form of the shooting problem (pbar_theta = 0 holds exactly at
@@ -116,7 +116,7 @@ def bisect_angle(saddle: PeriodicSaddle, pulses: int, a: float, b: float, *, eps
     neighbouring symmetric point after one more turn near the saddle).  Cost: one double-precision event
     integration per halving (a few ms)."""
     def g(angle):
-        c = crossings(saddle, angle, pulses, eps=eps)
+        c = crossings(saddle, angle, pulses, launch_distance=launch_distance)
         return c[k - 1] if len(c) >= k else None
 
     ga, gb = g(a), g(b)
@@ -139,21 +139,21 @@ def bisect_angle(saddle: PeriodicSaddle, pulses: int, a: float, b: float, *, eps
     return a + w * (b - a), ga[0] + w * (gb[0] - ga[0])
 
 
-def find(params: RodParams, pulses: int, *, samples: int = 181, eps: float | None = None, k: int = 1,
+def find(params: RodParams, pulses: int, *, samples: int = 181, launch_distance: float | None = None, k: int = 1,
          tol: float = SHOOTING_TOL, max_orbits: int | None = None, precision=None,
          saddle: PeriodicSaddle | None = None) -> list[MultipulseOrbit]:
     """Symmetric homoclinic orbits with `pulses` pulses (symmetric point chosen as in `crossings`, k-th
     near-saddle zero for even pulses) from sign changes of sin psi over a launch-angle scan, each narrowed by
     bisection (`bisect_angle`) and refined by Newton on (T, angle) in `precision` (auto: long double from 2 pulses
-    on); duplicates removed.  The scan, the bisection and Newton use the same launch distance eps: a different eps
-    is a different launch phase (angle shift b ln(eps'/eps)/a, T shift ln(eps'/eps)/a ~ 6.93 for 1e-7 -> 1e-9),
-    and a Newton started from the other eps's angle slides to a neighbouring symmetric point (it used to: 3-pulse
+    on); duplicates removed.  The scan, the bisection and Newton use the same launch distance: a different launch_distance
+    is a different launch phase (angle shift b ln(launch_distance'/launch_distance)/a, T shift ln(launch_distance'/launch_distance)/a ~ 6.93 for 1e-7 -> 1e-9),
+    and a Newton started from the other launch_distance's angle slides to a neighbouring symmetric point (it used to: 3-pulse
     searches ended on 2-pulse orbits)."""
     pulses = require_positive_int("pulses", pulses)
     prec = shooting_precision(pulses, precision)
-    eps = eps if eps is not None else LAUNCH_DISTANCE[prec]
+    launch_distance = launch_distance if launch_distance is not None else LAUNCH_DISTANCE[prec]
     s = saddle if saddle is not None else periodic_saddle(params)
-    ang, t, sp_ = scan_angles(s, pulses, samples, k=k, eps=eps)
+    ang, t, sp_ = scan_angles(s, pulses, samples, k=k, launch_distance=launch_distance)
     out = []
     n = len(ang)
     for i in range(n):
@@ -164,10 +164,10 @@ def find(params: RodParams, pulses: int, *, samples: int = 181, eps: float | Non
             continue  # a jump through the chart's cut or to another zero, not a transversal zero
         a_i = ang[i]
         a_j = ang[j] if j > i else ang[j] + 2 * math.pi
-        start = bisect_angle(s, pulses, a_i, a_j, eps=eps, k=k)
+        start = bisect_angle(s, pulses, a_i, a_j, launch_distance=launch_distance, k=k)
         if start is None:
             continue
-        r = shoot(params, pulses, start[0], start[1], eps=eps, tol=tol, precision=prec, saddle=s)
+        r = shoot(params, pulses, start[0], start[1], launch_distance=launch_distance, tol=tol, precision=prec, saddle=s)
         if r.success:
             r.pulses_counted = count_pulses(r)
         if r.success and r.pulses_counted != pulses:

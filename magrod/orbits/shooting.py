@@ -4,7 +4,7 @@ magrod.orbits.periodic_multipulse), continuation (magrod.orbits.continuation) an
 (magrod.separatrix.splitting).
 
 Saddles (the protocol `Saddle`).  A saddle has `params`, `H` (its chart energy Hbar), `kind` and
-`launch_point(eps, angle, precision)`, the body state at distance eps and angle `angle` on its linear unstable
+`launch_point(launch_distance, angle, precision)`, the body state at the launch distance and angle `angle` on its linear unstable
 manifold, formed in that precision, and `at(params)`, the same kind of saddle at other parameters.
   "equilibrium"  the straight rod at mu = 2 lam (magrod.orbits.equilibrium.StraightRod).  It is fixed by the
                  rotations G_a about the body 3-axis, which act on its unstable plane as the phase: the angle is
@@ -15,7 +15,7 @@ manifold, formed in that precision, and `at(params)`, the same kind of saddle at
                  are generic, the unknowns are (T, angle).
 `saddle(params)` returns the one that exists at `params`.
 
-Shooting map.  Launch at x0 = saddle.launch_point(eps, angle), integrate the body-frame system to time T,
+Shooting map.  Launch at x0 = saddle.launch_point(launch_distance, angle), integrate the body-frame system to time T,
 residual r = (pbar_theta, sin psi)(x(T)), zero iff x(T) lies on Fix(R) = {pbar_theta = 0, sin psi = 0} (the union
 of the fixed sets of the reversors G_a R_b G_-a, derive/symmetry.py); then the orbit is reversible (symmetric)
 and homoclinic.  `residual_and_jacobian` returns r and its columns
@@ -24,7 +24,7 @@ and homoclinic.  `residual_and_jacobian` returns r and its columns
     d/dq       = grad r . (Phi(T) dx0/dq + Psi(T) dpars/dq)              (each parameter direction q)
 with Phi = dx(T)/dx0, Psi = dx(T)/dpars from heyoka's variational equations (systems.cached_variational, the one
 variational cache), dx0/dangle and dx0/dq by central differences of the launch point in double precision
-(the saddle recomputed at q +- h: the launch moves along the manifold to O(eps), so these terms barely matter).
+(the saddle recomputed at q +- h: the launch moves along the manifold to O(launch_distance), so these terms barely matter).
 
 Crossings.  Zeros of sin(theta) pbar_theta (generated event ptheta_sin) along the unstable branch, in any
 precision (hy.real128 and hy.real included, as the splitting needs): `crossing_events` is the one loop,
@@ -45,6 +45,7 @@ import heyoka as hy
 import numpy as np
 
 from ..core import systems
+from ..core.deprecation import deprecated_attribute
 from ..core.errors import ParameterError
 from ..core.params import RodParams
 from ..core.precision import Precision
@@ -74,8 +75,8 @@ class Saddle(Protocol):
 
     precision: Precision  # the working precision of its launch points
 
-    def launch_point(self, eps: float, angle: float = 0.0, precision=None) -> np.ndarray:
-        """Body state at distance eps, angle `angle` on the linear unstable manifold, formed in `precision`
+    def launch_point(self, launch_distance: float, angle: float = 0.0, precision=None) -> np.ndarray:
+        """Body state at the launch distance, angle `angle` on the linear unstable manifold, formed in `precision`
         (default the saddle's)."""
         ...
 
@@ -170,13 +171,13 @@ def _parameter_step(s: Saddle, name: str, h_rel: float) -> float:
     return h
 
 
-def launch_derivative(s: Saddle, name: str, eps: float, angle: float = 0.0, h_rel: float = LAUNCH_STEP):
+def launch_derivative(s: Saddle, name: str, launch_distance: float, angle: float = 0.0, h_rel: float = LAUNCH_STEP):
     """d x0/d name of the launch point (double precision, central difference with the saddle recomputed at
     name +- h, mu following on mu = 2 lam for the straight rod)."""
     v = getattr(s.params, name)
     h = _parameter_step(s, name, h_rel)
-    xp = s.at(moved(s, name, v + h)).launch_point(eps, angle, Precision.DOUBLE)
-    xm = s.at(moved(s, name, v - h)).launch_point(eps, angle, Precision.DOUBLE)
+    xp = s.at(moved(s, name, v + h)).launch_point(launch_distance, angle, Precision.DOUBLE)
+    xm = s.at(moved(s, name, v - h)).launch_point(launch_distance, angle, Precision.DOUBLE)
     return (xp - xm) / (2 * h)
 
 
@@ -250,15 +251,15 @@ class ShootingEvaluation:
     saddle: object = None
 
 
-def residual_and_jacobian(s: Saddle, T: float, angle: float = 0.0, *, eps: float, precision=Precision.DOUBLE,
+def residual_and_jacobian(s: Saddle, T: float, angle: float = 0.0, *, launch_distance: float, precision=Precision.DOUBLE,
                           free: tuple = (), h_rel: float = LAUNCH_STEP, jacobian: bool = True) -> ShootingEvaluation:
-    """r = (pbar_theta, sin psi)(x(T)) from the launch point of `s` at (eps, angle), integrated in `precision`,
+    """r = (pbar_theta, sin psi)(x(T)) from the launch point of `s` at (launch_distance, angle), integrated in `precision`,
     and its Jacobian (module docstring).  free: parameter names (PARAMS), columns after d/dT (and d/dangle for
     a periodic saddle; the straight rod's angle is a symmetry and has no column).  jacobian=False skips the
     launch-point differences (J then has the d/dT column only)."""
     prec = Precision.parse(precision)
     pars = s.params.array()
-    x0 = s.launch_point(eps, angle, prec)
+    x0 = s.launch_point(launch_distance, angle, prec)
     x, Phi, Psi = propagate_variational(x0, pars, T, prec)
     fcond, fgrad = fix_functions()
     r = fcond(x, [])
@@ -268,11 +269,11 @@ def residual_and_jacobian(s: Saddle, T: float, angle: float = 0.0, *, eps: float
     if jacobian:
         if s.kind == "periodic":
             ha = h_rel
-            dxa = (s.launch_point(eps, angle + ha, Precision.DOUBLE)
-                   - s.launch_point(eps, angle - ha, Precision.DOUBLE)) / (2 * ha)
+            dxa = (s.launch_point(launch_distance, angle + ha, Precision.DOUBLE)
+                   - s.launch_point(launch_distance, angle - ha, Precision.DOUBLE)) / (2 * ha)
             cols.append(G @ (Phi @ dxa))
         for name in free:
-            dx0 = launch_derivative(s, name, eps, angle, h_rel)
+            dx0 = launch_derivative(s, name, launch_distance, angle, h_rel)
             cols.append(G @ (Phi @ dx0 + Psi @ parameter_direction(s, name)))
     return ShootingEvaluation(r, np.column_stack(cols), np.asarray(x0, dtype=float), x, s)
 
@@ -420,25 +421,25 @@ def crossing_at(index: int, t, x, pars) -> Crossing:
     return Crossing(index, float(t), float(e["theta"]), float(e["psi"]), float(e["ppsi"]), float(c[1]))
 
 
-def unstable_branch(s: Saddle, *, crossings: int = 6, eps: float, angle: float = 0.0, t_max: float = 2000.0,
+def unstable_branch(s: Saddle, *, crossings: int = 6, launch_distance: float, angle: float = 0.0, t_max: float = 2000.0,
                     precision=Precision.DOUBLE) -> list[Crossing]:
-    """The first `crossings` zeros of pbar_theta on the unstable branch of `s` launched at (eps, angle) in
+    """The first `crossings` zeros of pbar_theta on the unstable branch of `s` launched at (launch_distance, angle) in
     `precision` (fewer if t_max is reached first)."""
     pars = s.params.array()
     out = []
-    for t, x in crossing_events(s.launch_point(eps, angle, precision), pars, precision, t_max=t_max,
+    for t, x in crossing_events(s.launch_point(launch_distance, angle, precision), pars, precision, t_max=t_max,
                                 max_events=crossings):
         out.append(crossing_at(len(out) + 1, t, x, pars))
     return out
 
 
-def phase_independence(s: Saddle, phases=(0.0, 1.0, 2.5), *, eps: float, crossings: int = 3) -> float:
+def phase_independence(s: Saddle, phases=(0.0, 1.0, 2.5), *, launch_distance: float, crossings: int = 3) -> float:
     """Max difference of (t, theta, psi) at the first crossings between launch angles of the straight rod:
     ~ integration error, i.e. the angle is a symmetry direction (module docstring)."""
-    ref = unstable_branch(s, crossings=crossings, eps=eps, angle=phases[0])
+    ref = unstable_branch(s, crossings=crossings, launch_distance=launch_distance, angle=phases[0])
     worst = 0.0
     for ph in phases[1:]:
-        other = unstable_branch(s, crossings=crossings, eps=eps, angle=ph)
+        other = unstable_branch(s, crossings=crossings, launch_distance=launch_distance, angle=ph)
         for a, b in zip(ref, other):
             worst = max(worst, abs(a.t - b.t), abs(a.theta - b.theta), abs(math.sin(a.psi - b.psi)))
     return worst
@@ -526,7 +527,7 @@ class MultipulseOrbit(Result):
     x0: np.ndarray
     residual: float
     iterations: int
-    eps: float
+    launch_distance: float
     precision: Precision
     angle: float = 0.0
     free: str | None = None
@@ -538,7 +539,7 @@ class MultipulseOrbit(Result):
     pulses_counted: int | None = None
     uncertainty: dict | None = None
 
-    _repr_fields = ("pulses", "kind", "T", "angle", "free_value", "residual", "eps", "precision")
+    _repr_fields = ("pulses", "kind", "T", "angle", "free_value", "residual", "launch_distance", "precision")
 
     @property
     def kind(self) -> str:
@@ -566,16 +567,16 @@ class MultipulseOrbit(Result):
     @property
     def accuracy(self) -> dict:
         """The accuracy achieved: residual (|r| at the symmetric point), the rounding floor it reached (0 if tol was
-        met), resolution of the free parameter, energy error at x(T), launch distance eps (launch error O(eps^2))."""
+        met), resolution of the free parameter, energy error at x(T), launch distance (launch error O(launch_distance^2))."""
         return {"residual": self.residual, "noise_floor": self.noise_floor, "resolution": self.resolution,
-                "energy_error": self.energy_error, "eps": self.eps, "precision": self.precision.value}
+                "energy_error": self.energy_error, "launch_distance": self.launch_distance, "precision": self.precision.value}
 
     def to_dict(self, arrays: bool = True) -> dict:
         """The result as a dict: its scalar fields, and with `arrays` (default) also x0, the Newton history, the
         uncertainty and the pulses counted (JSON-able).  arrays=False: the scalar fields only, as they are."""
         d = {"success": self.success, "message": self.message, "kind": self.kind, "iterations": self.iterations,
              "residual": self.residual, "pulses": self.pulses, "free": self.free, "free_value": self.free_value,
-             "params": self.params.to_dict(), "T": self.T, "angle": self.angle, "eps": self.eps,
+             "params": self.params.to_dict(), "T": self.T, "angle": self.angle, "launch_distance": self.launch_distance,
              "noise_floor": self.noise_floor, "precision": self.precision.value, "resolution": self.resolution,
              "energy_error": self.energy_error, "saddle_H": self.saddle.H}
         if not arrays:
@@ -584,6 +585,8 @@ class MultipulseOrbit(Result):
         d.update({"x0": jsonable(self.x0), "history": jsonable(self.history),
                   "uncertainty": jsonable(self.uncertainty), "pulses_counted": self.pulses_counted})
         return d
+
+    eps = deprecated_attribute("launch_distance", "eps")  # renamed in issue 25 (one name per quantity)
 
     def as_dict(self) -> dict:
         """Deprecated spelling of to_dict(arrays=False) (kept for one release)."""

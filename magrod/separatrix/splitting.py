@@ -36,8 +36,8 @@ is used; the launch convention is `LAUNCH`).
            saddle of the chart, ParameterError.
 
 Precisions (magrod.core.precision.Precision): double (float64), long double (x87 80-bit), quad (IEEE binary128,
-hy.real128), mp (hy.real, MP_BITS bits).  Launch distance eta per precision (tolerances.SPLITTING_LAUNCH): the
-linear launch is off the manifold by O(eta^2), which is below the rounding error of each precision.  Parameters are the float64 numbers
+hy.real128), mp (hy.real, MP_BITS bits).  Launch distance per precision (tolerances.SPLITTING_LAUNCH): the
+linear launch is off the manifold by O(launch_distance^2), which is below the rounding error of each precision.  Parameters are the float64 numbers
 b eps^2 and a eps^2 (mu = 2 lambdabar exactly when a = 2b) in every precision, so all precisions solve the same
 problem and their difference is the numerical error.
 """
@@ -115,14 +115,14 @@ def scaled_params(m, gamma, delta, a, b, eps) -> RodParams:
 # the saddle: the orbits' saddle objects (magrod.orbits.shooting.saddle), in the working precision
 # --------------------------------------------------------------------------------------------------------------
 # The splitting's launch convention, per kind of saddle (explicit keywords of the saddles' launch_point):
-#  - offset "double": the offset eta d is formed in float64 and then converted to the working precision (the
+#  - offset "double": the offset launch_distance d is formed in float64 and then converted to the working precision (the
 #    eigenvector is a float64 quantity either way).  The measured splitting digits of REPORT.md (derived vs
 #    measured leading term, 8.4 digits and more) were established with this rounding, which the long double runs
 #    are sensitive to at their noise level (~1e-9 relative); the shooting engine forms the product in the working
 #    precision instead (offset "working").
 #  - frame "chart" (the periodic saddle): the launch is on the linear unstable manifold of the tilted straight rod
 #    as an equilibrium of the reduced chart (PeriodicSaddle.chart_view, Newton in the working precision), at the
-#    distance eta theta0 relative to the tilt: its trace on Sigma is the closed curve x_u(phi) of `tilted_curve`.
+#    distance launch_distance theta0 relative to the tilt: its trace on Sigma is the closed curve x_u(phi) of `tilted_curve`.
 LAUNCH = {"equilibrium": {"offset": "double"}, "periodic": {"offset": "double", "frame": "chart"}}
 
 
@@ -132,9 +132,9 @@ def splitting_saddle(params: RodParams, precision=Precision.DOUBLE):
     return orbit_saddle(params, precision=precision)
 
 
-def launch_point(sd, eta: float, phase: float = 0.0, precision=None):
+def launch_point(sd, launch_distance: float, phase: float = 0.0, precision=None):
     """The splitting's launch point of W^u: sd.launch_point with the keywords of `LAUNCH` for its kind."""
-    return sd.launch_point(eta, phase, precision, **LAUNCH[sd.kind])
+    return sd.launch_point(launch_distance, phase, precision, **LAUNCH[sd.kind])
 
 
 def working_saddle(params: RodParams, precision=Precision.DOUBLE):
@@ -170,13 +170,13 @@ class SplittingCrossing(Crossing):
     """The first point x_u of W^u on Sigma = {pbar_theta = 0} with theta > THETA_TURN_MIN (a Crossing, index its
     number among all zeros of sin(theta) pbar_theta) and the splitting measure there: d = rho sin psi (module
     docstring), rho_cos = rho cos psi; H_drift = Hbar(x_u) - Hbar(launch); casimir_drift = max |C_i(x_u) -
-    C_i(chart)|; eps the perturbation parameter, phase the launch angle, eta the launch distance.  Floats
+    C_i(chart)|; eps the perturbation parameter, phase the launch angle, launch_distance the launch distance (as in magrod.orbits).  Floats
     (rounded from the working precision)."""
 
     eps: float
     phase: float
     precision: Precision
-    eta: float
+    launch_distance: float
     d: float
     rho_cos: float
     H_drift: float
@@ -184,7 +184,7 @@ class SplittingCrossing(Crossing):
     wall_time_s: float
 
 
-def first_crossing(params: RodParams, precision=Precision.DOUBLE, *, phase: float = 0.0, eta: float | None = None,
+def first_crossing(params: RodParams, precision=Precision.DOUBLE, *, phase: float = 0.0, launch_distance: float | None = None,
                    sd=None, eps: float = math.nan) -> SplittingCrossing:
     """Integrate W^u from the launch point to its first turning point (a stopping event on e32 m1 - e31 m2 =
     sin(theta) pbar_theta = 0, the crossing loop of magrod.orbits.shooting) in the working precision and evaluate
@@ -193,8 +193,8 @@ def first_crossing(params: RodParams, precision=Precision.DOUBLE, *, phase: floa
     fp, prec = precision.fp_type, precision.prec
     t0 = time.perf_counter()
     sd = sd or splitting_saddle(params, precision)
-    eta = SPLITTING_LAUNCH[precision] if eta is None else eta
-    x0 = launch_point(sd, eta, phase, precision)
+    launch_distance = SPLITTING_LAUNCH[precision] if launch_distance is None else launch_distance
+    x0 = launch_point(sd, launch_distance, phase, precision)
     F = systems.splitting_functions(fp, prec)
     pars = params.array()
     H0 = F["H"](x0, pars)[0]
@@ -214,7 +214,7 @@ def first_crossing(params: RodParams, precision=Precision.DOUBLE, *, phase: floa
     psi = float(ch[1])
     d = float(fix)
     return SplittingCrossing(index=index, t=float(t), theta=float(ch[0]), psi=psi, ppsi=float(ch[4]),
-                             sinpsi=math.sin(psi), eps=eps, phase=phase, precision=precision, eta=eta, d=d,
+                             sinpsi=math.sin(psi), eps=eps, phase=phase, precision=precision, launch_distance=launch_distance, d=d,
                              rho_cos=d / math.tan(psi) if psi != 0 else math.inf, H_drift=float(H - H0),
                              casimir_drift=max(abs(float(c)) for c in cas), wall_time_s=time.perf_counter() - t0)
 
