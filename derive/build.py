@@ -206,21 +206,58 @@ def check_chart_numerically(n=200, seed=7) -> Result:
                   {"domain": "0 < theta < pi, mu - 2 lambdabar pbar_psi > 0", "max_residual": worst})
 
 
-def all_results():
+def all_results(pre: dict | None = None):
+    """Every derived result, in the report's order.  pre: {module name: its derive_all() results} computed
+    elsewhere (build's second process), used instead of deriving them here."""
+    pre = pre or {}
+
+    def part(mod):
+        name = mod.__name__.rsplit(".", 1)[-1]
+        return pre[name] if name in pre else mod.derive_all()
+
     results = []
-    results += poisson.derive_all()
-    results += reduction.derive_all()
+    results += part(poisson)
+    results += part(reduction)
     results.append(check_chart_numerically())
-    results += ns.derive_all()
-    results += homoclinic.derive_all()
-    results += melnikov.derive_all()
-    results += symmetry.derive_all()
-    results += floquet.derive_all()  # issue 13
-    results += splitting.derive_all()  # issue 12
-    results += first_integrals.derive_all()  # issue 20
-    results += generic_splitting.derive_all()  # issue 20
-    results += audit.derive_all()  # issue 20: the authors' Fortran
+    results += part(ns)
+    results += part(homoclinic)
+    results += part(melnikov)
+    results += part(symmetry)
+    results += part(floquet)  # issue 13
+    results += part(splitting)  # issue 12
+    results += part(first_integrals)  # issue 20
+    results += part(generic_splitting)  # issue 20
+    results += part(audit)  # issue 20: the authors' Fortran
     return results, {}
+
+
+# The derivation's second half (build(workers=2)): the two ball-arithmetic modules and the two slowest result
+# groups, ~36 s of the ~77 s, independent of the rest (each derivation seeds its own random.Random and sets its own
+# mpmath precision), so a second process halves the wall time of `python -m derive [--check]` and of the test suite's
+# regenerate-and-diff.  What it returns is pickled back; the files are text, identical to the serial build's
+# (tests/test_derive.py::test_generated_is_fresh diffs them against generated/).
+SECOND_HALF_MODULES = ("splitting_ball.py", "generic_splitting.py")
+SECOND_HALF_RESULTS = ("homoclinic", "splitting")
+
+
+def second_half() -> tuple[dict, dict]:
+    files = {"splitting_ball.py": splitting.ball_module(), "generic_splitting.py": generic_splitting.ball_module()}
+    return files, {"homoclinic": homoclinic.derive_all(), "splitting": splitting.derive_all()}
+
+
+def _start_second_half(workers: int):
+    """A future of second_half() in a fresh (spawned, not forked: the caller may hold heyoka's threads) process;
+    None (do it here) for workers <= 1 or where no process can be started."""
+    if workers <= 1:
+        return None, None
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    try:
+        pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"))
+        return pool, pool.submit(second_half)
+    except (OSError, ValueError):
+        return None, None
 
 
 def report_markdown(results) -> str:
@@ -244,9 +281,11 @@ def report_markdown(results) -> str:
     return "\n".join(lines)
 
 
-def build(out_dir: Path, verbose=True) -> dict:
-    """Write every generated file into out_dir; returns {filename: text}."""
+def build(out_dir: Path, verbose=True, workers: int = 2) -> dict:
+    """Write every generated file into out_dir; returns {filename: text}.  workers=2 (default): the derivation's
+    second half runs in a second process (SECOND_HALF_*); workers=1: all of it here."""
     t0 = time.perf_counter()
+    pool, later = _start_second_half(workers)
     files = {}
     src, red = reduced_module()
     files["reduced.py"] = src
@@ -258,12 +297,27 @@ def build(out_dir: Path, verbose=True) -> dict:
     files["symmetry.py"] = symmetry.module()
     files["floquet.py"] = floquet.module()  # issue 13
     files["splitting.py"] = splitting.module()  # issue 12
-    files["splitting_ball.py"] = splitting.ball_module()  # issue 20: S in ball arithmetic
     files["first_integrals.py"] = first_integrals.module()  # issue 20: exact first-integral search data
-    files["generic_splitting.py"] = generic_splitting.ball_module()  # issue 20: the a > 2b coefficient
+    # the rest of the other results are derived here while the second process works
+    pre = {}
+    if later is None:
+        files["splitting_ball.py"] = splitting.ball_module()  # issue 20: S in ball arithmetic
+        files["generic_splitting.py"] = generic_splitting.ball_module()  # issue 20: the a > 2b coefficient
+    else:
+        pre = {"melnikov": melnikov.derive_all(), "generic_splitting": generic_splitting.derive_all(),
+               "poisson": poisson.derive_all(), "reduction": reduction.derive_all()}
+        from concurrent.futures.process import BrokenProcessPool
+
+        try:
+            with pool:
+                more, done = later.result()
+        except BrokenProcessPool:  # the child could not start (e.g. a __main__ it cannot re-import): do it here
+            more, done = second_half()
+        files.update(more)
+        pre.update(done)
     files["names.py"] = names_module()
     files["scalars.py"] = scalars_module()
-    results, _ = all_results()
+    results, _ = all_results(pre)
     results += validated.derive_all(red, bod)  # issue 21
     files["report.json"] = json.dumps({"results": [r.as_dict() for r in results]}, indent=1, sort_keys=True,
                                       default=str) + "\n"
