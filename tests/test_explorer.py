@@ -274,3 +274,49 @@ def test_remote_host_needs_allow_remote():
         check_address("0.0.0.0", port)
     assert e.value.name == "host" and "--allow-remote" in e.value.message
     assert check_address("0.0.0.0", port, allow_remote=True)[1] == port  # bound and released, never contacted
+
+
+def test_the_rod_of_a_launched_orbit_waits_until_no_orbit_computes(app):
+    """A finished orbit, selected because it was launched, shows no rod while another orbit still computes (the
+    tube is the page's costliest picture; one per finished orbit delayed the later clicks of a burst); once nothing
+    computes the rod of the selection is drawn.  Seen to fail with the rod drawn at every finished orbit."""
+    import time
+
+    app.iterates = 20_000  # ~4 s: still computing when the second orbit is done
+    long = app.launch(0.3, 0.2)
+    app.iterates = 200
+    short = app.launch(0.1, 0.5)
+    deadline = time.perf_counter() + 120
+    while short.status == "running" and time.perf_counter() < deadline:
+        app.poll()
+        time.sleep(0.01)
+    assert short.status == "done" and long.status == "running", (short.status, long.status)
+    app.poll()
+    assert app.selected() is short and not app.rod_pane.visible
+    assert "rod: drawn when no orbit is computing" in app.details.object
+    assert app.wait(120) and long.status == "done"
+    deadline = time.perf_counter() + 120
+    while not app.rod_pane.visible and time.perf_counter() < deadline:  # the rod computes on a tail thread
+        app.poll()
+        time.sleep(0.02)
+    assert app.selected() is short and app.rod_pane.visible
+
+
+def test_a_new_orbit_does_not_queue_behind_an_earlier_indicator():
+    """The sections and the indicators run on separate pools: with one thread each, a second orbit's first points
+    arrive while the first orbit's chaos indicator (T = 20000, seconds) is still computing.  Seen to fail with one
+    pool for both (the second section waited for the first indicator)."""
+    P = mr.panel("4a")
+    st = worker.solve_start(P.params, P.h, P.theta0, P.ptheta0, P.psi0)
+    w = worker.Worker(max_workers=1)
+    try:
+        first_done = threading.Event()
+        a = w.submit(worker.Job(1, st, 50, "positive"), on_chunk=lambda j, c: None,
+                     on_done=lambda j, r, i: first_done.set(), indicator_t_max=20_000.0)
+        assert a.future.result(60).n_points == 50  # a's section is done; its indicator runs on the tail pool
+        got = threading.Event()
+        w.submit(worker.Job(2, st, 50, "positive"), on_chunk=lambda j, c: got.set())
+        assert got.wait(60)
+        assert not first_done.is_set(), "the second orbit's first points waited for the first orbit's indicator"
+    finally:
+        w.shutdown(timeout=2.0)

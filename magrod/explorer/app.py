@@ -637,7 +637,10 @@ class Explorer(pn.viewable.Viewer):
             self._refresh_list(select=select)
         if relabel:
             self._refresh_list()
-            self._show_details()
+            # the rod of an orbit selected because it was launched is drawn once no orbit computes: a 3-D tube is
+            # the page's most expensive picture (software WebGL on a machine without a GPU), and drawing one per
+            # finished orbit during a burst of clicks delayed every later click's first points
+            self._show_details(rod=not any(q.status == "running" for q in self.orbits))
         return n
 
     def _stream(self, o: Orbit, c) -> None:
@@ -727,7 +730,9 @@ class Explorer(pn.viewable.Viewer):
     def selected(self) -> Orbit | None:
         return next((o for o in self.orbits if o.id == self.orbit_list.value), None)
 
-    def _show_details(self):
+    def _show_details(self, rod: bool = True):
+        """The selected orbit's details, and its rod (rod=True) or, while orbits compute, a line saying when the
+        rod comes (rod=False; a selection by the user always draws it)."""
         o = self.selected()
         if o is None:
             self.details.object, self.rod_pane.visible = "", False
@@ -749,8 +754,13 @@ class Explorer(pn.viewable.Viewer):
                         f"{'chaotic' if ind.chaotic else 'regular'} (threshold {ind.threshold:g}); "
                         f"finite-time Lyapunov exponent {ind.lyap:.3g}; conservation along it "
                         f"|dH| {ind.max_abs_dH:.1e}, Casimirs {ind.casimir_drift:.1e}")
+        if not rod and o.status == "done":
+            rows.append("rod: drawn when no orbit is computing (or select the orbit)")
         self.details.object = "<br>".join(rows)
-        self._show_rod(o)
+        if rod:
+            self._show_rod(o)
+        else:
+            self.rod_pane.visible = False
 
     def _show_rod(self, o: Orbit):
         """Compute the rod of `o` on a worker thread (it integrates the frame: never on the page's event loop);

@@ -89,27 +89,34 @@ class Job:
     iterates: int
     direction: str
     cancel: threading.Event = field(default_factory=threading.Event)
-    future: Future | None = None
+    future: Future | None = None  # the section
+    tail: Future | None = None  # the indicator, after the section
     submitted: float = field(default_factory=time.perf_counter)
     first_points_s: float | None = None  # seconds from submission to the first emitted chunk
+    finished: threading.Event = field(default_factory=threading.Event)  # on_done has been called (or never will)
 
 
 class Worker:
-    """A thread pool for one explorer session.  `submit(job, on_chunk, on_done)` runs the section (chunks to
-    on_chunk(job, chunk)), then the chaos indicator, then on_done(job, result, indicator or exception).
-    Callbacks run on the worker thread: they must only hand data over (queues), never touch the page."""
+    """Two thread pools for one explorer session.  `submit(job, on_chunk, on_done)` runs the section (chunks to
+    on_chunk(job, chunk)) on the section pool, then the chaos indicator on the second ("tail") pool, then
+    on_done(job, result, indicator or exception); `call` (the rod of the selected orbit) runs on the tail pool too.
+    Why two: a click's first points need one section thread, not a thread after every earlier orbit's indicator
+    and rod (0.4 s and more each).  With one pool the latency of the k-th quick click grew with k (2.5 s for the
+    first, 9 s for the 30th at load ~3, tests/test_explorer_browser.py); now the sections never queue behind the
+    indicators.  Callbacks run on the worker threads: they must only hand data over (queues), never touch the page."""
 
     def __init__(self, max_workers: int = 2, name: str = "magrod-explore"):
         self._pool = ThreadPoolExecutor(max_workers=max_workers, thread_name_prefix=name)
+        self._tail = ThreadPoolExecutor(max_workers=max_workers, thread_name_prefix=f"{name}-tail")
         self._jobs: dict[int, Job] = {}
         self._lock = threading.Lock()
         self._closed = False
 
     @property
     def running(self) -> int:
-        """Jobs submitted and not finished (queued or computing)."""
+        """Jobs submitted and not finished (queued, computing their section or their indicator)."""
         with self._lock:
-            return sum(1 for j in self._jobs.values() if j.future is not None and not j.future.done())
+            return sum(1 for j in self._jobs.values() if j.future is not None and not j.finished.is_set())
 
     def submit(self, job: Job, on_chunk=None, on_done=None, indicator_t_max=None) -> Job:
         if self._closed:
@@ -121,22 +128,37 @@ class Worker:
             if on_chunk is not None:
                 on_chunk(job, chunk)
 
+        def done(res, ind):
+            try:
+                if on_done is not None:
+                    on_done(job, res, ind)
+            finally:
+                job.finished.set()
+
+        def tail(res):
+            try:
+                ind = growth_indicator(job.start, indicator_t_max) if not job.cancel.is_set() else None
+            except (ParameterError, RuntimeError) as exc:
+                ind = exc
+            except BaseException as exc:  # never a silent dead job: the page is told
+                done(None, exc)
+                raise
+            done(res, ind)
+
         def run():
             try:
                 res = stream_section(job.start, job.iterates, direction=job.direction, cancel=job.cancel, emit=emit)
-                ind = None
-                if not job.cancel.is_set() and res.n_points:
-                    try:
-                        ind = growth_indicator(job.start, indicator_t_max)
-                    except (ParameterError, RuntimeError) as exc:
-                        ind = exc
-                if on_done is not None:
-                    on_done(job, res, ind)
-                return res
             except BaseException as exc:  # never a silent dead job: the page is told
-                if on_done is not None:
-                    on_done(job, None, exc)
+                done(None, exc)
                 raise
+            if job.cancel.is_set() or not res.n_points:
+                done(res, None)
+                return res
+            try:
+                job.tail = self._tail.submit(tail, res)
+            except RuntimeError:  # shut down meanwhile: no indicator
+                done(res, None)
+            return res
 
         with self._lock:
             self._jobs[job.id] = job
@@ -144,7 +166,7 @@ class Worker:
         return job
 
     def call(self, fn, on_done) -> Future:
-        """Run fn() on a worker thread (e.g. the rod of the selected orbit); on_done(value or exception)."""
+        """Run fn() on a tail thread (e.g. the rod of the selected orbit); on_done(value or exception)."""
 
         def run():
             try:
@@ -153,37 +175,59 @@ class Worker:
                 out = exc
             on_done(out)
 
-        return self._pool.submit(run)
+        return self._tail.submit(run)
 
     def warm(self, start: Start, direction: str = "positive") -> threading.Event:
-        """Build, in every worker thread, the integrators a click needs (they are cached per thread): the section
-        integrator, the indicator's tangent integrator and the rod's frame integrator.  From heyoka's disk cache
-        this takes ~0.1 s per thread; afterwards the first points of a click come within milliseconds."""
+        """Build, in every worker thread, the integrators it needs (they are cached per thread): the section
+        integrator in the section threads, the indicator's tangent integrator and the rod's frame integrator in
+        the tail threads.  From heyoka's disk cache this takes ~0.1 s per thread; afterwards the first points of a
+        click come within milliseconds."""
         done = threading.Event()
-        barrier = threading.Barrier(self._pool._max_workers, action=done.set, timeout=60)
+        pools = (self._pool, self._tail)
+        left = [len(pools)]
+        lock = threading.Lock()
 
-        def one():
+        def one_pool_done():
+            with lock:
+                left[0] -= 1
+                if left[0] == 0:
+                    done.set()
+
+        def warm_section():
+            stream_section(start, 2, direction=direction)  # builds (or loads) the section integrator
+
+        def warm_tail():
             from ..core.systems import rod_frame_integrator
 
-            stream_section(start, 2, direction=direction)  # builds (or loads) the section integrator
             growth_indicator(start, 20.0)
             rod_frame_integrator()
-            try:
-                barrier.wait()  # hold this thread until every thread has warmed: each gets its own copy
-            except threading.BrokenBarrierError:
-                pass
 
-        for _ in range(self._pool._max_workers):
-            self._pool.submit(one)
+        for pool, fn in zip(pools, (warm_section, warm_tail)):
+            barrier = threading.Barrier(pool._max_workers, action=one_pool_done, timeout=60)
+
+            def one(fn=fn, barrier=barrier):
+                fn()
+                try:
+                    barrier.wait()  # hold this thread until every thread has warmed: each gets its own copy
+                except threading.BrokenBarrierError:
+                    pass
+
+            for _ in range(pool._max_workers):
+                pool.submit(one)
         return done
 
     def cancel(self, job_id: int) -> None:
         with self._lock:
             job = self._jobs.get(job_id)
         if job is not None:
-            job.cancel.set()
-            if job.future is not None:
-                job.future.cancel()
+            self._cancel(job)
+
+    @staticmethod
+    def _cancel(job: Job) -> None:
+        job.cancel.set()
+        for f in (job.future, job.tail):
+            if f is not None and f.cancel():  # never started: on_done will not be called
+                job.finished.set()
 
     def cancel_all(self) -> int:
         """Cancel every job; returns how many were still running."""
@@ -191,19 +235,23 @@ class Worker:
             jobs = list(self._jobs.values())
         n = 0
         for j in jobs:
-            if j.future is not None and not j.future.done():
+            if j.future is not None and not j.finished.is_set():
                 n += 1
-            j.cancel.set()
-            if j.future is not None:
-                j.future.cancel()
+            self._cancel(j)
         return n
 
     def shutdown(self, timeout: float = 1.0) -> bool:
         """Cancel everything and wait (at most `timeout` s) for the threads; True if they all stopped."""
         self._closed = True
         self.cancel_all()
-        self._pool.shutdown(wait=False, cancel_futures=True)
+        for pool in (self._pool, self._tail):
+            pool.shutdown(wait=False, cancel_futures=True)
         deadline = time.perf_counter() + timeout
-        for t in list(getattr(self._pool, "_threads", ())):
+        threads = [*getattr(self._pool, "_threads", ()), *getattr(self._tail, "_threads", ())]
+        for t in threads:
             t.join(max(0.0, deadline - time.perf_counter()))
-        return not any(t.is_alive() for t in getattr(self._pool, "_threads", ()))
+        with self._lock:  # a job cancelled with its pool before it started will never call on_done
+            for j in self._jobs.values():
+                if (j.future is not None and j.future.cancelled()) or (j.tail is not None and j.tail.cancelled()):
+                    j.finished.set()
+        return not any(t.is_alive() for t in threads)
