@@ -305,7 +305,6 @@ def mark_failed(rows, failures: dict) -> list[dict]:
 
 
 def report_markdown(rows, done, failures, quick, wall) -> str:
-    from importlib import resources
 
     from ..integrability import format_report as check_text, load_report
 
@@ -333,7 +332,8 @@ def report_markdown(rows, done, failures, quick, wall) -> str:
     for k, v in versions().items():
         lines.append(f"- {k} {v}")
     lines.append(f"- machine: {platform.machine()}, {os.cpu_count()} cores, {platform.system()} {platform.release()}")
-    lines.append(f"- magrod {__version__}; generated/ report: {resources.files('magrod.generated').joinpath('report.md')}")
+    lines.append(f"- magrod {__version__}; the derivation report: generated/report.md (in an installation "
+                 "magrod/generated/report.md; `magrod check` prints it)")
     return "\n".join(lines) + "\n"
 
 
