@@ -156,3 +156,25 @@ def test_the_continue_command_is_the_library_branch(tmp_path, capsys):
     r = pm.find(mr.RodParams(1.7, 0.0021, 1.0, 1.0, 0.001), 1, samples=121)[0]
     br = continue_branch(r, "mu", 2, ds=0.1)
     assert list(d["first"].values()) == br.u[0].tolist() and list(d["last"].values()) == br.u[-1].tolist()
+
+
+def test_one_name_per_quantity():
+    """The launch distance is `launch_distance` everywhere; `eps` is the perturbation parameter (magrod.separatrix)
+    and never a launch distance; machine epsilon is Precision.eps / np.finfo(...).eps, never a parameter.  Read
+    from the source: no function of magrod.orbits (where every eps was a launch distance) takes `eps`, and no
+    function anywhere takes `eta`.  Seen to fail on the tree before issue 25's rename (24 functions)."""
+    import ast
+    from pathlib import Path
+
+    import magrod
+
+    root = Path(magrod.__file__).parent
+    bad = []
+    for path in sorted(root.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                names = {a.arg for a in node.args.args + node.args.kwonlyargs + node.args.posonlyargs}
+                rel = path.relative_to(root).as_posix()
+                if "eta" in names or ("eps" in names and rel.startswith("orbits/")):
+                    bad.append(f"{rel}:{node.lineno} {node.name}")
+    assert not bad, bad
