@@ -11,7 +11,10 @@ pbar_psi the largest root of the level):
 with z_0 = x0 + s* e_u the start of the float homoclinic excursion (W^u of x0 meets Fix(R) at P^8(z_0)),
 e_u^j the tangent of W^u at c_j (DP pushed forward) and e_s^j that of W^s = R(W^u) (R e_u^k pulled back by DP^-1),
 so that DP maps the frame of N_j onto that of N_{j+1} up to scalings.  c_{k-1} is moved along e_u^{k-1} so that
-P(c_{k-1}) lies on Fix(R) (a one-return Newton step; the u-offset this leaves at the link k-2 -> k-1 is reported).
+P(c_{k-1}) lies on Fix(R) (a one-return Newton step; the u-offset this leaves at the link k-2 -> k-1 is reported).  Sizes: the rule of
+magrod/proof/horseshoe.sizes (margins 3 in (a) and (b)).  At the scale of the proof (dist(x0, c_1) ~ 4e-10 for
+m = 5) the float map cannot resolve the sets (its error ~1e-15 against widths ~1e-13): the prover recomputes the
+chain with the validated flights; this script shows the geometry and the linear margins.
 
 For each link N => M: the float images of points on N's boundary and a grid inside it, in M's coordinates
 y = A_M^-1 (x - c_M): (a) max |y_s| over image points with |y_u| <= 1 (must be < 1), (b) the exit edges' images:
@@ -23,7 +26,6 @@ part G = A_M^-1 DP(c_N) A_N.
 from __future__ import annotations
 
 import json
-import math
 import sys
 import time
 from fractions import Fraction
@@ -159,14 +161,14 @@ def design(P: FloatMap, x0, m=2, s_star=2.431508147212876e-06, n_exc=8):
             "DP": Ds, "DP0": D0, "last_shift": shift, "pt_residual_last": float(yk[1])}
 
 
-def sets_of(d, l0, l, w, lk):
-    """[(centre, A)] for N0, N1..N_{k-1}, N_k (module docstring)."""
+def sets_of(d, l0, ls, ws):
+    """[(centre, A)] for N0, N1..N_{k-1}, N_k (module docstring); ls, ws: the sizes of N1 .. Nk."""
     x0, eu = d["x0"], d["e_u0"]
     out = [(x0, np.column_stack([l0 * eu, l0 * (R2 @ eu)]))]
-    for c, u, s in zip(d["centres"][:-1], d["e_u"][:-1], d["e_s"][:-1]):
+    for c, u, s, l, w in zip(d["centres"][:-1], d["e_u"][:-1], d["e_s"][:-1], ls, ws):
         out.append((c, np.column_stack([l * u, w * s])))
     ek = d["e_u"][-1]
-    out.append((d["centres"][-1], np.column_stack([lk * ek, lk * (R2 @ ek)])))
+    out.append((d["centres"][-1], np.column_stack([ls[-1] * ek, ls[-1] * (R2 @ ek)])))
     return out
 
 
@@ -205,10 +207,14 @@ def main():
     x0 = np.array([float(Fraction(cert["point"]["theta_c"])), 0.0])
     d = design(P, x0, m=M_BACK)
     dist = float(np.linalg.norm(d["centres"][0] - x0))
+    from magrod.proof.horseshoe import sizes
+
     l0 = dist / 3
-    l = w = dist / 6
-    lk = l
-    sets = sets_of(d, l0, l, w, lk)
+    lam = [float(np.linalg.norm(D @ u)) for D, u in zip(d["DP"], d["e_u"][:-1])]
+    sig = [float(np.linalg.norm(D @ s)) for D, s in zip(d["DP"], d["e_s"][:-1])]
+    ls, ws = sizes(lam, sig, dist / 6, 3.0, 3.0)
+    l, w, lk = ls, ws, ls[-1]
+    sets = sets_of(d, l0, ls, ws)
     k = len(sets) - 1
     links = [(0, 0), (0, 1)] + [(j, j + 1) for j in range(1, k)]
     rows = []
@@ -221,11 +227,11 @@ def main():
     angles = [float(np.degrees(np.arccos(abs(np.dot(u, s))))) for u, s in zip(d["e_u"], d["e_s"])]
     out = {"params": pr, "h": h, "m_back": M_BACK, "k": k, "x0": x0.tolist(), "lam_u": d["lam_u"],
            "e_u0": d["e_u0"].tolist(), "s_star": d["s_star"], "dist_N1": dist, "l0": l0, "l": l, "w": w, "lk": lk,
-           "last_shift": d["last_shift"], "last_shift_over_l": d["last_shift"] / l,
+           "last_shift": d["last_shift"], "last_shift_over_l": d["last_shift"] / ls[-2],
            "pt_residual_last": d["pt_residual_last"],
            "centres": [c.tolist() for c in d["centres"]], "e_u": [e.tolist() for e in d["e_u"]],
            "e_s": [e.tolist() for e in d["e_s"]], "angle_us_deg": angles,
-           "stretch": [float(np.linalg.norm(D @ u)) for D, u in zip(d["DP"], d["e_u"][:-1])],
+           "stretch": lam, "stretch_s": sig,
            "DP_norm": [float(np.linalg.norm(D, 2)) for D in d["DP"]],
            "links": rows, "float_map_calls": P.calls, "wall_s": round(time.perf_counter() - t0, 1)}
     json.dump(out, open(OUT, "w"), indent=1)
