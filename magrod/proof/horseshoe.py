@@ -23,7 +23,7 @@ validated C^1 Lohner flights with the phases of statement 11 and the crossing en
 the mean-value form P(X) in P(c_X) + [DP(X)] A_X [-1, 1]^2.
 
 Method of the design (float, heyoka; only chooses where to look): the W^u point z_0 = x0 + s* e_u whose 8th image lies
-on Fix(R), pulled back m times (c_1 = P^-m(z_0)); the chain c_{j+1} = P(c_j) is then recomputed with the validated
+on Fix(R), pulled back m times along the local W^u (c_1 = x0 + s* mu_u^-m e_u, to second order); the chain c_{j+1} = P(c_j) is then recomputed with the validated
 thin flights (their midpoints: 128 bits), c_1 shifted along e_u by one Newton step so that P^(k-1)(c_1) lies on
 Fix(R); frames: e_u^j (W^u tangents, pushed forward by DP) and e_s^j (W^s tangents, R e_u^k pulled back), so that DP
 maps frame to frame; sizes by the rule of `sizes`.
@@ -59,6 +59,8 @@ class HorseshoeSettings:
     prec: int = 128
     order: int = 20
     tol: float = PROOF_STEP_TOL
+    #: the step tolerance of the centres' flights (their enclosures must resolve the sets: periodic.piece_return)
+    tol_thin: float = 1e-32
     m_back: int = 5
     qu: float = 3.0
     qs: float = 3.0
@@ -72,7 +74,7 @@ class HorseshoeSettings:
 
     def as_json(self) -> dict:
         q = _q
-        return {"prec": self.prec, "order": self.order, "tol": repr(self.tol), "m_back": self.m_back,
+        return {"prec": self.prec, "order": self.order, "tol": repr(self.tol), "tol_thin": repr(self.tol_thin), "m_back": self.m_back,
                 "qu": self.qu, "qs": self.qs, "p_rad": q(self.p_rad), "t1": q(self.t1), "lead": q(self.lead),
                 "newton": self.newton, "n_exc": self.n_exc, "series_cap": ball.SERIES_CAP}
 
@@ -186,10 +188,10 @@ def float_design(P: FloatMap, x0, m: int, s_star: float, n_exc: int = 8) -> dict
         else:
             b = c
     s = 0.5 * (a + b)
-    z = x0 + s * eu
-    for _ in range(m):
-        z = P.inv(z)
-    return {"e_u0": eu, "mu_u": float(np.real(w[iu])), "s_star": s, "c1": z}
+    # c_1 = P^-m(z_0) on the local W^u, to O(t^2): x0 + t e_u, t = s* mu_u^-m (not the float P^-m: its error
+    # in the stable direction grows by mu_u per pull-back)
+    t = s / abs(float(np.real(w[iu]))) ** m
+    return {"e_u0": eu, "mu_u": float(np.real(w[iu])), "s_star": s, "t": t, "c1": x0 + t * eu}
 
 
 def sizes(lam, sig, L, qu, qs):
@@ -260,23 +262,24 @@ def image_in(M, fl, AX):
 
 
 def piece_checks(off, G, piece):
-    """(a_ok, a_margin, edge images): (a) the piece's image misses {|y_u| <= 1} or lies in {|y_s| < 1};
+    """(a_ok, a_margin, edge images): (a') the piece's image lies in {|y_s| < 1} (stronger than (a): then the
+    straight-line homotopy to (a y_u, 0) never meets M's entry edges);
     the images of the piece's parts of N's exit edges (y_u(N) = -1 and +1) as y_u balls."""
     U = ball.interval(-1, 1)
     yu = off[0] + G[0][0] * U + G[0][1] * U
     ys = off[1] + G[1][0] * U + G[1][1] * U
     lo_u, hi_u = ball.bounds(yu)
     lo_s, hi_s = ball.bounds(ys)
-    misses = lo_u > 1 or hi_u < -1
+    del lo_u, hi_u
     inside = -1 < lo_s and hi_s < 1
-    margin = float(1 - max(abs(lo_s), abs(hi_s))) if not misses else math.inf
+    margin = float(1 - max(abs(lo_s), abs(hi_s)))
     edges = {}
     pu, _, hu, _ = piece
     if pu - hu == -1:
         edges[-1] = off[0] - G[0][0] + G[0][1] * U
     if pu + hu == 1:
         edges[1] = off[0] + G[0][0] + G[0][1] * U
-    return bool(misses or inside), margin, edges
+    return bool(inside), margin, edges
 
 
 # --------------------------------------------------------------------------------------------------------------
@@ -289,8 +292,9 @@ def prove(params: fields.ExactParams, h: Fraction, x0_theta: Fraction, settings:
     Parameters
     ----------
     params, h : the exact parameters and level.
-    x0_theta : Fraction
-        theta of the symmetric saddle x0 = (theta, psi = 0, pbar_theta = 0) of P (statement 11's certificate).
+    x0_theta : float or Fraction
+        Where the float search (periodic.float_fixed_point, within 0.02) looks for the symmetric saddle
+        x0 = (theta*, psi = 0, pbar_theta = 0) of P (statement 11); N0 is centred at the float theta*.
     settings : HorseshoeSettings, optional
     module : the generated field module (a mutated copy for controls).
     progress : callable, optional
@@ -311,7 +315,7 @@ def prove(params: fields.ExactParams, h: Fraction, x0_theta: Fraction, settings:
 
     try:
         with ball.workprec(st.prec):
-            cert = _prove(params, h, Fraction(x0_theta), st, module, check, progress or (lambda s: None))
+            cert = _prove(params, h, x0_theta, st, module, check, progress or (lambda s: None))
     except ProofFailure as err:
         return ProofResult(False, None, err.reason, checks, time.perf_counter() - t0)
     except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
@@ -348,17 +352,21 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     pars = p.balls()
     fld = fields.chart_field(p, module)
     P = FloatMap(p, h)
+    say("float search for x0")
+    th_f = periodic.float_fixed_point(p, h, float(x0_theta))[0]
+    x0_theta = dyadic(float(th_f), 53)
     x0 = np.array([float(x0_theta), 0.0])
     say("float design")
     fd = float_design(P, x0, st.m_back, st.s_star, st.n_exc)
     k = st.n_exc + st.m_back + 1  # N_1 at z_-m .. N_k at z_n_exc
     lead = st.lead
 
-    def fly(c, A, pc, steps=None, box=True):
+    def fly(c, A, pc, steps=None, box=True, tol_thin=None, thin=None):
         T = P.full([float(c[0]), float(c[1])])[1]
         t_a = t_approach(T, lead)
         fl = periodic.piece_return(pars, h, fld, c, A, pc, st.p_rad, t_a, lead, t1=st.t1, order=st.order,
-                                   tol=st.tol, steps=steps, newton=st.newton, box=box, module=module)
+                                   tol=st.tol, tol_thin=tol_thin or st.tol_thin, steps=steps, newton=st.newton,
+                                   box=box, thin=thin, module=module)
         fl["t_a"] = t_a
         return fl
 
@@ -367,38 +375,42 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     def pc_of(c):
         return dyadic(float(P.lift([float(c[0]), float(c[1])])[fields.PPSI]), 50)
 
-    def chain(c1):
+    def chain(c1, tol_thin):
         cs, fls = [c1], []
         for j in range(k - 1):
-            fl = fly(cs[-1], zero, pc_of(cs[-1]), box=False)
+            fl = fly(cs[-1], zero, pc_of(cs[-1]), box=False, tol_thin=tol_thin)
             check(f"chain flight {j + 1}", fl["level_ok"], "the level's Newton at the chain's centre")
             fls.append(fl)
             cs.append([dyadic_of(fl["Pc"][0].mid()), dyadic_of(fl["Pc"][1].mid())])
         return cs, fls
 
-    say(f"chain pass 1 ({k - 1} thin flights)")
-    c1 = [dyadic(fd["c1"][0]), dyadic(fd["c1"][1])]
-    cs, fls = chain(c1)
-    DPs = [_mid_matrix(f["DPc"]) for f in fls]
-    eus, ess, lam, sig = _frame_from(DPs, fd["e_u0"])
-    # one Newton step along e_u^1 so that P^(k-1)(c_1) lies on Fix(R)
-    v = eus[0]
-    for D in DPs:
-        v = D @ v
-    delta = float(fls[-1]["Pc"][1].mid())
-    shift = -delta / v[1]
-    c1 = [dyadic_of(c1[0] + Fraction(shift) * Fraction(eus[0][0])),
-          dyadic_of(c1[1] + Fraction(shift) * Fraction(eus[0][1]))]
-    say(f"chain pass 2 (pbar_theta at the end {delta:.3g}: shift {shift:.3g} along e_u)")
-    cs, fls = chain(c1)
-    resid = float(fls[-1]["Pc"][1].mid())
-    DPs = [_mid_matrix(f["DPc"]) for f in fls]
-    eus, ess, lam, sig = _frame_from(DPs, fd["e_u0"])
+    c1 = [x0_theta + Fraction(fd["t"]) * Fraction(fd["e_u0"][0]), Fraction(fd["t"]) * Fraction(fd["e_u0"][1])]
+    c1 = [dyadic_of(v) for v in c1]
+    # the chain by the validated centre flights; Newton steps along e_u^1 put P^(k-1)(c_1) on Fix(R): two passes
+    # at the design tolerance, the last at tol_thin (its flights are the certificate's centre flights)
+    passes = []
+    for n_pass, tl in enumerate((st.tol, st.tol, st.tol_thin)):
+        say(f"chain pass {n_pass + 1} ({k - 1} centre flights, tol {tl:g})")
+        cs, fls = chain(c1, tl)
+        DPs = [_mid_matrix(f["DPc"]) for f in fls]
+        eus, ess, lam, sig = _frame_from(DPs, fd["e_u0"])
+        delta = float(fls[-1]["Pc"][1].mid())
+        passes.append(delta)
+        if n_pass == 2:
+            break
+        v = eus[0]
+        for D in DPs:
+            v = D @ v
+        shift = -delta / v[1]
+        say(f"  pbar_theta at the end {delta:.3g}: shift {shift:.3g} along e_u")
+        c1 = [dyadic_of(c1[0] + Fraction(shift) * Fraction(eus[0][0])),
+              dyadic_of(c1[1] + Fraction(shift) * Fraction(eus[0][1]))]
+    resid = passes[-1]
     cs[-1] = [dyadic_of(fls[-1]["Pc"][0].mid()), Fraction(0)]
     dist = float(np.hypot(float(cs[0][0]) - x0[0], float(cs[0][1])))
     L = dist / 6
     ls, ws = sizes(lam, sig, L, st.qu, st.qs)
-    check("end on Fix(R)", abs(resid) < 1e-2 * ws[-1],
+    check("end on Fix(R)", abs(resid) < ws[-1] / 4,
           f"pbar_theta(P^(k-1)(c_1)) = {resid:.3g} after the Newton shift, against the size {ws[-1]:.3g} of Nk")
     # the sets (exact dyadic data)
     a0 = [dyadic(L * 2 * fd["e_u0"][0]), dyadic(L * 2 * fd["e_u0"][1])]
@@ -409,6 +421,14 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
                                  [dyadic(ls[j] * u[1]), dyadic(ws[j] * s[1])]]))
     ak = [dyadic(ls[-1] * eus[-1][0]), dyadic(ls[-1] * eus[-1][1])]
     sets.append(hset(cs[-1], [[ak[0], ak[0]], [ak[1], -ak[1]]]))
+    # the branch boxes: the level's root unique in [p_c - p_rad, p_c + p_rad] over each set's hull
+    branch = {}
+    for i, sd in enumerate(sets):
+        c, A = set_data(sd)
+        sd["p_c"] = _q(pc_of(c))
+        _, B, ok = periodic.level_newton_section(pars, h, *_hull(c, A), Fraction(sd["p_c"]), st.p_rad, module)
+        check(f"N{i} branch box", ok, "pbar_psi unique in the branch box over the set's hull")
+        branch[i] = B
     # links, pieces, flights
     links = [(0, 0), (0, 1)] + [(j, j + 1) for j in range(1, k)]
     grids = {i: (1, 1) for i in range(k)}
@@ -423,8 +443,10 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
             say(f"set N{i}: piece {n + 1}/{len(pcs)}")
             cX, AX = piece_geometry(cN, AN, pc)
             ppc = pc_of(cX)
-            fl = fly(cX, AX, ppc)
-            check(f"N{i} piece {n} level", fl["level_ok"], "pbar_psi unique in its Newton box over the piece")
+            reuse = fls[i - 1] if (i >= 1 and len(pcs) == 1) else None  # the chain's flight from c_i = c_X
+            fl = fly(cX, AX, ppc, thin=reuse)
+            check(f"N{i} piece {n} level", fl["level_ok"] and ball.subset(fl["ppsi_hull"], branch[i]),
+                  "pbar_psi unique in its Newton box over the piece, inside the set's branch box")
             check(f"N{i} piece {n} positive return", ball.positive(fl["gdot_thin"]) and ball.positive(fl["gdot_box"])
                   and ball.positive(fl["cospsi_box"]) and ball.positive(fl["cospsi_thin"]),
                   f"d(sin psi)/dt = {fl['gdot_box']} > 0, cos psi > 0 at the crossing (psi = 0 mod 2 pi)")
@@ -439,23 +461,21 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     link_rec = []
     for i, j in links:
         cM, AM = set_data(sets[j])
-        pM = pc_of(cM)
         amin, right, left = math.inf, [], []
         for n, pc in enumerate(grid_pieces(*grids[i])):
             _, AX, fl = images[(i, n)]
             off, G = image_in((cM, AM), fl, AX)
             a_ok, margin, edges = piece_checks(off, G, pc)
             check(f"N{i} => N{j} piece {n} (a)", a_ok, f"image in M's coordinates: y_u = {off[0]} + ..., y_s ="
-                  f" {off[1]} + G ...: misses |y_u| <= 1 or stays in |y_s| < 1")
+                  f" {off[1]} + G ...: stays in |y_s| < 1")
             amin = min(amin, margin)
             if -1 in edges:
                 left.append(edges[-1])
             if 1 in edges:
                 right.append(edges[1])
             # the branch of pbar_psi: where the image lands in M it is M's root
-            NM, PM, okM = periodic.level_newton_section(pars, h, *_hull(cM, AM), pM, st.p_rad, module)
-            check(f"N{i} => N{j} piece {n} branch", okM and ball.subset(fl["ppsi_box"], PM),
-                  f"pbar_psi of the image {fl['ppsi_box']} inside M's Newton box {PM} (unique root there)")
+            check(f"N{i} => N{j} piece {n} branch", ball.subset(fl["ppsi_box"], branch[j]),
+                  f"pbar_psi of the image {fl['ppsi_box']} inside M's branch box {branch[j]} (unique root there)")
         o = 1 if ball.bounds(right[0])[0] > 1 else -1
         okb = all((ball.bounds(e)[0] > 1) if o == 1 else (ball.bounds(e)[1] < -1) for e in right) and \
             all((ball.bounds(e)[1] < -1) if o == 1 else (ball.bounds(e)[0] > 1) for e in left)
@@ -493,7 +513,7 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
         "loop_length": Lloop, "entropy": {"rho_lower": _q(rho), "log_rho_lower": math.log(float(rho))},
         "hypotheses_symbolic": ["reversor_reduced", "validated_fields", "full_ham_nondim"],
         "design": {"x0_theta": _q(x0_theta), "s_star": fd["s_star"], "m_back": st.m_back, "dist_c1": dist,
-                   "L": L, "l": ls, "w": ws, "stretch_u": lam, "stretch_s": sig, "end_residual": resid,
+                   "L": L, "l": ls, "w": ws, "stretch_u": lam, "stretch_s": sig, "end_residual": resid, "end_residual_passes": passes,
                    "angles_deg": [float(np.degrees(np.arccos(min(1.0, abs(float(np.dot(u, s))))))) for u, s in
                                   zip(eus, ess)]},
     }

@@ -492,7 +492,8 @@ def level_newton_section(pars, h, theta: arb, ptheta: arb, pc: Fraction, prad: F
 
 
 def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction, lead: Fraction, *,
-                 t1=Fraction(1, 64), order=20, tol=PROOF_STEP_TOL, steps=None, newton=12, box=True, module=gen) -> dict:
+                 t1=Fraction(1, 64), order=20, tol=PROOF_STEP_TOL, tol_thin=None, steps=None, newton=12, box=True,
+                 thin=None, module=gen) -> dict:
     """One return of P for the section piece X = c + A [-1, 1]^2 (c exact (theta, pbar_theta), A exact 2 x 2) on
     the level Hbar = h, pbar_psi the root in [pc - prad, pc + prad].
 
@@ -503,8 +504,11 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
     so pbar_psi(c + A v) = pbar_psi(c) + grad(xi) A v).  Returns the balls: "Pc" = (theta, pbar_theta) of P(c),
     "DP" = [[dtheta'/dtheta, dtheta'/dpbar_theta], [dpbar_theta'/dtheta, dpbar_theta'/dpbar_theta]] over X, the
     crossings' "gdot" and "cospsi" (thin and box), "ppsi_box" (pbar_psi at the box crossing), the Newton results
-    ("level_ok"), and the steps taken (box False: the centre's flight only, with "DPc" its DP).  Flight failures
-    raise taylor's errors; the caller checks the signs."""
+    ("level_ok"), and the steps taken (box False: the centre's flight only, with "DPc" its DP; thin: a previous
+    result of this function at the same centre and p_c whose centre flight is reused).  tol_thin: the step
+    tolerance of the centre's flight (default tol): the centre's enclosure must resolve sets of ~1e-13, and the
+    Lagrange remainders on the a priori enclosures dominate it (1e-25: widths 1e-14 .. 2e-13 after one return;
+    1e-32: 5e-20, 2.3x the steps).  Flight failures raise taylor's errors; the caller checks the signs."""
     out = {}
     cq = [ball.q(v) for v in c]
     Nc, _, okc = level_newton_section(pars, h, cq[0], cq[1], pc, prad, module)
@@ -532,12 +536,18 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
         E = E + sum(((gm[0] * a + gm[1] * b) - C[3, j]) * U for j, (a, b) in enumerate(col))
     xbar = [ball.fraction(cq[0]), Fraction(0), ball.fraction(cq[1]), ball.fraction(Nc.mid())]
     r0 = ball.vec([U, U, arb(0), E])
-    thin = taylor.initial_set([cq[0], arb(0), cq[1], Nc], c1=True)
-    steps_out = {}
+    thin_set = taylor.initial_set([cq[0], arb(0), cq[1], Nc], c1=True)
     box_set = section_set(pars, None, None, None, C2=(xbar, C, r0)) if box else None
-    for kind, S in (("thin", thin), ("box", box_set))[: 2 if box else 1]:
+    steps_out = {}
+    if thin is not None:
+        for key in ("Pc", "ppsi_thin", "DPc", "gdot_thin", "cospsi_thin"):
+            out[key] = thin[key]
+        steps_out["thin"] = thin["steps"]["thin"]
+    todo = ([] if thin is not None else [("thin", thin_set)]) + ([("box", box_set)] if box else [])
+    for kind, S in todo:
         st = None if steps is None else steps[kind]
-        cr, used = first_return(pars, fld, S, t_a, lead, t1=t1, order=order, tol=tol, steps=st, newton=newton,
+        tk = (tol_thin or tol) if kind == "thin" else tol
+        cr, used = first_return(pars, fld, S, t_a, lead, t1=t1, order=order, tol=tk, steps=st, newton=newton,
                                 module=module)
         steps_out[kind] = used
         Qk = [cq[0], arb(0), cq[1], Nc] if kind == "thin" else Q

@@ -145,6 +145,7 @@ def section_horseshoe_theorem(params: dict, level: str, k: int, loop_length: int
             f"N{k} with the covering relations N0 => N0 and N0 => N1 => ... => N{k} (Zgliczynski-Gidea 2004), N0 "
             f"and N{k} symmetric under the reversor R, N0 disjoint from the other sets of the loops; by reversibility "
             f"the chain closes through back-coverings into a loop of length {loop_length} through N0, so P has a "
-            f"compact forward-invariant set on which it is semiconjugate to the shift on concatenations of the "
-            f"blocks 1 and 1 0^{loop_length - 1}: h_top(P) >= log rho > {math.floor(math.log(float(rho)) * 1e4) / 1e4}"
+            f"compact forward-invariant set Lambda on which it is semiconjugate to the shift on concatenations of the "
+            f"blocks 1 and 1 0^{loop_length - 1} (the visits to N0): h_top(P|Lambda) >= log rho > "
+            f"{math.floor(math.log(float(rho)) * 1e4) / 1e4}"
             f", rho the largest root of x^{loop_length} = x^{loop_length - 1} + 1, rho > {_rational(rho_lower)}.")

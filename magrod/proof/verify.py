@@ -746,18 +746,35 @@ def _horseshoe(cert, p, order, module, claim) -> dict:
     for j in range(1, k):
         claim(f"N0, R(N{j}) disjoint", _hs_separated(V0, [(x, -y) for x, y in _hs_vertices(*sets[j])]),
               "a separating edge normal")
+    L = 2 * k
+    claim("loop length", int(cert["loop_length"]) == L, f"the loop N0 => ... => N{k} <= ... <= N0 has length 2k = {L}")
+    rho = _frac(cert["entropy"]["rho_lower"])
+    claim("entropy bound", 1 < rho < 2 and rho**L - rho ** (L - 1) - 1 < 0,
+          f"rho_lower = {float(rho):.12g} is below the largest root of x^{L} = x^{L - 1} + 1 (f(rho_lower) < 0)")
+    text = section_horseshoe_theorem(p.as_json(), cert["level"], k, L, cert["entropy"]["rho_lower"])
+    claim("theorem", cert.get("theorem") == text, "the certificate states exactly the theorem generated here")
     fl_by_set = {int(f["set"]): f for f in cert["flights"]}
     claim("flights", sorted(fl_by_set) == list(range(k)), "one flight record per set N0 .. N(k-1)")
+    pieces = {}
+    for i in range(k):
+        pieces[i] = [tuple(_frac(v) for v in r["piece"]) for r in fl_by_set[i]["pieces"]]
+        claim(f"N{i} cover", _hs_cover(pieces[i]), f"the {len(pieces[i])} pieces cover [-1, 1]^2 exactly")
     pars = p.balls()
     fld = fields.chart_field(p, module)
     U = ball.interval(-1, 1)
     images = {}
-    for i in range(k):
+    branch = {}
+    for j, (c, A) in enumerate(sets):
+        U0 = ball.q(c[0]) + ball.q(A[0][0]) * U + ball.q(A[0][1]) * U
+        U1 = ball.q(c[1]) + ball.q(A[1][0]) * U + ball.q(A[1][1]) * U
+        _, B, ok = periodic.level_newton_section(pars, h, U0, U1, _frac(cert["sets"][j]["p_c"]), prad, module)
+        claim(f"N{j} branch box", ok, "the level's root pbar_psi is unique in the set's branch box over its hull")
+        branch[j] = B
+
+    def fly_set(i):
         c, A = sets[i]
-        pcs = [tuple(_frac(v) for v in r["piece"]) for r in fl_by_set[i]["pieces"]]
-        claim(f"N{i} cover", _hs_cover(pcs), f"the {len(pcs)} pieces cover [-1, 1]^2 exactly")
         imgs = []
-        for n, (r, pc) in enumerate(zip(fl_by_set[i]["pieces"], pcs)):
+        for n, (r, pc) in enumerate(zip(fl_by_set[i]["pieces"], pieces[i])):
             yu, ys, hu, hs = pc
             cX = [c[0] + A[0][0] * yu + A[0][1] * ys, c[1] + A[1][0] * yu + A[1][1] * ys]
             AX = [[A[0][0] * hu, A[0][1] * hs], [A[1][0] * hu, A[1][1] * hs]]
@@ -772,17 +789,19 @@ def _horseshoe(cert, p, order, module, claim) -> dict:
                                           order=order, steps=steps, newton=newton, module=module)
             except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
                 claim(f"N{i} piece {n} flight", False, str(err)[:200])
-            claim(f"N{i} piece {n} level", f["level_ok"], "the level's root unique in its Newton box over the piece")
+            claim(f"N{i} piece {n} level", f["level_ok"] and ball.subset(f["ppsi_hull"], branch[i]),
+                  "the piece's pbar_psi: unique in its Newton box over the piece, inside the set's branch box")
             claim(f"N{i} piece {n} positive return", all(ball.positive(f[x]) for x in
                   ("gdot_thin", "gdot_box", "cospsi_thin", "cospsi_box")),
                   "the first return is a transversal positive crossing with cos psi > 0")
             imgs.append((pc, AX, f))
-        images[i] = imgs
+        return imgs
+
     for i, j in want:
+        if i not in images:
+            images[i] = fly_set(i)
         cM, AM = sets[j]
         Ai = [[ball.q(v) for v in row] for row in _hs_inv(AM)]
-        U0 = ball.q(cM[0]) + ball.q(AM[0][0]) * U + ball.q(AM[0][1]) * U
-        U1 = ball.q(cM[1]) + ball.q(AM[1][0]) * U + ball.q(AM[1][1]) * U
         right, left = [], []
         for n, (pc, AX, f) in enumerate(images[i]):
             d = [f["Pc"][0] - ball.q(cM[0]), f["Pc"][1] - ball.q(cM[1])]
@@ -794,14 +813,13 @@ def _horseshoe(cert, p, order, module, claim) -> dict:
             ys = off[1] + G[1][0] * U + G[1][1] * U
             lu, hu_ = ball.bounds(yu)
             ls_, hs_ = ball.bounds(ys)
-            claim(f"N{i} => N{j} piece {n} (a)", lu > 1 or hu_ < -1 or (-1 < ls_ and hs_ < 1),
-                  f"image misses |y_u| <= 1 or lies in |y_s| < 1 (y_u {yu}, y_s {ys})")
+            claim(f"N{i} => N{j} piece {n} (a)", -1 < ls_ and hs_ < 1,
+                  f"the image lies in |y_s| < 1 (y_s {ys}), so it never meets M's entry edges and the straight-line "
+                  f"homotopy to (a y_u, 0) keeps |y_s| < 1")
             if lu <= 1 and hu_ >= -1:
-                # where the image can land in M, its pbar_psi must be M's root: inside a Newton box over M
-                pc_img = ball.fraction(f["ppsi_box"].mid())
-                NM, PM, okM = periodic.level_newton_section(pars, h, U0, U1, pc_img, prad, module)
-                claim(f"N{i} => N{j} piece {n} branch", okM and ball.subset(f["ppsi_box"], PM),
-                      "the image's pbar_psi lies in a box where the level's root over M is unique")
+                # where the image can land in M, its pbar_psi is M's root: inside M's branch box
+                claim(f"N{i} => N{j} piece {n} branch", ball.subset(f["ppsi_box"], branch[j]),
+                      "the image's pbar_psi lies in M's branch box (the level's root unique there over M)")
             if pc[0] - pc[2] == -1:
                 left.append(off[0] - G[0][0] + G[0][1] * U)
             if pc[0] + pc[2] == 1:
@@ -811,11 +829,4 @@ def _horseshoe(cert, p, order, module, claim) -> dict:
         okb = all(ball.bounds(e)[0] > 1 if o == 1 else ball.bounds(e)[1] < -1 for e in right) and \
             all(ball.bounds(e)[1] < -1 if o == 1 else ball.bounds(e)[0] > 1 for e in left)
         claim(f"N{i} => N{j} (b)", okb, "the images of the exit edges lie beyond M's exit edges, on opposite sides")
-    L = 2 * k
-    claim("loop length", int(cert["loop_length"]) == L, f"the loop N0 => ... => N{k} <= ... <= N0 has length 2k = {L}")
-    rho = _frac(cert["entropy"]["rho_lower"])
-    claim("entropy bound", 1 < rho < 2 and rho**L - rho ** (L - 1) - 1 < 0,
-          f"rho_lower = {float(rho):.12g} is below the largest root of x^{L} = x^{L - 1} + 1 (f(rho_lower) < 0)")
-    text = section_horseshoe_theorem(p.as_json(), cert["level"], k, L, cert["entropy"]["rho_lower"])
-    claim("theorem", cert.get("theorem") == text, "the certificate states exactly the theorem generated here")
     return {"k": k, "L": L, "rho": cert["entropy"]["rho_lower"]}
