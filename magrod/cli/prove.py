@@ -13,7 +13,10 @@ it flips the sign of the K-th term of the generated chart field, and the run mus
 
 `magrod prove --fixed-point THETA --level H ...` proves instead a symmetric hyperbolic fixed point of the section map
 sin psi = 0 on the level Hbar = H (magrod/proof/periodic.py; statement 11), the float search looking for theta* on
-Fix(R) within 0.02 of THETA (no condition mu > 2 lambdabar: the level need not hold the tilted saddle)."""
+Fix(R) within 0.02 of THETA (no condition mu > 2 lambdabar: the level need not hold the tilted saddle).
+`magrod prove --horseshoe THETA --level H ...` proves a horseshoe of that section map (positive topological entropy)
+by covering relations along the homoclinic orbit of the saddle near THETA (magrod/proof/horseshoe.py; statement 12;
+~6 min at Fig 4(a))."""
 from __future__ import annotations
 
 from fractions import Fraction
