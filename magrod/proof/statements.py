@@ -222,14 +222,14 @@ STATEMENTS = (
        """At (m, μ, γ, δ, λ̄) = (17/10, 2/5, 3, 3, 27/200) (panel (a)), on Fig 4's own level h = 9/10, the section
        map P of {sin ψ = 0, d sin ψ/dt > 0} has positive topological entropy: a compact forward-invariant set Λ
        with h_top(P|Λ) ≥ log ρ > 0.0882, ρ the largest root of x²⁸ = x²⁷ + 1 (a horseshoe of P^n). 15 h-sets
-       (parallelograms in (θ, p̄θ), half-lengths 6·10⁻¹¹ … 1·10⁻¹³) N0 at the saddle x0 of statement 11 and
+       (parallelograms in (θ, p̄θ), half-sizes 1.3·10⁻¹⁰ … 1.4·10⁻¹³) N0 at the saddle x0 of statement 11 and
        N1 … N14 along its homoclinic orbit (W^u of x0 meets Fix(R) at the 8th return) carry the covering
        relations N0 ⇒ N0 and N0 ⇒ N1 ⇒ … ⇒ N14 (Zgliczyński & Gidea 2004), each checked on one validated C¹ return
        per set; N0 and N14 are R-symmetric and N0 is disjoint from the others, so reversibility closes the chain
        into a loop of length 28 through N0 (docs/nonintegrability.md, "A horseshoe on Fig 4's own level").
        Certificate magrod/proof/certificates/horseshoe_fig4a.json, re-checked by the verifier (kind
        section_horseshoe; `magrod prove --horseshoe 0.383 --level 0.9 --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam
-       0.135`). Panels (b)–(d) were not attempted.""",
+       0.135`; prove 338 s, verify 221 s on 2 cores). Panels (b)–(d) are not proved.""",
        [Step("the covering relations, the symmetry of N0 and N14, the disjointness, the cover by pieces, the "
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
              "section_horseshoe)"),
