@@ -160,3 +160,15 @@ def test_certificate_verifies(cert):
     res = verify.verify(cert)
     assert res.ok, res.reason
     assert "h_top(P|Lambda) >= log rho" in res.theorem
+
+
+@pytest.mark.slow
+def test_mutated_field_control_fails_to_prove():
+    """Control: with the sign of term 0 of the generated chart field flipped, the prover fails (at the first centre
+    flight of the chain: no crossing where the float map of the true field has one; ~15 s) and issues nothing."""
+    from magrod.proof import periodic
+
+    p, h = periodic.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
+    res = horseshoe.prove(p, h, 0.383, module=fields.mutated_module(0))
+    assert not res.ok and res.certificate is None
+    assert "flight not validated" in res.reason or "not established" in res.reason, res.reason
