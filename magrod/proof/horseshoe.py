@@ -128,6 +128,20 @@ class FloatMap:
         x[fields.PPSI] = solve_p_psi(self.params, self.h, z[0], z[1], 0.0)[-1]
         return x
 
+    def full4(self, x):
+        """(the 4-D state at the first positive crossing after t > 1e-3, its time) from the 4-D state x."""
+        ta = self.ta
+        ta.time = 0.0
+        ta.state[:] = x
+        ta.reset_cooldowns()
+        while True:
+            oc = ta.propagate_until(ta.time + 100.0)[0]
+            if int(oc) != -1:
+                raise ProofFailure("design: no return of the float section map within t = 100")
+            if ta.time > 1e-3:
+                break
+        return ta.state.copy(), float(ta.time)
+
     def full(self, z):
         ta = self.ta
         ta.time = 0.0
@@ -170,11 +184,11 @@ def float_design(P: FloatMap, x0, m: int, s_star: float, n_exc: int = 8) -> dict
     eu = unit(np.real(V[:, iu]))
     eu = -eu if eu[0] < 0 else eu
 
-    def end(s):
-        z = x0 + s * eu
+    def end(s):  # 4-D states (the excursion may visit the psi = pi branch of Sigma+)
+        x = P.lift(x0 + s * eu)
         for _ in range(n_exc):
-            z = P(z)
-        return z[1]
+            x = P.full4(x)[0]
+        return x[fields.PTHETA]
 
     a, b = s_star * (1 - 1e-4), s_star * (1 + 1e-4)
     fa = end(a)
@@ -361,12 +375,15 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     k = st.n_exc + st.m_back + 1  # N_1 at z_-m .. N_k at z_n_exc
     lead = st.lead
 
-    def fly(c, A, pc, steps=None, box=True, tol_thin=None, thin=None):
-        T = P.full([float(c[0]), float(c[1])])[1]
+    def fly(c, A, pc, br, steps=None, box=True, tol_thin=None, thin=None):
+        x4 = np.zeros(4)
+        x4[fields.THETA], x4[fields.PTHETA], x4[fields.PPSI] = float(c[0]), float(c[1]), float(pc)
+        x4[fields.PSI] = 0.0 if br == "0" else math.pi
+        T = P.full4(x4)[1]
         t_a = t_approach(T, lead)
         fl = periodic.piece_return(pars, h, fld, c, A, pc, st.p_rad, t_a, lead, t1=st.t1, order=st.order,
                                    tol=st.tol, tol_thin=tol_thin or st.tol_thin, steps=steps, newton=st.newton,
-                                   box=box, thin=thin, module=module)
+                                   box=box, thin=thin, branch=br, module=module)
         fl["t_a"] = t_a
         return fl
 
@@ -376,13 +393,18 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
         return dyadic(float(P.lift([float(c[0]), float(c[1])])[fields.PPSI]), 50)
 
     def chain(c1, tol_thin):
-        cs, fls = [c1], []
+        """Centres, their pbar_psi, their branches ("0": cos psi > 0, "pi": cos psi < 0) and the flights."""
+        cs, pcs, brs, fls = [c1], [pc_of(c1)], ["0"], []
         for j in range(k - 1):
-            fl = fly(cs[-1], zero, pc_of(cs[-1]), box=False, tol_thin=tol_thin)
+            fl = fly(cs[-1], zero, pcs[-1], brs[-1], box=False, tol_thin=tol_thin)
             check(f"chain flight {j + 1}", fl["level_ok"], "the level's Newton at the chain's centre")
+            cp = fl["cospsi_thin"]
+            check(f"chain flight {j + 1} branch", ball.excludes_zero(cp), f"cos psi = {cp} at the crossing")
             fls.append(fl)
             cs.append([dyadic_of(fl["Pc"][0].mid()), dyadic_of(fl["Pc"][1].mid())])
-        return cs, fls
+            pcs.append(dyadic_of(fl["ppsi_thin"].mid(), 60))
+            brs.append("0" if ball.positive(cp) else "pi")
+        return cs, pcs, brs, fls
 
     c1 = [x0_theta + Fraction(fd["t"]) * Fraction(fd["e_u0"][0]), Fraction(fd["t"]) * Fraction(fd["e_u0"][1])]
     c1 = [dyadic_of(v) for v in c1]
@@ -391,7 +413,7 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     passes = []
     for n_pass, tl in enumerate((st.tol, st.tol, st.tol_thin)):
         say(f"chain pass {n_pass + 1} ({k - 1} centre flights, tol {tl:g})")
-        cs, fls = chain(c1, tl)
+        cs, pcs, brs, fls = chain(c1, tl)
         DPs = [_mid_matrix(f["DPc"]) for f in fls]
         eus, ess, lam, sig = _frame_from(DPs, fd["e_u0"])
         delta = float(fls[-1]["Pc"][1].mid())
@@ -415,18 +437,21 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     # the sets (exact dyadic data)
     a0 = [dyadic(L * 2 * fd["e_u0"][0]), dyadic(L * 2 * fd["e_u0"][1])]
     sets = [hset([dyadic_of(x0_theta, 62), Fraction(0)], [[a0[0], a0[0]], [a0[1], -a0[1]]])]
+    sets[0]["p_c"], sets[0]["branch"] = _q(pc_of([x0_theta, Fraction(0)])), "0"
     for j in range(k - 1):
         u, s = eus[j], ess[j]
         sets.append(hset(cs[j], [[dyadic(ls[j] * u[0]), dyadic(ws[j] * s[0])],
                                  [dyadic(ls[j] * u[1]), dyadic(ws[j] * s[1])]]))
+        sets[-1]["p_c"], sets[-1]["branch"] = _q(pcs[j]), brs[j]
     ak = [dyadic(ls[-1] * eus[-1][0]), dyadic(ls[-1] * eus[-1][1])]
     sets.append(hset(cs[-1], [[ak[0], ak[0]], [ak[1], -ak[1]]]))
+    sets[-1]["p_c"], sets[-1]["branch"] = _q(pcs[-1]), brs[-1]
     # the branch boxes: the level's root unique in [p_c - p_rad, p_c + p_rad] over each set's hull
     branch = {}
     for i, sd in enumerate(sets):
         c, A = set_data(sd)
-        sd["p_c"] = _q(pc_of(c))
-        _, B, ok = periodic.level_newton_section(pars, h, *_hull(c, A), Fraction(sd["p_c"]), st.p_rad, module)
+        _, B, ok = periodic.level_newton_section(pars, h, *_hull(c, A), Fraction(sd["p_c"]), st.p_rad, module,
+                                                 sd["branch"])
         check(f"N{i} branch box", ok, "pbar_psi unique in the branch box over the set's hull")
         branch[i] = B
     # links, pieces, flights
@@ -442,14 +467,13 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
         for n, pc in enumerate(pcs):
             say(f"set N{i}: piece {n + 1}/{len(pcs)}")
             cX, AX = piece_geometry(cN, AN, pc)
-            ppc = pc_of(cX)
+            ppc = Fraction(sets[i]["p_c"])
             reuse = fls[i - 1] if (i >= 1 and len(pcs) == 1) else None  # the chain's flight from c_i = c_X
-            fl = fly(cX, AX, ppc, thin=reuse)
+            fl = fly(cX, AX, ppc, sets[i]["branch"], thin=reuse)
             check(f"N{i} piece {n} level", fl["level_ok"] and ball.subset(fl["ppsi_hull"], branch[i]),
                   "pbar_psi unique in its Newton box over the piece, inside the set's branch box")
-            check(f"N{i} piece {n} positive return", ball.positive(fl["gdot_thin"]) and ball.positive(fl["gdot_box"])
-                  and ball.positive(fl["cospsi_box"]) and ball.positive(fl["cospsi_thin"]),
-                  f"d(sin psi)/dt = {fl['gdot_box']} > 0, cos psi > 0 at the crossing (psi = 0 mod 2 pi)")
+            check(f"N{i} piece {n} positive return", ball.positive(fl["gdot_thin"]) and ball.positive(fl["gdot_box"]),
+                  f"d(sin psi)/dt = {fl['gdot_box']} > 0 at the crossing")
             recs.append({"piece": [_q(v) for v in pc], "p_c": _q(ppc), "t_a": _q(fl["t_a"]),
                          "steps": {kk: [[ball.decimal(s) for s in ph] for ph in vv] for kk, vv in fl["steps"].items()},
                          "n_steps": sum(len(ph) for vv in fl["steps"].values() for ph in vv),
@@ -466,6 +490,10 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
             _, AX, fl = images[(i, n)]
             off, G = image_in((cM, AM), fl, AX)
             a_ok, margin, edges = piece_checks(off, G, pc)
+            cps = [fl["cospsi_box"], fl["cospsi_thin"]]
+            check(f"N{i} => N{j} piece {n} psi branch", all(ball.positive(v) if sets[j]["branch"] == "0" else
+                                                             ball.negative(v) for v in cps),
+                  f"cos psi = {cps[0]} at the crossing: the image lies on M's branch psi = {sets[j]['branch']} mod 2 pi")
             check(f"N{i} => N{j} piece {n} (a)", a_ok, f"image in M's coordinates: y_u = {off[0]} + ..., y_s ="
                   f" {off[1]} + G ...: stays in |y_s| < 1")
             amin = min(amin, margin)
@@ -493,9 +521,13 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     polys = [_vertices(*set_data(s)) for s in sets]
     c0p = polys[0]
     for j in range(1, k + 1):
-        check(f"N0, N{j} disjoint", _disjoint(c0p, polys[j]), "separating axis (exact rationals)")
+        other = sets[j]["branch"] != sets[0]["branch"]
+        check(f"N0, N{j} disjoint", other or _disjoint(c0p, polys[j]), "another branch of psi, or a separating "
+              "axis (exact rationals)")
     for j in range(1, k):
-        check(f"N0, R(N{j}) disjoint", _disjoint(c0p, [(x, -y) for x, y in polys[j]]), "separating axis (exact)")
+        other = sets[j]["branch"] != sets[0]["branch"]
+        check(f"N0, R(N{j}) disjoint", other or _disjoint(c0p, [(x, -y) for x, y in polys[j]]),
+              "another branch of psi (R keeps it), or a separating axis (exact)")
     for i, s in enumerate(sets):
         c, A = set_data(s)
         check(f"N{i} nondegenerate", A[0][0] * A[1][1] - A[0][1] * A[1][0] != 0, "det A != 0")

@@ -479,12 +479,20 @@ def _mu_u(tr: arb) -> arb:
 # --------------------------------------------------------------------------------------------------------------
 # one return of a section piece (the horseshoe of horseshoe.py; the verifier drives the same flight)
 # --------------------------------------------------------------------------------------------------------------
-def level_newton_section(pars, h, theta: arb, ptheta: arb, pc: Fraction, prad: Fraction, module=gen):
-    """Interval Newton for Hbar(theta, 0, ptheta, pbar_psi) = h on P = [pc - prad, pc + prad] for every (theta,
-    ptheta) in the balls: (N, P, inside) as level_newton."""
+def branch_psi(branch: str) -> arb:
+    """psi on the section's branch: "0" -> 0, "pi" -> pi (a ball)."""
+    if branch not in ("0", "pi"):
+        raise ValueError(f"branch must be '0' or 'pi', got {branch!r}")
+    return arb(0) if branch == "0" else arb.pi()
+
+
+def level_newton_section(pars, h, theta: arb, ptheta: arb, pc: Fraction, prad: Fraction, module=gen, branch="0"):
+    """Interval Newton for Hbar(theta, psi_b, ptheta, pbar_psi) = h (psi_b = 0 or pi: `branch`) on
+    P = [pc - prad, pc + prad] for every (theta, ptheta) in the balls: (N, P, inside) as level_newton."""
+    ps = branch_psi(branch)
     P = ball.interval(pc - prad, pc + prad)
-    Hc = module.chart_hamiltonian([theta, arb(0), ptheta, ball.q(pc)], pars)[0]
-    dH = ham_gradient(pars, [theta, arb(0), ptheta, P], module)[PP]
+    Hc = module.chart_hamiltonian([theta, ps, ptheta, ball.q(pc)], pars)[0]
+    dH = ham_gradient(pars, [theta, ps, ptheta, P], module)[PP]
     N = ball.q(pc) - (Hc - ball.q(h)) / dH
     lo, hi = ball.bounds(N)
     Plo, Phi = ball.bounds(P)
@@ -493,7 +501,7 @@ def level_newton_section(pars, h, theta: arb, ptheta: arb, pc: Fraction, prad: F
 
 def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction, lead: Fraction, *,
                  t1=Fraction(1, 64), order=20, tol=PROOF_STEP_TOL, tol_thin=None, steps=None, newton=12, box=True,
-                 thin=None, module=gen) -> dict:
+                 thin=None, branch="0", module=gen) -> dict:
     """One return of P for the section piece X = c + A [-1, 1]^2 (c exact (theta, pbar_theta), A exact 2 x 2) on
     the level Hbar = h, pbar_psi the root in [pc - prad, pc + prad].
 
@@ -511,17 +519,18 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
     1e-32: 5e-20, 2.3x the steps).  Flight failures raise taylor's errors; the caller checks the signs."""
     out = {}
     cq = [ball.q(v) for v in c]
-    Nc, _, okc = level_newton_section(pars, h, cq[0], cq[1], pc, prad, module)
+    ps = branch_psi(branch)
+    Nc, _, okc = level_newton_section(pars, h, cq[0], cq[1], pc, prad, module, branch)
     A00, A01, A10, A11 = (ball.q(A[i][j]) for i in range(2) for j in range(2))
     U = ball.interval(-1, 1)
     th_h = cq[0] + A00 * U + A01 * U
     pt_h = cq[1] + A10 * U + A11 * U
-    Nb, _, okb = level_newton_section(pars, h, th_h, pt_h, pc, prad, module)
+    Nb, _, okb = level_newton_section(pars, h, th_h, pt_h, pc, prad, module, branch)
     out["level_ok"] = bool(okc and okb)
     out["ppsi_centre"], out["ppsi_hull"] = Nc, Nb
     if not out["level_ok"]:
         return out
-    Q = [th_h, arb(0), pt_h, Nb]
+    Q = [th_h, ps, pt_h, Nb]
     gH = ham_gradient(pars, Q, module)
     grad = [-gH[TH] / gH[PP], -gH[PT] / gH[PP]]
     gm = [v.mid() for v in grad]
@@ -534,9 +543,9 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
     if any(C[i, j].rad() != 0 for i in range(4) for j in range(4)):  # exact: g A rounded to a point matrix
         C = C.mid()
         E = E + sum(((gm[0] * a + gm[1] * b) - C[3, j]) * U for j, (a, b) in enumerate(col))
-    xbar = [ball.fraction(cq[0]), Fraction(0), ball.fraction(cq[1]), ball.fraction(Nc.mid())]
-    r0 = ball.vec([U, U, arb(0), E])
-    thin_set = taylor.initial_set([cq[0], arb(0), cq[1], Nc], c1=True)
+    xbar = [ball.fraction(cq[0]), ball.fraction(ps.mid()), ball.fraction(cq[1]), ball.fraction(Nc.mid())]
+    r0 = ball.vec([U, U, ps - ps.mid(), E])  # psi = pi: the ball of pi about its exact midpoint (C's psi row e_psi)
+    thin_set = taylor.initial_set([cq[0], ps, cq[1], Nc], c1=True)
     box_set = section_set(pars, None, None, None, C2=(xbar, C, r0)) if box else None
     steps_out = {}
     if thin is not None:
@@ -550,7 +559,7 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
         cr, used = first_return(pars, fld, S, t_a, lead, t1=t1, order=order, tol=tk, steps=st, newton=newton,
                                 module=module)
         steps_out[kind] = used
-        Qk = [cq[0], arb(0), cq[1], Nc] if kind == "thin" else Q
+        Qk = [cq[0], ps, cq[1], Nc] if kind == "thin" else Q
         q = section_quantities(None, fld, cr, tangents(pars, Qk, module), module)
         out[f"gdot_{kind}"], out[f"cospsi_{kind}"] = q["gdot"], q["cospsi"]
         if kind == "thin":

@@ -729,6 +729,9 @@ def _horseshoe(cert, p, order, module, claim) -> dict:
     claim("2 pi-periodic in psi", _psi_periodic(module),
           "the chart field uses psi only through sin psi, cos psi (the return at psi = 2 pi is a point of Sigma)")
     sets = [_hs_set(d) for d in cert["sets"]]
+    brs = [d.get("branch", "0") for d in cert["sets"]]
+    if any(b not in ("0", "pi") for b in brs):
+        raise ValueError("a set's branch is '0' or 'pi'")
     k = len(sets) - 1
     claim("chain length", k >= 2, f"{k + 1} sets")
     want = [[0, 0], [0, 1]] + [[j, j + 1] for j in range(1, k)]
@@ -742,10 +745,12 @@ def _horseshoe(cert, p, order, module, claim) -> dict:
               "centre on Fix(R) and A = [a, R a], so R(N)^T = N exactly")
     V0 = _hs_vertices(*sets[0])
     for j in range(1, k + 1):
-        claim(f"N0, N{j} disjoint", _hs_separated(V0, _hs_vertices(*sets[j])), "a separating edge normal")
+        claim(f"N0, N{j} disjoint", brs[j] != brs[0] or _hs_separated(V0, _hs_vertices(*sets[j])),
+              "another branch of psi, or a separating edge normal")
     for j in range(1, k):
-        claim(f"N0, R(N{j}) disjoint", _hs_separated(V0, [(x, -y) for x, y in _hs_vertices(*sets[j])]),
-              "a separating edge normal")
+        claim(f"N0, R(N{j}) disjoint", brs[j] != brs[0] or
+              _hs_separated(V0, [(x, -y) for x, y in _hs_vertices(*sets[j])]),
+              "another branch of psi (R keeps it), or a separating edge normal")
     L = 2 * k
     claim("loop length", int(cert["loop_length"]) == L, f"the loop N0 => ... => N{k} <= ... <= N0 has length 2k = {L}")
     rho = _frac(cert["entropy"]["rho_lower"])
@@ -767,7 +772,8 @@ def _horseshoe(cert, p, order, module, claim) -> dict:
     for j, (c, A) in enumerate(sets):
         U0 = ball.q(c[0]) + ball.q(A[0][0]) * U + ball.q(A[0][1]) * U
         U1 = ball.q(c[1]) + ball.q(A[1][0]) * U + ball.q(A[1][1]) * U
-        _, B, ok = periodic.level_newton_section(pars, h, U0, U1, _frac(cert["sets"][j]["p_c"]), prad, module)
+        _, B, ok = periodic.level_newton_section(pars, h, U0, U1, _frac(cert["sets"][j]["p_c"]), prad, module,
+                                                 brs[j])
         claim(f"N{j} branch box", ok, "the level's root pbar_psi is unique in the set's branch box over its hull")
         branch[j] = B
 
@@ -786,14 +792,13 @@ def _horseshoe(cert, p, order, module, claim) -> dict:
                       "phase 1 on [0, t1], phase 2 on [t1, t_a], positive exact steps")
             try:
                 f = periodic.piece_return(pars, h, fld, cX, AX, _frac(r["p_c"]), prad, t_a, lead, t1=t1,
-                                          order=order, steps=steps, newton=newton, module=module)
+                                          order=order, steps=steps, newton=newton, branch=brs[i], module=module)
             except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
                 claim(f"N{i} piece {n} flight", False, str(err)[:200])
             claim(f"N{i} piece {n} level", f["level_ok"] and ball.subset(f["ppsi_hull"], branch[i]),
                   "the piece's pbar_psi: unique in its Newton box over the piece, inside the set's branch box")
-            claim(f"N{i} piece {n} positive return", all(ball.positive(f[x]) for x in
-                  ("gdot_thin", "gdot_box", "cospsi_thin", "cospsi_box")),
-                  "the first return is a transversal positive crossing with cos psi > 0")
+            claim(f"N{i} piece {n} positive return", all(ball.positive(f[x]) for x in ("gdot_thin", "gdot_box")),
+                  "the first return is a transversal positive crossing")
             imgs.append((pc, AX, f))
         return imgs
 
@@ -813,6 +818,10 @@ def _horseshoe(cert, p, order, module, claim) -> dict:
             ys = off[1] + G[1][0] * U + G[1][1] * U
             lu, hu_ = ball.bounds(yu)
             ls_, hs_ = ball.bounds(ys)
+            claim(f"N{i} => N{j} piece {n} psi branch", all((ball.positive(f[x]) if brs[j] == "0" else
+                                                              ball.negative(f[x])) for x in ("cospsi_thin",
+                                                                                              "cospsi_box")),
+                  f"the image is on M's branch psi = {brs[j]} mod 2 pi (the sign of cos psi at the crossing)")
             claim(f"N{i} => N{j} piece {n} (a)", -1 < ls_ and hs_ < 1,
                   f"the image lies in |y_s| < 1 (y_s {ys}), so it never meets M's entry edges and the straight-line "
                   f"homotopy to (a y_u, 0) keeps |y_s| < 1")
