@@ -3,7 +3,8 @@
 
 What is proved (docs/nonintegrability.md, statement 12): at exact (m, mu, gamma, delta, lambdabar) and level h, the
 section map P of Sigma+ = {sin psi = 0, d sin psi/dt > 0} on {Hbar = h}, in the section coordinates
-(theta, pbar_theta) (psi = 0, pbar_psi the root of the level in a Newton box), has h-sets (parallelograms
+(theta, pbar_theta) (psi = 0 or pi: each set's branch; pbar_psi the root of the level in the set's Newton box), has
+h-sets (parallelograms
 N = c + A [-1, 1]^2, first column of A the exit, second the entry direction) with
     N0 =>_P N0,   N0 =>_P N1 =>_P N2 => ... =>_P Nk,
 N0 and Nk symmetric (centre on Fix(R) = {pbar_theta = 0}, A = [a, R a], R = diag(1, -1): R(N)^T = N), N0 disjoint
@@ -71,12 +72,16 @@ class HorseshoeSettings:
     n_exc: int = 8
     s_star: float = 2.431508147212876e-06
     pieces: dict | None = None
+    #: the chain passes' centre-flight tolerances ("tol" or "thin"); a Newton shift after each but the last.  At
+    #: Fig 4(b) (17 returns) the tol-1e-25 chain's end differs from the 1e-32 one by 1.6e-8 in pbar_theta, so its
+    #: shift must come from a "thin" pass
+    passes: tuple = ("tol", "tol", "thin")
 
     def as_json(self) -> dict:
         q = _q
         return {"prec": self.prec, "order": self.order, "tol": repr(self.tol), "tol_thin": repr(self.tol_thin), "m_back": self.m_back,
                 "qu": self.qu, "qs": self.qs, "p_rad": q(self.p_rad), "t1": q(self.t1), "lead": q(self.lead),
-                "newton": self.newton, "n_exc": self.n_exc, "series_cap": ball.SERIES_CAP}
+                "newton": self.newton, "n_exc": self.n_exc, "passes": list(self.passes), "series_cap": ball.SERIES_CAP}
 
 
 def _q(x) -> str:
@@ -411,14 +416,15 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     # the chain by the validated centre flights; Newton steps along e_u^1 put P^(k-1)(c_1) on Fix(R): two passes
     # at the design tolerance, the last at tol_thin (its flights are the certificate's centre flights)
     passes = []
-    for n_pass, tl in enumerate((st.tol, st.tol, st.tol_thin)):
+    sched = [st.tol if kind == "tol" else st.tol_thin for kind in st.passes]
+    for n_pass, tl in enumerate(sched):
         say(f"chain pass {n_pass + 1} ({k - 1} centre flights, tol {tl:g})")
         cs, pcs, brs, fls = chain(c1, tl)
         DPs = [_mid_matrix(f["DPc"]) for f in fls]
         eus, ess, lam, sig = _frame_from(DPs, fd["e_u0"])
         delta = float(fls[-1]["Pc"][1].mid())
         passes.append(delta)
-        if n_pass == 2:
+        if n_pass == len(sched) - 1:
             break
         v = eus[0]
         for D in DPs:
