@@ -76,12 +76,19 @@ class HorseshoeSettings:
     #: Fig 4(b) (17 returns) the tol-1e-25 chain's end differs from the 1e-32 one by 1.6e-8 in pbar_theta, so its
     #: shift must come from a "thin" pass
     passes: tuple = ("tol", "tol", "thin")
+    #: N0 => N1 geometry, as fractions of d = dist(x0, c_1): l0 = w0 = l0_frac d, l1 = l1_frac d (disjoint: l0 +
+    #: l1 < d; covered: mu_u l0 > d + l1), the entry half-widths capped at w_cap l1 (N1 fat enough for N0's image,
+    #: whose entry thickness is l0 / mu_u)
+    l0_frac: float = 1 / 3
+    l1_frac: float = 1 / 6
+    w_cap: float = 1.0
 
     def as_json(self) -> dict:
         q = _q
         return {"prec": self.prec, "order": self.order, "tol": repr(self.tol), "tol_thin": repr(self.tol_thin), "m_back": self.m_back,
                 "qu": self.qu, "qs": self.qs, "p_rad": q(self.p_rad), "t1": q(self.t1), "lead": q(self.lead),
-                "newton": self.newton, "n_exc": self.n_exc, "passes": list(self.passes), "series_cap": ball.SERIES_CAP}
+                "newton": self.newton, "n_exc": self.n_exc, "passes": list(self.passes),
+                "l0_frac": self.l0_frac, "l1_frac": self.l1_frac, "w_cap": self.w_cap, "series_cap": ball.SERIES_CAP}
 
 
 def _q(x) -> str:
@@ -213,18 +220,19 @@ def float_design(P: FloatMap, x0, m: int, s_star: float, n_exc: int = 8) -> dict
     return {"e_u0": eu, "mu_u": float(np.real(w[iu])), "s_star": s, "t": t, "c1": x0 + t * eu}
 
 
-def sizes(lam, sig, L, qu, qs):
+def sizes(lam, sig, L, qu, qs, Lw=None):
     """Half-lengths l_j (exit) and half-widths w_j (entry) of N_1 .. N_k from the frame stretches lam_j = |DP e_u^j|
     and sig_j = |DP e_s^j| (unit frame vectors, link j -> j+1): l_1 = L, l_{j+1} = min(L, lam_j l_j / qu) (constant
     where the map stretches enough, shrinking where it does not); w_k = l_k (Nk symmetric), backwards
     w_j = min(L, w_{j+1} / (qs sig_j)), so that every link has the margin qu in (b) and qs in (a)."""
     k = len(lam) + 1
+    Lw = L if Lw is None else Lw
     ls = [L]
     for j in range(k - 1):
         ls.append(min(L, lam[j] * ls[-1] / qu))
     ws = [ls[-1]]
     for j in reversed(range(k - 1)):
-        ws.append(min(L, ws[-1] / (qs * sig[j])))
+        ws.append(min(Lw, ws[-1] / (qs * sig[j])))
     return ls, ws[::-1]
 
 
@@ -436,12 +444,12 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     resid = passes[-1]
     cs[-1] = [dyadic_of(fls[-1]["Pc"][0].mid()), Fraction(0)]
     dist = float(np.hypot(float(cs[0][0]) - x0[0], float(cs[0][1])))
-    L = dist / 6
-    ls, ws = sizes(lam, sig, L, st.qu, st.qs)
+    L = dist * st.l1_frac
+    ls, ws = sizes(lam, sig, L, st.qu, st.qs, st.w_cap * L)
     check("end on Fix(R)", abs(resid) < ws[-1] / 4,
           f"pbar_theta(P^(k-1)(c_1)) = {resid:.3g} after the Newton shift, against the size {ws[-1]:.3g} of Nk")
     # the sets (exact dyadic data)
-    a0 = [dyadic(L * 2 * fd["e_u0"][0]), dyadic(L * 2 * fd["e_u0"][1])]
+    a0 = [dyadic(dist * st.l0_frac * fd["e_u0"][0]), dyadic(dist * st.l0_frac * fd["e_u0"][1])]
     sets = [hset([dyadic_of(x0_theta, 62), Fraction(0)], [[a0[0], a0[0]], [a0[1], -a0[1]]])]
     sets[0]["p_c"], sets[0]["branch"] = _q(pc_of([x0_theta, Fraction(0)])), "0"
     for j in range(k - 1):
