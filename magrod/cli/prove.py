@@ -13,7 +13,10 @@ it flips the sign of the K-th term of the generated chart field, and the run mus
 
 `magrod prove --fixed-point THETA --level H ...` proves instead a symmetric hyperbolic fixed point of the section map
 sin psi = 0 on the level Hbar = H (magrod/proof/periodic.py; statement 11), the float search looking for theta* on
-Fix(R) within 0.02 of THETA (no condition mu > 2 lambdabar: the level need not hold the tilted saddle)."""
+Fix(R) within 0.02 of THETA (no condition mu > 2 lambdabar: the level need not hold the tilted saddle).
+`magrod prove --horseshoe THETA --level H ...` proves a horseshoe of that section map (positive topological entropy)
+by covering relations along the homoclinic orbit of the saddle near THETA (magrod/proof/horseshoe.py; statement 12;
+~6 min at Fig 4(a))."""
 from __future__ import annotations
 
 from fractions import Fraction
@@ -34,7 +37,11 @@ def add_arguments(p):
     p.add_argument("--targets", default="0,pi", help="which symmetric orbits: 0, pi or both (0,pi)")
     p.add_argument("--fixed-point", default=None, metavar="THETA", dest="fixed_point",
                    help="prove a hyperbolic fixed point of the section map sin psi = 0 on --level, theta* near THETA")
-    p.add_argument("--level", default=None, metavar="H", help="the level Hbar = H of --fixed-point (exact)")
+    p.add_argument("--horseshoe", default=None, metavar="THETA",
+                   help="prove a horseshoe of the section map on --level by covering relations along the homoclinic "
+                        "orbit of its symmetric saddle near theta = THETA (statement 12)")
+    p.add_argument("--level", default=None, metavar="H",
+                   help="the level Hbar = H of --fixed-point / --horseshoe (exact)")
     p.add_argument("--lam-rad", default="0", metavar="W", dest="lam_rad",
                    help="--fixed-point for every lambdabar in [lam - W, lam + W] (lambdabar carried as a ball)")
     p.add_argument("--mutate", default=None, metavar="K",
@@ -46,6 +53,8 @@ def run(args) -> dict:
         return _verify(args)
     if args.fixed_point is not None:
         return _fixed_point(args)
+    if args.horseshoe is not None:
+        return _horseshoe(args)
     from ..proof import (TARGET_ANGLES, ProofSettings, mutated_fields, prove_homoclinic, validate_proof_params,
                          validated_fields)
 
@@ -73,6 +82,40 @@ def run(args) -> dict:
     out["certificate"] = str(path)
     out["crossings"] = [{"target": c["target"], "dtheta_dpsi": c["dtheta_dpsi"], "phi_star": c["newton"]}
                         for c in res.certificate["crossings"]]
+    return out
+
+
+def _horseshoe(args) -> dict:
+    import math
+
+    from ..proof import HorseshoeSettings, mutated_fields, prove_horseshoe, validate_fixed_point, validated_fields
+
+    if args.level is None:
+        raise ParameterError("level", "--horseshoe needs the level: --level H (exact decimal or p/q)")
+    p, h = validate_fixed_point(args.m, args.mu, args.gamma, args.delta, args.lam, args.level)
+    try:
+        theta = float(args.horseshoe)
+    except ValueError:
+        raise ParameterError("horseshoe", f"must be a number theta in (0, pi), got {args.horseshoe!r}") from None
+    if not 0 < theta < math.pi:
+        raise ParameterError("horseshoe", f"must be a number theta in (0, pi), got {args.horseshoe!r}")
+    if args.out is None:
+        raise ParameterError("out", "an output directory is required (or --verify CERT)")
+    dest = out_dir("out", args.out)
+    module = validated_fields
+    if args.mutate is not None:
+        module = mutated_fields(integer("mutate", args.mutate, minimum=0, maximum=1000))
+    res = prove_horseshoe(p, h, theta, HorseshoeSettings(), module=module, progress=None if args.quiet else _stage)
+    out = {"ok": res.ok, "params": p.as_json(), "level": f"{h.numerator}/{h.denominator}",
+           "wall_time_s": round(res.wall_time_s, 3), "checks": res.checks, "reason": res.reason}
+    if not res.ok:
+        out["error"] = res.reason
+        return out
+    from ..core import io
+
+    io.ensure_writable_dir(dest, "out")
+    out["certificate"] = str(io.atomic_write_json(dest / "certificate.json", res.certificate))
+    out["entropy"] = res.certificate["entropy"]
     return out
 
 

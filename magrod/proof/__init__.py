@@ -28,6 +28,9 @@ _API = {
     "interval_settings": ("periodic", "interval_settings"),
     "validate_fixed_point": ("periodic", "validate"),
     "prove_fixed_point": ("periodic", "prove"),
+    # the prover of the section map's horseshoe by covering relations (statement 12)
+    "HorseshoeSettings": ("horseshoe", "HorseshoeSettings"),
+    "prove_horseshoe": ("horseshoe", "prove"),
     # the independent checker, and the statements' verdicts
     "load_certificate": ("verify", "load"),
     "verify_certificate": ("verify", "verify"),

@@ -182,7 +182,8 @@ STATEMENTS = (
        errata), and the chaos indicator classifies Fig 4(a)–(c) chaotic and 4(d) regular: evidence, not a proof,
        for the non-perturbative regime. Fig 4's level h = 0.9 does not contain the helical saddle (its H̄ is
        0.8305, 0.7720, 0.7253, 0.6955 at the four λ̄), so the homoclinic orbits of 5a are not about the figure's
-       section; a horseshoe on h = 0.9 is not established. Numerically (float64) at λ̄ = 0.135 the unstable
+       section; a horseshoe of P on Fig 4's own level h = 9/10 is computer-verified at panel (a) only
+       (statement 12), not at the other panels. Numerically (float64) at λ̄ = 0.135 the unstable
        manifold of the section map's symmetric saddle (the fixed point of statement 11; eigenvalue 5.748 of DP,
        33.04 of DP²) meets Fix(R) transversally (W^u and W^s cross at 0.72°): a candidate, not a proof
        (docs/nonintegrability.md, "Fig 4 on its own level").""",
@@ -206,8 +207,8 @@ STATEMENTS = (
        2.2e−6 (magrod/proof/certificates/fig4a_interval/, `benchmarks/fig4_lambda_interval.py`: 191 s prove + 162 s
        verify, each certificate re-checked by the complete verifier in that run and by a slow test; `magrod
        reproduce` verifies only the single box). Panel (c): the float search found no hyperbolic fixed point of P to prove. This is a hyperbolic
-       periodic orbit, not chaos: a horseshoe on that level also needs a transverse homoclinic point, which is
-       numerical only (statement 10). A hyperbolic fixed point persists, so the same holds on an open interval of
+       periodic orbit, not chaos by itself: the horseshoe on that level at panel (a) is statement 12, built on
+       this saddle's homoclinic orbit. A hyperbolic fixed point persists, so the same holds on an open interval of
        λ̄ around each value, of unquantified size.""",
        [Step("level, two-phase flight (no positive crossing before the half-way point), Fix(R) Newton, |tr DP| > 2",
              "computer-verified", "magrod prove --fixed-point; magrod prove --verify (complete verifier)"),
@@ -217,6 +218,30 @@ STATEMENTS = (
              "(reversibility; Devaney 1976)", "proved", "the argument of magrod/proof/periodic.py, hypotheses "
              "checked by the certificate")],
        phrases=(r"fixed point of (the section map )?P", r"section map's (symmetric )?saddle", r"h = 9/10")),
+    _s("12", "a horseshoe of the section map on Fig 4's own level h = 9/10, panel (a)",
+       """At (m, μ, γ, δ, λ̄) = (17/10, 2/5, 3, 3, 27/200) (panel (a)), on Fig 4's own level h = 9/10, the section
+       map P of {sin ψ = 0, d sin ψ/dt > 0} has positive topological entropy: a compact forward-invariant set Λ
+       with h_top(P|Λ) ≥ log ρ > 0.0882, ρ the largest root of x²⁸ = x²⁷ + 1 (a horseshoe of P^n). 15 h-sets
+       (parallelograms in (θ, p̄θ), half-sizes 1.3·10⁻¹⁰ … 1.4·10⁻¹³) N0 at the saddle x0 of statement 11 and
+       N1 … N14 along its homoclinic orbit (W^u of x0 meets Fix(R) at the 8th return) carry the covering
+       relations N0 ⇒ N0 and N0 ⇒ N1 ⇒ … ⇒ N14 (Zgliczyński & Gidea 2004), each checked on one validated C¹ return
+       per set; N0 and N14 are R-symmetric and N0 is disjoint from the others, so reversibility closes the chain
+       into a loop of length 28 through N0 (docs/nonintegrability.md, "A horseshoe on Fig 4's own level").
+       Certificate magrod/proof/certificates/horseshoe_fig4a.json, re-checked by the verifier (kind
+       section_horseshoe; `magrod prove --horseshoe 0.383 --level 0.9 --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam
+       0.135`; prove 338 s, verify 221 s on 2 cores). Panels (b)–(d) are not proved (at (b) the chain fails at
+       N0 ⇒ N1).""",
+       [Step("the covering relations, the symmetry of N0 and N14, the disjointness, the cover by pieces, the "
+             "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
+             "section_horseshoe)"),
+        Step("the chart field is Hamilton's, 2π-periodic in ψ, and R is a reversor", "proved",
+             "report keys validated_fields, reversor_reduced; the verifier's source check of ψ"),
+        Step("a closed chain of coverings and back-coverings has an orbit for every sequence of loops "
+             "(Zgliczyński & Gidea 2004, the covering-chain theorem); N ⇒ M gives R(M)^T ⇐ R(N)^T; the coding of "
+             "the visits to N0 is a semiconjugacy onto the block shift", "proved",
+             "cited theorem, hypotheses checked by the certificate; the lemma and the argument in "
+             "docs/nonintegrability.md")],
+       phrases=(r"horseshoe of (the section map )?P", r"covering relations?")),
 )
 
 BY_NUMBER = {s.number: s for s in STATEMENTS}
@@ -274,8 +299,10 @@ def render_summary() -> str:
             f"size (cited persistence). Nonintegrability of the 9-D rod against every integral (not only those in "
             f"involution with m3), and near the perturbative regime, is **{status('7b')}** (7b; 4 rests on the "
             f"formal expansion 3). On Fig 4's own level h = 9/10 the section map has a hyperbolic fixed point (a "
-            f"saddle) at panels (a), (b), (d) (**{status('11')}**, 11), but chaos there is **{status('10')}** "
-            f"evidence only (10): the transverse homoclinic point is not proved. The paper's own "
+            f"saddle) at panels (a), (b), (d) (**{status('11')}**, 11), and at panel (a) a horseshoe: positive "
+            f"topological entropy of the section map (**{status('12')}**, 12, covering relations along the "
+            f"saddle's homoclinic orbit); at the other panels chaos there is **{status('10')}** evidence only "
+            f"(10). The paper's own "
             f"argument (sec. 7) does not prove it (1).")
 
 
@@ -289,8 +316,9 @@ def render_readme() -> str:
             f"involution with m3 "
             f"(**{status('7')}**); every other nonintegrability claim (every integral, not only those in involution with "
             f"m3; the perturbative regime) is **{status('7b')}**; on Fig 4's own level h = 9/10 a saddle of the section "
-            f"map at three of the four panels is **{status('11')}** (a hyperbolic periodic orbit, not yet chaos), "
-            f"and the chaos of Figs 4–5 is **{status('10')}** evidence "
+            f"map at three of the four panels is **{status('11')}**, a horseshoe of the section map (positive "
+            f"topological entropy) at panel (a) is **{status('12')}** (statement 12), and the chaos of Figs 4–5 "
+            f"elsewhere is **{status('10')}** evidence "
             f"(`docs/nonintegrability.md`, \"Verdict\").").replace("\n   ", "\n  ")
 
 

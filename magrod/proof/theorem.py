@@ -113,3 +113,39 @@ def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0") ->
             f"ball, whose orbit is R-symmetric and periodic with period twice the certificate's crossing time, "
             f"and DP(x0) is hyperbolic: det DP(x0) = 1 and |tr DP(x0)| > 2, so its eigenvalues are real, mu and "
             f"1/mu with |mu| > 1 (a saddle of P; docs/nonintegrability.md, statement 11).")
+
+
+def section_horseshoe_theorem(params: dict, level: str, k: int, loop_length: int, rho_lower: str) -> str:
+    """The statement established by a verified horseshoe certificate (kind "section_horseshoe").
+
+    Parameters
+    ----------
+    params : dict
+        Exact parameters as strings "p/q", keys m, mu, gamma, delta, lam.
+    level : str
+        The level h (exact rational string).
+    k : int
+        The chain N0 => N1 => ... => Nk (k covering relations after N0 => N0).
+    loop_length : int
+        L = 2k, the length of the second closed chain through N0.
+    rho_lower : str
+        An exact rational below the largest root rho of x^L = x^(L-1) + 1.
+
+    Returns
+    -------
+    str
+        One paragraph.
+    """
+    vals = ", ".join(_rational(params[key]) for key in ("m", "mu", "gamma", "delta", "lam"))
+    rho = Fraction(rho_lower)
+    import math
+
+    return (f"At (m, mu, gamma, delta, lambdabar) = ({vals}), on the level Hbar = {_rational(level)}, the section map "
+            f"P of {{sin psi = 0, d(sin psi)/dt > 0}} (section coordinates (theta, pbar_theta)) has h-sets N0, ..., "
+            f"N{k} with the covering relations N0 => N0 and N0 => N1 => ... => N{k} (Zgliczynski-Gidea 2004), N0 "
+            f"and N{k} symmetric under the reversor R, N0 disjoint from the other sets of the loops; by reversibility "
+            f"the chain closes through back-coverings into a loop of length {loop_length} through N0, so P has a "
+            f"compact forward-invariant set Lambda on which it is semiconjugate to the shift on concatenations of the "
+            f"blocks 1 and 1 0^{loop_length - 1} (the visits to N0): h_top(P|Lambda) >= log rho > "
+            f"{math.floor(math.log(float(rho)) * 1e4) / 1e4}"
+            f", rho the largest root of x^{loop_length} = x^{loop_length - 1} + 1, rho > {_rational(rho_lower)}.")

@@ -33,12 +33,12 @@ from flint import acb, acb_mat, arb, arb_mat
 
 from ..core.errors import ParameterError
 from . import ball, fields, taylor
-from .theorem import TARGETS, homoclinic_theorem, section_fixed_point_theorem
+from .theorem import TARGETS, homoclinic_theorem, section_fixed_point_theorem, section_horseshoe_theorem
 
 FORMAT = "magrod-proof-certificate/1"
 #: the statement kinds a certificate may carry ("kind"; absent means the homoclinic kind of issue 21)
-HOMOCLINIC, SECTION_FIXED_POINT = "homoclinic", "section_fixed_point"
-KINDS = (HOMOCLINIC, SECTION_FIXED_POINT)
+HOMOCLINIC, SECTION_FIXED_POINT, SECTION_HORSESHOE = "homoclinic", "section_fixed_point", "section_horseshoe"
+KINDS = (HOMOCLINIC, SECTION_FIXED_POINT, SECTION_HORSESHOE)
 
 
 class CertificateError(ParameterError):
@@ -140,6 +140,8 @@ def verify(cert: dict, *, module=fields.gen) -> VerifyResult:
         raise CertificateError(f"unknown certificate kind {str(kind)[:40]!r} (recognised: {', '.join(KINDS)})")
     if kind == SECTION_FIXED_POINT:
         return _verify_fixed_point(cert, module, t0)
+    if kind == SECTION_HORSESHOE:
+        return _verify_horseshoe(cert, module, t0)
     try:
         p, st = _inputs(cert)
         with ball.workprec(st["prec"], st["series_cap"]):
@@ -614,3 +616,226 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
     return {k: [ball.decimal(v) for v in ball.json_bounds(x)]
             for k, x in (("theta*", cert["newton"]), ("tr DP(x0)", cert["trace"]), ("mu_u", cert["mu_u"]),
                          ("return time T", ball.to_json(T)))}
+
+
+# --------------------------------------------------------------------------------------------------------------
+# kind "section_horseshoe": covering relations of the section map on Hbar = h (the prover is
+# magrod/proof/horseshoe.py).  The flights are periodic.piece_return driven with the certificate's exact steps (as
+# the integrator is shared); the covering conditions, the cover by pieces, the symmetry, the disjointness, the
+# chain's completeness and the entropy bound are checked again here, in exact rationals where they are geometric.
+# --------------------------------------------------------------------------------------------------------------
+def _verify_horseshoe(cert, module, t0) -> VerifyResult:
+    checks: list = []
+
+    def claim(name, holds, how):
+        checks.append({"name": name, "holds": bool(holds), "how": how})
+        if not holds:
+            raise _Reject(f"{name}: {how}")
+
+    try:
+        p = fields.ExactParams(**{k: _frac(cert["params"][k]) for k in fields.PARAMS})
+        s = cert["settings"]
+        prec, cap, order = int(s["prec"]), int(s["series_cap"]), int(s["order"])
+        if not (64 <= prec <= 1024 and 4 <= order < cap <= 256):
+            raise CertificateError("settings out of range (prec 64..1024 bits, 4 <= order < series_cap <= 256)")
+        with ball.workprec(prec, cap):
+            vals = _horseshoe(cert, p, order, module, claim)
+    except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
+        if isinstance(err, ParameterError):
+            raise
+        raise CertificateError(f"malformed certificate ({type(err).__name__}: {str(err)[:120]})") from None
+    except _Reject as err:
+        return VerifyResult(False, f"certificate rejected: {err}", checks, time.perf_counter() - t0)
+    return VerifyResult(True, "certificate verified: every link re-flown and every check holds", checks,
+                        time.perf_counter() - t0,
+                        section_horseshoe_theorem(p.as_json(), cert["level"], vals["k"], vals["L"], vals["rho"]),
+                        {}, {})
+
+
+def _psi_periodic(module) -> bool:
+    """The generated chart_rhs and chart_jacobian use psi only as (psi).sin() and (psi).cos() (after the state's
+    unpacking and the docstring), so the chart field is 2 pi-periodic in psi."""
+    import re
+
+    src = fields.inspect.getsource(module)
+    for fn in ("chart_rhs", "chart_jacobian"):
+        seg = src[src.index(f"def {fn}("):]
+        seg = seg[: seg.find("\ndef ", 1) if seg.find("\ndef ", 1) > 0 else None]
+        if '"""' in seg:
+            a = seg.index('"""')
+            seg = seg[:a] + seg[seg.index('"""', a + 3) + 3:]
+        seg = seg.replace("(psi).sin()", "").replace("(psi).cos()", "")
+        seg = re.sub(r"theta, psi, ptheta, ppsi, = x", "", seg)
+        if re.search(r"\bpsi\b", seg):
+            return False
+    return True
+
+
+def _hs_set(d):
+    c = [_frac(v) for v in d["c"]]
+    A = [[_frac(v) for v in row] for row in d["A"]]
+    if len(c) != 2 or len(A) != 2 or any(len(r) != 2 for r in A):
+        raise ValueError("a set is c (2) and A (2 x 2)")
+    return c, A
+
+
+def _hs_inv(A):
+    det = A[0][0] * A[1][1] - A[0][1] * A[1][0]
+    return [[A[1][1] / det, -A[0][1] / det], [-A[1][0] / det, A[0][0] / det]]
+
+
+def _hs_vertices(c, A):
+    return [(c[0] + A[0][0] * a + A[0][1] * b, c[1] + A[1][0] * a + A[1][1] * b)
+            for a, b in ((1, 1), (1, -1), (-1, -1), (-1, 1))]
+
+
+def _hs_separated(P1, P2) -> bool:
+    for poly in (P1, P2):
+        for i in range(4):
+            (x1, y1), (x2, y2) = poly[i], poly[(i + 1) % 4]
+            n = (y2 - y1, x1 - x2)
+            a = [n[0] * x + n[1] * y for x, y in P1]
+            b = [n[0] * x + n[1] * y for x, y in P2]
+            if max(a) < min(b) or max(b) < min(a):
+                return True
+    return False
+
+
+def _hs_cover(pieces) -> bool:
+    """The pieces (yu, ys, hu, hs) cover [-1, 1]^2: each inside it, pairwise interiors disjoint, total area 4
+    (closed boxes of full total area with disjoint interiors inside the square cover it)."""
+    boxes = []
+    for yu, ys, hu, hs in pieces:
+        if hu <= 0 or hs <= 0 or yu - hu < -1 or yu + hu > 1 or ys - hs < -1 or ys + hs > 1:
+            return False
+        boxes.append((yu - hu, yu + hu, ys - hs, ys + hs))
+    for i in range(len(boxes)):
+        for j in range(i):
+            a, b = boxes[i], boxes[j]
+            if a[0] < b[1] and b[0] < a[1] and a[2] < b[3] and b[2] < a[3]:
+                return False
+    return sum((b[1] - b[0]) * (b[3] - b[2]) for b in boxes) == 4
+
+
+def _horseshoe(cert, p, order, module, claim) -> dict:
+    from . import periodic
+
+    s = cert["settings"]
+    h = _frac(cert["level"])
+    prad, t1, lead = (_frac(s[k]) for k in ("p_rad", "t1", "lead"))
+    newton = int(s["newton"])
+    claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
+          "the certificate's field is the installed derive-generated one")
+    claim("2 pi-periodic in psi", _psi_periodic(module),
+          "the chart field uses psi only through sin psi, cos psi (the return at psi = 2 pi is a point of Sigma)")
+    sets = [_hs_set(d) for d in cert["sets"]]
+    brs = [d.get("branch", "0") for d in cert["sets"]]
+    if any(b not in ("0", "pi") for b in brs):
+        raise ValueError("a set's branch is '0' or 'pi'")
+    k = len(sets) - 1
+    claim("chain length", k >= 2, f"{k + 1} sets")
+    want = [[0, 0], [0, 1]] + [[j, j + 1] for j in range(1, k)]
+    claim("links", [list(map(int, lk)) for lk in cert["links"]] == want,
+          "exactly N0 => N0, N0 => N1 => ... => Nk (a complete chain)")
+    for i, (_c, A) in enumerate(sets):
+        claim(f"N{i} nondegenerate", A[0][0] * A[1][1] - A[0][1] * A[1][0] != 0, "det A != 0")
+    for i in (0, k):
+        c, A = sets[i]
+        claim(f"N{i} symmetric", c[1] == 0 and A[0][1] == A[0][0] and A[1][1] == -A[1][0],
+              "centre on Fix(R) and A = [a, R a], so R(N)^T = N exactly")
+    V0 = _hs_vertices(*sets[0])
+    for j in range(1, k + 1):
+        claim(f"N0, N{j} disjoint", brs[j] != brs[0] or _hs_separated(V0, _hs_vertices(*sets[j])),
+              "another branch of psi, or a separating edge normal")
+    for j in range(1, k):
+        claim(f"N0, R(N{j}) disjoint", brs[j] != brs[0] or
+              _hs_separated(V0, [(x, -y) for x, y in _hs_vertices(*sets[j])]),
+              "another branch of psi (R keeps it), or a separating edge normal")
+    L = 2 * k
+    claim("loop length", int(cert["loop_length"]) == L, f"the loop N0 => ... => N{k} <= ... <= N0 has length 2k = {L}")
+    rho = _frac(cert["entropy"]["rho_lower"])
+    claim("entropy bound", 1 < rho < 2 and rho**L - rho ** (L - 1) - 1 < 0,
+          f"rho_lower = {float(rho):.12g} is below the largest root of x^{L} = x^{L - 1} + 1 (f(rho_lower) < 0)")
+    text = section_horseshoe_theorem(p.as_json(), cert["level"], k, L, cert["entropy"]["rho_lower"])
+    claim("theorem", cert.get("theorem") == text, "the certificate states exactly the theorem generated here")
+    fl_by_set = {int(f["set"]): f for f in cert["flights"]}
+    claim("flights", sorted(fl_by_set) == list(range(k)), "one flight record per set N0 .. N(k-1)")
+    pieces = {}
+    for i in range(k):
+        pieces[i] = [tuple(_frac(v) for v in r["piece"]) for r in fl_by_set[i]["pieces"]]
+        claim(f"N{i} cover", _hs_cover(pieces[i]), f"the {len(pieces[i])} pieces cover [-1, 1]^2 exactly")
+    pars = p.balls()
+    fld = fields.chart_field(p, module)
+    U = ball.interval(-1, 1)
+    images = {}
+    branch = {}
+    for j, (c, A) in enumerate(sets):
+        U0 = ball.q(c[0]) + ball.q(A[0][0]) * U + ball.q(A[0][1]) * U
+        U1 = ball.q(c[1]) + ball.q(A[1][0]) * U + ball.q(A[1][1]) * U
+        _, B, ok = periodic.level_newton_section(pars, h, U0, U1, _frac(cert["sets"][j]["p_c"]), prad, module,
+                                                 brs[j])
+        claim(f"N{j} branch box", ok, "the level's root pbar_psi is unique in the set's branch box over its hull")
+        branch[j] = B
+
+    def fly_set(i):
+        c, A = sets[i]
+        imgs = []
+        for n, (r, pc) in enumerate(zip(fl_by_set[i]["pieces"], pieces[i])):
+            yu, ys, hu, hs = pc
+            cX = [c[0] + A[0][0] * yu + A[0][1] * ys, c[1] + A[1][0] * yu + A[1][1] * ys]
+            AX = [[A[0][0] * hu, A[0][1] * hs], [A[1][0] * hu, A[1][1] * hs]]
+            steps = {kk: [[_frac(x) for x in ph] for ph in r["steps"][kk]] for kk in ("thin", "box")}
+            t_a = _frac(r["t_a"])
+            for kk in ("thin", "box"):
+                claim(f"N{i} piece {n} {kk} steps", len(steps[kk]) == 2 and sum(steps[kk][0]) == t1 and
+                      sum(steps[kk][0]) + sum(steps[kk][1]) == t_a and all(x > 0 for ph in steps[kk] for x in ph),
+                      "phase 1 on [0, t1], phase 2 on [t1, t_a], positive exact steps")
+            try:
+                f = periodic.piece_return(pars, h, fld, cX, AX, _frac(r["p_c"]), prad, t_a, lead, t1=t1,
+                                          order=order, steps=steps, newton=newton, branch=brs[i], module=module)
+            except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
+                claim(f"N{i} piece {n} flight", False, str(err)[:200])
+            claim(f"N{i} piece {n} level", f["level_ok"] and ball.subset(f["ppsi_hull"], branch[i]),
+                  "the piece's pbar_psi: unique in its Newton box over the piece, inside the set's branch box")
+            claim(f"N{i} piece {n} positive return", all(ball.positive(f[x]) for x in ("gdot_thin", "gdot_box")),
+                  "the first return is a transversal positive crossing")
+            imgs.append((pc, AX, f))
+        return imgs
+
+    for i, j in want:
+        if i not in images:
+            images[i] = fly_set(i)
+        cM, AM = sets[j]
+        Ai = [[ball.q(v) for v in row] for row in _hs_inv(AM)]
+        right, left = [], []
+        for n, (pc, AX, f) in enumerate(images[i]):
+            d = [f["Pc"][0] - ball.q(cM[0]), f["Pc"][1] - ball.q(cM[1])]
+            off = [Ai[a][0] * d[0] + Ai[a][1] * d[1] for a in range(2)]
+            DA = [[f["DP"][a][0] * ball.q(AX[0][b]) + f["DP"][a][1] * ball.q(AX[1][b]) for b in range(2)]
+                  for a in range(2)]
+            G = [[Ai[a][0] * DA[0][b] + Ai[a][1] * DA[1][b] for b in range(2)] for a in range(2)]
+            yu = off[0] + G[0][0] * U + G[0][1] * U
+            ys = off[1] + G[1][0] * U + G[1][1] * U
+            lu, hu_ = ball.bounds(yu)
+            ls_, hs_ = ball.bounds(ys)
+            claim(f"N{i} => N{j} piece {n} psi branch", all((ball.positive(f[x]) if brs[j] == "0" else
+                                                              ball.negative(f[x])) for x in ("cospsi_thin",
+                                                                                              "cospsi_box")),
+                  f"the image is on M's branch psi = {brs[j]} mod 2 pi (the sign of cos psi at the crossing)")
+            claim(f"N{i} => N{j} piece {n} (a)", -1 < ls_ and hs_ < 1,
+                  f"the image lies in |y_s| < 1 (y_s {ys}), so it never meets M's entry edges and the straight-line "
+                  f"homotopy to (a y_u, 0) keeps |y_s| < 1")
+            if lu <= 1 and hu_ >= -1:
+                # where the image can land in M, its pbar_psi is M's root: inside M's branch box
+                claim(f"N{i} => N{j} piece {n} branch", ball.subset(f["ppsi_box"], branch[j]),
+                      "the image's pbar_psi lies in M's branch box (the level's root unique there over M)")
+            if pc[0] - pc[2] == -1:
+                left.append(off[0] - G[0][0] + G[0][1] * U)
+            if pc[0] + pc[2] == 1:
+                right.append(off[0] + G[0][0] + G[0][1] * U)
+        claim(f"N{i} => N{j} exit edges", bool(right) and bool(left), "pieces on both exit edges")
+        o = 1 if ball.bounds(right[0])[0] > 1 else -1
+        okb = all(ball.bounds(e)[0] > 1 if o == 1 else ball.bounds(e)[1] < -1 for e in right) and \
+            all(ball.bounds(e)[1] < -1 if o == 1 else ball.bounds(e)[0] > 1 for e in left)
+        claim(f"N{i} => N{j} (b)", okb, "the images of the exit edges lie beyond M's exit edges, on opposite sides")
+    return {"k": k, "L": L, "rho": cert["entropy"]["rho_lower"]}

@@ -1,0 +1,603 @@
+"""The prover of a horseshoe of the section map on Fig 4's level (issue 27, item 3): covering relations
+(Zgliczynski & Gidea 2004) along the homoclinic orbit of the saddle x0 of statement 11, one return per flight.
+
+What is proved (docs/nonintegrability.md, statement 12): at exact (m, mu, gamma, delta, lambdabar) and level h, the
+section map P of Sigma+ = {sin psi = 0, d sin psi/dt > 0} on {Hbar = h}, in the section coordinates
+(theta, pbar_theta) (psi = 0 or pi: each set's branch; pbar_psi the root of the level in the set's Newton box), has
+h-sets (parallelograms
+N = c + A [-1, 1]^2, first column of A the exit, second the entry direction) with
+    N0 =>_P N0,   N0 =>_P N1 =>_P N2 => ... =>_P Nk,
+N0 and Nk symmetric (centre on Fix(R) = {pbar_theta = 0}, A = [a, R a], R = diag(1, -1): R(N)^T = N), N0 disjoint
+from N1 .. Nk and from R(N1) .. R(N_{k-1}).  Reversibility (R P R = P^-1) turns the chain into back-coverings
+    Nk = R(Nk)^T <=_P R(N_{k-1})^T <=_P ... <=_P R(N1)^T <=_P R(N0)^T = N0
+(lemma: N =>_P M implies R(M)^T <=_P R(N)^T), so N0 has two closed chains, of lengths 1 and L = 2k, and the
+covering-chain theorem gives, for every sequence of these loops, an orbit realising it; coding the visits to N0 gives
+a semiconjugacy onto the shift of concatenations of the blocks "1" and "1 0^(L-1)": h_top(P) >= log rho,
+rho the largest root of x^L = x^(L-1) + 1.
+
+The covering N =>_P M (dimension 2, one exit direction) is checked by the sufficient conditions of Zgliczynski &
+Gidea (their theorem for u = 1 with the straight-line homotopy): in M's coordinates y = A_M^-1 (x - c_M), (a) the
+image of N meets {|y_u| <= 1} only inside {|y_s| < 1}, (b) the images of N's exit edges {y_u = -1}, {y_u = +1} lie in
+{y_u < -1} and {y_u > 1} (or the reverse), P continuous on N.  N is cut into pieces X = c_X + A_X [-1, 1]^2
+(a product grid in N's coordinates); each is flown ONE return (periodic.piece_return: the centre and the piece,
+validated C^1 Lohner flights with the phases of statement 11 and the crossing enclosed), and its image is enclosed by
+the mean-value form P(X) in P(c_X) + [DP(X)] A_X [-1, 1]^2.
+
+Method of the design (float, heyoka; only chooses where to look): the W^u point z_0 = x0 + s* e_u whose 8th image lies
+on Fix(R), pulled back m times along the local W^u (c_1 = x0 + s* mu_u^-m e_u, to second order); the chain c_{j+1} = P(c_j) is then recomputed with the validated
+thin flights (their midpoints: 128 bits), c_1 shifted along e_u by one Newton step so that P^(k-1)(c_1) lies on
+Fix(R); frames: e_u^j (W^u tangents, pushed forward by DP) and e_s^j (W^s tangents, R e_u^k pulled back), so that DP
+maps frame to frame; sizes by the rule of `sizes`.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+
+from ..core.errors import ParameterError
+from ..core.tolerances import PROOF_STEP_TOL
+from ..generated import validated as gen
+from . import ball, fields, periodic, taylor
+from .search import ProofFailure, ProofResult, stored
+from .theorem import section_horseshoe_theorem
+
+FORMAT = "magrod-proof-certificate/1"
+KIND = "section_horseshoe"
+R2 = np.diag([1.0, -1.0])
+
+
+@dataclass
+class HorseshoeSettings:
+    """Numerical choices (recorded; the verifier replays them).  m_back: pull-backs of z_0 (the scale of the sets:
+    dist(x0, c_1) = s* mu_u^-m); qu, qs: the design margins per link in the exit / entry direction; pieces: the
+    grid (n_u, n_s) of pieces per set (a dict by set index; default (1, 1)); p_rad: half-width of the level's Newton
+    box; lead: the crossing step has length 2 lead."""
+
+    prec: int = 128
+    order: int = 20
+    tol: float = PROOF_STEP_TOL
+    #: the step tolerance of the centres' flights (their enclosures must resolve the sets: periodic.piece_return)
+    tol_thin: float = 1e-32
+    m_back: int = 5
+    qu: float = 3.0
+    qs: float = 3.0
+    p_rad: Fraction = Fraction(1, 10**6)
+    t1: Fraction = Fraction(1, 64)
+    lead: Fraction = Fraction(1, 256)
+    newton: int = 12
+    n_exc: int = 8
+    s_star: float = 2.431508147212876e-06
+    pieces: dict | None = None
+    #: the chain passes' centre-flight tolerances ("tol" or "thin"); a Newton shift after each but the last.  At
+    #: Fig 4(b) (17 returns) the tol-1e-25 chain's end differs from the 1e-32 one by 1.6e-8 in pbar_theta, so its
+    #: shift must come from a "thin" pass
+    passes: tuple = ("tol", "tol", "thin")
+    #: N0 => N1 geometry, as fractions of d = dist(x0, c_1): l0 = w0 = l0_frac d, l1 = l1_frac d (disjoint: l0 +
+    #: l1 < d; covered: mu_u l0 > d + l1), the entry half-widths capped at w_cap l1 (N1 fat enough for N0's image,
+    #: whose entry thickness is l0 / mu_u)
+    l0_frac: float = 1 / 3
+    l1_frac: float = 1 / 6
+    w_cap: float = 1.0
+
+    def as_json(self) -> dict:
+        q = _q
+        return {"prec": self.prec, "order": self.order, "tol": repr(self.tol), "tol_thin": repr(self.tol_thin), "m_back": self.m_back,
+                "qu": self.qu, "qs": self.qs, "p_rad": q(self.p_rad), "t1": q(self.t1), "lead": q(self.lead),
+                "newton": self.newton, "n_exc": self.n_exc, "passes": list(self.passes),
+                "l0_frac": self.l0_frac, "l1_frac": self.l1_frac, "w_cap": self.w_cap, "series_cap": ball.SERIES_CAP}
+
+
+def _q(x) -> str:
+    f = ball.fraction(x)
+    return f"{f.numerator}/{f.denominator}"
+
+
+def dyadic(x: float, bits: int = 62) -> Fraction:
+    """x rounded to a dyadic rational with `bits` significant bits (set data exact in binary)."""
+    if x == 0:
+        return Fraction(0)
+    e = math.floor(math.log2(abs(x))) - bits + 1
+    return Fraction(round(x / 2.0**e)) * Fraction(2) ** e if e < 0 else Fraction(round(x))
+
+
+def dyadic_of(v, bits: int = 100) -> Fraction:
+    """The exact rational v (a Fraction or an exact arb) rounded to `bits` significant bits, dyadic."""
+    f = ball.fraction(v)
+    if f == 0:
+        return f
+    e = (abs(f.numerator).bit_length() - abs(f.denominator).bit_length()) - bits
+    return Fraction(round(f / Fraction(2) ** e)) * Fraction(2) ** e
+
+
+# --------------------------------------------------------------------------------------------------------------
+# float design (heyoka, reduced chart): only chooses where to look
+# --------------------------------------------------------------------------------------------------------------
+class FloatMap:
+    """P on (theta, pbar_theta) in float64 (heyoka, tol 1e-15): the first positive crossing of sin psi = 0 after
+    t > 1e-3, pbar_psi the largest root of the level."""
+
+    def __init__(self, p: fields.ExactParams, h):
+        import heyoka as hy
+
+        from ..core import systems
+        from ..core.params import RodParams
+
+        self.params, self.h = RodParams(*p.floats()), float(h)
+        v = hy.make_vars(*systems.STATE["reduced"])
+        ev = hy.t_event(hy.sin(v[fields.PSI]), direction=hy.event_direction.positive)
+        self.ta = systems.taylor(systems.system("reduced"), [1.0, 0.0, 0.0, 1.0], self.params.array(),
+                                 t_events=[ev], tol=1e-15)
+
+    def lift(self, z):
+        from ..chaos.section import solve_p_psi
+
+        x = np.zeros(4)
+        x[fields.THETA], x[fields.PTHETA] = z[0], z[1]
+        x[fields.PPSI] = solve_p_psi(self.params, self.h, z[0], z[1], 0.0)[-1]
+        return x
+
+    def full4(self, x):
+        """(the 4-D state at the first positive crossing after t > 1e-3, its time) from the 4-D state x."""
+        ta = self.ta
+        ta.time = 0.0
+        ta.state[:] = x
+        ta.reset_cooldowns()
+        while True:
+            oc = ta.propagate_until(ta.time + 100.0)[0]
+            if int(oc) != -1:
+                raise ProofFailure("design: no return of the float section map within t = 100")
+            if ta.time > 1e-3:
+                break
+        return ta.state.copy(), float(ta.time)
+
+    def full(self, z):
+        ta = self.ta
+        ta.time = 0.0
+        ta.state[:] = self.lift(z)
+        ta.reset_cooldowns()
+        while True:
+            oc = ta.propagate_until(ta.time + 100.0)[0]
+            if int(oc) != -1:
+                raise ProofFailure("design: no return of the float section map within t = 100")
+            if ta.time > 1e-3:
+                break
+        y = ta.state.copy()
+        return np.array([y[fields.THETA], y[fields.PTHETA]]), float(ta.time)
+
+    def __call__(self, z):
+        return self.full(z)[0]
+
+    def inv(self, z):
+        return R2 @ self(R2 @ np.asarray(z))
+
+    def jac(self, z, eps=1e-7):
+        D = np.empty((2, 2))
+        for j in range(2):
+            dz = np.zeros(2)
+            dz[j] = eps
+            D[:, j] = (self(z + dz) - self(z - dz)) / (2 * eps)
+        return D
+
+
+def unit(v):
+    v = np.asarray(v, float)
+    return v / np.linalg.norm(v)
+
+
+def float_design(P: FloatMap, x0, m: int, s_star: float, n_exc: int = 8) -> dict:
+    """e_u(x0), the refined s* (pbar_theta(P^n_exc(x0 + s e_u)) = 0 by bisection) and c_1 = P^-m(z_0)."""
+    D0 = P.jac(x0)
+    w, V = np.linalg.eig(D0)
+    iu = int(np.argmax(abs(w)))
+    eu = unit(np.real(V[:, iu]))
+    eu = -eu if eu[0] < 0 else eu
+
+    def end(s):  # 4-D states (the excursion may visit the psi = pi branch of Sigma+)
+        x = P.lift(x0 + s * eu)
+        for _ in range(n_exc):
+            x = P.full4(x)[0]
+        return x[fields.PTHETA]
+
+    a, b = s_star * (1 - 1e-4), s_star * (1 + 1e-4)
+    fa = end(a)
+    if fa * end(b) > 0:
+        raise ProofFailure(f"design: no sign change of pbar_theta at return {n_exc} around s* = {s_star:.6g}")
+    for _ in range(60):
+        c = 0.5 * (a + b)
+        fc = end(c)
+        if (fc > 0) == (fa > 0):
+            a, fa = c, fc
+        else:
+            b = c
+    s = 0.5 * (a + b)
+    # c_1 = P^-m(z_0) on the local W^u, to O(t^2): x0 + t e_u, t = s* mu_u^-m (not the float P^-m: its error
+    # in the stable direction grows by mu_u per pull-back)
+    t = s / abs(float(np.real(w[iu]))) ** m
+    return {"e_u0": eu, "mu_u": float(np.real(w[iu])), "s_star": s, "t": t, "c1": x0 + t * eu}
+
+
+def sizes(lam, sig, L, qu, qs, Lw=None):
+    """Half-lengths l_j (exit) and half-widths w_j (entry) of N_1 .. N_k from the frame stretches lam_j = |DP e_u^j|
+    and sig_j = |DP e_s^j| (unit frame vectors, link j -> j+1): l_1 = L, l_{j+1} = min(L, lam_j l_j / qu) (constant
+    where the map stretches enough, shrinking where it does not); w_k = l_k (Nk symmetric), backwards
+    w_j = min(L, w_{j+1} / (qs sig_j)), so that every link has the margin qu in (b) and qs in (a)."""
+    k = len(lam) + 1
+    Lw = L if Lw is None else Lw
+    ls = [L]
+    for j in range(k - 1):
+        ls.append(min(L, lam[j] * ls[-1] / qu))
+    ws = [ls[-1]]
+    for j in reversed(range(k - 1)):
+        ws.append(min(Lw, ws[-1] / (qs * sig[j])))
+    return ls, ws[::-1]
+
+
+# --------------------------------------------------------------------------------------------------------------
+# h-sets and pieces (exact data)
+# --------------------------------------------------------------------------------------------------------------
+def hset(c, A) -> dict:
+    return {"c": [_q(v) for v in c], "A": [[_q(v) for v in row] for row in A]}
+
+
+def set_data(s) -> tuple:
+    c = [Fraction(v) for v in s["c"]]
+    A = [[Fraction(v) for v in row] for row in s["A"]]
+    return c, A
+
+
+def grid_pieces(nu: int, ns: int) -> list:
+    """The product grid of nu x ns pieces of [-1, 1]^2: [(yu, ys, hu, hs)] (centres and half sizes, dyadic if nu, ns
+    are powers of two)."""
+    out = []
+    for i in range(nu):
+        for j in range(ns):
+            out.append((Fraction(2 * i + 1, nu) - 1, Fraction(2 * j + 1, ns) - 1, Fraction(1, nu), Fraction(1, ns)))
+    return out
+
+
+def piece_geometry(c, A, piece):
+    """(c_X, A_X) of the piece (yu, ys, hu, hs) of N = c + A [-1, 1]^2: c_X = c + A (yu, ys), A_X = A diag(hu, hs)."""
+    yu, ys, hu, hs = piece
+    cX = [c[0] + A[0][0] * yu + A[0][1] * ys, c[1] + A[1][0] * yu + A[1][1] * ys]
+    AX = [[A[0][0] * hu, A[0][1] * hs], [A[1][0] * hu, A[1][1] * hs]]
+    return cX, AX
+
+
+def t_approach(T: float, lead: Fraction) -> Fraction:
+    return Fraction(math.floor((T - float(lead)) * 2**20), 2**20)
+
+
+# --------------------------------------------------------------------------------------------------------------
+# the covering conditions on a piece's image (the verifier has its own copy: verify.py)
+# --------------------------------------------------------------------------------------------------------------
+def image_in(M, fl, AX):
+    """y = A_M^-1 (P(c_X) - c_M) + A_M^-1 [DP(X)] A_X v, v in [-1, 1]^2: (off, G) as balls (off 2, G 2 x 2)."""
+    cM, AM = M
+    det = AM[0][0] * AM[1][1] - AM[0][1] * AM[1][0]
+    Ai = [[AM[1][1] / det, -AM[0][1] / det], [-AM[1][0] / det, AM[0][0] / det]]
+    Aib = [[ball.q(v) for v in row] for row in Ai]
+    d = [fl["Pc"][0] - ball.q(cM[0]), fl["Pc"][1] - ball.q(cM[1])]
+    off = [Aib[i][0] * d[0] + Aib[i][1] * d[1] for i in range(2)]
+    DP = fl["DP"]
+    DA = [[DP[i][0] * ball.q(AX[0][j]) + DP[i][1] * ball.q(AX[1][j]) for j in range(2)] for i in range(2)]
+    G = [[Aib[i][0] * DA[0][j] + Aib[i][1] * DA[1][j] for j in range(2)] for i in range(2)]
+    return off, G
+
+
+def piece_checks(off, G, piece):
+    """(a_ok, a_margin, edge images): (a') the piece's image lies in {|y_s| < 1} (stronger than (a): then the
+    straight-line homotopy to (a y_u, 0) never meets M's entry edges);
+    the images of the piece's parts of N's exit edges (y_u(N) = -1 and +1) as y_u balls."""
+    U = ball.interval(-1, 1)
+    yu = off[0] + G[0][0] * U + G[0][1] * U
+    ys = off[1] + G[1][0] * U + G[1][1] * U
+    lo_u, hi_u = ball.bounds(yu)
+    lo_s, hi_s = ball.bounds(ys)
+    del lo_u, hi_u
+    inside = -1 < lo_s and hi_s < 1
+    margin = float(1 - max(abs(lo_s), abs(hi_s)))
+    edges = {}
+    pu, _, hu, _ = piece
+    if pu - hu == -1:
+        edges[-1] = off[0] - G[0][0] + G[0][1] * U
+    if pu + hu == 1:
+        edges[1] = off[0] + G[0][0] + G[0][1] * U
+    return bool(inside), margin, edges
+
+
+# --------------------------------------------------------------------------------------------------------------
+# the prover
+# --------------------------------------------------------------------------------------------------------------
+def prove(params: fields.ExactParams, h: Fraction, x0_theta: Fraction, settings: HorseshoeSettings | None = None, *,
+          module=gen, progress=None) -> ProofResult:
+    """Prove (or fail to prove) the covering-relation horseshoe of the section map (module docstring).
+
+    Parameters
+    ----------
+    params, h : the exact parameters and level.
+    x0_theta : float or Fraction
+        Where the float search (periodic.float_fixed_point, within 0.02) looks for the symmetric saddle
+        x0 = (theta*, psi = 0, pbar_theta = 0) of P (statement 11); N0 is centred at the float theta*.
+    settings : HorseshoeSettings, optional
+    module : the generated field module (a mutated copy for controls).
+    progress : callable, optional
+
+    Returns
+    -------
+    ProofResult
+        ok, certificate (kind "section_horseshoe"), reason, checks, wall_time_s.
+    """
+    st = settings or HorseshoeSettings()
+    t0 = time.perf_counter()
+    checks: list = []
+
+    def check(name, holds, how):
+        checks.append({"name": name, "holds": bool(holds), "how": how})
+        if not holds:
+            raise ProofFailure(f"{name} not established: {how}", checks)
+
+    try:
+        with ball.workprec(st.prec):
+            cert = _prove(params, h, x0_theta, st, module, check, progress or (lambda s: None))
+    except ProofFailure as err:
+        return ProofResult(False, None, err.reason, checks, time.perf_counter() - t0)
+    except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
+        return ProofResult(False, None, f"flight not validated: {str(err)[:200]}", checks, time.perf_counter() - t0)
+    except (ArithmeticError, ValueError, np.linalg.LinAlgError, ParameterError) as err:
+        reason = f"numerical failure ({type(err).__name__}: {' '.join(str(err).split())[:160]})"
+        return ProofResult(False, None, reason, checks, time.perf_counter() - t0)
+    cert["checks"] = checks
+    cert["wall_time_s"] = round(time.perf_counter() - t0, 3)
+    return ProofResult(True, cert, "all checks hold", checks, time.perf_counter() - t0)
+
+
+def _frame_from(DPs, e_u1):
+    """W^u tangents pushed forward and W^s tangents (R e_u^k) pulled back along float DP's; the stretches."""
+    eus = [unit(e_u1)]
+    for D in DPs:
+        eus.append(unit(D @ eus[-1]))
+    if eus[-1][1] < 0:
+        eus[-1] = -eus[-1]
+    ess = [R2 @ eus[-1]]
+    for D in reversed(DPs):
+        ess.append(unit(np.linalg.solve(D, ess[-1])))
+    ess = ess[::-1]
+    lam = [float(np.linalg.norm(D @ u)) for D, u in zip(DPs, eus[:-1])]
+    sig = [float(np.linalg.norm(D @ s)) for D, s in zip(DPs, ess[:-1])]
+    return eus, ess, lam, sig
+
+
+def _mid_matrix(DP):
+    return np.array([[float(v.mid()) for v in row] for row in DP])
+
+
+def _prove(p, h, x0_theta, st, module, check, say) -> dict:
+    pars = p.balls()
+    fld = fields.chart_field(p, module)
+    P = FloatMap(p, h)
+    say("float search for x0")
+    th_f = periodic.float_fixed_point(p, h, float(x0_theta))[0]
+    x0_theta = dyadic(float(th_f), 53)
+    x0 = np.array([float(x0_theta), 0.0])
+    say("float design")
+    fd = float_design(P, x0, st.m_back, st.s_star, st.n_exc)
+    k = st.n_exc + st.m_back + 1  # N_1 at z_-m .. N_k at z_n_exc
+    lead = st.lead
+
+    def fly(c, A, pc, br, steps=None, box=True, tol_thin=None, thin=None):
+        x4 = np.zeros(4)
+        x4[fields.THETA], x4[fields.PTHETA], x4[fields.PPSI] = float(c[0]), float(c[1]), float(pc)
+        x4[fields.PSI] = 0.0 if br == "0" else math.pi
+        T = P.full4(x4)[1]
+        t_a = t_approach(T, lead)
+        fl = periodic.piece_return(pars, h, fld, c, A, pc, st.p_rad, t_a, lead, t1=st.t1, order=st.order,
+                                   tol=st.tol, tol_thin=tol_thin or st.tol_thin, steps=steps, newton=st.newton,
+                                   box=box, thin=thin, branch=br, module=module)
+        fl["t_a"] = t_a
+        return fl
+
+    zero = [[Fraction(0), Fraction(0)], [Fraction(0), Fraction(0)]]
+
+    def pc_of(c):
+        return dyadic(float(P.lift([float(c[0]), float(c[1])])[fields.PPSI]), 50)
+
+    def chain(c1, tol_thin):
+        """Centres, their pbar_psi, their branches ("0": cos psi > 0, "pi": cos psi < 0) and the flights."""
+        cs, pcs, brs, fls = [c1], [pc_of(c1)], ["0"], []
+        for j in range(k - 1):
+            fl = fly(cs[-1], zero, pcs[-1], brs[-1], box=False, tol_thin=tol_thin)
+            check(f"chain flight {j + 1}", fl["level_ok"], "the level's Newton at the chain's centre")
+            cp = fl["cospsi_thin"]
+            check(f"chain flight {j + 1} branch", ball.excludes_zero(cp), f"cos psi = {cp} at the crossing")
+            fls.append(fl)
+            cs.append([dyadic_of(fl["Pc"][0].mid()), dyadic_of(fl["Pc"][1].mid())])
+            pcs.append(dyadic_of(fl["ppsi_thin"].mid(), 60))
+            brs.append("0" if ball.positive(cp) else "pi")
+        return cs, pcs, brs, fls
+
+    c1 = [x0_theta + Fraction(fd["t"]) * Fraction(fd["e_u0"][0]), Fraction(fd["t"]) * Fraction(fd["e_u0"][1])]
+    c1 = [dyadic_of(v) for v in c1]
+    # the chain by the validated centre flights; Newton steps along e_u^1 put P^(k-1)(c_1) on Fix(R): two passes
+    # at the design tolerance, the last at tol_thin (its flights are the certificate's centre flights)
+    passes = []
+    sched = [st.tol if kind == "tol" else st.tol_thin for kind in st.passes]
+    for n_pass, tl in enumerate(sched):
+        say(f"chain pass {n_pass + 1} ({k - 1} centre flights, tol {tl:g})")
+        cs, pcs, brs, fls = chain(c1, tl)
+        DPs = [_mid_matrix(f["DPc"]) for f in fls]
+        eus, ess, lam, sig = _frame_from(DPs, fd["e_u0"])
+        delta = float(fls[-1]["Pc"][1].mid())
+        passes.append(delta)
+        if n_pass == len(sched) - 1:
+            break
+        v = eus[0]
+        for D in DPs:
+            v = D @ v
+        shift = -delta / v[1]
+        say(f"  pbar_theta at the end {delta:.3g}: shift {shift:.3g} along e_u")
+        c1 = [dyadic_of(c1[0] + Fraction(shift) * Fraction(eus[0][0])),
+              dyadic_of(c1[1] + Fraction(shift) * Fraction(eus[0][1]))]
+    resid = passes[-1]
+    cs[-1] = [dyadic_of(fls[-1]["Pc"][0].mid()), Fraction(0)]
+    dist = float(np.hypot(float(cs[0][0]) - x0[0], float(cs[0][1])))
+    L = dist * st.l1_frac
+    ls, ws = sizes(lam, sig, L, st.qu, st.qs, st.w_cap * L)
+    check("end on Fix(R)", abs(resid) < ws[-1] / 4,
+          f"pbar_theta(P^(k-1)(c_1)) = {resid:.3g} after the Newton shift, against the size {ws[-1]:.3g} of Nk")
+    # the sets (exact dyadic data)
+    a0 = [dyadic(dist * st.l0_frac * fd["e_u0"][0]), dyadic(dist * st.l0_frac * fd["e_u0"][1])]
+    sets = [hset([dyadic_of(x0_theta, 62), Fraction(0)], [[a0[0], a0[0]], [a0[1], -a0[1]]])]
+    sets[0]["p_c"], sets[0]["branch"] = _q(pc_of([x0_theta, Fraction(0)])), "0"
+    for j in range(k - 1):
+        u, s = eus[j], ess[j]
+        sets.append(hset(cs[j], [[dyadic(ls[j] * u[0]), dyadic(ws[j] * s[0])],
+                                 [dyadic(ls[j] * u[1]), dyadic(ws[j] * s[1])]]))
+        sets[-1]["p_c"], sets[-1]["branch"] = _q(pcs[j]), brs[j]
+    ak = [dyadic(ls[-1] * eus[-1][0]), dyadic(ls[-1] * eus[-1][1])]
+    sets.append(hset(cs[-1], [[ak[0], ak[0]], [ak[1], -ak[1]]]))
+    sets[-1]["p_c"], sets[-1]["branch"] = _q(pcs[-1]), brs[-1]
+    # the branch boxes: the level's root unique in [p_c - p_rad, p_c + p_rad] over each set's hull
+    branch = {}
+    for i, sd in enumerate(sets):
+        c, A = set_data(sd)
+        _, B, ok = periodic.level_newton_section(pars, h, *_hull(c, A), Fraction(sd["p_c"]), st.p_rad, module,
+                                                 sd["branch"])
+        check(f"N{i} branch box", ok, "pbar_psi unique in the branch box over the set's hull")
+        branch[i] = B
+    # links, pieces, flights
+    links = [(0, 0), (0, 1)] + [(j, j + 1) for j in range(1, k)]
+    grids = {i: (1, 1) for i in range(k)}
+    grids.update(st.pieces or {})
+    flights = []
+    images = {}
+    for i in range(k):
+        cN, AN = set_data(sets[i])
+        pcs = grid_pieces(*grids[i])
+        recs = []
+        for n, pc in enumerate(pcs):
+            say(f"set N{i}: piece {n + 1}/{len(pcs)}")
+            cX, AX = piece_geometry(cN, AN, pc)
+            ppc = Fraction(sets[i]["p_c"])
+            reuse = fls[i - 1] if (i >= 1 and len(pcs) == 1) else None  # the chain's flight from c_i = c_X
+            fl = fly(cX, AX, ppc, sets[i]["branch"], thin=reuse)
+            check(f"N{i} piece {n} level", fl["level_ok"] and ball.subset(fl["ppsi_hull"], branch[i]),
+                  "pbar_psi unique in its Newton box over the piece, inside the set's branch box")
+            check(f"N{i} piece {n} positive return", ball.positive(fl["gdot_thin"]) and ball.positive(fl["gdot_box"]),
+                  f"d(sin psi)/dt = {fl['gdot_box']} > 0 at the crossing")
+            recs.append({"piece": [_q(v) for v in pc], "p_c": _q(ppc), "t_a": _q(fl["t_a"]),
+                         "steps": {kk: [[ball.decimal(s) for s in ph] for ph in vv] for kk, vv in fl["steps"].items()},
+                         "n_steps": sum(len(ph) for vv in fl["steps"].values() for ph in vv),
+                         "enclosures": {"Pc": [stored(v) for v in fl["Pc"]],
+                                        "DP": [[stored(v) for v in row] for row in fl["DP"]],
+                                        "ppsi_box": stored(fl["ppsi_box"])}})
+            images[(i, n)] = (pc, AX, fl)
+        flights.append({"set": i, "grid": list(grids[i]), "pieces": recs})
+    link_rec = []
+    for i, j in links:
+        cM, AM = set_data(sets[j])
+        amin, right, left = math.inf, [], []
+        for n, pc in enumerate(grid_pieces(*grids[i])):
+            _, AX, fl = images[(i, n)]
+            off, G = image_in((cM, AM), fl, AX)
+            a_ok, margin, edges = piece_checks(off, G, pc)
+            cps = [fl["cospsi_box"], fl["cospsi_thin"]]
+            check(f"N{i} => N{j} piece {n} psi branch", all(ball.positive(v) if sets[j]["branch"] == "0" else
+                                                             ball.negative(v) for v in cps),
+                  f"cos psi = {cps[0]} at the crossing: the image lies on M's branch psi = {sets[j]['branch']} mod 2 pi")
+            check(f"N{i} => N{j} piece {n} (a)", a_ok, f"image in M's coordinates: y_u = {off[0]} + ..., y_s ="
+                  f" {off[1]} + G ...: stays in |y_s| < 1")
+            amin = min(amin, margin)
+            if -1 in edges:
+                left.append(edges[-1])
+            if 1 in edges:
+                right.append(edges[1])
+            # the branch of pbar_psi: where the image lands in M it is M's root
+            check(f"N{i} => N{j} piece {n} branch", ball.subset(fl["ppsi_box"], branch[j]),
+                  f"pbar_psi of the image {fl['ppsi_box']} inside M's branch box {branch[j]} (unique root there)")
+        o = 1 if ball.bounds(right[0])[0] > 1 else -1
+        okb = all((ball.bounds(e)[0] > 1) if o == 1 else (ball.bounds(e)[1] < -1) for e in right) and \
+            all((ball.bounds(e)[1] < -1) if o == 1 else (ball.bounds(e)[0] > 1) for e in left)
+        bmin = min(min(abs(float(ball.bounds(e)[0 if o == 1 else 1])) for e in right),
+                   min(abs(float(ball.bounds(e)[1 if o == 1 else 0])) for e in left))
+        check(f"N{i} => N{j} (b)", okb, f"the exit edges' images beyond M's exit edges (orientation {o}), "
+              f"min |y_u| = {bmin:.4g}")
+        link_rec.append({"from": i, "to": j, "orientation": o, "a_margin": amin, "b_min_abs_yu": bmin})
+        say(f"N{i} => N{j}: (a) margin {amin:.3g}, (b) min |y_u| {bmin:.3g}")
+    # symmetry, disjointness, entropy
+    for name, idx in (("N0", 0), (f"N{k}", k)):
+        c, A = set_data(sets[idx])
+        check(f"{name} symmetric", c[1] == 0 and A[0][1] == A[0][0] and A[1][1] == -A[1][0],
+              "centre on Fix(R) and A = [a, R a]: R(N)^T = N")
+    polys = [_vertices(*set_data(s)) for s in sets]
+    c0p = polys[0]
+    for j in range(1, k + 1):
+        other = sets[j]["branch"] != sets[0]["branch"]
+        check(f"N0, N{j} disjoint", other or _disjoint(c0p, polys[j]), "another branch of psi, or a separating "
+              "axis (exact rationals)")
+    for j in range(1, k):
+        other = sets[j]["branch"] != sets[0]["branch"]
+        check(f"N0, R(N{j}) disjoint", other or _disjoint(c0p, [(x, -y) for x, y in polys[j]]),
+              "another branch of psi (R keeps it), or a separating axis (exact)")
+    for i, s in enumerate(sets):
+        c, A = set_data(s)
+        check(f"N{i} nondegenerate", A[0][0] * A[1][1] - A[0][1] * A[1][0] != 0, "det A != 0")
+    Lloop = 2 * k
+    rho = entropy_root_lower(Lloop)
+    digest = fields.source_digest(module)
+    check("field_is_derived", digest == fields.source_digest(gen),
+          "the vector field is the derive-generated generated/validated.py (SHA-256 of its source)")
+    pj = p.as_json()
+    return {
+        "format": FORMAT, "kind": KIND,
+        "theorem": section_horseshoe_theorem(pj, _q(h), k, Lloop, _q(rho)),
+        "params": pj, "level": _q(h), "settings": st.as_json(), "field_digest": digest,
+        "sets": sets, "links": [[i, j] for i, j in links], "flights": flights, "link_margins": link_rec,
+        "loop_length": Lloop, "entropy": {"rho_lower": _q(rho), "log_rho_lower": math.log(float(rho))},
+        "hypotheses_symbolic": ["reversor_reduced", "validated_fields", "full_ham_nondim"],
+        "design": {"x0_theta": _q(x0_theta), "s_star": fd["s_star"], "m_back": st.m_back, "dist_c1": dist,
+                   "L": L, "l": ls, "w": ws, "stretch_u": lam, "stretch_s": sig, "end_residual": resid, "end_residual_passes": passes,
+                   "angles_deg": [float(np.degrees(np.arccos(min(1.0, abs(float(np.dot(u, s))))))) for u, s in
+                                  zip(eus, ess)]},
+    }
+
+
+def _hull(c, A):
+    U = ball.interval(-1, 1)
+    return (ball.q(c[0]) + ball.q(A[0][0]) * U + ball.q(A[0][1]) * U,
+            ball.q(c[1]) + ball.q(A[1][0]) * U + ball.q(A[1][1]) * U)
+
+
+def _vertices(c, A):
+    return [(c[0] + A[0][0] * a + A[0][1] * b, c[1] + A[1][0] * a + A[1][1] * b) for a, b in
+            ((1, 1), (1, -1), (-1, -1), (-1, 1))]
+
+
+def _disjoint(P1, P2) -> bool:
+    """Two convex polygons (exact vertices, in order) are disjoint iff some edge normal separates them strictly."""
+    for poly in (P1, P2):
+        n = len(poly)
+        for i in range(n):
+            (x1, y1), (x2, y2) = poly[i], poly[(i + 1) % n]
+            nx, ny = y2 - y1, x1 - x2
+            a = [nx * x + ny * y for x, y in P1]
+            b = [nx * x + ny * y for x, y in P2]
+            if max(a) < min(b) or max(b) < min(a):
+                return True
+    return False
+
+
+def entropy_root_lower(L: int, digits: int = 12) -> Fraction:
+    """A rational rho_lo < rho, the largest root of x^L = x^(L-1) + 1 (f(rho_lo) < 0 for f = x^L - x^(L-1) - 1,
+    f(2) > 0, f increasing on [1, 2] beyond its one critical point (L-1)/L < 1): by bisection on [1, 2]."""
+    lo, hi = Fraction(1), Fraction(2)
+    for _ in range(int(digits * 3.33) + 2):
+        mid = (lo + hi) / 2
+        if mid**L - mid ** (L - 1) - 1 < 0:
+            lo = mid
+        else:
+            hi = mid
+    return lo

@@ -1,0 +1,174 @@
+"""The covering-relation horseshoe of the section map on Fig 4(a)'s level (magrod/proof/horseshoe.py, verify.py kind
+"section_horseshoe"; docs/nonintegrability.md, statement 12).
+
+The tamper tests change one field of the stored certificate and require the verifier to reject it, each at the check
+named in the test (seen to fail: every test below asserts the rejection and its reason).  The structural checks
+(links, symmetry, disjointness, cover, entropy, theorem) run before any flight, so these tests are fast; the complete
+re-verification (every piece re-flown, ~2 min) is behind --full.
+"""
+from __future__ import annotations
+
+import copy
+import json
+from fractions import Fraction
+from importlib import resources
+
+import pytest
+
+from magrod.proof import fields, horseshoe, verify
+
+CERT = "horseshoe_fig4a.json"
+
+
+@pytest.fixture(scope="module")
+def cert():
+    return json.loads(resources.files("magrod.proof").joinpath("certificates", CERT).read_text())
+
+
+def _rejected(c, *, module=fields.gen):
+    res = verify.verify(c, module=module)
+    assert not res.ok
+    return res.reason
+
+
+def test_cover_check_exact():
+    """A product grid covers the square; a missing or an overlapping piece does not (seen to fail: both)."""
+    g = horseshoe.grid_pieces(2, 2)
+    assert verify._hs_cover(g)
+    assert not verify._hs_cover(g[:-1])
+    assert not verify._hs_cover(g[:-1] + [(Fraction(0), Fraction(0), Fraction(1, 2), Fraction(1, 2))])
+
+
+def test_separating_axis():
+    sq = verify._hs_vertices([Fraction(0), Fraction(0)], [[Fraction(1), Fraction(0)], [Fraction(0), Fraction(1)]])
+    far = verify._hs_vertices([Fraction(3), Fraction(0)], [[Fraction(1), Fraction(0)], [Fraction(0), Fraction(1)]])
+    touch = verify._hs_vertices([Fraction(2), Fraction(0)], [[Fraction(1), Fraction(0)], [Fraction(0), Fraction(1)]])
+    assert verify._hs_separated(sq, far)
+    assert not verify._hs_separated(sq, touch)  # closed sets sharing an edge are not disjoint
+
+
+def test_entropy_root():
+    """rho_lower is below the largest root of x^L = x^(L-1) + 1 and within 1e-10 of it (L = 28: rho = 1.0947...,
+    checked by numpy's roots)."""
+    import numpy as np
+
+    L = 28
+    r = horseshoe.entropy_root_lower(L)
+    assert r**L - r ** (L - 1) - 1 < 0
+    roots = np.roots([1, -1] + [0] * (L - 2) + [-1])
+    big = max(z.real for z in roots if abs(z.imag) < 1e-12)
+    assert 0 < big - float(r) < 1e-10
+
+
+def test_psi_periodic_check():
+    """The generated chart field uses psi only through sin and cos; a source with a bare psi fails the check."""
+    assert verify._psi_periodic(fields.gen)
+
+    class Fake:
+        pass
+
+    src = ("def chart_rhs(x, p):\n    theta, psi, ptheta, ppsi, = x\n    return [psi]\n"
+           "def chart_jacobian(x, p):\n    return []\n")
+    import types
+
+    mod = types.ModuleType("fake_validated")
+    exec(compile(src, "<fake>", "exec"), mod.__dict__)  # noqa: S102 - a synthetic module for the control
+    orig = fields.inspect.getsource
+    fields.inspect.getsource = lambda m: src if m is mod else orig(m)
+    try:
+        assert not verify._psi_periodic(mod)
+    finally:
+        fields.inspect.getsource = orig
+    del Fake
+
+
+def test_certificate_claims(cert):
+    """The stored certificate's theorem is the generated text, and its numbers are those of the chain."""
+    k = len(cert["sets"]) - 1
+    assert cert["kind"] == "section_horseshoe" and cert["loop_length"] == 2 * k
+    from magrod.proof.theorem import section_horseshoe_theorem
+
+    assert cert["theorem"] == section_horseshoe_theorem(cert["params"], cert["level"], k, 2 * k,
+                                                        cert["entropy"]["rho_lower"])
+
+
+def test_tamper_deleted_link(cert):
+    c = copy.deepcopy(cert)
+    del c["links"][3]
+    assert "links" in _rejected(c)
+
+
+def test_tamper_set_not_symmetric(cert):
+    c = copy.deepcopy(cert)
+    A = c["sets"][-1]["A"]
+    A[1][1] = str(Fraction(A[1][1]) * Fraction(1001, 1000))
+    assert f"N{len(c['sets']) - 1} symmetric" in _rejected(c)
+
+
+def test_tamper_N0_off_FixR(cert):
+    c = copy.deepcopy(cert)
+    c["sets"][0]["c"][1] = "1/10000000000000"
+    assert "N0 symmetric" in _rejected(c)
+
+
+def test_tamper_entropy(cert):
+    """An entropy bound above the root is rejected; so is a theorem text claiming more."""
+    c = copy.deepcopy(cert)
+    c["entropy"]["rho_lower"] = "11/10"
+    assert "entropy bound" in _rejected(c)
+    c = copy.deepcopy(cert)
+    c["theorem"] = c["theorem"].replace("h_top(P|Lambda) >= log rho", "h_top(P|Lambda) >= 2 log rho")
+    assert "theorem" in _rejected(c)
+
+
+def test_tamper_missing_piece(cert):
+    c = copy.deepcopy(cert)
+    fl = c["flights"][2]
+    fl["pieces"][0]["piece"] = ["-1/2", "0", "1/2", "1"]  # only half of the square
+    assert "N2 cover" in _rejected(c)
+
+
+def test_tamper_disjointness(cert):
+    """N1 moved onto N0 (its centre at x0's): N0 and N1 are no longer disjoint."""
+    c = copy.deepcopy(cert)
+    c["sets"][1]["c"] = list(c["sets"][0]["c"])
+    assert "N0, N1 disjoint" in _rejected(c)
+
+
+def test_mutated_field_rejected(cert):
+    """A mutated generated field (control): the digest check rejects the certificate."""
+    assert "field digest" in _rejected(cert, module=fields.mutated_module(0))
+
+
+@pytest.mark.slow
+def test_shifted_set_fails_covering(cert):
+    """N2 shifted by 3 of its half-widths along its entry direction: the image of N1 lies at y_s ~ -3 in N2's
+    coordinates and (a') fails at N1 => N2, seen after re-flying N0 and N1 (~30 s).  (A shift along the exit
+    direction by 3 half-lengths is absorbed by N1 => N2, whose images of the exit edges reach y_u = -3 +- 5.75, and
+    would fail only at N2 => N3.)"""
+    c = copy.deepcopy(cert)
+    cN = [Fraction(v) for v in c["sets"][2]["c"]]
+    A = [[Fraction(v) for v in r] for r in c["sets"][2]["A"]]
+    c["sets"][2]["c"] = [str(cN[0] + 3 * A[0][1]), str(cN[1] + 3 * A[1][1])]
+    reason = _rejected(c)
+    assert "N1 => N2 piece 0 (a)" in reason, reason
+
+
+@pytest.mark.slow
+def test_certificate_verifies(cert):
+    """The complete verifier re-flies every piece and accepts the stored certificate (~2-3 min on 2 cores)."""
+    res = verify.verify(cert)
+    assert res.ok, res.reason
+    assert "h_top(P|Lambda) >= log rho" in res.theorem
+
+
+@pytest.mark.slow
+def test_mutated_field_control_fails_to_prove():
+    """Control: with the sign of term 0 of the generated chart field flipped, the prover fails (at the first centre
+    flight of the chain: no crossing where the float map of the true field has one; ~15 s) and issues nothing."""
+    from magrod.proof import periodic
+
+    p, h = periodic.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
+    res = horseshoe.prove(p, h, 0.383, module=fields.mutated_module(0))
+    assert not res.ok and res.certificate is None
+    assert "flight not validated" in res.reason or "not established" in res.reason, res.reason
