@@ -38,7 +38,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
-from flint import arb, arb_mat, arb_series
+from flint import arb
 
 from ..core.errors import ParameterError
 from ..core.tolerances import FIXED_POINT_SEARCH_TOL, PROOF_STEP_TOL
@@ -46,6 +46,7 @@ from ..generated import validated as gen
 from . import ball, fields, taylor
 from .search import ProofFailure, ProofResult, stored, structural_tests
 from .theorem import section_fixed_point_theorem
+from .section_return import (_mu_lam, branch_psi, chart_section, first_return, ham_gradient, initial_box, level_newton, level_newton_section, phase_guards, piece_return, return_guards, section_quantities, section_set, tangents)  # noqa: F401  (re-exported: the provers' names)
 
 FORMAT = "magrod-proof-certificate/1"
 KIND = "section_fixed_point"
@@ -93,10 +94,6 @@ def interval_settings(lam_rad, base: "FixedPointSettings | None" = None) -> "Fix
     w = ball.fraction(lam_rad)
     r = max(st.r, 8 * w)
     return replace(st, lam_rad=w, r=r, p_rad=max(st.p_rad, 16 * (r + w)))
-
-
-def _mu_lam(pars):
-    return pars[fields.PARAMS.index("mu")], pars[fields.PARAMS.index("lam")]
 
 
 def _q(x) -> str:
@@ -180,157 +177,9 @@ def float_fixed_point(p: fields.ExactParams, h: Fraction, theta_guess: float, ro
     return th, x0, x1, tau
 
 
-# --------------------------------------------------------------------------------------------------------------
-# rigorous pieces (the verifier re-implements them: verify.py)
-# --------------------------------------------------------------------------------------------------------------
-def ham_gradient(pars, x, module=gen) -> list:
-    """dHbar/dx_i over the box x (arb_series of length 2 on balls: an enclosure of the partial derivative)."""
-    out = []
-    for i in range(len(x)):
-        y = [arb_series([v, 1 if j == i else 0], prec=2) for j, v in enumerate(x)]
-        c = module.chart_hamiltonian(y, pars)[0]
-        cs = c.coeffs() if isinstance(c, arb_series) else [c]
-        out.append(cs[1] if len(cs) > 1 else arb(0))
-    return out
-
-
-def level_newton(pars, h, theta: arb, pc: Fraction, prad: Fraction, module=gen):
-    """Interval Newton for Hbar(theta, 0, 0, pbar_psi) = h on P = [pc - prad, pc + prad], for every theta in the
-    ball `theta`: (N, P, inside) with N = pc - (Hbar(theta, 0, 0, pc) - h) / dHbar/dpbar_psi(theta, 0, 0, P)."""
-    P = ball.interval(pc - prad, pc + prad)
-    Hc = module.chart_hamiltonian([theta, arb(0), arb(0), ball.q(pc)], pars)[0]
-    dH = ham_gradient(pars, [theta, arb(0), arb(0), P], module)[PP]
-    N = ball.q(pc) - (Hc - ball.q(h)) / dH
-    lo, hi = ball.bounds(N)
-    Plo, Phi = ball.bounds(P)
-    return N, P, bool(ball.excludes_zero(dH) and Plo < lo and hi < Phi)
-
-
-def chart_section(pars, module=gen):
-    """g = sin psi (the section), its gradient, and the guards theta, pi - theta, radicand > 0."""
-    def g(x):
-        return x[PS].sin()
-
-    def dg(x):  # the state may carry lambdabar as a fifth entry (fields.lam_state_field)
-        return [arb(0), x[PS].cos()] + [arb(0)] * (len(x) - 2)
-
-    mu, lam = _mu_lam(pars)
-
-    def guard(Y):
-        return [Y[TH], arb.pi() - Y[TH], mu - 2 * (Y[4] if len(Y) > 4 else lam) * Y[PP]]
-
-    return g, dg, guard
-
-
-def phase_guards(pars, fld, module=gen):
-    """(first, second): guard functions of the two phases (module docstring, step 2).  first: d(sin psi)/dt =
-    cos psi psi' > 0; second: sin psi > 0, or else d(sin psi)/dt < 0 (returned as a positive ball iff it holds)."""
-    _, _, base = chart_section(pars, module)
-
-    def sdot(Y):
-        return Y[PS].cos() * fld.f(Y)[PS]
-
-    def first(Y):
-        return base(Y) + [sdot(Y)]
-
-    def second(Y):
-        s = Y[PS].sin()
-        if ball.positive(s):
-            return base(Y) + [s]
-        return base(Y) + [-sdot(Y)]
-
-    return first, second
-
-
-def initial_box(p, theta: arb, pbox: arb, lam: arb | None = None) -> taylor.C1Set:
-    """The chart set {theta} x {0} x {0} x pbox (x {lam} when lambdabar is a state) as a C^1 set (C = I, r0 = the
-    box about its centre)."""
-    x = [theta, arb(0), arb(0), pbox] + ([] if lam is None else [lam])
-    xc = [v.mid() for v in x]
-    S = taylor.initial_set(xc, c1=True)
-    S.r0 = ball.vec([a - b for a, b in zip(x, xc)])
-    return S
-
-
-def section_quantities(p, fld, cr: taylor.CrossingEnclosure, tangents, module=gen) -> dict:
-    """At the crossing x1: pbar_theta, theta, cos psi, d(sin psi)/dt, and for each tangent t (a chart vector) the
-    section derivative v = (I - f grad g^T/(grad g . f)) W t in (theta, pbar_theta)."""
-    g_grad = [arb(0), cr.x[PS].cos()] + [arb(0)] * (len(cr.x) - 2)
-    gf = sum((a * b for a, b in zip(g_grad, cr.fx)), arb(0))
-    out = {"ptheta": cr.x[PT], "theta": cr.x[TH], "cospsi": cr.x[PS].cos(), "gdot": cr.gdot, "tau": cr.tau}
-    if cr.W is not None:
-        for name, t in tangents.items():
-            u = ball.column(cr.W * ball.vec(t))
-            gu = sum((a * b for a, b in zip(g_grad, u)), arb(0))
-            v = [ui - fi * gu / gf for ui, fi in zip(u, cr.fx)]
-            out[f"d{name}_theta"] = v[TH]
-            out[f"d{name}_ptheta"] = v[PT]
-    return out
-
-
-def tangents(pars, Q, module=gen) -> dict:
-    """t_theta, t_ptheta: the tangents of the level's section at Q in chart coordinates (pbar_psi from Hbar = h)."""
-    gH = ham_gradient(pars, Q[:4], module)
-    z = [arb(0)] * (len(Q) - 4)  # lambdabar (a state) is fixed along the section's tangents
-    return {"th": [arb(1), arb(0), arb(0), -gH[TH] / gH[PP]] + z, "pt": [arb(0), arb(0), arb(1), -gH[PT] / gH[PP]] + z}
-
-
 def trace_DP(a, b, c, d):
     """tr DP(x0) = tr(R A^-1 R A) = 2 (ad + bc) / (ad - bc) for A = [[a, b], [c, d]], R = diag(1, -1)."""
     return 2 * (a * d + b * c) / (a * d - b * c)
-
-
-def return_guards(pars, fld, module=gen):
-    """(first, general): guards of a full return of P from Sigma+.  first: d(sin psi)/dt > 0 (leaving Sigma+);
-    general: sin psi excludes 0, or else d(sin psi)/dt < 0 (no positive crossing; the negative one at psi = pi is
-    allowed).  Each returns balls that are positive iff its condition holds, with the base guards (theta in
-    (0, pi), radicand > 0)."""
-    _, _, base = chart_section(pars, module)
-    first, _ = phase_guards(pars, fld, module)
-
-    def general(Y):
-        s = Y[PS].sin()
-        if ball.excludes_zero(s):
-            return base(Y) + [arb(1)]
-        return base(Y) + [-(Y[PS].cos() * fld.f(Y)[PS])]
-
-    return first, general
-
-
-def section_set(pars, theta: arb, ptheta: arb, ppsi: arb, C2=None) -> taylor.C1Set:
-    """The chart C^1 set of a section piece: C2 None: the box theta x {0} x ptheta x ppsi (C = I, r0 the box about
-    its midpoint); else C2 = (xbar, C, r0), an exact parallelepiped xbar + C r0 in the chart (the caller encloses
-    the piece in it)."""
-    if C2 is None:
-        S = initial_box(None, theta, ppsi)
-        x = [theta, arb(0), ptheta, ppsi]
-        S.xbar = ball.vec([v.mid() for v in x])
-        S.r0 = ball.vec([a - a.mid() for a in x])
-        return S
-    xbar, C, r0 = C2
-    S = taylor.initial_set([ball.q(v) for v in xbar], c1=True)
-    S.C, S.r0 = C, r0
-    return S
-
-
-def first_return(pars, fld, S: taylor.C1Set, t_a: Fraction, lead: Fraction, *, t1=Fraction(1, 64), order=20,
-                 tol=PROOF_STEP_TOL, steps=None, newton=4, module=gen):
-    """The validated flight of the chart set S (on Sigma+ at t = 0) through one full return of P: phase 1 on
-    [0, t1] with d(sin psi)/dt > 0, phase 2 on [t1, t_a] with no positive crossing (return_guards), then the one
-    crossing of sin psi = 0 in (t_a, t_a + 2 lead) (taylor.cross_section; the caller checks that it is positive).
-    steps: None (adaptive) or the exact (steps1, steps2) of a certificate.  Returns (crossing, (steps1, steps2)).
-    Raises taylor.EnclosureError / GuardError / CrossingError."""
-    g, dg, base = chart_section(pars, module)
-    first, general = return_guards(pars, fld, module)
-    tr1, tr2 = taylor.Trajectory(), taylor.Trajectory()
-    if steps is None:
-        S = taylor.propagate(fld, S, t1, order=order, tol=tol, guard=first, record=tr1)
-        S = taylor.propagate(fld, S, t_a, order=order, tol=tol, guard=general, record=tr2)
-    else:
-        S = taylor.propagate(fld, S, steps=steps[0], order=order, guard=first, record=tr1)
-        S = taylor.propagate(fld, S, steps=steps[1], order=order, guard=general, record=tr2)
-    cr = taylor.cross_section(fld, S, g, dg, 2 * lead, order, newton=newton, guard=base)
-    return cr, (tr1.steps, tr2.steps)
 
 
 def fly(fld, S, steps1, steps2, h_cross, order, guards, cross_guard, g, dg):
@@ -475,100 +324,3 @@ def _mu_u(tr: arb) -> arb:
     return (tr + s) / 2 if ball.positive(tr) else (tr - s) / 2
 
 
-
-# --------------------------------------------------------------------------------------------------------------
-# one return of a section piece (the horseshoe of horseshoe.py; the verifier drives the same flight)
-# --------------------------------------------------------------------------------------------------------------
-def branch_psi(branch: str) -> arb:
-    """psi on the section's branch: "0" -> 0, "pi" -> pi (a ball)."""
-    if branch not in ("0", "pi"):
-        raise ValueError(f"branch must be '0' or 'pi', got {branch!r}")
-    return arb(0) if branch == "0" else arb.pi()
-
-
-def level_newton_section(pars, h, theta: arb, ptheta: arb, pc: Fraction, prad: Fraction, module=gen, branch="0"):
-    """Interval Newton for Hbar(theta, psi_b, ptheta, pbar_psi) = h (psi_b = 0 or pi: `branch`) on
-    P = [pc - prad, pc + prad] for every (theta, ptheta) in the balls: (N, P, inside) as level_newton."""
-    ps = branch_psi(branch)
-    P = ball.interval(pc - prad, pc + prad)
-    Hc = module.chart_hamiltonian([theta, ps, ptheta, ball.q(pc)], pars)[0]
-    dH = ham_gradient(pars, [theta, ps, ptheta, P], module)[PP]
-    N = ball.q(pc) - (Hc - ball.q(h)) / dH
-    lo, hi = ball.bounds(N)
-    Plo, Phi = ball.bounds(P)
-    return N, P, bool(ball.excludes_zero(dH) and Plo < lo and hi < Phi)
-
-
-def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction, lead: Fraction, *,
-                 t1=Fraction(1, 64), order=20, tol=PROOF_STEP_TOL, tol_thin=None, steps=None, newton=12, box=True,
-                 thin=None, branch="0", module=gen) -> dict:
-    """One return of P for the section piece X = c + A [-1, 1]^2 (c exact (theta, pbar_theta), A exact 2 x 2) on
-    the level Hbar = h, pbar_psi the root in [pc - prad, pc + prad].
-
-    Two validated flights (first_return): the centre c (its pbar_psi by interval Newton at c) and the piece as the
-    chart parallelepiped xbar + C r0, C = [[A, 0], [g A, e_ppsi]] in the rows (theta, psi, pbar_theta, pbar_psi),
-    r0 = ([-1, 1], [-1, 1], 0, E): g = mid of grad pbar_psi(theta, pbar_theta) = -(dHbar/dtheta, dHbar/dpbar_theta)
-    / dHbar/dpbar_psi over the hull, E the mean-value remainder (the root is unique in the Newton box over the hull,
-    so pbar_psi(c + A v) = pbar_psi(c) + grad(xi) A v).  Returns the balls: "Pc" = (theta, pbar_theta) of P(c),
-    "DP" = [[dtheta'/dtheta, dtheta'/dpbar_theta], [dpbar_theta'/dtheta, dpbar_theta'/dpbar_theta]] over X, the
-    crossings' "gdot" and "cospsi" (thin and box), "ppsi_box" (pbar_psi at the box crossing), the Newton results
-    ("level_ok"), and the steps taken (box False: the centre's flight only, with "DPc" its DP; thin: a previous
-    result of this function at the same centre and p_c whose centre flight is reused).  tol_thin: the step
-    tolerance of the centre's flight (default tol): the centre's enclosure must resolve sets of ~1e-13, and the
-    Lagrange remainders on the a priori enclosures dominate it (1e-25: widths 1e-14 .. 2e-13 after one return;
-    1e-32: 5e-20, 2.3x the steps).  Flight failures raise taylor's errors; the caller checks the signs."""
-    out = {}
-    cq = [ball.q(v) for v in c]
-    ps = branch_psi(branch)
-    Nc, _, okc = level_newton_section(pars, h, cq[0], cq[1], pc, prad, module, branch)
-    A00, A01, A10, A11 = (ball.q(A[i][j]) for i in range(2) for j in range(2))
-    U = ball.interval(-1, 1)
-    th_h = cq[0] + A00 * U + A01 * U
-    pt_h = cq[1] + A10 * U + A11 * U
-    Nb, _, okb = level_newton_section(pars, h, th_h, pt_h, pc, prad, module, branch)
-    out["level_ok"] = bool(okc and okb)
-    out["ppsi_centre"], out["ppsi_hull"] = Nc, Nb
-    if not out["level_ok"]:
-        return out
-    Q = [th_h, ps, pt_h, Nb]
-    gH = ham_gradient(pars, Q, module)
-    grad = [-gH[TH] / gH[PP], -gH[PT] / gH[PP]]
-    gm = [v.mid() for v in grad]
-    col = [(A00, A10), (A01, A11)]
-    E = (Nc - Nc.mid()) + sum(((grad[0] - gm[0]) * a + (grad[1] - gm[1]) * b) * U for a, b in col)
-    C = arb_mat(4, 4, [A00, A01, 0, 0,
-                       0, 0, 1, 0,
-                       A10, A11, 0, 0,
-                       gm[0] * A00 + gm[1] * A10, gm[0] * A01 + gm[1] * A11, 0, 1])
-    if any(C[i, j].rad() != 0 for i in range(4) for j in range(4)):  # exact: g A rounded to a point matrix
-        C = C.mid()
-        E = E + sum(((gm[0] * a + gm[1] * b) - C[3, j]) * U for j, (a, b) in enumerate(col))
-    xbar = [ball.fraction(cq[0]), ball.fraction(ps.mid()), ball.fraction(cq[1]), ball.fraction(Nc.mid())]
-    r0 = ball.vec([U, U, ps - ps.mid(), E])  # psi = pi: the ball of pi about its exact midpoint (C's psi row e_psi)
-    thin_set = taylor.initial_set([cq[0], ps, cq[1], Nc], c1=True)
-    box_set = section_set(pars, None, None, None, C2=(xbar, C, r0)) if box else None
-    steps_out = {}
-    if thin is not None:
-        for key in ("Pc", "ppsi_thin", "DPc", "gdot_thin", "cospsi_thin"):
-            out[key] = thin[key]
-        steps_out["thin"] = thin["steps"]["thin"]
-    todo = ([] if thin is not None else [("thin", thin_set)]) + ([("box", box_set)] if box else [])
-    for kind, S in todo:
-        st = None if steps is None else steps[kind]
-        tk = (tol_thin or tol) if kind == "thin" else tol
-        cr, used = first_return(pars, fld, S, t_a, lead, t1=t1, order=order, tol=tk, steps=st, newton=newton,
-                                module=module)
-        steps_out[kind] = used
-        Qk = [cq[0], ps, cq[1], Nc] if kind == "thin" else Q
-        q = section_quantities(None, fld, cr, tangents(pars, Qk, module), module)
-        out[f"gdot_{kind}"], out[f"cospsi_{kind}"] = q["gdot"], q["cospsi"]
-        if kind == "thin":
-            out["Pc"] = (q["theta"], q["ptheta"])
-            out["ppsi_thin"] = cr.x[PP]
-            out["DPc"] = [[q["dth_theta"], q["dpt_theta"]], [q["dth_ptheta"], q["dpt_ptheta"]]]
-        else:
-            out["DP"] = [[q["dth_theta"], q["dpt_theta"]], [q["dth_ptheta"], q["dpt_ptheta"]]]
-            out["ppsi_box"] = cr.x[PP]
-            out["tau_box"] = cr.tau
-    out["steps"] = steps_out
-    return out

@@ -620,7 +620,7 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
 
 # --------------------------------------------------------------------------------------------------------------
 # kind "section_horseshoe": covering relations of the section map on Hbar = h (the prover is
-# magrod/proof/horseshoe.py).  The flights are periodic.piece_return driven with the certificate's exact steps (as
+# magrod/proof/horseshoe.py).  The flights are section_return.piece_return driven with the certificate's exact steps (as
 # the integrator is shared); the covering conditions, the cover by pieces, the symmetry, the disjointness, the
 # chain's completeness and the entropy bound are checked again here, in exact rationals where they are geometric.
 # --------------------------------------------------------------------------------------------------------------
@@ -718,7 +718,7 @@ def _hs_cover(pieces) -> bool:
 
 
 def _horseshoe(cert, p, order, module, claim) -> dict:
-    from . import periodic
+    from . import section_return
 
     s = cert["settings"]
     h = _frac(cert["level"])
@@ -772,7 +772,7 @@ def _horseshoe(cert, p, order, module, claim) -> dict:
     for j, (c, A) in enumerate(sets):
         U0 = ball.q(c[0]) + ball.q(A[0][0]) * U + ball.q(A[0][1]) * U
         U1 = ball.q(c[1]) + ball.q(A[1][0]) * U + ball.q(A[1][1]) * U
-        _, B, ok = periodic.level_newton_section(pars, h, U0, U1, _frac(cert["sets"][j]["p_c"]), prad, module,
+        _, B, ok = section_return.level_newton_section(pars, h, U0, U1, _frac(cert["sets"][j]["p_c"]), prad, module,
                                                  brs[j])
         claim(f"N{j} branch box", ok, "the level's root pbar_psi is unique in the set's branch box over its hull")
         branch[j] = B
@@ -791,7 +791,7 @@ def _horseshoe(cert, p, order, module, claim) -> dict:
                       sum(steps[kk][0]) + sum(steps[kk][1]) == t_a and all(x > 0 for ph in steps[kk] for x in ph),
                       "phase 1 on [0, t1], phase 2 on [t1, t_a], positive exact steps")
             try:
-                f = periodic.piece_return(pars, h, fld, cX, AX, _frac(r["p_c"]), prad, t_a, lead, t1=t1,
+                f = section_return.piece_return(pars, h, fld, cX, AX, _frac(r["p_c"]), prad, t_a, lead, t1=t1,
                                           order=order, steps=steps, newton=newton, branch=brs[i], module=module)
             except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
                 claim(f"N{i} piece {n} flight", False, str(err)[:200])
