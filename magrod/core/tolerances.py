@@ -95,6 +95,10 @@ MODEL_LEVEL_TOL = 64 * EPS
 # check), and above the 128-bit rounding (~1e-38 relative), so the steps are not wasted on rounding noise.  A step
 # control, not an accuracy claim: every enclosure is rigorous whatever its value.
 PROOF_STEP_TOL = 1e-25
+# the horseshoe's centre flights (issue 27, statement 12): at PROOF_STEP_TOL their enclosures after one return are
+# 1e-14..2e-13, too wide to resolve the sets N13, N14 (N12 => N13 failed with y_s in +-11.8); at 1e-32 they are
+# ~5e-20 (2.3x the steps).  The pieces' flights stay at PROOF_STEP_TOL.
+HORSESHOE_CENTRE_TOL = 1e-32
 # magrod.separatrix.enclosure.enclose_S: the improper integral is cut at T where its rigorous tail bound is
 # <= ENCLOSURE_TAIL_TOL; 1e-20 is far below |S| (>= 9e-5 on the issue's box) and the 1e-10 asked of the six table
 # points, and costs only a few units of tau_T (the tail decays like e^(-kappa T)).

@@ -39,7 +39,7 @@ from fractions import Fraction
 import numpy as np
 
 from ..core.errors import ParameterError
-from ..core.tolerances import PROOF_STEP_TOL
+from ..core.tolerances import FIXED_POINT_SEARCH_TOL, HORSESHOE_CENTRE_TOL, PROOF_STEP_TOL
 from ..generated import validated as gen
 from . import ball, fields, periodic, taylor
 from .search import ProofFailure, ProofResult, stored
@@ -61,7 +61,7 @@ class HorseshoeSettings:
     order: int = 20
     tol: float = PROOF_STEP_TOL
     #: the step tolerance of the centres' flights (their enclosures must resolve the sets: periodic.piece_return)
-    tol_thin: float = 1e-32
+    tol_thin: float = HORSESHOE_CENTRE_TOL
     m_back: int = 5
     qu: float = 3.0
     qs: float = 3.0
@@ -130,7 +130,7 @@ class FloatMap:
         v = hy.make_vars(*systems.STATE["reduced"])
         ev = hy.t_event(hy.sin(v[fields.PSI]), direction=hy.event_direction.positive)
         self.ta = systems.taylor(systems.system("reduced"), [1.0, 0.0, 0.0, 1.0], self.params.array(),
-                                 t_events=[ev], tol=1e-15)
+                                 t_events=[ev], tol=FIXED_POINT_SEARCH_TOL)
 
     def lift(self, z):
         from ..chaos.section import solve_p_psi
