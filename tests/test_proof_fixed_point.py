@@ -153,7 +153,12 @@ def test_the_monodromy_formula():
 
 @pytest.mark.parametrize("args, name", [(["--fixed-point", "4", "--level", "0.9"], "fixed_point"),
                                         (["--fixed-point", "0.383"], "level"),
-                                        (["--fixed-point", "x", "--level", "0.9"], "fixed_point")])
+                                        (["--fixed-point", "x", "--level", "0.9"], "fixed_point"),
+                                        (["--fixed-point", "0.383", "--level", "0.9", "--lam-rad", "-1"], "lam_rad"),
+                                        # --horseshoe shares the input handling (cli/prove.py _section_inputs)
+                                        (["--horseshoe", "4", "--level", "0.9"], "horseshoe"),
+                                        (["--horseshoe", "0.383"], "level"),
+                                        (["--horseshoe", "0.383", "--level", "0.9", "--mutate", "x"], "mutate")])
 def test_bad_input_is_exit_2_naming_the_parameter(args, name, tmp_path, capsys):
     out = tmp_path / "never"
     code = main(["prove", *FIG4A, *args, "--out", str(out), "--quiet", "--json"])

@@ -85,27 +85,35 @@ def run(args) -> dict:
     return out
 
 
-def _horseshoe(args) -> dict:
+def _section_inputs(args, flag: str):
+    """What --fixed-point and --horseshoe share: the exact parameters and level, theta (the value of `flag`) in
+    (0, pi), the output directory and the chart field (mutated under --mutate).  Every input is checked before
+    anything is computed or written."""
     import math
 
-    from ..proof import HorseshoeSettings, mutated_fields, prove_horseshoe, validate_fixed_point, validated_fields
+    from ..proof import mutated_fields, validate_fixed_point, validated_fields
 
+    field, value = flag.replace("-", "_"), getattr(args, flag.replace("-", "_"))
     if args.level is None:
-        raise ParameterError("level", "--horseshoe needs the level: --level H (exact decimal or p/q)")
+        raise ParameterError("level", f"--{flag} needs the level: --level H (exact decimal or p/q)")
     p, h = validate_fixed_point(args.m, args.mu, args.gamma, args.delta, args.lam, args.level)
     try:
-        theta = float(args.horseshoe)
+        theta = float(value)
     except ValueError:
-        raise ParameterError("horseshoe", f"must be a number theta in (0, pi), got {args.horseshoe!r}") from None
+        raise ParameterError(field, f"must be a number theta in (0, pi), got {value!r}") from None
     if not 0 < theta < math.pi:
-        raise ParameterError("horseshoe", f"must be a number theta in (0, pi), got {args.horseshoe!r}")
+        raise ParameterError(field, f"must be a number theta in (0, pi), got {value!r}")
     if args.out is None:
         raise ParameterError("out", "an output directory is required (or --verify CERT)")
     dest = out_dir("out", args.out)
     module = validated_fields
     if args.mutate is not None:
         module = mutated_fields(integer("mutate", args.mutate, minimum=0, maximum=1000))
-    res = prove_horseshoe(p, h, theta, HorseshoeSettings(), module=module, progress=None if args.quiet else _stage)
+    return p, h, theta, dest, module
+
+
+def _section_result(res, p, h, dest, extra) -> dict:
+    """The JSON result of a section-map proof; the certificate is written only when the proof holds."""
     out = {"ok": res.ok, "params": p.as_json(), "level": f"{h.numerator}/{h.denominator}",
            "wall_time_s": round(res.wall_time_s, 3), "checks": res.checks, "reason": res.reason}
     if not res.ok:
@@ -115,31 +123,22 @@ def _horseshoe(args) -> dict:
 
     io.ensure_writable_dir(dest, "out")
     out["certificate"] = str(io.atomic_write_json(dest / "certificate.json", res.certificate))
-    out["entropy"] = res.certificate["entropy"]
+    out.update(extra(res.certificate))
     return out
 
 
+def _horseshoe(args) -> dict:
+    from ..proof import HorseshoeSettings, prove_horseshoe
+
+    p, h, theta, dest, module = _section_inputs(args, "horseshoe")
+    res = prove_horseshoe(p, h, theta, HorseshoeSettings(), module=module, progress=None if args.quiet else _stage)
+    return _section_result(res, p, h, dest, lambda c: {"entropy": c["entropy"]})
+
+
 def _fixed_point(args) -> dict:
-    import math
+    from ..proof import FixedPointSettings, interval_settings, prove_fixed_point
 
-    from ..proof import (FixedPointSettings, interval_settings, mutated_fields, prove_fixed_point,
-                         validate_fixed_point, validated_fields)
-
-    if args.level is None:
-        raise ParameterError("level", "--fixed-point needs the level: --level H (exact decimal or p/q)")
-    p, h = validate_fixed_point(args.m, args.mu, args.gamma, args.delta, args.lam, args.level)
-    try:
-        theta = float(args.fixed_point)
-    except ValueError:
-        raise ParameterError("fixed_point", f"must be a number theta in (0, pi), got {args.fixed_point!r}") from None
-    if not 0 < theta < math.pi:
-        raise ParameterError("fixed_point", f"must be a number theta in (0, pi), got {args.fixed_point!r}")
-    if args.out is None:
-        raise ParameterError("out", "an output directory is required (or --verify CERT)")
-    dest = out_dir("out", args.out)
-    module = validated_fields
-    if args.mutate is not None:
-        module = mutated_fields(integer("mutate", args.mutate, minimum=0, maximum=1000))
+    p, h, theta, dest, module = _section_inputs(args, "fixed-point")
     try:
         w = Fraction(str(args.lam_rad))
     except (ValueError, ZeroDivisionError):
@@ -148,17 +147,7 @@ def _fixed_point(args) -> dict:
         raise ParameterError("lam_rad", f"must be in [0, 1], got {args.lam_rad!r}")
     st = interval_settings(w) if w else FixedPointSettings()
     res = prove_fixed_point(p, h, theta, st, module=module, progress=None if args.quiet else _stage)
-    out = {"ok": res.ok, "params": p.as_json(), "level": f"{h.numerator}/{h.denominator}",
-           "wall_time_s": round(res.wall_time_s, 3), "checks": res.checks, "reason": res.reason}
-    if not res.ok:
-        out["error"] = res.reason
-        return out
-    from ..core import io
-
-    io.ensure_writable_dir(dest, "out")
-    out["certificate"] = str(io.atomic_write_json(dest / "certificate.json", res.certificate))
-    out["fixed_point"] = {k: res.certificate[k] for k in ("newton", "trace", "mu_u")}
-    return out
+    return _section_result(res, p, h, dest, lambda c: {"fixed_point": {k: c[k] for k in ("newton", "trace", "mu_u")}})
 
 
 def _stage(msg):
