@@ -31,103 +31,30 @@ import time
 from fractions import Fraction
 from importlib import resources
 
-import heyoka as hy
 import numpy as np
 
-from magrod.chaos.section import solve_p_psi
-from magrod.core import systems
-from magrod.core.params import RodParams
+from magrod.proof import fields, horseshoe
+from magrod.proof.horseshoe import R2, unit
 
 OUT = next((a for a in sys.argv[1:] if not a.startswith("--")), "fig4_horseshoe_design.json")
 M_BACK = int(next((a.split("=", 1)[1] for a in sys.argv[1:] if a.startswith("--m=")), 2))
-TH, PS, PT, PP = (systems.state_index("reduced", k) for k in ("theta", "psi", "ptheta", "ppsi"))
-R2 = np.diag([1.0, -1.0])
 
 
-class FloatMap:
-    """P on (theta, pbar_theta): heyoka, the positive crossing of sin psi = 0 (the first after t > 1e-3)."""
+class FloatMap(horseshoe.FloatMap):
+    """The prover's float section map (magrod/proof/horseshoe.FloatMap), counting its calls."""
 
-    def __init__(self, params: RodParams, h: float):
-        self.params, self.h = params, h
-        v = hy.make_vars(*systems.STATE["reduced"])
-        ev = hy.t_event(hy.sin(v[PS]), direction=hy.event_direction.positive)
-        self.ta = systems.taylor(systems.system("reduced"), [1.0, 0.0, 0.0, 1.0], params.array(), t_events=[ev],
-                                 tol=1e-15)
-        self.calls = 0
-
-    def lift(self, z):
-        roots = solve_p_psi(self.params, self.h, z[0], z[1], 0.0)
-        x = np.zeros(4)
-        x[TH], x[PT], x[PP] = z[0], z[1], roots[-1]
-        return x
+    calls = 0
 
     def full(self, z):
-        """(P(z), return time, 4-D start, 4-D end)."""
-        ta = self.ta
-        x = self.lift(z)
-        ta.time = 0.0
-        ta.state[:] = x
-        ta.reset_cooldowns()
-        while True:
-            oc = ta.propagate_until(ta.time + 100.0)[0]
-            if int(oc) != -1:
-                raise RuntimeError("no return within t = 100")
-            if ta.time > 1e-3:
-                break
         self.calls += 1
-        y = ta.state.copy()
-        return np.array([y[TH], y[PT]]), float(ta.time), x, y
-
-    def __call__(self, z):
-        return self.full(z)[0]
-
-    def inv(self, z):
-        """P^-1 = R P R."""
-        return R2 @ self(R2 @ np.asarray(z))
-
-    def jac(self, z, eps=1e-7):
-        D = np.empty((2, 2))
-        for j in range(2):
-            dz = np.zeros(2)
-            dz[j] = eps
-            D[:, j] = (self(z + dz) - self(z - dz)) / (2 * eps)
-        return D
-
-
-def unit(v):
-    v = np.asarray(v, float)
-    return v / np.linalg.norm(v)
+        return super().full(z)
 
 
 def design(P: FloatMap, x0, m=2, s_star=2.431508147212876e-06, n_exc=8):
-    """The chain of centres and frames (module docstring)."""
-    D0 = P.jac(x0)
-    w, V = np.linalg.eig(D0)
-    iu = int(np.argmax(abs(w)))
-    eu = unit(np.real(V[:, iu]))
-    if eu[0] < 0:
-        eu = -eu
-    lam_u = float(np.real(w[iu]))
-
-    def endpoint(s):
-        z = x0 + s * eu
-        for _ in range(n_exc):
-            z = P(z)
-        return z
-
-    # s* refined: pbar_theta(P^8(z(s))) = 0 (bisection in the fundamental domain around the stored s*)
-    a, b = s_star * (1 - 1e-4), s_star * (1 + 1e-4)
-    fa = endpoint(a)[1]
-    if fa * endpoint(b)[1] > 0:
-        raise RuntimeError("no sign change of pbar_theta at the 8th return around s*")
-    for _ in range(60):
-        c = 0.5 * (a + b)
-        fc = endpoint(c)[1]
-        if (fc > 0) == (fa > 0):
-            a, fa = c, fc
-        else:
-            b = c
-    s = 0.5 * (a + b)
+    """The chain of centres and frames (module docstring): e_u(x0) and the refined s* from the prover's
+    `horseshoe.float_design`; here the centres are the float P^-m(z_0) and its images, with both frames."""
+    fd = horseshoe.float_design(P, x0, 0, s_star, n_exc)
+    eu, s = fd["e_u0"], fd["s_star"]
     z = x0 + s * eu
     for _ in range(m):
         z = P.inv(z)
@@ -157,8 +84,8 @@ def design(P: FloatMap, x0, m=2, s_star=2.431508147212876e-06, n_exc=8):
     for D in reversed(Ds):
         ess.append(unit(np.linalg.solve(D, ess[-1])))
     ess = ess[::-1]
-    return {"x0": x0, "e_u0": eu, "lam_u": lam_u, "s_star": s, "centres": cs, "e_u": eus, "e_s": ess,
-            "DP": Ds, "DP0": D0, "last_shift": shift, "pt_residual_last": float(yk[1])}
+    return {"x0": x0, "e_u0": eu, "lam_u": fd["mu_u"], "s_star": s, "centres": cs, "e_u": eus, "e_s": ess,
+            "DP": Ds, "DP0": P.jac(x0), "last_shift": shift, "pt_residual_last": float(yk[1])}
 
 
 def sets_of(d, l0, ls, ws):
@@ -203,16 +130,15 @@ def main():
     cert = json.loads(resources.files("magrod.proof").joinpath("certificates", "fixed_point_fig4a.json").read_text())
     pr = {k: float(Fraction(cert["params"][k])) for k in ("m", "mu", "gamma", "delta", "lam")}
     h = float(Fraction(cert["level"]))
-    P = FloatMap(RodParams(**pr), h)
+    P = FloatMap(fields.ExactParams(*(Fraction(cert["params"][k]) for k in ("m", "mu", "gamma", "delta", "lam"))),
+                 Fraction(cert["level"]))
     x0 = np.array([float(Fraction(cert["point"]["theta_c"])), 0.0])
     d = design(P, x0, m=M_BACK)
     dist = float(np.linalg.norm(d["centres"][0] - x0))
-    from magrod.proof.horseshoe import sizes
-
     l0 = dist / 3
     lam = [float(np.linalg.norm(D @ u)) for D, u in zip(d["DP"], d["e_u"][:-1])]
     sig = [float(np.linalg.norm(D @ s)) for D, s in zip(d["DP"], d["e_s"][:-1])]
-    ls, ws = sizes(lam, sig, dist / 6, 3.0, 3.0)
+    ls, ws = horseshoe.sizes(lam, sig, dist / 6, 3.0, 3.0)
     l, w, lk = ls, ws, ls[-1]
     sets = sets_of(d, l0, ls, ws)
     k = len(sets) - 1
