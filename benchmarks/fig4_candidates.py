@@ -43,8 +43,13 @@ TH, PS, PT, PP = (systems.state_index("reduced", k) for k in ("theta", "psi", "p
 
 
 class SectionMap:
-    def __init__(self, lam):
-        self.params = RodParams(m=1.7, mu=0.4, gamma=3.0, delta=3.0, lam=float(lam))
+    """The float section map at Fig 4's parameters and lambdabar (or at `params` on the level h: Fig 5's script
+    benchmarks/fig5_candidates.py uses the same search)."""
+
+    def __init__(self, lam=None, *, params=None, h=H):
+        self.params = params if params is not None else RodParams(m=1.7, mu=0.4, gamma=3.0, delta=3.0,
+                                                                  lam=float(lam))
+        self.h = h
         v = hy.make_vars(*systems.STATE["reduced"])
         ev = hy.t_event(hy.sin(v[PS]), direction=hy.event_direction.positive)
         self.ta = systems.taylor(systems.system("reduced"), [1.0, 0.0, 0.0, 1.0], self.params.array(),
@@ -52,7 +57,7 @@ class SectionMap:
         self.min_theta = math.inf
 
     def point(self, theta, ptheta, branch, near):
-        roots = solve_p_psi(self.params, H, theta, ptheta, branch)
+        roots = solve_p_psi(self.params, self.h, theta, ptheta, branch)
         x = np.empty(4)
         x[TH], x[PS], x[PT], x[PP] = theta, branch, ptheta, roots[np.argmin(abs(roots - near))]
         return x
@@ -187,7 +192,7 @@ def symmetric_orbits(smap, branch, n_theta, jmax):
         rows = []
         for th in thetas:
             try:
-                roots = solve_p_psi(smap.params, H, th, 0.0, branch)
+                roots = solve_p_psi(smap.params, smap.h, th, 0.0, branch)
                 if len(roots) <= root:
                     rows.append(None)
                     continue
@@ -212,7 +217,7 @@ def symmetric_orbits(smap, branch, n_theta, jmax):
                         mid = 0.5 * (lo + hi)
                         x = np.empty(4)
                         x[TH], x[PS], x[PT] = mid, branch, 0.0
-                        x[PP] = solve_p_psi(smap.params, H, mid, 0.0, branch)[root]
+                        x[PP] = solve_p_psi(smap.params, smap.h, mid, 0.0, branch)[root]
                         y, _t = smap.iterate(x, j + 1)
                         if (y[PT] > 0) == (flo > 0):
                             lo, flo = mid, y[PT]
@@ -224,13 +229,13 @@ def symmetric_orbits(smap, branch, n_theta, jmax):
 
 def monodromy(smap, f):
     """x on Fix(R), the map P^{2j} and its Jacobian in (theta, pbar_theta) by central differences (pbar_psi from
-    Hbar = 0.9, the same root), the return time, and |eigenvalues|."""
+    the level, the same root), the return time, and |eigenvalues|."""
     br, root, k = f["branch"], f["root"], 2 * f["j"]
 
     def start(th, pt):
         x = np.empty(4)
         x[TH], x[PS], x[PT] = th, br, pt
-        r = solve_p_psi(smap.params, H, th, pt, br)
+        r = solve_p_psi(smap.params, smap.h, th, pt, br)
         x[PP] = r[min(root, len(r) - 1)]
         return x
 
@@ -268,7 +273,7 @@ def homoclinic_point(smap, rec, x0, jmax=16, n_s=120):
         th, pt = x0[TH] + sv * eu[0], x0[PT] + sv * eu[1]
         x = np.empty(4)
         x[TH], x[PS], x[PT] = th, br, pt
-        r = solve_p_psi(smap.params, H, th, pt, br)
+        r = solve_p_psi(smap.params, smap.h, th, pt, br)
         x[PP] = r[np.argmin(abs(r - x0[PP]))]
         return x
 

@@ -44,6 +44,17 @@ def add_arguments(p):
                    help="the level Hbar = H of --fixed-point / --horseshoe (exact)")
     p.add_argument("--lam-rad", default="0", metavar="W", dest="lam_rad",
                    help="--fixed-point for every lambdabar in [lam - W, lam + W] (lambdabar carried as a ball)")
+    p.add_argument("--m-back", default=None, metavar="M", dest="m_back",
+                   help="--horseshoe: pull-backs of the homoclinic point (HorseshoeSettings.m_back; default 5)")
+    p.add_argument("--n-exc", default=None, metavar="N", dest="n_exc",
+                   help="--horseshoe: returns of the excursion to Fix(R) (HorseshoeSettings.n_exc; default 8)")
+    p.add_argument("--s-star", default=None, metavar="S", dest="s_star",
+                   help="--horseshoe: float guess of the homoclinic point x0 + s* e_u (HorseshoeSettings.s_star)")
+    p.add_argument("--branch", default="0", choices=("0", "pi"),
+                   help="--fixed-point / --horseshoe: the saddle's branch of the section, psi = 0 or pi (default 0)")
+    p.add_argument("--root", default="-1", metavar="I",
+                   help="--fixed-point / --horseshoe: which root pbar_psi of the level on Fix(R) (ascending index; "
+                        "-1 the largest, the default)")
     p.add_argument("--mutate", default=None, metavar="K",
                    help="control: flip the sign of the K-th term of the generated chart field (must fail)")
 
@@ -127,11 +138,29 @@ def _section_result(res, p, h, dest, extra) -> dict:
     return out
 
 
+def _root(args) -> int:
+    return integer("root", getattr(args, "root", "-1"), minimum=-4, maximum=4)
+
+
 def _horseshoe(args) -> dict:
+    from dataclasses import replace
+
     from ..proof import HorseshoeSettings, prove_horseshoe
 
     p, h, theta, dest, module = _section_inputs(args, "horseshoe")
-    res = prove_horseshoe(p, h, theta, HorseshoeSettings(), module=module, progress=None if args.quiet else _stage)
+    st = replace(HorseshoeSettings(), branch=getattr(args, "branch", "0"), root=_root(args))
+    for k, lo, hi in (("m_back", 0, 12), ("n_exc", 1, 40)):
+        if getattr(args, k, None) is not None:
+            st = replace(st, **{k: integer(k, getattr(args, k), minimum=lo, maximum=hi)})
+    if getattr(args, "s_star", None) is not None:
+        try:
+            s_star = float(args.s_star)
+        except ValueError:
+            raise ParameterError("s_star", f"must be a number, got {args.s_star!r}") from None
+        if not 0 < abs(s_star) < 1:
+            raise ParameterError("s_star", f"must satisfy 0 < |s*| < 1, got {args.s_star!r}")
+        st = replace(st, s_star=s_star)
+    res = prove_horseshoe(p, h, theta, st, module=module, progress=None if args.quiet else _stage)
     return _section_result(res, p, h, dest, lambda c: {"entropy": c["entropy"]})
 
 
@@ -146,7 +175,8 @@ def _fixed_point(args) -> dict:
     if w < 0 or w > 1:
         raise ParameterError("lam_rad", f"must be in [0, 1], got {args.lam_rad!r}")
     st = interval_settings(w) if w else FixedPointSettings()
-    res = prove_fixed_point(p, h, theta, st, module=module, progress=None if args.quiet else _stage)
+    res = prove_fixed_point(p, h, theta, st, root=_root(args), branch=getattr(args, "branch", "0"), module=module,
+                            progress=None if args.quiet else _stage)
     return _section_result(res, p, h, dest, lambda c: {"fixed_point": {k: c[k] for k in ("newton", "trace", "mu_u")}})
 
 

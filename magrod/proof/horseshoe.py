@@ -82,13 +82,18 @@ class HorseshoeSettings:
     l0_frac: float = 1 / 3
     l1_frac: float = 1 / 6
     w_cap: float = 1.0
+    #: x0's branch of Sigma+ ("0": psi = 0, psi' > 0 as at Fig 4; "pi": psi = pi, psi' < 0, Fig 5's saddle) and the
+    #: root of the level it lifts to (index into the ascending roots of Hbar(theta, psi, 0, .) = h; -1 the largest)
+    branch: str = "0"
+    root: int = -1
 
     def as_json(self) -> dict:
         q = _q
         return {"prec": self.prec, "order": self.order, "tol": repr(self.tol), "tol_thin": repr(self.tol_thin), "m_back": self.m_back,
                 "qu": self.qu, "qs": self.qs, "p_rad": q(self.p_rad), "t1": q(self.t1), "lead": q(self.lead),
                 "newton": self.newton, "n_exc": self.n_exc, "passes": list(self.passes),
-                "l0_frac": self.l0_frac, "l1_frac": self.l1_frac, "w_cap": self.w_cap, "series_cap": ball.SERIES_CAP}
+                "l0_frac": self.l0_frac, "l1_frac": self.l1_frac, "w_cap": self.w_cap, "series_cap": ball.SERIES_CAP,
+                **({} if (self.branch, self.root) == ("0", -1) else {"branch": self.branch, "root": self.root})}
 
 
 def _q(x) -> str:
@@ -118,9 +123,12 @@ def dyadic_of(v, bits: int = 100) -> Fraction:
 # --------------------------------------------------------------------------------------------------------------
 class FloatMap:
     """P on (theta, pbar_theta) in float64 (heyoka, tol 1e-15): the first positive crossing of sin psi = 0 after
-    t > 1e-3, pbar_psi the largest root of the level."""
+    t > 1e-3; a point (theta, pbar_theta) is lifted to the branch psi = 0 or pi (`branch`, that of x0) with pbar_psi
+    the level's root of index `root` (ascending; -1: the largest, the Fig 4 choice)."""
 
-    def __init__(self, p: fields.ExactParams, h):
+    def __init__(self, p: fields.ExactParams, h, branch: str = "0", root: int = -1):
+        self.branch, self.root = branch, root
+        self.psi = {"0": 0.0, "pi": math.pi}[branch]
         import heyoka as hy
 
         from ..core import systems
@@ -136,8 +144,8 @@ class FloatMap:
         from ..chaos.section import solve_p_psi
 
         x = np.zeros(4)
-        x[fields.THETA], x[fields.PTHETA] = z[0], z[1]
-        x[fields.PPSI] = solve_p_psi(self.params, self.h, z[0], z[1], 0.0)[-1]
+        x[fields.THETA], x[fields.PSI], x[fields.PTHETA] = z[0], self.psi, z[1]
+        x[fields.PPSI] = solve_p_psi(self.params, self.h, z[0], z[1], self.psi)[self.root]
         return x
 
     def full4(self, x):
@@ -215,8 +223,8 @@ def float_design(P: FloatMap, x0, m: int, s_star: float, n_exc: int = 8) -> dict
             b = c
     s = 0.5 * (a + b)
     # c_1 = P^-m(z_0) on the local W^u, to O(t^2): x0 + t e_u, t = s* mu_u^-m (not the float P^-m: its error
-    # in the stable direction grows by mu_u per pull-back)
-    t = s / abs(float(np.real(w[iu]))) ** m
+    # in the stable direction grows by mu_u per pull-back); mu_u < 0 (Fig 5: a flip saddle) alternates the side
+    t = s / float(np.real(w[iu])) ** m
     return {"e_u0": eu, "mu_u": float(np.real(w[iu])), "s_star": s, "t": t, "c1": x0 + t * eu}
 
 
@@ -378,9 +386,9 @@ def _mid_matrix(DP):
 def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     pars = p.balls()
     fld = fields.chart_field(p, module)
-    P = FloatMap(p, h)
+    P = FloatMap(p, h, st.branch, st.root)
     say("float search for x0")
-    th_f = periodic.float_fixed_point(p, h, float(x0_theta))[0]
+    th_f = periodic.float_fixed_point(p, h, float(x0_theta), root=st.root, branch=st.branch)[0]
     x0_theta = dyadic(float(th_f), 53)
     x0 = np.array([float(x0_theta), 0.0])
     say("float design")
@@ -407,7 +415,7 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
 
     def chain(c1, tol_thin):
         """Centres, their pbar_psi, their branches ("0": cos psi > 0, "pi": cos psi < 0) and the flights."""
-        cs, pcs, brs, fls = [c1], [pc_of(c1)], ["0"], []
+        cs, pcs, brs, fls = [c1], [pc_of(c1)], [st.branch], []
         for j in range(k - 1):
             fl = fly(cs[-1], zero, pcs[-1], brs[-1], box=False, tol_thin=tol_thin)
             check(f"chain flight {j + 1}", fl["level_ok"], "the level's Newton at the chain's centre")
@@ -451,7 +459,7 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     # the sets (exact dyadic data)
     a0 = [dyadic(dist * st.l0_frac * fd["e_u0"][0]), dyadic(dist * st.l0_frac * fd["e_u0"][1])]
     sets = [hset([dyadic_of(x0_theta, 62), Fraction(0)], [[a0[0], a0[0]], [a0[1], -a0[1]]])]
-    sets[0]["p_c"], sets[0]["branch"] = _q(pc_of([x0_theta, Fraction(0)])), "0"
+    sets[0]["p_c"], sets[0]["branch"] = _q(pc_of([x0_theta, Fraction(0)])), st.branch
     for j in range(k - 1):
         u, s = eus[j], ess[j]
         sets.append(hset(cs[j], [[dyadic(ls[j] * u[0]), dyadic(ws[j] * s[0])],

@@ -125,9 +125,11 @@ def validate(m, mu, gamma, delta, lam, h) -> tuple[fields.ExactParams, Fraction]
 # --------------------------------------------------------------------------------------------------------------
 # float search (heyoka, chart system): the symmetric fixed point of P by 1-D shooting on Fix(R)
 # --------------------------------------------------------------------------------------------------------------
-def float_fixed_point(p: fields.ExactParams, h: Fraction, theta_guess: float, root: int = -1, window=0.02):
-    """theta* near theta_guess (bisection of pbar_theta at the first sin psi = 0 crossing with psi ~ pi, i.e. the
-    half-way point), the root index of pbar_psi, the half-return time and the float DP(x0) (central differences)."""
+def float_fixed_point(p: fields.ExactParams, h: Fraction, theta_guess: float, root: int = -1, window=0.02,
+                      branch: str = "0"):
+    """theta* near theta_guess (bisection of pbar_theta at the first negative crossing of sin psi = 0, the half-way
+    point: psi ~ pi from the branch "0", psi ~ 0 from "pi"), x0 (psi = 0 or pi: `branch`; pbar_psi the root of index
+    `root`), the half-way state and the half-return time."""
     import heyoka as hy
 
     from ..chaos.section import solve_p_psi
@@ -140,10 +142,12 @@ def float_fixed_point(p: fields.ExactParams, h: Fraction, theta_guess: float, ro
                         t_events=[hy.t_event(hy.sin(v[PS]), direction=hy.event_direction.negative)],
                         tol=FIXED_POINT_SEARCH_TOL)
 
+    psi0 = {"0": 0.0, "pi": math.pi}[branch]
+
     def start(th, pt=0.0):
-        roots = solve_p_psi(rp, float(h), th, pt, 0.0)
+        roots = solve_p_psi(rp, float(h), th, pt, psi0)
         x = np.zeros(4)
-        x[TH], x[PT], x[PP] = th, pt, roots[root]
+        x[TH], x[PS], x[PT], x[PP] = th, psi0, pt, roots[root]
         return x
 
     def half(x):
@@ -192,7 +196,7 @@ def fly(fld, S, steps1, steps2, h_cross, order, guards, cross_guard, g, dg):
 # the prover
 # --------------------------------------------------------------------------------------------------------------
 def prove(params: fields.ExactParams, h: Fraction, theta_guess: float, settings: FixedPointSettings | None = None,
-          *, root: int = -1, module=gen, progress=None) -> ProofResult:
+          *, root: int = -1, branch: str = "0", module=gen, progress=None) -> ProofResult:
     """Prove (or fail to prove) a symmetric hyperbolic fixed point of the section map sin psi = 0 on Hbar = h.
 
     Parameters
@@ -208,7 +212,10 @@ def prove(params: fields.ExactParams, h: Fraction, theta_guess: float, settings:
         ball in every enclosure (the box Theta must then hold theta*(lambdabar) for all of them: r >~ 4.4 lam_rad at
         Fig 4(a); `interval_settings` picks r and p_rad).
     root : int
-        Which root pbar_psi of Hbar(theta, 0, 0, .) = h (index into the ascending roots; -1: the largest).
+        Which root pbar_psi of Hbar(theta, psi, 0, .) = h (index into the ascending roots; -1: the largest).
+    branch : {"0", "pi"}
+        x0's branch of Sigma+: psi = 0 (psi' > 0; Fig 4) or psi = pi (psi' < 0; Fig 5's saddle).  From psi = pi
+        the half-way (negative) crossing is at psi = 0; the argument is the same (Fix(R) holds both branches).
     module : module, optional
         The generated field module; a mutated copy for controls (no certificate is issued for it).
     progress : callable, optional
@@ -235,7 +242,7 @@ def prove(params: fields.ExactParams, h: Fraction, theta_guess: float, settings:
 
     try:
         with ball.workprec(st.prec):
-            cert = _prove(params, h, theta_guess, root, st, module, check, progress)
+            cert = _prove(params, h, theta_guess, root, st, module, check, progress, branch)
     except ProofFailure as err:
         return ProofResult(False, None, err.reason, checks, time.perf_counter() - t0)
     except (ArithmeticError, ValueError, np.linalg.LinAlgError, ParameterError) as err:
@@ -246,10 +253,22 @@ def prove(params: fields.ExactParams, h: Fraction, theta_guess: float, settings:
     return ProofResult(True, cert, "all checks hold", checks, time.perf_counter() - t0)
 
 
-def _prove(p, h, theta_guess, root, st, module, check, progress) -> dict:
+def _start_box(p, theta: arb, pbox: arb, lam, psi: arb) -> taylor.C1Set:
+    """initial_box on the branch psi (a ball: 0 or pi about its exact midpoint, as piece_return's)."""
+    if psi.is_zero():
+        return initial_box(p, theta, pbox, lam)
+    x = [theta, psi, arb(0), pbox] + ([] if lam is None else [lam])
+    xc = [v.mid() for v in x]
+    S = taylor.initial_set(xc, c1=True)
+    S.r0 = ball.vec([a - b for a, b in zip(x, xc)])
+    return S
+
+
+def _prove(p, h, theta_guess, root, st, module, check, progress, branch="0") -> dict:
     say = progress or (lambda s: None)
     say("float search")
-    th_f, x0, x1, tau_f = float_fixed_point(p, h, theta_guess, root)
+    psi0 = branch_psi(branch)
+    th_f, x0, x1, tau_f = float_fixed_point(p, h, theta_guess, root, branch=branch)
     thc = ball.fraction(float(th_f))
     pc = ball.fraction(float(x0[PP]))
     pars = parameter_balls(p, st.lam_rad)
@@ -262,9 +281,13 @@ def _prove(p, h, theta_guess, root, st, module, check, progress) -> dict:
         check(name, holds, how)
     say("level")
     Theta = ball.interval(thc - st.r, thc + st.r)
-    N, _, ok = level_newton(pars, h, Theta, pc, st.p_rad, module)
+    if branch == "0":
+        N, _, ok = level_newton(pars, h, Theta, pc, st.p_rad, module)
+        Nc, _, okc = level_newton(pars, h, ball.q(thc), pc, st.p_rad, module)
+    else:
+        N, _, ok = level_newton_section(pars, h, Theta, arb(0), pc, st.p_rad, module, branch)
+        Nc, _, okc = level_newton_section(pars, h, ball.q(thc), arb(0), pc, st.p_rad, module, branch)
     check("level Newton (box)", ok, f"pbar_psi(theta) unique in the box about {float(pc):.12g}, inside N = {N}")
-    Nc, _, okc = level_newton(pars, h, ball.q(thc), pc, st.p_rad, module)
     check("level Newton (centre)", okc, f"pbar_psi(theta_c) inside {Nc}")
     t_a = Fraction(math.floor((tau_f - float(st.lead)) * 2**20), 2**20)
     g, dg, base = chart_section(pars, module)
@@ -272,7 +295,7 @@ def _prove(p, h, theta_guess, root, st, module, check, progress) -> dict:
     vals, record = {}, {}
     for kind, theta, pbox in (("thin", ball.q(thc), Nc), ("box", Theta, N)):
         say(f"flight ({kind})")
-        S = initial_box(p, theta, pbox, Lam)
+        S = _start_box(p, theta, pbox, Lam, psi0)
         steps = []
         try:
             tr1, tr2 = taylor.Trajectory(), taylor.Trajectory()
@@ -282,7 +305,7 @@ def _prove(p, h, theta_guess, root, st, module, check, progress) -> dict:
         except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
             raise ProofFailure(f"flight ({kind}) not validated: {err}") from None
         steps = [tr1.steps, tr2.steps]
-        Q = [theta, arb(0), arb(0), pbox] + ([] if Lam is None else [Lam])
+        Q = [theta, psi0, arb(0), pbox] + ([] if Lam is None else [Lam])
         q = section_quantities(p, fld, cr, tangents(pars, Q, module), module)
         bad = [k for k, v in q.items() if not v.is_finite()]
         check(f"{kind} enclosures finite", not bad, f"the {kind} flight's crossing quantities are finite balls"
@@ -308,10 +331,11 @@ def _prove(p, h, theta_guess, root, st, module, check, progress) -> dict:
     lam_u = _mu_u(ball.from_json(stored(tr)))  # from the stored trace ball, as the verifier recomputes it
     return {
         "format": FORMAT, "kind": KIND,
-        "theorem": section_fixed_point_theorem(params, _q(h), _q(st.lam_rad)),
+        "theorem": section_fixed_point_theorem(params, _q(h), _q(st.lam_rad), branch),
         "params": params, "level": _q(h), "settings": st.as_json(), "field_digest": digest,
         "point": {"theta_c": _q(thc), "p_c": _q(pc), "t_a": _q(t_a), "h_cross": _q(2 * st.lead),
-                  "level_newton": {"box": stored(N), "centre": stored(Nc)}},
+                  "level_newton": {"box": stored(N), "centre": stored(Nc)},
+                  **({} if branch == "0" else {"branch": branch})},
         "flights": record, "newton": stored(newton), "trace": stored(tr), "mu_u": stored(lam_u),
         "hypotheses_symbolic": ["reversor_reduced", "validated_fields", "full_ham_nondim"],
         "float": {"theta": float(th_f), "half_time": tau_f, "x0": x0.tolist(), "x_half": x1.tolist()},

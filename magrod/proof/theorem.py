@@ -72,7 +72,7 @@ def homoclinic_theorem(params: dict, targets) -> str:
             f"(docs/nonintegrability.md, Theorem (computer-assisted)).")
 
 
-def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0") -> str:
+def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0", branch: str = "0") -> str:
     """The statement established by a verified section-fixed-point certificate (kind "section_fixed_point").
 
     Parameters
@@ -83,6 +83,8 @@ def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0") ->
         The level h as an exact rational string.
     lam_rad : str
         Half-width of the lambdabar interval the certificate carries (exact rational string; "0": the point).
+    branch : {"0", "pi"}
+        x0's branch of the section: psi = 0 (Fig 4) or psi = pi (Fig 5).
 
     Returns
     -------
@@ -95,6 +97,8 @@ def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0") ->
     entropy needs a transverse homoclinic point as well (docs/nonintegrability.md, statement 11).
     """
     w = Fraction(lam_rad)
+    if branch not in ("0", "pi"):
+        raise ValueError(f"branch must be '0' or 'pi', got {branch!r}")
     if w < 0:
         raise ValueError(f"lam_rad must be >= 0, got {lam_rad!r}")
     if w == 0:
@@ -109,7 +113,7 @@ def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0") ->
         each = " (for each lambdabar its own x0, unique in the certificate's box)"
     return (f"{where}, on the level Hbar = {_rational(level)} of the reduced "
             f"chart field of Hbar (eq:full_ham_nondim): the section map P of {{sin psi = 0, d(sin psi)/dt > 0}} "
-            f"has a fixed point x0{each} on Fix(R) (psi = 0, pbar_theta = 0) with theta in the certificate's Newton "
+            f"has a fixed point x0{each} on Fix(R) (psi = {branch}, pbar_theta = 0) with theta in the certificate's Newton "
             f"ball, whose orbit is R-symmetric and periodic with period twice the certificate's crossing time, "
             f"and DP(x0) is hyperbolic: det DP(x0) = 1 and |tr DP(x0)| > 2, so its eigenvalues are real, mu and "
             f"1/mu with |mu| > 1 (a saddle of P; docs/nonintegrability.md, statement 11).")

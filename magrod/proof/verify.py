@@ -478,7 +478,8 @@ def _verify_fixed_point(cert, module, t0) -> VerifyResult:
         return VerifyResult(False, f"certificate rejected: {err}", checks, time.perf_counter() - t0)
     return VerifyResult(True, "certificate verified: every enclosure recomputed and every check holds", checks,
                         time.perf_counter() - t0,
-                        section_fixed_point_theorem(p.as_json(), cert["level"], cert["settings"].get("lam_rad", "0")),
+                        section_fixed_point_theorem(p.as_json(), cert["level"], cert["settings"].get("lam_rad", "0"),
+                                                    cert["point"].get("branch", "0")),  # the branch _fixed_point flew
                         {}, vals)
 
 
@@ -502,7 +503,11 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
     thc, pc, t_a, hc = (_frac(pt[k]) for k in ("theta_c", "p_c", "t_a", "h_cross"))
     # what the certificate must contain, and which theorem (cheap, first)
     lam_rad = _frac(s.get("lam_rad", "0"))  # absent: a certificate at the point (issue 27's first ones)
-    want = section_fixed_point_theorem(p.as_json(), cert["level"], s.get("lam_rad", "0"))
+    branch = pt.get("branch", "0")  # absent: psi = 0 (the Fig 4 certificates)
+    if branch not in ("0", "pi"):
+        raise ValueError("the point's branch is '0' or 'pi'")
+    psi0 = arb(0) if branch == "0" else arb.pi()
+    want = section_fixed_point_theorem(p.as_json(), cert["level"], s.get("lam_rad", "0"), branch)
     claim("theorem text", cert["theorem"] == want,
           "the certificate's theorem is the one its verified content establishes"
           + ("" if cert["theorem"] == want else f" (expected: {want[:120]}...; states: {str(cert['theorem'])[:120]}...)"))
@@ -538,10 +543,10 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
     Pb = ball.interval(pc - prad, pc + prad)
     levels = {}
     for key, th in (("box", Theta), ("centre", ball.q(thc))):
-        dH = _fp_hamgrad(pars, [th, arb(0), arb(0), Pb], module)[PP]
-        N = ball.q(pc) - (H([th, arb(0), arb(0), ball.q(pc)]) - ball.q(h)) / dH
+        dH = _fp_hamgrad(pars, [th, psi0, arb(0), Pb], module)[PP]
+        N = ball.q(pc) - (H([th, psi0, arb(0), ball.q(pc)]) - ball.q(h)) / dH
         claim(f"level Newton ({key})", ball.excludes_zero(dH) and _inside(N, Pb),
-              f"a unique pbar_psi(theta) with Hbar(theta, 0, 0, pbar_psi) = h in the box, inside {N}")
+              f"a unique pbar_psi(theta) with Hbar(theta, {branch}, 0, pbar_psi) = h in the box, inside {N}")
         _recomputed(claim, f"level ({key})", N, pt["level_newton"][key])
         levels[key] = N
 
@@ -571,7 +576,7 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
         st2 = [_frac(v) for v in fl[kind]["steps2"]]
         claim(f"{kind} steps", sum(st1) == t1 and sum(st1) + sum(st2) == t_a and all(v > 0 for v in st1 + st2),
               f"the exact steps add up to t1 = {float(t1):.6g} (phase 1) and t_a = {float(t_a):.9g} (both phases)")
-        x = [th, arb(0), arb(0), pbox] + Lam
+        x = [th, psi0, arb(0), pbox] + Lam
         xc = [v.mid() for v in x]
         S = taylor.initial_set(xc, c1=True)
         S.r0 = ball.vec([a - b for a, b in zip(x, xc)])
