@@ -50,6 +50,9 @@ def add_arguments(p):
                    help="--horseshoe: returns of the excursion to Fix(R) (HorseshoeSettings.n_exc; default 8)")
     p.add_argument("--s-star", default=None, metavar="S", dest="s_star",
                    help="--horseshoe: float guess of the homoclinic point x0 + s* e_u (HorseshoeSettings.s_star)")
+    p.add_argument("--passes", default=None, metavar="P,P,...",
+                   help="--horseshoe: the chain passes' centre-flight tolerances, each 'tol' or 'thin' "
+                        "(HorseshoeSettings.passes; default tol,tol,thin)")
     p.add_argument("--branch", default="0", choices=("0", "pi"),
                    help="--fixed-point / --horseshoe: the saddle's branch of the section, psi = 0 or pi (default 0)")
     p.add_argument("--root", default="-1", metavar="I",
@@ -160,6 +163,11 @@ def _horseshoe(args) -> dict:
         if not 0 < abs(s_star) < 1:
             raise ParameterError("s_star", f"must satisfy 0 < |s*| < 1, got {args.s_star!r}")
         st = replace(st, s_star=s_star)
+    if getattr(args, "passes", None) is not None:
+        passes = tuple(x.strip() for x in str(args.passes).split(",") if x.strip())
+        if not passes or len(passes) > 6 or any(x not in ("tol", "thin") for x in passes):
+            raise ParameterError("passes", f"must be 1-6 of tol, thin separated by commas, got {args.passes!r}")
+        st = replace(st, passes=passes)
     res = prove_horseshoe(p, h, theta, st, module=module, progress=None if args.quiet else _stage)
     return _section_result(res, p, h, dest, lambda c: {"entropy": c["entropy"]})
 

@@ -1,0 +1,174 @@
+"""Fig 5's own level (issue 27, item 4; docs/nonintegrability.md, statement 13): the saddle of the section map on the
+psi = pi branch of Sigma+ at the four gammas of fig:poincare2 (kind "section_fixed_point"), and the horseshoe of
+the section map (kind "section_horseshoe") where it closed.
+
+Every tamper test changes one field of a stored certificate and requires the verifier to reject it at the check
+named in the test (seen to fail: each asserts the rejection and its reason).  Complete re-verifications of more
+than ~10 s and the provers' controls are behind --full (slow).
+"""
+from __future__ import annotations
+
+import copy
+import json
+from fractions import Fraction
+from importlib import resources
+
+import pytest
+
+from magrod.proof import fields, horseshoe, periodic, verify
+from magrod.proof.theorem import section_fixed_point_theorem, section_horseshoe_theorem
+
+PANELS = {"a": "3/20", "b": "41/200", "c": "26/125", "d": "6/25"}  # fig:poincare2's gammas 0.15 .. 0.24
+FIG5 = {"m": "17/10", "mu": "4", "delta": "1/4", "lam": "2"}  # the caption: m = 1.7, delta = 0.25, lam = 2, mu = 4
+HORSESHOES = ["horseshoe_fig5a.json"]
+
+
+def _load(name):
+    return json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
+
+
+@pytest.fixture(scope="module", params=sorted(PANELS))
+def fp(request):
+    return request.param, _load(f"fixed_point_fig5{request.param}.json")
+
+
+def _rejected(c, *, module=fields.gen):
+    res = verify.verify(c, module=module)
+    assert not res.ok
+    return res.reason
+
+
+def test_fixed_point_certificates_are_fig5s(fp):
+    """Each certificate is at Fig 5's parameters (the caption's m, mu, delta, lambdabar; the panel's gamma) on its
+    level 4/5, on the psi = pi branch, and states the theorem generated for exactly that (mu = 2 lambdabar)."""
+    key, c = fp
+    assert c["kind"] == "section_fixed_point" and c["level"] == "4/5" and c["point"]["branch"] == "pi"
+    assert {k: c["params"][k] for k in FIG5} == {k: f"{Fraction(v).numerator}/{Fraction(v).denominator}"
+                                                 for k, v in FIG5.items()}
+    assert Fraction(c["params"]["gamma"]) == Fraction(PANELS[key])
+    assert Fraction(c["params"]["mu"]) == 2 * Fraction(c["params"]["lam"])
+    assert c["theorem"] == section_fixed_point_theorem(c["params"], "4/5", "0", "pi")
+    assert "(psi = pi, pbar_theta = 0)" in c["theorem"]
+
+
+def test_fixed_point_branch_tamper(fp):
+    """The branch relabelled psi = 0 (the theorem text regenerated to match): the level's Newton at psi = 0 is
+    another point of the level and the recomputed enclosure is not the certificate's -- rejected."""
+    _, c = fp
+    c = copy.deepcopy(c)
+    del c["point"]["branch"]
+    c["theorem"] = section_fixed_point_theorem(c["params"], "4/5", "0", "0")
+    reason = _rejected(c)
+    assert "level" in reason, reason
+
+
+def test_fixed_point_theorem_claims_psi0_rejected(fp):
+    """A psi = pi certificate whose theorem says psi = 0 is rejected at the theorem check."""
+    _, c = fp
+    c = copy.deepcopy(c)
+    c["theorem"] = section_fixed_point_theorem(c["params"], "4/5", "0", "0")
+    assert "theorem" in _rejected(c)
+
+
+def test_fixed_point_mutated_field_rejected(fp):
+    _, c = fp
+    assert "field digest" in _rejected(c, module=fields.mutated_module(0))
+
+
+def test_fixed_point_fig5a_verifies():
+    """The complete verifier accepts panel (a)'s saddle (~6 s at load ~3) and generates the psi = pi theorem."""
+    res = verify.verify(_load("fixed_point_fig5a.json"))
+    assert res.ok, res.reason
+    assert "(psi = pi, pbar_theta = 0)" in res.theorem
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("key", ["b", "c", "d"])
+def test_fixed_point_fig5_verifies(key):
+    res = verify.verify(_load(f"fixed_point_fig5{key}.json"))
+    assert res.ok, res.reason
+
+
+@pytest.mark.slow
+def test_lambda_zero_control_has_no_saddle():
+    """lambdabar = 0 (the integrable extensible rod, otherwise Fig 5(a)'s rod and level): the float search finds
+    symmetric fixed points of P near theta = 3.1076 (psi = pi) but DP there is parabolic (tr ~ 2, as on a resonant
+    torus of an integrable twist map) and the prover fails at "hyperbolic" (tr DP in [2.00 +/- 3.3e-3]); no
+    sign change within 0.02 of Fig 5(a)'s theta* = 3.012.  Seen to fail (i.e. to prove nothing) in both places;
+    ~25 s."""
+    p, h = periodic.validate("17/10", "4", "3/20", "1/4", "0", "4/5")
+    res = periodic.prove(p, h, 3.1076291042978577, root=0, branch="pi")
+    assert not res.ok and res.certificate is None and "hyperbolic not established" in res.reason, res.reason
+    res = periodic.prove(p, h, 3.0119924258452446, root=0, branch="pi")
+    assert not res.ok and "no sign change" in res.reason, res.reason
+
+
+# --------------------------------------------------------------------------------------------------------------
+# the horseshoe
+# --------------------------------------------------------------------------------------------------------------
+@pytest.fixture(scope="module", params=HORSESHOES)
+def hs(request):
+    return _load(request.param)
+
+
+def test_horseshoe_certificate_claims(hs):
+    """At Fig 5's parameters on h = 4/5, N0 on the psi = pi branch, the generated theorem, the entropy bound."""
+    k = len(hs["sets"]) - 1
+    assert hs["kind"] == "section_horseshoe" and hs["level"] == "4/5" and hs["loop_length"] == 2 * k
+    assert hs["sets"][0]["branch"] == "pi" and hs["settings"]["branch"] == "pi"
+    assert Fraction(hs["params"]["mu"]) == 2 * Fraction(hs["params"]["lam"]) == 4
+    assert hs["theorem"] == section_horseshoe_theorem(hs["params"], hs["level"], k, 2 * k, hs["entropy"]["rho_lower"])
+    rho = Fraction(hs["entropy"]["rho_lower"])
+    assert rho ** (2 * k) - rho ** (2 * k - 1) - 1 < 0
+
+
+def test_horseshoe_mutated_field_rejected(hs):
+    assert "field digest" in _rejected(hs, module=fields.mutated_module(0))
+
+
+def test_horseshoe_tamper_N0_branch(hs):
+    """N0 relabelled psi = 0: its branch box (the level's root over N0 at psi = 0) does not hold, or the
+    disjointness/branch claims fail -- rejected before any flight of N1 ..."""
+    c = copy.deepcopy(hs)
+    c["sets"][0]["branch"] = "0"
+    reason = _rejected(c)
+    assert "N0" in reason, reason
+
+
+def test_horseshoe_tamper_N0_off_FixR(hs):
+    c = copy.deepcopy(hs)
+    c["sets"][0]["c"][1] = "1/10000000000000"
+    assert "N0 symmetric" in _rejected(c)
+
+
+def test_horseshoe_tamper_entropy(hs):
+    c = copy.deepcopy(hs)
+    c["entropy"]["rho_lower"] = "11/10"
+    assert "entropy bound" in _rejected(c)
+
+
+@pytest.mark.slow
+def test_horseshoe_shifted_set_fails_covering(hs):
+    """N2 shifted by 3 of its half-widths along its entry direction: (a') fails at N1 => N2 (the image of N1 lies
+    at y_s ~ -3 in N2's coordinates), after N0 and N1 are re-flown."""
+    c = copy.deepcopy(hs)
+    cN = [Fraction(v) for v in c["sets"][2]["c"]]
+    A = [[Fraction(v) for v in r] for r in c["sets"][2]["A"]]
+    c["sets"][2]["c"] = [str(cN[0] + 3 * A[0][1]), str(cN[1] + 3 * A[1][1])]
+    reason = _rejected(c)
+    assert "N1 => N2 piece 0 (a)" in reason, reason
+
+
+@pytest.mark.slow
+def test_horseshoe_certificate_verifies(hs):
+    res = verify.verify(hs)
+    assert res.ok, res.reason
+
+
+@pytest.mark.slow
+def test_horseshoe_mutated_field_control_fails_to_prove():
+    """Control: the sign of term 0 of the generated chart field flipped; the prover fails and issues nothing."""
+    p, h = periodic.validate("17/10", "4", "3/20", "1/4", "2", "4/5")
+    st = horseshoe.HorseshoeSettings(branch="pi", root=0, m_back=3, n_exc=12, s_star=1.1709116837165307e-07)
+    res = horseshoe.prove(p, h, 3.0119924258452446, st, module=fields.mutated_module(0))
+    assert not res.ok and res.certificate is None, res.reason
