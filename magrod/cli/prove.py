@@ -226,6 +226,9 @@ def format_text(d) -> str:
                 + "\n".join(f"  {name} in [{fp[k][0]:.12g}, {fp[k][1]:.12g}]" for k, name in
                             (("newton", "theta*"), ("trace", "tr DP(x0)"), ("mu_u", "mu_u"))))
     lines = [f"proved: {len(d['checks'])} checks hold ({d['wall_time_s']:.1f} s); certificate {d['certificate']}"]
+    if "entropy" in d:  # --horseshoe (its text output read d["crossings"]: a KeyError after the certificate was written)
+        e = d["entropy"]
+        return "\n".join(lines + [f"  h_top(P|Lambda) >= log rho > {e['log_rho_lower']:.6g}, rho > {e['rho_lower']}"])
     for c in d["crossings"]:
         lines.append(f"  psi = {c['target']}: phi* in [{c['phi_star']['mid']} +- {c['phi_star']['rad']}], "
                      f"dtheta_u/dpsi in [{c['dtheta_dpsi']['mid']} +- {c['dtheta_dpsi']['rad']}]")
