@@ -41,7 +41,7 @@ def test_statuses_follow_from_the_chains():
     assert got == {"1": "proved", "2": "computer-verified", "3": "conditional", "4": "conditional",
                    "5": "computer-verified", "5a": "computer-verified", "6": "proved", "7": "computer-verified", "7b": "conditional",
                    "8": "heuristic", "9": "proved", "10": "numerical", "11": "computer-verified",
-                   "12": "computer-verified"}
+                   "12": "computer-verified", "13": "computer-verified"}
 
 
 def test_a_weak_link_anywhere_weakens_the_statement(monkeypatch):

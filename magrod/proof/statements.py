@@ -183,13 +183,15 @@ STATEMENTS = (
        for the non-perturbative regime. Fig 4's level h = 0.9 does not contain the helical saddle (its H̄ is
        0.8305, 0.7720, 0.7253, 0.6955 at the four λ̄), so the homoclinic orbits of 5a are not about the figure's
        section; a horseshoe of P on Fig 4's own level h = 9/10 is computer-verified at panel (a) only
-       (statement 12), not at the other panels. Numerically (float64) at λ̄ = 0.135 the unstable
+       (statement 12), not at the other panels; on Fig 5's own level h = 4/5 the saddle of P is computer-verified
+       at the four panels and a horseshoe of P at panel (a) (statement 13). Numerically (float64) at λ̄ = 0.135 the unstable
        manifold of the section map's symmetric saddle (the fixed point of statement 11; eigenvalue 5.748 of DP,
        33.04 of DP²) meets Fix(R) transversally (W^u and W^s cross at 0.72°): a candidate, not a proof
        (docs/nonintegrability.md, "Fig 4 on its own level").""",
        [Step("Poincaré sections and Lyapunov/FLI indicators in floating point, conservation budgets", "numerical",
              "magrod poincare, magrod lyapunov")],
-       phrases=(r"Figs? 4(?!\(a\)'s rod|'s rod|'s own level h = 9/10|'s section level h = 9/10)", r"Figs? 5",
+       phrases=(r"Figs? 4(?!\(a\)'s rod|'s rod|'s own level h = 9/10|'s section level h = 9/10)",
+                r"Figs? 5(?!'s own level|'s caption|'s level h = 4/5)",
                 r"h = 0\.9(?! \(statement 11)", r"Poincaré sections?")),
     _s("11", "a saddle of the section map on Fig 4's section level h = 9/10",
        """At (m, μ, γ, δ) = (17/10, 2/5, 3, 3) on Fig 4's section level h = 9/10 (the level the figure shows), at
@@ -243,6 +245,39 @@ STATEMENTS = (
              "cited theorem, hypotheses checked by the certificate; the lemma and the argument in "
              "docs/nonintegrability.md")],
        phrases=(r"horseshoe of (the section map )?P", r"covering relations?")),
+    _s("13", "a horseshoe of the section map on Fig 5's own level h = 4/5 (sec. 9's regime)",
+       """At (m, μ, δ, λ̄) = (17/10, 4, 1/4, 2) (Fig 5's caption: μ = 2λ̄, λ̄ = O(1), γ ≪ 1), on Fig 5's own
+       level h = 4/5: (i) at each of the four panels' γ = 3/20, 41/200, 26/125, 6/25 the section map P of
+       {sin ψ = 0, d sin ψ/dt > 0} has a symmetric fixed point x0 on Fix(R) on the ψ = π branch of the section
+       (ψ′ < 0 there), θ* = 3.0119924258452433 (a), 3.0229203731343103 (b), 3.0235875345755768 (c),
+       3.0310416089851843 (d) (each ± 1.1e−18), return time T ∈ [5.2655355, 5.2655356] (a) … [5.2866768,
+       5.2866769] (d), and DP(x0) is a flip saddle: tr DP(x0) ∈ [−5.53060, −5.53043] (a), [−6.83098, −6.83073]
+       (b), [−6.90221, −6.90195] (c), [−7.65867, −7.65833] (d) (certificates
+       magrod/proof/certificates/fixed_point_fig5{a,b,c,d}.json, `magrod prove --fixed-point 3.012 --level 0.8
+       --m 1.7 --mu 4 --gamma 0.15 --delta 0.25 --lam 2 --branch pi --root 0`); (ii) at γ = 3/20 (panel (a)) P has
+       positive topological entropy: a compact forward-invariant set Λ with h_top(P|Λ) ≥ log ρ > 0.0839, ρ the
+       largest root of x³⁰ = x²⁹ + 1 — 16 h-sets (half-sizes 1.7·10⁻¹¹ … 1.4·10⁻⁹), N0 at the saddle of (i)
+       and N1 … N15 along its homoclinic orbit (W^u meets Fix(R) at the 12th return, W^u and W^s crossing there at
+       22.5°, numerically), N0 ⇒ N0 and N0 ⇒ N1 ⇒ … ⇒ N15 (Zgliczyński & Gidea 2004), N0 and N15 R-symmetric,
+       reversibility closing the chain into a loop of length 30 (certificate
+       magrod/proof/certificates/horseshoe_fig5a.json, kind section_horseshoe; prove 460 s, verify see
+       docs/nonintegrability.md, "Fig 5 on its own level"; not re-checked by `magrod reproduce`). Every
+       certificate is re-checked by the complete verifier. The other panels' horseshoes are not claimed here
+       (docs/nonintegrability.md says which were attempted); a hyperbolic set persists, so each statement holds
+       on an open parameter neighbourhood, of unquantified size. Fig 5's panels' orbits make the rod's axial stretch
+       negative on 2.4–6.1 % of their arclength (errata; not checked along the horseshoe's orbits): a theorem
+       about the paper's equations, not about a physical rod.""",
+       [Step("the saddle: level, two-phase flight, Fix(R) Newton, |tr DP| > 2 (statement 11's prover on the ψ = π "
+             "branch)", "computer-verified", "magrod prove --fixed-point --branch pi; magrod prove --verify"),
+        Step("the covering relations, the symmetry of N0 and N15, the disjointness, the cover by pieces, the "
+             "entropy bound", "computer-verified", "magrod prove --horseshoe --branch pi; magrod prove --verify "
+             "(kind section_horseshoe)"),
+        Step("the chart field is Hamilton's, 2π-periodic in ψ, and R is a reversor", "proved",
+             "report keys validated_fields, reversor_reduced; the verifier's source check of ψ"),
+        Step("the covering-chain theorem, the reversed-chain lemma, the block-shift entropy (statement 12's "
+             "argument, unchanged: it never uses the branch of N0)", "proved",
+             "cited theorem, hypotheses checked by the certificate; docs/nonintegrability.md")],
+       phrases=(r"Fig 5's own level", r"h = 4/5", r"sec\. 9's (regime|conjecture)")),
 )
 
 BY_NUMBER = {s.number: s for s in STATEMENTS}
@@ -303,7 +338,9 @@ def render_summary() -> str:
             f"saddle) at panels (a), (b), (d) (**{status('11')}**, 11), and at panel (a) a horseshoe: positive "
             f"topological entropy of the section map (**{status('12')}**, 12, covering relations along the "
             f"saddle's homoclinic orbit); at the other panels chaos there is **{status('10')}** evidence only "
-            f"(10). The paper's own "
+            f"(10). In sec. 9's regime (λ̄ = 2, γ ≪ 1), on Fig 5's own level h = 4/5 (μ = 2λ̄ = 4, δ = 1/4): a "
+            f"saddle of the section map at the four panels' γ and a horseshoe at γ = 3/20 (**{status('13')}**, "
+            f"13). The paper's own "
             f"argument (sec. 7) does not prove it (1).")
 
 
@@ -318,7 +355,9 @@ def render_readme() -> str:
             f"(**{status('7')}**); every other nonintegrability claim (every integral, not only those in involution with "
             f"m3; the perturbative regime) is **{status('7b')}**; on Fig 4's own level h = 9/10 a saddle of the section "
             f"map at three of the four panels is **{status('11')}**, a horseshoe of the section map (positive "
-            f"topological entropy) at panel (a) is **{status('12')}** (statement 12), and the chaos of Figs 4–5 "
+            f"topological entropy) at panel (a) is **{status('12')}** (statement 12), on Fig 5's own level h = 4/5 "
+            f"(sec. 9's regime: λ̄ = 2, γ ≪ 1) a saddle of the section map at the four panels and a horseshoe at "
+            f"γ = 3/20 are **{status('13')}** (statement 13), and the chaos of Figs 4–5 "
             f"elsewhere is **{status('10')}** evidence "
             f"(`docs/nonintegrability.md`, \"Verdict\").").replace("\n   ", "\n  ")
 
