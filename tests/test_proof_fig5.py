@@ -168,3 +168,47 @@ def test_horseshoe_mutated_field_control_fails_to_prove():
     st = horseshoe.HorseshoeSettings(branch="pi", root=0, m_back=3, n_exc=12, s_star=1.1709116837165307e-07)
     res = horseshoe.prove(p, h, 3.0119924258452446, st, module=fields.mutated_module(0))
     assert not res.ok and res.certificate is None, res.reason
+
+
+# --------------------------------------------------------------------------------------------------------------
+# the command line and the docs
+# --------------------------------------------------------------------------------------------------------------
+FIG5A = ["--m", "1.7", "--mu", "4", "--gamma", "0.15", "--delta", "0.25", "--lam", "2"]
+
+
+@pytest.mark.parametrize("args, name", [(["--fixed-point", "3.012", "--level", "0.8", "--root", "x"], "root"),
+                                        (["--fixed-point", "3.012", "--level", "0.8", "--root", "9"], "root"),
+                                        (["--horseshoe", "3.012", "--level", "0.8", "--passes", "tol,fast"],
+                                         "passes"),
+                                        (["--horseshoe", "3.012", "--level", "0.8", "--s-star", "2"], "s_star"),
+                                        (["--horseshoe", "3.012", "--level", "0.8", "--m-back", "-1"], "m_back"),
+                                        (["--horseshoe", "3.012", "--level", "0.8", "--n-exc", "0"], "n_exc")])
+def test_bad_section_options_are_exit_2_naming_the_parameter(args, name, tmp_path, capsys):
+    """Every new option is checked before anything is computed or written (seen to fail: each case)."""
+    from magrod.cli import main
+
+    out = tmp_path / "never"
+    code = main(["prove", *FIG5A, *args, "--branch", "pi", "--out", str(out), "--quiet", "--json"])
+    cap = capsys.readouterr()
+    assert code == 2 and json.loads(cap.out)["parameter"] == name, cap.out
+    assert not out.exists()
+
+
+def test_statement_13_quotes_the_certificates_traces():
+    """Statement 13's text quotes tr DP(x0) per panel: each quoted interval contains the certificate's ball
+    (outward rounding), and it quotes the horseshoe's entropy bound at most as strong as the certificate's."""
+    import re
+
+    from magrod.proof import statements
+
+    text = statements.BY_NUMBER["13"].text.replace("−", "-")
+    for key in PANELS:
+        c = _load(f"fixed_point_fig5{key}.json")
+        mid, rad = Fraction(c["trace"]["mid"]), Fraction(c["trace"]["rad"])
+        quoted = [(Fraction(a), Fraction(b)) for a, b in re.findall(r"\[(-[0-9.]+), (-[0-9.]+)\] \(" + key + r"\)",
+                                                                       text)]
+        assert any(a <= mid - rad and mid + rad <= b for a, b in quoted), (key, quoted)
+    for name in HORSESHOES:
+        c = _load(name)
+        q = re.search(r"log ρ > ([0-9.]+)", text)
+        assert q and Fraction(q.group(1)) < Fraction(repr(c["entropy"]["log_rho_lower"]))
