@@ -260,8 +260,8 @@ STATEMENTS = (
        and N1 … N15 along its homoclinic orbit (W^u meets Fix(R) at the 12th return, W^u and W^s crossing there at
        22.5°, numerically), N0 ⇒ N0 and N0 ⇒ N1 ⇒ … ⇒ N15 (Zgliczyński & Gidea 2004), N0 and N15 R-symmetric,
        reversibility closing the chain into a loop of length 30 (certificate
-       magrod/proof/certificates/horseshoe_fig5a.json, kind section_horseshoe; prove 460 s, verify see
-       docs/nonintegrability.md, "Fig 5 on its own level"; not re-checked by `magrod reproduce`). Every
+       magrod/proof/certificates/horseshoe_fig5a.json, kind section_horseshoe; prove 460 s, verify 357 s on 2 cores
+       at load 4–5; not re-checked by `magrod reproduce`). Every
        certificate is re-checked by the complete verifier. The other panels' horseshoes are not claimed here
        (docs/nonintegrability.md says which were attempted); a hyperbolic set persists, so each statement holds
        on an open parameter neighbourhood, of unquantified size. Fig 5's panels' orbits make the rod's axial stretch
