@@ -329,7 +329,8 @@ def prove(params: fields.ExactParams, h: Fraction, x0_theta: Fraction, settings:
     params, h : the exact parameters and level.
     x0_theta : float or Fraction
         Where the float search (periodic.float_fixed_point, within 0.02) looks for the symmetric saddle
-        x0 = (theta*, psi = 0, pbar_theta = 0) of P (statement 11); N0 is centred at the float theta*.
+        x0 = (theta*, psi, pbar_theta = 0) of P (statement 11; psi = 0, or pi with settings.branch = "pi": Fig 5,
+        statement 13); N0 is centred at the float theta*.
     settings : HorseshoeSettings, optional
     module : the generated field module (a mutated copy for controls).
     progress : callable, optional

@@ -4,6 +4,7 @@ first half of the route "a hyperbolic periodic orbit of the section map plus a t
 What is proved (docs/nonintegrability.md, statement 11): at exact rational (m, mu, gamma, delta, lambdabar) and an
 exact level h, the section map P of Sigma+ = {sin psi = 0, d(sin psi)/dt > 0} on {Hbar = h} (the paper's Fig 4
 section) has a fixed point x0 = (theta*, psi = 0, pbar_theta = 0, pbar_psi*) on Fix(R), and DP(x0) is hyperbolic
+(`branch="pi"`: x0 at psi = pi instead, Fig 5's saddle, statement 13; steps 1-5 unchanged, the half-way crossing at psi = 0)
 (real eigenvalues mu, 1/mu, |mu| > 1).  Only the chart system is used: the orbit stays in theta in [0.38, 1.7]
 (Fig 4(a)), far from the chart's singular set sin theta = 0, so no lift to the body frame is needed.
 
