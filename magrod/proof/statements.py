@@ -254,15 +254,15 @@ STATEMENTS = (
        5.2866769] (d), and DP(x0) is a flip saddle: tr DP(x0) ∈ [−5.53060, −5.53043] (a), [−6.83098, −6.83073]
        (b), [−6.90221, −6.90195] (c), [−7.65867, −7.65833] (d) (certificates
        magrod/proof/certificates/fixed_point_fig5{a,b,c,d}.json, `magrod prove --fixed-point 3.012 --level 0.8
-       --m 1.7 --mu 4 --gamma 0.15 --delta 0.25 --lam 2 --branch pi --root 0`); (ii) at γ = 3/20 and 6/25 (panels
-       (a), (d)) P has positive topological entropy: a compact forward-invariant set Λ with h_top(P|Λ) ≥ log ρ,
-       log ρ > 0.0839 (a), > 0.0985 (d), ρ the largest root of x^L = x^(L−1) + 1, L = 30 (a), 24 (d) — h-sets
-       N0 … Nk, k = 15 (a), 12 (d) (half-sizes 1.7·10⁻¹¹ … 1.9·10⁻⁹), N0 at the saddle of (i) and N1 … Nk along
-       its homoclinic orbit (W^u meets Fix(R) at the 12th (a), 9th (d) return, W^u and W^s crossing there at
-       22.5°, 28.3°, numerically), N0 ⇒ N0 and N0 ⇒ N1 ⇒ … ⇒ Nk (Zgliczyński & Gidea 2004), N0 and Nk
-       R-symmetric, reversibility closing the chain into a loop of length L (certificates
-       magrod/proof/certificates/horseshoe_fig5{a,d}.json, kind section_horseshoe; prove 460 s, 401 s, verify
-       357 s, 168 s on 2 cores at load 4–5; not re-checked by `magrod reproduce`). Every
+       --m 1.7 --mu 4 --gamma 0.15 --delta 0.25 --lam 2 --branch pi --root 0`); (ii) at γ = 3/20, 26/125 and 6/25 (panels
+       (a), (c), (d)) P has positive topological entropy: a compact forward-invariant set Λ with h_top(P|Λ) ≥
+       log ρ, log ρ > 0.0839 (a), > 0.0985 (c), > 0.0985 (d), ρ the largest root of x^L = x^(L−1) + 1, L = 30 (a),
+       24 (c, d) — h-sets N0 … Nk, k = 15 (a), 12 (c, d) (half-sizes 1.7·10⁻¹¹ … 4.9·10⁻⁹), N0 at the saddle of
+       (i) and N1 … Nk along its homoclinic orbit (W^u meets Fix(R) at the 12th (a), 9th (c, d) return, W^u and
+       W^s crossing there at 22.5°, 25.9°, 28.3°, numerically), N0 ⇒ N0 and N0 ⇒ N1 ⇒ … ⇒ Nk (Zgliczyński &
+       Gidea 2004), N0 and Nk R-symmetric, reversibility closing the chain into a loop of length L (certificates
+       magrod/proof/certificates/horseshoe_fig5{a,c,d}.json, kind section_horseshoe; prove 460 s, 297 s, 401 s,
+       verify 357 s, 139 s, 168 s on 2 cores at load 3–5; not re-checked by `magrod reproduce`). Every
        certificate is re-checked by the complete verifier. The other panels' horseshoes are not claimed here
        (docs/nonintegrability.md says which were attempted); a hyperbolic set persists, so each statement holds
        on an open parameter neighbourhood, of unquantified size. Fig 5's panels' orbits make the rod's axial stretch
