@@ -64,6 +64,7 @@ class Field:
     n: int
     pars: tuple = ()
     name: str = "field"
+    series: str = "picard"  # how solution_series computes the Taylor coefficients: "picard" or "newton"
 
     def f(self, x):
         return [_ball(v) for v in self.rhs(list(x), self.pars)]
@@ -107,13 +108,55 @@ def _coeffs(s, length):
 
 def solution_series(fld: Field, x0, order: int):
     """The Taylor coefficients x^[0..order] of the solutions through every x in the ball vector x0, as n lists,
-    and the solution as n arb_series of length order + 1 (for the Jacobian series)."""
+    and the solution as n arb_series of length order + 1 (for the Jacobian series).  fld.series "picard": one
+    coefficient per Picard iteration (order evaluations of f, on series of length 1 .. order); "newton":
+    _newton_series (4 evaluations of f and of Df at order 20, ~1/3 of the cost; other balls, as rigorous)."""
+    if fld.series == "newton":
+        return _newton_series(fld, x0, order)
+    if fld.series != "picard":
+        raise ValueError(f"series must be 'picard' or 'newton', got {fld.series!r}")
     x0 = [_ball(v) for v in x0]
     xs = [_series(v, 1) for v in x0]
     for k in range(1, order + 1):
         fk = fld.rhs(xs, fld.pars)  # xs has length k here: _series(s, k) of it would be a copy
         xs = [_series(x0[i] + _series(fk[i], k).integral(), k + 1) for i in range(fld.n)]
     return [_coeffs(s, order + 1) for s in xs], xs
+
+
+def _newton_series(fld: Field, x0, order: int):
+    """solution_series by Newton's iteration on power series: if x_m = x mod t^m (m coefficients correct), the
+    solution is x = x_m + d, d = O(t^m), and x' = f(x) gives, exactly for every solution through a point of x0,
+        d' = (f(x_m) - x_m') + Df(x_m) d + O(t^(2m)),
+    so with r = f(x_m) mod t^(2m) (x_m' has degree m - 2) and J_i the coefficients of Df(x_m) mod t^m
+        j d_j = r_(j-1) + sum_(i=0)^(j-1-m) J_i d_(j-1-i),   j = m .. 2m,
+    i.e. x mod t^(2m+1).  Each ball operation encloses its result for every point of its operands, so the balls
+    contain the exact coefficients of every solution starting in x0 (as Picard's do).  From m = 1: lengths
+    1 -> 3 -> 7 -> 15 -> 31, capped at order + 1."""
+    n = fld.n
+    x0 = [_ball(v) for v in x0]
+    cs = [[v] for v in x0]  # cs[i][j]: coefficient j of x_i, j < m
+    m = 1
+    while m < order + 1:
+        M = min(2 * m + 1, order + 1)  # coefficients 0 .. M-1 after this pass
+        xm = [arb_series(c, prec=M - 1) for c in cs]  # x_m as a series of length M - 1 (f to t^(M-2))
+        fr = fld.rhs(xm, fld.pars)
+        r = [_coeffs(v if isinstance(v, arb_series) else _ball(v), M - 1) for v in fr]
+        nj = M - 1 - m  # J mod t^nj suffices: J_i d_(j-1-i) with j - 1 - i >= m, j <= M - 1
+        if nj > 0:
+            Jx = fld.jacobian([arb_series(c, prec=nj) for c in cs], fld.pars)
+            Jc = [_coeffs(v if isinstance(v, arb_series) else _ball(v), nj) for v in Jx]
+            J = [arb_mat(n, n, [Jc[e][i] for e in range(n * n)]) for i in range(nj)]
+        d = {}
+        for j in range(m, M):
+            acc = arb_mat(n, 1, [r[i][j - 1] for i in range(n)])
+            for i in range(0, j - m):
+                acc = acc + J[i] * d[j - 1 - i]
+            d[j] = acc * arb(fmpq(1, j))
+        for i in range(n):
+            cs[i].extend(d[j][i, 0] for j in range(m, M))
+        m = M
+    xs = [arb_series(c, prec=order + 1) for c in cs]
+    return [list(c) for c in cs], xs
 
 
 def jacobian_coefficients(fld: Field, xs, order: int) -> list:
