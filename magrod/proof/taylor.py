@@ -13,7 +13,9 @@ One step of size h (exact dyadic):
   1. Taylor coefficients x^[k](x) of the solution through x, k <= p, by Picard iteration on Arb power series
      (`arb_series`): x^(j+1)(t) = x + int_0^t f(x^(j)), each iteration fixes one more coefficient; Arb's series
      arithmetic (products, sin, cos, sqrt, division) is rigorous, so the balls contain the exact coefficients of
-     every solution starting in the input ball.  Nothing here is a hand-written recurrence.
+     every solution starting in the input ball.  Nothing here is a hand-written recurrence.  Or (Field.series
+     "newton", _newton_series) by Newton's iteration on power series, doubling the correct coefficients per
+     evaluation of f and Df (the same enclosure argument; ~1/3 of Picard's cost at order 20).
   2. Jacobian coefficients D_k(X) = d x^[k] / d x over the box X: Taylor coefficients of Df(x(t)) (the generated
      Jacobian on the same series) and the variational recursion D_{k+1} = (1/(k+1)) sum_j J_j D_{k-j}, D_0 = I.
   3. A priori enclosure (Nedialkov, Jackson & Pryce 2001, "high-order enclosure"): if
