@@ -26,7 +26,7 @@ FIG4 = (("4a", "homoclinic_fig4a.json"), ("4b", "homoclinic_fig4b.json"), ("4c",
 FIG4_SECTION = (("4a", "fixed_point_fig4a.json"), ("4b", "fixed_point_fig4b.json"), ("4d", "fixed_point_fig4d.json"),
                 ("4a_interval", "fixed_point_fig4a_interval.json"))  # every lambdabar in 27/200 +- 2e-7
 # Fig 4(a)'s own level (statement 12): the horseshoe's certificate (15 sets, 5620 validated steps).  Its verifier
-# flies with Newton's series and the sets in parallel processes (verify.py, kind section_horseshoe; ~40 s of CPU, ~25 s
+# flies with Newton's series and the sets in parallel processes (verify.py, kind section_horseshoe; 44-58 s of CPU, ~25 s
 # on 2 idle cores), within what reproduce may add (issue 27: <= 60 s); --quick (the test suite's) does not run it
 FIG4_HORSESHOE = (("4a", "horseshoe_fig4a.json", "12"),)
 # shipped certificates no reproduction verifies (each gets a REPORT row saying so); none since issue 27's speed-up

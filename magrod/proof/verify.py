@@ -630,7 +630,7 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
 # chain's completeness and the entropy bound are checked again here, in exact rationals where they are geometric.
 # Cost (issue 27: reproduce verifies it): the Taylor coefficients by Newton's iteration on series instead of the
 # prover's Picard iteration (taylor._newton_series), the centres flown as C^0 sets, and the sets re-flown in parallel
-# child processes (_hs_sources_parallel; the same checks in the same order): ~40 s of CPU instead of ~150-220 s.
+# child processes (_hs_sources_parallel; the same checks in the same order): 44-58 s of CPU instead of ~150-220 s.
 # --------------------------------------------------------------------------------------------------------------
 def _verify_horseshoe(cert, module, t0, workers=None) -> VerifyResult:
     checks: list = []
