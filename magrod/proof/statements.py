@@ -231,9 +231,9 @@ STATEMENTS = (
        into a loop of length 28 through N0 (docs/nonintegrability.md, "A horseshoe on Fig 4's own level").
        Certificate magrod/proof/certificates/horseshoe_fig4a.json, re-checked by the verifier (kind
        section_horseshoe; `magrod prove --horseshoe 0.383 --level 0.9 --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam
-       0.135`; prove 338 s, verify 221 s on 2 cores; `magrod reproduce` does not re-check it, its minutes being
-       beyond reproduce's budget, and says so in a REPORT row). Panels (b)–(d) are not proved (at (b) the chain
-       fails at N0 ⇒ N1).""",
+       0.135`; prove 338 s on 2 cores; verify 44–58 s of CPU, with Newton's series and the sets in two processes,
+       so the full `magrod reproduce` re-checks it and REPORT has its row; `--quick` does not, and says so).
+       Panels (b)–(d) are not proved (at (b) the chain fails at N0 ⇒ N1).""",
        [Step("the covering relations, the symmetry of N0 and N14, the disjointness, the cover by pieces, the "
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
              "section_horseshoe)"),
