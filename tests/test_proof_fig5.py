@@ -20,7 +20,7 @@ from magrod.proof.theorem import section_fixed_point_theorem, section_horseshoe_
 
 PANELS = {"a": "3/20", "b": "41/200", "c": "26/125", "d": "6/25"}  # fig:poincare2's gammas 0.15 .. 0.24
 FIG5 = {"m": "17/10", "mu": "4", "delta": "1/4", "lam": "2"}  # the caption: m = 1.7, delta = 0.25, lam = 2, mu = 4
-HORSESHOES = ["horseshoe_fig5a.json", "horseshoe_fig5c.json", "horseshoe_fig5d.json"]
+HORSESHOES = ["horseshoe_fig5a.json", "horseshoe_fig5b.json", "horseshoe_fig5c.json", "horseshoe_fig5d.json"]
 
 
 def _load(name):

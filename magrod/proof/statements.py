@@ -183,8 +183,8 @@ STATEMENTS = (
        for the non-perturbative regime. Fig 4's level h = 0.9 does not contain the helical saddle (its H̄ is
        0.8305, 0.7720, 0.7253, 0.6955 at the four λ̄), so the homoclinic orbits of 5a are not about the figure's
        section; a horseshoe of P on Fig 4's own level h = 9/10 is computer-verified at panel (a) only
-       (statement 12), not at the other panels; on Fig 5's own level h = 4/5 the saddle of P is computer-verified
-       at the four panels and a horseshoe of P at panel (a) (statement 13). Numerically (float64) at λ̄ = 0.135 the unstable
+       (statement 12), not at the other panels; on Fig 5's own level h = 4/5 the saddle of P and a horseshoe of P
+       are computer-verified at the four panels (statement 13). Numerically (float64) at λ̄ = 0.135 the unstable
        manifold of the section map's symmetric saddle (the fixed point of statement 11; eigenvalue 5.748 of DP,
        33.04 of DP²) meets Fix(R) transversally (W^u and W^s cross at 0.72°): a candidate, not a proof
        (docs/nonintegrability.md, "Fig 4 on its own level").""",
@@ -254,17 +254,17 @@ STATEMENTS = (
        5.2866769] (d), and DP(x0) is a flip saddle: tr DP(x0) ∈ [−5.53060, −5.53043] (a), [−6.83098, −6.83073]
        (b), [−6.90221, −6.90195] (c), [−7.65867, −7.65833] (d) (certificates
        magrod/proof/certificates/fixed_point_fig5{a,b,c,d}.json, `magrod prove --fixed-point 3.012 --level 0.8
-       --m 1.7 --mu 4 --gamma 0.15 --delta 0.25 --lam 2 --branch pi --root 0`); (ii) at γ = 3/20, 26/125 and 6/25 (panels
-       (a), (c), (d)) P has positive topological entropy: a compact forward-invariant set Λ with h_top(P|Λ) ≥
-       log ρ, log ρ > 0.0839 (a), > 0.0985 (c), > 0.0985 (d), ρ the largest root of x^L = x^(L−1) + 1, L = 30 (a),
-       24 (c, d) — h-sets N0 … Nk, k = 15 (a), 12 (c, d) (half-sizes 1.7·10⁻¹¹ … 4.9·10⁻⁹), N0 at the saddle of
-       (i) and N1 … Nk along its homoclinic orbit (W^u meets Fix(R) at the 12th (a), 9th (c, d) return, W^u and
-       W^s crossing there at 22.5°, 25.9°, 28.3°, numerically), N0 ⇒ N0 and N0 ⇒ N1 ⇒ … ⇒ Nk (Zgliczyński &
-       Gidea 2004), N0 and Nk R-symmetric, reversibility closing the chain into a loop of length L (certificates
-       magrod/proof/certificates/horseshoe_fig5{a,c,d}.json, kind section_horseshoe; prove 460 s, 297 s, 401 s,
-       verify 357 s, 139 s, 168 s on 2 cores at load 3–5; not re-checked by `magrod reproduce`). Every
-       certificate is re-checked by the complete verifier. The other panels' horseshoes are not claimed here
-       (docs/nonintegrability.md says which were attempted); a hyperbolic set persists, so each statement holds
+       --m 1.7 --mu 4 --gamma 0.15 --delta 0.25 --lam 2 --branch pi --root 0`); (ii) at each of the four γ P has positive
+       topological entropy: a compact forward-invariant set Λ with h_top(P|Λ) ≥ log ρ, log ρ > 0.0839 (a),
+       > 0.0882 (b), > 0.0985 (c), > 0.0985 (d), ρ the largest root of x^L = x^(L−1) + 1, L = 30, 28, 24, 24 —
+       h-sets N0 … Nk, k = 15, 14, 12, 12 (half-sizes 6.3·10⁻¹² … 4.9·10⁻⁹), N0 at the saddle of (i) and N1 … Nk
+       along its homoclinic orbit (W^u meets Fix(R) at the 12th, 11th, 9th, 9th return, W^u and W^s crossing
+       there at 22.5°, 40.6°, 25.9°, 28.3°, numerically), N0 ⇒ N0 and N0 ⇒ N1 ⇒ … ⇒ Nk (Zgliczyński & Gidea
+       2004), N0 and Nk R-symmetric, reversibility closing the chain into a loop of length L (certificates
+       magrod/proof/certificates/horseshoe_fig5{a,b,c,d}.json, kind section_horseshoe; prove 460, 267, 297,
+       401 s on 2 cores at load 2–6, verify VERIFY_TIMES; not re-checked by `magrod reproduce`). Every
+       certificate is re-checked by the complete verifier. Only these four points of the parameter space are
+       certified; a hyperbolic set persists, so each statement holds
        on an open parameter neighbourhood, of unquantified size. Fig 5's panels' orbits make the rod's axial stretch
        negative on 2.4–6.1 % of their arclength (errata; not checked along the horseshoe's orbits): a theorem
        about the paper's equations, not about a physical rod.""",
@@ -340,7 +340,7 @@ def render_summary() -> str:
             f"topological entropy of the section map (**{status('12')}**, 12, covering relations along the "
             f"saddle's homoclinic orbit); at the other panels chaos there is **{status('10')}** evidence only "
             f"(10). In sec. 9's regime (λ̄ = 2, γ ≪ 1), on Fig 5's own level h = 4/5 (μ = 2λ̄ = 4, δ = 1/4): a "
-            f"saddle of the section map at the four panels' γ and a horseshoe at γ = 3/20 (**{status('13')}**, "
+            f"saddle of the section map at the four panels' γ and a horseshoe at each (**{status('13')}**, "
             f"13). The paper's own "
             f"argument (sec. 7) does not prove it (1).")
 
@@ -358,7 +358,7 @@ def render_readme() -> str:
             f"map at three of the four panels is **{status('11')}**, a horseshoe of the section map (positive "
             f"topological entropy) at panel (a) is **{status('12')}** (statement 12), on Fig 5's own level h = 4/5 "
             f"(sec. 9's regime: λ̄ = 2, γ ≪ 1) a saddle of the section map at the four panels and a horseshoe at "
-            f"γ = 3/20 are **{status('13')}** (statement 13), and the chaos of Figs 4–5 "
+            f"each are **{status('13')}** (statement 13), and the chaos of Figs 4–5 "
             f"elsewhere is **{status('10')}** evidence "
             f"(`docs/nonintegrability.md`, \"Verdict\").").replace("\n   ", "\n  ")
 
