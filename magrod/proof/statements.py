@@ -262,7 +262,8 @@ STATEMENTS = (
        there at 22.5°, 40.6°, 25.9°, 28.3°, numerically), N0 ⇒ N0 and N0 ⇒ N1 ⇒ … ⇒ Nk (Zgliczyński & Gidea
        2004), N0 and Nk R-symmetric, reversibility closing the chain into a loop of length L (certificates
        magrod/proof/certificates/horseshoe_fig5{a,b,c,d}.json, kind section_horseshoe; prove 460, 267, 297,
-       401 s on 2 cores at load 2–6, verify VERIFY_TIMES; not re-checked by `magrod reproduce`). Every
+       401 s on 2 cores at load 2–6, verify 95, 76, 52, 70 s (load ~2, the
+       verifier of main at 5f26ed4 and later; 357, –, 139, 168 s with the serial one before it); not re-checked by `magrod reproduce`). Every
        certificate is re-checked by the complete verifier. Only these four points of the parameter space are
        certified; a hyperbolic set persists, so each statement holds
        on an open parameter neighbourhood, of unquantified size. Fig 5's panels' orbits make the rod's axial stretch
