@@ -250,7 +250,7 @@ STATEMENTS = (
        level h = 4/5: (i) at each of the four panels' γ = 3/20, 41/200, 26/125, 6/25 the section map P of
        {sin ψ = 0, d sin ψ/dt > 0} has a symmetric fixed point x0 on Fix(R) on the ψ = π branch of the section
        (ψ′ < 0 there), θ* = 3.0119924258452433 (a), 3.0229203731343103 (b), 3.0235875345755768 (c),
-       3.0310416089851843 (d) (each ± 1.1e−18), return time T ∈ [5.2655355, 5.2655356] (a) … [5.2866768,
+       3.0310416089851843 (d) (each ± 1.1·10⁻¹⁸), return time T ∈ [5.2655355, 5.2655356] (a) … [5.2866768,
        5.2866769] (d), and DP(x0) is a flip saddle: tr DP(x0) ∈ [−5.53060, −5.53043] (a), [−6.83098, −6.83073]
        (b), [−6.90221, −6.90195] (c), [−7.65867, −7.65833] (d) (certificates
        magrod/proof/certificates/fixed_point_fig5{a,b,c,d}.json, `magrod prove --fixed-point 3.012 --level 0.8
@@ -271,7 +271,7 @@ STATEMENTS = (
        about the paper's equations, not about a physical rod.""",
        [Step("the saddle: level, two-phase flight, Fix(R) Newton, |tr DP| > 2 (statement 11's prover on the ψ = π "
              "branch)", "computer-verified", "magrod prove --fixed-point --branch pi; magrod prove --verify"),
-        Step("the covering relations, the symmetry of N0 and N15, the disjointness, the cover by pieces, the "
+        Step("the covering relations, the symmetry of N0 and Nk, the disjointness, the cover by pieces, the "
              "entropy bound", "computer-verified", "magrod prove --horseshoe --branch pi; magrod prove --verify "
              "(kind section_horseshoe)"),
         Step("the chart field is Hamilton's, 2π-periodic in ψ, and R is a reversor", "proved",
