@@ -85,6 +85,23 @@ def test_fixed_point_fig5_verifies(key):
     assert "(psi = pi, pbar_theta = 0)" in res.theorem
 
 
+def test_interval_certificate_states_its_theorem():
+    """fixed_point_fig5a_interval.json: every lambdabar in 2 +- 2e-7 (mu = 4 fixed), psi = pi, its generated theorem;
+    a wider interval in the theorem text is rejected (seen to fail: the theorem check)."""
+    c = _load("fixed_point_fig5a_interval.json")
+    assert c["settings"]["lam_rad"] == "1/5000000" and c["point"]["branch"] == "pi"
+    assert c["theorem"] == section_fixed_point_theorem(c["params"], "4/5", "1/5000000", "pi")
+    bad = copy.deepcopy(c)
+    bad["theorem"] = section_fixed_point_theorem(c["params"], "4/5", "1/2500000", "pi")
+    assert "theorem" in _rejected(bad)
+
+
+@pytest.mark.slow
+def test_interval_certificate_verifies():
+    res = verify.verify(_load("fixed_point_fig5a_interval.json"))
+    assert res.ok, res.reason
+
+
 @pytest.mark.slow
 def test_lambda_zero_control_has_no_saddle():
     """lambdabar = 0 (the integrable extensible rod, otherwise Fig 5(a)'s rod and level): the float search finds

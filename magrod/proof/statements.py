@@ -254,7 +254,9 @@ STATEMENTS = (
        5.2866769] (d), and DP(x0) is a flip saddle: tr DP(x0) ∈ [−5.53060, −5.53043] (a), [−6.83098, −6.83073]
        (b), [−6.90221, −6.90195] (c), [−7.65867, −7.65833] (d) (certificates
        magrod/proof/certificates/fixed_point_fig5{a,b,c,d}.json, `magrod prove --fixed-point 3.012 --level 0.8
-       --m 1.7 --mu 4 --gamma 0.15 --delta 0.25 --lam 2 --branch pi --root 0`); (ii) at each of the four γ P has positive
+       --m 1.7 --mu 4 --gamma 0.15 --delta 0.25 --lam 2 --branch pi --root 0`); at (a) also for every λ̄ in [9999999/5000000,
+       10000001/5000000] = 2 ± 2·10⁻⁷ (μ = 4 fixed; fixed_point_fig5a_interval.json, `--lam-rad 2/10000000`: tr DP(x0)
+       ∈ [−7.1081, −4.4180]; 4·10⁻⁷ no longer closes); (ii) at each of the four γ P has positive
        topological entropy: a compact forward-invariant set Λ with h_top(P|Λ) ≥ log ρ, log ρ > 0.0839 (a),
        > 0.0882 (b), > 0.0985 (c), > 0.0985 (d), ρ the largest root of x^L = x^(L−1) + 1, L = 30, 28, 24, 24 —
        h-sets N0 … Nk, k = 15, 14, 12, 12 (half-sizes 6.3·10⁻¹² … 4.9·10⁻⁹), N0 at the saddle of (i) and N1 … Nk
