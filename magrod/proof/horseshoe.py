@@ -82,13 +82,34 @@ class HorseshoeSettings:
     l0_frac: float = 1 / 3
     l1_frac: float = 1 / 6
     w_cap: float = 1.0
+    #: stop the chain passes early once |pbar_theta(P^(k-1)(c_1))| < stop_frac w_k (0: never; valid only when the
+    #: passes share one tolerance, so that the pass that stops is the certificate's: Fig 4(b))
+    stop_frac: float = 0.0
 
     def as_json(self) -> dict:
         q = _q
         return {"prec": self.prec, "order": self.order, "tol": repr(self.tol), "tol_thin": repr(self.tol_thin), "m_back": self.m_back,
                 "qu": self.qu, "qs": self.qs, "p_rad": q(self.p_rad), "t1": q(self.t1), "lead": q(self.lead),
                 "newton": self.newton, "n_exc": self.n_exc, "passes": list(self.passes),
-                "l0_frac": self.l0_frac, "l1_frac": self.l1_frac, "w_cap": self.w_cap, "series_cap": ball.SERIES_CAP}
+                "l0_frac": self.l0_frac, "l1_frac": self.l1_frac, "w_cap": self.w_cap, "series_cap": ball.SERIES_CAP,
+                **({"stop_frac": self.stop_frac} if self.stop_frac else {})}
+
+
+def fig4b_settings() -> HorseshoeSettings:
+    """The design of the Fig 4(b) certificate (benchmarks/fig4b_horseshoe_design.py; docs/nonintegrability.md).
+    mu_u = 3.20 there, so Fig 4(a)'s margins 3 per link cannot close: the entry widths that `sizes` pulls back
+    from N18 grow only by 1 / (qs sigma) = 1.07 per link near x0 (sigma = 1 / mu_u), reaching N1 at 1.0e-4 d,
+    against the entry thickness l0 / mu_u = 0.10 d of P(N0) ((a') float margin -1013), and mu_u l0 < d + l1
+    ((b) -0.6).  Margins 1.5 in both directions let the widths grow by 2.1 per link backwards to the cap 3 l1 =
+    0.45 d at N1; l0 = d / 2 gives (b) (mu_u l0 - d) / l1 = 4.0 at N0 => N1.  Float linear margins: (a') >= 0.33,
+    (b) min |y_u| - 1 >= 0.50 on every link.  The sets (>= 7e-11) are resolved by centre flights at PROOF_STEP_TOL
+    (widths <= 2e-13), so every pass runs at that tolerance and the passes stop once the end is on Fix(R)."""
+    return HorseshoeSettings(m_back=3, n_exc=14, s_star=-9.871e-7, qu=1.5, qs=1.5, l0_frac=0.5, l1_frac=0.15,
+                             w_cap=3.0, tol_thin=PROOF_STEP_TOL, passes=("tol", "tol", "tol"), stop_frac=1e-2)
+
+
+#: named designs (magrod prove --horseshoe ... --design NAME): "fig4a" is the default HorseshoeSettings()
+DESIGNS = {"fig4a": HorseshoeSettings, "fig4b": fig4b_settings}
 
 
 def _q(x) -> str:
@@ -434,6 +455,12 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
         passes.append(delta)
         if n_pass == len(sched) - 1:
             break
+        if st.stop_frac and len(set(sched[n_pass:])) == 1:
+            d_ = float(np.hypot(float(cs[0][0]) - x0[0], float(cs[0][1])))
+            w_end = sizes(lam, sig, d_ * st.l1_frac, st.qu, st.qs, st.w_cap * d_ * st.l1_frac)[1][-1]
+            if abs(delta) < st.stop_frac * w_end:
+                say(f"  pbar_theta at the end {delta:.3g} < {st.stop_frac:g} w_k: the chain passes stop")
+                break
         v = eus[0]
         for D in DPs:
             v = D @ v
