@@ -39,7 +39,8 @@ from fractions import Fraction
 import numpy as np
 
 from ..core.errors import ParameterError
-from ..core.tolerances import FIXED_POINT_SEARCH_TOL, HORSESHOE_CENTRE_TOL, PROOF_STEP_TOL
+from ..core.tolerances import (FIXED_POINT_SEARCH_TOL, HORSESHOE_CENTRE_TOL, HORSESHOE_CENTRE_TOL_FIG4B,
+                               PROOF_STEP_TOL)
 from ..generated import validated as gen
 from . import ball, fields, periodic, taylor
 from .search import ProofFailure, ProofResult, stored
@@ -102,10 +103,12 @@ def fig4b_settings() -> HorseshoeSettings:
     against the entry thickness l0 / mu_u = 0.10 d of P(N0) ((a') float margin -1013), and mu_u l0 < d + l1
     ((b) -0.6).  Margins 1.5 in both directions let the widths grow by 2.1 per link backwards to the cap 3 l1 =
     0.45 d at N1; l0 = d / 2 gives (b) (mu_u l0 - d) / l1 = 4.0 at N0 => N1.  Float linear margins: (a') >= 0.33,
-    (b) min |y_u| - 1 >= 0.50 on every link.  The sets (>= 7e-11) are resolved by centre flights at PROOF_STEP_TOL
-    (widths <= 2e-13), so every pass runs at that tolerance and the passes stop once the end is on Fix(R)."""
+    (b) min |y_u| - 1 >= 0.50 on every link.  The centre flights at HORSESHOE_CENTRE_TOL_FIG4B = 1e-28 (P(x0)
+    enclosed to 4.5e-14; at PROOF_STEP_TOL to 8e-10, which failed N9 => N10) resolve the sets (entry widths times
+    sin(angle) >= 1.5e-11); every pass runs at that tolerance, so the passes stop once the end is on Fix(R)."""
     return HorseshoeSettings(m_back=3, n_exc=14, s_star=-9.871e-7, qu=1.5, qs=1.5, l0_frac=0.5, l1_frac=0.15,
-                             w_cap=3.0, tol_thin=PROOF_STEP_TOL, passes=("tol", "tol", "tol"), stop_frac=1e-2)
+                             w_cap=3.0, tol_thin=HORSESHOE_CENTRE_TOL_FIG4B, passes=("thin", "thin", "thin"),
+                             stop_frac=1e-2)
 
 
 #: named designs (magrod prove --horseshoe ... --design NAME): "fig4a" is the default HorseshoeSettings()
