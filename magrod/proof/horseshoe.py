@@ -103,12 +103,15 @@ def fig4b_settings() -> HorseshoeSettings:
     against the entry thickness l0 / mu_u = 0.10 d of P(N0) ((a') float margin -1013), and mu_u l0 < d + l1
     ((b) -0.6).  Margins 1.5 in both directions let the widths grow by 2.1 per link backwards to the cap 3 l1 =
     0.45 d at N1; l0 = d / 2 gives (b) (mu_u l0 - d) / l1 = 4.0 at N0 => N1.  Float linear margins: (a') >= 0.33,
-    (b) min |y_u| - 1 >= 0.50 on every link.  The centre flights at HORSESHOE_CENTRE_TOL_FIG4B = 1e-28 (P(x0)
+    (b) min |y_u| - 1 >= 0.50 on every link.  The rigorous mean-value form costs (a') 0.012-0.071 on N0 .. N15
+    (first full run) but fails N15 => N16, where c_16's frame has 1.3 degrees and l15 / w16 = 6.8: N15 and N16 are
+    cut into 4 pieces along the exit direction (the form's excess falls like the piece's length squared).  The
+    centre flights at HORSESHOE_CENTRE_TOL_FIG4B = 1e-28 (P(x0)
     enclosed to 4.5e-14; at PROOF_STEP_TOL to 8e-10, which failed N9 => N10) resolve the sets (entry widths times
     sin(angle) >= 1.5e-11); every pass runs at that tolerance, so the passes stop once the end is on Fix(R)."""
     return HorseshoeSettings(m_back=3, n_exc=14, s_star=-9.871e-7, qu=1.5, qs=1.5, l0_frac=0.5, l1_frac=0.15,
                              w_cap=3.0, tol_thin=HORSESHOE_CENTRE_TOL_FIG4B, passes=("thin", "thin", "thin"),
-                             stop_frac=1e-2)
+                             stop_frac=1e-2, pieces={15: (4, 1), 16: (4, 1)})
 
 
 #: named designs (magrod prove --horseshoe ... --design NAME): "fig4a" is the default HorseshoeSettings()
@@ -539,7 +542,7 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
                                                              ball.negative(v) for v in cps),
                   f"cos psi = {cps[0]} at the crossing: the image lies on M's branch psi = {sets[j]['branch']} mod 2 pi")
             check(f"N{i} => N{j} piece {n} (a)", a_ok, f"image in M's coordinates: y_u = {off[0]} + ..., y_s ="
-                  f" {off[1]} + G ...: stays in |y_s| < 1")
+                  f" {off[1]} + G ...: stays in |y_s| < 1 (margin 1 - max |y_s| = {margin:.4g})")
             amin = min(amin, margin)
             if -1 in edges:
                 left.append(edges[-1])
