@@ -194,3 +194,15 @@ def test_mutated_field_control_fails_to_prove():
     res = horseshoe.prove(p, h, 0.383, module=fields.mutated_module(0))
     assert not res.ok and res.certificate is None
     assert "flight not validated" in res.reason or "not established" in res.reason, res.reason
+
+
+def test_text_output_of_a_horseshoe_result():
+    """`magrod prove --horseshoe` without --json prints the entropy bound (seen to fail: the Fig 4(b) run's text
+    output raised KeyError 'crossings' after its certificate was written)."""
+    from magrod.cli import prove as cli
+
+    d = {"ok": True, "params": {}, "level": "9/10", "wall_time_s": 1.0, "checks": [{}] * 3, "reason": "",
+         "certificate": "out/certificate.json", "entropy": {"rho_lower": "295848435455/274877906944",
+                                                            "log_rho_lower": 0.0735}}
+    text = cli.format_text(d)
+    assert text.startswith("proved: 3 checks") and "log rho > 0.0735" in text

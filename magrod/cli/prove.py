@@ -195,6 +195,10 @@ def format_text(d) -> str:
                 + "\n".join(f"  {name} in [{fp[k][0]:.12g}, {fp[k][1]:.12g}]" for k, name in
                             (("newton", "theta*"), ("trace", "tr DP(x0)"), ("mu_u", "mu_u"))))
     lines = [f"proved: {len(d['checks'])} checks hold ({d['wall_time_s']:.1f} s); certificate {d['certificate']}"]
+    if "entropy" in d:  # --horseshoe (it has no crossings; printing them was a KeyError after the proof)
+        e = d["entropy"]
+        lines.append(f"  h_top(P|Lambda) >= log rho > {e['log_rho_lower']:.4g}, rho > {e['rho_lower']}")
+        return "\n".join(lines)
     for c in d["crossings"]:
         lines.append(f"  psi = {c['target']}: phi* in [{c['phi_star']['mid']} +- {c['phi_star']['rad']}], "
                      f"dtheta_u/dpsi in [{c['dtheta_dpsi']['mid']} +- {c['dtheta_dpsi']['rad']}]")
