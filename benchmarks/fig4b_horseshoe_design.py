@@ -17,12 +17,14 @@ back), the sizes by horseshoe.sizes with the given margins.  For each link N => 
   sampled  the float images of N's boundary (9 points per edge) and a 5 x 5 grid: (a') 1 - max |y_s| over image
            points with |y_u| <= 1, (b) min |y_u| - 1 over the exit edges' images (float error ~1e-15 / w_M).
 
-    python benchmarks/fig4b_horseshoe_design.py [out.json] [--design=fig4b] [--m=3] [--qu=1.5] [--qs=1.5] [--l0=0.5]
+    python benchmarks/fig4b_horseshoe_design.py [out.json] [--design=fig4b] [--m=4] [--qu=1.5] [--qs=1.5] [--l0=0.5]
         [--l1=0.15] [--wcap=3] [--panel=b]
 
 --design picks the prover's named design (magrod/proof/horseshoe.DESIGNS: fig4b, the default, or fig4a, Fig 4(a)'s
 geometry, margins 3); each other flag overrides one of its fields.  Stored runs (2 cores, load ~4, ~10 s each):
-fig4b_horseshoe_design.json (--design=fig4b: every link's margins positive, (a') >= 0.33, (b) >= 0.50) and
+fig4b_horseshoe_design.json (--design=fig4b, m = 4, the shipped certificate's geometry: every link's margins
+positive, (a') >= 0.3297, (b) >= 0.4995), fig4b_horseshoe_design_m3.json (--m=3, the first certificate's geometry:
+(a') >= 0.331, (b) >= 0.4999), and
 fig4b_horseshoe_design_fig4a_geometry.json (--design=fig4a --m=3: N0 => N1 fails, (a') -1013, (b) -0.60; every
 other link (0.62-0.69, 2.0-2.8)).
 """

@@ -222,17 +222,16 @@ STATEMENTS = (
        """At (m, μ, γ, δ) = (17/10, 2/5, 3, 3) and λ̄ = 27/200 (panel (a)) and 63/400 (panel (b)), on Fig 4's own
        level h = 9/10, the section map P of {sin ψ = 0, d sin ψ/dt > 0} has positive topological entropy: a
        compact forward-invariant set Λ with h_top(P|Λ) ≥ log ρ > 0.0882, ρ the largest root of x²⁸ = x²⁷ + 1 (a),
-       and > 0.0735, x³⁶ = x³⁵ + 1 (b) (a horseshoe of P^n). At (a) 15 h-sets (parallelograms in (θ, p̄θ),
-       half-sizes 1.3·10⁻¹⁰ … 1.4·10⁻¹³), at (b) 19 (1.5·10⁻⁸ … 6.9·10⁻¹¹; N16–N18 on the ψ = π branch of Σ+):
+       and > 0.0707, x³⁸ = x³⁷ + 1 (b) (a horseshoe of P^n). At (a) 15 h-sets (parallelograms in (θ, p̄θ),
+       half-sizes 1.3·10⁻¹⁰ … 1.4·10⁻¹³), at (b) 20 (4.7·10⁻⁹ … 2.2·10⁻¹¹; N17–N19 on the ψ = π branch of Σ+):
        N0 at the saddle x0 of statement 11 and N1 … Nk along its homoclinic orbit (W^u of x0 meets Fix(R) at the
        8th return (a), the 14th (b)) carry the covering relations N0 ⇒ N0 and N0 ⇒ N1 ⇒ … ⇒ Nk (Zgliczyński &
-       Gidea 2004), each checked on validated C¹ returns of the set (one piece per set, four for N15 and N16 at
-       (b)); N0 and Nk are R-symmetric and N0 is disjoint from the others, so reversibility closes the chain into
+       Gidea 2004), each checked on validated C¹ returns of the set (one piece per set, two for N16 at (b)); N0 and Nk are R-symmetric and N0 is disjoint from the others, so reversibility closes the chain into
        a loop of length 2k through N0 (docs/nonintegrability.md, "A horseshoe on Fig 4's own level").
        Certificates magrod/proof/certificates/horseshoe_fig4a.json and horseshoe_fig4b.json, re-checked by the
        verifier (kind section_horseshoe; `magrod prove --horseshoe 0.383 --level 0.9 --m 1.7 --mu 0.4 --gamma 3
        --delta 3 --lam 0.135`, and `--horseshoe 0.283 ... --lam 0.1575 --design fig4b`; prove 338 s, verify
-       221 s (a); prove 601 s, verify 387 s (b), on 2 cores shared with another proof, load 4–6; `magrod
+       221 s (a); prove 323 s, verify 171 s (b), on 2 cores (another proof on the other core at times); `magrod
        reproduce` re-checks neither, their minutes being beyond reproduce's budget: a REPORT row says so for
        (a), and (b) is not part of reproduce). Panels (c) and (d) are not proved.""",
        [Step("the covering relations, the symmetry of N0 and Nk, the disjointness, the cover by pieces, the "
