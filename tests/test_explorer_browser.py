@@ -372,6 +372,28 @@ def test_long_use_30_orbits_typed_start_and_a_long_orbit(server, browser):
     page.close()
 
 
+def test_quick_clicks_and_a_double_click(server, browser):
+    """Two clicks 100 ms apart at different points launch two orbits; a double click launches one.  Bokeh reads a
+    second click within 300 ms as a DoubleTap and sends no Tap: the second orbit was lost (seen to fail with the
+    app's DoubleTap handler removed: click 2 made no orbit)."""
+    page = _open(browser, server.url)
+    _set_iterates(page, 100)
+    (xa, ya), (xb, yb), (xc, yc) = (_pixel(page, th, pt) for th, pt in ((0.6, 0.2), (1.2, -0.2), (1.8, 0.1)))
+    page.mouse.click(xa, ya)
+    time.sleep(0.1)
+    page.mouse.click(xb, yb)
+    for k in (1, 2):
+        page.wait_for_function(f"() => Bokeh.documents[0].get_model_by_name('orbit-src-{k}') !== null",
+                               timeout=60_000, polling=20)
+    page.mouse.dblclick(xc, yc)
+    page.wait_for_function("() => Bokeh.documents[0].get_model_by_name('orbit-src-3') !== null", timeout=60_000,
+                           polling=20)
+    time.sleep(1.0)  # a second orbit from the double click would be on the page by now (first points: ~0.05 s)
+    assert page.evaluate("() => Bokeh.documents[0].get_model_by_name('orbit-src-4')") is None
+    assert len(_orbit_options(page)) == 3
+    page.close()
+
+
 @pytest.mark.slow
 def test_a_long_orbit_draws_without_freezing_the_page(server, browser):
     """Issue 29, part (3) of the long-use test (behind --full since issue 25: 20 s of compute on an idle core and

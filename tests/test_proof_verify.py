@@ -166,6 +166,28 @@ def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path,
     assert side["theorem"] == theorem.homoclinic_theorem(side["params"], ["0", "pi"])
     shipped = json.loads((tmp_path / "proof_certificate.json").read_text())
     assert shipped["params"] == {"m": "17/10", "mu": "1/25", "gamma": "1/1", "delta": "1/1", "lam": "1/100"}
+    # --quick does not verify the horseshoe's certificate (~45 s of CPU) and says so; every reproduction but --quick
+    # does (issue 27: nothing is left to NOT_IN_REPRODUCE)
+    assert "horseshoe_fig4a.json" in side["not_verified_in_quick"] and side["fig4_horseshoe"] == []
+    assert fig.NOT_IN_REPRODUCE == () and side["not_verified_in_reproduce"] == []
+
+
+def test_report_row_of_the_verified_horseshoe():
+    """The full reproduction's REPORT row for statement 12 carries the verifier's result and the statement's status
+    (a synthetic proof.json entry; its verification is tests/test_proof_horseshoe.py::test_certificate_verifies)."""
+    from magrod.figures import report
+    from magrod.proof.statements import status
+
+    f = {"panel": "4a", "params": {"m": "17/10", "mu": "2/5", "gamma": "3/1", "delta": "3/1", "lam": "27/200"},
+         "level": "9/10", "ok": True, "reason": "certificate verified", "n_checks": 212, "theorem": "t",
+         "statement": "12", "certificate": "magrod/proof/certificates/horseshoe_fig4a.json", "verify_wall_time_s": 30.0}
+    rows = report._proof_fig4_horseshoe({"fig4_horseshoe": [f]})
+    assert len(rows) == 1 and rows[0]["verdict"].startswith(f"{status('12')} (statement 12)")
+    assert "212 checks" in rows[0]["computed"]
+    rows = report._proof_fig4_horseshoe({"fig4_horseshoe": [dict(f, ok=False)]})
+    assert rows[0]["verdict"] == "certificate NOT verified"
+    assert report._proof_skipped({"not_verified_in_quick": ["horseshoe_fig4a.json"]})[0]["label"].endswith(
+        "(statements 5a, 11, 12)")
 
 
 # --- the certificate at Fig 4(a)'s rod (issue 27; statement 5a): its controls ------------------------------------

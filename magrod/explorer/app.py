@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 import panel as pn
-from bokeh.events import Tap
+from bokeh.events import DoubleTap, Tap
 from bokeh.models import (ColorBar, ColumnDataSource, FixedTicker, Legend, LegendItem, LinearColorMapper, Range1d)
 from bokeh.plotting import figure
 
@@ -45,8 +45,9 @@ N_SLOTS = 24  # orbit renderers made with the page (see _build_plot)
 # iterate count), so that drawing stays fluid at 10^5 iterates; exports and results keep every point.
 DISPLAY_CAP = 20_000
 # The page receives an orbit's new points at most this often (the chunks in between are joined): every message
-# re-renders the plot, and at 25 messages a second a software-WebGL tab spent all its time drawing.
+# re-renders the plot, and at 25 messages a second a tab without a GPU spent all its time drawing.
 STREAM_INTERVAL_S = 0.25
+DOUBLE_CLICK_PX = 4  # a DoubleTap this close (screen pixels) to the previous tap is a double click, not a new click
 MARKER_SIZE = 3  # px, the page's marker-size control starts here
 # the projections of the section sin psi = 0 (the level fixes the third coordinate; theta-pbar_theta is where a
 # click or a typed start launches an orbit, and where the energy-level boundary is drawn)
@@ -123,6 +124,7 @@ class Explorer(pn.viewable.Viewer):
         self.latencies: list[float] = []  # click -> first chunk handed to the page (s), for the status endpoint
         self.tap_handler_s: list[float] = []  # time spent in the click handler on the event loop (s)
         self.tap_wall: list[float] = []  # wall-clock times the click handler started
+        self._last_tap_px: tuple | None = None  # screen position of the last tap (a DoubleTap there is ignored)
         self.stream_wall: list[float] = []  # wall-clock times first points were streamed
         self._registry = registry
         if registry is not None:
@@ -191,7 +193,10 @@ class Explorer(pn.viewable.Viewer):
     def _build_plot(self):
         f = figure(width=760, height=600, x_range=Range1d(0.0, np.pi), y_range=Range1d(-1.5, 1.5),
                    tools="tap,pan,wheel_zoom,box_zoom,reset,save", active_scroll="wheel_zoom",
-                   output_backend="webgl", x_axis_label="θ", y_axis_label="p̄θ", name="section")
+                   # canvas, not webgl: without a GPU, WebGL is software-rendered and every renderer's frame is read
+                   # back (drawImage + readPixels) on each redraw, so the cost grew with the orbit count (profiled: 30
+                   # clicks took 52 s of the page's main thread under webgl, 15 s under canvas)
+                   output_backend="canvas", x_axis_label="θ", y_axis_label="p̄θ", name="section")
         f.toolbar.logo = None
         f.title.text_font_size = "12px"
         f.axis.axis_label_text_font_size = "16px"
@@ -223,6 +228,10 @@ class Explorer(pn.viewable.Viewer):
         # colour and visibility.  Orbits beyond N_SLOTS get new renderers (the slow path).
         self._free_slots = [self._new_slot(f, k) for k in range(N_SLOTS)]
         f.on_event(Tap, self._on_tap)
+        # Bokeh turns a second click within 300 ms of the first into a DoubleTap and sends no Tap: a quick second
+        # click elsewhere was lost.  A DoubleTap away from the last tap is a click; on the same spot it is the
+        # second half of a double click and launches nothing
+        f.on_event(DoubleTap, self._on_double_tap)
         self.fig = f
         self.plot_pane = pn.pane.Bokeh(f, css_classes=["magrod-section"])
 
@@ -347,6 +356,7 @@ class Explorer(pn.viewable.Viewer):
     # ------------------------------------------------------------------------------------------------------
     def _on_tap(self, event):
         self.tap_wall.append(time.time())
+        self._last_tap_px = (event.sx, event.sy)
         t = time.perf_counter()
         if PROJECTIONS[self.projection.value] != ("theta", "ptheta"):
             self._say("Orbits are launched in the θ – p̄θ projection (where the energy level is drawn): switch "
@@ -354,6 +364,12 @@ class Explorer(pn.viewable.Viewer):
         else:
             self.launch(event.x, event.y)
         self.tap_handler_s.append(time.perf_counter() - t)
+
+    def _on_double_tap(self, event):
+        last = self._last_tap_px
+        if last is not None and abs(event.sx - last[0]) <= DOUBLE_CLICK_PX and abs(event.sy - last[1]) <= DOUBLE_CLICK_PX:
+            return
+        self._on_tap(event)
 
     def _launch_typed(self):
         """The typed start, exactly: the decimal strings are parsed as Python floats, as `magrod poincare

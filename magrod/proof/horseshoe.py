@@ -183,18 +183,9 @@ class FloatMap:
         return ta.state.copy(), float(ta.time)
 
     def full(self, z):
-        ta = self.ta
-        ta.time = 0.0
-        ta.state[:] = self.lift(z)
-        ta.reset_cooldowns()
-        while True:
-            oc = ta.propagate_until(ta.time + 100.0)[0]
-            if int(oc) != -1:
-                raise ProofFailure("design: no return of the float section map within t = 100")
-            if ta.time > 1e-3:
-                break
-        y = ta.state.copy()
-        return np.array([y[fields.THETA], y[fields.PTHETA]]), float(ta.time)
+        """((theta, pbar_theta) at the first positive crossing after t > 1e-3, its time) from the section point z."""
+        y, t = self.full4(self.lift(z))
+        return np.array([y[fields.THETA], y[fields.PTHETA]]), t
 
     def __call__(self, z):
         return self.full(z)[0]

@@ -226,14 +226,17 @@ STATEMENTS = (
        half-sizes 1.3·10⁻¹⁰ … 1.4·10⁻¹³), at (b) 20 (4.7·10⁻⁹ … 2.2·10⁻¹¹; N17–N19 on the ψ = π branch of Σ+):
        N0 at the saddle x0 of statement 11 and N1 … Nk along its homoclinic orbit (W^u of x0 meets Fix(R) at the
        8th return (a), the 14th (b)) carry the covering relations N0 ⇒ N0 and N0 ⇒ N1 ⇒ … ⇒ Nk (Zgliczyński &
-       Gidea 2004), each checked on validated C¹ returns of the set (one piece per set, two for N16 at (b)); N0 and Nk are R-symmetric and N0 is disjoint from the others, so reversibility closes the chain into
-       a loop of length 2k through N0 (docs/nonintegrability.md, "A horseshoe on Fig 4's own level").
+       Gidea 2004), each checked on validated C¹ returns of the set (one piece per set, two for N16 at (b)); N0
+       and Nk are R-symmetric and N0 is disjoint from the others, so reversibility closes the chain into a loop of
+       length 2k through N0 (docs/nonintegrability.md, "A horseshoe on Fig 4's own level").
        Certificates magrod/proof/certificates/horseshoe_fig4a.json and horseshoe_fig4b.json, re-checked by the
        verifier (kind section_horseshoe; `magrod prove --horseshoe 0.383 --level 0.9 --m 1.7 --mu 0.4 --gamma 3
-       --delta 3 --lam 0.135`, and `--horseshoe 0.283 ... --lam 0.1575 --design fig4b`; prove 338 s, verify
-       221 s (a); prove 323 s, verify 171 s (b), on 2 cores (another proof on the other core at times); `magrod
-       reproduce` re-checks neither, their minutes being beyond reproduce's budget: a REPORT row says so for
-       (a), and (b) is not part of reproduce). Panels (c) and (d) are not proved.""",
+       --delta 3 --lam 0.135`, and `--horseshoe 0.283 ... --lam 0.1575 --design fig4b`). (a): prove 338 s on 2
+       cores; verify 44–58 s of CPU, with Newton's series and the sets in two processes, so the full `magrod
+       reproduce` re-checks it and REPORT has its row; `--quick` does not, and says so. (b): prove 323 s on 2
+       cores (another proof on the other core at times); verify 83 s wall, 85 s of CPU
+       (load 2–3, the same verifier); it is not part of `magrod reproduce`.
+       Panels (c) and (d) are not proved.""",
        [Step("the covering relations, the symmetry of N0 and Nk, the disjointness, the cover by pieces, the "
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
              "section_horseshoe)"),

@@ -22,6 +22,7 @@ a result with ok = False and a one-line reason (a check does not hold: exit 1).
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import time
 from dataclasses import dataclass, field
@@ -93,7 +94,7 @@ def load(path) -> dict:
     return cert
 
 
-def verify(cert: dict, *, module=fields.gen) -> VerifyResult:
+def verify(cert: dict, *, module=fields.gen, workers: int | None = None) -> VerifyResult:
     """Re-check a proof certificate with code separate from the prover.
 
     Parameters
@@ -102,6 +103,10 @@ def verify(cert: dict, *, module=fields.gen) -> VerifyResult:
         The certificate (`load(path)` or the prover's dict).
     module : module, optional
         The generated field module; its SHA-256 must equal the certificate's and the installed one's.
+    workers : int, optional
+        Kind "section_horseshoe" only: the sets are re-flown in this many spawned processes (default: the CPUs this
+        process may use; 1: in this process).  The checks, their order and the result are the same for every
+        value (each set's checks are replayed in the serial order; Arb is deterministic).
 
     Returns
     -------
@@ -141,7 +146,7 @@ def verify(cert: dict, *, module=fields.gen) -> VerifyResult:
     if kind == SECTION_FIXED_POINT:
         return _verify_fixed_point(cert, module, t0)
     if kind == SECTION_HORSESHOE:
-        return _verify_horseshoe(cert, module, t0)
+        return _verify_horseshoe(cert, module, t0, workers)
     try:
         p, st = _inputs(cert)
         with ball.workprec(st["prec"], st["series_cap"]):
@@ -623,8 +628,11 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
 # magrod/proof/horseshoe.py).  The flights are section_return.piece_return driven with the certificate's exact steps (as
 # the integrator is shared); the covering conditions, the cover by pieces, the symmetry, the disjointness, the
 # chain's completeness and the entropy bound are checked again here, in exact rationals where they are geometric.
+# Cost (issue 27: reproduce verifies it): the Taylor coefficients by Newton's iteration on series instead of the
+# prover's Picard iteration (taylor._newton_series), the centres flown as C^0 sets, and the sets re-flown in parallel
+# child processes (_hs_sources_parallel; the same checks in the same order): 44-58 s of CPU instead of ~150-220 s.
 # --------------------------------------------------------------------------------------------------------------
-def _verify_horseshoe(cert, module, t0) -> VerifyResult:
+def _verify_horseshoe(cert, module, t0, workers=None) -> VerifyResult:
     checks: list = []
 
     def claim(name, holds, how):
@@ -639,7 +647,7 @@ def _verify_horseshoe(cert, module, t0) -> VerifyResult:
         if not (64 <= prec <= 1024 and 4 <= order < cap <= 256):
             raise CertificateError("settings out of range (prec 64..1024 bits, 4 <= order < series_cap <= 256)")
         with ball.workprec(prec, cap):
-            vals = _horseshoe(cert, p, order, module, claim)
+            vals = _horseshoe(cert, p, order, module, claim, workers)
     except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
         if isinstance(err, ParameterError):
             raise
@@ -717,13 +725,210 @@ def _hs_cover(pieces) -> bool:
     return sum((b[1] - b[0]) * (b[3] - b[2]) for b in boxes) == 4
 
 
-def _horseshoe(cert, p, order, module, claim) -> dict:
+def _hs_branch_boxes(cert, pars, sets, brs, module, claim=None) -> list:
+    """[(ok, B)] per set: the level's root pbar_psi by interval Newton over the set's hull, B its Newton box (each
+    claimed as it is computed when `claim` is given)."""
+    from . import section_return
+
+    h, prad = _frac(cert["level"]), _frac(cert["settings"]["p_rad"])
+    U = ball.interval(-1, 1)
+    out = []
+    for j, (c, A) in enumerate(sets):
+        U0 = ball.q(c[0]) + ball.q(A[0][0]) * U + ball.q(A[0][1]) * U
+        U1 = ball.q(c[1]) + ball.q(A[1][0]) * U + ball.q(A[1][1]) * U
+        _, B, ok = section_return.level_newton_section(pars, h, U0, U1, _frac(cert["sets"][j]["p_c"]), prad, module,
+                                                       brs[j])
+        if claim is not None:
+            claim(f"N{j} branch box", ok, "the level's root pbar_psi is unique in the set's branch box over its hull")
+        out.append((ok, B))
+    return out
+
+
+def _hs_source(cert, i, order, module, claim, branch) -> None:
+    """The checks of set N_i as a source, in the verifier's order: its pieces re-flown (steps, flight, level,
+    positive return), then every link N_i => N_j of the chain.  Depends only on the certificate, i and the branch
+    boxes, so the sets can be checked in separate processes (_hs_sources_parallel) with the same checks."""
     from . import section_return
 
     s = cert["settings"]
     h = _frac(cert["level"])
-    prad, t1, lead = (_frac(s[k]) for k in ("p_rad", "t1", "lead"))
+    prad, t1, lead = (_frac(s[kk]) for kk in ("p_rad", "t1", "lead"))
     newton = int(s["newton"])
+    p = fields.ExactParams(**{kk: _frac(cert["params"][kk]) for kk in fields.PARAMS})
+    sets = [_hs_set(d) for d in cert["sets"]]
+    brs = [d.get("branch", "0") for d in cert["sets"]]
+    k = len(sets) - 1
+    want = [[0, 0], [0, 1]] + [[j, j + 1] for j in range(1, k)]
+    fl = {int(f["set"]): f for f in cert["flights"]}[i]
+    pieces = [tuple(_frac(v) for v in r["piece"]) for r in fl["pieces"]]
+    pars = p.balls()
+    # the flights' Taylor coefficients by Newton's iteration on series (taylor._newton_series: as rigorous as the
+    # prover's Picard iteration, other balls, ~1/4 of the cost), the centres as C^0 sets (their DP is not read here)
+    fld = dataclasses.replace(fields.chart_field(p, module), series="newton")
+    U = ball.interval(-1, 1)
+    c, A = sets[i]
+    images = []
+    for n, (r, pc) in enumerate(zip(fl["pieces"], pieces)):
+        yu, ys, hu, hs = pc
+        cX = [c[0] + A[0][0] * yu + A[0][1] * ys, c[1] + A[1][0] * yu + A[1][1] * ys]
+        AX = [[A[0][0] * hu, A[0][1] * hs], [A[1][0] * hu, A[1][1] * hs]]
+        steps = {kk: [[_frac(x) for x in ph] for ph in r["steps"][kk]] for kk in ("thin", "box")}
+        t_a = _frac(r["t_a"])
+        for kk in ("thin", "box"):
+            claim(f"N{i} piece {n} {kk} steps", len(steps[kk]) == 2 and sum(steps[kk][0]) == t1 and
+                  sum(steps[kk][0]) + sum(steps[kk][1]) == t_a and all(x > 0 for ph in steps[kk] for x in ph),
+                  "phase 1 on [0, t1], phase 2 on [t1, t_a], positive exact steps")
+        try:
+            f = section_return.piece_return(pars, h, fld, cX, AX, _frac(r["p_c"]), prad, t_a, lead, t1=t1,
+                                            order=order, steps=steps, newton=newton, thin_c1=False, branch=brs[i],
+                                            module=module)
+        except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
+            claim(f"N{i} piece {n} flight", False, str(err)[:200])
+        claim(f"N{i} piece {n} level", f["level_ok"] and ball.subset(f["ppsi_hull"], branch[i]),
+              "the piece's pbar_psi: unique in its Newton box over the piece, inside the set's branch box")
+        claim(f"N{i} piece {n} positive return", all(ball.positive(f[x]) for x in ("gdot_thin", "gdot_box")),
+              "the first return is a transversal positive crossing")
+        images.append((pc, AX, f))
+    for src, j in want:
+        if src != i:
+            continue
+        cM, AM = sets[j]
+        Ai = [[ball.q(v) for v in row] for row in _hs_inv(AM)]
+        right, left = [], []
+        for n, (pc, AX, f) in enumerate(images):
+            d = [f["Pc"][0] - ball.q(cM[0]), f["Pc"][1] - ball.q(cM[1])]
+            off = [Ai[a][0] * d[0] + Ai[a][1] * d[1] for a in range(2)]
+            DA = [[f["DP"][a][0] * ball.q(AX[0][b]) + f["DP"][a][1] * ball.q(AX[1][b]) for b in range(2)]
+                  for a in range(2)]
+            G = [[Ai[a][0] * DA[0][b] + Ai[a][1] * DA[1][b] for b in range(2)] for a in range(2)]
+            yu = off[0] + G[0][0] * U + G[0][1] * U
+            ys = off[1] + G[1][0] * U + G[1][1] * U
+            lu, hu_ = ball.bounds(yu)
+            ls_, hs_ = ball.bounds(ys)
+            claim(f"N{i} => N{j} piece {n} psi branch", all((ball.positive(f[x]) if brs[j] == "0" else
+                                                              ball.negative(f[x])) for x in ("cospsi_thin",
+                                                                                              "cospsi_box")),
+                  f"the image is on M's branch psi = {brs[j]} mod 2 pi (the sign of cos psi at the crossing)")
+            claim(f"N{i} => N{j} piece {n} (a)", -1 < ls_ and hs_ < 1,
+                  f"the image lies in |y_s| < 1 (y_s {ys}), so it never meets M's entry edges and the straight-line "
+                  f"homotopy to (a y_u, 0) keeps |y_s| < 1")
+            if lu <= 1 and hu_ >= -1:
+                # where the image can land in M, its pbar_psi is M's root: inside M's branch box
+                claim(f"N{i} => N{j} piece {n} branch", ball.subset(f["ppsi_box"], branch[j]),
+                      "the image's pbar_psi lies in M's branch box (the level's root unique there over M)")
+            if pc[0] - pc[2] == -1:
+                left.append(off[0] - G[0][0] + G[0][1] * U)
+            if pc[0] + pc[2] == 1:
+                right.append(off[0] + G[0][0] + G[0][1] * U)
+        claim(f"N{i} => N{j} exit edges", bool(right) and bool(left), "pieces on both exit edges")
+        o = 1 if ball.bounds(right[0])[0] > 1 else -1
+        okb = all(ball.bounds(e)[0] > 1 if o == 1 else ball.bounds(e)[1] < -1 for e in right) and \
+            all(ball.bounds(e)[1] < -1 if o == 1 else ball.bounds(e)[0] > 1 for e in left)
+        claim(f"N{i} => N{j} (b)", okb, "the images of the exit edges lie beyond M's exit edges, on opposite sides")
+
+
+def _hs_workers(workers) -> int:
+    """The number of processes for the horseshoe's sets: `workers`, or None: the CPUs this process may use."""
+    if workers is not None:
+        return max(1, int(workers))
+    import os
+
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+class _Stop(Exception):
+    """A worker's recorded check failed: stop there (the parent raises the rejection when it replays it)."""
+
+
+_MALFORMED = (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError)
+
+
+def _hs_record(cert, i) -> dict:
+    """One set's checks (_hs_source), recorded: {"i", "recs": [(name, holds, how)], "err": None or [type name,
+    message, malformed?]}; the recording stops at the first check that fails (as the serial verifier does)."""
+    recs = []
+
+    def rec(name, holds, how):
+        recs.append((name, bool(holds), how))
+        if not holds:
+            raise _Stop
+
+    err = None
+    try:
+        s = cert["settings"]
+        p = fields.ExactParams(**{kk: _frac(cert["params"][kk]) for kk in fields.PARAMS})
+        with ball.workprec(int(s["prec"]), int(s["series_cap"])):
+            sets = [_hs_set(d) for d in cert["sets"]]
+            brs = [d.get("branch", "0") for d in cert["sets"]]
+            boxes = [B for _ok, B in _hs_branch_boxes(cert, p.balls(), sets, brs, fields.gen)]
+            _hs_source(cert, i, int(s["order"]), fields.gen, rec, boxes)
+    except _Stop:
+        pass
+    except Exception as e:  # noqa: BLE001 - handed to the parent, which raises it where the serial run would
+        err = [type(e).__name__, str(e)[:120], isinstance(e, _MALFORMED) and not isinstance(e, ParameterError)]
+    return {"i": i, "recs": recs, "err": err}
+
+
+def _hs_worker_main() -> None:
+    """A worker process of _hs_sources_parallel: the certificate and its set indices on stdin (one JSON document),
+    one JSON line per set on stdout, in the order of the indices."""
+    import sys
+
+    job = json.loads(sys.stdin.read())
+    for i in job["sets"]:
+        sys.stdout.write(json.dumps(_hs_record(job["cert"], int(i))) + "\n")
+        sys.stdout.flush()
+
+
+def _hs_sources_parallel(cert, k, workers, claim) -> None:
+    """_hs_source for i = 0 .. k-1 in `workers` child processes (fresh interpreters running _hs_worker_main on
+    sets i = w, w + workers, ...: no multiprocessing, so nothing of the caller's __main__ is re-run and no
+    process-wide state is changed), their records replayed through `claim` in the order of i, so the checks, the
+    first rejection and its reason are the serial verifier's; on a rejection the workers are stopped."""
+    import os
+    import subprocess
+    import sys
+
+    root = str(Path(__file__).resolve().parents[2])  # the magrod the caller runs, for the children too
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([root] + [v for v in [os.environ.get("PYTHONPATH")] if v]))
+    # one thread each (the QR of Lohner's step is 4 x 4): BLAS threads of two workers would compete for the cores
+    env.update(OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    code = "from magrod.proof.verify import _hs_worker_main; _hs_worker_main()"
+    procs = []
+    try:
+        for w in range(workers):
+            pr = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                  env=env, text=True)
+            procs.append(pr)
+            pr.stdin.write(json.dumps({"cert": cert, "sets": list(range(w, k, workers))}))
+            pr.stdin.close()
+        for i in range(k):
+            line = procs[i % workers].stdout.readline()
+            if not line:
+                raise RuntimeError(f"the horseshoe verifier's worker for N{i} ended without a result "
+                                   f"(exit status {procs[i % workers].wait()})")
+            r = json.loads(line)
+            if r["i"] != i:
+                raise RuntimeError(f"worker result for N{r['i']} where N{i} was expected")
+            for name, holds, how in r["recs"]:
+                claim(name, holds, how)
+            if r["err"] is not None:
+                kind, msg, malformed = r["err"]
+                if malformed:
+                    raise CertificateError(f"malformed certificate ({kind}: {msg})")
+                raise RuntimeError(f"horseshoe verifier worker, N{i}: {kind}: {msg}")
+    finally:
+        for pr in procs:
+            if pr.poll() is None:
+                pr.kill()
+            pr.wait()
+            pr.stdout.close()
+
+
+def _horseshoe(cert, p, order, module, claim, workers=None) -> dict:
     claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
           "the certificate's field is the installed derive-generated one")
     claim("2 pi-periodic in psi", _psi_periodic(module),
@@ -765,77 +970,11 @@ def _horseshoe(cert, p, order, module, claim) -> dict:
         pieces[i] = [tuple(_frac(v) for v in r["piece"]) for r in fl_by_set[i]["pieces"]]
         claim(f"N{i} cover", _hs_cover(pieces[i]), f"the {len(pieces[i])} pieces cover [-1, 1]^2 exactly")
     pars = p.balls()
-    fld = fields.chart_field(p, module)
-    U = ball.interval(-1, 1)
-    images = {}
-    branch = {}
-    for j, (c, A) in enumerate(sets):
-        U0 = ball.q(c[0]) + ball.q(A[0][0]) * U + ball.q(A[0][1]) * U
-        U1 = ball.q(c[1]) + ball.q(A[1][0]) * U + ball.q(A[1][1]) * U
-        _, B, ok = section_return.level_newton_section(pars, h, U0, U1, _frac(cert["sets"][j]["p_c"]), prad, module,
-                                                 brs[j])
-        claim(f"N{j} branch box", ok, "the level's root pbar_psi is unique in the set's branch box over its hull")
-        branch[j] = B
-
-    def fly_set(i):
-        c, A = sets[i]
-        imgs = []
-        for n, (r, pc) in enumerate(zip(fl_by_set[i]["pieces"], pieces[i])):
-            yu, ys, hu, hs = pc
-            cX = [c[0] + A[0][0] * yu + A[0][1] * ys, c[1] + A[1][0] * yu + A[1][1] * ys]
-            AX = [[A[0][0] * hu, A[0][1] * hs], [A[1][0] * hu, A[1][1] * hs]]
-            steps = {kk: [[_frac(x) for x in ph] for ph in r["steps"][kk]] for kk in ("thin", "box")}
-            t_a = _frac(r["t_a"])
-            for kk in ("thin", "box"):
-                claim(f"N{i} piece {n} {kk} steps", len(steps[kk]) == 2 and sum(steps[kk][0]) == t1 and
-                      sum(steps[kk][0]) + sum(steps[kk][1]) == t_a and all(x > 0 for ph in steps[kk] for x in ph),
-                      "phase 1 on [0, t1], phase 2 on [t1, t_a], positive exact steps")
-            try:
-                f = section_return.piece_return(pars, h, fld, cX, AX, _frac(r["p_c"]), prad, t_a, lead, t1=t1,
-                                          order=order, steps=steps, newton=newton, branch=brs[i], module=module)
-            except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
-                claim(f"N{i} piece {n} flight", False, str(err)[:200])
-            claim(f"N{i} piece {n} level", f["level_ok"] and ball.subset(f["ppsi_hull"], branch[i]),
-                  "the piece's pbar_psi: unique in its Newton box over the piece, inside the set's branch box")
-            claim(f"N{i} piece {n} positive return", all(ball.positive(f[x]) for x in ("gdot_thin", "gdot_box")),
-                  "the first return is a transversal positive crossing")
-            imgs.append((pc, AX, f))
-        return imgs
-
-    for i, j in want:
-        if i not in images:
-            images[i] = fly_set(i)
-        cM, AM = sets[j]
-        Ai = [[ball.q(v) for v in row] for row in _hs_inv(AM)]
-        right, left = [], []
-        for n, (pc, AX, f) in enumerate(images[i]):
-            d = [f["Pc"][0] - ball.q(cM[0]), f["Pc"][1] - ball.q(cM[1])]
-            off = [Ai[a][0] * d[0] + Ai[a][1] * d[1] for a in range(2)]
-            DA = [[f["DP"][a][0] * ball.q(AX[0][b]) + f["DP"][a][1] * ball.q(AX[1][b]) for b in range(2)]
-                  for a in range(2)]
-            G = [[Ai[a][0] * DA[0][b] + Ai[a][1] * DA[1][b] for b in range(2)] for a in range(2)]
-            yu = off[0] + G[0][0] * U + G[0][1] * U
-            ys = off[1] + G[1][0] * U + G[1][1] * U
-            lu, hu_ = ball.bounds(yu)
-            ls_, hs_ = ball.bounds(ys)
-            claim(f"N{i} => N{j} piece {n} psi branch", all((ball.positive(f[x]) if brs[j] == "0" else
-                                                              ball.negative(f[x])) for x in ("cospsi_thin",
-                                                                                              "cospsi_box")),
-                  f"the image is on M's branch psi = {brs[j]} mod 2 pi (the sign of cos psi at the crossing)")
-            claim(f"N{i} => N{j} piece {n} (a)", -1 < ls_ and hs_ < 1,
-                  f"the image lies in |y_s| < 1 (y_s {ys}), so it never meets M's entry edges and the straight-line "
-                  f"homotopy to (a y_u, 0) keeps |y_s| < 1")
-            if lu <= 1 and hu_ >= -1:
-                # where the image can land in M, its pbar_psi is M's root: inside M's branch box
-                claim(f"N{i} => N{j} piece {n} branch", ball.subset(f["ppsi_box"], branch[j]),
-                      "the image's pbar_psi lies in M's branch box (the level's root unique there over M)")
-            if pc[0] - pc[2] == -1:
-                left.append(off[0] - G[0][0] + G[0][1] * U)
-            if pc[0] + pc[2] == 1:
-                right.append(off[0] + G[0][0] + G[0][1] * U)
-        claim(f"N{i} => N{j} exit edges", bool(right) and bool(left), "pieces on both exit edges")
-        o = 1 if ball.bounds(right[0])[0] > 1 else -1
-        okb = all(ball.bounds(e)[0] > 1 if o == 1 else ball.bounds(e)[1] < -1 for e in right) and \
-            all(ball.bounds(e)[1] < -1 if o == 1 else ball.bounds(e)[0] > 1 for e in left)
-        claim(f"N{i} => N{j} (b)", okb, "the images of the exit edges lie beyond M's exit edges, on opposite sides")
+    boxes = [B for _ok, B in _hs_branch_boxes(cert, pars, sets, brs, module, claim)]
+    w = 1 if module is not fields.gen else min(_hs_workers(workers), k)
+    if w <= 1:
+        for i in range(k):
+            _hs_source(cert, i, order, module, claim, boxes)
+    else:
+        _hs_sources_parallel(cert, k, w, claim)
     return {"k": k, "L": L, "rho": cert["entropy"]["rho_lower"]}
