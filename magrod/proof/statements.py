@@ -234,7 +234,7 @@ STATEMENTS = (
        --delta 3 --lam 0.135`, and `--horseshoe 0.283 ... --lam 0.1575 --design fig4b`). (a): prove 338 s on 2
        cores; verify 44–58 s of CPU, with Newton's series and the sets in two processes, so the full `magrod
        reproduce` re-checks it and REPORT has its row; `--quick` does not, and says so. (b): prove 323 s on 2
-       cores (another proof on the other core at times); verify 83 s wall, 85 s of CPU
+       cores (another proof on the other core at times; 221 s at load 0.3–1); verify 83 s wall, 85 s of CPU
        (load 2–3, the same verifier); it is not part of `magrod reproduce`.
        Panels (c) and (d) are not proved.""",
        [Step("the covering relations, the symmetry of N0 and Nk, the disjointness, the cover by pieces, the "
