@@ -158,7 +158,8 @@ def test_the_monodromy_formula():
                                         # --horseshoe shares the input handling (cli/prove.py _section_inputs)
                                         (["--horseshoe", "4", "--level", "0.9"], "horseshoe"),
                                         (["--horseshoe", "0.383"], "level"),
-                                        (["--horseshoe", "0.383", "--level", "0.9", "--mutate", "x"], "mutate")])
+                                        (["--horseshoe", "0.383", "--level", "0.9", "--mutate", "x"], "mutate"),
+                                        (["--horseshoe", "0.383", "--level", "0.9", "--design", "fig4z"], "design")])
 def test_bad_input_is_exit_2_naming_the_parameter(args, name, tmp_path, capsys):
     out = tmp_path / "never"
     code = main(["prove", *FIG4A, *args, "--out", str(out), "--quiet", "--json"])

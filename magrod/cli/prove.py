@@ -16,7 +16,7 @@ sin psi = 0 on the level Hbar = H (magrod/proof/periodic.py; statement 11), the 
 Fix(R) within 0.02 of THETA (no condition mu > 2 lambdabar: the level need not hold the tilted saddle).
 `magrod prove --horseshoe THETA --level H ...` proves a horseshoe of that section map (positive topological entropy)
 by covering relations along the homoclinic orbit of the saddle near THETA (magrod/proof/horseshoe.py; statement 12;
-~6 min at Fig 4(a))."""
+~6 min at Fig 4(a)); `--design fig4b` selects the chain's design for Fig 4(b) (horseshoe.DESIGNS)."""
 from __future__ import annotations
 
 from fractions import Fraction
@@ -40,6 +40,9 @@ def add_arguments(p):
     p.add_argument("--horseshoe", default=None, metavar="THETA",
                    help="prove a horseshoe of the section map on --level by covering relations along the homoclinic "
                         "orbit of its symmetric saddle near theta = THETA (statement 12)")
+    p.add_argument("--design", default="fig4a", metavar="NAME",
+                   help="--horseshoe: the named design of the chain (fig4a: the default settings; fig4b: margins 1.5, "
+                        "m = 3 pull-backs, 14 excursion returns; magrod/proof/horseshoe.DESIGNS)")
     p.add_argument("--level", default=None, metavar="H",
                    help="the level Hbar = H of --fixed-point / --horseshoe (exact)")
     p.add_argument("--lam-rad", default="0", metavar="W", dest="lam_rad",
@@ -148,10 +151,14 @@ def _root(args) -> int:
 def _horseshoe(args) -> dict:
     from dataclasses import replace
 
-    from ..proof import HorseshoeSettings, prove_horseshoe
+    from ..proof import HORSESHOE_DESIGNS as DESIGNS
+    from ..proof import prove_horseshoe
 
+    design = getattr(args, "design", "fig4a")
+    if design not in DESIGNS:
+        raise ParameterError("design", f"must be one of {', '.join(DESIGNS)}, got {design!r}")
     p, h, theta, dest, module = _section_inputs(args, "horseshoe")
-    st = replace(HorseshoeSettings(), branch=getattr(args, "branch", "0"), root=_root(args))
+    st = replace(DESIGNS[design](), branch=getattr(args, "branch", "0"), root=_root(args))
     for k, lo, hi in (("m_back", 0, 12), ("n_exc", 1, 40)):
         if getattr(args, k, None) is not None:
             st = replace(st, **{k: integer(k, getattr(args, k), minimum=lo, maximum=hi)})

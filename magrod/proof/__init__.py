@@ -31,6 +31,7 @@ _API = {
     # the prover of the section map's horseshoe by covering relations (statement 12)
     "HorseshoeSettings": ("horseshoe", "HorseshoeSettings"),
     "prove_horseshoe": ("horseshoe", "prove"),
+    "HORSESHOE_DESIGNS": ("horseshoe", "DESIGNS"),
     # the independent checker, and the statements' verdicts
     "load_certificate": ("verify", "load"),
     "verify_certificate": ("verify", "verify"),

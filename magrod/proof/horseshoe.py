@@ -39,7 +39,8 @@ from fractions import Fraction
 import numpy as np
 
 from ..core.errors import ParameterError
-from ..core.tolerances import FIXED_POINT_SEARCH_TOL, HORSESHOE_CENTRE_TOL, PROOF_STEP_TOL
+from ..core.tolerances import (FIXED_POINT_SEARCH_TOL, HORSESHOE_CENTRE_TOL, HORSESHOE_CENTRE_TOL_FIG4B,
+                               PROOF_STEP_TOL)
 from ..generated import validated as gen
 from . import ball, fields, periodic, taylor
 from .search import ProofFailure, ProofResult, stored
@@ -86,6 +87,9 @@ class HorseshoeSettings:
     #: root of the level it lifts to (index into the ascending roots of Hbar(theta, psi, 0, .) = h; -1 the largest)
     branch: str = "0"
     root: int = -1
+    #: stop the chain passes early once |pbar_theta(P^(k-1)(c_1))| < stop_frac w_k (0: never; valid only when the
+    #: passes share one tolerance, so that the pass that stops is the certificate's: Fig 4(b))
+    stop_frac: float = 0.0
 
     def as_json(self) -> dict:
         q = _q
@@ -93,7 +97,31 @@ class HorseshoeSettings:
                 "qu": self.qu, "qs": self.qs, "p_rad": q(self.p_rad), "t1": q(self.t1), "lead": q(self.lead),
                 "newton": self.newton, "n_exc": self.n_exc, "passes": list(self.passes),
                 "l0_frac": self.l0_frac, "l1_frac": self.l1_frac, "w_cap": self.w_cap, "series_cap": ball.SERIES_CAP,
-                **({} if (self.branch, self.root) == ("0", -1) else {"branch": self.branch, "root": self.root})}
+                **({} if (self.branch, self.root) == ("0", -1) else {"branch": self.branch, "root": self.root}),
+                **({"stop_frac": self.stop_frac} if self.stop_frac else {})}
+
+
+def fig4b_settings() -> HorseshoeSettings:
+    """The design of the Fig 4(b) certificate (benchmarks/fig4b_horseshoe_design.py; docs/nonintegrability.md).
+    mu_u = 3.20 there, so Fig 4(a)'s margins 3 per link cannot close: the entry widths that `sizes` pulls back
+    from N18 grow only by 1 / (qs sigma) = 1.07 per link near x0 (sigma = 1 / mu_u), reaching N1 at 1.0e-4 d,
+    against the entry thickness l0 / mu_u = 0.10 d of P(N0) ((a') float margin -1013), and mu_u l0 < d + l1
+    ((b) -0.6).  Margins 1.5 in both directions let the widths grow by 2.1 per link backwards to the cap 3 l1 =
+    0.45 d at N1; l0 = d / 2 gives (b) (mu_u l0 - d) / l1 = 4.0 at N0 => N1.  Float linear margins: (a') >= 0.33,
+    (b) min |y_u| - 1 >= 0.50 on every link.  At m = 3 the rigorous mean-value form cost (a') 0.012-0.071 on
+    N0 .. N15 but failed N15 => N16, where c_16's frame has 1.3 degrees and l15 / w16 = 6.8; with N15 and N16 cut
+    into 4 pieces along the exit direction it proved (prove 601 s, verify 387 s at load 2-6; N15's return takes
+    1433 steps, 45 % of the certificate).  m = 4 (sets 3.2x smaller) needs only 2 pieces there (that set is N16
+    now): 9471 steps instead of 12880, (a') >= 0.212, (b) >= 1.4997.  The centre flights at HORSESHOE_CENTRE_TOL_FIG4B = 1e-28 (P(x0)
+    enclosed to 4.5e-14; at PROOF_STEP_TOL to 8e-10, which failed N9 => N10) resolve the sets (entry widths times
+    sin(angle) >= 1.5e-11); every pass runs at that tolerance, so the passes stop once the end is on Fix(R)."""
+    return HorseshoeSettings(m_back=4, n_exc=14, s_star=-9.871e-7, qu=1.5, qs=1.5, l0_frac=0.5, l1_frac=0.15,
+                             w_cap=3.0, tol_thin=HORSESHOE_CENTRE_TOL_FIG4B, passes=("thin", "thin", "thin"),
+                             stop_frac=1e-2, pieces={16: (2, 1)})
+
+
+#: named designs (magrod prove --horseshoe ... --design NAME): "fig4a" is the default HorseshoeSettings()
+DESIGNS = {"fig4a": HorseshoeSettings, "fig4b": fig4b_settings}
 
 
 def _q(x) -> str:
@@ -434,6 +462,12 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
         passes.append(delta)
         if n_pass == len(sched) - 1:
             break
+        if st.stop_frac and len(set(sched[n_pass:])) == 1:
+            d_ = float(np.hypot(float(cs[0][0]) - x0[0], float(cs[0][1])))
+            w_end = sizes(lam, sig, d_ * st.l1_frac, st.qu, st.qs, st.w_cap * d_ * st.l1_frac)[1][-1]
+            if abs(delta) < st.stop_frac * w_end:
+                say(f"  pbar_theta at the end {delta:.3g} < {st.stop_frac:g} w_k: the chain passes stop")
+                break
         v = eus[0]
         for D in DPs:
             v = D @ v
@@ -509,7 +543,7 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
                                                              ball.negative(v) for v in cps),
                   f"cos psi = {cps[0]} at the crossing: the image lies on M's branch psi = {sets[j]['branch']} mod 2 pi")
             check(f"N{i} => N{j} piece {n} (a)", a_ok, f"image in M's coordinates: y_u = {off[0]} + ..., y_s ="
-                  f" {off[1]} + G ...: stays in |y_s| < 1")
+                  f" {off[1]} + G ...: stays in |y_s| < 1 (margin 1 - max |y_s| = {margin:.4g})")
             amin = min(amin, margin)
             if -1 in edges:
                 left.append(edges[-1])

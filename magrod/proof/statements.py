@@ -182,8 +182,8 @@ STATEMENTS = (
        errata), and the chaos indicator classifies Fig 4(a)–(c) chaotic and 4(d) regular: evidence, not a proof,
        for the non-perturbative regime. Fig 4's level h = 0.9 does not contain the helical saddle (its H̄ is
        0.8305, 0.7720, 0.7253, 0.6955 at the four λ̄), so the homoclinic orbits of 5a are not about the figure's
-       section; a horseshoe of P on Fig 4's own level h = 9/10 is computer-verified at panel (a) only
-       (statement 12), not at the other panels; on Fig 5's own level h = 4/5 the saddle of P and a horseshoe of P
+       section; a horseshoe of P on Fig 4's own level h = 9/10 is computer-verified at panels (a) and (b) only
+       (statement 12), not at (c), (d); on Fig 5's own level h = 4/5 the saddle of P and a horseshoe of P
        are computer-verified at the four panels (statement 13). Numerically (float64) at λ̄ = 0.135 the unstable
        manifold of the section map's symmetric saddle (the fixed point of statement 11; eigenvalue 5.748 of DP,
        33.04 of DP²) meets Fix(R) transversally (W^u and W^s cross at 0.72°): a candidate, not a proof
@@ -209,8 +209,8 @@ STATEMENTS = (
        2.2e−6 (magrod/proof/certificates/fig4a_interval/, `benchmarks/fig4_lambda_interval.py`: 191 s prove + 162 s
        verify, each certificate re-checked by the complete verifier in that run and by a slow test; `magrod
        reproduce` verifies only the single box). Panel (c): the float search found no hyperbolic fixed point of P to prove. This is a hyperbolic
-       periodic orbit, not chaos by itself: the horseshoe on that level at panel (a) is statement 12, built on
-       this saddle's homoclinic orbit. A hyperbolic fixed point persists, so the same holds on an open interval of
+       periodic orbit, not chaos by itself: the horseshoe on that level at panels (a) and (b) is statement 12,
+       built on this saddle's homoclinic orbit. A hyperbolic fixed point persists, so the same holds on an open interval of
        λ̄ around each value, of unquantified size.""",
        [Step("level, two-phase flight (no positive crossing before the half-way point), Fix(R) Newton, |tr DP| > 2",
              "computer-verified", "magrod prove --fixed-point; magrod prove --verify (complete verifier)"),
@@ -220,21 +220,26 @@ STATEMENTS = (
              "(reversibility; Devaney 1976)", "proved", "the argument of magrod/proof/periodic.py, hypotheses "
              "checked by the certificate")],
        phrases=(r"fixed point of (the section map )?P", r"section map's (symmetric )?saddle", r"h = 9/10")),
-    _s("12", "a horseshoe of the section map on Fig 4's own level h = 9/10, panel (a)",
-       """At (m, μ, γ, δ, λ̄) = (17/10, 2/5, 3, 3, 27/200) (panel (a)), on Fig 4's own level h = 9/10, the section
-       map P of {sin ψ = 0, d sin ψ/dt > 0} has positive topological entropy: a compact forward-invariant set Λ
-       with h_top(P|Λ) ≥ log ρ > 0.0882, ρ the largest root of x²⁸ = x²⁷ + 1 (a horseshoe of P^n). 15 h-sets
-       (parallelograms in (θ, p̄θ), half-sizes 1.3·10⁻¹⁰ … 1.4·10⁻¹³) N0 at the saddle x0 of statement 11 and
-       N1 … N14 along its homoclinic orbit (W^u of x0 meets Fix(R) at the 8th return) carry the covering
-       relations N0 ⇒ N0 and N0 ⇒ N1 ⇒ … ⇒ N14 (Zgliczyński & Gidea 2004), each checked on one validated C¹ return
-       per set; N0 and N14 are R-symmetric and N0 is disjoint from the others, so reversibility closes the chain
-       into a loop of length 28 through N0 (docs/nonintegrability.md, "A horseshoe on Fig 4's own level").
-       Certificate magrod/proof/certificates/horseshoe_fig4a.json, re-checked by the verifier (kind
-       section_horseshoe; `magrod prove --horseshoe 0.383 --level 0.9 --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam
-       0.135`; prove 338 s on 2 cores; verify 44–58 s of CPU, with Newton's series and the sets in two processes,
-       so the full `magrod reproduce` re-checks it and REPORT has its row; `--quick` does not, and says so).
-       Panels (b)–(d) are not proved (at (b) the chain fails at N0 ⇒ N1).""",
-       [Step("the covering relations, the symmetry of N0 and N14, the disjointness, the cover by pieces, the "
+    _s("12", "a horseshoe of the section map on Fig 4's own level h = 9/10, panels (a) and (b)",
+       """At (m, μ, γ, δ) = (17/10, 2/5, 3, 3) and λ̄ = 27/200 (panel (a)) and 63/400 (panel (b)), on Fig 4's own
+       level h = 9/10, the section map P of {sin ψ = 0, d sin ψ/dt > 0} has positive topological entropy: a
+       compact forward-invariant set Λ with h_top(P|Λ) ≥ log ρ > 0.0882, ρ the largest root of x²⁸ = x²⁷ + 1 (a),
+       and > 0.0707, x³⁸ = x³⁷ + 1 (b) (a horseshoe of P^n). At (a) 15 h-sets (parallelograms in (θ, p̄θ),
+       half-sizes 1.3·10⁻¹⁰ … 1.4·10⁻¹³), at (b) 20 (4.7·10⁻⁹ … 2.2·10⁻¹¹; N17–N19 on the ψ = π branch of Σ+):
+       N0 at the saddle x0 of statement 11 and N1 … Nk along its homoclinic orbit (W^u of x0 meets Fix(R) at the
+       8th return (a), the 14th (b)) carry the covering relations N0 ⇒ N0 and N0 ⇒ N1 ⇒ … ⇒ Nk (Zgliczyński &
+       Gidea 2004), each checked on validated C¹ returns of the set (one piece per set, two for N16 at (b)); N0
+       and Nk are R-symmetric and N0 is disjoint from the others, so reversibility closes the chain into a loop of
+       length 2k through N0 (docs/nonintegrability.md, "A horseshoe on Fig 4's own level").
+       Certificates magrod/proof/certificates/horseshoe_fig4a.json and horseshoe_fig4b.json, re-checked by the
+       verifier (kind section_horseshoe; `magrod prove --horseshoe 0.383 --level 0.9 --m 1.7 --mu 0.4 --gamma 3
+       --delta 3 --lam 0.135`, and `--horseshoe 0.283 ... --lam 0.1575 --design fig4b`). (a): prove 338 s on 2
+       cores; verify 44–58 s of CPU, with Newton's series and the sets in two processes, so the full `magrod
+       reproduce` re-checks it and REPORT has its row; `--quick` does not, and says so. (b): prove 323 s on 2
+       cores (another proof on the other core at times; 221 s at load 0.3–1); verify 83 s wall, 85 s of CPU
+       (load 2–3, the same verifier); it is not part of `magrod reproduce`.
+       Panels (c) and (d) are not proved.""",
+       [Step("the covering relations, the symmetry of N0 and Nk, the disjointness, the cover by pieces, the "
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
              "section_horseshoe)"),
         Step("the chart field is Hamilton's, 2π-periodic in ψ, and R is a reversor", "proved",
@@ -339,8 +344,8 @@ def render_summary() -> str:
             f"size (cited persistence). Nonintegrability of the 9-D rod against every integral (not only those in "
             f"involution with m3), and near the perturbative regime, is **{status('7b')}** (7b; 4 rests on the "
             f"formal expansion 3). On Fig 4's own level h = 9/10 the section map has a hyperbolic fixed point (a "
-            f"saddle) at panels (a), (b), (d) (**{status('11')}**, 11), and at panel (a) a horseshoe: positive "
-            f"topological entropy of the section map (**{status('12')}**, 12, covering relations along the "
+            f"saddle) at panels (a), (b), (d) (**{status('11')}**, 11), and at panels (a) and (b) a horseshoe: "
+            f"positive topological entropy of the section map (**{status('12')}**, 12, covering relations along the "
             f"saddle's homoclinic orbit); at the other panels chaos there is **{status('10')}** evidence only "
             f"(10). In sec. 9's regime (λ̄ = 2, γ ≪ 1), on Fig 5's own level h = 4/5 (μ = 2λ̄ = 4, δ = 1/4): a "
             f"saddle of the section map at the four panels' γ and a horseshoe at each (**{status('13')}**, "
@@ -359,7 +364,7 @@ def render_readme() -> str:
             f"(**{status('7')}**); every other nonintegrability claim (every integral, not only those in involution with "
             f"m3; the perturbative regime) is **{status('7b')}**; on Fig 4's own level h = 9/10 a saddle of the section "
             f"map at three of the four panels is **{status('11')}**, a horseshoe of the section map (positive "
-            f"topological entropy) at panel (a) is **{status('12')}** (statement 12), on Fig 5's own level h = 4/5 "
+            f"topological entropy) at panels (a) and (b) is **{status('12')}** (statement 12), on Fig 5's own level h = 4/5 "
             f"(sec. 9's regime: λ̄ = 2, γ ≪ 1) a saddle of the section map at the four panels and a horseshoe at "
             f"each are **{status('13')}** (statement 13), and the chaos of Figs 4–5 "
             f"elsewhere is **{status('10')}** evidence "
