@@ -168,7 +168,15 @@ def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path,
     assert shipped["params"] == {"m": "17/10", "mu": "1/25", "gamma": "1/1", "delta": "1/1", "lam": "1/100"}
     # --quick does not verify the horseshoe's certificate (~45 s of CPU) and says so; every reproduction but --quick
     # does (issue 27: nothing is left to NOT_IN_REPRODUCE)
-    assert "horseshoe_fig4a.json" in side["not_verified_in_quick"] and side["fig4_horseshoe"] == []
+    assert {f"horseshoe_fig{k}.json" for k in ("4a", "4b", "5a", "5b", "5c", "5d")} <= set(side["not_verified_in_quick"])
+    assert side["fig4_horseshoe"] == []
+    # every shipped certificate of the top directory is verified by the full reproduction (issue 27, Must hold)
+    from importlib import resources
+
+    shipped = {p.name for p in resources.files("magrod.proof").joinpath("certificates").iterdir()
+               if p.name.endswith(".json")}
+    listed = {fig.SHIPPED} | {n for _, n in fig.FIG4} | {e[1] for e in (*fig.FIG4_SECTION, *fig.FIG4_HORSESHOE)}
+    assert shipped == listed, shipped ^ listed
     assert fig.NOT_IN_REPRODUCE == () and side["not_verified_in_reproduce"] == []
 
 
@@ -187,7 +195,11 @@ def test_report_row_of_the_verified_horseshoe():
     rows = report._proof_fig4_horseshoe({"fig4_horseshoe": [dict(f, ok=False)]})
     assert rows[0]["verdict"] == "certificate NOT verified"
     assert report._proof_skipped({"not_verified_in_quick": ["horseshoe_fig4a.json"]})[0]["label"].endswith(
-        "(statements 5a, 11, 12)")
+        "(statements 5a, 11, 12, 13)")
+    # Fig 4 is fig:poincare1 in the paper, Fig 5 fig:poincare2
+    assert rows[0]["label"].startswith("fig:poincare1 (a)")
+    f5 = dict(f, panel="5c", statement="13")
+    assert report._proof_fig4_horseshoe({"fig4_horseshoe": [f5]})[0]["label"].startswith("fig:poincare2 (c)")
 
 
 # --- the certificate at Fig 4(a)'s rod (issue 27; statement 5a): its controls ------------------------------------

@@ -21,15 +21,24 @@ SHIPPED = "homoclinic_target.json"
 # Fig 4's rod at the panels' lambdabar where `magrod prove` succeeds: the saddle-focus's own level (statement 5a)
 FIG4 = (("4a", "homoclinic_fig4a.json"), ("4b", "homoclinic_fig4b.json"), ("4c", "homoclinic_fig4c.json"),
         ("4d", "homoclinic_fig4d.json"))
-# Fig 4's own level h = 0.9 (statement 11): symmetric hyperbolic fixed points of the section map sin psi = 0; panel
-# (c) has none from the float search (benchmarks/fig4_candidates.json: no hyperbolic period-1 or -2 orbit there)
-FIG4_SECTION = (("4a", "fixed_point_fig4a.json"), ("4b", "fixed_point_fig4b.json"), ("4d", "fixed_point_fig4d.json"),
-                ("4a_interval", "fixed_point_fig4a_interval.json"))  # every lambdabar in 27/200 +- 2e-7
-# Fig 4(a)'s own level (statement 12): the horseshoe's certificate (15 sets, 5620 validated steps).  Its verifier
-# flies with Newton's series and the sets in parallel processes (verify.py, kind section_horseshoe; 44-58 s of CPU, ~25 s
-# on 2 idle cores), within what reproduce may add (issue 27: <= 60 s); --quick (the test suite's) does not run it
-FIG4_HORSESHOE = (("4a", "horseshoe_fig4a.json", "12"),)
-# shipped certificates no reproduction verifies (each gets a REPORT row saying so); none since issue 27's speed-up
+# The figures' own levels: symmetric hyperbolic fixed points of the section map sin psi = 0, as (panel, file,
+# statement): Fig 4 on h = 0.9 (statement 11; panel (c) has none from the float search,
+# benchmarks/fig4_candidates.json) and Fig 5 on h = 0.8 (statement 13, the psi = pi branch)
+FIG4_SECTION = (("4a", "fixed_point_fig4a.json", "11"), ("4b", "fixed_point_fig4b.json", "11"),
+                ("4d", "fixed_point_fig4d.json", "11"),
+                ("4a_interval", "fixed_point_fig4a_interval.json", "11"),  # every lambdabar in 27/200 +- 2e-7
+                ("5a", "fixed_point_fig5a.json", "13"), ("5b", "fixed_point_fig5b.json", "13"),
+                ("5c", "fixed_point_fig5c.json", "13"), ("5d", "fixed_point_fig5d.json", "13"),
+                ("5a_interval", "fixed_point_fig5a_interval.json", "13"))  # every lambdabar in 2 +- 2e-7
+# The horseshoes on those levels (statements 12, 13).  Their verifier flies with Newton's series and the sets in
+# parallel processes (verify.py, kind section_horseshoe; 45-95 s of CPU each); the full reproduction verifies every
+# one (~5 min of CPU in all), --quick (the test suite's) none
+FIG4_HORSESHOE = (("4a", "horseshoe_fig4a.json", "12"), ("4b", "horseshoe_fig4b.json", "12"),
+                  ("5a", "horseshoe_fig5a.json", "13"), ("5b", "horseshoe_fig5b.json", "13"),
+                  ("5c", "horseshoe_fig5c.json", "13"), ("5d", "horseshoe_fig5d.json", "13"))
+# shipped certificates no reproduction verifies (each gets a REPORT row saying so); none since issue 27's speed-up.
+# (The 11 boxes of magrod/proof/certificates/fig4a_interval/ are one benchmark's tiling, verified by a slow test;
+# reproduce verifies the single box fixed_point_fig4a_interval.json.)
 NOT_IN_REPRODUCE: tuple = ()
 
 
@@ -58,8 +67,8 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     # section saddle); the full reproduction verifies every shipped certificate (the horseshoe's: ~25-60 s)
     fig4, fig4_section = (FIG4[:1], FIG4_SECTION[:1]) if quick else (FIG4, FIG4_SECTION)
     fig4_horseshoe = () if quick else FIG4_HORSESHOE
-    side["not_verified_in_quick"] = [n for _, n in (*FIG4[len(fig4):], *FIG4_SECTION[len(fig4_section):])] + \
-        [n for _, n, _ in FIG4_HORSESHOE[len(fig4_horseshoe):]]
+    side["not_verified_in_quick"] = [n for _, n in FIG4[len(fig4):]] + \
+        [n for _, n, _ in (*FIG4_SECTION[len(fig4_section):], *FIG4_HORSESHOE[len(fig4_horseshoe):])]
     for key, name in fig4:
         other = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
         v4 = verify_certificate(other)
@@ -69,11 +78,12 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
                              "verify_wall_time_s": round(v4.wall_time_s, 1)})
         paths.append(str(atomic_write_json(out / f"proof_certificate_fig{key}.json", other)))
     side["fig4_section"] = []
-    for key, name in fig4_section:
+    for key, name, st in fig4_section:
         other = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
         v4 = verify_certificate(other)
         side["fig4_section"].append({"panel": key, "params": other["params"], "level": other["level"], "ok": v4.ok,
                                      "reason": v4.reason, "n_checks": len(v4.checks), "theorem": v4.theorem,
+                                     "statement": st,
                                      "values": v4.values, "certificate": f"magrod/proof/certificates/{name}",
                                      "verify_wall_time_s": round(v4.wall_time_s, 1)})
         paths.append(str(atomic_write_json(out / f"proof_certificate_fixed_point_fig{key}.json", other)))

@@ -493,39 +493,49 @@ def _proof_fig4a(d) -> list:
     return rows
 
 
+def _figure_of(panel: str) -> tuple:
+    """The paper's label and name of the figure of a panel key ("4a", "5c_interval"): Fig 4 is fig:poincare1 (h =
+    0.9), Fig 5 is fig:poincare2 (h = 0.8)."""
+    return ("fig:poincare1", "Fig 4") if panel.startswith("4") else ("fig:poincare2", "Fig 5")
+
+
 def _proof_fig4_section(d) -> list:
-    """Issue 27: a symmetric hyperbolic fixed point of the section map on Fig 4's own level h = 9/10 (statement 11):
-    a saddle of the section the figure shows, not yet chaos there (statement 10)."""
+    """Issue 27: a symmetric hyperbolic fixed point of the section map on a figure's own level: Fig 4's h = 9/10
+    (statement 11) and Fig 5's h = 4/5 (statement 13): a saddle of the section the figure shows, not chaos by
+    itself (the horseshoes are the next rows)."""
     from ..generated.names import PARAMS
 
     rows = []
     for f in d.get("fig4_section", []):
         tr = f["values"].get("tr DP(x0)") if f["ok"] and isinstance(f.get("values"), dict) else None
+        label, name = _figure_of(f["panel"])
+        st = f.get("statement", "11")
         rows.append({
-            "label": f"fig:poincare1 ({f['panel'][1]}), its section sin psi = 0 on h = {f['level']} (computer-assisted "
+            "label": f"{label} ({f['panel'][1]}), its section sin psi = 0 on h = {f['level']} (computer-assisted "
                      f"proof, beyond the paper{'; every lambdabar of a box' if 'interval' in f['panel'] else ''})",
-            "paper": "(Fig 4 shows the section numerically)",
+            "paper": f"({name} shows the section numerically)",
             "computed": f"({', '.join(PARAMS)}) = ({', '.join(str(f['params'][k]) for k in PARAMS)}): the shipped "
                         f"certificate {f['certificate']} re-checked by the complete verifier: {f['reason']} "
                         f"({f['n_checks']} checks, {f['verify_wall_time_s']:.0f} s)"
                         + (f"; tr DP in {tr}" if tr is not None else ""),
-            "verdict": (f"{statement_status('11')} (statement 11): a symmetric hyperbolic fixed point (a saddle) of "
-                        "the section map on the figure's own level; chaos there is statement 10's "
-                        f"({statement_status('10')})") if f["ok"] else "certificate NOT verified"})
+            "verdict": (f"{statement_status(st)} (statement {st}): a symmetric hyperbolic fixed point (a saddle) of "
+                        "the section map on the figure's own level, not chaos by itself") if f["ok"]
+            else "certificate NOT verified"})
     return rows
 
 
 def _proof_fig4_horseshoe(d) -> list:
-    """Issue 27: the horseshoe of the section map on Fig 4(a)'s own level h = 9/10 (statement 12), its shipped
-    certificate re-checked by the complete verifier (full reproduction only)."""
+    """Issue 27: the horseshoes of the section map on Fig 4's own level h = 9/10 (statement 12) and Fig 5's h = 4/5
+    (statement 13), each shipped certificate re-checked by the complete verifier (full reproduction only)."""
     from ..generated.names import PARAMS
 
     rows = []
     for f in d.get("fig4_horseshoe", []):
+        label, name = _figure_of(f["panel"])
         rows.append({
-            "label": f"fig:poincare2 ({f['panel'][1]}) on h = {f['level']}: the horseshoe (statement {f['statement']}, "
+            "label": f"{label} ({f['panel'][1]}) on h = {f['level']}: the horseshoe (statement {f['statement']}, "
                      "computer-assisted proof, beyond the paper)",
-            "paper": "(Fig 4 shows the section numerically)",
+            "paper": f"({name} shows the section numerically)",
             "computed": f"({', '.join(PARAMS)}) = ({', '.join(str(f['params'][k]) for k in PARAMS)}): the shipped "
                         f"certificate {f['certificate']} re-checked by the complete verifier: {f['reason']} "
                         f"({f['n_checks']} checks, {f['verify_wall_time_s']:.0f} s)",
@@ -541,13 +551,14 @@ def _proof_skipped(d) -> list:
     rows = []
     names = d.get("not_verified_in_quick") or []
     if names:
-        rows.append({"label": "the other shipped certificates (statements 5a, 11, 12)", "paper": "",
+        rows.append({"label": "the other shipped certificates (statements 5a, 11, 12, 13)", "paper": "",
                      "computed": f"{len(names)} certificate(s) not verified in this --quick run: {', '.join(names)}",
                      "verdict": "not checked here: `magrod reproduce` (without --quick) verifies them"})
     for c in d.get("not_verified_in_reproduce") or []:
-        rows.append({"label": f"fig:poincare2 ({c['panel']}) on h = 0.9: the horseshoe (statement {c['statement']}, "
+        label, name = _figure_of(c["panel"])
+        rows.append({"label": f"{label} ({c['panel'][1:]}): the horseshoe (statement {c['statement']}, "
                               "computer-assisted proof, beyond the paper)",
-                     "paper": "(Fig 4 shows the section numerically)",
+                     "paper": f"({name} shows the section numerically)",
                      "computed": f"the shipped certificate {c['certificate']} is not re-checked by reproduce; "
                                  f"check it with `magrod prove --verify {c['certificate']}`",
                      "verdict": f"{statement_status(c['statement'])} (statement {c['statement']}) by that "

@@ -237,7 +237,7 @@ STATEMENTS = (
        cores; verify 44–58 s of CPU, with Newton's series and the sets in two processes, so the full `magrod
        reproduce` re-checks it and REPORT has its row; `--quick` does not, and says so. (b): prove 323 s on 2
        cores (another proof on the other core at times; 221 s at load 0.3–1); verify 83 s wall, 85 s of CPU
-       (load 2–3, the same verifier); it is not part of `magrod reproduce`.
+       (load 2–3, the same verifier); the full `magrod reproduce` re-checks it too.
        Panels (c) and (d) are not proved.""",
        [Step("the covering relations, the symmetry of N0 and Nk, the disjointness, the cover by pieces, the "
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
@@ -270,7 +270,7 @@ STATEMENTS = (
        2004), N0 and Nk R-symmetric, reversibility closing the chain into a loop of length L (certificates
        magrod/proof/certificates/horseshoe_fig5{a,b,c,d}.json, kind section_horseshoe; prove 460, 267, 297,
        401 s on 2 cores at load 2–6, verify 95, 76, 52, 70 s (load ~2, the
-       verifier of main at 5f26ed4 and later; 357, –, 139, 168 s with the serial one before it); not re-checked by `magrod reproduce`). Every
+       parallel verifier; 357, –, 139, 168 s with the serial one before it); the saddles' and the horseshoes' certificates are re-checked by the full `magrod reproduce`, not by `--quick`). Every
        certificate is re-checked by the complete verifier. Only these four points of the parameter space are
        certified; a hyperbolic set persists, so each statement holds
        on an open parameter neighbourhood, of unquantified size. Fig 5's panels' orbits make the rod's axial stretch
