@@ -114,52 +114,52 @@ def test_default_design_is_the_fig4a_certificates(cert):
                        "stop_frac"}
 
 
-def test_tamper_deleted_link(cert):
-    c = copy.deepcopy(cert)
+def test_tamper_deleted_link(any_cert):
+    c = copy.deepcopy(any_cert)
     del c["links"][3]
     assert "links" in _rejected(c)
 
 
-def test_tamper_set_not_symmetric(cert):
-    c = copy.deepcopy(cert)
+def test_tamper_set_not_symmetric(any_cert):
+    c = copy.deepcopy(any_cert)
     A = c["sets"][-1]["A"]
     A[1][1] = str(Fraction(A[1][1]) * Fraction(1001, 1000))
     assert f"N{len(c['sets']) - 1} symmetric" in _rejected(c)
 
 
-def test_tamper_N0_off_FixR(cert):
-    c = copy.deepcopy(cert)
+def test_tamper_N0_off_FixR(any_cert):
+    c = copy.deepcopy(any_cert)
     c["sets"][0]["c"][1] = "1/10000000000000"
     assert "N0 symmetric" in _rejected(c)
 
 
-def test_tamper_entropy(cert):
+def test_tamper_entropy(any_cert):
     """An entropy bound above the root is rejected; so is a theorem text claiming more."""
-    c = copy.deepcopy(cert)
+    c = copy.deepcopy(any_cert)
     c["entropy"]["rho_lower"] = "11/10"
     assert "entropy bound" in _rejected(c)
-    c = copy.deepcopy(cert)
+    c = copy.deepcopy(any_cert)
     c["theorem"] = c["theorem"].replace("h_top(P|Lambda) >= log rho", "h_top(P|Lambda) >= 2 log rho")
     assert "theorem" in _rejected(c)
 
 
-def test_tamper_missing_piece(cert):
-    c = copy.deepcopy(cert)
+def test_tamper_missing_piece(any_cert):
+    c = copy.deepcopy(any_cert)
     fl = c["flights"][2]
     fl["pieces"][0]["piece"] = ["-1/2", "0", "1/2", "1"]  # only half of the square
     assert "N2 cover" in _rejected(c)
 
 
-def test_tamper_disjointness(cert):
+def test_tamper_disjointness(any_cert):
     """N1 moved onto N0 (its centre at x0's): N0 and N1 are no longer disjoint."""
-    c = copy.deepcopy(cert)
+    c = copy.deepcopy(any_cert)
     c["sets"][1]["c"] = list(c["sets"][0]["c"])
     assert "N0, N1 disjoint" in _rejected(c)
 
 
-def test_mutated_field_rejected(cert):
+def test_mutated_field_rejected(any_cert):
     """A mutated generated field (control): the digest check rejects the certificate."""
-    assert "field digest" in _rejected(cert, module=fields.mutated_module(0))
+    assert "field digest" in _rejected(any_cert, module=fields.mutated_module(0))
 
 
 def test_parallel_workers_replay_the_serial_checks(cert):
@@ -183,12 +183,12 @@ def test_parallel_workers_replay_the_serial_checks(cert):
 
 
 @pytest.mark.slow
-def test_shifted_set_fails_covering(cert):
+def test_shifted_set_fails_covering(any_cert):
     """N2 shifted by 3 of its half-widths along its entry direction: the image of N1 lies at y_s ~ -3 in N2's
-    coordinates and (a') fails at N1 => N2, seen after re-flying N0 and N1 (~30 s).  (A shift along the exit
+    coordinates and (a') fails at N1 => N2, seen after re-flying N0 and N1 (~30 s), at panels (a) and (b).  (A shift along the exit
     direction by 3 half-lengths is absorbed by N1 => N2, whose images of the exit edges reach y_u = -3 +- 5.75, and
     would fail only at N2 => N3.)"""
-    c = copy.deepcopy(cert)
+    c = copy.deepcopy(any_cert)
     cN = [Fraction(v) for v in c["sets"][2]["c"]]
     A = [[Fraction(v) for v in r] for r in c["sets"][2]["A"]]
     c["sets"][2]["c"] = [str(cN[0] + 3 * A[0][1]), str(cN[1] + 3 * A[1][1])]
@@ -210,15 +210,31 @@ def test_certificate_verifies(any_cert):
 
 
 @pytest.mark.slow
-def test_mutated_field_control_fails_to_prove():
+@pytest.mark.parametrize("lam, theta, design", [("27/200", 0.383, "fig4a"), ("63/400", 0.283, "fig4b")])
+def test_mutated_field_control_fails_to_prove(lam, theta, design):
     """Control: with the sign of term 0 of the generated chart field flipped, the prover fails (at the first centre
-    flight of the chain: no crossing where the float map of the true field has one; ~15 s) and issues nothing."""
+    flight of the chain: no crossing where the float map of the true field has one; ~15 s) and issues nothing, at
+    panels (a) and (b) with their designs."""
     from magrod.proof import periodic
 
-    p, h = periodic.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
-    res = horseshoe.prove(p, h, 0.383, module=fields.mutated_module(0))
+    p, h = periodic.validate("17/10", "2/5", "3", "3", lam, "9/10")
+    res = horseshoe.prove(p, h, theta, horseshoe.DESIGNS[design](), module=fields.mutated_module(0))
     assert not res.ok and res.certificate is None
     assert "flight not validated" in res.reason or "not established" in res.reason, res.reason
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("theta, design", [(0.383, "fig4a"), (0.283, "fig4b")])
+def test_lambda_zero_control_proves_nothing(theta, design):
+    """lambdabar = 0 (the integrable extensible rod), otherwise panel (a)'s / (b)'s rod, level and design: the prover
+    proves nothing and issues no certificate.  Not a rigorous control of transversality (docs: on h = 9/10 at
+    lambdabar = 0 there is no admissible point near the saddles, so the search fails before any set is built); it
+    shows that the certificates are not an artefact of the chain's construction."""
+    from magrod.proof import periodic
+
+    p, h = periodic.validate("17/10", "2/5", "3", "3", "0", "9/10")
+    res = horseshoe.prove(p, h, theta, horseshoe.DESIGNS[design]())
+    assert not res.ok and res.certificate is None and "no real root pbar_psi" in res.reason, res.reason
 
 
 def test_text_output_of_a_horseshoe_result():
