@@ -22,7 +22,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 from ..core.errors import ParameterError
-from .options import integer, out_dir
+from .options import ROOT_INDEX_HELP, integer, out_dir
 
 DEFAULTS = {"m": "1.7", "mu": "0.04", "gamma": "1", "delta": "1", "lam": "0.01"}
 
@@ -41,8 +41,8 @@ def add_arguments(p):
                    help="prove a horseshoe of the section map on --level by covering relations along the homoclinic "
                         "orbit of its symmetric saddle near theta = THETA (statement 12)")
     p.add_argument("--design", default="fig4a", metavar="NAME",
-                   help="--horseshoe: the named design of the chain (fig4a: the default settings; fig4b: margins 1.5, "
-                        "m = 3 pull-backs, 14 excursion returns; magrod/proof/horseshoe.DESIGNS)")
+                   help="--horseshoe: the named design of the chain (fig4a: the settings of Fig 4(a)'s certificate; "
+                        "fig4b: margins 1.5, m = 4 pull-backs, 14 excursion returns; magrod/proof/horseshoe.DESIGNS)")
     p.add_argument("--level", default=None, metavar="H",
                    help="the level Hbar = H of --fixed-point / --horseshoe (exact)")
     p.add_argument("--lam-rad", default="0", metavar="W", dest="lam_rad",
@@ -57,10 +57,9 @@ def add_arguments(p):
                    help="--horseshoe: the chain passes' centre-flight tolerances, each 'tol' or 'thin' "
                         "(HorseshoeSettings.passes; default tol,tol,thin)")
     p.add_argument("--branch", default="0", choices=("0", "pi"),
-                   help="--fixed-point / --horseshoe: the saddle's branch of the section, psi = 0 or pi (default 0)")
-    p.add_argument("--root", default="-1", metavar="I",
-                   help="--fixed-point / --horseshoe: which root pbar_psi of the level on Fix(R) (ascending index; "
-                        "-1 the largest, the default)")
+                   help="--fixed-point / --horseshoe: the saddle's branch of the section, psi = 0 or pi")
+    # --fixed-point / --horseshoe: the root of the level that x0 lifts to (one help text for --root everywhere)
+    p.add_argument("--root", default="largest", metavar="I", help=ROOT_INDEX_HELP)
     p.add_argument("--mutate", default=None, metavar="K",
                    help="control: flip the sign of the K-th term of the generated chart field (must fail)")
 
@@ -145,7 +144,9 @@ def _section_result(res, p, h, dest, extra) -> dict:
 
 
 def _root(args) -> int:
-    return integer("root", getattr(args, "root", "-1"), minimum=-4, maximum=4)
+    r = getattr(args, "root", "largest")
+    return {"smallest": 0, "largest": -1}.get(r) if r in ("smallest", "largest") else \
+        integer("root", r, minimum=-4, maximum=4)
 
 
 def _horseshoe(args) -> dict:
