@@ -254,6 +254,23 @@ def monodromy(smap, f):
         "hyperbolic": bool(abs(np.trace(D)) > 2 + 1e-6), "D": D.tolist()}, x0
 
 
+def bisect_on_fix_r(track, lo, hi, flo, j):
+    """The s in [lo, hi] where the j-th record of track(s) (pbar_theta, branch, theta, t) has pbar_theta = 0 (60
+    bisections from the sign flo at lo), that record, and the tangent (dtheta/ds, dpbar_theta/ds) there by central
+    differences of relative step 1e-6.  Shared with benchmarks/fig5_candidates.py."""
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        f = track(mid)[j][0]
+        if (f > 0) == (flo > 0):
+            lo, flo = mid, f
+        else:
+            hi = mid
+    s = 0.5 * (lo + hi)
+    e = abs(s) * 1e-6
+    pa, pb = track(s - e)[j], track(s + e)[j]
+    return s, track(s)[j], (pb[2] - pa[2]) / (2 * e), (pb[0] - pa[0]) / (2 * e)
+
+
 def homoclinic_point(smap, rec, x0, jmax=16, n_s=120):
     """W^u of the symmetric saddle z (a periodic point of P^k on Fix(R)) until it meets Fix(R) again: points
     z + s e_u of a fundamental domain s in [s0, s0 mu_u] (e_u the float unstable eigenvector of DP^k) mapped by
@@ -294,19 +311,7 @@ def homoclinic_point(smap, rec, x0, jmax=16, n_s=120):
                 a, b = rows[i][j], rows[i + 1][j]
                 if a[1] != b[1] or a[0] * b[0] >= 0 or abs(a[0] - b[0]) > 0.3:
                     continue
-                lo, hi, flo = ss[i], ss[i + 1], a[0]
-                for _ in range(60):
-                    mid = 0.5 * (lo + hi)
-                    f = track(mid)[j][0]
-                    if (f > 0) == (flo > 0):
-                        lo, flo = mid, f
-                    else:
-                        hi = mid
-                sv = 0.5 * (lo + hi)
-                e = abs(sv) * 1e-6
-                pa, pb = track(sv - e)[j], track(sv + e)[j]
-                dth, dpt = (pb[2] - pa[2]) / (2 * e), (pb[0] - pa[0]) / (2 * e)
-                row = track(sv)[j]
+                sv, row, dth, dpt = bisect_on_fix_r(track, ss[i], ss[i + 1], a[0], j)
                 found.append({"side": sign, "j": j + 1, "s_star": float(sv), "theta": float(row[2]),
                               "branch": "0" if row[1] == 0 else "pi", "flight_time": float(row[3]),
                               "tangent": [float(dth), float(dpt)],

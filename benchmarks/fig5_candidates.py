@@ -40,6 +40,8 @@ from magrod.core import printed, systems
 from magrod.proof import fields, periodic
 from magrod.proof.horseshoe import FloatMap, unit
 
+from fig4_candidates import bisect_on_fix_r  # benchmarks/ is the script's directory (sys.path[0])
+
 OUT = next((a for a in sys.argv[1:] if not a.startswith("--")), "fig5_candidates.json")
 GAMMAS = [f"{printed.panel(k).params.gamma:g}" for k in ("5a", "5b", "5c", "5d")]
 GAMMAS = next((a.split("=", 1)[1].split(",") for a in sys.argv[1:] if a.startswith("--gammas=")), GAMMAS)
@@ -138,19 +140,7 @@ def homoclinic_points(P: FloatMap, x0, D, jmax=16, n_s=160):
                 a, b = a[j], b[j]
                 if a[1] != b[1] or a[0] * b[0] >= 0 or abs(a[0] - b[0]) > 0.3:
                     continue
-                lo, hi, flo = ss[i], ss[i + 1], a[0]
-                for _ in range(60):
-                    mid = 0.5 * (lo + hi)
-                    f = track(mid)[j][0]
-                    if (f > 0) == (flo > 0):
-                        lo, flo = mid, f
-                    else:
-                        hi = mid
-                s = 0.5 * (lo + hi)
-                e = abs(s) * 1e-6
-                pa, pb = track(s - e)[j], track(s + e)[j]
-                dth, dpt = (pb[2] - pa[2]) / (2 * e), (pb[0] - pa[0]) / (2 * e)
-                row = track(s)[j]
+                s, row, dth, dpt = bisect_on_fix_r(track, ss[i], ss[i + 1], a[0], j)
                 found.append({"side": sign, "n_exc": j + 1, "s_star": float(s), "theta": row[2], "branch": row[1],
                               "flight_time": row[3], "tangent": [float(dth), float(dpt)],
                               "angle_to_FixR_deg": float(math.degrees(math.atan2(abs(dpt), abs(dth)))),

@@ -44,3 +44,16 @@ def one_line(err: str) -> list:
     lines = [ln for ln in err.splitlines() if ln.strip()]
     assert len(lines) == 1 and "Traceback" not in err, err
     return lines
+
+
+def shift_set_along_entry(cert: dict, i: int, k: int = 3) -> dict:
+    """A copy of a horseshoe certificate with the centre of N_i moved by k of its entry half-widths (the second
+    column of its A): the shifted-set control of the section provers (tests/test_proof_horseshoe.py, _fig5.py)."""
+    import copy
+    from fractions import Fraction
+
+    c = copy.deepcopy(cert)
+    cN = [Fraction(v) for v in c["sets"][i]["c"]]
+    A = [[Fraction(v) for v in r] for r in c["sets"][i]["A"]]
+    c["sets"][i]["c"] = [str(cN[0] + k * A[0][1]), str(cN[1] + k * A[1][1])]
+    return c

@@ -17,6 +17,7 @@ import pytest
 
 from magrod.proof import fields, horseshoe, periodic, verify
 from magrod.proof.theorem import section_fixed_point_theorem, section_horseshoe_theorem
+from helpers import shift_set_along_entry
 
 PANELS = {"a": "3/20", "b": "41/200", "c": "26/125", "d": "6/25"}  # fig:poincare2's gammas 0.15 .. 0.24
 FIG5 = {"m": "17/10", "mu": "4", "delta": "1/4", "lam": "2"}  # the caption: m = 1.7, delta = 0.25, lam = 2, mu = 4
@@ -166,11 +167,7 @@ def test_horseshoe_tamper_entropy(hs):
 def test_horseshoe_shifted_set_fails_covering(hs):
     """N2 shifted by 3 of its half-widths along its entry direction: (a') fails at N1 => N2 (the image of N1 lies
     at y_s ~ -3 in N2's coordinates), after N0 and N1 are re-flown."""
-    c = copy.deepcopy(hs)
-    cN = [Fraction(v) for v in c["sets"][2]["c"]]
-    A = [[Fraction(v) for v in r] for r in c["sets"][2]["A"]]
-    c["sets"][2]["c"] = [str(cN[0] + 3 * A[0][1]), str(cN[1] + 3 * A[1][1])]
-    reason = _rejected(c)
+    reason = _rejected(shift_set_along_entry(hs, 2))
     assert "N1 => N2 piece 0 (a)" in reason, reason
 
 

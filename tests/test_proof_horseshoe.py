@@ -16,6 +16,7 @@ from importlib import resources
 import pytest
 
 from magrod.proof import fields, horseshoe, verify
+from helpers import shift_set_along_entry
 
 CERT = "horseshoe_fig4a.json"
 CERTS = {"a": CERT, "b": "horseshoe_fig4b.json"}
@@ -188,11 +189,7 @@ def test_shifted_set_fails_covering(any_cert):
     coordinates and (a') fails at N1 => N2, seen after re-flying N0 and N1 (~30 s), at panels (a) and (b).  (A shift along the exit
     direction by 3 half-lengths is absorbed by N1 => N2, whose images of the exit edges reach y_u = -3 +- 5.75, and
     would fail only at N2 => N3.)"""
-    c = copy.deepcopy(any_cert)
-    cN = [Fraction(v) for v in c["sets"][2]["c"]]
-    A = [[Fraction(v) for v in r] for r in c["sets"][2]["A"]]
-    c["sets"][2]["c"] = [str(cN[0] + 3 * A[0][1]), str(cN[1] + 3 * A[1][1])]
-    reason = _rejected(c)
+    reason = _rejected(shift_set_along_entry(any_cert, 2))
     assert "N1 => N2 piece 0 (a)" in reason, reason
 
 
