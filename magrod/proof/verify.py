@@ -851,9 +851,10 @@ class _Stop(Exception):
 _MALFORMED = (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError)
 
 
-def _hs_record(cert, i) -> dict:
-    """One set's checks (_hs_source), recorded: {"i", "recs": [(name, holds, how)], "err": None or [type name,
-    message, malformed?]}; the recording stops at the first check that fails (as the serial verifier does)."""
+def _hs_record(cert, i, boxes: list) -> dict:
+    """One set's checks (_hs_source, with the branch boxes of every set), recorded: {"i", "recs": [(name, holds,
+    how)], "err": None or [type name, message, malformed?]}; the recording stops at the first check that fails (as
+    the serial verifier does)."""
     recs = []
 
     def rec(name, holds, how):
@@ -864,11 +865,7 @@ def _hs_record(cert, i) -> dict:
     err = None
     try:
         s = cert["settings"]
-        p = fields.ExactParams(**{kk: _frac(cert["params"][kk]) for kk in fields.PARAMS})
         with ball.workprec(int(s["prec"]), int(s["series_cap"])):
-            sets = [_hs_set(d) for d in cert["sets"]]
-            brs = [d.get("branch", "0") for d in cert["sets"]]
-            boxes = [B for _ok, B in _hs_branch_boxes(cert, p.balls(), sets, brs, fields.gen)]
             _hs_source(cert, i, int(s["order"]), fields.gen, rec, boxes)
     except _Stop:
         pass
@@ -877,14 +874,30 @@ def _hs_record(cert, i) -> dict:
     return {"i": i, "recs": recs, "err": err}
 
 
+def _hs_worker_boxes(cert) -> tuple:
+    """The branch boxes of every set, once per worker process (they depend on the certificate only), or the error
+    that each of the worker's sets then reports."""
+    try:
+        s = cert["settings"]
+        p = fields.ExactParams(**{kk: _frac(cert["params"][kk]) for kk in fields.PARAMS})
+        with ball.workprec(int(s["prec"]), int(s["series_cap"])):
+            sets = [_hs_set(d) for d in cert["sets"]]
+            brs = [d.get("branch", "0") for d in cert["sets"]]
+            return [B for _ok, B in _hs_branch_boxes(cert, p.balls(), sets, brs, fields.gen)], None
+    except Exception as e:  # noqa: BLE001 - handed to the parent, which raises it where the serial run would
+        return None, [type(e).__name__, str(e)[:120], isinstance(e, _MALFORMED) and not isinstance(e, ParameterError)]
+
+
 def _hs_worker_main() -> None:
     """A worker process of _hs_sources_parallel: the certificate and its set indices on stdin (one JSON document),
     one JSON line per set on stdout, in the order of the indices."""
     import sys
 
     job = json.loads(sys.stdin.read())
+    boxes, err = _hs_worker_boxes(job["cert"])
     for i in job["sets"]:
-        sys.stdout.write(json.dumps(_hs_record(job["cert"], int(i))) + "\n")
+        r = {"i": int(i), "recs": [], "err": err} if err is not None else _hs_record(job["cert"], int(i), boxes)
+        sys.stdout.write(json.dumps(r) + "\n")
         sys.stdout.flush()
 
 
