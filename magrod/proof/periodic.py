@@ -254,17 +254,6 @@ def prove(params: fields.ExactParams, h: Fraction, theta_guess: float, settings:
     return ProofResult(True, cert, "all checks hold", checks, time.perf_counter() - t0)
 
 
-def _start_box(p, theta: arb, pbox: arb, lam, psi: arb) -> taylor.C1Set:
-    """initial_box on the branch psi (a ball: 0 or pi about its exact midpoint, as piece_return's)."""
-    if psi.is_zero():
-        return initial_box(p, theta, pbox, lam)
-    x = [theta, psi, arb(0), pbox] + ([] if lam is None else [lam])
-    xc = [v.mid() for v in x]
-    S = taylor.initial_set(xc, c1=True)
-    S.r0 = ball.vec([a - b for a, b in zip(x, xc)])
-    return S
-
-
 def _prove(p, h, theta_guess, root, st, module, check, progress, branch="0") -> dict:
     say = progress or (lambda s: None)
     say("float search")
@@ -296,7 +285,7 @@ def _prove(p, h, theta_guess, root, st, module, check, progress, branch="0") -> 
     vals, record = {}, {}
     for kind, theta, pbox in (("thin", ball.q(thc), Nc), ("box", Theta, N)):
         say(f"flight ({kind})")
-        S = _start_box(p, theta, pbox, Lam, psi0)
+        S = initial_box(p, theta, pbox, Lam, psi0)
         steps = []
         try:
             tr1, tr2 = taylor.Trajectory(), taylor.Trajectory()

@@ -84,10 +84,10 @@ def phase_guards(pars, fld, module=gen):
     return first, second
 
 
-def initial_box(p, theta: arb, pbox: arb, lam: arb | None = None) -> taylor.C1Set:
-    """The chart set {theta} x {0} x {0} x pbox (x {lam} when lambdabar is a state) as a C^1 set (C = I, r0 = the
-    box about its centre)."""
-    x = [theta, arb(0), arb(0), pbox] + ([] if lam is None else [lam])
+def initial_box(p, theta: arb, pbox: arb, lam: arb | None = None, psi: arb | None = None) -> taylor.C1Set:
+    """The chart set {theta} x {psi} x {0} x pbox (x {lam} when lambdabar is a state) as a C^1 set (C = I, r0 = the
+    box about its centre); psi 0 (the default) or a ball of pi (the branch psi = pi of Fix(R))."""
+    x = [theta, arb(0) if psi is None else psi, arb(0), pbox] + ([] if lam is None else [lam])
     xc = [v.mid() for v in x]
     S = taylor.initial_set(xc, c1=True)
     S.r0 = ball.vec([a - b for a, b in zip(x, xc)])
