@@ -19,7 +19,9 @@ from magrod.proof import fields, horseshoe, verify
 from helpers import shift_set_along_entry
 
 CERT = "horseshoe_fig4a.json"
-CERTS = {"a": CERT, "b": "horseshoe_fig4b.json"}
+#: a_interval: Fig 4(a)'s sets moving with lambdabar, for every lambdabar in 27/200 +- 1e-11 (horseshoe.widen)
+INTERVAL = "horseshoe_fig4a_interval.json"
+CERTS = {"a": CERT, "b": "horseshoe_fig4b.json", "a_interval": INTERVAL}
 
 
 def _load(name):
@@ -101,7 +103,8 @@ def test_certificate_claims(any_cert):
     from magrod.proof.theorem import section_horseshoe_theorem
 
     assert cert["theorem"] == section_horseshoe_theorem(cert["params"], cert["level"], k, 2 * k,
-                                                        cert["entropy"]["rho_lower"])
+                                                        cert["entropy"]["rho_lower"],
+                                                        cert["settings"].get("lam_rad", "0"))
 
 
 def test_default_design_is_the_fig4a_certificates(cert):
@@ -244,3 +247,82 @@ def test_text_output_of_a_horseshoe_result():
                                                             "log_rho_lower": 0.0735}}
     text = cli.format_text(d)
     assert text.startswith("proved: 3 checks") and "log rho > 0.0735" in text
+
+
+# --------------------------------------------------------------------------------------------------------------
+# the lambdabar interval (horseshoe.widen; statement 12): the sets move with lambdabar
+# --------------------------------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def interval_cert():
+    return _load(INTERVAL)
+
+
+def test_interval_certificate_is_the_point_one_moving(cert, interval_cert):
+    """The interval certificate has the point certificate's sets (plus their motion v), chain and entropy, and
+    claims the interval [lam - w, lam + w] of its settings; its end sets move along Fix(R)."""
+    ic = interval_cert
+    w = Fraction(ic["settings"]["lam_rad"])
+    assert w > 0 and f"every lambdabar in [{Fraction(ic['params']['lam']) - w}" in ic["theorem"]
+    assert [{k: v for k, v in d.items() if k != "v"} for d in ic["sets"]] == cert["sets"]
+    assert ic["entropy"] == cert["entropy"] and ic["links"] == cert["links"]
+    assert Fraction(ic["sets"][0]["v"][1]) == 0 == Fraction(ic["sets"][-1]["v"][1])
+    assert {k: v for k, v in ic["settings"].items() if k != "lam_rad"} == cert["settings"]
+
+
+def test_interval_tamper_end_set_leaves_FixR(interval_cert):
+    """N0 moving off Fix(R) (v's pbar_theta != 0) is no longer symmetric for lambdabar != lam: rejected."""
+    c = copy.deepcopy(interval_cert)
+    c["sets"][0]["v"][1] = "1/1000"
+    assert "N0 symmetric" in _rejected(c)
+
+
+def test_interval_tamper_wider_theorem(interval_cert):
+    """A theorem text claiming a wider interval than settings.lam_rad is rejected; a missing motion is malformed,
+    and a point certificate with a motion too."""
+    c = copy.deepcopy(interval_cert)
+    w = Fraction(c["settings"]["lam_rad"])
+    lam = Fraction(c["params"]["lam"])
+    c["theorem"] = c["theorem"].replace(f"[{lam - w}, {lam + w}]", f"[{lam - 2 * w}, {lam + 2 * w}]")
+    assert c["theorem"] != interval_cert["theorem"]
+    assert "theorem" in _rejected(c)
+    c = copy.deepcopy(interval_cert)
+    del c["sets"][3]["v"]
+    with pytest.raises(verify.CertificateError):
+        verify.verify(c)
+    c = copy.deepcopy(interval_cert)
+    c["settings"]["lam_rad"] = "0/1"
+    with pytest.raises(verify.CertificateError):
+        verify.verify(c)
+
+
+@pytest.mark.parametrize("fn", ["prover", "verifier"])
+def test_swept_disjointness(fn):
+    """Two unit squares 1/2 apart: disjoint while the second moves by s dv, |s| <= w, with |dv| w < 1/2, not when it
+    can reach the first (prover's and verifier's copies; exact rationals)."""
+    f = horseshoe.disjoint_moving if fn == "prover" else verify._hs_separated_moving
+    sq = [(Fraction(x), Fraction(y)) for x, y in ((1, 1), (1, -1), (-1, -1), (-1, 1))]
+    other = [(x + Fraction(5, 2), y) for x, y in sq]
+    assert f(sq, other, (0, 0), Fraction(1))
+    assert f(sq, other, (Fraction(1), Fraction(0)), Fraction(2, 5))
+    assert not f(sq, other, (Fraction(1), Fraction(0)), Fraction(3, 5))
+    assert f(sq, other, (Fraction(0), Fraction(1)), Fraction(100))  # moving along the gap never closes it
+
+
+@pytest.mark.slow
+def test_interval_needs_the_motion(interval_cert):
+    """Control: the same sets held fixed (v = 0) over the same interval are rejected -- the chain moves by ~87 per
+    unit lambdabar per return, against entry widths down to 1.4e-13 (docs/nonintegrability.md, statement 12) -- and
+    the moving sets over a ten times wider interval are rejected at N12 => N13, where the 5-D box's derivative
+    enclosures grow with its lambdabar extent (measured: (a') margin 0.54 at w = 1e-11, -5.2 at 1e-10)."""
+    c = copy.deepcopy(interval_cert)
+    for d in c["sets"]:
+        d["v"] = ["0", "0"]
+    reason = _rejected(c)
+    assert "(a)" in reason or "(b)" in reason, reason
+    c = copy.deepcopy(interval_cert)
+    w = Fraction(c["settings"]["lam_rad"])
+    lam = Fraction(c["params"]["lam"])
+    c["settings"]["lam_rad"] = str(10 * w)
+    c["theorem"] = c["theorem"].replace(f"[{lam - w}, {lam + w}]", f"[{lam - 10 * w}, {lam + 10 * w}]")
+    reason = _rejected(c)
+    assert "N12 => N13" in reason, reason

@@ -46,7 +46,11 @@ def add_arguments(p):
     p.add_argument("--level", default=None, metavar="H",
                    help="the level Hbar = H of --fixed-point / --horseshoe (exact)")
     p.add_argument("--lam-rad", default="0", metavar="W", dest="lam_rad",
-                   help="--fixed-point for every lambdabar in [lam - W, lam + W] (lambdabar carried as a ball)")
+                   help="--fixed-point / --horseshoe / --widen: for every lambdabar in [lam - W, lam + W] (lambdabar "
+                        "carried as a ball; a horseshoe's sets move with lambdabar)")
+    p.add_argument("--widen", default=None, metavar="CERT",
+                   help="re-prove the point horseshoe certificate CERT for every lambdabar in [lam - W, lam + W] "
+                        "(--lam-rad W > 0) without re-proving the point (horseshoe.widen)")
     p.add_argument("--m-back", default=None, metavar="M", dest="m_back",
                    help="--horseshoe: pull-backs of the homoclinic point (HorseshoeSettings.m_back; default 5)")
     p.add_argument("--n-exc", default=None, metavar="N", dest="n_exc",
@@ -71,6 +75,8 @@ def run(args) -> dict:
         return _fixed_point(args)
     if args.horseshoe is not None:
         return _horseshoe(args)
+    if getattr(args, "widen", None) is not None:
+        return _widen(args)
     from ..proof import (TARGET_ANGLES, ProofSettings, mutated_fields, prove_homoclinic, validate_proof_params,
                          validated_fields)
 
@@ -176,20 +182,50 @@ def _horseshoe(args) -> dict:
         if not passes or len(passes) > 6 or any(x not in ("tol", "thin") for x in passes):
             raise ParameterError("passes", f"must be 1-6 of tol, thin separated by commas, got {args.passes!r}")
         st = replace(st, passes=passes)
-    res = prove_horseshoe(p, h, theta, st, module=module, progress=None if args.quiet else _stage)
+    w = _lam_rad(args)
+    say = None if args.quiet else _stage
+    res = prove_horseshoe(p, h, theta, st, module=module, progress=say)
+    if res.ok and w:
+        from ..proof import widen_horseshoe
+
+        res = widen_horseshoe(res.certificate, w, module=module, progress=say)
     return _section_result(res, p, h, dest, lambda c: {"entropy": c["entropy"]})
 
 
-def _fixed_point(args) -> dict:
-    from ..proof import FixedPointSettings, interval_settings, prove_fixed_point
+def _widen(args) -> dict:
+    """--widen CERT --lam-rad W: the point horseshoe certificate CERT over [lam - W, lam + W] (its own parameters)."""
+    from ..proof import load_certificate, widen_horseshoe
+    from ..proof.fields import ExactParams
 
-    p, h, theta, dest, module = _section_inputs(args, "fixed-point")
+    w = _lam_rad(args)
+    if not w:
+        raise ParameterError("lam_rad", "--widen needs --lam-rad W > 0")
+    cert = load_certificate(args.widen)
+    if cert.get("kind") != "section_horseshoe" or Fraction(cert["settings"].get("lam_rad", "0")) != 0:
+        raise ParameterError("widen", f"must be a point certificate of kind section_horseshoe, got {args.widen!r}")
+    if args.out is None:
+        raise ParameterError("out", "an output directory is required")
+    dest = out_dir("out", args.out)
+    p = ExactParams(**{k: Fraction(cert["params"][k]) for k in ("m", "mu", "gamma", "delta", "lam")})
+    res = widen_horseshoe(cert, w, progress=None if args.quiet else _stage)
+    return _section_result(res, p, Fraction(cert["level"]), dest, lambda c: {"entropy": c["entropy"]})
+
+
+def _lam_rad(args) -> Fraction:
     try:
         w = Fraction(str(args.lam_rad))
     except (ValueError, ZeroDivisionError):
         raise ParameterError("lam_rad", f"must be an exact number >= 0, got {args.lam_rad!r}") from None
     if w < 0 or w > 1:
         raise ParameterError("lam_rad", f"must be in [0, 1], got {args.lam_rad!r}")
+    return w
+
+
+def _fixed_point(args) -> dict:
+    from ..proof import FixedPointSettings, interval_settings, prove_fixed_point
+
+    p, h, theta, dest, module = _section_inputs(args, "fixed-point")
+    w = _lam_rad(args)
     st = interval_settings(w) if w else FixedPointSettings()
     res = prove_fixed_point(p, h, theta, st, root=_root(args), branch=getattr(args, "branch", "0"), module=module,
                             progress=None if args.quiet else _stage)

@@ -31,6 +31,8 @@ _API = {
     # the prover of the section map's horseshoe by covering relations (statement 12)
     "HorseshoeSettings": ("horseshoe", "HorseshoeSettings"),
     "prove_horseshoe": ("horseshoe", "prove"),
+    # the same horseshoe for every lambdabar of an interval, its sets moving with lambdabar (statement 12)
+    "widen_horseshoe": ("horseshoe", "widen"),
     "HORSESHOE_DESIGNS": ("horseshoe", "DESIGNS"),
     # the independent checker, and the statements' verdicts
     "load_certificate": ("verify", "load"),

@@ -7,6 +7,7 @@ base"), like taylor.py: it imports only ball, fields, taylor and the generated f
 Moved here from periodic.py (issue 27) unchanged."""
 from __future__ import annotations
 
+from dataclasses import dataclass
 from fractions import Fraction
 
 from flint import arb, arb_mat, arb_series
@@ -193,9 +194,35 @@ def level_newton_section(pars, h, theta: arb, ptheta: arb, pc: Fraction, prad: F
     return N, P, bool(ball.excludes_zero(dH) and Plo < lo and hi < Phi)
 
 
+@dataclass(frozen=True)
+class Moving:
+    """A lambdabar interval for piece_return's box flight, with the piece moving along it: for every lambdabar in
+    `lam` (a ball about the exact lam0) the piece is X(lambdabar) = c + v (lambdabar - lam0) + A [-1, 1]^2 (v exact,
+    2 entries: (dtheta, dpbar_theta) per unit lambdabar; the sets of a horseshoe follow their chain's motion, so
+    that the covering conditions hold for a lambdabar interval much wider than the sets: horseshoe.py).  pars: the
+    parameters with `lam` in lambdabar's slot (periodic.parameter_balls); fld: fields.lam_state_field (lambdabar the
+    fifth state, lambdabar' = 0)."""
+
+    pars: tuple
+    fld: object
+    lam: arb
+    lam0: Fraction
+    v: tuple
+
+
+def ham_lam_derivative(pars, x, module=gen) -> arb:
+    """dHbar/dlambdabar over the box x and lambdabar's ball in pars (a series in the parameter, as ham_gradient)."""
+    q = list(pars)
+    i = fields.PARAMS.index("lam")
+    q[i] = arb_series([q[i], 1], prec=2)
+    c = module.chart_hamiltonian(list(x), q)[0]
+    cs = c.coeffs() if isinstance(c, arb_series) else [c]
+    return cs[1] if len(cs) > 1 else arb(0)
+
+
 def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction, lead: Fraction, *,
                  t1=Fraction(1, 64), order=20, tol=PROOF_STEP_TOL, tol_thin=None, steps=None, newton=12, box=True,
-                 thin=None, thin_c1=True, branch="0", module=gen) -> dict:
+                 thin=None, thin_c1=True, branch="0", moving: Moving | None = None, module=gen) -> dict:
     """One return of P for the section piece X = c + A [-1, 1]^2 (c exact (theta, pbar_theta), A exact 2 x 2) on
     the level Hbar = h, pbar_psi the root in [pc - prad, pc + prad].
 
@@ -212,8 +239,12 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
     Lagrange remainders on the a priori enclosures dominate it (1e-25: widths 1e-14 .. 2e-13 after one return;
     1e-32: 5e-20, 2.3x the steps).  thin_c1 False: the centre flies as a C^0 set (no "DPc"; the verifier, which
     reads DP from the box only): the same state enclosures whenever the C^1 flight's a priori enclosure validates at
-    its first trial (taylor.step_data; the C^0 test is a subset of the C^1 one), at ~3/4 of the cost.  Flight
-    failures raise taylor's errors; the caller checks the signs."""
+    its first trial (taylor.step_data; the C^0 test is a subset of the C^1 one), at ~3/4 of the cost.  moving (a
+    Moving): the box flies over every lambdabar of moving.lam with the piece moving along v (its chart set xbar +
+    C r0 gains the column (v, grad pbar_psi . (v, 1), 1) and the row lambdabar; the centre flies at lam0, with pars
+    and fld, as without it), and the result has "dPds": the derivative of s -> P_s(c + v (s - lam0)) over the box
+    (the section derivative along that column), so that P_s(X(s)) lies in Pc + DP A [-1, 1]^2 + dPds (s - lam0)
+    for every s in lam.  Flight failures raise taylor's errors; the caller checks the signs."""
     out = {}
     cq = [ball.q(v) for v in c]
     ps = branch_psi(branch)
@@ -222,28 +253,53 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
     U = ball.interval(-1, 1)
     th_h = cq[0] + A00 * U + A01 * U
     pt_h = cq[1] + A10 * U + A11 * U
-    Nb, _, okb = level_newton_section(pars, h, th_h, pt_h, pc, prad, module, branch)
+    pars_b, fld_b, xl = pars, fld, []
+    if moving is not None:  # the hull over lambdabar: the piece moves by v (lambdabar - lam0)
+        Dl = moving.lam - ball.q(moving.lam0)
+        vq = [ball.q(x) for x in moving.v]
+        th_h, pt_h = th_h + vq[0] * Dl, pt_h + vq[1] * Dl
+        pars_b, fld_b, xl = moving.pars, moving.fld, [moving.lam]
+    Nb, _, okb = level_newton_section(pars_b, h, th_h, pt_h, pc, prad, module, branch)
     out["level_ok"] = bool(okc and okb)
     out["ppsi_centre"], out["ppsi_hull"] = Nc, Nb
     if not out["level_ok"]:
         return out
     Q = [th_h, ps, pt_h, Nb]
-    gH = ham_gradient(pars, Q, module)
+    gH = ham_gradient(pars_b, Q, module)
     grad = [-gH[TH] / gH[PP], -gH[PT] / gH[PP]]
     gm = [v.mid() for v in grad]
     col = [(A00, A10), (A01, A11)]
     E = (Nc - Nc.mid()) + sum(((grad[0] - gm[0]) * a + (grad[1] - gm[1]) * b) * U for a, b in col)
-    C = arb_mat(4, 4, [A00, A01, 0, 0,
-                       0, 0, 1, 0,
-                       A10, A11, 0, 0,
-                       gm[0] * A00 + gm[1] * A10, gm[0] * A01 + gm[1] * A11, 0, 1])
-    if any(C[i, j].rad() != 0 for i in range(4) for j in range(4)):  # exact: g A rounded to a point matrix
-        C = C.mid()
-        E = E + sum(((gm[0] * a + gm[1] * b) - C[3, j]) * U for j, (a, b) in enumerate(col))
+    n = 4 + len(xl)
+    C = arb_mat(n, n)
+    for i, row in enumerate([[A00, A01, 0, 0], [0, 0, 1, 0], [A10, A11, 0, 0],
+                             [gm[0] * A00 + gm[1] * A10, gm[0] * A01 + gm[1] * A11, 0, 1]]):
+        for j, x in enumerate(row):
+            C[i, j] = x
+    col_s = None
+    if moving is not None:
+        # pbar_psi(c + A u + v D, lam0 + D) - pbar_psi(c, lam0) = grad(xi) . (A u + v D) + g_lam(xi) D (mean value;
+        # the root is unique in the Newton box over the hull): the lambdabar column (v, gm . v + g_lam_mid, 1)
+        glam = -ham_lam_derivative(pars_b, Q, module) / gH[PP]
+        glm = glam.mid()
+        col_s = [vq[0], arb(0), vq[1], gm[0] * vq[0] + gm[1] * vq[1] + glm, arb(1)]
+        for i, x in enumerate(col_s):
+            C[i, 4] = x
+        C[4, 4] = 1
+        E = E + ((grad[0] - gm[0]) * vq[0] + (grad[1] - gm[1]) * vq[1] + (glam - glm)) * Dl
+    if any(C[i, j].rad() != 0 for i in range(n) for j in range(n)):  # exact: g A rounded to a point matrix
+        Cm = C.mid()
+        E = E + sum(((gm[0] * a + gm[1] * b) - Cm[3, j]) * U for j, (a, b) in enumerate(col))
+        if moving is not None:
+            E = E + (C[3, 4] - Cm[3, 4]) * Dl
+        C = Cm
     xbar = [ball.fraction(cq[0]), ball.fraction(ps.mid()), ball.fraction(cq[1]), ball.fraction(Nc.mid())]
-    r0 = ball.vec([U, U, ps - ps.mid(), E])  # psi = pi: the ball of pi about its exact midpoint (C's psi row e_psi)
+    r0 = [U, U, ps - ps.mid(), E]  # psi = pi: the ball of pi about its exact midpoint (C's psi row e_psi)
+    if moving is not None:
+        xbar, r0 = xbar + [moving.lam0], r0 + [Dl]
+    r0 = ball.vec(r0)
     thin_set = taylor.initial_set([cq[0], ps, cq[1], Nc], c1=thin_c1)
-    box_set = section_set(pars, None, None, None, C2=(xbar, C, r0)) if box else None
+    box_set = section_set(pars_b, None, None, None, C2=(xbar, C, r0)) if box else None
     steps_out = {}
     if thin is not None:
         for key in ("Pc", "ppsi_thin", "DPc", "gdot_thin", "cospsi_thin"):
@@ -252,13 +308,18 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
         steps_out["thin"] = thin["steps"]["thin"]
     todo = ([] if thin is not None else [("thin", thin_set)]) + ([("box", box_set)] if box else [])
     for kind, S in todo:
-        st = None if steps is None else steps[kind]
+        st = None if steps is None else steps.get(kind)  # a kind missing: its steps adaptive
         tk = (tol_thin or tol) if kind == "thin" else tol
-        cr, used = first_return(pars, fld, S, t_a, lead, t1=t1, order=order, tol=tk, steps=st, newton=newton,
+        pk, fk = (pars, fld) if kind == "thin" else (pars_b, fld_b)
+        cr, used = first_return(pk, fk, S, t_a, lead, t1=t1, order=order, tol=tk, steps=st, newton=newton,
                                 module=module)
         steps_out[kind] = used
-        Qk = [cq[0], ps, cq[1], Nc] if kind == "thin" else Q
-        q = section_quantities(None, fld, cr, tangents(pars, Qk, module), module)
+        Qk = [cq[0], ps, cq[1], Nc] if kind == "thin" else Q + xl
+        tg = tangents(pk, Qk, module)
+        if kind == "box" and col_s is not None:
+            # the exact column of C along lambdabar, with pbar_psi's row the enclosure of its derivative
+            tg["s"] = col_s[:3] + [grad[0] * vq[0] + grad[1] * vq[1] + glam, arb(1)]
+        q = section_quantities(None, fk, cr, tg, module)
         out[f"gdot_{kind}"], out[f"cospsi_{kind}"] = q["gdot"], q["cospsi"]
         if kind == "thin":
             out["Pc"] = (q["theta"], q["ptheta"])
@@ -269,5 +330,7 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
             out["DP"] = [[q["dth_theta"], q["dpt_theta"]], [q["dth_ptheta"], q["dpt_ptheta"]]]
             out["ppsi_box"] = cr.x[PP]
             out["tau_box"] = cr.tau
+            if col_s is not None:
+                out["dPds"] = (q["ds_theta"], q["ds_ptheta"])
     out["steps"] = steps_out
     return out

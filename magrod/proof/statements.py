@@ -238,6 +238,14 @@ STATEMENTS = (
        reproduce` re-checks it and REPORT has its row; `--quick` does not, and says so. (b): prove 323 s on 2
        cores (another proof on the other core at times; 221 s at load 0.3–1); verify 83 s wall, 85 s of CPU
        (load 2–3, the same verifier); the full `magrod reproduce` re-checks it too.
+       Over an interval: (a) holds for every λ̄ in [27/200 − 10⁻¹¹, 27/200 + 10⁻¹¹] (the same bound on h_top):
+       the same sets move with λ̄, N_j(λ̄) = c_j + v_j (λ̄ − 27/200) + A_j [−1, 1]², v_j the chain's float
+       motion (N0 and Nk move along Fix(R)), and every covering condition, the symmetry and the swept
+       disjointness are checked for all λ̄ at once, λ̄ a fifth state of the validated flights
+       (horseshoe_fig4a_interval.json, `magrod prove --widen horseshoe_fig4a.json --lam-rad 1/100000000000`:
+       188 s; verify 124 s wall). Held fixed, the sets hold only for |λ̄ − 27/200| ≲ 10⁻¹⁶; moving, the limit is
+       N12 ⇒ N13 ((a′) margin 0.54 at 10⁻¹¹, −0.13 at 3·10⁻¹¹), so a wider interval costs one such certificate per
+       2·10⁻¹¹ of λ̄ (~3 min each), and beyond ~10⁻⁸ new sets (the motion is linear).
        Panels (c) and (d) are not proved.""",
        [Step("the covering relations, the symmetry of N0 and Nk, the disjointness, the cover by pieces, the "
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "

@@ -119,7 +119,8 @@ def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0", br
             f"1/mu with |mu| > 1 (a saddle of P; docs/nonintegrability.md, statement 11).")
 
 
-def section_horseshoe_theorem(params: dict, level: str, k: int, loop_length: int, rho_lower: str) -> str:
+def section_horseshoe_theorem(params: dict, level: str, k: int, loop_length: int, rho_lower: str,
+                              lam_rad: str = "0") -> str:
     """The statement established by a verified horseshoe certificate (kind "section_horseshoe").
 
     Parameters
@@ -134,18 +135,32 @@ def section_horseshoe_theorem(params: dict, level: str, k: int, loop_length: int
         L = 2k, the length of the second closed chain through N0.
     rho_lower : str
         An exact rational below the largest root rho of x^L = x^(L-1) + 1.
+    lam_rad : str
+        Half-width of the lambdabar interval the certificate carries (exact rational string; "0": the point).
+        The sets then move with lambdabar (N_j(lambdabar) = c_j + v_j (lambdabar - lambdabar_0) + A_j [-1, 1]^2).
 
     Returns
     -------
     str
         One paragraph.
     """
-    vals = ", ".join(_rational(params[key]) for key in ("m", "mu", "gamma", "delta", "lam"))
     rho = Fraction(rho_lower)
     import math
 
-    return (f"At (m, mu, gamma, delta, lambdabar) = ({vals}), on the level Hbar = {_rational(level)}, the section map "
-            f"P of {{sin psi = 0, d(sin psi)/dt > 0}} (section coordinates (theta, pbar_theta)) has h-sets N0, ..., "
+    w = Fraction(lam_rad)
+    if w < 0:
+        raise ValueError(f"lam_rad must be >= 0, got {lam_rad!r}")
+    if w == 0:
+        vals = ", ".join(_rational(params[key]) for key in ("m", "mu", "gamma", "delta", "lam"))
+        where, sets = f"At (m, mu, gamma, delta, lambdabar) = ({vals})", "h-sets"
+    else:
+        vals = ", ".join(_rational(params[key]) for key in ("m", "mu", "gamma", "delta"))
+        lam = Fraction(params["lam"])
+        where = (f"At (m, mu, gamma, delta) = ({vals}) and for every lambdabar in [{_rational(str(lam - w))}, "
+                 f"{_rational(str(lam + w))}]")
+        sets = "h-sets (moving with lambdabar along the certificate's v_j)"
+    return (f"{where}, on the level Hbar = {_rational(level)}, the section map "
+            f"P of {{sin psi = 0, d(sin psi)/dt > 0}} (section coordinates (theta, pbar_theta)) has {sets} N0, ..., "
             f"N{k} with the covering relations N0 => N0 and N0 => N1 => ... => N{k} (Zgliczynski-Gidea 2004), N0 "
             f"and N{k} symmetric under the reversor R, N0 disjoint from the other sets of the loops; by reversibility "
             f"the chain closes through back-coverings into a loop of length {loop_length} through N0, so P has a "

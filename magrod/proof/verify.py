@@ -661,7 +661,8 @@ def _verify_horseshoe(cert, module, t0, workers=None) -> VerifyResult:
         return VerifyResult(False, f"certificate rejected: {err}", checks, time.perf_counter() - t0)
     return VerifyResult(True, "certificate verified: every link re-flown and every check holds", checks,
                         time.perf_counter() - t0,
-                        section_horseshoe_theorem(p.as_json(), cert["level"], vals["k"], vals["L"], vals["rho"]),
+                        section_horseshoe_theorem(p.as_json(), cert["level"], vals["k"], vals["L"], vals["rho"],
+                                                  vals["lam_rad"]),
                         {}, {})
 
 
@@ -730,6 +731,45 @@ def _hs_cover(pieces) -> bool:
     return sum((b[1] - b[0]) * (b[3] - b[2]) for b in boxes) == 4
 
 
+def _hs_lam(cert, p, module=fields.gen):
+    """A lambdabar interval (settings "lam_rad" > 0; horseshoe.widen): (w, pars with lambdabar's ball, the ball,
+    ball - lam, [v_j] exact) -- the sets move, N_j(s) = c_j + v_j (s - lam) + A_j [-1, 1]^2; None for a point."""
+    w = _frac(cert["settings"].get("lam_rad", "0"))
+    if w < 0:
+        raise ValueError("lam_rad must be >= 0")
+    if w == 0:
+        if any("v" in d for d in cert["sets"]):
+            raise ValueError("a point certificate's sets do not move (no 'v')")
+        return None
+    from .periodic import parameter_balls
+
+    vs = [tuple(_frac(x) for x in d["v"]) for d in cert["sets"]]
+    if any(len(v) != 2 for v in vs):
+        raise ValueError("a set's v has 2 entries")
+    pars = parameter_balls(p, w)
+    lam = pars[fields.LAM]
+    return w, pars, lam, lam - ball.q(p.lam), vs
+
+
+def _hs_separated_moving(P1, P2, dv, w) -> bool:
+    """P1 and P2 + s dv disjoint for every s in [-w, w]: a separating axis (edge normals, the normal of dv) between
+    P1 and the vertices of P2 at s = -w and s = w (convex hull of the swept set)."""
+    axes = []
+    for poly in (P1, P2):
+        for i in range(4):
+            (x1, y1), (x2, y2) = poly[i], poly[(i + 1) % 4]
+            axes.append((y2 - y1, x1 - x2))
+    if dv != (0, 0):
+        axes.append((-dv[1], dv[0]))
+    swept = [(x + t * dv[0], y + t * dv[1]) for x, y in P2 for t in (-w, w)]
+    for n in axes:
+        a = [n[0] * x + n[1] * y for x, y in P1]
+        b = [n[0] * x + n[1] * y for x, y in swept]
+        if max(a) < min(b) or max(b) < min(a):
+            return True
+    return False
+
+
 def _hs_branch_boxes(cert, pars, sets, brs, module, claim=None) -> list:
     """[(ok, B)] per set: the level's root pbar_psi by interval Newton over the set's hull, B its Newton box (each
     claimed as it is computed when `claim` is given)."""
@@ -737,10 +777,15 @@ def _hs_branch_boxes(cert, pars, sets, brs, module, claim=None) -> list:
 
     h, prad = _frac(cert["level"]), _frac(cert["settings"]["p_rad"])
     U = ball.interval(-1, 1)
+    mv = _hs_lam(cert, fields.ExactParams(**{kk: _frac(cert["params"][kk]) for kk in fields.PARAMS}), module)
+    if mv is not None:
+        pars = mv[1]
     out = []
     for j, (c, A) in enumerate(sets):
         U0 = ball.q(c[0]) + ball.q(A[0][0]) * U + ball.q(A[0][1]) * U
         U1 = ball.q(c[1]) + ball.q(A[1][0]) * U + ball.q(A[1][1]) * U
+        if mv is not None:  # the hull swept over the lambdabar interval
+            U0, U1 = U0 + ball.q(mv[4][j][0]) * mv[3], U1 + ball.q(mv[4][j][1]) * mv[3]
         _, B, ok = section_return.level_newton_section(pars, h, U0, U1, _frac(cert["sets"][j]["p_c"]), prad, module,
                                                        brs[j])
         if claim is not None:
@@ -770,6 +815,9 @@ def _hs_source(cert, i, order, module, claim, branch) -> None:
     # the flights' Taylor coefficients by Newton's iteration on series (taylor._newton_series: as rigorous as the
     # prover's Picard iteration, other balls, ~1/4 of the cost), the centres as C^0 sets (their DP is not read here)
     fld = dataclasses.replace(fields.chart_field(p, module), series="newton")
+    lm = _hs_lam(cert, p, module)
+    mv = None if lm is None else section_return.Moving(
+        tuple(lm[1]), dataclasses.replace(fields.lam_state_field(p, module), series="newton"), lm[2], p.lam, lm[4][i])
     U = ball.interval(-1, 1)
     c, A = sets[i]
     images = []
@@ -786,7 +834,7 @@ def _hs_source(cert, i, order, module, claim, branch) -> None:
         try:
             f = section_return.piece_return(pars, h, fld, cX, AX, _frac(r["p_c"]), prad, t_a, lead, t1=t1,
                                             order=order, steps=steps, newton=newton, thin_c1=False, branch=brs[i],
-                                            module=module)
+                                            moving=mv, module=module)
         except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
             claim(f"N{i} piece {n} flight", False, str(err)[:200])
         claim(f"N{i} piece {n} level", f["level_ok"] and ball.subset(f["ppsi_hull"], branch[i]),
@@ -802,6 +850,8 @@ def _hs_source(cert, i, order, module, claim, branch) -> None:
         right, left = [], []
         for n, (pc, AX, f) in enumerate(images):
             d = [f["Pc"][0] - ball.q(cM[0]), f["Pc"][1] - ball.q(cM[1])]
+            if lm is not None:  # in M's moving coordinates: + (dP/ds - v_M)(s - lam), s in the interval
+                d = [d[a] + (f["dPds"][a] - ball.q(lm[4][j][a])) * lm[3] for a in range(2)]
             off = [Ai[a][0] * d[0] + Ai[a][1] * d[1] for a in range(2)]
             DA = [[f["DP"][a][0] * ball.q(AX[0][b]) + f["DP"][a][1] * ball.q(AX[1][b]) for b in range(2)]
                   for a in range(2)]
@@ -962,24 +1012,38 @@ def _horseshoe(cert, p, order, module, claim, workers=None) -> dict:
           "exactly N0 => N0, N0 => N1 => ... => Nk (a complete chain)")
     for i, (_c, A) in enumerate(sets):
         claim(f"N{i} nondegenerate", A[0][0] * A[1][1] - A[0][1] * A[1][0] != 0, "det A != 0")
+    lm = _hs_lam(cert, p, module)
     for i in (0, k):
         c, A = sets[i]
-        claim(f"N{i} symmetric", c[1] == 0 and A[0][1] == A[0][0] and A[1][1] == -A[1][0],
-              "centre on Fix(R) and A = [a, R a], so R(N)^T = N exactly")
+        claim(f"N{i} symmetric", c[1] == 0 and A[0][1] == A[0][0] and A[1][1] == -A[1][0] and
+              (lm is None or lm[4][i][1] == 0),
+              "centre on Fix(R) and A = [a, R a], so R(N)^T = N exactly" +
+              ("" if lm is None else "; it moves along Fix(R) (v's pbar_theta = 0)"))
     V0 = _hs_vertices(*sets[0])
     for j in range(1, k + 1):
-        claim(f"N0, N{j} disjoint", brs[j] != brs[0] or _hs_separated(V0, _hs_vertices(*sets[j])),
-              "another branch of psi, or a separating edge normal")
+        if lm is None:
+            sep = _hs_separated(V0, _hs_vertices(*sets[j]))
+        else:
+            sep = _hs_separated_moving(V0, _hs_vertices(*sets[j]), (lm[4][j][0] - lm[4][0][0],
+                                                                    lm[4][j][1] - lm[4][0][1]), lm[0])
+        claim(f"N0, N{j} disjoint", brs[j] != brs[0] or sep,
+              "another branch of psi, or a separating edge normal" + ("" if lm is None else " for every lambdabar"))
     for j in range(1, k):
-        claim(f"N0, R(N{j}) disjoint", brs[j] != brs[0] or
-              _hs_separated(V0, [(x, -y) for x, y in _hs_vertices(*sets[j])]),
-              "another branch of psi (R keeps it), or a separating edge normal")
+        RV = [(x, -y) for x, y in _hs_vertices(*sets[j])]
+        if lm is None:
+            sep = _hs_separated(V0, RV)
+        else:
+            sep = _hs_separated_moving(V0, RV, (lm[4][j][0] - lm[4][0][0], -lm[4][j][1] - lm[4][0][1]), lm[0])
+        claim(f"N0, R(N{j}) disjoint", brs[j] != brs[0] or sep,
+              "another branch of psi (R keeps it), or a separating edge normal" +
+              ("" if lm is None else " for every lambdabar"))
     L = 2 * k
     claim("loop length", int(cert["loop_length"]) == L, f"the loop N0 => ... => N{k} <= ... <= N0 has length 2k = {L}")
     rho = _frac(cert["entropy"]["rho_lower"])
     claim("entropy bound", 1 < rho < 2 and rho**L - rho ** (L - 1) - 1 < 0,
           f"rho_lower = {float(rho):.12g} is below the largest root of x^{L} = x^{L - 1} + 1 (f(rho_lower) < 0)")
-    text = section_horseshoe_theorem(p.as_json(), cert["level"], k, L, cert["entropy"]["rho_lower"])
+    w_txt = "0" if lm is None else f"{lm[0].numerator}/{lm[0].denominator}"
+    text = section_horseshoe_theorem(p.as_json(), cert["level"], k, L, cert["entropy"]["rho_lower"], w_txt)
     claim("theorem", cert.get("theorem") == text, "the certificate states exactly the theorem generated here")
     fl_by_set = {int(f["set"]): f for f in cert["flights"]}
     claim("flights", sorted(fl_by_set) == list(range(k)), "one flight record per set N0 .. N(k-1)")
@@ -995,4 +1059,4 @@ def _horseshoe(cert, p, order, module, claim, workers=None) -> dict:
             _hs_source(cert, i, order, module, claim, boxes)
     else:
         _hs_sources_parallel(cert, k, w, claim)
-    return {"k": k, "L": L, "rho": cert["entropy"]["rho_lower"]}
+    return {"k": k, "L": L, "rho": cert["entropy"]["rho_lower"], "lam_rad": w_txt}
