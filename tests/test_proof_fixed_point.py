@@ -151,6 +151,9 @@ def test_the_monodromy_formula():
         assert abs(np.linalg.det(M) - 1) < 1e-9
 
 
+CERTS = Path(__file__).resolve().parents[1] / "magrod" / "proof" / "certificates"
+
+
 @pytest.mark.parametrize("args, name", [(["--fixed-point", "4", "--level", "0.9"], "fixed_point"),
                                         (["--fixed-point", "0.383"], "level"),
                                         (["--fixed-point", "x", "--level", "0.9"], "fixed_point"),
@@ -159,7 +162,14 @@ def test_the_monodromy_formula():
                                         (["--horseshoe", "4", "--level", "0.9"], "horseshoe"),
                                         (["--horseshoe", "0.383"], "level"),
                                         (["--horseshoe", "0.383", "--level", "0.9", "--mutate", "x"], "mutate"),
-                                        (["--horseshoe", "0.383", "--level", "0.9", "--design", "fig4z"], "design")])
+                                        (["--horseshoe", "0.383", "--level", "0.9", "--design", "fig4z"], "design"),
+                                        (["--horseshoe", "0.383", "--level", "0.9", "--lam-rad", "-1"], "lam_rad"),
+                                        # --widen: a point horseshoe certificate and W > 0
+                                        (["--widen", str(CERTS / "horseshoe_fig4a.json")], "lam_rad"),
+                                        (["--widen", str(CERTS / "fixed_point_fig4a.json"), "--lam-rad", "1e-11"],
+                                         "widen"),
+                                        (["--widen", str(CERTS / "horseshoe_fig4a_interval.json"), "--lam-rad",
+                                          "1e-11"], "widen")])
 def test_bad_input_is_exit_2_naming_the_parameter(args, name, tmp_path, capsys):
     out = tmp_path / "never"
     code = main(["prove", *FIG4A, *args, "--out", str(out), "--quiet", "--json"])

@@ -238,14 +238,15 @@ STATEMENTS = (
        reproduce` re-checks it and REPORT has its row; `--quick` does not, and says so. (b): prove 323 s on 2
        cores (another proof on the other core at times; 221 s at load 0.3–1); verify 83 s wall, 85 s of CPU
        (load 2–3, the same verifier); the full `magrod reproduce` re-checks it too.
-       Over an interval: (a) holds for every λ̄ in [27/200 − 10⁻¹¹, 27/200 + 10⁻¹¹] (the same bound on h_top):
-       the same sets move with λ̄, N_j(λ̄) = c_j + v_j (λ̄ − 27/200) + A_j [−1, 1]², v_j the chain's float
-       motion (N0 and Nk move along Fix(R)), and every covering condition, the symmetry and the swept
+       Over an interval: (a) holds for every λ̄ in [27/200 − 2·10⁻¹¹, 27/200 + 2·10⁻¹¹] (the same bound on
+       h_top): the same sets move with λ̄, N_j(λ̄) = c_j + v_j (λ̄ − 27/200) + A_j [−1, 1]², v_j the chain's
+       float motion (N0 and Nk move along Fix(R)), and every covering condition, the symmetry and the swept
        disjointness are checked for all λ̄ at once, λ̄ a fifth state of the validated flights
-       (horseshoe_fig4a_interval.json, `magrod prove --widen horseshoe_fig4a.json --lam-rad 1/100000000000`:
-       188 s; verify 124 s wall). Held fixed, the sets hold only for |λ̄ − 27/200| ≲ 10⁻¹⁶; moving, the limit is
-       N12 ⇒ N13 ((a′) margin 0.54 at 10⁻¹¹, −0.13 at 3·10⁻¹¹), so a wider interval costs one such certificate per
-       2·10⁻¹¹ of λ̄ (~3 min each), and beyond ~10⁻⁸ new sets (the motion is linear).
+       (horseshoe_fig4a_interval.json, `magrod prove --widen horseshoe_fig4a.json --lam-rad 1/50000000000`:
+       441 s at load ~3, 188 s for half the width at load ~2; verify 168 s wall at load ~3). Held fixed, the sets
+       hold only for |λ̄ − 27/200| ≲ 10⁻¹⁶; moving, the limit is N12 ⇒ N13 ((a′) margin 0.54 at 10⁻¹¹, 0.27 at
+       2·10⁻¹¹, −5.2 at 10⁻¹⁰), so a wider interval costs one such certificate per 4·10⁻¹¹ of λ̄ (~5–10 min
+       each), and beyond ~10⁻⁸ new sets (the motion is linear).
        Panels (c) and (d) are not proved.""",
        [Step("the covering relations, the symmetry of N0 and Nk, the disjointness, the cover by pieces, the "
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
@@ -354,7 +355,7 @@ def render_summary() -> str:
             f"formal expansion 3). On Fig 4's own level h = 9/10 the section map has a hyperbolic fixed point (a "
             f"saddle) at panels (a), (b), (d) (**{status('11')}**, 11), and at panels (a) and (b) a horseshoe: "
             f"positive topological entropy of the section map (**{status('12')}**, 12, covering relations along the "
-            f"saddle's homoclinic orbit); at the other panels chaos there is **{status('10')}** evidence only "
+            f"saddle's homoclinic orbit; at (a) for every λ̄ in 0.135 ± 2·10⁻¹¹); at the other panels chaos there is **{status('10')}** evidence only "
             f"(10). In sec. 9's regime (λ̄ = 2, γ ≪ 1), on Fig 5's own level h = 4/5 (μ = 2λ̄ = 4, δ = 1/4): a "
             f"saddle of the section map at the four panels' γ and a horseshoe at each (**{status('13')}**, "
             f"13). The paper's own "
@@ -372,7 +373,8 @@ def render_readme() -> str:
             f"(**{status('7')}**); every other nonintegrability claim (every integral, not only those in involution with "
             f"m3; the perturbative regime) is **{status('7b')}**; on Fig 4's own level h = 9/10 a saddle of the section "
             f"map at three of the four panels is **{status('11')}**, a horseshoe of the section map (positive "
-            f"topological entropy) at panels (a) and (b) is **{status('12')}** (statement 12), on Fig 5's own level h = 4/5 "
+            f"topological entropy) at panels (a) and (b) is **{status('12')}** (statement 12; at (a) for every λ̄ in "
+            f"0.135 ± 2·10⁻¹¹), on Fig 5's own level h = 4/5 "
             f"(sec. 9's regime: λ̄ = 2, γ ≪ 1) a saddle of the section map at the four panels and a horseshoe at "
             f"each are **{status('13')}** (statement 13), and the chaos of Figs 4–5 "
             f"elsewhere is **{status('10')}** evidence "
