@@ -200,6 +200,10 @@ def test_report_row_of_the_verified_horseshoe():
     assert rows[0]["label"].startswith("fig:poincare1 (a)")
     f5 = dict(f, panel="5c", statement="13")
     assert report._proof_fig4_horseshoe({"fig4_horseshoe": [f5]})[0]["label"].startswith("fig:poincare2 (c)")
+    # an interval certificate's row says for which lambdabar (a point's does not)
+    fi = dict(f, panel="4a_interval", lam_rad="1/50000000000")
+    assert "for every lambdabar in 27/200 +- 2e-11" in report._proof_fig4_horseshoe({"fig4_horseshoe": [fi]})[0]["label"]
+    assert "every lambdabar" not in rows[0]["label"]
 
 
 # --- the certificate at Fig 4(a)'s rod (issue 27; statement 5a): its controls ------------------------------------

@@ -90,6 +90,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
                                 "reason": v4.reason, "n_checks": len(v4.checks), "theorem": v4.theorem,
                                 "statement": st, "certificate": f"magrod/proof/certificates/{name}",
                                 "verify_wall_time_s": round(v4.wall_time_s, 1),
+                                "lam_rad": str(other.get("settings", {}).get("lam_rad", "0")),
                                 **({"values": v4.values} if group == "fig4_section" else {})})
             paths.append(str(atomic_write_json(out / f"proof_certificate_{prefix}_fig{key}.json", other)))
     side["not_verified_in_reproduce"] = [{"panel": k, "certificate": f"magrod/proof/certificates/{n}", "statement": st}

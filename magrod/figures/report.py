@@ -532,9 +532,11 @@ def _proof_fig4_horseshoe(d) -> list:
     rows = []
     for f in d.get("fig4_horseshoe", []):
         label, name = _figure_of(f["panel"])
+        w = Fraction(f.get("lam_rad", "0"))
+        every = f"; for every lambdabar in {f['params']['lam']} +- {float(w):.1g}, the sets moving" if w else ""
         rows.append({
             "label": f"{label} ({f['panel'][1]}) on h = {f['level']}: the horseshoe (statement {f['statement']}, "
-                     "computer-assisted proof, beyond the paper)",
+                     f"computer-assisted proof, beyond the paper{every})",
             "paper": f"({name} shows the section numerically)",
             "computed": f"({', '.join(PARAMS)}) = ({', '.join(str(f['params'][k]) for k in PARAMS)}): the shipped "
                         f"certificate {f['certificate']} re-checked by the complete verifier: {f['reason']} "
