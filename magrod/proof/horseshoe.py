@@ -120,8 +120,26 @@ def fig4b_settings() -> HorseshoeSettings:
                              stop_frac=1e-2, pieces={16: (2, 1)})
 
 
+def fig4d_settings() -> HorseshoeSettings:
+    """The design of the Fig 4(d) chain (lambdabar = 93/500; benchmarks/fig4d_horseshoe_design.py, .json).  The
+    saddle is weak (mu_u = 1.615, sigma = 1 / mu_u = 0.619) but its homoclinic orbit is benign: W^u (side +e_u,
+    s* = 1.157e-7) meets Fix(R) at the 35th return (theta = 1.8186, psi = pi branch at returns 33-37), the exit-entry
+    angle is 44.5 deg near x0 and >= 34.6 deg along the whole chain, W^u-W^s angle 36.8 deg at the end, the unit
+    exit vector stretched by 1.615-1.66 per link but 1.50, 0.87, 4.11, 1.34 on the last four.  Margins qu = qs = 1.5
+    (< mu_u, so the lengths stay at L where the link stretches by mu_u, and 1 / (qs sigma) = 1.08 > 1 lets the entry
+    widths pulled back from N37 reach the cap 7 L at N1 .. N10).  N0 => N1: mu_u l0 > d + l1 with l0 + l1 < d needs
+    l1 < d (mu_u - 1) / (mu_u + 1) = 0.235 d; l0 = 0.8 d, l1 = 0.1 d give (b) (mu_u l0 - d) / l1 - 1 = 1.92, and
+    the entry thickness l0 / mu_u = 0.50 d of P(N0) against w1 = w_cap l1 = 0.7 d gives (a') 0.29.  m = 2 pull-backs
+    (d = 4.4e-8, k = 38 sets).  Float linear margins: (a') >= 0.292 (N0 => N1; 0.38 near x0), (b) >= 0.50 on every
+    link.  Centre flights at HORSESHOE_CENTRE_TOL_FIG4B, every pass at that tolerance (stop once on Fix(R)), as at
+    Fig 4(b)."""
+    return HorseshoeSettings(m_back=2, n_exc=35, s_star=1.1573186507894533e-07, qu=1.5, qs=1.5, l0_frac=0.8,
+                             l1_frac=0.1, w_cap=7.0, tol_thin=HORSESHOE_CENTRE_TOL_FIG4B,
+                             passes=("thin", "thin", "thin"), stop_frac=1e-2)
+
+
 #: named designs (magrod prove --horseshoe ... --design NAME): "fig4a" is the default HorseshoeSettings()
-DESIGNS = {"fig4a": HorseshoeSettings, "fig4b": fig4b_settings}
+DESIGNS = {"fig4a": HorseshoeSettings, "fig4b": fig4b_settings, "fig4d": fig4d_settings}
 
 
 def _q(x) -> str:

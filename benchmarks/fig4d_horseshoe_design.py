@@ -1,0 +1,78 @@
+"""Issue 27 item 3 at Fig 4(d) (lambdabar = 93/500, h = 9/10, the panel the paper's indicator calls regular): the
+float search for the homoclinic point of the section saddle x0 of statement 11 (fixed_point_fig4d.json, psi = 0,
+|mu_u(DP)| = 1.615, return time 3.19) and the float design of the covering-relation horseshoe along it
+(magrod/proof/horseshoe.py, design "fig4d").  Numerical (float64 heyoka, reduced chart, tol 1e-15); it chooses the
+geometry that the prover then proves.  Not a proof.
+
+  1. W^u(x0) meets Fix(R): benchmarks/fig4_candidates.homoclinic_point (fundamental domain s in [1e-7, 1e-7 mu_u]
+     on the side +e_u, up to 45 returns, 4-D states; DP(x0) by central differences of one return, eps 1e-7): the
+     first sign change of pbar_theta on one branch, bisected; its return n, end point, flight time and the tangent
+     of W^u there (W^u-W^s angle = 2 atan |dtheta / dpbar_theta|: W^s = R(W^u)).
+  2. The design's linear / hull / sampled margins per link (benchmarks/fig4b_horseshoe_design.py's machinery with
+     panel "d" and the prover's design "fig4d"; each flag of that script overrides one field: --m, --qu, --qs,
+     --l0, --l1, --wcap).
+
+    python benchmarks/fig4d_horseshoe_design.py [out.json] [--m=2] [--qu=1.5] [--qs=1.5] [--l0=0.8] [--l1=0.1]
+        [--wcap=7]
+
+Stored run (fig4d_horseshoe_design.json, 2 cores, ~15 s): W^u on Fix(R) at return 35 from s* = 1.1573e-7, theta =
+1.81863 on the psi = pi branch, flight time 112.77, W^u-W^s angle 36.8 deg; design fig4d (m = 2, k = 38 sets, d =
+4.44e-8): every link's margins positive, (a') >= 0.292 (N0 => N1), (b) >= 0.500.  Other margins (same geometry,
+scratch runs): qu = qs = 1.3: (a') >= 0.231, (b) >= 0.300; qu = qs = 1.2: (a') >= 0.167, (b) >= 0.200.
+"""
+from __future__ import annotations
+
+import json
+import math
+import sys
+import time
+from fractions import Fraction
+from importlib import resources
+
+import numpy as np
+
+import fig4_candidates as fc
+import fig4b_horseshoe_design as fb
+
+OUT = next((a for a in sys.argv[1:] if not a.startswith("--")), "fig4d_horseshoe_design.json")
+
+
+def search():
+    t0 = time.perf_counter()
+    cert = json.loads(resources.files("magrod.proof").joinpath("certificates", "fixed_point_fig4d.json").read_text())
+    smap = fc.SectionMap(str(float(Fraction(cert["params"]["lam"]))))
+    th = float(Fraction(cert["point"]["theta_c"]))
+    x0 = smap.point(th, 0.0, 0.0, float(Fraction(cert["point"]["p_c"])))
+    eps = 1e-7
+    D = np.empty((2, 2))
+    for c, (a, b) in enumerate(((eps, 0.0), (0.0, eps))):
+        yp, _ = smap.step(smap.point(th + a, b, 0.0, x0[fc.PP]))
+        ym, _ = smap.step(smap.point(th - a, -b, 0.0, x0[fc.PP]))
+        D[:, c] = [(yp[fc.TH] - ym[fc.TH]) / (2 * eps), (yp[fc.PT] - ym[fc.PT]) / (2 * eps)]
+    hp = fc.homoclinic_point(smap, {"D": D.tolist()}, x0, jmax=45, n_s=120)
+    for p in hp["points"]:
+        a, b = p["tangent"]
+        p["angle_wu_ws_deg"] = float(2 * math.degrees(math.atan(abs(a / b))))
+    out = {"x0": x0.tolist(), "DP": D.tolist(), "det_DP": float(np.linalg.det(D)),
+           "eigenvalues": sorted(float(v) for v in np.real(np.linalg.eigvals(D))), **hp,
+           "wall_s": round(time.perf_counter() - t0, 1)}
+    print(json.dumps({k: v for k, v in out.items() if k != "points"}, default=float))
+    for p in hp["points"]:
+        print({k: p[k] for k in ("side", "j", "s_star", "theta", "branch", "flight_time", "angle_wu_ws_deg")})
+    return out
+
+
+def main():
+    hs = search()
+    if not hs["points"]:
+        raise SystemExit("no homoclinic point found")
+    fb.main(panel="d", design_name="fig4d")  # writes OUT (the first non-flag argument) with its default name
+    res = json.load(open(OUT))
+    res["homoclinic_search"] = hs
+    with open(OUT, "w") as fh:
+        json.dump(res, fh, indent=1)
+    print("added the homoclinic search to", OUT)
+
+
+if __name__ == "__main__":
+    main()
