@@ -12,13 +12,16 @@ geometry that the prover then proves.  Not a proof.
      panel "d" and the prover's design "fig4d"; each flag of that script overrides one field: --m, --qu, --qs,
      --l0, --l1, --wcap).
 
-    python benchmarks/fig4d_horseshoe_design.py [out.json] [--m=2] [--qu=1.5] [--qs=1.5] [--l0=0.8] [--l1=0.1]
+    python benchmarks/fig4d_horseshoe_design.py [out.json] [--m=0] [--qu=1.5] [--qs=1.3] [--l0=0.8] [--l1=0.1]
         [--wcap=7]
 
-Stored run (fig4d_horseshoe_design.json, 2 cores, ~15 s): W^u on Fix(R) at return 35 from s* = 1.1573e-7, theta =
-1.81863 on the psi = pi branch, flight time 112.77, W^u-W^s angle 36.8 deg; design fig4d (m = 2, k = 38 sets, d =
-4.44e-8): every link's margins positive, (a') >= 0.292 (N0 => N1), (b) >= 0.500.  Other margins (same geometry,
-scratch runs): qu = qs = 1.3: (a') >= 0.231, (b) >= 0.300; qu = qs = 1.2: (a') >= 0.167, (b) >= 0.200.
+Stored run (fig4d_horseshoe_design.json, 2 cores, ~20 s): W^u on Fix(R) at return 35 from s = 1.1573e-7, theta =
+1.81863 on the psi = pi branch, flight time 112.77, W^u-W^s angle 36.8 deg; the design fig4d starts 12 returns
+further out (s* = 3.636e-5 = d, n_exc = 23, m = 0, k = 24 sets): every link's margins positive, (a') >= 0.231,
+(b) >= 0.500 (linear, hull and sampled alike).  Scratch runs of the same homoclinic orbit (not stored): d = 4.44e-8
+(s* = 1.157e-7, n_exc = 35, m = 2, k = 38): qu = qs = 1.5: (a') >= 0.292, (b) >= 0.500; qu = qs = 1.3: 0.231, 0.300;
+qu = qs = 1.2: 0.167, 0.200 (its prover run failed at the crossing step near theta = pi: horseshoe.fig4d_settings,
+lead); d = 3.64e-5 with qs = 1.5: (a') -0.005 at N0 => N1 (the widths reach only 0.49 d at N1).
 """
 from __future__ import annotations
 
