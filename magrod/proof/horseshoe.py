@@ -136,10 +136,13 @@ def fig4d_settings() -> HorseshoeSettings:
     (mu_u l0 - d) / l1 - 1 = 1.92 and the entry thickness l0 / mu_u = 0.50 d of P(N0) against w1 = 0.7 d (a') 0.29.
     Float margins: (a') >= 0.231 (qs binds), (b) >= 0.500 (qu binds).  lead = 1/1024: the orbit passes within 0.0103
     of theta = pi at the 32nd and 33rd returns of the long chain (the 20th, 21st here), where the crossing step of
-    length 2 lead = 1/128 of the default failed ("field not evaluable on the trial enclosure": sin theta)."""
+    length 2 lead = 1/128 of the default failed ("field not evaluable on the trial enclosure": sin theta).
+    p_rad = 1/2000: pbar_psi varies by ~3e-5 over N0 (|d pbar_psi / d theta| = 1.24), more than the default 1e-6
+    (the first run of this design failed at "N0 branch box"); the level's other root is >= 0.02 away at every
+    centre (0.18 at x0)."""
     return HorseshoeSettings(m_back=0, n_exc=23, s_star=3.636215240269992e-05, qu=1.5, qs=1.3, l0_frac=0.8,
                              l1_frac=0.1, w_cap=7.0, tol_thin=PROOF_STEP_TOL, passes=("thin", "thin", "thin"),
-                             stop_frac=1e-2, lead=Fraction(1, 1024))
+                             stop_frac=1e-2, lead=Fraction(1, 1024), p_rad=Fraction(1, 2000))
 
 
 #: named designs (magrod prove --horseshoe ... --design NAME): "fig4a" is the default HorseshoeSettings()
