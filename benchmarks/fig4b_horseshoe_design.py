@@ -125,7 +125,8 @@ def main(panel="b", design_name="fig4b"):
     t0 = time.perf_counter()
     panel = opt("panel", panel, str)
     name, s_guess, n_exc = PANELS[panel]
-    st = horseshoe.DESIGNS[opt("design", design_name, str)]()  # the prover's named design; each flag overrides one field
+    dname = opt("design", design_name, str)  # a named design, or horseshoe.<name>_settings (fig4d: not proved)
+    st = (horseshoe.DESIGNS.get(dname) or getattr(horseshoe, f"{dname}_settings"))()  # the prover's named design; each flag overrides one field
     m_back = opt("m", st.m_back, int)
     qu, qs = opt("qu", st.qu), opt("qs", st.qs)
     l0_frac, l1_frac, w_cap = opt("l0", st.l0_frac), opt("l1", st.l1_frac), opt("wcap", st.w_cap)

@@ -22,6 +22,18 @@ further out (s* = 3.636e-5 = d, n_exc = 23, m = 0, k = 24 sets): every link's ma
 (s* = 1.157e-7, n_exc = 35, m = 2, k = 38): qu = qs = 1.5: (a') >= 0.292, (b) >= 0.500; qu = qs = 1.3: 0.231, 0.300;
 qu = qs = 1.2: 0.167, 0.200 (its prover run failed at the crossing step near theta = pi: horseshoe.fig4d_settings,
 lead); d = 3.64e-5 with qs = 1.5: (a') -0.005 at N0 => N1 (the widths reach only 0.49 d at N1).
+
+The rigorous runs (horseshoe.prove, not a proving design: fig4d_settings is not in horseshoe.DESIGNS; 2 cores):
+  1. d = 4.44e-8 (38 sets, centre flights at 1e-28, lead 1/256): chain pass 1 failed after 355 s, at the crossing
+     step (length 2 lead = 1/128) of a centre flight near theta = pi ("field not evaluable on the trial enclosure":
+     the orbit passes within 0.0103 of theta = pi at its 32nd / 33rd returns).
+  2. d = 3.64e-5 (24 sets, tol 1e-25, lead 1/1024): one chain pass (end residual 4.5e-11), then "N0 branch box"
+     failed with p_rad = 1e-6 (pbar_psi varies by ~3e-5 over N0), 164 s.
+  3. the same with p_rad = 1/2000: N0 .. N17 flown, N18's box flight raised ValueError (a divisor containing 0), 258 s.
+  4. the same with N18 .. N22 in 2 x 2 pieces: every piece flown, then N0 => N0 (a') failed: margin 1 - max |y_s| =
+     -31.49 (float: +0.38), 613 s at load ~5.  The C^1 enclosure [DP(N0)] over a set of size 3e-5 is ~100x too wide
+     for the mean-value form (its excess grows like the size squared relative to the widths): a proof needs d ~ 1e-7,
+     i.e. the ~38-set chain of run 1 with lead 1/1024 (est. > 15 min: beyond the 10-minute budget; not run).
 """
 from __future__ import annotations
 

@@ -113,8 +113,6 @@ def test_default_design_is_the_fig4a_certificates(cert):
     changed = {k for k in a.keys() | b.keys() if a.get(k) != b.get(k)}
     assert changed == {"m_back", "n_exc", "qu", "qs", "l0_frac", "l1_frac", "w_cap", "tol_thin", "passes",
                        "stop_frac"}
-    d = horseshoe.DESIGNS["fig4d"]().as_json()
-    assert {k for k in a.keys() | d.keys() if a.get(k) != d.get(k)} == changed
 
 
 def test_tamper_deleted_link(any_cert):
@@ -209,12 +207,11 @@ def test_certificate_verifies(any_cert):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("lam, theta, design", [("27/200", 0.383, "fig4a"), ("63/400", 0.283, "fig4b"),
-                                               ("93/500", 3.0573, "fig4d")])
+@pytest.mark.parametrize("lam, theta, design", [("27/200", 0.383, "fig4a"), ("63/400", 0.283, "fig4b")])
 def test_mutated_field_control_fails_to_prove(lam, theta, design):
     """Control: with the sign of term 0 of the generated chart field flipped, the prover fails (at the first centre
     flight of the chain: no crossing where the float map of the true field has one; ~15 s) and issues nothing, at
-    panels (a), (b) and (d) with their designs."""
+    panels (a) and (b) with their designs."""
     from magrod.proof import periodic
 
     p, h = periodic.validate("17/10", "2/5", "3", "3", lam, "9/10")
@@ -224,21 +221,17 @@ def test_mutated_field_control_fails_to_prove(lam, theta, design):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("theta, design, why", [(0.383, "fig4a", "no real root pbar_psi"),
-                                               (0.283, "fig4b", "no real root pbar_psi"),
-                                               (3.0573, "fig4d", "has no sign change")])
-def test_lambda_zero_control_proves_nothing(theta, design, why):
-    """lambdabar = 0 (the integrable extensible rod), otherwise panel (a)'s / (b)'s / (d)'s rod, level and design: the
-    prover proves nothing and issues no certificate.  Not a rigorous control of transversality (docs: on h = 9/10 at
-    lambdabar = 0 there is no admissible point near the saddles of (a), (b), and near (d)'s theta* = 3.057 the float
-    search finds no symmetric fixed point: no sign change of pbar_theta at the half-way crossing on [3.037, 3.077]), so
-    the search fails before any set is built; it shows that the certificates are not an artefact of the chain's
-    construction."""
+@pytest.mark.parametrize("theta, design", [(0.383, "fig4a"), (0.283, "fig4b")])
+def test_lambda_zero_control_proves_nothing(theta, design):
+    """lambdabar = 0 (the integrable extensible rod), otherwise panel (a)'s / (b)'s rod, level and design: the prover
+    proves nothing and issues no certificate.  Not a rigorous control of transversality (docs: on h = 9/10 at
+    lambdabar = 0 there is no admissible point near the saddles, so the search fails before any set is built); it
+    shows that the certificates are not an artefact of the chain's construction."""
     from magrod.proof import periodic
 
     p, h = periodic.validate("17/10", "2/5", "3", "3", "0", "9/10")
     res = horseshoe.prove(p, h, theta, horseshoe.DESIGNS[design]())
-    assert not res.ok and res.certificate is None and why in res.reason, res.reason
+    assert not res.ok and res.certificate is None and "no real root pbar_psi" in res.reason, res.reason
 
 
 def test_text_output_of_a_horseshoe_result():

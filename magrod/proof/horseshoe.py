@@ -121,7 +121,12 @@ def fig4b_settings() -> HorseshoeSettings:
 
 
 def fig4d_settings() -> HorseshoeSettings:
-    """The design of the Fig 4(d) chain (lambdabar = 93/500; benchmarks/fig4d_horseshoe_design.py, .json).  The
+    """The float design of a Fig 4(d) chain (lambdabar = 93/500; benchmarks/fig4d_horseshoe_design.py, .json).
+    NOT a proving design, hence not in DESIGNS: its prover run (N18 .. N22 cut into 2 x 2 pieces, 613 s at load ~5)
+    failed at N0 => N0 (a'), margin 1 - max |y_s| = -31.5 against the float 0.38: at this set size (d = 3.6e-5) the
+    C^1 enclosure [DP(N0)] of the mean-value form is ~100x too wide; with one piece per set N18's box flight raised
+    ValueError (a divisor containing 0).  A proof needs sets ~300x smaller (d ~ 1e-7: the 38-set chain below, whose
+    first run failed at a crossing step near theta = pi before lead = 1/1024; not re-run: > 10 min).  The
     saddle is weak (mu_u = 1.615, sigma = 1 / mu_u = 0.619) but its homoclinic orbit is benign: W^u (side +e_u)
     meets Fix(R) at the 35th return from s = 1.157e-7 (theta = 1.8186, psi = pi branch at the last five centres),
     the exit-entry angle is 44.5 deg near x0 and >= 34.6 deg along the whole chain, W^u-W^s angle 36.8 deg at the
@@ -146,7 +151,7 @@ def fig4d_settings() -> HorseshoeSettings:
 
 
 #: named designs (magrod prove --horseshoe ... --design NAME): "fig4a" is the default HorseshoeSettings()
-DESIGNS = {"fig4a": HorseshoeSettings, "fig4b": fig4b_settings, "fig4d": fig4d_settings}
+DESIGNS = {"fig4a": HorseshoeSettings, "fig4b": fig4b_settings}
 
 
 def _q(x) -> str:
