@@ -48,6 +48,9 @@ TH, PS, PT, PP = fields.THETA, fields.PSI, fields.PTHETA, fields.PPSI
 PANELS = {  # (certificate of statement 11, s*, n_exc): the W^u point whose n_exc-th image lies on Fix(R)
     "a": ("fixed_point_fig4a.json", 2.431508147212876e-06, 8),
     "b": ("fixed_point_fig4b.json", -9.871e-7, 14),
+    # benchmarks/fig4d_horseshoe_design.py: W^u (side +e_u) on Fix(R) at the 35th return from s = 1.157e-7
+    # (fig4_candidates search), i.e. the 23rd from s = 1.157e-7 mu_u^12 (horseshoe.fig4d_settings)
+    "d": ("fixed_point_fig4d.json", 3.636215240269992e-05, 23),
 }
 
 
@@ -116,11 +119,14 @@ def design(M: Map4, x0_4, eu, mu, s, m, n_exc):
     return t, xs, brs, cs, resid
 
 
-def main():
+def main(panel="b", design_name="fig4b"):
+    """The run of the module docstring; benchmarks/fig4d_horseshoe_design.py calls it with panel "d", design
+    "fig4d" as its defaults (flags override both)."""
     t0 = time.perf_counter()
-    panel = opt("panel", "b", str)
+    panel = opt("panel", panel, str)
     name, s_guess, n_exc = PANELS[panel]
-    st = horseshoe.DESIGNS[opt("design", "fig4b", str)]()  # the prover's named design; each flag overrides one field
+    dname = opt("design", design_name, str)  # a named design, or horseshoe.<name>_settings (fig4d: not proved)
+    st = (horseshoe.DESIGNS.get(dname) or getattr(horseshoe, f"{dname}_settings"))()  # the prover's named design; each flag overrides one field
     m_back = opt("m", st.m_back, int)
     qu, qs = opt("qu", st.qu), opt("qs", st.qs)
     l0_frac, l1_frac, w_cap = opt("l0", st.l0_frac), opt("l1", st.l1_frac), opt("wcap", st.w_cap)
