@@ -28,6 +28,9 @@ on Fix(R), pulled back m times along the local W^u (c_1 = x0 + s* mu_u^-m e_u, t
 thin flights (their midpoints: 128 bits), c_1 shifted along e_u by one Newton step so that P^(k-1)(c_1) lies on
 Fix(R); frames: e_u^j (W^u tangents, pushed forward by DP) and e_s^j (W^s tangents, R e_u^k pulled back), so that DP
 maps frame to frame; sizes by the rule of `sizes`.
+
+Over a lambdabar interval (`widen`): the point certificate's sets move with lambdabar along the chain's motion v_j,
+every condition checked for all lambdabar of the interval at once (statement 12 on a lambdabar interval).
 """
 from __future__ import annotations
 
