@@ -21,7 +21,8 @@ from helpers import shift_set_along_entry
 
 PANELS = {"a": "3/20", "b": "41/200", "c": "26/125", "d": "6/25"}  # fig:poincare2's gammas 0.15 .. 0.24
 FIG5 = {"m": "17/10", "mu": "4", "delta": "1/4", "lam": "2"}  # the caption: m = 1.7, delta = 0.25, lam = 2, mu = 4
-HORSESHOES = ["horseshoe_fig5a.json", "horseshoe_fig5b.json", "horseshoe_fig5c.json", "horseshoe_fig5d.json"]
+HORSESHOES = ["horseshoe_fig5a.json", "horseshoe_fig5b.json", "horseshoe_fig5c.json", "horseshoe_fig5d.json",
+              "horseshoe_fig5a_interval.json"]  # (a)'s sets moving with lambdabar: 2 +- 2e-11 (horseshoe.widen)
 
 
 def _load(name):
@@ -131,7 +132,8 @@ def test_horseshoe_certificate_claims(hs):
     assert hs["kind"] == "section_horseshoe" and hs["level"] == "4/5" and hs["loop_length"] == 2 * k
     assert hs["sets"][0]["branch"] == "pi" and hs["settings"]["branch"] == "pi"
     assert Fraction(hs["params"]["mu"]) == 2 * Fraction(hs["params"]["lam"]) == 4
-    assert hs["theorem"] == section_horseshoe_theorem(hs["params"], hs["level"], k, 2 * k, hs["entropy"]["rho_lower"])
+    assert hs["theorem"] == section_horseshoe_theorem(hs["params"], hs["level"], k, 2 * k, hs["entropy"]["rho_lower"],
+                                                      hs["settings"].get("lam_rad", "0"))
     rho = Fraction(hs["entropy"]["rho_lower"])
     assert rho ** (2 * k) - rho ** (2 * k - 1) - 1 < 0
 

@@ -37,7 +37,8 @@ FIG4_HORSESHOE = (("4a", "horseshoe_fig4a.json", "12"), ("4b", "horseshoe_fig4b.
                   # Fig 4(a)'s sets moving with lambdabar: every lambdabar in 27/200 +- 2e-11 (horseshoe.widen)
                   ("4a_interval", "horseshoe_fig4a_interval.json", "12"),
                   ("5a", "horseshoe_fig5a.json", "13"), ("5b", "horseshoe_fig5b.json", "13"),
-                  ("5c", "horseshoe_fig5c.json", "13"), ("5d", "horseshoe_fig5d.json", "13"))
+                  ("5c", "horseshoe_fig5c.json", "13"), ("5d", "horseshoe_fig5d.json", "13"),
+                  ("5a_interval", "horseshoe_fig5a_interval.json", "13"))  # every lambdabar in 2 +- 2e-11
 # shipped certificates no reproduction verifies (each gets a REPORT row saying so); none since issue 27's speed-up.
 # (The 11 boxes of magrod/proof/certificates/fig4a_interval/ are one benchmark's tiling, verified by a slow test;
 # reproduce verifies the single box fixed_point_fig4a_interval.json.)

@@ -280,9 +280,13 @@ STATEMENTS = (
        magrod/proof/certificates/horseshoe_fig5{a,b,c,d}.json, kind section_horseshoe; prove 460, 267, 297,
        401 s on 2 cores at load 2–6, verify 95, 76, 52, 70 s (load ~2, the
        parallel verifier; 357, –, 139, 168 s with the serial one before it); the saddles' and the horseshoes' certificates are re-checked by the full `magrod reproduce`, not by `--quick`). Every
-       certificate is re-checked by the complete verifier. Only these four points of the parameter space are
-       certified; a hyperbolic set persists, so each statement holds
-       on an open parameter neighbourhood, of unquantified size. Fig 5's panels' orbits make the rod's axial stretch
+       certificate is re-checked by the complete verifier. At (a) the horseshoe also holds for every λ̄ in
+       [99999999999/50000000000, 100000000001/50000000000] = 2 ± 2·10⁻¹¹ (μ = 4 fixed), its sets moving with λ̄
+       as in statement 12 (horseshoe_fig5a_interval.json, `magrod prove --widen horseshoe_fig5a.json --lam-rad
+       1/50000000000`: prove 306 s, verify 197 s wall, both at load ~3; (a′) ≥ 0.391, (b) ≥ 2.77; at 10⁻¹⁰
+       N13 ⇒ N14 fails (a′)). Otherwise only these four points of the parameter space are certified; a
+       hyperbolic set persists, so each statement holds on an open parameter neighbourhood, of unquantified size
+       beyond the intervals stated. Fig 5's panels' orbits make the rod's axial stretch
        negative on 2.4–6.1 % of their arclength (errata; not checked along the horseshoe's orbits): a theorem
        about the paper's equations, not about a physical rod.""",
        [Step("the saddle: level, two-phase flight, Fix(R) Newton, |tr DP| > 2 (statement 11's prover on the ψ = π "
@@ -358,7 +362,7 @@ def render_summary() -> str:
             f"saddle's homoclinic orbit; at (a) for every λ̄ in 0.135 ± 2·10⁻¹¹); at the other panels chaos there is **{status('10')}** evidence only "
             f"(10). In sec. 9's regime (λ̄ = 2, γ ≪ 1), on Fig 5's own level h = 4/5 (μ = 2λ̄ = 4, δ = 1/4): a "
             f"saddle of the section map at the four panels' γ and a horseshoe at each (**{status('13')}**, "
-            f"13). The paper's own "
+            f"13; at γ = 3/20 for every λ̄ in 2 ± 2·10⁻¹¹). The paper's own "
             f"argument (sec. 7) does not prove it (1).")
 
 
