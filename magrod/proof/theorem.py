@@ -72,6 +72,20 @@ def homoclinic_theorem(params: dict, targets) -> str:
             f"(docs/nonintegrability.md, Theorem (computer-assisted)).")
 
 
+def _where(params: dict, w: Fraction, every: str) -> str:
+    """"At (m, mu, gamma, delta, lambdabar) = (...)" for a point (w = 0), else "At (m, mu, gamma, delta) = (...)
+    {every} lambdabar in [lam - w, lam + w]" (exact rationals)."""
+    if w < 0:
+        raise ValueError(f"lam_rad must be >= 0, got {w}")
+    if w == 0:
+        vals = ", ".join(_rational(params[k]) for k in ("m", "mu", "gamma", "delta", "lam"))
+        return f"At (m, mu, gamma, delta, lambdabar) = ({vals})"
+    vals = ", ".join(_rational(params[k]) for k in ("m", "mu", "gamma", "delta"))
+    lam = Fraction(params["lam"])
+    return (f"At (m, mu, gamma, delta) = ({vals}) {every} lambdabar in [{_rational(str(lam - w))}, "
+            f"{_rational(str(lam + w))}]")
+
+
 def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0", branch: str = "0") -> str:
     """The statement established by a verified section-fixed-point certificate (kind "section_fixed_point").
 
@@ -99,18 +113,8 @@ def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0", br
     w = Fraction(lam_rad)
     if branch not in ("0", "pi"):
         raise ValueError(f"branch must be '0' or 'pi', got {branch!r}")
-    if w < 0:
-        raise ValueError(f"lam_rad must be >= 0, got {lam_rad!r}")
-    if w == 0:
-        vals = ", ".join(_rational(params[k]) for k in ("m", "mu", "gamma", "delta", "lam"))
-        where = f"At (m, mu, gamma, delta, lambdabar) = ({vals})"
-        each = ""
-    else:
-        vals = ", ".join(_rational(params[k]) for k in ("m", "mu", "gamma", "delta"))
-        lam = Fraction(params["lam"])
-        where = (f"At (m, mu, gamma, delta) = ({vals}) and every lambdabar in [{_rational(str(lam - w))}, "
-                 f"{_rational(str(lam + w))}]")
-        each = " (for each lambdabar its own x0, unique in the certificate's box)"
+    where = _where(params, w, "and every")
+    each = "" if w == 0 else " (for each lambdabar its own x0, unique in the certificate's box)"
     return (f"{where}, on the level Hbar = {_rational(level)} of the reduced "
             f"chart field of Hbar (eq:full_ham_nondim): the section map P of {{sin psi = 0, d(sin psi)/dt > 0}} "
             f"has a fixed point x0{each} on Fix(R) (psi = {branch}, pbar_theta = 0) with theta in the certificate's Newton "
@@ -148,17 +152,8 @@ def section_horseshoe_theorem(params: dict, level: str, k: int, loop_length: int
     import math
 
     w = Fraction(lam_rad)
-    if w < 0:
-        raise ValueError(f"lam_rad must be >= 0, got {lam_rad!r}")
-    if w == 0:
-        vals = ", ".join(_rational(params[key]) for key in ("m", "mu", "gamma", "delta", "lam"))
-        where, sets = f"At (m, mu, gamma, delta, lambdabar) = ({vals})", "h-sets"
-    else:
-        vals = ", ".join(_rational(params[key]) for key in ("m", "mu", "gamma", "delta"))
-        lam = Fraction(params["lam"])
-        where = (f"At (m, mu, gamma, delta) = ({vals}) and for every lambdabar in [{_rational(str(lam - w))}, "
-                 f"{_rational(str(lam + w))}]")
-        sets = "h-sets (moving with lambdabar along the certificate's v_j)"
+    where = _where(params, w, "and for every")
+    sets = "h-sets" if w == 0 else "h-sets (moving with lambdabar along the certificate's v_j)"
     return (f"{where}, on the level Hbar = {_rational(level)}, the section map "
             f"P of {{sin psi = 0, d(sin psi)/dt > 0}} (section coordinates (theta, pbar_theta)) has {sets} N0, ..., "
             f"N{k} with the covering relations N0 => N0 and N0 => N1 => ... => N{k} (Zgliczynski-Gidea 2004), N0 "
