@@ -194,8 +194,7 @@ def _horseshoe(args) -> dict:
 
 def _widen(args) -> dict:
     """--widen CERT --lam-rad W: the point horseshoe certificate CERT over [lam - W, lam + W] (its own parameters)."""
-    from ..proof import load_certificate, widen_horseshoe
-    from ..proof.fields import ExactParams
+    from ..proof import load_certificate, validate_fixed_point, widen_horseshoe
 
     w = _lam_rad(args)
     if not w:
@@ -206,9 +205,9 @@ def _widen(args) -> dict:
     if args.out is None:
         raise ParameterError("out", "an output directory is required")
     dest = out_dir("out", args.out)
-    p = ExactParams(**{k: Fraction(cert["params"][k]) for k in ("m", "mu", "gamma", "delta", "lam")})
+    p, h = validate_fixed_point(*(cert["params"][k] for k in ("m", "mu", "gamma", "delta", "lam")), cert["level"])
     res = widen_horseshoe(cert, w, progress=None if args.quiet else _stage)
-    return _section_result(res, p, Fraction(cert["level"]), dest, lambda c: {"entropy": c["entropy"]})
+    return _section_result(res, p, h, dest, lambda c: {"entropy": c["entropy"]})
 
 
 def _lam_rad(args) -> Fraction:

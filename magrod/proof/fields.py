@@ -177,6 +177,15 @@ class _Dual:
 LAM = gen.PARAMS.index("lam")
 
 
+def parameter_balls(p: ExactParams, lam_rad: Fraction = Fraction(0)) -> tuple:
+    """The parameters as balls in generated/validated.py's order; lambdabar widened to [lam - lam_rad, lam + lam_rad]
+    (every enclosure computed with it holds for every lambdabar of the interval)."""
+    out = list(p.balls())
+    if lam_rad:
+        out[LAM] = ball.interval(p.lam - lam_rad, p.lam + lam_rad)
+    return tuple(out)
+
+
 def lam_state_field(p: ExactParams, module=gen):
     """The chart field with lambdabar as a fifth state variable (lambdabar' = 0): x = (theta, psi, pbar_theta,
     pbar_psi, lambdabar).  Its Jacobian's last column, d f / d lambdabar, by forward-mode differentiation (_Dual) of

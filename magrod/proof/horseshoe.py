@@ -804,9 +804,7 @@ def _widen(cert, w, module, check, say) -> dict:
     for name, idx in (("N0", 0), (f"N{k}", k)):
         check(f"{name} moves on Fix(R)", vs[idx][1] == 0, "v's pbar_theta = 0: the set stays symmetric")
     pars0, fld0 = p.balls(), fields.chart_field(p, module)
-    from .periodic import parameter_balls
-
-    parsL = parameter_balls(p, w)
+    parsL = fields.parameter_balls(p, w)
     Lam = parsL[fields.LAM]
     fldL = fields.lam_state_field(p, module)
     Dl = Lam - ball.q(p.lam)

@@ -76,13 +76,7 @@ class FixedPointSettings:
                 "t1": q(self.t1), "lead": q(self.lead), "lam_rad": q(self.lam_rad), "series_cap": ball.SERIES_CAP}
 
 
-def parameter_balls(p: fields.ExactParams, lam_rad: Fraction = Fraction(0)) -> tuple:
-    """The parameters as balls in generated/validated.py's order; lambdabar widened to [lam - lam_rad, lam + lam_rad]
-    (every enclosure computed with it holds for every lambdabar of the interval)."""
-    out = list(p.balls())
-    if lam_rad:
-        out[fields.PARAMS.index("lam")] = ball.interval(p.lam - lam_rad, p.lam + lam_rad)
-    return tuple(out)
+parameter_balls = fields.parameter_balls  # moved to fields (the verifier uses it and must not import periodic)
 
 
 def interval_settings(lam_rad, base: "FixedPointSettings | None" = None) -> "FixedPointSettings":

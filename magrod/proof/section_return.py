@@ -200,7 +200,7 @@ class Moving:
     `lam` (a ball about the exact lam0) the piece is X(lambdabar) = c + v (lambdabar - lam0) + A [-1, 1]^2 (v exact,
     2 entries: (dtheta, dpbar_theta) per unit lambdabar; the sets of a horseshoe follow their chain's motion, so
     that the covering conditions hold for a lambdabar interval much wider than the sets: horseshoe.py).  pars: the
-    parameters with `lam` in lambdabar's slot (periodic.parameter_balls); fld: fields.lam_state_field (lambdabar the
+    parameters with `lam` in lambdabar's slot (fields.parameter_balls); fld: fields.lam_state_field (lambdabar the
     fifth state, lambdabar' = 0)."""
 
     pars: tuple

@@ -741,12 +741,10 @@ def _hs_lam(cert, p, module=fields.gen):
         if any("v" in d for d in cert["sets"]):
             raise ValueError("a point certificate's sets do not move (no 'v')")
         return None
-    from .periodic import parameter_balls
-
     vs = [tuple(_frac(x) for x in d["v"]) for d in cert["sets"]]
     if any(len(v) != 2 for v in vs):
         raise ValueError("a set's v has 2 entries")
-    pars = parameter_balls(p, w)
+    pars = fields.parameter_balls(p, w)
     lam = pars[fields.LAM]
     return w, pars, lam, lam - ball.q(p.lam), vs
 
