@@ -178,6 +178,13 @@ def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path,
     listed = {fig.SHIPPED} | {n for _, n in fig.FIG4} | {e[1] for e in (*fig.FIG4_SECTION, *fig.FIG4_HORSESHOE)}
     assert shipped == listed, shipped ^ listed
     assert fig.NOT_IN_REPRODUCE == () and side["not_verified_in_reproduce"] == []
+    # the REPORT row states the target's own verification time, not the whole figure's (which had read "271 s")
+    from magrod.figures import report
+
+    side["wall_time_s"] = side["verify_wall_time_s"] + 1000.0
+    (tmp_path / "proof.json").write_text(json.dumps(side))
+    row = report._proof(tmp_path, True)[0]["computed"]
+    assert f"checks, {side['verify_wall_time_s']:.0f} s; `magrod prove` re-proves it" in row, row
 
 
 def test_report_row_of_the_verified_horseshoe():
