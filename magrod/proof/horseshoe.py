@@ -35,7 +35,6 @@ every condition checked for all lambdabar of the interval at once (statement 12 
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -45,8 +44,8 @@ from ..core.errors import ParameterError
 from ..core.tolerances import (FIXED_POINT_SEARCH_TOL, HORSESHOE_CENTRE_TOL, HORSESHOE_CENTRE_TOL_FIG4B,
                                PROOF_STEP_TOL)
 from ..generated import validated as gen
-from . import ball, fields, periodic, taylor
-from .search import ProofFailure, ProofResult, stored
+from . import ball, fields, periodic
+from .search import ProofFailure, ProofResult, run_checked, stored
 from .theorem import section_horseshoe_theorem
 
 FORMAT = "magrod-proof-certificate/1"
@@ -393,27 +392,8 @@ def prove(params: fields.ExactParams, h: Fraction, x0_theta: Fraction, settings:
         ok, certificate (kind "section_horseshoe"), reason, checks, wall_time_s.
     """
     st = settings or HorseshoeSettings()
-    t0 = time.perf_counter()
-    checks: list = []
-
-    def check(name, holds, how):
-        checks.append({"name": name, "holds": bool(holds), "how": how})
-        if not holds:
-            raise ProofFailure(f"{name} not established: {how}", checks)
-
-    try:
-        with ball.workprec(st.prec):
-            cert = _prove(params, h, x0_theta, st, module, check, progress or (lambda s: None))
-    except ProofFailure as err:
-        return ProofResult(False, None, err.reason, checks, time.perf_counter() - t0)
-    except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
-        return ProofResult(False, None, f"flight not validated: {str(err)[:200]}", checks, time.perf_counter() - t0)
-    except (ArithmeticError, ValueError, np.linalg.LinAlgError, ParameterError) as err:
-        reason = f"numerical failure ({type(err).__name__}: {' '.join(str(err).split())[:160]})"
-        return ProofResult(False, None, reason, checks, time.perf_counter() - t0)
-    cert["checks"] = checks
-    cert["wall_time_s"] = round(time.perf_counter() - t0, 3)
-    return ProofResult(True, cert, "all checks hold", checks, time.perf_counter() - t0)
+    return run_checked(st.prec, lambda check: _prove(params, h, x0_theta, st, module, check,
+                                                     progress or (lambda s: None)), flights=True)
 
 
 def _frame_from(DPs, e_u1):
@@ -754,33 +734,12 @@ def widen(cert: dict, lam_rad, *, module=gen, progress=None) -> ProofResult:
 
     Returns a ProofResult whose certificate has settings["lam_rad"] and a "v" per set."""
     say = progress or (lambda s: None)
-    t0 = time.perf_counter()
-    checks: list = []
-
-    def check(name, holds, how):
-        checks.append({"name": name, "holds": bool(holds), "how": how})
-        if not holds:
-            raise ProofFailure(f"{name} not established: {how}", checks)
-
     w = ball.fraction(lam_rad)
     if w <= 0:
         raise ParameterError("lam_rad", f"must be > 0, got {lam_rad}")
     if cert.get("kind") != KIND or Fraction(cert["settings"].get("lam_rad", "0")) != 0:
         raise ParameterError("cert", "must be a point certificate of kind section_horseshoe")
-    s = cert["settings"]
-    try:
-        with ball.workprec(int(s["prec"])):
-            out = _widen(cert, w, module, check, say)
-    except ProofFailure as err:
-        return ProofResult(False, None, err.reason, checks, time.perf_counter() - t0)
-    except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
-        return ProofResult(False, None, f"flight not validated: {str(err)[:200]}", checks, time.perf_counter() - t0)
-    except (ArithmeticError, ValueError, np.linalg.LinAlgError) as err:
-        reason = f"numerical failure ({type(err).__name__}: {' '.join(str(err).split())[:160]})"
-        return ProofResult(False, None, reason, checks, time.perf_counter() - t0)
-    out["checks"] = checks
-    out["wall_time_s"] = round(time.perf_counter() - t0, 3)
-    return ProofResult(True, out, "all checks hold", checks, time.perf_counter() - t0)
+    return run_checked(int(cert["settings"]["prec"]), lambda check: _widen(cert, w, module, check, say), flights=True)
 
 
 def _widen(cert, w, module, check, say) -> dict:

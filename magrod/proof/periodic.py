@@ -34,7 +34,6 @@ DP(x0) = R A^-1 R A.
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -45,7 +44,7 @@ from ..core.errors import ParameterError
 from ..core.tolerances import FIXED_POINT_SEARCH_TOL, PROOF_STEP_TOL
 from ..generated import validated as gen
 from . import ball, fields, taylor
-from .search import ProofFailure, ProofResult, stored, structural_tests
+from .search import ProofFailure, ProofResult, run_checked, stored, structural_tests
 from .theorem import section_fixed_point_theorem
 from .section_return import (_mu_lam, branch_psi, chart_section, first_return, ham_gradient, initial_box, level_newton, level_newton_section, phase_guards, piece_return, return_guards, section_quantities, section_set, tangents)  # noqa: F401  (re-exported: the provers' names)
 
@@ -227,25 +226,8 @@ def prove(params: fields.ExactParams, h: Fraction, theta_guess: float, settings:
     st = settings or FixedPointSettings()
     if st.lam_rad < 0:
         raise ParameterError("lam_rad", f"must be >= 0, got {st.lam_rad}")
-    t0 = time.perf_counter()
-    checks: list = []
-
-    def check(name, holds, how):
-        checks.append({"name": name, "holds": bool(holds), "how": how})
-        if not holds:
-            raise ProofFailure(f"{name} not established: {how}", checks)
-
-    try:
-        with ball.workprec(st.prec):
-            cert = _prove(params, h, theta_guess, root, st, module, check, progress, branch)
-    except ProofFailure as err:
-        return ProofResult(False, None, err.reason, checks, time.perf_counter() - t0)
-    except (ArithmeticError, ValueError, np.linalg.LinAlgError, ParameterError) as err:
-        reason = f"numerical failure ({type(err).__name__}: {' '.join(str(err).split())[:160]})"
-        return ProofResult(False, None, reason, checks, time.perf_counter() - t0)
-    cert["checks"] = checks
-    cert["wall_time_s"] = round(time.perf_counter() - t0, 3)
-    return ProofResult(True, cert, "all checks hold", checks, time.perf_counter() - t0)
+    return run_checked(st.prec, lambda check: _prove(params, h, theta_guess, root, st, module, check, progress,
+                                                     branch))
 
 
 def _prove(p, h, theta_guess, root, st, module, check, progress, branch="0") -> dict:

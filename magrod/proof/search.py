@@ -75,6 +75,43 @@ class ProofFailure(RuntimeError):
         super().__init__(reason)
 
 
+def run_checked(prec: int, body, *, flights: bool = False, reraise_input: bool = False, stage=None) -> "ProofResult":
+    """The provers' one scaffold (search, periodic, horseshoe.prove and .widen): ``body(check)`` builds the
+    certificate at ``prec`` bits, ``check(name, holds, how)`` records every condition and stops at the first that
+    fails.  A failed step is a ProofResult with its one-line reason, never an exception: ProofFailure; with
+    ``flights`` a flight the validated integrator could not take (taylor's errors); a nan/inf ball, a singular
+    matrix or a ValueError is a "numerical failure" (prefixed by ``stage[0]``, the step reached, when given).  With
+    ``reraise_input`` a ParameterError (bad user input, a ValueError) propagates instead."""
+    t0 = time.perf_counter()
+    checks: list = []
+
+    def check(name, holds, how):
+        checks.append({"name": name, "holds": bool(holds), "how": how})
+        if not holds:
+            raise ProofFailure(f"{name} not established: {how}", checks)
+
+    def failed(reason):
+        return ProofResult(False, None, reason, checks, time.perf_counter() - t0)
+
+    try:
+        with ball.workprec(prec):
+            cert = body(check)
+    except ProofFailure as err:
+        return failed(err.reason)
+    except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
+        if not flights:
+            raise
+        return failed(f"flight not validated: {str(err)[:200]}")
+    except (ArithmeticError, ValueError, np.linalg.LinAlgError) as err:  # nan/inf balls, singular matrices
+        if reraise_input and isinstance(err, ParameterError):
+            raise
+        reason = f"numerical failure ({type(err).__name__}: {' '.join(str(err).split())[:160]})"
+        return failed(reason if stage is None else f"{stage[0]}: {reason}")
+    cert["checks"] = checks
+    cert["wall_time_s"] = round(time.perf_counter() - t0, 3)
+    return ProofResult(True, cert, "all checks hold", checks, time.perf_counter() - t0)
+
+
 def _q(x) -> str:
     f = ball.fraction(x)
     return f"{f.numerator}/{f.denominator}"
@@ -342,8 +379,6 @@ def prove(params: fields.ExactParams, settings: ProofSettings | None = None, *, 
     References: docs/nonintegrability.md, "Theorem (computer-assisted)".
     """
     st = settings or ProofSettings()
-    t0 = time.perf_counter()
-    checks: list = []
     stage = ["start"]
 
     def say(msg):
@@ -351,24 +386,8 @@ def prove(params: fields.ExactParams, settings: ProofSettings | None = None, *, 
         if progress is not None:
             progress(msg)
 
-    def check(name, holds, how):
-        checks.append({"name": name, "holds": bool(holds), "how": how})
-        if not holds:
-            raise ProofFailure(f"{name} not established: {how}", checks)
-
-    try:
-        with ball.workprec(st.prec):
-            cert = _prove(params, st, module, check, say)
-    except ProofFailure as err:
-        return ProofResult(False, None, err.reason, checks, time.perf_counter() - t0)
-    except (ArithmeticError, ValueError, np.linalg.LinAlgError) as err:  # nan/inf balls, singular matrices
-        if isinstance(err, ParameterError):
-            raise
-        reason = f"{stage[0]}: numerical failure ({type(err).__name__}: {' '.join(str(err).split())[:160]})"
-        return ProofResult(False, None, reason, checks, time.perf_counter() - t0)
-    cert["checks"] = checks
-    cert["wall_time_s"] = round(time.perf_counter() - t0, 3)
-    return ProofResult(True, cert, "all checks hold", checks, time.perf_counter() - t0)
+    return run_checked(st.prec, lambda check: _prove(params, st, module, check, say), reraise_input=True,
+                       stage=stage)
 
 
 def _prove(p, st, module, check, say) -> dict:
