@@ -280,6 +280,105 @@ def float_design(P: FloatMap, x0, m: int, s_star: float, n_exc: int = 8) -> dict
     return {"e_u0": eu, "mu_u": float(np.real(w[iu])), "s_star": s, "t": t, "c1": x0 + t * eu}
 
 
+# --------------------------------------------------------------------------------------------------------------
+# a symmetric periodic orbit of period p (Fig 4(c): no hyperbolic fixed point of P; float design only)
+# --------------------------------------------------------------------------------------------------------------
+class NearMap:
+    """The float section map on (theta, pbar_theta) of a branch, pbar_psi the level's root nearest to a reference
+    value (the orbit point's own: along a period-p orbit the root's index need not be constant)."""
+
+    def __init__(self, P: FloatMap):
+        self.P = P
+
+    def lift(self, z, br, pref):
+        from ..chaos.section import solve_p_psi
+
+        roots = solve_p_psi(self.P.params, self.P.h, float(z[0]), float(z[1]), 0.0 if br == "0" else math.pi)
+        x = np.zeros(4)
+        x[fields.THETA], x[fields.PTHETA] = z[0], z[1]
+        x[fields.PSI] = 0.0 if br == "0" else math.pi
+        x[fields.PPSI] = roots[int(np.argmin(abs(roots - pref)))]
+        return x
+
+    def step4(self, x):
+        y, t = self.P.full4(x)
+        return y, ("0" if math.cos(y[fields.PSI]) > 0 else "pi"), t
+
+    def __call__(self, z, br, pref):
+        y, b, _ = self.step4(self.lift(z, br, pref))
+        return np.array([y[fields.THETA], y[fields.PTHETA]]), b
+
+    def jac(self, z, br, pref, eps=1e-7):
+        D = np.empty((2, 2))
+        for j in range(2):
+            dz = np.zeros(2)
+            dz[j] = eps
+            D[:, j] = (self(z + dz, br, pref)[0] - self(z - dz, br, pref)[0]) / (2 * eps)
+        return D
+
+
+def float_cycle(P: FloatMap, theta_guess: float, period: int, window: float = 0.02, eps: float = 1e-7) -> dict:
+    """A symmetric period-p orbit of P through x0 = (theta*, 0) on Fix(R), p even: x_{p/2} = P^{p/2}(x0) lies on
+    Fix(R) too (R(x_i) = x_{p-i}), so theta* is a zero of pbar_theta(P^{p/2}(theta, 0)) (bisection on the window).
+    Returns the 4-D orbit points x_0 .. x_{p-1}, branches, return times, the float DP_i at x_i (central
+    differences, step eps), DP^p = DP_{p-1} ... DP_0, e_u(x0) (its unstable eigenvector, theta-component > 0),
+    mu_u, det, the frames e_u^i = DP_{i-1} e_u^{i-1} (normalised), e_s^i (R e_u(x0) pulled back from x0 = x_p)
+    and the per-return stretches lam_i = |DP_i e_u^i|, sig_i = |DP_i e_s^i| (product mu_u and 1 / mu_u)."""
+    if period % 2:
+        raise ProofFailure("float_cycle: only even periods (x_{p/2} on Fix(R)) are handled")
+    M = NearMap(P)
+
+    def half(th):
+        x = P.lift([th, 0.0])
+        for _ in range(period // 2):
+            x = P.full4(x)[0]
+        return x[fields.PTHETA]
+
+    a, b = theta_guess - window, theta_guess + window
+    fa = half(a)
+    if fa * half(b) > 0:
+        raise ProofFailure(f"float_cycle: no sign change of pbar_theta at return {period // 2} on [{a:.6g}, {b:.6g}]")
+    for _ in range(60):
+        c = 0.5 * (a + b)
+        fc = half(c)
+        if (fc > 0) == (fa > 0):
+            a, fa = c, fc
+        else:
+            b = c
+    th = 0.5 * (a + b)
+    xs, brs, ts = [P.lift([th, 0.0])], [P.branch], []
+    for _ in range(period):
+        y, br, t = M.step4(xs[-1])
+        xs.append(y)
+        brs.append(br)
+        ts.append(t)
+    closure = float(np.hypot(xs[-1][fields.THETA] - th, xs[-1][fields.PTHETA]))
+    xs, brs = xs[:period], brs[:period]
+    zs = [np.array([x[fields.THETA], x[fields.PTHETA]]) for x in xs]
+    DPs = [M.jac(z, br, x[fields.PPSI], eps) for z, br, x in zip(zs, brs, xs)]
+    Dp = np.eye(2)
+    for D in DPs:
+        Dp = D @ Dp
+    w, V = np.linalg.eig(Dp)
+    iu = int(np.argmax(abs(w)))
+    eu = unit(np.real(V[:, iu]))
+    eu = -eu if eu[0] < 0 else eu
+    eus = [eu]
+    for D in DPs[:-1]:
+        eus.append(unit(D @ eus[-1]))
+    ess = [R2 @ eu]  # e_s(x0) = R e_u(x0) (x0 symmetric); pulled back x_p = x0 -> x_{p-1} -> ... -> x_1
+    for D in reversed(DPs[1:]):
+        ess.append(unit(np.linalg.solve(D, ess[-1])))
+    ess = [ess[0]] + ess[1:][::-1]
+    lam = [float(np.linalg.norm(D @ u)) for D, u in zip(DPs, eus)]
+    sig = [float(np.linalg.norm(D @ s)) for D, s in zip(DPs, ess)]
+    return {"theta": th, "xs": xs, "zs": zs, "branches": brs, "times": ts, "closure": closure, "DPs": DPs,
+            "DPp": Dp, "mu_u": float(np.real(w[iu])), "det": float(np.linalg.det(Dp)),
+            "trace": float(np.trace(Dp)), "e_u": eus, "e_s": ess, "lam": lam, "sig": sig,
+            "angles_deg": [float(np.degrees(np.arccos(min(1.0, abs(float(np.dot(u, s))))))) for u, s in
+                           zip(eus, ess)]}
+
+
 def sizes(lam, sig, L, qu, qs, Lw=None):
     """Half-lengths l_j (exit) and half-widths w_j (entry) of N_1 .. N_k from the frame stretches lam_j = |DP e_u^j|
     and sig_j = |DP e_s^j| (unit frame vectors, link j -> j+1): l_1 = L, l_{j+1} = min(L, lam_j l_j / qu) (constant
@@ -881,3 +980,19 @@ def _widen(cert, w, module, check, say) -> dict:
     out["sets"], out["flights"], out["link_margins"] = sets, flights, link_rec
     out["design"] = {**cert["design"], "v": [[float(x) for x in v] for v in vs]}
     return out
+
+
+def entropy_root_lower_cycle(p: int, L: int, digits: int = 12) -> Fraction:
+    """A rational rho_lo < rho, the largest root of x^L = x^(L-p) + 1 (p < L: the blocks "1 0^(p-1)" and
+    "1 0^(L-1)"; p = 1 is entropy_root_lower's polynomial): f = x^L - x^(L-p) - 1 has f(1) = -1 < 0, f(2) > 0 and
+    f' = x^(L-p-1) (L x^p - (L-p)) > 0 for x >= 1, so one root in (1, 2): bisection, f(rho_lo) < 0 exactly."""
+    if not 1 <= p < L:
+        raise ValueError("need 1 <= p < L")
+    lo, hi = Fraction(1), Fraction(2)
+    for _ in range(int(digits * 3.33) + 2):
+        mid = (lo + hi) / 2
+        if mid**L - mid ** (L - p) - 1 < 0:
+            lo = mid
+        else:
+            hi = mid
+    return lo
