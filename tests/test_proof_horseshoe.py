@@ -73,6 +73,42 @@ def test_entropy_root():
     assert 0 < big - float(r) < 1e-10
 
 
+def test_entropy_root_cycle():
+    """The period-p bound (loops of lengths p and L: x^L = x^(L-p) + 1): p = 1 is entropy_root_lower's root exactly;
+    at Fig 4(c)'s design (p = 6, L = 160) rho_lower lies below the numpy root and within 1e-10 of it (seen to fail:
+    with the polynomial of p = 1 the bound at p = 6 lies above the root)."""
+    import numpy as np
+
+    for L in (28, 38):
+        assert horseshoe.entropy_root_lower_cycle(1, L) == horseshoe.entropy_root_lower(L)
+    p, L = 6, 160
+    r = horseshoe.entropy_root_lower_cycle(p, L)
+    assert r**L - r ** (L - p) - 1 < 0
+    coef = [0] * (L + 1)
+    coef[0], coef[p], coef[L] = 1, -1, -1  # x^L - x^(L-p) - 1, highest power first
+    big = max(z.real for z in np.roots(coef) if abs(z.imag) < 1e-9)
+    assert 0 < big - float(r) < 1e-10
+    r1 = horseshoe.entropy_root_lower(L)
+    assert r1**L - r1 ** (L - p) - 1 > 0  # the p = 1 root is larger: it would over-claim at p = 6
+    with pytest.raises(ValueError):
+        horseshoe.entropy_root_lower_cycle(L, L)
+
+
+def test_cycle_graph():
+    """The graph of a period-p certificate: the verifier's required links are the prover's (horseshoe.cycle_links);
+    period 1 is the fixed-point chain; a period leaving fewer than two sets after the cycle is malformed."""
+    n = 81
+    c = {"settings": {"period": 6}}
+    per, want = verify._hs_graph(c, n)
+    assert per == 6 and want == [list(lk) for lk in horseshoe.cycle_links(6, n)]
+    assert want[:7] == [[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 0], [5, 6]] and want[-1] == [79, 80]
+    assert len(want) == n  # p - 1 cycle links, the closing one, N(p-1) => Np, and n - 1 - p chain links
+    assert verify._hs_graph({"settings": {}}, 5) == (1, [[0, 0], [0, 1], [1, 2], [2, 3], [3, 4]])
+    for bad in (0, 1 - 2, 79):
+        with pytest.raises(ValueError):
+            verify._hs_graph({"settings": {"period": bad}}, n)
+
+
 def test_psi_periodic_check():
     """The generated chart field uses psi only through sin and cos; a source with a bare psi fails the check."""
     assert verify._psi_periodic(fields.gen)
@@ -116,6 +152,8 @@ def test_default_design_is_the_fig4a_certificates(cert):
     changed = {k for k in a.keys() | b.keys() if a.get(k) != b.get(k)}
     assert changed == {"m_back", "n_exc", "qu", "qs", "l0_frac", "l1_frac", "w_cap", "tol_thin", "passes",
                        "stop_frac"}
+    c = horseshoe.DESIGNS["fig4c"]().as_json()
+    assert c["period"] == 6 and "period" not in a and "period" not in b  # period 1 leaves the settings as they were
 
 
 def test_tamper_deleted_link(any_cert):
