@@ -21,7 +21,9 @@ from helpers import shift_set_along_entry
 CERT = "horseshoe_fig4a.json"
 #: a_interval: Fig 4(a)'s sets moving with lambdabar, for every lambdabar in 27/200 +- 2e-11 (horseshoe.widen)
 INTERVAL = "horseshoe_fig4a_interval.json"
-CERTS = {"a": CERT, "b": "horseshoe_fig4b.json", "a_interval": INTERVAL}
+#: c: Fig 4(c)'s horseshoe around the period-6 orbit of P (the cycle N0 => ... => N5 => N0, horseshoe._prove_cycle)
+CYCLE = "horseshoe_fig4c.json"
+CERTS = {"a": CERT, "b": "horseshoe_fig4b.json", "a_interval": INTERVAL, "c": CYCLE}
 
 
 def _load(name):
@@ -140,7 +142,38 @@ def test_certificate_claims(any_cert):
 
     assert cert["theorem"] == section_horseshoe_theorem(cert["params"], cert["level"], k, 2 * k,
                                                         cert["entropy"]["rho_lower"],
-                                                        cert["settings"].get("lam_rad", "0"))
+                                                        cert["settings"].get("lam_rad", "0"),
+                                                        period=int(cert["settings"].get("period", 1)))
+
+
+def test_cycle_certificate_claims():
+    """Fig 4(c): the cycle of 6 sets and the chain to N80, loops 6 and 160, the polynomial x^160 = x^154 + 1."""
+    c = _load(CYCLE)
+    assert c["settings"]["period"] == 6 and len(c["sets"]) == 81 and c["loop_lengths"] == [6, 160]
+    assert [list(lk) for lk in c["links"]] == [list(lk) for lk in horseshoe.cycle_links(6, 81)]
+    assert "N0 => N1 => ... => N5 => N0" in c["theorem"] and "x^160 = x^154 + 1" in c["theorem"]
+
+
+def test_cycle_tamper():
+    """Fig 4(c)'s certificate: the cycle's closing link N5 => N0 deleted, the period set to 1 (then the links are
+    not the fixed-point chain's), a rho_lower of the period-1 polynomial (above the root of x^160 = x^154 + 1), and
+    the period-1 theorem text (loops 1 and 160: more entropy than verified) are each rejected."""
+    base = _load(CYCLE)
+    c = copy.deepcopy(base)
+    c["links"].remove([5, 0])
+    assert "links" in _rejected(c)
+    c = copy.deepcopy(base)
+    c["settings"]["period"] = 1
+    assert "links" in _rejected(c)
+    c = copy.deepcopy(base)
+    r1 = horseshoe.entropy_root_lower(160)
+    c["entropy"]["rho_lower"] = f"{r1.numerator}/{r1.denominator}"
+    assert "entropy bound" in _rejected(c)
+    from magrod.proof.theorem import section_horseshoe_theorem
+
+    c = copy.deepcopy(base)
+    c["theorem"] = section_horseshoe_theorem(c["params"], c["level"], 80, 160, c["entropy"]["rho_lower"])
+    assert "theorem" in _rejected(c)
 
 
 def test_default_design_is_the_fig4a_certificates(cert):
@@ -248,11 +281,12 @@ def test_certificate_verifies(any_cert):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("lam, theta, design", [("27/200", 0.383, "fig4a"), ("63/400", 0.283, "fig4b")])
+@pytest.mark.parametrize("lam, theta, design", [("27/200", 0.383, "fig4a"), ("63/400", 0.283, "fig4b"),
+                                                ("7/40", 1.988829300900816, "fig4c")])
 def test_mutated_field_control_fails_to_prove(lam, theta, design):
     """Control: with the sign of term 0 of the generated chart field flipped, the prover fails (at the first centre
-    flight of the chain: no crossing where the float map of the true field has one; ~15 s) and issues nothing, at
-    panels (a) and (b) with their designs."""
+    flight of the chain, or of the cycle at (c): no crossing where the float map of the true field has one; ~15 s)
+    and issues nothing, at panels (a), (b) and (c) with their designs."""
     from magrod.proof import periodic
 
     p, h = periodic.validate("17/10", "2/5", "3", "3", lam, "9/10")
@@ -273,6 +307,18 @@ def test_lambda_zero_control_proves_nothing(theta, design):
     p, h = periodic.validate("17/10", "2/5", "3", "3", "0", "9/10")
     res = horseshoe.prove(p, h, theta, horseshoe.DESIGNS[design]())
     assert not res.ok and res.certificate is None and "no real root pbar_psi" in res.reason, res.reason
+
+
+def test_lambda_zero_control_cycle():
+    """lambdabar = 0 with Fig 4(c)'s rod, level and design: there is no symmetric period-6 orbit near theta =
+    1.98883 (pbar_theta at the 3rd return has no sign change on the window), so the prover proves nothing and issues
+    no certificate (~2 s; not a rigorous control, as at (a), (b))."""
+    from magrod.proof import periodic
+
+    p, h = periodic.validate("17/10", "2/5", "3", "3", "0", "9/10")
+    res = horseshoe.prove(p, h, 1.988829300900816, horseshoe.DESIGNS["fig4c"]())
+    assert not res.ok and res.certificate is None
+    assert "no sign change of pbar_theta at return 3" in res.reason, res.reason
 
 
 def test_text_output_of_a_horseshoe_result():
