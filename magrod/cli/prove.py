@@ -166,7 +166,6 @@ def _horseshoe(args) -> dict:
     design = getattr(args, "design", "fig4a")
     if design not in DESIGNS:
         raise ParameterError("design", f"must be one of {', '.join(DESIGNS)}, got {design!r}")
-    p, h, theta, dest, module = _section_inputs(args, "horseshoe")
     st0 = DESIGNS[design]()
     st = replace(st0, branch=getattr(args, "branch", "0"), root=_root(args))
     if st0.period != 1 and (st.branch, st.root) != (st0.branch, st0.root):
@@ -174,6 +173,7 @@ def _horseshoe(args) -> dict:
         raise ParameterError("branch", f"design {design} is the period-{st0.period} orbit on the branch psi = "
                                        f"{st0.branch}, root {st0.root}: pass --branch {st0.branch} --root "
                                        f"{ {0: 'smallest', -1: 'largest'}.get(st0.root, st0.root) }")
+    p, h, theta, dest, module = _section_inputs(args, "horseshoe")
     for k, lo, hi in (("m_back", 0, 12), ("n_exc", 1, 80)):
         if getattr(args, k, None) is not None:
             st = replace(st, **{k: integer(k, getattr(args, k), minimum=lo, maximum=hi)})

@@ -174,10 +174,13 @@ def fig4c_settings() -> HorseshoeSettings:
     against the entry thickness 0.26 d of P(N5) there (qs = 1.2 at m = 1: (a') -30).  l0 = 0.6 d, l1 = 0.15 d
     (disjoint: l0 + l1 < d; P(N5) reaches 2.28 l0 = 1.37 d > d + l1).  Float margins (a') >= 0.123, (b) >= 0.199;
     loops 6 and 160: h_top >= 0.0152.  Centre flights at HORSESHOE_CENTRE_TOL: the sets' entry widths times
-    sin(angle) go down to ~6e-15."""
+    sin(angle) go down to ~6e-15.  The validated run (horseshoe_fig4c.json): pass 1 at PROOF_STEP_TOL leaves
+    pbar_theta = -1.1e-8 at C_75, pass 2 (1e-32) -4.8e-15, 1e-3 of C_75's size 1.7e-11, so stop_frac ends the
+    passes there (a third pass, 227 s, changed no margin); (a') >= 0.120 (N59 => N60), (b) >= 1.199; prove 452 s
+    at load ~2 (27281 steps)."""
     return HorseshoeSettings(period=6, q_cycle=1.2, branch="pi", root=0, m_back=2, n_exc=62,
                              s_star=2.6789099166974635e-07, qu=1.2, qs=1.15, l0_frac=0.6, l1_frac=0.15, w_cap=3.0,
-                             tol_thin=HORSESHOE_CENTRE_TOL, passes=("tol", "thin", "thin"))
+                             tol_thin=HORSESHOE_CENTRE_TOL, passes=("tol", "thin", "thin"), stop_frac=1e-2)
 
 
 #: named designs (magrod prove --horseshoe ... --design NAME): "fig4a" is the default HorseshoeSettings()
