@@ -163,6 +163,8 @@ CERTS = Path(__file__).resolve().parents[1] / "magrod" / "proof" / "certificates
                                         (["--horseshoe", "0.383"], "level"),
                                         (["--horseshoe", "0.383", "--level", "0.9", "--mutate", "x"], "mutate"),
                                         (["--horseshoe", "0.383", "--level", "0.9", "--design", "fig4z"], "design"),
+                                        # a cycle design fixes its orbit's branch and root
+                                        (["--horseshoe", "1.98883", "--level", "0.9", "--design", "fig4c"], "branch"),
                                         (["--horseshoe", "0.383", "--level", "0.9", "--lam-rad", "-1"], "lam_rad"),
                                         # --widen: a point horseshoe certificate and W > 0
                                         (["--widen", str(CERTS / "horseshoe_fig4a.json")], "lam_rad"),

@@ -21,7 +21,9 @@ from helpers import shift_set_along_entry
 CERT = "horseshoe_fig4a.json"
 #: a_interval: Fig 4(a)'s sets moving with lambdabar, for every lambdabar in 27/200 +- 2e-11 (horseshoe.widen)
 INTERVAL = "horseshoe_fig4a_interval.json"
-CERTS = {"a": CERT, "b": "horseshoe_fig4b.json", "a_interval": INTERVAL}
+#: c: Fig 4(c)'s horseshoe around the period-6 orbit of P (the cycle N0 => ... => N5 => N0, horseshoe._prove_cycle)
+CYCLE = "horseshoe_fig4c.json"
+CERTS = {"a": CERT, "b": "horseshoe_fig4b.json", "a_interval": INTERVAL, "c": CYCLE}
 
 
 def _load(name):
@@ -73,6 +75,42 @@ def test_entropy_root():
     assert 0 < big - float(r) < 1e-10
 
 
+def test_entropy_root_cycle():
+    """The period-p bound (loops of lengths p and L: x^L = x^(L-p) + 1): p = 1 is entropy_root_lower's root exactly;
+    at Fig 4(c)'s design (p = 6, L = 160) rho_lower lies below the numpy root and within 1e-10 of it (seen to fail:
+    with the polynomial of p = 1 the bound at p = 6 lies above the root)."""
+    import numpy as np
+
+    for L in (28, 38):
+        assert horseshoe.entropy_root_lower_cycle(1, L) == horseshoe.entropy_root_lower(L)
+    p, L = 6, 160
+    r = horseshoe.entropy_root_lower_cycle(p, L)
+    assert r**L - r ** (L - p) - 1 < 0
+    coef = [0] * (L + 1)
+    coef[0], coef[p], coef[L] = 1, -1, -1  # x^L - x^(L-p) - 1, highest power first
+    big = max(z.real for z in np.roots(coef) if abs(z.imag) < 1e-9)
+    assert 0 < big - float(r) < 1e-10
+    r1 = horseshoe.entropy_root_lower(L)
+    assert r1**L - r1 ** (L - p) - 1 > 0  # the p = 1 root is larger: it would over-claim at p = 6
+    with pytest.raises(ValueError):
+        horseshoe.entropy_root_lower_cycle(L, L)
+
+
+def test_cycle_graph():
+    """The graph of a period-p certificate: the verifier's required links are the prover's (horseshoe.cycle_links);
+    period 1 is the fixed-point chain; a period leaving fewer than two sets after the cycle is malformed."""
+    n = 81
+    c = {"settings": {"period": 6}}
+    per, want = verify._hs_graph(c, n)
+    assert per == 6 and want == [list(lk) for lk in horseshoe.cycle_links(6, n)]
+    assert want[:7] == [[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 0], [5, 6]] and want[-1] == [79, 80]
+    assert len(want) == n  # p - 1 cycle links, the closing one, N(p-1) => Np, and n - 1 - p chain links
+    assert verify._hs_graph({"settings": {}}, 5) == (1, [[0, 0], [0, 1], [1, 2], [2, 3], [3, 4]])
+    for bad in (0, 1 - 2, 79):
+        with pytest.raises(ValueError):
+            verify._hs_graph({"settings": {"period": bad}}, n)
+
+
 def test_psi_periodic_check():
     """The generated chart field uses psi only through sin and cos; a source with a bare psi fails the check."""
     assert verify._psi_periodic(fields.gen)
@@ -104,7 +142,38 @@ def test_certificate_claims(any_cert):
 
     assert cert["theorem"] == section_horseshoe_theorem(cert["params"], cert["level"], k, 2 * k,
                                                         cert["entropy"]["rho_lower"],
-                                                        cert["settings"].get("lam_rad", "0"))
+                                                        cert["settings"].get("lam_rad", "0"),
+                                                        period=int(cert["settings"].get("period", 1)))
+
+
+def test_cycle_certificate_claims():
+    """Fig 4(c): the cycle of 6 sets and the chain to N80, loops 6 and 160, the polynomial x^160 = x^154 + 1."""
+    c = _load(CYCLE)
+    assert c["settings"]["period"] == 6 and len(c["sets"]) == 81 and c["loop_lengths"] == [6, 160]
+    assert [list(lk) for lk in c["links"]] == [list(lk) for lk in horseshoe.cycle_links(6, 81)]
+    assert "N0 => N1 => ... => N5 => N0" in c["theorem"] and "x^160 = x^154 + 1" in c["theorem"]
+
+
+def test_cycle_tamper():
+    """Fig 4(c)'s certificate: the cycle's closing link N5 => N0 deleted, the period set to 1 (then the links are
+    not the fixed-point chain's), a rho_lower of the period-1 polynomial (above the root of x^160 = x^154 + 1), and
+    the period-1 theorem text (loops 1 and 160: more entropy than verified) are each rejected."""
+    base = _load(CYCLE)
+    c = copy.deepcopy(base)
+    c["links"].remove([5, 0])
+    assert "links" in _rejected(c)
+    c = copy.deepcopy(base)
+    c["settings"]["period"] = 1
+    assert "links" in _rejected(c)
+    c = copy.deepcopy(base)
+    r1 = horseshoe.entropy_root_lower(160)
+    c["entropy"]["rho_lower"] = f"{r1.numerator}/{r1.denominator}"
+    assert "entropy bound" in _rejected(c)
+    from magrod.proof.theorem import section_horseshoe_theorem
+
+    c = copy.deepcopy(base)
+    c["theorem"] = section_horseshoe_theorem(c["params"], c["level"], 80, 160, c["entropy"]["rho_lower"])
+    assert "theorem" in _rejected(c)
 
 
 def test_default_design_is_the_fig4a_certificates(cert):
@@ -116,6 +185,8 @@ def test_default_design_is_the_fig4a_certificates(cert):
     changed = {k for k in a.keys() | b.keys() if a.get(k) != b.get(k)}
     assert changed == {"m_back", "n_exc", "qu", "qs", "l0_frac", "l1_frac", "w_cap", "tol_thin", "passes",
                        "stop_frac"}
+    c = horseshoe.DESIGNS["fig4c"]().as_json()
+    assert c["period"] == 6 and "period" not in a and "period" not in b  # period 1 leaves the settings as they were
 
 
 def test_tamper_deleted_link(any_cert):
@@ -210,11 +281,12 @@ def test_certificate_verifies(any_cert):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("lam, theta, design", [("27/200", 0.383, "fig4a"), ("63/400", 0.283, "fig4b")])
+@pytest.mark.parametrize("lam, theta, design", [("27/200", 0.383, "fig4a"), ("63/400", 0.283, "fig4b"),
+                                                ("7/40", 1.988829300900816, "fig4c")])
 def test_mutated_field_control_fails_to_prove(lam, theta, design):
     """Control: with the sign of term 0 of the generated chart field flipped, the prover fails (at the first centre
-    flight of the chain: no crossing where the float map of the true field has one; ~15 s) and issues nothing, at
-    panels (a) and (b) with their designs."""
+    flight of the chain, or of the cycle at (c): no crossing where the float map of the true field has one; ~15 s)
+    and issues nothing, at panels (a), (b) and (c) with their designs."""
     from magrod.proof import periodic
 
     p, h = periodic.validate("17/10", "2/5", "3", "3", lam, "9/10")
@@ -235,6 +307,18 @@ def test_lambda_zero_control_proves_nothing(theta, design):
     p, h = periodic.validate("17/10", "2/5", "3", "3", "0", "9/10")
     res = horseshoe.prove(p, h, theta, horseshoe.DESIGNS[design]())
     assert not res.ok and res.certificate is None and "no real root pbar_psi" in res.reason, res.reason
+
+
+def test_lambda_zero_control_cycle():
+    """lambdabar = 0 with Fig 4(c)'s rod, level and design: there is no symmetric period-6 orbit near theta =
+    1.98883 (pbar_theta at the 3rd return has no sign change on the window), so the prover proves nothing and issues
+    no certificate (~2 s; not a rigorous control, as at (a), (b))."""
+    from magrod.proof import periodic
+
+    p, h = periodic.validate("17/10", "2/5", "3", "3", "0", "9/10")
+    res = horseshoe.prove(p, h, 1.988829300900816, horseshoe.DESIGNS["fig4c"]())
+    assert not res.ok and res.certificate is None
+    assert "no sign change of pbar_theta at return 3" in res.reason, res.reason
 
 
 def test_text_output_of_a_horseshoe_result():

@@ -16,7 +16,8 @@ sin psi = 0 on the level Hbar = H (magrod/proof/periodic.py; statement 11), the 
 Fix(R) within 0.02 of THETA (no condition mu > 2 lambdabar: the level need not hold the tilted saddle).
 `magrod prove --horseshoe THETA --level H ...` proves a horseshoe of that section map (positive topological entropy)
 by covering relations along the homoclinic orbit of the saddle near THETA (magrod/proof/horseshoe.py; statement 12;
-~6 min at Fig 4(a)); `--design fig4b` selects the chain's design for Fig 4(b) (horseshoe.DESIGNS)."""
+~6 min at Fig 4(a)); `--design fig4b` selects the chain's design for Fig 4(b) (horseshoe.DESIGNS); `--design fig4c
+--branch pi --root smallest` the cycle design around Fig 4(c)'s period-6 orbit (horseshoe.fig4c_settings)."""
 from __future__ import annotations
 
 from fractions import Fraction
@@ -42,7 +43,8 @@ def add_arguments(p):
                         "orbit of its symmetric saddle near theta = THETA (statement 12)")
     p.add_argument("--design", default="fig4a", metavar="NAME",
                    help="--horseshoe: the named design of the chain (fig4a: the settings of Fig 4(a)'s certificate; "
-                        "fig4b: margins 1.5, m = 4 pull-backs, 14 excursion returns; magrod/proof/horseshoe.DESIGNS)")
+                        "fig4b: margins 1.5, m = 4 pull-backs, 14 excursion returns; fig4c: the period-6 cycle of Fig 4(c), "
+                        "with --branch pi --root smallest; magrod/proof/horseshoe.DESIGNS)")
     p.add_argument("--level", default=None, metavar="H",
                    help="the level Hbar = H of --fixed-point / --horseshoe (exact)")
     p.add_argument("--lam-rad", default="0", metavar="W", dest="lam_rad",
@@ -164,9 +166,15 @@ def _horseshoe(args) -> dict:
     design = getattr(args, "design", "fig4a")
     if design not in DESIGNS:
         raise ParameterError("design", f"must be one of {', '.join(DESIGNS)}, got {design!r}")
+    st0 = DESIGNS[design]()
+    st = replace(st0, branch=getattr(args, "branch", "0"), root=_root(args))
+    if st0.period != 1 and (st.branch, st.root) != (st0.branch, st0.root):
+        # a cycle design is about one periodic orbit: its branch and root are part of it, not a choice
+        raise ParameterError("branch", f"design {design} is the period-{st0.period} orbit on the branch psi = "
+                                       f"{st0.branch}, root {st0.root}: pass --branch {st0.branch} --root "
+                                       f"{ {0: 'smallest', -1: 'largest'}.get(st0.root, st0.root) }")
     p, h, theta, dest, module = _section_inputs(args, "horseshoe")
-    st = replace(DESIGNS[design](), branch=getattr(args, "branch", "0"), root=_root(args))
-    for k, lo, hi in (("m_back", 0, 12), ("n_exc", 1, 40)):
+    for k, lo, hi in (("m_back", 0, 12), ("n_exc", 1, 80)):
         if getattr(args, k, None) is not None:
             st = replace(st, **{k: integer(k, getattr(args, k), minimum=lo, maximum=hi)})
     if getattr(args, "s_star", None) is not None:

@@ -31,9 +31,11 @@ FIG4_SECTION = (("4a", "fixed_point_fig4a.json", "11"), ("4b", "fixed_point_fig4
                 ("5c", "fixed_point_fig5c.json", "13"), ("5d", "fixed_point_fig5d.json", "13"),
                 ("5a_interval", "fixed_point_fig5a_interval.json", "13"))  # every lambdabar in 2 +- 2e-7
 # The horseshoes on those levels (statements 12, 13).  Their verifier flies with Newton's series and the sets in
-# parallel processes (verify.py, kind section_horseshoe; 45-95 s of CPU each); the full reproduction verifies every
-# one (~5 min of CPU in all), --quick (the test suite's) none
+# parallel processes (verify.py, kind section_horseshoe; 45-95 s of CPU each, 164 s for Fig 4(c)'s 81 sets); the full
+# reproduction verifies every one (~8 min of CPU in all), --quick (the test suite's) none
 FIG4_HORSESHOE = (("4a", "horseshoe_fig4a.json", "12"), ("4b", "horseshoe_fig4b.json", "12"),
+                  # Fig 4(c): around the period-6 orbit of P (the cycle of 6 sets, horseshoe._prove_cycle)
+                  ("4c", "horseshoe_fig4c.json", "12"),
                   # Fig 4(a)'s sets moving with lambdabar: every lambdabar in 27/200 +- 2e-11 (horseshoe.widen)
                   ("4a_interval", "horseshoe_fig4a_interval.json", "12"),
                   ("5a", "horseshoe_fig5a.json", "13"), ("5b", "horseshoe_fig5b.json", "13"),

@@ -92,6 +92,14 @@ class HorseshoeSettings:
     #: stop the chain passes early once |pbar_theta(P^(k-1)(c_1))| < stop_frac w_k (0: never; valid only when the
     #: passes share one tolerance, so that the pass that stops is the certificate's: Fig 4(b))
     stop_frac: float = 0.0
+    #: the period p of the symmetric orbit of P through x0 (1: the fixed point of statement 11).  p > 1 (even: x0
+    #: and x_(p/2) on Fix(R); Fig 4(c)): the cycle N0 => N^1 => ... => N^(p-1) => N0 of sets at the orbit's points
+    #: and the excursion N^(p-1) => C_1 => ... => C_k (_prove_cycle); m_back then counts pull-backs by P^p, n_exc
+    #: the returns of P from s* to Fix(R)
+    period: int = 1
+    #: p > 1: the margin per cycle link N^i => N^(i+1) (i < p - 1) in both directions; N^(p-1) => N0 gets
+    #: mu_u / q_cycle^(p-1)
+    q_cycle: float = 1.2
 
     def as_json(self) -> dict:
         q = _q
@@ -100,7 +108,8 @@ class HorseshoeSettings:
                 "newton": self.newton, "n_exc": self.n_exc, "passes": list(self.passes),
                 "l0_frac": self.l0_frac, "l1_frac": self.l1_frac, "w_cap": self.w_cap, "series_cap": ball.SERIES_CAP,
                 **({} if (self.branch, self.root) == ("0", -1) else {"branch": self.branch, "root": self.root}),
-                **({"stop_frac": self.stop_frac} if self.stop_frac else {})}
+                **({"stop_frac": self.stop_frac} if self.stop_frac else {}),
+                **({} if self.period == 1 else {"period": self.period, "q_cycle": self.q_cycle})}
 
 
 def fig4b_settings() -> HorseshoeSettings:
@@ -152,8 +161,29 @@ def fig4d_settings() -> HorseshoeSettings:
                              stop_frac=1e-2, lead=Fraction(1, 1024), p_rad=Fraction(1, 2000))
 
 
+def fig4c_settings() -> HorseshoeSettings:
+    """The design of Fig 4(c) (lambdabar = 7/40; benchmarks/fig4c_horseshoe_design.py, .json): P has no
+    hyperbolic fixed point there, so N0 sits on the symmetric period-6 orbit through theta* = 1.98883 (psi = pi,
+    the level's smaller root; x_3 = 2.79951 is its other point on Fix(R)), mu_u(DP^6) = 5.685, per-return stretches
+    of e_u 1.20, 1.40, 1.38, 0.92, 2.75, 0.97.  The cycle N0 => N1 => ... => N5 => N0 with margins q_cycle = 1.2 per
+    link (N5 => N0: 5.685 / 1.2^5 = 2.28); W^u(x0) (side +e_u) meets Fix(R) at the 62nd return from s* = 2.679e-7
+    (theta = 2.79651, W^u-W^s angle 46.5 deg); m = 2 pull-backs by P^6: d = 8.3e-9, 75 excursion sets C_1 .. C_75
+    (N6 .. N80).  Chain margins qu = 1.2, qs = 1.15: the entry widths pulled back from the excursion's squeeze (down
+    to 1.9e-4 d at an exit-entry angle of 0.215 deg) grow by mu_u / qs^6 = 2.46 per cycle and reach 0.37 d at C_1,
+    against the entry thickness 0.26 d of P(N5) there (qs = 1.2 at m = 1: (a') -30).  l0 = 0.6 d, l1 = 0.15 d
+    (disjoint: l0 + l1 < d; P(N5) reaches 2.28 l0 = 1.37 d > d + l1).  Float margins (a') >= 0.123, (b) >= 0.199;
+    loops 6 and 160: h_top >= 0.0152.  Centre flights at HORSESHOE_CENTRE_TOL: the sets' entry widths times
+    sin(angle) go down to ~6e-15.  The validated run (horseshoe_fig4c.json): pass 1 at PROOF_STEP_TOL leaves
+    pbar_theta = -1.1e-8 at C_75, pass 2 (1e-32) -4.8e-15, 1e-3 of C_75's size 1.7e-11, so stop_frac ends the
+    passes there (a third pass, 227 s, changed no margin); (a') >= 0.120 (N59 => N60), (b) >= 1.199; prove 452 s
+    at load ~2 (27281 steps)."""
+    return HorseshoeSettings(period=6, q_cycle=1.2, branch="pi", root=0, m_back=2, n_exc=62,
+                             s_star=2.6789099166974635e-07, qu=1.2, qs=1.15, l0_frac=0.6, l1_frac=0.15, w_cap=3.0,
+                             tol_thin=HORSESHOE_CENTRE_TOL, passes=("tol", "thin", "thin"), stop_frac=1e-2)
+
+
 #: named designs (magrod prove --horseshoe ... --design NAME): "fig4a" is the default HorseshoeSettings()
-DESIGNS = {"fig4a": HorseshoeSettings, "fig4b": fig4b_settings}
+DESIGNS = {"fig4a": HorseshoeSettings, "fig4b": fig4b_settings, "fig4c": fig4c_settings}
 
 
 def _q(x) -> str:
@@ -279,6 +309,105 @@ def float_design(P: FloatMap, x0, m: int, s_star: float, n_exc: int = 8) -> dict
     return {"e_u0": eu, "mu_u": float(np.real(w[iu])), "s_star": s, "t": t, "c1": x0 + t * eu}
 
 
+# --------------------------------------------------------------------------------------------------------------
+# a symmetric periodic orbit of period p (Fig 4(c): no hyperbolic fixed point of P; float design only)
+# --------------------------------------------------------------------------------------------------------------
+class NearMap:
+    """The float section map on (theta, pbar_theta) of a branch, pbar_psi the level's root nearest to a reference
+    value (the orbit point's own: along a period-p orbit the root's index need not be constant)."""
+
+    def __init__(self, P: FloatMap):
+        self.P = P
+
+    def lift(self, z, br, pref):
+        from ..chaos.section import solve_p_psi
+
+        roots = solve_p_psi(self.P.params, self.P.h, float(z[0]), float(z[1]), 0.0 if br == "0" else math.pi)
+        x = np.zeros(4)
+        x[fields.THETA], x[fields.PTHETA] = z[0], z[1]
+        x[fields.PSI] = 0.0 if br == "0" else math.pi
+        x[fields.PPSI] = roots[int(np.argmin(abs(roots - pref)))]
+        return x
+
+    def step4(self, x):
+        y, t = self.P.full4(x)
+        return y, ("0" if math.cos(y[fields.PSI]) > 0 else "pi"), t
+
+    def __call__(self, z, br, pref):
+        y, b, _ = self.step4(self.lift(z, br, pref))
+        return np.array([y[fields.THETA], y[fields.PTHETA]]), b
+
+    def jac(self, z, br, pref, eps=1e-7):
+        D = np.empty((2, 2))
+        for j in range(2):
+            dz = np.zeros(2)
+            dz[j] = eps
+            D[:, j] = (self(z + dz, br, pref)[0] - self(z - dz, br, pref)[0]) / (2 * eps)
+        return D
+
+
+def float_cycle(P: FloatMap, theta_guess: float, period: int, window: float = 0.02, eps: float = 1e-7) -> dict:
+    """A symmetric period-p orbit of P through x0 = (theta*, 0) on Fix(R), p even: x_{p/2} = P^{p/2}(x0) lies on
+    Fix(R) too (R(x_i) = x_{p-i}), so theta* is a zero of pbar_theta(P^{p/2}(theta, 0)) (bisection on the window).
+    Returns the 4-D orbit points x_0 .. x_{p-1}, branches, return times, the float DP_i at x_i (central
+    differences, step eps), DP^p = DP_{p-1} ... DP_0, e_u(x0) (its unstable eigenvector, theta-component > 0),
+    mu_u, det, the frames e_u^i = DP_{i-1} e_u^{i-1} (normalised), e_s^i (R e_u(x0) pulled back from x0 = x_p)
+    and the per-return stretches lam_i = |DP_i e_u^i|, sig_i = |DP_i e_s^i| (product mu_u and 1 / mu_u)."""
+    if period % 2:
+        raise ProofFailure("float_cycle: only even periods (x_{p/2} on Fix(R)) are handled")
+    M = NearMap(P)
+
+    def half(th):
+        x = P.lift([th, 0.0])
+        for _ in range(period // 2):
+            x = P.full4(x)[0]
+        return x[fields.PTHETA]
+
+    a, b = theta_guess - window, theta_guess + window
+    fa = half(a)
+    if fa * half(b) > 0:
+        raise ProofFailure(f"float_cycle: no sign change of pbar_theta at return {period // 2} on [{a:.6g}, {b:.6g}]")
+    for _ in range(60):
+        c = 0.5 * (a + b)
+        fc = half(c)
+        if (fc > 0) == (fa > 0):
+            a, fa = c, fc
+        else:
+            b = c
+    th = 0.5 * (a + b)
+    xs, brs, ts = [P.lift([th, 0.0])], [P.branch], []
+    for _ in range(period):
+        y, br, t = M.step4(xs[-1])
+        xs.append(y)
+        brs.append(br)
+        ts.append(t)
+    closure = float(np.hypot(xs[-1][fields.THETA] - th, xs[-1][fields.PTHETA]))
+    xs, brs = xs[:period], brs[:period]
+    zs = [np.array([x[fields.THETA], x[fields.PTHETA]]) for x in xs]
+    DPs = [M.jac(z, br, x[fields.PPSI], eps) for z, br, x in zip(zs, brs, xs)]
+    Dp = np.eye(2)
+    for D in DPs:
+        Dp = D @ Dp
+    w, V = np.linalg.eig(Dp)
+    iu = int(np.argmax(abs(w)))
+    eu = unit(np.real(V[:, iu]))
+    eu = -eu if eu[0] < 0 else eu
+    eus = [eu]
+    for D in DPs[:-1]:
+        eus.append(unit(D @ eus[-1]))
+    ess = [R2 @ eu]  # e_s(x0) = R e_u(x0) (x0 symmetric); pulled back x_p = x0 -> x_{p-1} -> ... -> x_1
+    for D in reversed(DPs[1:]):
+        ess.append(unit(np.linalg.solve(D, ess[-1])))
+    ess = [ess[0]] + ess[1:][::-1]
+    lam = [float(np.linalg.norm(D @ u)) for D, u in zip(DPs, eus)]
+    sig = [float(np.linalg.norm(D @ s)) for D, s in zip(DPs, ess)]
+    return {"theta": th, "xs": xs, "zs": zs, "branches": brs, "times": ts, "closure": closure, "DPs": DPs,
+            "DPp": Dp, "mu_u": float(np.real(w[iu])), "det": float(np.linalg.det(Dp)),
+            "trace": float(np.trace(Dp)), "e_u": eus, "e_s": ess, "lam": lam, "sig": sig,
+            "angles_deg": [float(np.degrees(np.arccos(min(1.0, abs(float(np.dot(u, s))))))) for u, s in
+                           zip(eus, ess)]}
+
+
 def sizes(lam, sig, L, qu, qs, Lw=None):
     """Half-lengths l_j (exit) and half-widths w_j (entry) of N_1 .. N_k from the frame stretches lam_j = |DP e_u^j|
     and sig_j = |DP e_s^j| (unit frame vectors, link j -> j+1): l_1 = L, l_{j+1} = min(L, lam_j l_j / qu) (constant
@@ -392,8 +521,9 @@ def prove(params: fields.ExactParams, h: Fraction, x0_theta: Fraction, settings:
         ok, certificate (kind "section_horseshoe"), reason, checks, wall_time_s.
     """
     st = settings or HorseshoeSettings()
-    return run_checked(st.prec, lambda check: _prove(params, h, x0_theta, st, module, check,
-                                                     progress or (lambda s: None)), flights=True)
+    run = _prove if st.period == 1 else _prove_cycle
+    return run_checked(st.prec, lambda check: run(params, h, x0_theta, st, module, check,
+                                                  progress or (lambda s: None)), flights=True)
 
 
 def _frame_from(DPs, e_u1):
@@ -582,6 +712,246 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     }
 
 
+def _float_s_star(P: FloatMap, x0, eu, s_guess: float, n_exc: int) -> float:
+    """s with pbar_theta(P^n_exc(x0 + s e_u)) = 0 near s_guess (bisection on s_guess (1 -+ 1e-4), 4-D states)."""
+    def end(s):
+        x = P.lift(x0 + s * eu)
+        for _ in range(n_exc):
+            x = P.full4(x)[0]
+        return x[fields.PTHETA]
+
+    a, b = s_guess * (1 - 1e-4), s_guess * (1 + 1e-4)
+    fa = end(a)
+    if fa * end(b) > 0:
+        raise ProofFailure(f"design: no sign change of pbar_theta at return {n_exc} around s* = {s_guess:.6g}")
+    for _ in range(60):
+        c = 0.5 * (a + b)
+        fc = end(c)
+        if (fc > 0) == (fa > 0):
+            a, fa = c, fc
+        else:
+            b = c
+    return 0.5 * (a + b)
+
+
+def _prove_cycle(p, h, x0_theta, st, module, check, say) -> dict:
+    """The horseshoe around a symmetric period-p orbit of P (st.period = p > 1; module docstring of
+    benchmarks/fig4c_horseshoe_design.py for the design).  Sets (certificate order): N0 (symmetric, at x0), the
+    cycle sets N1 .. N(p-1) at x_1 .. x_(p-1), the excursion sets N(p) .. N(n-1) (C_1 .. C_k, C_1 on W^u(x0) at
+    distance d, C_(j+1) = P(C_j), C_k symmetric).  Links: N_i => N_(i+1) (i < p - 1), N(p-1) => N0,
+    N(p-1) => N(p), N_j => N_(j+1) (p <= j < n - 1).  Loops through N0: the cycle (length p) and, closed by the
+    reversed chain, L = 2 (n - 1) = 2 (p + k - 1); the coding of the visits to N0 gives the blocks 1 0^(p-1) and
+    1 0^(L-1): h_top >= log rho, x^L = x^(L-p) + 1."""
+    per = st.period
+    pars = p.balls()
+    fld = fields.chart_field(p, module)
+    P = FloatMap(p, h, st.branch, st.root)
+    say(f"float search for the period-{per} orbit")
+    cyc = float_cycle(P, float(x0_theta), per)
+    x0_theta = dyadic(cyc["theta"], 53)
+    x0 = np.array([float(x0_theta), 0.0])
+    lead = st.lead
+    zero = [[Fraction(0), Fraction(0)], [Fraction(0), Fraction(0)]]
+
+    def fly(c, A, pc, br, steps=None, box=True, tol_thin=None, thin=None):
+        x4 = np.zeros(4)
+        x4[fields.THETA], x4[fields.PTHETA], x4[fields.PPSI] = float(c[0]), float(c[1]), float(pc)
+        x4[fields.PSI] = 0.0 if br == "0" else math.pi
+        T = P.full4(x4)[1]
+        t_a = t_approach(T, lead)
+        fl = periodic.piece_return(pars, h, fld, c, A, pc, st.p_rad, t_a, lead, t1=st.t1, order=st.order,
+                                   tol=st.tol, tol_thin=tol_thin or st.tol_thin, steps=steps, newton=st.newton,
+                                   box=box, thin=thin, branch=br, module=module)
+        fl["t_a"] = t_a
+        return fl
+
+    def pc_of(c):
+        return dyadic(float(P.lift([float(c[0]), float(c[1])])[fields.PPSI]), 50)
+
+    def orbit(c1, pc1, n, tol_thin, name):
+        """Centres, pbar_psi, branches and flights of n validated returns from c1 (the centres: the flights'
+        128-bit midpoints)."""
+        cs, pcs, brs, fls = [c1], [pc1], [st.branch], []
+        for j in range(n):
+            fl = fly(cs[-1], zero, pcs[-1], brs[-1], box=False, tol_thin=tol_thin)
+            check(f"{name} flight {j + 1}", fl["level_ok"], "the level's Newton at the centre")
+            cp = fl["cospsi_thin"]
+            check(f"{name} flight {j + 1} branch", ball.excludes_zero(cp), f"cos psi = {cp} at the crossing")
+            fls.append(fl)
+            cs.append([dyadic_of(fl["Pc"][0].mid()), dyadic_of(fl["Pc"][1].mid())])
+            pcs.append(dyadic_of(fl["ppsi_thin"].mid(), 60))
+            brs.append("0" if ball.positive(cp) else "pi")
+        return cs, pcs, brs, fls
+
+    # the cycle: x_0 .. x_(p-1) by validated returns from x0 (x_p = P^p(x0) closes on x0 up to the float theta*)
+    say(f"cycle: {per} centre flights (tol {st.tol_thin:g})")
+    ccs, cpcs, cbrs, cfls = orbit([dyadic_of(x0_theta, 62), Fraction(0)], pc_of([x0_theta, Fraction(0)]), per,
+                                  st.tol_thin, "cycle")
+    close = float(np.hypot(float(ccs[-1][0]) - x0[0], float(ccs[-1][1])))
+    check("cycle closes", close < 1e-12 and cbrs[-1] == st.branch,
+          f"|P^{per}(x0) - x0| = {close:.3g} (float theta*) on x0's branch")
+    ccs, cpcs, cbrs = ccs[:per], cpcs[:per], cbrs[:per]
+    CD = [_mid_matrix(f["DPc"]) for f in cfls]
+    Dp = np.eye(2)
+    for D in CD:
+        Dp = D @ Dp
+    wv, V = np.linalg.eig(Dp)
+    iu = int(np.argmax(abs(wv)))
+    mu = float(np.real(wv[iu]))
+    eu = unit(np.real(V[:, iu]))
+    eu = -eu if eu[0] < 0 else eu
+    ceu = [eu]
+    for D in CD[:-1]:
+        ceu.append(unit(D @ ceu[-1]))
+    ces = [R2 @ eu]
+    for D in reversed(CD[1:]):
+        ces.append(unit(np.linalg.solve(D, ces[-1])))
+    ces = [ces[0]] + ces[1:][::-1]
+    clam = [float(np.linalg.norm(D @ u)) for D, u in zip(CD, ceu)]
+    csig = [float(np.linalg.norm(D @ s)) for D, s in zip(CD, ces)]
+    say(f"  mu_u(DP^{per}) = {mu:.6g}, stretches {[round(v, 3) for v in clam]}")
+    check("cycle hyperbolic (design)", abs(mu) > st.q_cycle ** per,
+          f"|mu_u(DP^p)| = {abs(mu):.4g} > q_cycle^p (the float design's margins around the cycle)")
+    # the excursion chain C_1 .. C_k from C_1 = x0 + t e_u, t = s* mu_u^-m (m pull-backs by P^p)
+    k = st.n_exc + per * st.m_back + 1
+    s_star = _float_s_star(P, x0, eu, st.s_star, st.n_exc)
+    t = s_star / abs(mu) ** st.m_back
+    c1 = [dyadic_of(x0_theta + Fraction(t) * Fraction(eu[0])), dyadic_of(Fraction(t) * Fraction(eu[1]))]
+    passes = []
+    sched = [st.tol if kind == "tol" else st.tol_thin for kind in st.passes]
+    for n_pass, tl in enumerate(sched):
+        say(f"chain pass {n_pass + 1} ({k - 1} centre flights, tol {tl:g})")
+        cs, pcs, brs, fls = orbit(c1, pc_of(c1), k - 1, tl, "chain")
+        DPs = [_mid_matrix(f["DPc"]) for f in fls]
+        eus, ess, lam, sig = _frame_from(DPs, eu)
+        delta = float(fls[-1]["Pc"][1].mid())
+        passes.append(delta)
+        if n_pass == len(sched) - 1:
+            break
+        if st.stop_frac and len(set(sched[n_pass:])) == 1:
+            d_ = float(np.hypot(float(cs[0][0]) - x0[0], float(cs[0][1])))
+            w_end = sizes(lam, sig, d_ * st.l1_frac, st.qu, st.qs, st.w_cap * d_ * st.l1_frac)[1][-1]
+            if abs(delta) < st.stop_frac * w_end:
+                say(f"  pbar_theta at the end {delta:.3g} < {st.stop_frac:g} w_k: the chain passes stop")
+                break
+        v = eus[0]
+        for D in DPs:
+            v = D @ v
+        shift = -delta / v[1]
+        say(f"  pbar_theta at the end {delta:.3g}: shift {shift:.3g} along e_u")
+        c1 = [dyadic_of(c1[0] + Fraction(shift) * Fraction(eus[0][0])),
+              dyadic_of(c1[1] + Fraction(shift) * Fraction(eus[0][1]))]
+    resid = passes[-1]
+    cs[-1] = [dyadic_of(fls[-1]["Pc"][0].mid()), Fraction(0)]
+    dist = float(np.hypot(float(cs[0][0]) - x0[0], float(cs[0][1])))
+    L = dist * st.l1_frac
+    ls, ws = sizes(lam, sig, L, st.qu, st.qs, st.w_cap * L)
+    check("end on Fix(R)", abs(resid) < ws[-1] / 4,
+          f"pbar_theta(P^(k-1)(C_1)) = {resid:.3g} after the Newton shift, against the size {ws[-1]:.3g} of C_k")
+    # the cycle's sizes: l_(i+1) = lam_i l_i / q, w_(i+1) = q sig_i w_i from l_0 = w_0 = l0_frac d
+    l0 = dist * st.l0_frac
+    lc, wc = [l0], [l0]
+    for i in range(per - 1):
+        lc.append(clam[i] * lc[-1] / st.q_cycle)
+        wc.append(st.q_cycle * csig[i] * wc[-1])
+    a0 = [dyadic(l0 * eu[0]), dyadic(l0 * eu[1])]
+    sets = [hset(ccs[0], [[a0[0], a0[0]], [a0[1], -a0[1]]])]
+    sets[0]["p_c"], sets[0]["branch"] = _q(cpcs[0]), cbrs[0]
+    for i in range(1, per):
+        u, s = ceu[i], ces[i]
+        sets.append(hset(ccs[i], [[dyadic(lc[i] * u[0]), dyadic(wc[i] * s[0])],
+                                  [dyadic(lc[i] * u[1]), dyadic(wc[i] * s[1])]]))
+        sets[-1]["p_c"], sets[-1]["branch"] = _q(cpcs[i]), cbrs[i]
+    for j in range(k - 1):
+        u, s = eus[j], ess[j]
+        sets.append(hset(cs[j], [[dyadic(ls[j] * u[0]), dyadic(ws[j] * s[0])],
+                                 [dyadic(ls[j] * u[1]), dyadic(ws[j] * s[1])]]))
+        sets[-1]["p_c"], sets[-1]["branch"] = _q(pcs[j]), brs[j]
+    ak = [dyadic(ls[-1] * eus[-1][0]), dyadic(ls[-1] * eus[-1][1])]
+    sets.append(hset(cs[-1], [[ak[0], ak[0]], [ak[1], -ak[1]]]))
+    sets[-1]["p_c"], sets[-1]["branch"] = _q(pcs[-1]), brs[-1]
+    n = len(sets)
+    branch = {}
+    for i, sd in enumerate(sets):
+        c, A = set_data(sd)
+        _, B, ok = periodic.level_newton_section(pars, h, *_hull(c, A), Fraction(sd["p_c"]), st.p_rad, module,
+                                                 sd["branch"])
+        check(f"N{i} branch box", ok, "pbar_psi unique in the branch box over the set's hull")
+        branch[i] = B
+    links = cycle_links(per, n)
+    grids = {i: (1, 1) for i in range(n - 1)}
+    grids.update(st.pieces or {})
+    thin_of = {i: cfls[i] for i in range(per)}
+    thin_of.update({per + j: fls[j] for j in range(k - 1)})  # C_(j+1)'s centre flight is the chain's j-th
+    flights, images = [], {}
+    for i in range(n - 1):
+        cN, AN = set_data(sets[i])
+        pcs_ = grid_pieces(*grids[i])
+        recs = []
+        for m_, pc in enumerate(pcs_):
+            say(f"set N{i}: piece {m_ + 1}/{len(pcs_)}")
+            cX, AX = piece_geometry(cN, AN, pc)
+            ppc = Fraction(sets[i]["p_c"])
+            fl = fly(cX, AX, ppc, sets[i]["branch"], thin=thin_of[i] if len(pcs_) == 1 else None)
+            check(f"N{i} piece {m_} level", fl["level_ok"] and ball.subset(fl["ppsi_hull"], branch[i]),
+                  "pbar_psi unique in its Newton box over the piece, inside the set's branch box")
+            check(f"N{i} piece {m_} positive return", ball.positive(fl["gdot_thin"]) and ball.positive(fl["gdot_box"]),
+                  f"d(sin psi)/dt = {fl['gdot_box']} > 0 at the crossing")
+            recs.append({"piece": [_q(v) for v in pc], "p_c": _q(ppc), "t_a": _q(fl["t_a"]),
+                         "steps": {kk: [[ball.decimal(s) for s in ph] for ph in vv] for kk, vv in fl["steps"].items()},
+                         "n_steps": sum(len(ph) for vv in fl["steps"].values() for ph in vv),
+                         "enclosures": {"Pc": [stored(v) for v in fl["Pc"]],
+                                        "DP": [[stored(v) for v in row] for row in fl["DP"]],
+                                        "ppsi_box": stored(fl["ppsi_box"])}})
+            images[(i, m_)] = (pc, AX, fl)
+        flights.append({"set": i, "grid": list(grids[i]), "pieces": recs})
+    link_rec = _check_links(sets, links, grids, images, branch, check, say)
+    for idx in (0, n - 1):
+        c, A = set_data(sets[idx])
+        check(f"N{idx} symmetric", c[1] == 0 and A[0][1] == A[0][0] and A[1][1] == -A[1][0],
+              "centre on Fix(R) and A = [a, R a]: R(N)^T = N")
+    polys = [_vertices(*set_data(s)) for s in sets]
+    for j in range(1, n):
+        other = sets[j]["branch"] != sets[0]["branch"]
+        check(f"N0, N{j} disjoint", other or _disjoint(polys[0], polys[j]), "another branch of psi, or a separating "
+              "axis (exact rationals)")
+    for j in range(1, n - 1):
+        other = sets[j]["branch"] != sets[0]["branch"]
+        check(f"N0, R(N{j}) disjoint", other or _disjoint(polys[0], [(x, -y) for x, y in polys[j]]),
+              "another branch of psi (R keeps it), or a separating axis (exact)")
+    for i, s in enumerate(sets):
+        c, A = set_data(s)
+        check(f"N{i} nondegenerate", A[0][0] * A[1][1] - A[0][1] * A[1][0] != 0, "det A != 0")
+    Lloop = 2 * (n - 1)
+    rho = entropy_root_lower_cycle(per, Lloop)
+    digest = fields.source_digest(module)
+    check("field_is_derived", digest == fields.source_digest(gen),
+          "the vector field is the derive-generated generated/validated.py (SHA-256 of its source)")
+    pj = p.as_json()
+    return {
+        "format": FORMAT, "kind": KIND,
+        "theorem": section_horseshoe_theorem(pj, _q(h), n - 1, Lloop, _q(rho), period=per),
+        "params": pj, "level": _q(h), "settings": st.as_json(), "field_digest": digest,
+        "sets": sets, "links": [[i, j] for i, j in links], "flights": flights, "link_margins": link_rec,
+        "loop_length": Lloop, "loop_lengths": [per, Lloop],
+        "entropy": {"rho_lower": _q(rho), "log_rho_lower": math.log(float(rho))},
+        "hypotheses_symbolic": ["reversor_reduced", "validated_fields", "full_ham_nondim"],
+        "design": {"x0_theta": _q(x0_theta), "period": per, "mu_u_cycle": mu, "cycle_closure": close,
+                   "cycle_stretch_u": clam, "cycle_stretch_s": csig, "l_cycle": lc, "w_cycle": wc,
+                   "s_star": s_star, "m_back": st.m_back, "dist_c1": dist, "L": L, "l": ls, "w": ws,
+                   "stretch_u": lam, "stretch_s": sig, "end_residual": resid, "end_residual_passes": passes,
+                   "angles_deg": [float(np.degrees(np.arccos(min(1.0, abs(float(np.dot(u, s))))))) for u, s in
+                                  zip(ceu + eus, ces + ess)]},
+    }
+
+
+def cycle_links(period: int, n: int) -> list:
+    """The links of the period-p graph on n sets (_prove_cycle; the verifier requires exactly these): the cycle
+    N0 => N1 => ... => N(p-1) => N0, then N(p-1) => N(p) => ... => N(n-1)."""
+    return ([(i, i + 1) for i in range(period - 1)] + [(period - 1, 0), (period - 1, period)]
+            + [(j, j + 1) for j in range(period, n - 1)])
+
+
 def _check_links(sets, links, grids, images, branch, check, say, shift=None) -> list:
     """The covering conditions (a'), (b), the image's psi branch and pbar_psi branch of every link i => j from the
     pieces' flights images[(i, n)] = (piece, A_X, flight); shift(i, j, fl): the flight with its "Pc" replaced by the
@@ -732,7 +1102,10 @@ def widen(cert: dict, lam_rad, *, module=gen, progress=None) -> ProofResult:
     the limit is the growth of the 5-D box's derivative enclosures with its lambdabar extent |v| lam_rad
     (docs/nonintegrability.md, statement 12).
 
-    Returns a ProofResult whose certificate has settings["lam_rad"] and a "v" per set."""
+    Returns a ProofResult whose certificate has settings["lam_rad"] and a "v" per set.  Point certificates of
+    period 1 only (lambda_motion follows x0 as a fixed point; a cycle certificate raises ParameterError)."""
+    if int(cert.get("settings", {}).get("period", 1)) != 1:
+        raise ParameterError("cert", "a certificate around a periodic orbit (period > 1) cannot be widened here")
     say = progress or (lambda s: None)
     w = ball.fraction(lam_rad)
     if w <= 0:
@@ -840,3 +1213,19 @@ def _widen(cert, w, module, check, say) -> dict:
     out["sets"], out["flights"], out["link_margins"] = sets, flights, link_rec
     out["design"] = {**cert["design"], "v": [[float(x) for x in v] for v in vs]}
     return out
+
+
+def entropy_root_lower_cycle(p: int, L: int, digits: int = 12) -> Fraction:
+    """A rational rho_lo < rho, the largest root of x^L = x^(L-p) + 1 (p < L: the blocks "1 0^(p-1)" and
+    "1 0^(L-1)"; p = 1 is entropy_root_lower's polynomial): f = x^L - x^(L-p) - 1 has f(1) = -1 < 0, f(2) > 0 and
+    f' = x^(L-p-1) (L x^p - (L-p)) > 0 for x >= 1, so one root in (1, 2): bisection, f(rho_lo) < 0 exactly."""
+    if not 1 <= p < L:
+        raise ValueError("need 1 <= p < L")
+    lo, hi = Fraction(1), Fraction(2)
+    for _ in range(int(digits * 3.33) + 2):
+        mid = (lo + hi) / 2
+        if mid**L - mid ** (L - p) - 1 < 0:
+            lo = mid
+        else:
+            hi = mid
+    return lo

@@ -182,8 +182,8 @@ STATEMENTS = (
        errata), and the chaos indicator classifies Fig 4(a)–(c) chaotic and 4(d) regular: evidence, not a proof,
        for the non-perturbative regime. Fig 4's level h = 0.9 does not contain the helical saddle (its H̄ is
        0.8305, 0.7720, 0.7253, 0.6955 at the four λ̄), so the homoclinic orbits of 5a are not about the figure's
-       section; a horseshoe of P on Fig 4's own level h = 9/10 is computer-verified at panels (a) and (b) only
-       (statement 12), not at (c), (d); on Fig 5's own level h = 4/5 the saddle of P and a horseshoe of P
+       section; a horseshoe of P on Fig 4's own level h = 9/10 is computer-verified at panels (a), (b) and (c)
+       (statement 12), not at (d); on Fig 5's own level h = 4/5 the saddle of P and a horseshoe of P
        are computer-verified at the four panels (statement 13). Numerically (float64) at λ̄ = 0.135 the unstable
        manifold of the section map's symmetric saddle (the fixed point of statement 11; eigenvalue 5.748 of DP,
        33.04 of DP²) meets Fix(R) transversally (W^u and W^s cross at 0.72°): a candidate, not a proof
@@ -208,7 +208,8 @@ STATEMENTS = (
        no longer finite). By 11 adjacent such boxes, for every λ̄ in [674989/5000000, 675011/5000000] = 0.135 ±
        2.2e−6 (magrod/proof/certificates/fig4a_interval/, `benchmarks/fig4_lambda_interval.py`: 191 s prove + 162 s
        verify, each certificate re-checked by the complete verifier in that run and by a slow test; `magrod
-       reproduce` verifies only the single box). Panel (c): the float search found no hyperbolic fixed point of P to prove. This is a hyperbolic
+       reproduce` verifies only the single box). Panel (c): the float search found no hyperbolic fixed point of P to prove
+       (its horseshoe in statement 12 is built on a periodic orbit of period 6 instead). This is a hyperbolic
        periodic orbit, not chaos by itself: the horseshoe on that level at panels (a) and (b) is statement 12,
        built on this saddle's homoclinic orbit. A hyperbolic fixed point persists, so the same holds on an open interval of
        λ̄ around each value, of unquantified size.""",
@@ -220,7 +221,7 @@ STATEMENTS = (
              "(reversibility; Devaney 1976)", "proved", "the argument of magrod/proof/periodic.py, hypotheses "
              "checked by the certificate")],
        phrases=(r"fixed point of (the section map )?P", r"section map's (symmetric )?saddle", r"h = 9/10")),
-    _s("12", "a horseshoe of the section map on Fig 4's own level h = 9/10, panels (a) and (b)",
+    _s("12", "a horseshoe of the section map on Fig 4's own level h = 9/10, panels (a), (b) and (c)",
        """At (m, μ, γ, δ) = (17/10, 2/5, 3, 3) and λ̄ = 27/200 (panel (a)) and 63/400 (panel (b)), on Fig 4's own
        level h = 9/10, the section map P of {sin ψ = 0, d sin ψ/dt > 0} has positive topological entropy: a
        compact forward-invariant set Λ with h_top(P|Λ) ≥ log ρ > 0.0882, ρ the largest root of x²⁸ = x²⁷ + 1 (a),
@@ -247,7 +248,16 @@ STATEMENTS = (
        hold only for |λ̄ − 27/200| ≲ 10⁻¹⁶; moving, the limit is N12 ⇒ N13 ((a′) margin 0.54 at 10⁻¹¹, 0.27 at
        2·10⁻¹¹, −5.2 at 10⁻¹⁰), so a wider interval costs one such certificate per 4·10⁻¹¹ of λ̄ (~5–10 min
        each), and beyond ~10⁻⁸ new sets (the motion is linear).
-       Panels (c) and (d) are not proved.""",
+       Panel (c) (λ̄ = 7/40, no hyperbolic fixed point of P): h_top(P|Λ) ≥ log ρ > 0.0152, ρ the largest root of
+       x¹⁶⁰ = x¹⁵⁴ + 1, from 81 h-sets (half-sizes 1.2·10⁻⁸ … 1.6·10⁻¹², all on the ψ = π branch): a cycle N0 ⇒ N1
+       ⇒ … ⇒ N5 ⇒ N0 of sets at the six points of a symmetric period-6 orbit of P (θ = 1.98883 on Fix(R); float
+       |μ_u(DP⁶)| = 5.685) and the chain N5 ⇒ N6 ⇒ … ⇒ N80 along the orbit's unstable manifold to Fix(R) (its 62nd
+       return from the fundamental domain), N0 and N80 R-symmetric, N0 disjoint from the others; the cycle and
+       the chain closed by reversibility are loops of lengths 6 and 160 through N0, so the visits to N0 code
+       concatenations of the blocks 1 0⁵ and 1 0¹⁵⁹ (horseshoe_fig4c.json, `magrod prove --horseshoe
+       1.988829300900816 --level 0.9 --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam 0.175 --design fig4c --branch
+       pi --root smallest`; prove 452 s, verify 165 s in one process; (a′) ≥ 0.120, (b) ≥ 1.199).
+       Panel (d) is not proved.""",
        [Step("the covering relations, the symmetry of N0 and Nk, the disjointness, the cover by pieces, the "
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
              "section_horseshoe)"),
@@ -357,9 +367,10 @@ def render_summary() -> str:
             f"size (cited persistence). Nonintegrability of the 9-D rod against every integral (not only those in "
             f"involution with m3), and near the perturbative regime, is **{status('7b')}** (7b; 4 rests on the "
             f"formal expansion 3). On Fig 4's own level h = 9/10 the section map has a hyperbolic fixed point (a "
-            f"saddle) at panels (a), (b), (d) (**{status('11')}**, 11), and at panels (a) and (b) a horseshoe: "
+            f"saddle) at panels (a), (b), (d) (**{status('11')}**, 11), and at panels (a), (b) and (c) a horseshoe: "
             f"positive topological entropy of the section map (**{status('12')}**, 12, covering relations along the "
-            f"saddle's homoclinic orbit; at (a) for every λ̄ in 0.135 ± 2·10⁻¹¹); at the other panels chaos there is **{status('10')}** evidence only "
+            f"saddle's homoclinic orbit, at (c) around a period-6 orbit of P; at (a) for every λ̄ in 0.135 ± "
+            f"2·10⁻¹¹); at panel (d) chaos there is **{status('10')}** evidence only "
             f"(10). In sec. 9's regime (λ̄ = 2, γ ≪ 1), on Fig 5's own level h = 4/5 (μ = 2λ̄ = 4, δ = 1/4): a "
             f"saddle of the section map at the four panels' γ and a horseshoe at each (**{status('13')}**, "
             f"13; at γ = 3/20 for every λ̄ in 2 ± 2·10⁻¹¹). The paper's own "
@@ -377,7 +388,7 @@ def render_readme() -> str:
             f"(**{status('7')}**); every other nonintegrability claim (every integral, not only those in involution with "
             f"m3; the perturbative regime) is **{status('7b')}**; on Fig 4's own level h = 9/10 a saddle of the section "
             f"map at three of the four panels is **{status('11')}**, a horseshoe of the section map (positive "
-            f"topological entropy) at panels (a) and (b) is **{status('12')}** (statement 12; at (a) for every λ̄ in "
+            f"topological entropy) at panels (a), (b) and (c) is **{status('12')}** (statement 12; at (a) for every λ̄ in "
             f"0.135 ± 2·10⁻¹¹), on Fig 5's own level h = 4/5 "
             f"(sec. 9's regime: λ̄ = 2, γ ≪ 1) a saddle of the section map at the four panels and a horseshoe at "
             f"each are **{status('13')}** (statement 13), and the chaos of Figs 4–5 "

@@ -124,7 +124,7 @@ def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0", br
 
 
 def section_horseshoe_theorem(params: dict, level: str, k: int, loop_length: int, rho_lower: str,
-                              lam_rad: str = "0") -> str:
+                              lam_rad: str = "0", period: int = 1) -> str:
     """The statement established by a verified horseshoe certificate (kind "section_horseshoe").
 
     Parameters
@@ -142,6 +142,10 @@ def section_horseshoe_theorem(params: dict, level: str, k: int, loop_length: int
     lam_rad : str
         Half-width of the lambdabar interval the certificate carries (exact rational string; "0": the point).
         The sets then move with lambdabar (N_j(lambdabar) = c_j + v_j (lambdabar - lambdabar_0) + A_j [-1, 1]^2).
+    period : int
+        p > 1: the sets N0 .. Nk are a cycle N0 => N1 => ... => N(p-1) => N0 around a symmetric periodic orbit of
+        period p and the chain N(p-1) => Np => ... => Nk (horseshoe._prove_cycle); L = 2k and rho is the largest
+        root of x^L = x^(L-p) + 1 (the blocks 1 0^(p-1) and 1 0^(L-1)).  p = 1: the text above, unchanged.
 
     Returns
     -------
@@ -154,6 +158,18 @@ def section_horseshoe_theorem(params: dict, level: str, k: int, loop_length: int
     w = Fraction(lam_rad)
     where = _where(params, w, "and for every")
     sets = "h-sets" if w == 0 else "h-sets (moving with lambdabar along the certificate's v_j)"
+    if period != 1:
+        q = period
+        return (f"{where}, on the level Hbar = {_rational(level)}, the section map "
+                f"P of {{sin psi = 0, d(sin psi)/dt > 0}} (section coordinates (theta, pbar_theta)) has {sets} N0, "
+                f"..., N{k} with the covering relations N0 => N1 => ... => N{q - 1} => N0 (a cycle of length {q}) "
+                f"and N{q - 1} => N{q} => ... => N{k} (Zgliczynski-Gidea 2004), N0 and N{k} symmetric under the "
+                f"reversor R, N0 disjoint from the other sets of the loops; by reversibility the chain N0 => ... => "
+                f"N{k} closes through back-coverings into a loop of length {loop_length} through N0, so P has a "
+                f"compact forward-invariant set Lambda on which it is semiconjugate to the shift on concatenations "
+                f"of the blocks 1 0^{q - 1} and 1 0^{loop_length - 1} (the visits to N0): h_top(P|Lambda) >= log rho "
+                f"> {math.floor(math.log(float(rho)) * 1e4) / 1e4}, rho the largest root of x^{loop_length} = "
+                f"x^{loop_length - q} + 1, rho > {_rational(rho_lower)}.")
     return (f"{where}, on the level Hbar = {_rational(level)}, the section map "
             f"P of {{sin psi = 0, d(sin psi)/dt > 0}} (section coordinates (theta, pbar_theta)) has {sets} N0, ..., "
             f"N{k} with the covering relations N0 => N0 and N0 => N1 => ... => N{k} (Zgliczynski-Gidea 2004), N0 "

@@ -662,7 +662,7 @@ def _verify_horseshoe(cert, module, t0, workers=None) -> VerifyResult:
     return VerifyResult(True, "certificate verified: every link re-flown and every check holds", checks,
                         time.perf_counter() - t0,
                         section_horseshoe_theorem(p.as_json(), cert["level"], vals["k"], vals["L"], vals["rho"],
-                                                  vals["lam_rad"]),
+                                                  vals["lam_rad"], period=vals["period"]),
                         {}, {})
 
 
@@ -792,6 +792,19 @@ def _hs_branch_boxes(cert, pars, sets, brs, module, claim=None) -> list:
     return out
 
 
+def _hs_graph(cert, n: int) -> tuple:
+    """(period p, the links the certificate must have) for n sets.  p = 1 (no "period" in the settings): N0 => N0,
+    N0 => N1 => ... => N(n-1).  p > 1 (horseshoe._prove_cycle): the cycle N0 => N1 => ... => N(p-1) => N0 and the
+    chain N(p-1) => Np => ... => N(n-1) (at least two sets after the cycle, so that Np and N(n-1) differ)."""
+    per = int(cert["settings"].get("period", 1))
+    if per == 1:
+        return 1, [[0, 0], [0, 1]] + [[j, j + 1] for j in range(1, n - 1)]
+    if not 2 <= per <= n - 3:
+        raise ValueError(f"period {per} out of range for {n} sets")
+    return per, ([[i, i + 1] for i in range(per - 1)] + [[per - 1, 0], [per - 1, per]]
+                 + [[j, j + 1] for j in range(per, n - 1)])
+
+
 def _hs_source(cert, i, order, module, claim, branch) -> None:
     """The checks of set N_i as a source, in the verifier's order: its pieces re-flown (steps, flight, level,
     positive return), then every link N_i => N_j of the chain.  Depends only on the certificate, i and the branch
@@ -805,8 +818,7 @@ def _hs_source(cert, i, order, module, claim, branch) -> None:
     p = fields.ExactParams(**{kk: _frac(cert["params"][kk]) for kk in fields.PARAMS})
     sets = [_hs_set(d) for d in cert["sets"]]
     brs = [d.get("branch", "0") for d in cert["sets"]]
-    k = len(sets) - 1
-    want = [[0, 0], [0, 1]] + [[j, j + 1] for j in range(1, k)]
+    want = _hs_graph(cert, len(sets))[1]
     fl = {int(f["set"]): f for f in cert["flights"]}[i]
     pieces = [tuple(_frac(v) for v in r["piece"]) for r in fl["pieces"]]
     pars = p.balls()
@@ -1005,9 +1017,10 @@ def _horseshoe(cert, p, order, module, claim, workers=None) -> dict:
         raise ValueError("a set's branch is '0' or 'pi'")
     k = len(sets) - 1
     claim("chain length", k >= 2, f"{k + 1} sets")
-    want = [[0, 0], [0, 1]] + [[j, j + 1] for j in range(1, k)]
+    per, want = _hs_graph(cert, k + 1)
     claim("links", [list(map(int, lk)) for lk in cert["links"]] == want,
-          "exactly N0 => N0, N0 => N1 => ... => Nk (a complete chain)")
+          "exactly N0 => N0, N0 => N1 => ... => Nk (a complete chain)" if per == 1 else
+          f"exactly the cycle N0 => N1 => ... => N{per - 1} => N0 and the chain N{per - 1} => N{per} => ... => N{k}")
     for i, (_c, A) in enumerate(sets):
         claim(f"N{i} nondegenerate", A[0][0] * A[1][1] - A[0][1] * A[1][0] != 0, "det A != 0")
     lm = _hs_lam(cert, p, module)
@@ -1038,10 +1051,13 @@ def _horseshoe(cert, p, order, module, claim, workers=None) -> dict:
     L = 2 * k
     claim("loop length", int(cert["loop_length"]) == L, f"the loop N0 => ... => N{k} <= ... <= N0 has length 2k = {L}")
     rho = _frac(cert["entropy"]["rho_lower"])
-    claim("entropy bound", 1 < rho < 2 and rho**L - rho ** (L - 1) - 1 < 0,
-          f"rho_lower = {float(rho):.12g} is below the largest root of x^{L} = x^{L - 1} + 1 (f(rho_lower) < 0)")
+    # the other loop through N0 has length p (p = 1: N0 => N0): blocks 1 0^(p-1) and 1 0^(L-1), x^L = x^(L-p) + 1
+    # (f(1) = -1, f increasing on [1, 2]: f(rho_lower) < 0 puts rho_lower below the largest root)
+    claim("entropy bound", 1 < rho < 2 and rho**L - rho ** (L - per) - 1 < 0,
+          f"rho_lower = {float(rho):.12g} is below the largest root of x^{L} = x^{L - per} + 1 (f(rho_lower) < 0)")
     w_txt = "0" if lm is None else f"{lm[0].numerator}/{lm[0].denominator}"
-    text = section_horseshoe_theorem(p.as_json(), cert["level"], k, L, cert["entropy"]["rho_lower"], w_txt)
+    text = section_horseshoe_theorem(p.as_json(), cert["level"], k, L, cert["entropy"]["rho_lower"], w_txt,
+                                     period=per)
     claim("theorem", cert.get("theorem") == text, "the certificate states exactly the theorem generated here")
     fl_by_set = {int(f["set"]): f for f in cert["flights"]}
     claim("flights", sorted(fl_by_set) == list(range(k)), "one flight record per set N0 .. N(k-1)")
@@ -1057,4 +1073,4 @@ def _horseshoe(cert, p, order, module, claim, workers=None) -> dict:
             _hs_source(cert, i, order, module, claim, boxes)
     else:
         _hs_sources_parallel(cert, k, w, claim)
-    return {"k": k, "L": L, "rho": cert["entropy"]["rho_lower"], "lam_rad": w_txt}
+    return {"k": k, "L": L, "rho": cert["entropy"]["rho_lower"], "lam_rad": w_txt, "period": per}
