@@ -285,24 +285,7 @@ def float_design(P: FloatMap, x0, m: int, s_star: float, n_exc: int = 8) -> dict
     eu = unit(np.real(V[:, iu]))
     eu = -eu if eu[0] < 0 else eu
 
-    def end(s):  # 4-D states (the excursion may visit the psi = pi branch of Sigma+)
-        x = P.lift(x0 + s * eu)
-        for _ in range(n_exc):
-            x = P.full4(x)[0]
-        return x[fields.PTHETA]
-
-    a, b = s_star * (1 - 1e-4), s_star * (1 + 1e-4)
-    fa = end(a)
-    if fa * end(b) > 0:
-        raise ProofFailure(f"design: no sign change of pbar_theta at return {n_exc} around s* = {s_star:.6g}")
-    for _ in range(60):
-        c = 0.5 * (a + b)
-        fc = end(c)
-        if (fc > 0) == (fa > 0):
-            a, fa = c, fc
-        else:
-            b = c
-    s = 0.5 * (a + b)
+    s = _float_s_star(P, x0, eu, s_star, n_exc)  # the excursion may visit the psi = pi branch: 4-D states
     # c_1 = P^-m(z_0) on the local W^u, to O(t^2): x0 + t e_u, t = s* mu_u^-m (not the float P^-m: its error
     # in the stable direction grows by mu_u per pull-back); mu_u < 0 (Fig 5: a flip saddle) alternates the side
     t = s / float(np.real(w[iu])) ** m
@@ -546,61 +529,18 @@ def _mid_matrix(DP):
     return np.array([[float(v.mid()) for v in row] for row in DP])
 
 
-def _prove(p, h, x0_theta, st, module, check, say) -> dict:
-    pars = p.balls()
-    fld = fields.chart_field(p, module)
-    P = FloatMap(p, h, st.branch, st.root)
-    say("float search for x0")
-    th_f = periodic.float_fixed_point(p, h, float(x0_theta), root=st.root, branch=st.branch)[0]
-    x0_theta = dyadic(float(th_f), 53)
-    x0 = np.array([float(x0_theta), 0.0])
-    say("float design")
-    fd = float_design(P, x0, st.m_back, st.s_star, st.n_exc)
-    k = st.n_exc + st.m_back + 1  # N_1 at z_-m .. N_k at z_n_exc
-    lead = st.lead
-
-    def fly(c, A, pc, br, steps=None, box=True, tol_thin=None, thin=None):
-        x4 = np.zeros(4)
-        x4[fields.THETA], x4[fields.PTHETA], x4[fields.PPSI] = float(c[0]), float(c[1]), float(pc)
-        x4[fields.PSI] = 0.0 if br == "0" else math.pi
-        T = P.full4(x4)[1]
-        t_a = t_approach(T, lead)
-        fl = periodic.piece_return(pars, h, fld, c, A, pc, st.p_rad, t_a, lead, t1=st.t1, order=st.order,
-                                   tol=st.tol, tol_thin=tol_thin or st.tol_thin, steps=steps, newton=st.newton,
-                                   box=box, thin=thin, branch=br, module=module)
-        fl["t_a"] = t_a
-        return fl
-
-    zero = [[Fraction(0), Fraction(0)], [Fraction(0), Fraction(0)]]
-
-    def pc_of(c):
-        return dyadic(float(P.lift([float(c[0]), float(c[1])])[fields.PPSI]), 50)
-
-    def chain(c1, tol_thin):
-        """Centres, their pbar_psi, their branches ("0": cos psi > 0, "pi": cos psi < 0) and the flights."""
-        cs, pcs, brs, fls = [c1], [pc_of(c1)], [st.branch], []
-        for j in range(k - 1):
-            fl = fly(cs[-1], zero, pcs[-1], brs[-1], box=False, tol_thin=tol_thin)
-            check(f"chain flight {j + 1}", fl["level_ok"], "the level's Newton at the chain's centre")
-            cp = fl["cospsi_thin"]
-            check(f"chain flight {j + 1} branch", ball.excludes_zero(cp), f"cos psi = {cp} at the crossing")
-            fls.append(fl)
-            cs.append([dyadic_of(fl["Pc"][0].mid()), dyadic_of(fl["Pc"][1].mid())])
-            pcs.append(dyadic_of(fl["ppsi_thin"].mid(), 60))
-            brs.append("0" if ball.positive(cp) else "pi")
-        return cs, pcs, brs, fls
-
-    c1 = [x0_theta + Fraction(fd["t"]) * Fraction(fd["e_u0"][0]), Fraction(fd["t"]) * Fraction(fd["e_u0"][1])]
-    c1 = [dyadic_of(v) for v in c1]
-    # the chain by the validated centre flights; Newton steps along e_u^1 put P^(k-1)(c_1) on Fix(R): two passes
-    # at the design tolerance, the last at tol_thin (its flights are the certificate's centre flights)
+def _chain_passes(fly_chain, c1, e_u1, x0, n_flights, st, say):
+    """The chain by the validated centre flights fly_chain(c1, tol) -> (centres, pbar_psi, branches, flights), one
+    pass per st.passes; after each pass but the last a Newton step along e_u^1 moves c_1 so that the chain's end
+    lies on Fix(R) (with st.stop_frac, the passes stop once it is within stop_frac of the end set's width).
+    Returns the last pass's chain, its frames (e_u, e_s, stretches) and the end residual of every pass."""
     passes = []
     sched = [st.tol if kind == "tol" else st.tol_thin for kind in st.passes]
     for n_pass, tl in enumerate(sched):
-        say(f"chain pass {n_pass + 1} ({k - 1} centre flights, tol {tl:g})")
-        cs, pcs, brs, fls = chain(c1, tl)
+        say(f"chain pass {n_pass + 1} ({n_flights} centre flights, tol {tl:g})")
+        cs, pcs, brs, fls = fly_chain(c1, tl)
         DPs = [_mid_matrix(f["DPc"]) for f in fls]
-        eus, ess, lam, sig = _frame_from(DPs, fd["e_u0"])
+        eus, ess, lam, sig = _frame_from(DPs, e_u1)
         delta = float(fls[-1]["Pc"][1].mid())
         passes.append(delta)
         if n_pass == len(sched) - 1:
@@ -618,6 +558,134 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
         say(f"  pbar_theta at the end {delta:.3g}: shift {shift:.3g} along e_u")
         c1 = [dyadic_of(c1[0] + Fraction(shift) * Fraction(eus[0][0])),
               dyadic_of(c1[1] + Fraction(shift) * Fraction(eus[0][1]))]
+    return cs, pcs, brs, fls, (eus, ess, lam, sig), passes
+
+
+def _branch_boxes(pars, h, sets, p_rad, module, check) -> dict:
+    """{i: B}: the level's root pbar_psi unique in B = [p_c - p_rad, p_c + p_rad] over each set's hull."""
+    branch = {}
+    for i, sd in enumerate(sets):
+        c, A = set_data(sd)
+        _, B, ok = periodic.level_newton_section(pars, h, *_hull(c, A), Fraction(sd["p_c"]), p_rad, module,
+                                                 sd["branch"])
+        check(f"N{i} branch box", ok, "pbar_psi unique in the branch box over the set's hull")
+        branch[i] = B
+    return branch
+
+
+def _fly_sets(sets, n_src, grids, fly, thin_of, branch, check, say):
+    """Every piece of the sources N_0 .. N_(n_src - 1) flown one return (fly: periodic.piece_return with the
+    prover's settings; thin_of[i], when given, is N_i's centre flight already taken, reused for a one-piece set), its
+    level and positive return checked.  Returns the certificate's flight records and images[(i, n)] = (piece,
+    A_X, flight) for _check_links."""
+    flights, images = [], {}
+    for i in range(n_src):
+        cN, AN = set_data(sets[i])
+        pieces = grid_pieces(*grids[i])
+        recs = []
+        for n, pc in enumerate(pieces):
+            say(f"set N{i}: piece {n + 1}/{len(pieces)}")
+            cX, AX = piece_geometry(cN, AN, pc)
+            ppc = Fraction(sets[i]["p_c"])
+            fl = fly(cX, AX, ppc, sets[i]["branch"], thin=thin_of.get(i) if len(pieces) == 1 else None)
+            check(f"N{i} piece {n} level", fl["level_ok"] and ball.subset(fl["ppsi_hull"], branch[i]),
+                  "pbar_psi unique in its Newton box over the piece, inside the set's branch box")
+            check(f"N{i} piece {n} positive return", ball.positive(fl["gdot_thin"]) and ball.positive(fl["gdot_box"]),
+                  f"d(sin psi)/dt = {fl['gdot_box']} > 0 at the crossing")
+            recs.append({"piece": [_q(v) for v in pc], "p_c": _q(ppc), "t_a": _q(fl["t_a"]),
+                         "steps": {kk: [[ball.decimal(s) for s in ph] for ph in vv] for kk, vv in fl["steps"].items()},
+                         "n_steps": sum(len(ph) for vv in fl["steps"].values() for ph in vv),
+                         "enclosures": {"Pc": [stored(v) for v in fl["Pc"]],
+                                        "DP": [[stored(v) for v in row] for row in fl["DP"]],
+                                        "ppsi_box": stored(fl["ppsi_box"])}})
+            images[(i, n)] = (pc, AX, fl)
+        flights.append({"set": i, "grid": list(grids[i]), "pieces": recs})
+    return flights, images
+
+
+def _symmetric_and_disjoint(sets, check) -> None:
+    """N0 and the end set N_last symmetric (R(N)^T = N), N0 disjoint from every other set and from the reversed
+    copies R(N_j) of the inner ones (exact rationals: the coding by visits to N0 is then well defined), every A
+    nondegenerate."""
+    last = len(sets) - 1
+    for idx in (0, last):
+        c, A = set_data(sets[idx])
+        check(f"N{idx} symmetric", c[1] == 0 and A[0][1] == A[0][0] and A[1][1] == -A[1][0],
+              "centre on Fix(R) and A = [a, R a]: R(N)^T = N")
+    polys = [_vertices(*set_data(s)) for s in sets]
+    for j in range(1, last + 1):
+        other = sets[j]["branch"] != sets[0]["branch"]
+        check(f"N0, N{j} disjoint", other or _disjoint(polys[0], polys[j]), "another branch of psi, or a separating "
+              "axis (exact rationals)")
+    for j in range(1, last):
+        other = sets[j]["branch"] != sets[0]["branch"]
+        check(f"N0, R(N{j}) disjoint", other or _disjoint(polys[0], [(x, -y) for x, y in polys[j]]),
+              "another branch of psi (R keeps it), or a separating axis (exact)")
+    for i, s in enumerate(sets):
+        c, A = set_data(s)
+        check(f"N{i} nondegenerate", A[0][0] * A[1][1] - A[0][1] * A[1][0] != 0, "det A != 0")
+
+
+def _fliers(P: FloatMap, pars, h, fld, st: HorseshoeSettings, module, check):
+    """The provers' validated flights with the settings st: fly(c, A, pc, branch, ...) one return of the set
+    c + A [-1, 1]^2 (periodic.piece_return, t_a from the float return time), pc_of(c) the float level root at c,
+    orbit(c1, pc1, n, tol_thin, name) the centres, pbar_psi, branches ("0": cos psi > 0, "pi": cos psi < 0) and
+    flights of n validated returns from c1 (the centres: the flights' 128-bit midpoints)."""
+    zero = [[Fraction(0), Fraction(0)], [Fraction(0), Fraction(0)]]
+
+    def fly(c, A, pc, br, steps=None, box=True, tol_thin=None, thin=None):
+        x4 = np.zeros(4)
+        x4[fields.THETA], x4[fields.PTHETA], x4[fields.PPSI] = float(c[0]), float(c[1]), float(pc)
+        x4[fields.PSI] = 0.0 if br == "0" else math.pi
+        T = P.full4(x4)[1]
+        t_a = t_approach(T, st.lead)
+        fl = periodic.piece_return(pars, h, fld, c, A, pc, st.p_rad, t_a, st.lead, t1=st.t1, order=st.order,
+                                   tol=st.tol, tol_thin=tol_thin or st.tol_thin, steps=steps, newton=st.newton,
+                                   box=box, thin=thin, branch=br, module=module)
+        fl["t_a"] = t_a
+        return fl
+
+    def pc_of(c):
+        return dyadic(float(P.lift([float(c[0]), float(c[1])])[fields.PPSI]), 50)
+
+    def orbit(c1, pc1, n, tol_thin, name):
+        cs, pcs, brs, fls = [c1], [pc1], [st.branch], []
+        for j in range(n):
+            fl = fly(cs[-1], zero, pcs[-1], brs[-1], box=False, tol_thin=tol_thin)
+            check(f"{name} flight {j + 1}", fl["level_ok"], "the level's Newton at the centre")
+            cp = fl["cospsi_thin"]
+            check(f"{name} flight {j + 1} branch", ball.excludes_zero(cp), f"cos psi = {cp} at the crossing")
+            fls.append(fl)
+            cs.append([dyadic_of(fl["Pc"][0].mid()), dyadic_of(fl["Pc"][1].mid())])
+            pcs.append(dyadic_of(fl["ppsi_thin"].mid(), 60))
+            brs.append("0" if ball.positive(cp) else "pi")
+        return cs, pcs, brs, fls
+
+    return fly, pc_of, orbit
+
+
+def _prove(p, h, x0_theta, st, module, check, say) -> dict:
+    pars = p.balls()
+    fld = fields.chart_field(p, module)
+    P = FloatMap(p, h, st.branch, st.root)
+    say("float search for x0")
+    th_f = periodic.float_fixed_point(p, h, float(x0_theta), root=st.root, branch=st.branch)[0]
+    x0_theta = dyadic(float(th_f), 53)
+    x0 = np.array([float(x0_theta), 0.0])
+    say("float design")
+    fd = float_design(P, x0, st.m_back, st.s_star, st.n_exc)
+    k = st.n_exc + st.m_back + 1  # N_1 at z_-m .. N_k at z_n_exc
+
+    fly, pc_of, orbit = _fliers(P, pars, h, fld, st, module, check)
+
+    def chain(c1, tol_thin):
+        return orbit(c1, pc_of(c1), k - 1, tol_thin, "chain")
+
+    c1 = [x0_theta + Fraction(fd["t"]) * Fraction(fd["e_u0"][0]), Fraction(fd["t"]) * Fraction(fd["e_u0"][1])]
+    c1 = [dyadic_of(v) for v in c1]
+    # the chain by the validated centre flights; Newton steps along e_u^1 put P^(k-1)(c_1) on Fix(R): two passes
+    # at the design tolerance, the last at tol_thin (its flights are the certificate's centre flights)
+    cs, pcs, brs, fls, (eus, ess, lam, sig), passes = _chain_passes(chain, c1, fd["e_u0"], x0, k - 1, st, say)
     resid = passes[-1]
     cs[-1] = [dyadic_of(fls[-1]["Pc"][0].mid()), Fraction(0)]
     dist = float(np.hypot(float(cs[0][0]) - x0[0], float(cs[0][1])))
@@ -638,60 +706,16 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     sets.append(hset(cs[-1], [[ak[0], ak[0]], [ak[1], -ak[1]]]))
     sets[-1]["p_c"], sets[-1]["branch"] = _q(pcs[-1]), brs[-1]
     # the branch boxes: the level's root unique in [p_c - p_rad, p_c + p_rad] over each set's hull
-    branch = {}
-    for i, sd in enumerate(sets):
-        c, A = set_data(sd)
-        _, B, ok = periodic.level_newton_section(pars, h, *_hull(c, A), Fraction(sd["p_c"]), st.p_rad, module,
-                                                 sd["branch"])
-        check(f"N{i} branch box", ok, "pbar_psi unique in the branch box over the set's hull")
-        branch[i] = B
+    branch = _branch_boxes(pars, h, sets, st.p_rad, module, check)
     # links, pieces, flights
     links = [(0, 0), (0, 1)] + [(j, j + 1) for j in range(1, k)]
     grids = {i: (1, 1) for i in range(k)}
     grids.update(st.pieces or {})
-    flights = []
-    images = {}
-    for i in range(k):
-        cN, AN = set_data(sets[i])
-        pcs = grid_pieces(*grids[i])
-        recs = []
-        for n, pc in enumerate(pcs):
-            say(f"set N{i}: piece {n + 1}/{len(pcs)}")
-            cX, AX = piece_geometry(cN, AN, pc)
-            ppc = Fraction(sets[i]["p_c"])
-            reuse = fls[i - 1] if (i >= 1 and len(pcs) == 1) else None  # the chain's flight from c_i = c_X
-            fl = fly(cX, AX, ppc, sets[i]["branch"], thin=reuse)
-            check(f"N{i} piece {n} level", fl["level_ok"] and ball.subset(fl["ppsi_hull"], branch[i]),
-                  "pbar_psi unique in its Newton box over the piece, inside the set's branch box")
-            check(f"N{i} piece {n} positive return", ball.positive(fl["gdot_thin"]) and ball.positive(fl["gdot_box"]),
-                  f"d(sin psi)/dt = {fl['gdot_box']} > 0 at the crossing")
-            recs.append({"piece": [_q(v) for v in pc], "p_c": _q(ppc), "t_a": _q(fl["t_a"]),
-                         "steps": {kk: [[ball.decimal(s) for s in ph] for ph in vv] for kk, vv in fl["steps"].items()},
-                         "n_steps": sum(len(ph) for vv in fl["steps"].values() for ph in vv),
-                         "enclosures": {"Pc": [stored(v) for v in fl["Pc"]],
-                                        "DP": [[stored(v) for v in row] for row in fl["DP"]],
-                                        "ppsi_box": stored(fl["ppsi_box"])}})
-            images[(i, n)] = (pc, AX, fl)
-        flights.append({"set": i, "grid": list(grids[i]), "pieces": recs})
+    # the chain's flight from c_i is N_i's centre flight (one piece: c_X = c_i)
+    flights, images = _fly_sets(sets, k, grids, fly, {i: fls[i - 1] for i in range(1, k)}, branch, check, say)
     link_rec = _check_links(sets, links, grids, images, branch, check, say)
     # symmetry, disjointness, entropy
-    for name, idx in (("N0", 0), (f"N{k}", k)):
-        c, A = set_data(sets[idx])
-        check(f"{name} symmetric", c[1] == 0 and A[0][1] == A[0][0] and A[1][1] == -A[1][0],
-              "centre on Fix(R) and A = [a, R a]: R(N)^T = N")
-    polys = [_vertices(*set_data(s)) for s in sets]
-    c0p = polys[0]
-    for j in range(1, k + 1):
-        other = sets[j]["branch"] != sets[0]["branch"]
-        check(f"N0, N{j} disjoint", other or _disjoint(c0p, polys[j]), "another branch of psi, or a separating "
-              "axis (exact rationals)")
-    for j in range(1, k):
-        other = sets[j]["branch"] != sets[0]["branch"]
-        check(f"N0, R(N{j}) disjoint", other or _disjoint(c0p, [(x, -y) for x, y in polys[j]]),
-              "another branch of psi (R keeps it), or a separating axis (exact)")
-    for i, s in enumerate(sets):
-        c, A = set_data(s)
-        check(f"N{i} nondegenerate", A[0][0] * A[1][1] - A[0][1] * A[1][0] != 0, "det A != 0")
+    _symmetric_and_disjoint(sets, check)
     Lloop = 2 * k
     rho = entropy_root_lower(Lloop)
     digest = fields.source_digest(module)
@@ -750,38 +774,8 @@ def _prove_cycle(p, h, x0_theta, st, module, check, say) -> dict:
     cyc = float_cycle(P, float(x0_theta), per)
     x0_theta = dyadic(cyc["theta"], 53)
     x0 = np.array([float(x0_theta), 0.0])
-    lead = st.lead
-    zero = [[Fraction(0), Fraction(0)], [Fraction(0), Fraction(0)]]
 
-    def fly(c, A, pc, br, steps=None, box=True, tol_thin=None, thin=None):
-        x4 = np.zeros(4)
-        x4[fields.THETA], x4[fields.PTHETA], x4[fields.PPSI] = float(c[0]), float(c[1]), float(pc)
-        x4[fields.PSI] = 0.0 if br == "0" else math.pi
-        T = P.full4(x4)[1]
-        t_a = t_approach(T, lead)
-        fl = periodic.piece_return(pars, h, fld, c, A, pc, st.p_rad, t_a, lead, t1=st.t1, order=st.order,
-                                   tol=st.tol, tol_thin=tol_thin or st.tol_thin, steps=steps, newton=st.newton,
-                                   box=box, thin=thin, branch=br, module=module)
-        fl["t_a"] = t_a
-        return fl
-
-    def pc_of(c):
-        return dyadic(float(P.lift([float(c[0]), float(c[1])])[fields.PPSI]), 50)
-
-    def orbit(c1, pc1, n, tol_thin, name):
-        """Centres, pbar_psi, branches and flights of n validated returns from c1 (the centres: the flights'
-        128-bit midpoints)."""
-        cs, pcs, brs, fls = [c1], [pc1], [st.branch], []
-        for j in range(n):
-            fl = fly(cs[-1], zero, pcs[-1], brs[-1], box=False, tol_thin=tol_thin)
-            check(f"{name} flight {j + 1}", fl["level_ok"], "the level's Newton at the centre")
-            cp = fl["cospsi_thin"]
-            check(f"{name} flight {j + 1} branch", ball.excludes_zero(cp), f"cos psi = {cp} at the crossing")
-            fls.append(fl)
-            cs.append([dyadic_of(fl["Pc"][0].mid()), dyadic_of(fl["Pc"][1].mid())])
-            pcs.append(dyadic_of(fl["ppsi_thin"].mid(), 60))
-            brs.append("0" if ball.positive(cp) else "pi")
-        return cs, pcs, brs, fls
+    fly, pc_of, orbit = _fliers(P, pars, h, fld, st, module, check)
 
     # the cycle: x_0 .. x_(p-1) by validated returns from x0 (x_p = P^p(x0) closes on x0 up to the float theta*)
     say(f"cycle: {per} centre flights (tol {st.tol_thin:g})")
@@ -817,30 +811,8 @@ def _prove_cycle(p, h, x0_theta, st, module, check, say) -> dict:
     s_star = _float_s_star(P, x0, eu, st.s_star, st.n_exc)
     t = s_star / abs(mu) ** st.m_back
     c1 = [dyadic_of(x0_theta + Fraction(t) * Fraction(eu[0])), dyadic_of(Fraction(t) * Fraction(eu[1]))]
-    passes = []
-    sched = [st.tol if kind == "tol" else st.tol_thin for kind in st.passes]
-    for n_pass, tl in enumerate(sched):
-        say(f"chain pass {n_pass + 1} ({k - 1} centre flights, tol {tl:g})")
-        cs, pcs, brs, fls = orbit(c1, pc_of(c1), k - 1, tl, "chain")
-        DPs = [_mid_matrix(f["DPc"]) for f in fls]
-        eus, ess, lam, sig = _frame_from(DPs, eu)
-        delta = float(fls[-1]["Pc"][1].mid())
-        passes.append(delta)
-        if n_pass == len(sched) - 1:
-            break
-        if st.stop_frac and len(set(sched[n_pass:])) == 1:
-            d_ = float(np.hypot(float(cs[0][0]) - x0[0], float(cs[0][1])))
-            w_end = sizes(lam, sig, d_ * st.l1_frac, st.qu, st.qs, st.w_cap * d_ * st.l1_frac)[1][-1]
-            if abs(delta) < st.stop_frac * w_end:
-                say(f"  pbar_theta at the end {delta:.3g} < {st.stop_frac:g} w_k: the chain passes stop")
-                break
-        v = eus[0]
-        for D in DPs:
-            v = D @ v
-        shift = -delta / v[1]
-        say(f"  pbar_theta at the end {delta:.3g}: shift {shift:.3g} along e_u")
-        c1 = [dyadic_of(c1[0] + Fraction(shift) * Fraction(eus[0][0])),
-              dyadic_of(c1[1] + Fraction(shift) * Fraction(eus[0][1]))]
+    cs, pcs, brs, fls, (eus, ess, lam, sig), passes = _chain_passes(
+        lambda c, tl: orbit(c, pc_of(c), k - 1, tl, "chain"), c1, eu, x0, k - 1, st, say)
     resid = passes[-1]
     cs[-1] = [dyadic_of(fls[-1]["Pc"][0].mid()), Fraction(0)]
     dist = float(np.hypot(float(cs[0][0]) - x0[0], float(cs[0][1])))
@@ -871,57 +843,15 @@ def _prove_cycle(p, h, x0_theta, st, module, check, say) -> dict:
     sets.append(hset(cs[-1], [[ak[0], ak[0]], [ak[1], -ak[1]]]))
     sets[-1]["p_c"], sets[-1]["branch"] = _q(pcs[-1]), brs[-1]
     n = len(sets)
-    branch = {}
-    for i, sd in enumerate(sets):
-        c, A = set_data(sd)
-        _, B, ok = periodic.level_newton_section(pars, h, *_hull(c, A), Fraction(sd["p_c"]), st.p_rad, module,
-                                                 sd["branch"])
-        check(f"N{i} branch box", ok, "pbar_psi unique in the branch box over the set's hull")
-        branch[i] = B
+    branch = _branch_boxes(pars, h, sets, st.p_rad, module, check)
     links = cycle_links(per, n)
     grids = {i: (1, 1) for i in range(n - 1)}
     grids.update(st.pieces or {})
     thin_of = {i: cfls[i] for i in range(per)}
     thin_of.update({per + j: fls[j] for j in range(k - 1)})  # C_(j+1)'s centre flight is the chain's j-th
-    flights, images = [], {}
-    for i in range(n - 1):
-        cN, AN = set_data(sets[i])
-        pcs_ = grid_pieces(*grids[i])
-        recs = []
-        for m_, pc in enumerate(pcs_):
-            say(f"set N{i}: piece {m_ + 1}/{len(pcs_)}")
-            cX, AX = piece_geometry(cN, AN, pc)
-            ppc = Fraction(sets[i]["p_c"])
-            fl = fly(cX, AX, ppc, sets[i]["branch"], thin=thin_of[i] if len(pcs_) == 1 else None)
-            check(f"N{i} piece {m_} level", fl["level_ok"] and ball.subset(fl["ppsi_hull"], branch[i]),
-                  "pbar_psi unique in its Newton box over the piece, inside the set's branch box")
-            check(f"N{i} piece {m_} positive return", ball.positive(fl["gdot_thin"]) and ball.positive(fl["gdot_box"]),
-                  f"d(sin psi)/dt = {fl['gdot_box']} > 0 at the crossing")
-            recs.append({"piece": [_q(v) for v in pc], "p_c": _q(ppc), "t_a": _q(fl["t_a"]),
-                         "steps": {kk: [[ball.decimal(s) for s in ph] for ph in vv] for kk, vv in fl["steps"].items()},
-                         "n_steps": sum(len(ph) for vv in fl["steps"].values() for ph in vv),
-                         "enclosures": {"Pc": [stored(v) for v in fl["Pc"]],
-                                        "DP": [[stored(v) for v in row] for row in fl["DP"]],
-                                        "ppsi_box": stored(fl["ppsi_box"])}})
-            images[(i, m_)] = (pc, AX, fl)
-        flights.append({"set": i, "grid": list(grids[i]), "pieces": recs})
+    flights, images = _fly_sets(sets, n - 1, grids, fly, thin_of, branch, check, say)
     link_rec = _check_links(sets, links, grids, images, branch, check, say)
-    for idx in (0, n - 1):
-        c, A = set_data(sets[idx])
-        check(f"N{idx} symmetric", c[1] == 0 and A[0][1] == A[0][0] and A[1][1] == -A[1][0],
-              "centre on Fix(R) and A = [a, R a]: R(N)^T = N")
-    polys = [_vertices(*set_data(s)) for s in sets]
-    for j in range(1, n):
-        other = sets[j]["branch"] != sets[0]["branch"]
-        check(f"N0, N{j} disjoint", other or _disjoint(polys[0], polys[j]), "another branch of psi, or a separating "
-              "axis (exact rationals)")
-    for j in range(1, n - 1):
-        other = sets[j]["branch"] != sets[0]["branch"]
-        check(f"N0, R(N{j}) disjoint", other or _disjoint(polys[0], [(x, -y) for x, y in polys[j]]),
-              "another branch of psi (R keeps it), or a separating axis (exact)")
-    for i, s in enumerate(sets):
-        c, A = set_data(s)
-        check(f"N{i} nondegenerate", A[0][0] * A[1][1] - A[0][1] * A[1][0] != 0, "det A != 0")
+    _symmetric_and_disjoint(sets, check)
     Lloop = 2 * (n - 1)
     rho = entropy_root_lower_cycle(per, Lloop)
     digest = fields.source_digest(module)
