@@ -45,23 +45,44 @@ if quick:
     m_rng, g_rng = (Fraction("2.011"), Fraction("2.05")), (Fraction("0.44"), g_rng[1])
 print("corner (bounding rectangle of the issue-20 undecided boxes):", m_rng, g_rng, d_rng)
 
-done = [0]
+CELLS = (4, 4)  # the bounding rectangle in 4 x 4 cells, each its own box_theorem run, written as it finishes
+# relative to a cell: 4e-3 of a cell = 1e-3 of the corner, i.e. 1.9e-4 in m and 2.3e-4 in gamma.  At (2.2, 1/4, 1/4)
+# (S = -8.0e-5) the second-order form needs half-widths ~4e-5 (second derivatives bounded by ~2.4e4 there): the
+# boxes at the tip next to (11/5, 1/4) are given up at this width rather than subdivided ~1e4 more times.
+MIN_WIDTH = 4e-3
+
+
+def split(iv, n):
+    return [(iv[0] + (iv[1] - iv[0]) * i / n, iv[0] + (iv[1] - iv[0]) * (i + 1) / n) for i in range(n)]
+
+
+# easiest first (far from the tip (11/5, 1/4), where |S| is smallest), so an interrupted run has decided the most
+cells = sorted(((a, b) for a in split(m_rng, CELLS[0]) for b in split(g_rng, CELLS[1])),
+               key=lambda c: (-(m_rng[1] - c[0][1]) / (m_rng[1] - m_rng[0]) - (c[1][0] - g_rng[0]) / (g_rng[1] - g_rng[0]),
+                              c))
 t1 = time.perf_counter()
-
-
-def progress(n):
-    done[0] += n
-    if done[0] % 100 == 0:
-        print(f"  {done[0]} boxes, {time.perf_counter() - t1:.0f} s", flush=True)
-
-
-MIN_WIDTH = 2.5e-4  # relative: 4.7e-5 in m, 5.7e-5 in gamma (the half-width ~4e-5 that S = -8e-5 needs at (2.2, 1/4))
-res = box_theorem(tuple(map(str, m_rng)), tuple(map(str, g_rng)), tuple(map(str, d_rng)), initial=(4, 4, 1),
-                  min_width=MIN_WIDTH, max_boxes=6000, order=2, progress=progress)
+decided, undecided, zeros, runs = [], [], [], []
+evaluated = 0
+for i, (cm, cg) in enumerate(cells):
+    r = box_theorem(tuple(map(str, cm)), tuple(map(str, cg)), tuple(map(str, d_rng)), initial=(1, 1, 1),
+                    min_width=MIN_WIDTH, max_boxes=20000, order=2)
+    decided += r.decided
+    undecided += r.undecided
+    zeros += r.zeros
+    evaluated += r.boxes_evaluated
+    runs.append({"m": r.m, "gamma": r.gamma, "statement": r.statement, "boxes_evaluated": r.boxes_evaluated,
+                 "decided": len(r.decided), "undecided": len(r.undecided), "wall_time_s": r.wall_time_s})
+    print(f"cell {i + 1}/{len(cells)} m {r.m} gamma {r.gamma}: {len(r.decided)} decided {r.signs}, "
+          f"{len(r.undecided)} undecided, {r.boxes_evaluated} boxes, {r.wall_time_s:.0f} s "
+          f"(total {time.perf_counter() - t1:.0f} s)", flush=True)
+    with open(out + ".partial", "w") as f:
+        json.dump({"cells_done": runs}, f, indent=1)
 wall = time.perf_counter() - t1
-print(res)
-print(res.statement)
-new_und = [box(b.to_dict()) for b in res.undecided]
+signs = {}
+for b in decided:
+    signs[str(b.sign)] = signs.get(str(b.sign), 0) + 1
+print(f"{len(decided)} decided {signs}, {len(undecided)} undecided, {len(zeros)} zeros, {evaluated} boxes, {wall:.0f} s")
+new_und = [box(b.to_dict()) for b in undecided]
 old_vol = sum(vol(b) for b in old_boxes)
 # the old undecided set still undecided: its intersection with the new undecided boxes (the new boxes tile the
 # bounding rectangle, so the intersections are disjoint)
@@ -76,10 +97,15 @@ summary = {
     "issue_box_share_decided": float(1 - left / issue_vol),
     "undecided_hull": ([[str(min(b[k][0] for b in new_und)), str(max(b[k][1] for b in new_und))] for k in range(3)]
                        if new_und else None),
-    "min_width_relative": MIN_WIDTH, "wall_time_s": wall,
+    "boxes_evaluated": evaluated, "decided_boxes": len(decided), "undecided_boxes": len(undecided),
+    "signs": signs, "min_width_relative_to_cell": MIN_WIDTH, "wall_time_s": wall,
     "quick": quick,  # --quick covers a sub-rectangle only: the shares above then say nothing about the corner
 }
 print(json.dumps(summary, indent=1))
 with open(out, "w") as f:
-    json.dump({**res.to_dict(), "wall_time_s": wall, "summary": summary}, f, indent=1)
+    json.dump({"summary": summary, "m": [str(x) for x in m_rng], "gamma": [str(x) for x in g_rng],
+               "delta": [str(x) for x in d_rng], "order": 2, "prec_bits": 64, "min_width_relative_to_cell": MIN_WIDTH,
+               "cells": runs, "signs": signs, "boxes_evaluated": evaluated, "wall_time_s": wall,
+               "decided": [b.to_dict() for b in decided], "undecided": [b.to_dict() for b in undecided],
+               "zeros": zeros}, f, indent=1)
 print("wrote", out)
