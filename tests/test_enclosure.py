@@ -227,8 +227,9 @@ def test_box_theorem_slice():
 
 # --- the second-order form (issue 27: the corner next to m_c) --------------------------------------------------
 # A rectangle inside the corner the mean value form left undecided (benchmarks/enclosure_boxes.json: every box with
-# m in [1287/640, 11/5], gamma in [1/4, 61/128]); |S| ~ 1e-2 here, the first-order spread ~ 70 w.
-CORNER_BOX = (("2.1", "2.1005"), ("0.3", "0.3005"), ("0.25", "3"))
+# m in [1287/640, 11/5], gamma in [1/4, 61/128]), where S(2.15, 0.3, 1/4) ~ -7e-3 and the mean value form's spread
+# is ~2e-2 even after one bisection (test_first_order_form_cannot_decide_the_corner_box).
+CORNER_BOX = (("2.15", "2.152"), ("0.3", "0.302"), ("0.25", "3"))
 
 
 def test_second_order_box_contains_point_values():
@@ -239,8 +240,8 @@ def test_second_order_box_contains_point_values():
     (b,) = r.decided
     lo, hi = Fraction(b.S_lo), Fraction(b.S_hi)
     assert hi < 0
-    pts = [("2.1", "0.3", "0.25"), ("2.1005", "0.3005", "3"), ("2.1", "0.3005", "0.25"),
-           ("2.10025", "0.30025", "1"), ("2.1004", "0.3001", "2.5")]
+    pts = [("2.15", "0.3", "0.25"), ("2.152", "0.302", "3"), ("2.15", "0.302", "0.25"),
+           ("2.151", "0.301", "1"), ("2.1517", "0.3003", "2.5")]
     for p in pts:
         v = E.enclose_S(*p)
         vlo, vhi = E.outward(v.S)
@@ -299,3 +300,15 @@ def test_box_theorem_bad_order(order):
     with pytest.raises(ParameterError) as ei:
         E.box_theorem(("1.6", "1.7"), ("1", "1.1"), ("1", "1.1"), order=order)
     assert ei.value.name == "order"
+
+
+def test_first_order_form_cannot_decide_the_corner_box(monkeypatch):
+    """The reason for order=2: on the same box, bisected once in m and gamma, the mean value form's spread
+    (~ Int sup |dN/dp| w per direction) still exceeds |S| (~7e-3 at delta = 1/4): every quarter stays undecided.
+    Also a regression test: the bisection once reused the name `order`, so sub-boxes silently got the other form."""
+    calls = []
+    real = E._enclose_rect2
+    monkeypatch.setattr(E, "_enclose_rect2", lambda *a: calls.append(a) or real(*a))
+    r = E.box_theorem(*CORNER_BOX, initial=(1, 1, 1), min_width=0.6, order=1)
+    assert not r.success and r.decided == [] and len(r.undecided) == 4
+    assert calls == []  # the mean value form only

@@ -717,8 +717,8 @@ def box_theorem(m=("1.0", "2.2"), gamma=("0.25", "3"), delta=("0.25", "3"), *, i
             # bisect where the width comes from: delta if both end values are decided with opposite signs (a zero
             # lies between: narrow it down), otherwise m or gamma (the mean value terms), the larger first
             opposite = (lo_ball > 0 and hi_ball < 0) or (lo_ball < 0 and hi_ball > 0)
-            order = [2] if opposite else sorted((0, 1), key=lambda k: -[widths["m"], widths["gamma"]][k])
-            k = next((k for k in order if rel[k] > mw), None)
+            split_order = [2] if opposite else sorted((0, 1), key=lambda k: -[widths["m"], widths["gamma"]][k])
+            k = next((k for k in split_order if rel[k] > mw), None)
             if k is None:
                 undecided.append(rec)
                 continue
