@@ -280,7 +280,7 @@ def test_centre_gradient_matches_finite_differences(module, agrees):
     with ctx.workprec(64):
         _, dIm, dIg = E._centre_terms(mod, arb(m0), arb(g0), arb(d0), T, c)
 
-        def I(m, g):
+        def integral(m, g):
             return E._centre_terms(E._gen, arb(m), arb(g), arb(d0), T, c)[0]
 
         ratios = []
@@ -288,7 +288,7 @@ def test_centre_gradient_matches_finite_differences(module, agrees):
             errs = []
             for eps in (E.fmpq(1, 500), E.fmpq(1, 1000)):
                 e = (eps, 0) if k == 0 else (0, eps)
-                fd = (I(m0 + e[0], g0 + e[1]) - I(m0 - e[0], g0 - e[1])) / (2 * arb(eps))
+                fd = (integral(m0 + e[0], g0 + e[1]) - integral(m0 - e[0], g0 - e[1])) / (2 * arb(eps))
                 errs.append(abs(float((fd - d).mid())))
             ratios.append(errs[0] / errs[1])
     ok = all(3 < q < 5 for q in ratios)  # eps^2 convergence: 4 up to the O(eps^4) term
