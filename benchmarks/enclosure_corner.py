@@ -5,7 +5,7 @@ Covers the bounding rectangle of those boxes, then reports which share of the ol
 Writes the result as JSON (argument 1, default enclosure_corner.json).  Not a test: tests/test_enclosure.py checks
 small boxes.
 
-    python benchmarks/enclosure_corner.py [out.json] [--quick]
+    python benchmarks/enclosure_corner.py [out.json] [--quick] [--budget=N] [--resume=previous.json]
 """
 import json
 import sys
@@ -72,7 +72,15 @@ cells = cells_of(m_rng, g_rng, 0)
 min_m, min_g = (m_rng[1] - m_rng[0]) * MIN_FRACTION, (g_rng[1] - g_rng[0]) * MIN_FRACTION
 t1 = time.perf_counter()
 decided, undecided, zeros, runs = [], [], [], []
-evaluated = 0
+evaluated, wall_before = 0, 0.0
+resume = next((a.split("=", 1)[1] for a in sys.argv if a.startswith("--resume=")), None)
+if resume:  # continue a run: keep its decided boxes, run its undecided ones (in their order) as the cells
+    prev = json.loads(Path(resume).read_text())
+    decided = [BoxResult(**{**b, "m": tuple(b["m"]), "gamma": tuple(b["gamma"]), "delta": tuple(b["delta"])})
+               for b in prev["decided"]]
+    zeros, runs, evaluated, wall_before = prev["zeros"], prev["cells"], prev["boxes_evaluated"], prev["wall_time_s"]
+    cells = [tuple((Fraction(b[k][0]), Fraction(b[k][1])) for k in ("m", "gamma")) for b in prev["undecided"]]
+    BUDGET += evaluated
 for i, (cm, cg) in enumerate(cells):
     if evaluated >= BUDGET:  # not attempted: the whole cell is undecided
         undecided.append(BoxResult(tuple(map(str, cm)), tuple(map(str, cg)), tuple(map(str, d_rng)), "not evaluated",
@@ -80,7 +88,8 @@ for i, (cm, cg) in enumerate(cells):
         runs.append({"m": [str(x) for x in cm], "gamma": [str(x) for x in cg], "statement": "not attempted (budget)"})
         continue
     # box_theorem's min_width is relative to its own box and the same in every direction: take the larger ratio
-    mw = float(max(min_m / (cm[1] - cm[0]), min_g / (cg[1] - cg[0])))
+    # (a resumed box already at the minimum width may still be bisected once: min_width must be < 1)
+    mw = min(float(max(min_m / (cm[1] - cm[0]), min_g / (cg[1] - cg[0]))), 0.999)
     r = box_theorem(tuple(map(str, cm)), tuple(map(str, cg)), tuple(map(str, d_rng)), initial=(1, 1, 1),
                     min_width=mw, max_boxes=BUDGET - evaluated, order=2)
     decided += r.decided
@@ -96,7 +105,7 @@ for i, (cm, cg) in enumerate(cells):
     with open(out + ".partial", "w") as f:  # everything so far, so an interrupted run loses nothing
         json.dump({"cells_done": runs, "decided": [b.to_dict() for b in decided],
                    "undecided": [b.to_dict() for b in undecided]}, f)
-wall = time.perf_counter() - t1
+wall = time.perf_counter() - t1 + wall_before
 signs = {}
 for b in decided:
     signs[str(b.sign)] = signs.get(str(b.sign), 0) + 1

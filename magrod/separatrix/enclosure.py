@@ -36,7 +36,16 @@ A box is decided when the resulting ball excludes 0; otherwise it is bisected (t
 most width) down to `min_width`, and what is left is reported as undecided.  Where S changes sign along delta at
 the centre of an undecided box, the zero delta*(m0, gamma0) is located (affine: one ball division) and reported.
 
-Cost: enclose_S ~0.1-0.3 s (96 bits; more where kappa is small, i.e. m near m_c); box_theorem ~0.3-1 s per box.
+The second-order form (`box_theorem(order=2)`, issue 27).  Next to m_c, |S| ~ 1e-4 is a small remainder of an
+oscillating integrand while Int |dN/dp| ~ 70, so the mean value form needs half-widths ~1e-6.  Instead, on each
+rectangle and delta end: I(p0 + h) = I(p0) + grad I(p0).h + (1/2) h^T Hess I(p0 + xi h) h (I cut at a tau_T fixed
+for the rectangle), with I(p0) and grad I(p0) point values by acb.integral of the integrand and of the generated
+gradient (so the cancellation is kept), and the remainder bounded by Riemann upper sums of the second derivatives
+of the integrand (arb_series Taylor arithmetic on tau-cells x the rectangle).  The remainder bound is still one of
+Int |d^2 f| (~1e4 times the true |S''| at (2.199, 1/4, 1/4)), but it enters multiplied by w^2.
+
+Cost: enclose_S ~0.1-0.3 s (96 bits; more where kappa is small, i.e. m near m_c); box_theorem ~0.3-1 s per box
+(order=2: ~0.7 s).
 References: F. Johansson, "Numerical integration in arbitrary-precision ball arithmetic", ICMS 2018
 (acb_calc_integrate); python-flint acb.integral.
 """
