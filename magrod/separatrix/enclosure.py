@@ -478,8 +478,8 @@ def _enclose_rect(mod, mb, gb, dv: fmpq, tail_tol: float, counter) -> tuple[arb,
         Gm += h * abs(dm)
         Gg += h * abs(dg)
     wm_up, wg_up = arb(wm) * Gm, arb(wg) * Gg
-    spread = _upper(wm_up) + _upper(wg_up)
-    ball = I0 + arb(0, spread + _upper(E))
+    # the radius summed in Arb (rounded outward), not in floats (round-to-nearest could lose an ulp)
+    ball = I0 + arb(0, _upper(arb(_upper(wm_up)) + arb(_upper(wg_up)) + arb(_upper(E))))
     return ball, {"m": _upper(wm_up), "gamma": _upper(wg_up), "tail": _upper(E), "quad": _upper(I0.rad()),
                   "T": str(T)}
 
@@ -591,7 +591,7 @@ def _enclose_rect2(mod, mb, gb, dv: fmpq, tail_tol: float, counter) -> tuple[arb
         return _UNKNOWN(), {"m": math.inf, "gamma": math.inf, "tail": _upper(E), "quad": math.inf, "T": str(T)}
     w_m = _upper(lin_m + q_m + q_x / 2)  # the cross term is charged half to each direction (for the bisection)
     w_g = _upper(lin_g + q_g + q_x / 2)
-    ball = I0 + arb(0, w_m + w_g + _upper(E))
+    ball = I0 + arb(0, _upper(arb(w_m) + arb(w_g) + arb(_upper(E))))  # summed in Arb, rounded outward
     return ball, {"m": w_m, "gamma": w_g, "tail": _upper(E), "quad": _upper(I0.rad()), "T": str(T),
                   "linear": _upper(lin_m) + _upper(lin_g), "second_order": _upper(q_m + q_g + q_x)}
 
