@@ -223,3 +223,92 @@ def test_box_theorem_slice():
     """A slice of the issue's box (the full coverage is benchmarks/enclosure_boxes.py)."""
     r = E.box_theorem(("1.0", "1.4"), ("0.25", "1.25"), ("0.25", "3"), initial=(2, 4, 1))
     assert r.success and r.signs == {"-1": len(r.decided)}
+
+
+# --- the second-order form (issue 27: the corner next to m_c) --------------------------------------------------
+# A rectangle inside the corner the mean value form left undecided (benchmarks/enclosure_boxes.json: every box with
+# m in [1287/640, 11/5], gamma in [1/4, 61/128]), where S(2.15, 0.3, 1/4) ~ -7e-3 and the mean value form's spread
+# is ~2e-2 even after one bisection (test_first_order_form_cannot_decide_the_corner_box).
+CORNER_BOX = (("2.15", "2.152"), ("0.3", "0.302"), ("0.25", "3"))
+
+
+def test_second_order_box_contains_point_values():
+    """box_theorem(order=2) decides a corner box, and its ball contains S at sample points (vertices, the centre and
+    an off-centre interior point), each enclosed separately by enclose_S (acb.integral at the point, 96 bits)."""
+    r = E.box_theorem(*CORNER_BOX, initial=(1, 1, 1), min_width=0.6, order=2)
+    assert r.success and r.signs == {"-1": 1} and "second-order form" in r.statement
+    (b,) = r.decided
+    lo, hi = Fraction(b.S_lo), Fraction(b.S_hi)
+    assert hi < 0
+    pts = [("2.15", "0.3", "0.25"), ("2.152", "0.302", "3"), ("2.15", "0.302", "0.25"),
+           ("2.151", "0.301", "1"), ("2.1517", "0.3003", "2.5")]
+    for p in pts:
+        v = E.enclose_S(*p)
+        vlo, vhi = E.outward(v.S)
+        assert lo <= Fraction(vlo) and Fraction(vhi) <= hi, (p, v.S, b.S)
+
+
+class _GradientScaled(_DeltaFlipped):
+    """The true ball code with dI/dm scaled by 1.01 (a 1 % error in the m component of the gradient)."""
+
+    @staticmethod
+    def integrand(t, m, g, d):
+        return _DeltaFlipped._g.integrand(t, m, g, d)
+
+    @staticmethod
+    def integrand_gradient(t, m, g, d):
+        a, b, c = _DeltaFlipped._g.integrand_gradient(t, m, g, d)
+        return [a * flint.arb("1.01"), b, c]
+
+    @staticmethod
+    def tail_factors(s, c, TH, D, m, g, d):
+        return _DeltaFlipped._g.tail_factors(s, c, TH, D, m, g, d)
+
+
+@pytest.mark.parametrize("module, agrees", [(None, True), (_GradientScaled, False)])
+def test_centre_gradient_matches_finite_differences(module, agrees):
+    """The centre gradient (acb.integral of the generated gradient) against central differences of the integral
+    itself (acb.integral of the integrand at p0 +- eps, the same cut T): independent of the gradient code.  The
+    difference error is eps^2 I'''/6 + O(eps^4), so with the true gradient it falls by ~4 when eps halves; a wrong
+    gradient leaves a constant error (ratio ~1).  The mutated module (dI/dm off by 1 %) must fail."""
+    from flint import arb, ctx
+
+    mod = E._gen if module is None else module
+    m0, g0, d0 = E.exact("m", "2.1"), E.exact("gamma", "0.3"), E.exact("delta", "0.25")
+    T = E.fmpq(20)
+    c = [0]
+    with ctx.workprec(64):
+        _, dIm, dIg = E._centre_terms(mod, arb(m0), arb(g0), arb(d0), T, c)
+
+        def integral(m, g):
+            return E._centre_terms(E._gen, arb(m), arb(g), arb(d0), T, c)[0]
+
+        ratios = []
+        for k, d in ((0, dIm), (1, dIg)):
+            errs = []
+            for eps in (E.fmpq(1, 500), E.fmpq(1, 1000)):
+                e = (eps, 0) if k == 0 else (0, eps)
+                fd = (integral(m0 + e[0], g0 + e[1]) - integral(m0 - e[0], g0 - e[1])) / (2 * arb(eps))
+                errs.append(abs(float((fd - d).mid())))
+            ratios.append(errs[0] / errs[1])
+    ok = all(3 < q < 5 for q in ratios)  # eps^2 convergence: 4 up to the O(eps^4) term
+    assert ok is agrees, ratios
+
+
+@pytest.mark.parametrize("order", [0, 3, True, "2"])
+def test_box_theorem_bad_order(order):
+    with pytest.raises(ParameterError) as ei:
+        E.box_theorem(("1.6", "1.7"), ("1", "1.1"), ("1", "1.1"), order=order)
+    assert ei.value.name == "order"
+
+
+def test_first_order_form_cannot_decide_the_corner_box(monkeypatch):
+    """The reason for order=2: on the same box, bisected once in m and gamma, the mean value form's spread
+    (~ Int sup |dN/dp| w per direction) still exceeds |S| (~7e-3 at delta = 1/4): every quarter stays undecided.
+    Also a regression test: the bisection once reused the name `order`, so sub-boxes silently got the other form."""
+    calls = []
+    real = E._enclose_rect2
+    monkeypatch.setattr(E, "_enclose_rect2", lambda *a: calls.append(a) or real(*a))
+    r = E.box_theorem(*CORNER_BOX, initial=(1, 1, 1), min_width=0.6, order=1)
+    assert not r.success and r.decided == [] and len(r.undecided) == 4
+    assert calls == []  # the mean value form only

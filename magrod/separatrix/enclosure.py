@@ -36,7 +36,16 @@ A box is decided when the resulting ball excludes 0; otherwise it is bisected (t
 most width) down to `min_width`, and what is left is reported as undecided.  Where S changes sign along delta at
 the centre of an undecided box, the zero delta*(m0, gamma0) is located (affine: one ball division) and reported.
 
-Cost: enclose_S ~0.1-0.3 s (96 bits; more where kappa is small, i.e. m near m_c); box_theorem ~0.3-1 s per box.
+The second-order form (`box_theorem(order=2)`, issue 27).  Next to m_c, |S| ~ 1e-4 is a small remainder of an
+oscillating integrand while Int |dN/dp| ~ 70, so the mean value form needs half-widths ~1e-6.  Instead, on each
+rectangle and delta end: I(p0 + h) = I(p0) + grad I(p0).h + (1/2) h^T Hess I(p0 + xi h) h (I cut at a tau_T fixed
+for the rectangle), with I(p0) and grad I(p0) point values by acb.integral of the integrand and of the generated
+gradient (so the cancellation is kept), and the remainder bounded by Riemann upper sums of the second derivatives
+of the integrand (arb_series Taylor arithmetic on tau-cells x the rectangle).  The remainder bound is still one of
+Int |d^2 f| (~1e4 times the true |S''| at (2.199, 1/4, 1/4)), but it enters multiplied by w^2.
+
+Cost: enclose_S ~0.1-0.3 s (96 bits; more where kappa is small, i.e. m near m_c); box_theorem ~0.3-1 s per box
+(order=2: ~0.7 s).
 References: F. Johansson, "Numerical integration in arbitrary-precision ball arithmetic", ICMS 2018
 (acb_calc_integrate); python-flint acb.integral.
 """
@@ -47,7 +56,7 @@ import time
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from flint import acb, arb, ctx, fmpq
+from flint import acb, arb, arb_series, ctx, fmpq
 
 from ..core.errors import ParameterError
 from ..core.tolerances import BOX_TAIL_TOL, ENCLOSURE_TAIL_TOL
@@ -469,16 +478,129 @@ def _enclose_rect(mod, mb, gb, dv: fmpq, tail_tol: float, counter) -> tuple[arb,
         Gm += h * abs(dm)
         Gg += h * abs(dg)
     wm_up, wg_up = arb(wm) * Gm, arb(wg) * Gg
-    spread = _upper(wm_up) + _upper(wg_up)
-    ball = I0 + arb(0, spread + _upper(E))
+    # the radius summed in Arb (rounded outward), not in floats (round-to-nearest could lose an ulp)
+    ball = I0 + arb(0, _upper(arb(_upper(wm_up)) + arb(_upper(wg_up)) + arb(_upper(E))))
     return ball, {"m": _upper(wm_up), "gamma": _upper(wg_up), "tail": _upper(E), "quad": _upper(I0.rad()),
                   "T": str(T)}
 
 
-def _decide(mod, mb, gb, db, tail_tol, counter):
+# --------------------------------------------------------------------------------------------------------------
+# the second-order (Taylor) form of a rectangle (issue 27, the corner next to m_c)
+# --------------------------------------------------------------------------------------------------------------
+def _tight_ball(lo: fmpq, hi: fmpq) -> arb:
+    """A ball containing [lo, hi] with mid-point (lo + hi)/2 and radius (hi - lo)/2 rounded up (_ball's arb union is
+    up to twice as wide; in the second-order remainder the width enters squared)."""
+    return arb((lo + hi) / 2) + arb(0, _upper(arb((hi - lo) / 2)))
+
+
+def _component_fn(mod, m, g, d, k, counter):
+    """The integrand (k = -1) or the k-th component of the generated gradient d/d(m, gamma, delta) at fixed tau, with
+    the analyticity checks of `_integrand_fn`.  The gradient is the derivative of the same expression tree: its
+    t-dependent sqrt and atan arguments are those of `branch_arguments` (the sqrt of 1 - tanh^2 (..) gamma and of
+    1 - (1/2 - ..)/(.. cosh^2), the atan of tanh sqrt(..)), and every division by a ball containing 0 is non-finite,
+    so a finite value on a checked ball is a value of an analytic function there."""
+    kinds = mod.BRANCH_KINDS
+
+    def f(t, analytic):
+        counter[0] += 1
+        if analytic:
+            for kind, a in zip(kinds, mod.branch_arguments(t, m, g)):
+                if not (a.real > 0 if kind == "sqrt" else abs(a.imag) < 1):
+                    return _nan()
+        return mod.integrand(t, m, g, d) if k < 0 else mod.integrand_gradient(t, m, g, d)[k]
+
+    return f
+
+
+def _tgrid2(T: fmpq) -> list:
+    """Cut points of [0, T] (in tau) for the Riemann upper sum of the second-order remainder: 1/32 where the integrand
+    is large (tau < 8: its envelope is ~ sech tau), 1/8 beyond."""
+    pts, t = [fmpq(0)], fmpq(0)
+    while t < T:
+        t = min(t + (fmpq(1, 32) if t < 8 else fmpq(1, 8)), T)
+        pts.append(t)
+    return pts
+
+
+def _second_order_remainder(mod, mb, gb, dv, T: fmpq, counter) -> tuple[arb, arb, arb]:
+    """(R_mm, R_mg, R_gg), balls whose upper ends bound Int_0^T sup |c| dtau for c = f_mm/2, f_mg/2, f_gg/2, the sup
+    over (tau-cell x rectangle), f the integrand (tau coordinates, T fixed for the rectangle).
+
+    Taylor's theorem on the segment p0 -> p0 + h (h = (h_m, h_g), |h_m| <= w_m, |h_g| <= w_g) gives I(p0 + h) =
+    I(p0) + grad I(p0).h + (1/2) h^T Hess I(p0 + xi h) h, and |(1/2) h^T Hess f h| <= |f_mm/2| w_m^2 + 2 |f_mg/2| w_m
+    w_g + |f_gg/2| w_g^2 at every point of the rectangle, so |remainder| <= R_mm w_m^2 + 2 R_mg w_m w_g + R_gg w_g^2.
+    The second derivatives are the x^2 coefficients of python-flint arb_series (Taylor arithmetic, rigorous for
+    ball coefficients) along the point directions (1, 0), (0, 1) and (1, 1): f_uu/2 = f_mm/2 + f_mg + f_gg/2 gives
+    f_mg/2 = (c_uu - c_mm - c_gg)/2 pointwise, hence as balls.  Directions are points, not balls: a ball direction
+    [-w, w] would lose every cancellation between the intermediate derivatives (measured: 1e3 w instead of 1.4e2 w
+    for the first-order term at (2.199, 1/4, 1/4))."""
+    Mb, Gb, Dv = _tight_ball(*mb), _tight_ball(*gb), arb(dv)
+    sm, sg = arb_series([Mb, 1], prec=3), arb_series([Gb, 1], prec=3)
+    pts = _tgrid2(T)
+    r_mm, r_mg, r_gg = arb(0), arb(0), arb(0)
+    for a, b in zip(pts[:-1], pts[1:]):
+        tb = _tight_ball(a, b)
+        c = []
+        for mm, gg in ((sm, Gb), (Mb, sg), (sm, sg)):
+            try:
+                co = mod.integrand(tb, mm, gg, Dv).coeffs()
+            except ValueError:  # arb_series division by a series whose leading ball contains 0: no bound here
+                return _UNKNOWN(), _UNKNOWN(), _UNKNOWN()
+            c.append(co[2] if len(co) > 2 else arb(0))  # arb_series drops trailing zero coefficients
+        counter[0] += 3
+        cmm, cgg, cuu = c
+        cmg = (cuu - cmm - cgg) / 2
+        h = arb(b - a)
+        r_mm += h * abs(cmm)
+        r_mg += h * abs(cmg)
+        r_gg += h * abs(cgg)
+    return r_mm, r_mg, r_gg
+
+
+def _centre_terms(mod, M0, G0, Dv, T: fmpq, counter) -> tuple[arb, arb, arb]:
+    """Balls containing I(p0) = Int_0^T f dtau, dI/dm(p0) and dI/dgamma(p0) at a point p0 (T fixed: the derivatives
+    are those of the integral cut at tau = T, which is what the second-order form expands), each by acb.integral
+    with the analyticity checks (point values, so the oscillation's cancellation is kept: |dS/dm| ~ 1e-2 at
+    (2.199, 1/4, 1/4) against Int |df/dm| dtau ~ 73)."""
+    # the centre terms need an absolute accuracy small against |S| >= 1e-5 on the corner: 1e-12 costs little more
+    vals = [acb.integral(_component_fn(mod, M0, G0, Dv, k, counter), 0, arb(T), rel_tol=2.0**-40, abs_tol=1e-12)
+            for k in (-1, 0, 1)]
+    for v in vals:
+        if not v.imag.contains(0):  # real integrands on the real axis: a sanity check of the code
+            raise RuntimeError(f"imaginary part {v.imag} of a real integral")
+    return tuple(v.real for v in vals)
+
+
+def _enclose_rect2(mod, mb, gb, dv: fmpq, tail_tol: float, counter) -> tuple[arb, dict]:
+    """Ball containing S(m, gamma, dv) for every (m, gamma) in mb x gb: the second-order form
+    I(p0) + [-1, 1] (|dI/dm(p0)| w_m + |dI/dgamma(p0)| w_g) + [-R2, R2] + [-tail, tail], with I(p0) and grad I(p0)
+    by acb.integral at the centre (point values: the oscillation's cancellation is kept) and R2 from
+    `_second_order_remainder`."""
+    m0, g0 = (mb[0] + mb[1]) / 2, (gb[0] + gb[1]) / 2
+    wm, wg = (mb[1] - mb[0]) / 2, (gb[1] - gb[0]) / 2
+    try:
+        T, E = _choose_T(mod, _tight_ball(*mb), _tight_ball(*gb), arb(dv), tail_tol)
+    except _NoCut:  # as in _enclose_rect: unknown, [+/- inf], never arb("inf")
+        return _UNKNOWN(), {"m": math.inf, "gamma": math.inf, "tail": math.inf, "quad": math.inf, "T": "none"}
+    I0, dIm, dIg = _centre_terms(mod, arb(m0), arb(g0), arb(dv), T, counter)
+    r_mm, r_mg, r_gg = _second_order_remainder(mod, mb, gb, dv, T, counter)
+    Wm, Wg = arb(wm), arb(wg)
+    lin_m, lin_g = abs(dIm) * Wm, abs(dIg) * Wg
+    q_m, q_g, q_x = r_mm * Wm * Wm, r_gg * Wg * Wg, 2 * r_mg * Wm * Wg
+    if not all(x.is_finite() for x in (I0, lin_m, lin_g, q_m, q_g, q_x)):
+        return _UNKNOWN(), {"m": math.inf, "gamma": math.inf, "tail": _upper(E), "quad": math.inf, "T": str(T)}
+    w_m = _upper(lin_m + q_m + q_x / 2)  # the cross term is charged half to each direction (for the bisection)
+    w_g = _upper(lin_g + q_g + q_x / 2)
+    ball = I0 + arb(0, _upper(arb(w_m) + arb(w_g) + arb(_upper(E))))  # summed in Arb, rounded outward
+    return ball, {"m": w_m, "gamma": w_g, "tail": _upper(E), "quad": _upper(I0.rad()), "T": str(T),
+                  "linear": _upper(lin_m) + _upper(lin_g), "second_order": _upper(q_m + q_g + q_x)}
+
+
+def _decide(mod, mb, gb, db, tail_tol, counter, order: int = 1):
     """S over the box: hull of the rectangle enclosures at the two delta end points (S affine in delta)."""
-    lo_ball, w_lo = _enclose_rect(mod, mb, gb, db[0], tail_tol, counter)
-    hi_ball, w_hi = _enclose_rect(mod, mb, gb, db[1], tail_tol, counter)
+    rect = _enclose_rect if order == 1 else _enclose_rect2
+    lo_ball, w_lo = rect(mod, mb, gb, db[0], tail_tol, counter)
+    hi_ball, w_hi = rect(mod, mb, gb, db[1], tail_tol, counter)
     hull = lo_ball.union(hi_ball)
     # a sign only from a finite ball: an infinite end point is no information, whatever the comparison says
     sign = None if not hull.is_finite() else (-1 if hull < 0 else (1 if hull > 0 else None))
@@ -488,7 +610,7 @@ def _decide(mod, mb, gb, db, tail_tol, counter):
 
 def box_theorem(m=("1.0", "2.2"), gamma=("0.25", "3"), delta=("0.25", "3"), *, initial=(4, 4, 1),
                 min_width=1e-3, max_boxes: int = 20000, prec: int = 64, tail_tol: float = BOX_TAIL_TOL,
-                progress=None, module=None) -> BoxTheorem:
+                progress=None, module=None, order: int = 1) -> BoxTheorem:
     """Prove S(m, gamma, delta) != 0, with its sign, on a parameter box by interval subdivision.
 
     Parameters
@@ -508,6 +630,12 @@ def box_theorem(m=("1.0", "2.2"), gamma=("0.25", "3"), delta=("0.25", "3"), *, i
         Called with 1 per evaluated box.
     module
         The ball code (default generated.splitting_ball; tests pass a mutated one).
+    order : 1 or 2, keyword-only
+        1: the mean value form (Riemann upper sums of |dN/dp| on the rectangle).  2: the second-order form of
+        `_enclose_rect2` (value and gradient at the centre by acb.integral, second derivatives bounded on the
+        rectangle): needed next to m_c, where |S| ~ 1e-4 is a small remainder of an oscillating integrand and the
+        mean value form would need ~1e10 boxes (docs/nonintegrability.md, "Why the corner resists"); ~4x the cost
+        per box elsewhere.
 
     Returns
     -------
@@ -544,6 +672,8 @@ def box_theorem(m=("1.0", "2.2"), gamma=("0.25", "3"), delta=("0.25", "3"), *, i
         raise ParameterError("initial", f"must be three integers in [1, 1000], got {initial!r}")
     if isinstance(prec, bool) or not isinstance(prec, int) or not 53 <= prec <= 1024:
         raise ParameterError("prec", f"must be an integer in [53, 1024], got {prec!r}")
+    if isinstance(order, bool) or order not in (1, 2):
+        raise ParameterError("order", f"must be 1 (mean value form) or 2 (second-order form), got {order!r}")
     if not (isinstance(max_boxes, int) and max_boxes >= 1):
         raise ParameterError("max_boxes", f"must be a positive integer, got {max_boxes!r}")
     try:
@@ -573,7 +703,7 @@ def box_theorem(m=("1.0", "2.2"), gamma=("0.25", "3"), delta=("0.25", "3"), *, i
                                            None, "-inf", "inf", {}) for a, b, c in queue)
                 break
             bm, bg, bd = queue.pop()
-            hull, sign, widths, lo_ball, hi_ball = _decide(mod, bm, bg, bd, tol, counter)
+            hull, sign, widths, lo_ball, hi_ball = _decide(mod, bm, bg, bd, tol, counter, order)
             evaluated += 1
             if progress is not None:
                 progress(1)
@@ -596,8 +726,8 @@ def box_theorem(m=("1.0", "2.2"), gamma=("0.25", "3"), delta=("0.25", "3"), *, i
             # bisect where the width comes from: delta if both end values are decided with opposite signs (a zero
             # lies between: narrow it down), otherwise m or gamma (the mean value terms), the larger first
             opposite = (lo_ball > 0 and hi_ball < 0) or (lo_ball < 0 and hi_ball > 0)
-            order = [2] if opposite else sorted((0, 1), key=lambda k: -[widths["m"], widths["gamma"]][k])
-            k = next((k for k in order if rel[k] > mw), None)
+            split_order = [2] if opposite else sorted((0, 1), key=lambda k: -[widths["m"], widths["gamma"]][k])
+            k = next((k for k in split_order if rel[k] > mw), None)
             if k is None:
                 undecided.append(rec)
                 continue
@@ -615,7 +745,8 @@ def box_theorem(m=("1.0", "2.2"), gamma=("0.25", "3"), delta=("0.25", "3"), *, i
     if not undecided and len(signs) == 1:
         sgn = "< 0" if "-1" in signs else "> 0"
         statement = (f"computer-verified: S(m, gamma, delta) {sgn} for every (m, gamma, delta) with {region} "
-                     f"({len(decided)} boxes, ball arithmetic at {prec} bits, tails bounded)")
+                     f"({len(decided)} boxes, ball arithmetic at {prec} bits, tails bounded"
+                     + (", second-order form)" if order == 2 else ")"))
     else:
         statement = (f"partial: {len(decided)} boxes decided {signs}, {len(undecided)} undecided in {region}"
                      + (f"; {len(zeros)} rectangles with a located zero in delta" if zeros else ""))
