@@ -59,7 +59,7 @@ from fractions import Fraction
 from flint import acb, arb, arb_series, ctx, fmpq
 
 from ..core.errors import ParameterError
-from ..core.tolerances import BOX_TAIL_TOL, ENCLOSURE_TAIL_TOL
+from ..core.tolerances import BOX_CENTRE_ABS_TOL, BOX_TAIL_TOL, ENCLOSURE_TAIL_TOL
 from ..generated import splitting_ball as _gen
 
 DEFAULT_PREC = 96  # bits; radius ~1e-25 at the six table points, far below the 1e-10 asked for
@@ -562,8 +562,9 @@ def _centre_terms(mod, M0, G0, Dv, T: fmpq, counter) -> tuple[arb, arb, arb]:
     are those of the integral cut at tau = T, which is what the second-order form expands), each by acb.integral
     with the analyticity checks (point values, so the oscillation's cancellation is kept: |dS/dm| ~ 1e-2 at
     (2.199, 1/4, 1/4) against Int |df/dm| dtau ~ 73)."""
-    # the centre terms need an absolute accuracy small against |S| >= 1e-5 on the corner: 1e-12 costs little more
-    vals = [acb.integral(_component_fn(mod, M0, G0, Dv, k, counter), 0, arb(T), rel_tol=2.0**-40, abs_tol=1e-12)
+    # the centre terms need an absolute accuracy small against |S| >= 1e-5 on the corner (tolerances.py)
+    vals = [acb.integral(_component_fn(mod, M0, G0, Dv, k, counter), 0, arb(T), rel_tol=2.0**-40,
+                         abs_tol=BOX_CENTRE_ABS_TOL)
             for k in (-1, 0, 1)]
     for v in vals:
         if not v.imag.contains(0):  # real integrands on the real axis: a sanity check of the code
