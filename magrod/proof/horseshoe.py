@@ -347,17 +347,8 @@ def float_cycle(P: FloatMap, theta_guess: float, period: int, window: float = 0.
         return x[fields.PTHETA]
 
     a, b = theta_guess - window, theta_guess + window
-    fa = half(a)
-    if fa * half(b) > 0:
-        raise ProofFailure(f"float_cycle: no sign change of pbar_theta at return {period // 2} on [{a:.6g}, {b:.6g}]")
-    for _ in range(60):
-        c = 0.5 * (a + b)
-        fc = half(c)
-        if (fc > 0) == (fa > 0):
-            a, fa = c, fc
-        else:
-            b = c
-    th = 0.5 * (a + b)
+    th = _bisect_zero(half, a, b, f"float_cycle: no sign change of pbar_theta at return {period // 2} on "
+                      f"[{a:.6g}, {b:.6g}]")
     xs, brs, ts = [P.lift([th, 0.0])], [P.branch], []
     for _ in range(period):
         y, br, t = M.step4(xs[-1])
@@ -744,13 +735,19 @@ def _float_s_star(P: FloatMap, x0, eu, s_guess: float, n_exc: int) -> float:
             x = P.full4(x)[0]
         return x[fields.PTHETA]
 
-    a, b = s_guess * (1 - 1e-4), s_guess * (1 + 1e-4)
-    fa = end(a)
-    if fa * end(b) > 0:
-        raise ProofFailure(f"design: no sign change of pbar_theta at return {n_exc} around s* = {s_guess:.6g}")
+    return _bisect_zero(end, s_guess * (1 - 1e-4), s_guess * (1 + 1e-4),
+                        f"design: no sign change of pbar_theta at return {n_exc} around s* = {s_guess:.6g}")
+
+
+def _bisect_zero(fn, a: float, b: float, fail: str) -> float:
+    """The float designs' root: 60 bisections of a sign change of fn on [a, b] (ProofFailure(fail) if there is
+    none: the design's guess is off)."""
+    fa = fn(a)
+    if fa * fn(b) > 0:
+        raise ProofFailure(fail)
     for _ in range(60):
         c = 0.5 * (a + b)
-        fc = end(c)
+        fc = fn(c)
         if (fc > 0) == (fa > 0):
             a, fa = c, fc
         else:

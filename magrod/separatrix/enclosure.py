@@ -179,7 +179,10 @@ def outward(x: arb, digits: int = 12) -> tuple[str, str]:
     return dec(lo, False), dec(hi, True)
 
 
-def _integrand_fn(mod, m, g, d, counter):
+def _integrand_fn(mod, m, g, d, counter, k: int = -1):
+    """The integrand for acb.integral (k = -1; k >= 0: the k-th component of the generated gradient, `_component_fn`)
+    with the analyticity checks: where acb.integral asks for analyticity, every t-dependent sqrt argument has a
+    positive real part and every atan argument |Im| < 1 on the ball, else the value is non-finite."""
     kinds = mod.BRANCH_KINDS
 
     def f(t, analytic):
@@ -188,7 +191,7 @@ def _integrand_fn(mod, m, g, d, counter):
             for kind, a in zip(kinds, mod.branch_arguments(t, m, g)):
                 if not (a.real > 0 if kind == "sqrt" else abs(a.imag) < 1):
                     return _nan()
-        return mod.integrand(t, m, g, d)
+        return mod.integrand(t, m, g, d) if k < 0 else mod.integrand_gradient(t, m, g, d)[k]
 
     return f
 
@@ -499,17 +502,7 @@ def _component_fn(mod, m, g, d, k, counter):
     t-dependent sqrt and atan arguments are those of `branch_arguments` (the sqrt of 1 - tanh^2 (..) gamma and of
     1 - (1/2 - ..)/(.. cosh^2), the atan of tanh sqrt(..)), and every division by a ball containing 0 is non-finite,
     so a finite value on a checked ball is a value of an analytic function there."""
-    kinds = mod.BRANCH_KINDS
-
-    def f(t, analytic):
-        counter[0] += 1
-        if analytic:
-            for kind, a in zip(kinds, mod.branch_arguments(t, m, g)):
-                if not (a.real > 0 if kind == "sqrt" else abs(a.imag) < 1):
-                    return _nan()
-        return mod.integrand(t, m, g, d) if k < 0 else mod.integrand_gradient(t, m, g, d)[k]
-
-    return f
+    return _integrand_fn(mod, m, g, d, counter, k)
 
 
 def _tgrid2(T: fmpq) -> list:
