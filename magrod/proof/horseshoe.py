@@ -655,6 +655,21 @@ def _fliers(P: FloatMap, pars, h, fld, st: HorseshoeSettings, module, check):
     return fly, pc_of, orbit
 
 
+def _chain_sets(cs, pcs, brs, eus, ess, ls, ws) -> list:
+    """The chain's h-sets (exact dyadic data): N_j = c_j + [l_j e_u^j, w_j e_s^j] [-1, 1]^2 for the inner centres,
+    the last one symmetric, c + l [e_u, R e_u] (its centre is on Fix(R))."""
+    out = []
+    for j in range(len(cs) - 1):
+        u, s = eus[j], ess[j]
+        out.append(hset(cs[j], [[dyadic(ls[j] * u[0]), dyadic(ws[j] * s[0])],
+                                [dyadic(ls[j] * u[1]), dyadic(ws[j] * s[1])]]))
+        out[-1]["p_c"], out[-1]["branch"] = _q(pcs[j]), brs[j]
+    ak = [dyadic(ls[-1] * eus[-1][0]), dyadic(ls[-1] * eus[-1][1])]
+    out.append(hset(cs[-1], [[ak[0], ak[0]], [ak[1], -ak[1]]]))
+    out[-1]["p_c"], out[-1]["branch"] = _q(pcs[-1]), brs[-1]
+    return out
+
+
 def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     pars = p.balls()
     fld = fields.chart_field(p, module)
@@ -688,14 +703,7 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     a0 = [dyadic(dist * st.l0_frac * fd["e_u0"][0]), dyadic(dist * st.l0_frac * fd["e_u0"][1])]
     sets = [hset([dyadic_of(x0_theta, 62), Fraction(0)], [[a0[0], a0[0]], [a0[1], -a0[1]]])]
     sets[0]["p_c"], sets[0]["branch"] = _q(pc_of([x0_theta, Fraction(0)])), st.branch
-    for j in range(k - 1):
-        u, s = eus[j], ess[j]
-        sets.append(hset(cs[j], [[dyadic(ls[j] * u[0]), dyadic(ws[j] * s[0])],
-                                 [dyadic(ls[j] * u[1]), dyadic(ws[j] * s[1])]]))
-        sets[-1]["p_c"], sets[-1]["branch"] = _q(pcs[j]), brs[j]
-    ak = [dyadic(ls[-1] * eus[-1][0]), dyadic(ls[-1] * eus[-1][1])]
-    sets.append(hset(cs[-1], [[ak[0], ak[0]], [ak[1], -ak[1]]]))
-    sets[-1]["p_c"], sets[-1]["branch"] = _q(pcs[-1]), brs[-1]
+    sets += _chain_sets(cs, pcs, brs, eus, ess, ls, ws)
     # the branch boxes: the level's root unique in [p_c - p_rad, p_c + p_rad] over each set's hull
     branch = _branch_boxes(pars, h, sets, st.p_rad, module, check)
     # links, pieces, flights
@@ -831,14 +839,7 @@ def _prove_cycle(p, h, x0_theta, st, module, check, say) -> dict:
         sets.append(hset(ccs[i], [[dyadic(lc[i] * u[0]), dyadic(wc[i] * s[0])],
                                   [dyadic(lc[i] * u[1]), dyadic(wc[i] * s[1])]]))
         sets[-1]["p_c"], sets[-1]["branch"] = _q(cpcs[i]), cbrs[i]
-    for j in range(k - 1):
-        u, s = eus[j], ess[j]
-        sets.append(hset(cs[j], [[dyadic(ls[j] * u[0]), dyadic(ws[j] * s[0])],
-                                 [dyadic(ls[j] * u[1]), dyadic(ws[j] * s[1])]]))
-        sets[-1]["p_c"], sets[-1]["branch"] = _q(pcs[j]), brs[j]
-    ak = [dyadic(ls[-1] * eus[-1][0]), dyadic(ls[-1] * eus[-1][1])]
-    sets.append(hset(cs[-1], [[ak[0], ak[0]], [ak[1], -ak[1]]]))
-    sets[-1]["p_c"], sets[-1]["branch"] = _q(pcs[-1]), brs[-1]
+    sets += _chain_sets(cs, pcs, brs, eus, ess, ls, ws)
     n = len(sets)
     branch = _branch_boxes(pars, h, sets, st.p_rad, module, check)
     links = cycle_links(per, n)
