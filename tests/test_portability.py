@@ -192,6 +192,34 @@ def test_saddles_do_not_depend_on_lapack(scrambled_eig, reference_saddles, seed)
     np.testing.assert_allclose(b.chart_vector, a.chart_vector, atol=1e-12)
 
 
+@pytest.mark.parametrize("seed", SEEDS)
+def test_the_horseshoe_designs_unstable_direction_does_not_see_lapack(scrambled_eig, seed):
+    """horseshoe.unstable_eigen (the float designs' e_u of DP and DP^p) against the closed form of a 2 x 2 saddle
+    (mu = tr/2 + sign(tr) sqrt(tr^2/4 - det), e_u parallel to (b, mu - a)), with LAPACK's pairs permuted and signed
+    and, separately, multiplied by complex unit phases."""
+    from magrod.proof import horseshoe
+
+    D = np.array([[-3.80106855684721, 1.25530845830605], [2.4, -0.55]])
+    tr, det = np.trace(D), np.linalg.det(D)
+    mu = tr / 2 + math.copysign(math.sqrt(tr * tr / 4 - det), tr)
+    ref = np.array([D[0, 1], mu - D[0, 0]])
+    ref = ref / np.linalg.norm(ref) * math.copysign(1.0, ref[0])
+    scrambled_eig(seed)
+    for phi in (0.0, 0.5, math.pi / 2, 2.0, math.pi):
+        got_mu, got = horseshoe.unstable_eigen(D) if phi == 0.0 else _phased(horseshoe, D, phi)
+        assert abs(got_mu - mu) <= 1e-13 * abs(mu)
+        np.testing.assert_allclose(got, ref, atol=1e-14)
+
+
+def _phased(horseshoe, D, phi):
+    eig = np.linalg.eig
+    try:
+        np.linalg.eig = lambda a: (lambda w, V: (w, V * np.exp(1j * phi)))(*eig(a))
+        return horseshoe.unstable_eigen(D)
+    finally:
+        np.linalg.eig = eig
+
+
 def test_the_proof_basis_does_not_see_the_phase():
     """The computer-assisted proof's real basis of the unstable plane (magrod.proof.search._real_basis): the
     same for every unit factor of the eigenvector, sign included, so the certificate is the same everywhere."""

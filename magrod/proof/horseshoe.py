@@ -40,6 +40,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from ..core.eigen import fix_phase
 from ..core.errors import ParameterError
 from ..core.tolerances import (FIXED_POINT_SEARCH_TOL, HORSESHOE_CENTRE_TOL, HORSESHOE_CENTRE_TOL_FIG4B,
                                PROOF_STEP_TOL)
@@ -277,19 +278,26 @@ def unit(v):
     return v / np.linalg.norm(v)
 
 
+def unstable_eigen(D) -> tuple[float, np.ndarray]:
+    """(mu_u, e_u) of a real 2 x 2 saddle matrix D (a float DP or DP^p): the eigenvalue of largest modulus and its
+    eigenvector, unit, real, theta-component > 0.  Independent of LAPACK's order, phase and sign (core.eigen: they
+    differ between CPUs and BLAS kernels); on LAPACK's real output, v / |v| with its sign fixed to <= 1 ulp (bit for
+    bit at the certificates' Fig 4(a) DP and Fig 4(c) DP^6)."""
+    w, V = np.linalg.eig(D)
+    iu = int(np.argmax(abs(w)))
+    return float(np.real(w[iu])), np.real(fix_phase(V[:, iu], prefer=(0,)))
+
+
 def float_design(P: FloatMap, x0, m: int, s_star: float, n_exc: int = 8) -> dict:
     """e_u(x0), the refined s* (pbar_theta(P^n_exc(x0 + s e_u)) = 0 by bisection) and c_1 = P^-m(z_0)."""
     D0 = P.jac(x0)
-    w, V = np.linalg.eig(D0)
-    iu = int(np.argmax(abs(w)))
-    eu = unit(np.real(V[:, iu]))
-    eu = -eu if eu[0] < 0 else eu
+    mu, eu = unstable_eigen(D0)
 
     s = _float_s_star(P, x0, eu, s_star, n_exc)  # the excursion may visit the psi = pi branch: 4-D states
     # c_1 = P^-m(z_0) on the local W^u, to O(t^2): x0 + t e_u, t = s* mu_u^-m (not the float P^-m: its error
     # in the stable direction grows by mu_u per pull-back); mu_u < 0 (Fig 5: a flip saddle) alternates the side
-    t = s / float(np.real(w[iu])) ** m
-    return {"e_u0": eu, "mu_u": float(np.real(w[iu])), "s_star": s, "t": t, "c1": x0 + t * eu}
+    t = s / mu ** m
+    return {"e_u0": eu, "mu_u": mu, "s_star": s, "t": t, "c1": x0 + t * eu}
 
 
 # --------------------------------------------------------------------------------------------------------------
@@ -362,10 +370,7 @@ def float_cycle(P: FloatMap, theta_guess: float, period: int, window: float = 0.
     Dp = np.eye(2)
     for D in DPs:
         Dp = D @ Dp
-    w, V = np.linalg.eig(Dp)
-    iu = int(np.argmax(abs(w)))
-    eu = unit(np.real(V[:, iu]))
-    eu = -eu if eu[0] < 0 else eu
+    mu, eu = unstable_eigen(Dp)
     eus = [eu]
     for D in DPs[:-1]:
         eus.append(unit(D @ eus[-1]))
@@ -376,7 +381,7 @@ def float_cycle(P: FloatMap, theta_guess: float, period: int, window: float = 0.
     lam = [float(np.linalg.norm(D @ u)) for D, u in zip(DPs, eus)]
     sig = [float(np.linalg.norm(D @ s)) for D, s in zip(DPs, ess)]
     return {"theta": th, "xs": xs, "zs": zs, "branches": brs, "times": ts, "closure": closure, "DPs": DPs,
-            "DPp": Dp, "mu_u": float(np.real(w[iu])), "det": float(np.linalg.det(Dp)),
+            "DPp": Dp, "mu_u": mu, "det": float(np.linalg.det(Dp)),
             "trace": float(np.trace(Dp)), "e_u": eus, "e_s": ess, "lam": lam, "sig": sig,
             "angles_deg": [float(np.degrees(np.arccos(min(1.0, abs(float(np.dot(u, s))))))) for u, s in
                            zip(eus, ess)]}
@@ -794,11 +799,7 @@ def _prove_cycle(p, h, x0_theta, st, module, check, say) -> dict:
     Dp = np.eye(2)
     for D in CD:
         Dp = D @ Dp
-    wv, V = np.linalg.eig(Dp)
-    iu = int(np.argmax(abs(wv)))
-    mu = float(np.real(wv[iu]))
-    eu = unit(np.real(V[:, iu]))
-    eu = -eu if eu[0] < 0 else eu
+    mu, eu = unstable_eigen(Dp)
     ceu = [eu]
     for D in CD[:-1]:
         ceu.append(unit(D @ ceu[-1]))
