@@ -175,7 +175,9 @@ def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path,
 
     shipped = {p.name for p in resources.files("magrod.proof").joinpath("certificates").iterdir()
                if p.name.endswith(".json")}
-    listed = {fig.SHIPPED} | {n for _, n in fig.FIG4} | {e[1] for e in (*fig.FIG4_SECTION, *fig.FIG4_HORSESHOE)}
+    listed = {fig.SHIPPED, fig.TARGET_INTERVAL} | {n for _, n in fig.FIG4} | \
+        {e[1] for e in (*fig.FIG4_SECTION, *fig.FIG4_HORSESHOE)}
+    assert fig.TARGET_INTERVAL in side["not_verified_in_quick"] and "target_interval" not in side
     assert shipped == listed, shipped ^ listed
     assert fig.NOT_IN_REPRODUCE == () and side["not_verified_in_reproduce"] == []
     # the REPORT row states the target's own verification time, not the whole figure's (which had read "271 s")
@@ -202,7 +204,7 @@ def test_report_row_of_the_verified_horseshoe():
     rows = report._proof_fig4_horseshoe({"fig4_horseshoe": [dict(f, ok=False)]})
     assert rows[0]["verdict"] == "certificate NOT verified"
     assert report._proof_skipped({"not_verified_in_quick": ["horseshoe_fig4a.json"]})[0]["label"].endswith(
-        "(statements 5a, 11, 12, 13)")
+        "(statements 5, 5a, 11, 12, 13)")
     # Fig 4 is fig:poincare1 in the paper, Fig 5 fig:poincare2
     assert rows[0]["label"].startswith("fig:poincare1 (a)")
     f5 = dict(f, panel="5c", statement="13")

@@ -16,7 +16,7 @@ sin psi = 0 on the level Hbar = H (magrod/proof/periodic.py; statement 11), the 
 Fix(R) within 0.02 of THETA (no condition mu > 2 lambdabar: the level need not hold the tilted saddle).
 `magrod prove --horseshoe THETA --level H ...` proves a horseshoe of that section map (positive topological entropy)
 by covering relations along the homoclinic orbit of the saddle near THETA (magrod/proof/horseshoe.py; statement 12;
-~6 min at Fig 4(a)); `--design fig4b` selects the chain's design for Fig 4(b) (horseshoe.DESIGNS); `--design fig4c
+2-6 min at Fig 4(a), by the load); `--design fig4b` selects the chain's design for Fig 4(b) (horseshoe.DESIGNS); `--design fig4c
 --branch pi --root smallest` the cycle design around Fig 4(c)'s period-6 orbit (horseshoe.fig4c_settings)."""
 from __future__ import annotations
 
@@ -48,8 +48,8 @@ def add_arguments(p):
     p.add_argument("--level", default=None, metavar="H",
                    help="the level Hbar = H of --fixed-point / --horseshoe (exact)")
     p.add_argument("--lam-rad", default="0", metavar="W", dest="lam_rad",
-                   help="--fixed-point / --horseshoe / --widen: for every lambdabar in [lam - W, lam + W] (lambdabar "
-                        "carried as a ball; a horseshoe's sets move with lambdabar)")
+                   help="the homoclinic proof, --fixed-point, --horseshoe, --widen: for every lambdabar in [lam - W, "
+                        "lam + W] (lambdabar carried as a ball; a horseshoe's sets move with lambdabar)")
     p.add_argument("--widen", default=None, metavar="CERT",
                    help="re-prove the point horseshoe certificate CERT for every lambdabar in [lam - W, lam + W] "
                         "(--lam-rad W > 0) without re-proving the point (horseshoe.widen)")
@@ -81,11 +81,15 @@ def run(args) -> dict:
         return _widen(args)
     from ..proof import (TARGET_ANGLES, ProofSettings, mutated_fields, prove_homoclinic, validate_proof_params,
                          validated_fields)
+    from ..proof.search import interval_params, interval_proof_settings
 
     p = validate_proof_params(args.m, args.mu, args.gamma, args.delta, args.lam)
     targets = tuple(t.strip() for t in str(args.targets).split(",") if t.strip())
     if not targets or any(t not in TARGET_ANGLES for t in targets) or len(set(targets)) != len(targets):
         raise ParameterError("targets", f"must be 0, pi or 0,pi, got {args.targets!r}")
+    w = _lam_rad(args)
+    interval_params(p, w)  # mu > 2 (lambdabar + W), checked before anything runs
+    st = interval_proof_settings(w, targets=targets) if w else ProofSettings(targets=targets)
     if args.out is None:
         raise ParameterError("out", "an output directory is required (or --verify CERT)")
     dest = out_dir("out", args.out)
@@ -93,7 +97,7 @@ def run(args) -> dict:
     if args.mutate is not None:
         module = mutated_fields(integer("mutate", args.mutate, minimum=0, maximum=1000))
     say = None if args.quiet else _stage
-    res = prove_homoclinic(p, ProofSettings(targets=targets), module=module, progress=say)
+    res = prove_homoclinic(p, st, module=module, progress=say)
     out = {"ok": res.ok, "params": p.as_json(), "wall_time_s": round(res.wall_time_s, 3),
            "checks": res.checks, "reason": res.reason}
     if not res.ok:

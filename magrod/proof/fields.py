@@ -45,6 +45,36 @@ class ExactParams:
         return {k: f"{getattr(self, k).numerator}/{getattr(self, k).denominator}" for k in PARAMS}
 
 
+@dataclass(frozen=True)
+class IntervalParams(ExactParams):
+    """ExactParams whose lambdabar is the interval [lam - lam_rad, lam + lam_rad] in every ball evaluation: every
+    field, Jacobian, lift and event evaluated with `balls()` encloses its value for every lambdabar of the interval
+    at once (Arb's inclusion property), so a proof run with them holds for each lambdabar of it.  `floats()` and
+    `as_json()` are the centre's (the float search aims at the centre; the certificate records lam_rad apart).
+
+    Examples
+    --------
+    >>> from fractions import Fraction
+    >>> p = IntervalParams(Fraction(17, 10), Fraction(1, 25), Fraction(1), Fraction(1), Fraction(1, 100),
+    ...                    lam_rad=Fraction(1, 10**6))
+    >>> lo, hi = ball.bounds(p.balls()[4])  # exact rationals, rounded outward
+    >>> lo <= Fraction(1, 100) - Fraction(1, 10**6) and Fraction(1, 100) + Fraction(1, 10**6) <= hi
+    True
+    """
+
+    lam_rad: Fraction = Fraction(0)
+
+    def balls(self) -> tuple:
+        out = list(ExactParams.balls(self))
+        if self.lam_rad:
+            out[PARAMS.index("lam")] = ball.interval(self.lam - self.lam_rad, self.lam + self.lam_rad)
+        return tuple(out)
+
+    def lam_bounds(self) -> tuple:
+        """(lam - lam_rad, lam + lam_rad), exact."""
+        return self.lam - self.lam_rad, self.lam + self.lam_rad
+
+
 def chart_field(p: ExactParams, module=gen) -> Field:
     """The reduced chart field of Hbar (4-D) at exact parameters; `module` may be a (mutated) copy of the
     generated module (controls)."""

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 
 import numpy as np
@@ -59,11 +59,16 @@ class ProofSettings:
     eig_rad: Fraction = Fraction(1, 10**12)
     lead: Fraction = Fraction(1, 256)
     targets: tuple = ("0", "pi")
+    #: > 0: the proof for every lambdabar in [lam - lam_rad, lam + lam_rad] at once, lambdabar a ball in every
+    #: enclosure (fields.IntervalParams); the saddle and eigenpair boxes must then hold the motion of q* and of its
+    #: eigen-data over the interval (interval_proof_settings)
+    lam_rad: Fraction = Fraction(0)
 
     def as_json(self) -> dict:
         return {"prec": self.prec, "order": self.order, "tol": repr(self.tol), "r": _q(self.r), "dphi": _q(self.dphi),
                 "saddle_radius": _q(self.saddle_radius), "eig_rad": _q(self.eig_rad), "lead": _q(self.lead),
-                "targets": list(self.targets), "series_cap": ball.SERIES_CAP}
+                "targets": list(self.targets), "series_cap": ball.SERIES_CAP,
+                **({"lam_rad": _q(self.lam_rad)} if self.lam_rad else {})}
 
 
 class ProofFailure(RuntimeError):
@@ -380,6 +385,7 @@ def prove(params: fields.ExactParams, settings: ProofSettings | None = None, *, 
     """
     st = settings or ProofSettings()
     stage = ["start"]
+    params = interval_params(params, st.lam_rad)
 
     def say(msg):
         stage[0] = msg
@@ -388,6 +394,36 @@ def prove(params: fields.ExactParams, settings: ProofSettings | None = None, *, 
 
     return run_checked(st.prec, lambda check: _prove(params, st, module, check, say), reraise_input=True,
                        stage=stage)
+
+
+def interval_params(p: fields.ExactParams, lam_rad) -> fields.ExactParams:
+    """p itself (lam_rad 0), or p with lambdabar the interval [lam - lam_rad, lam + lam_rad] (fields.IntervalParams);
+    ParameterError naming lam_rad unless 0 <= lam_rad <= 1 and mu > 2 (lam + lam_rad) (the tilted saddle exists
+    for every lambdabar of the interval, eq:alignment_condition)."""
+    try:
+        w = Fraction(lam_rad)
+    except (TypeError, ValueError, ZeroDivisionError):
+        raise ParameterError("lam_rad", f"must be an exact number >= 0, got {str(lam_rad)[:40]!r}") from None
+    if w < 0 or w > 1:
+        raise ParameterError("lam_rad", f"must be in [0, 1], got {lam_rad}")
+    if w == 0:
+        return p
+    if p.mu <= 2 * (p.lam + w):
+        raise ParameterError("lam_rad", f"must satisfy mu > 2 (lambdabar + lam_rad) (the tilted saddle exists on the "
+                                        f"whole interval; eq:alignment_condition), got lam_rad = {w}")
+    return fields.IntervalParams(p.m, p.mu, p.gamma, p.delta, p.lam, lam_rad=w)
+
+
+def interval_proof_settings(lam_rad, **kw) -> ProofSettings:
+    """ProofSettings for a lambdabar interval of half-width lam_rad: the saddle's Krawczyk box and the eigenpair
+    boxes widened to hold their motion over the interval (float differences at lambdabar +- 1e-6: |dq*/dlambdabar|
+    = 6.8 at the target, 2.6 at Fig 4(a)'s rod: 16 lam_rad leaves room for it; the eigenpairs' enclosures are
+    wider, ~270 lam_rad at the target, because Df over the saddle box (radius ~7.5 lam_rad) has entries
+    ~5000 lam_rad wide (the chart's 1/sin^3 theta terms at theta0 = 0.14): 1000 lam_rad), the rest as at the
+    point."""
+    w = Fraction(lam_rad)
+    st = ProofSettings(lam_rad=w, **kw)
+    return replace(st, saddle_radius=max(st.saddle_radius, 16 * w), eig_rad=max(st.eig_rad, 1000 * w))
 
 
 def _prove(p, st, module, check, say) -> dict:
@@ -527,7 +563,7 @@ def _certificate(p, st, E, man, crossings, digest) -> dict:
     return {
         "format": FORMAT,
         # the text the verifier regenerates from what it verified and requires verbatim (magrod.proof.theorem)
-        "theorem": homoclinic_theorem(p.as_json(), [c["target"] for c in crossings]),
+        "theorem": homoclinic_theorem(p.as_json(), [c["target"] for c in crossings], _q(st.lam_rad)),
         "params": p.as_json(),
         "settings": st.as_json(),
         "field_digest": digest,

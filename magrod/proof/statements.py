@@ -93,11 +93,19 @@ STATEMENTS = (
        2-degree-of-freedom Hamiltonian on the chart, saddle-focus, transverse homoclinic orbit) the saddle's energy
        level carries horseshoes (positive topological entropy); with Kozlov's argument (θ > 0 along the orbit, from
        the certificate's guards) no real-analytic integral of the chart system is independent of H̄ on that
-       level. Hyperbolic equilibria and transverse intersections persist, so all of this holds on an open
+       level. Quantified in λ̄ (m, μ, γ, δ fixed): all of this holds for every λ̄ in [1/100 − 10⁻¹³, 1/100 + 10⁻¹³],
+       by a second certificate whose every enclosure carries λ̄ as the ball of that interval
+       (homoclinic_target_interval.json, `magrod prove --lam-rad 1/10000000000000`: prove 27 s, verify 7 s;
+       dθ_u/dψ ∈ [−0.003823, −0.001095] at ψ = 0 and [0.000381, 0.002213] at ψ = π). 1.5·10⁻¹³ still proves,
+       10⁻¹² does not: λ̄ as a parameter ball is wrapped into every step's remainder, and the interval Newton step in
+       the phase grows ~2·10⁸ × the half-width (5·10⁻⁴ at 10⁻¹², against the widest arc 3.2·10⁻⁵). Beyond that
+       interval: hyperbolic equilibria and transverse intersections persist, so all of this holds on an open
        neighbourhood of the parameters, of unquantified size (cited persistence, hypotheses: the checked
        hyperbolicity and transversality, analytic dependence on the parameters).""",
        [Step("saddle, eigenpairs, local manifold, flight, crossings, transversality", "computer-verified",
              "magrod prove; magrod prove --verify (complete verifier)"),
+        Step("the same on the λ̄ interval, λ̄ a ball in every enclosure", "computer-verified",
+             "magrod prove --lam-rad; magrod prove --verify"),
         Step("the chart field is Hamilton's, R is a reversor, the lift intertwines the flows", "proved",
              "report keys validated_fields, reversor_reduced, chart_body_lift"),
         Step("horseshoes (Devaney 1976) and no analytic second integral on the level (Kozlov 1996)", "proved",
@@ -365,7 +373,8 @@ def render_summary() -> str:
             f"saddle's energy level of the reduced chart system carries horseshoes and no real-analytic "
             f"integral independent of H̄ (**{status('5')}**), and the 9-D rod has there no real-analytic integral "
             f"in involution with m3 that is independent of H, m3 and the Casimirs on that level "
-            f"(**{status('7')}**, statement 7); both hold on an open neighbourhood of that point, of unquantified "
+            f"(**{status('7')}**, statement 7); the first also for every λ̄ in 1/100 ± 10⁻¹³ (a certificate with λ̄ a "
+            f"ball, statement 5), and both hold on an open neighbourhood of that point, of unquantified "
             f"size (cited persistence). Nonintegrability of the 9-D rod against every integral (not only those in "
             f"involution with m3), and near the perturbative regime, is **{status('7b')}** (7b; 4 rests on the "
             f"formal expansion 3). On Fig 4's own level h = 9/10 the section map has a hyperbolic fixed point (a "
@@ -381,8 +390,8 @@ def render_summary() -> str:
 
 def render_readme() -> str:
     """The README bullet on nonintegrability."""
-    return _wrap(f"- Nonintegrability: at one parameter point, (m, μ, γ, δ, λ̄) = (17/10, 1/25, 1, 1, 1/100), two "
-            f"transverse homoclinic orbits of the tilted saddle-focus are **{status('5')}** (`magrod prove`, a "
+    return _wrap(f"- Nonintegrability: at one parameter point, (m, μ, γ, δ, λ̄) = (17/10, 1/25, 1, 1, 1/100), and "
+            f"for every λ̄ in 1/100 ± 10⁻¹³ there, two transverse homoclinic orbits of the tilted saddle-focus are **{status('5')}** (`magrod prove`, a "
             f"certificate re-checked by a separate, complete verifier), hence horseshoes on that level and no "
             f"real-analytic integral of the reduced system there, the same at Fig 4's rod (the four panels' λ̄) on the saddle-focus's "
             f"own level (**{status('5a')}**; that level is not the one Fig 4 shows), and for the 9-D rod none in "

@@ -23,7 +23,7 @@ def _rational(s: str) -> str:
     return str(f.numerator) if f.denominator == 1 else f"{f.numerator}/{f.denominator}"
 
 
-def homoclinic_theorem(params: dict, targets) -> str:
+def homoclinic_theorem(params: dict, targets, lam_rad: str = "0") -> str:
     """The statement established by a verified homoclinic certificate.
 
     Parameters
@@ -32,6 +32,9 @@ def homoclinic_theorem(params: dict, targets) -> str:
         Exact parameters as strings "p/q", keys m, mu, gamma, delta, lam.
     targets : iterable of str
         The verified, distinct, recognised targets (a non-empty subset of TARGETS).
+    lam_rad : str
+        Half-width of the lambdabar interval the certificate carries (exact rational string; "0": the point, and
+        the text of the certificates before lambdabar intervals, unchanged).
 
     Returns
     -------
@@ -60,12 +63,13 @@ def homoclinic_theorem(params: dict, targets) -> str:
         raise ValueError(f"targets must be distinct elements of {sorted(TARGETS)}, got {targets!r}")
     pts = [TARGETS[t] for t in ORDER if t in targets]
     n = len(pts)
-    vals = ", ".join(_rational(params[k]) for k in ("m", "mu", "gamma", "delta", "lam"))
+    w = Fraction(lam_rad)
     where = " and at ".join(f"a point with {p}" for p in pts)
     what = ("one transverse symmetric homoclinic orbit" if n == 1 else
             f"{'two' if n == 2 else n} distinct transverse symmetric homoclinic orbits")
-    return (f"At (m, mu, gamma, delta, lambdabar) = ({vals}), for the reduced chart field of Hbar "
-            f"(eq:full_ham_nondim): the certificate's saddle box contains exactly one equilibrium q*, it lies on "
+    each = "" if w == 0 else " (for each lambdabar its own q*, W^u(q*) and orbits)"
+    return (f"{_where(params, w, 'and every')}, for the reduced chart field of Hbar "
+            f"(eq:full_ham_nondim){each}: the certificate's saddle box contains exactly one equilibrium q*, it lies on "
             f"Fix(R) and is a saddle-focus; its unstable manifold W^u(q*) meets Sigma = {{pbar_theta = 0}} on "
             f"Fix(R) at {where}, with dtheta_u/dpsi != 0 there, so W^u(q*) and W^s(q*) = R(W^u(q*)) intersect "
             f"transversally inside the energy level: {what} to q* "

@@ -159,7 +159,12 @@ def verify(cert: dict, *, module=fields.gen, workers: int | None = None) -> Veri
         return VerifyResult(False, f"certificate rejected: {err}", checks, time.perf_counter() - t0)
     slopes = {c["target"]: [ball.decimal(b) for b in ball.json_bounds(c["dtheta_dpsi"])] for c in cert["crossings"]}
     return VerifyResult(True, "certificate verified: every enclosure recomputed and every check holds", checks,
-                        time.perf_counter() - t0, homoclinic_theorem(p.as_json(), targets), slopes)
+                        time.perf_counter() - t0, homoclinic_theorem(p.as_json(), targets, _lam_rad_text(p)), slopes)
+
+
+def _lam_rad_text(p) -> str:
+    w = Fraction(getattr(p, "lam_rad", 0))
+    return f"{w.numerator}/{w.denominator}"
 
 
 def _frac(s) -> Fraction:
@@ -169,8 +174,15 @@ def _frac(s) -> Fraction:
 
 
 def _inputs(cert):
+    """The parameters (lambdabar an interval when the settings carry lam_rad > 0: fields.IntervalParams, so that
+    every recomputed enclosure holds for every lambdabar of it) and the numerical settings."""
     p = fields.ExactParams(**{k: _frac(cert["params"][k]) for k in fields.PARAMS})
     s = cert["settings"]
+    w = _frac(s.get("lam_rad", "0"))  # absent: a certificate at the point (issue 21's)
+    if w < 0:
+        raise CertificateError("settings: lam_rad must be >= 0")
+    if w:
+        p = fields.IntervalParams(p.m, p.mu, p.gamma, p.delta, p.lam, lam_rad=w)
     st = {"prec": int(s["prec"]), "order": int(s["order"]), "series_cap": int(s["series_cap"]),
           "radius": _frac(cert["saddle"]["radius"]), "eig_rad": _frac(s["eig_rad"])}
     if not (64 <= st["prec"] <= 1024 and 4 <= st["order"] < st["series_cap"] <= 256):
@@ -229,7 +241,7 @@ def _check_statement(cert, p, st, claim) -> list:
           and all(_frac(c["dphi"]) >= _frac(s["dphi"]) for c in crossings),
           "the saddle box radius, the circle radius, the crossing step (2 lead) and the phase arcs (>= dphi) are "
           "the recorded settings")
-    want = homoclinic_theorem(p.as_json(), targets)
+    want = homoclinic_theorem(p.as_json(), targets, _lam_rad_text(p))
     stated = cert["theorem"]
     claim("theorem text", isinstance(stated, str) and stated == want,
           "the certificate's theorem is the one its verified content establishes"
@@ -242,8 +254,9 @@ def _verify(cert, p, st, module, claim):
     _stored_claims(cert, claim)
     claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
           "the certificate's vector field is the installed derive-generated one (SHA-256 of generated/validated.py)")
-    claim("parameters", p.mu > 2 * p.lam and p.m > 0 and p.m ** 2 < 4 * (1 + p.gamma) and min(p.gamma, p.delta) >= 0,
-          "mu > 2 lambdabar, 0 < m < m_c = 2 sqrt(1 + gamma), gamma, delta >= 0")
+    lam_hi = p.lam + getattr(p, "lam_rad", 0)
+    claim("parameters", p.mu > 2 * lam_hi and p.m > 0 and p.m ** 2 < 4 * (1 + p.gamma) and min(p.gamma, p.delta) >= 0,
+          "mu > 2 lambdabar (on the whole lambdabar interval), 0 < m < m_c = 2 sqrt(1 + gamma), gamma, delta >= 0")
     fld = fields.chart_field(p, module)
     xhat, K = _check_saddle(cert, p, st, fld, claim)
     _check_eigen(cert, fld, K, st, claim)

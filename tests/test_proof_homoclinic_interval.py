@@ -1,0 +1,137 @@
+"""Statement 5 on a lambdabar interval: the homoclinic proof with lambdabar the ball [lam - W, lam + W] in every
+enclosure (fields.IntervalParams, search.interval_params; `magrod prove --lam-rad W`), the shipped certificate
+homoclinic_target_interval.json (W = 1e-13 at the issue-21 target), and its controls: a certificate claiming a wider
+interval than its enclosures carry, or the point's theorem on an interval's data (or the reverse), is rejected; the
+shifted saddle box is rejected; a mutated field and lambdabar = 0 fail to prove; bad --lam-rad is exit 2 naming it.
+
+Before this, `magrod prove --lam-rad W` without --fixed-point/--horseshoe silently proved the point."""
+from __future__ import annotations
+
+import copy
+import json
+from fractions import Fraction
+from importlib import resources
+
+import pytest
+
+from magrod.cli import main
+from magrod.proof import ball, fields, search, theorem, verify
+
+ARGS = ["--m", "1.7", "--mu", "0.04", "--gamma", "1", "--delta", "1", "--lam", "0.01"]
+W = Fraction(1, 10**13)
+NAME = "homoclinic_target_interval.json"
+
+
+@pytest.fixture(scope="module")
+def shipped():
+    return json.loads(resources.files("magrod.proof").joinpath("certificates", NAME).read_text())
+
+
+def _verify(c, tmp_path, capsys):
+    p = tmp_path / "c.json"
+    p.write_text(json.dumps(c))
+    code = main(["prove", "--verify", str(p)])
+    cap = capsys.readouterr()
+    return code, cap.out, cap.err.strip().splitlines()
+
+
+def _rejected(c, tmp_path, capsys, check):
+    code, _, err = _verify(c, tmp_path, capsys)
+    assert code == 1 and len(err) == 1 and "certificate rejected" in err[0] and check in err[0], (code, err)
+
+
+def test_interval_params_enclose_every_lambdabar_of_the_interval():
+    p = search.validate_params("1.7", "0.04", "1", "1", "0.01")
+    q = search.interval_params(p, W)
+    lo, hi = ball.bounds(q.balls()[fields.PARAMS.index("lam")])
+    assert lo <= p.lam - W and p.lam + W <= hi and hi - lo < 3 * W  # the interval, rounded outward, not more
+    # the other parameters, the float search's centre and the certificate's parameters are the point's
+    assert [str(x) for i, x in enumerate(q.balls()) if i != 4] == [str(x) for i, x in enumerate(p.balls()) if i != 4]
+    assert q.floats() == p.floats() and q.as_json() == p.as_json()
+    assert search.interval_params(p, 0) is p
+
+
+@pytest.mark.parametrize("w, why", [("-1/10", "must be in [0, 1]"), ("abc", "exact number"),
+                                    ("1/50", "mu > 2 (lambdabar + lam_rad)")])
+def test_bad_lam_rad_is_exit_2_naming_it(w, why, tmp_path, capsys):
+    out = tmp_path / "never"
+    code = main(["prove", *ARGS, f"--lam-rad={w}", "--out", str(out), "--json"])
+    cap = capsys.readouterr()
+    err = cap.err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "lam_rad" in err[0] and why in err[0], err
+    assert json.loads(cap.out)["parameter"] == "lam_rad" and not out.exists()
+
+
+def test_the_shipped_interval_certificate_verifies_with_the_interval_theorem(shipped, tmp_path, capsys):
+    assert shipped["settings"]["lam_rad"] == "1/10000000000000"
+    code, out, _ = _verify(shipped, tmp_path, capsys)
+    want = theorem.homoclinic_theorem(shipped["params"], ["0", "pi"], "1/10000000000000")
+    assert code == 0 and f"theorem: {want}" in out
+    assert "every lambdabar in [99999999999/10000000000000, 100000000001/10000000000000]" in want
+    # the point certificate's slopes lie inside the interval's (the interval contains the point)
+    point = json.loads(resources.files("magrod.proof").joinpath("certificates", "homoclinic_target.json").read_text())
+    for a, b in zip(point["crossings"], shipped["crossings"]):
+        (plo, phi), (ilo, ihi) = ball.json_bounds(a["dtheta_dpsi"]), ball.json_bounds(b["dtheta_dpsi"])
+        assert ilo <= plo and phi <= ihi and (ihi < 0 or ilo > 0)
+
+
+def test_a_wider_interval_than_the_enclosures_carry_is_rejected(shipped, tmp_path, capsys):
+    """lam_rad x 2 (x 10) in the settings with the matching, wider theorem text: the verifier recomputes every
+    enclosure over the wider interval, and they no longer fit the certificate's balls (x 10: the saddle box is no
+    longer a Krawczyk box; the saddle moves 6.8 lam_rad).  A verifier that dropped the interval would reject this one
+    too (a recomputation at other input widths need not fit inside the stored balls); the control that tells the two
+    apart is the relabelled point certificate below."""
+    for w, check in (("1/5000000000000", "recomputed"), ("1/1000000000000", "saddle Krawczyk")):
+        bad = copy.deepcopy(shipped)
+        bad["settings"]["lam_rad"] = w
+        bad["theorem"] = theorem.homoclinic_theorem(bad["params"], ["0", "pi"], w)
+        _rejected(bad, tmp_path, capsys, check)
+
+
+def test_the_point_certificate_relabelled_as_an_interval_is_rejected(tmp_path, capsys):
+    """The point's certificate with lam_rad and the interval's theorem added: its enclosures are the point's, and the
+    verifier, recomputing with lambdabar as the interval's ball, finds the point's saddle box (radius 1e-25) no
+    Krawczyk box for a saddle that moves 6.8 lam_rad.  (A verifier that dropped the interval from its balls would
+    recompute the stored enclosures exactly and accept: seen with IntervalParams.balls returning the point's.)"""
+    c = json.loads(resources.files("magrod.proof").joinpath("certificates", "homoclinic_target.json").read_text())
+    c["settings"]["lam_rad"] = "1/10000000000000"
+    c["theorem"] = theorem.homoclinic_theorem(c["params"], ["0", "pi"], "1/10000000000000")
+    _rejected(c, tmp_path, capsys, "saddle Krawczyk")
+
+
+def test_the_point_theorem_on_interval_data_and_the_reverse_are_rejected(shipped, tmp_path, capsys):
+    bad = copy.deepcopy(shipped)
+    bad["theorem"] = theorem.homoclinic_theorem(bad["params"], ["0", "pi"])
+    _rejected(bad, tmp_path, capsys, "theorem text")
+    bad = copy.deepcopy(shipped)
+    del bad["settings"]["lam_rad"]  # the point's data, but the interval's theorem: it claims more
+    _rejected(bad, tmp_path, capsys, "theorem text")
+    bad = copy.deepcopy(shipped)
+    bad["settings"]["lam_rad"] = "-1/10000000000000"
+    code, _, err = _verify(bad, tmp_path, capsys)
+    assert code == 2 and len(err) == 1 and "lam_rad" in err[0], err
+
+
+def test_the_shifted_saddle_box_is_rejected(shipped, tmp_path, capsys):
+    bad = copy.deepcopy(shipped)
+    k = bad["saddle"]["K"][0]
+    k["mid"] = ball.decimal(Fraction(k["mid"]) + 4 * Fraction(k["rad"]))
+    _rejected(bad, tmp_path, capsys, "saddle K[0] recomputed")
+
+
+def test_the_mutated_field_fails_to_prove_on_the_interval(tmp_path, capsys):
+    out = tmp_path / "never"
+    code = main(["prove", *ARGS, "--lam-rad", "1/10000000000000", "--mutate", "0", "--out", str(out), "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 1 and len(err) == 1 and "not established" in err[0] and not out.exists(), err
+
+
+def test_the_lambda_zero_interval_fails_to_prove(tmp_path, capsys):
+    """lambdabar in [-1e-13, 1e-13] contains the integrable lambdabar = 0 (W^u = W^s): dtheta_u/dpsi contains 0."""
+    args = list(ARGS)
+    args[args.index("--lam") + 1] = "0"
+    out = tmp_path / "never"
+    code = main(["prove", *args, "--lam-rad", "1/10000000000000", "--targets", "pi", "--out", str(out), "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 1 and len(err) == 1 and "transversality not established" in err[0] and "contains 0" in err[0], err
+    assert not out.exists()
