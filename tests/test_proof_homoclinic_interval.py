@@ -15,7 +15,7 @@ from importlib import resources
 import pytest
 
 from magrod.cli import main
-from magrod.proof import ball, fields, search, theorem, verify
+from magrod.proof import ball, fields, search, theorem
 
 ARGS = ["--m", "1.7", "--mu", "0.04", "--gamma", "1", "--delta", "1", "--lam", "0.01"]
 W = Fraction(1, 10**13)
