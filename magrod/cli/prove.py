@@ -79,16 +79,15 @@ def run(args) -> dict:
         return _horseshoe(args)
     if getattr(args, "widen", None) is not None:
         return _widen(args)
-    from ..proof import (TARGET_ANGLES, ProofSettings, mutated_fields, prove_homoclinic, validate_proof_params,
-                         validated_fields)
-    from ..proof.search import interval_params, interval_proof_settings
+    from ..proof import (TARGET_ANGLES, ProofSettings, interval_proof_params, interval_proof_settings, mutated_fields,
+                         prove_homoclinic, validate_proof_params, validated_fields)
 
     p = validate_proof_params(args.m, args.mu, args.gamma, args.delta, args.lam)
     targets = tuple(t.strip() for t in str(args.targets).split(",") if t.strip())
     if not targets or any(t not in TARGET_ANGLES for t in targets) or len(set(targets)) != len(targets):
         raise ParameterError("targets", f"must be 0, pi or 0,pi, got {args.targets!r}")
     w = _lam_rad(args)
-    interval_params(p, w)  # mu > 2 (lambdabar + W), checked before anything runs
+    interval_proof_params(p, w)  # mu > 2 (lambdabar + W), checked before anything runs
     st = interval_proof_settings(w, targets=targets) if w else ProofSettings(targets=targets)
     if args.out is None:
         raise ParameterError("out", "an output directory is required (or --verify CERT)")

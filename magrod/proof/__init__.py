@@ -23,6 +23,9 @@ _API = {
     "TARGET_ANGLES": ("search", "TARGETS"),
     "validate_proof_params": ("search", "validate_params"),
     "prove_homoclinic": ("search", "prove"),
+    # the same proof for every lambdabar of an interval (lambdabar a ball in every enclosure; statement 5)
+    "interval_proof_params": ("search", "interval_params"),
+    "interval_proof_settings": ("search", "interval_proof_settings"),
     # the prover of the section map's fixed point (statement 11)
     "FixedPointSettings": ("periodic", "FixedPointSettings"),
     "interval_settings": ("periodic", "interval_settings"),
