@@ -97,8 +97,9 @@ STATEMENTS = (
        by a second certificate whose every enclosure carries λ̄ as the ball of that interval
        (homoclinic_target_interval.json, `magrod prove --lam-rad 1/10000000000000`: prove 27 s, verify 7 s;
        dθ_u/dψ ∈ [−0.003823, −0.001095] at ψ = 0 and [0.000381, 0.002213] at ψ = π). 1.5·10⁻¹³ still proves,
-       10⁻¹² does not: λ̄ as a parameter ball is wrapped into every step's remainder, and the interval Newton step in
-       the phase grows ~2·10⁸ × the half-width (5·10⁻⁴ at 10⁻¹², against the widest arc 3.2·10⁻⁵). Beyond that
+       2·10⁻¹³ does not (`benchmarks/homoclinic_interval.py`): λ̄ as a parameter ball is wrapped into every step's
+       remainder, and the interval Newton step in the phase grows ~1.9·10⁸ × the half-width (4.6·10⁻⁵ at 2·10⁻¹³,
+       against the widest arc 3.2·10⁻⁵, whose dθ_u/dψ ball is already ±0.0014 about −0.0025). Beyond that
        interval: hyperbolic equilibria and transverse intersections persist, so all of this holds on an open
        neighbourhood of the parameters, of unquantified size (cited persistence, hypotheses: the checked
        hyperbolicity and transversality, analytic dependence on the parameters).""",
