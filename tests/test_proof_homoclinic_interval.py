@@ -126,6 +126,20 @@ def test_the_mutated_field_fails_to_prove_on_the_interval(tmp_path, capsys):
     assert code == 1 and len(err) == 1 and "not established" in err[0] and not out.exists(), err
 
 
+def test_the_cli_proves_the_interval_and_says_for_which_lambdabar(tmp_path, capsys):
+    """`magrod prove --lam-rad W` (the homoclinic proof; before issue 27's last stop it ignored --lam-rad): psi = pi
+    only, W = 1e-14 (~10 s); the written certificate verifies with the interval's theorem."""
+    out = tmp_path / "c"
+    assert main(["prove", *ARGS, "--lam-rad", "1/100000000000000", "--targets", "pi", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    w = Fraction(1, 10**14)
+    assert f"for every lambdabar in [{Fraction(1, 100) - w}, {Fraction(1, 100) + w}]" in text
+    c = json.loads((out / "certificate.json").read_text())
+    assert c["settings"]["lam_rad"] == "1/100000000000000"
+    code, vout, _ = _verify(c, tmp_path, capsys)
+    assert code == 0 and theorem.homoclinic_theorem(c["params"], ["pi"], "1/100000000000000") in vout
+
+
 def test_the_lambda_zero_interval_fails_to_prove(tmp_path, capsys):
     """lambdabar in [-1e-13, 1e-13] contains the integrable lambdabar = 0 (W^u = W^s): dtheta_u/dpsi contains 0."""
     args = list(ARGS)

@@ -109,6 +109,8 @@ def run(args) -> dict:
     out["certificate"] = str(path)
     out["crossings"] = [{"target": c["target"], "dtheta_dpsi": c["dtheta_dpsi"], "phi_star": c["newton"]}
                         for c in res.certificate["crossings"]]
+    if w:  # the interval the certificate holds on (exact)
+        out["lam_interval"] = [str(p.lam - w), str(p.lam + w)]
     return out
 
 
@@ -283,6 +285,8 @@ def format_text(d) -> str:
     if "entropy" in d:  # --horseshoe (its text output read d["crossings"]: a KeyError after the certificate was written)
         e = d["entropy"]
         return "\n".join(lines + [f"  h_top(P|Lambda) >= log rho > {e['log_rho_lower']:.6g}, rho > {e['rho_lower']}"])
+    if "lam_interval" in d:
+        lines.append(f"  for every lambdabar in [{d['lam_interval'][0]}, {d['lam_interval'][1]}]")
     for c in d["crossings"]:
         lines.append(f"  psi = {c['target']}: phi* in [{c['phi_star']['mid']} +- {c['phi_star']['rad']}], "
                      f"dtheta_u/dpsi in [{c['dtheta_dpsi']['mid']} +- {c['dtheta_dpsi']['rad']}]")
