@@ -57,3 +57,23 @@ def shift_set_along_entry(cert: dict, i: int, k: int = 3) -> dict:
     A = [[Fraction(v) for v in r] for r in c["sets"][i]["A"]]
     c["sets"][i]["c"] = [str(cN[0] + k * A[0][1]), str(cN[1] + k * A[1][1])]
     return c
+
+
+def verify_cli(cert: dict, tmp_path, capsys, *extra) -> tuple:
+    """`magrod prove --verify` on the certificate dict (written to tmp_path/c.json): (exit code, stdout, stderr
+    lines)."""
+    import json
+
+    from magrod.cli import main
+
+    p = Path(tmp_path) / "c.json"
+    p.write_text(json.dumps(cert))
+    code = main(["prove", "--verify", str(p), *extra])
+    cap = capsys.readouterr()
+    return code, cap.out, cap.err.strip().splitlines()
+
+
+def assert_rejected(cert: dict, tmp_path, capsys, check: str) -> None:
+    """The verifier rejects the certificate: exit 1, one stderr line "certificate rejected: ..." naming `check`."""
+    code, _, err = verify_cli(cert, tmp_path, capsys)
+    assert code == 1 and len(err) == 1 and "certificate rejected" in err[0] and check in err[0], (code, err)

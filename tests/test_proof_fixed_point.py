@@ -17,6 +17,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import assert_rejected, verify_cli
+
 from magrod.cli import main
 from magrod.proof import fields, periodic, theorem, verify
 
@@ -33,19 +35,6 @@ def _shipped(panel):
 @pytest.fixture(scope="module")
 def cert():
     return _shipped("a")
-
-
-def _run(c, tmp_path, capsys):
-    p = tmp_path / "c.json"
-    p.write_text(json.dumps(c))
-    code = main(["prove", "--verify", str(p)])
-    cap = capsys.readouterr()
-    return code, cap.out, cap.err.strip().splitlines()
-
-
-def _rejected(c, tmp_path, capsys, check):
-    code, _, err = _run(c, tmp_path, capsys)
-    assert code == 1 and len(err) == 1 and "certificate rejected" in err[0] and check in err[0], (code, err)
 
 
 @pytest.mark.parametrize("panel", sorted(SHIPPED))
@@ -85,19 +74,19 @@ def test_the_other_shipped_certificates_verify(panel):
 def test_a_theorem_text_that_claims_more_is_rejected(cert, tmp_path, capsys):
     bad = copy.deepcopy(cert)
     bad["theorem"] = bad["theorem"].replace("(a saddle of P;", "(a saddle of P with a transverse homoclinic point;")
-    _rejected(bad, tmp_path, capsys, "theorem text")
+    assert_rejected(bad, tmp_path, capsys, "theorem text")
 
 
 def test_a_missing_flight_is_rejected(cert, tmp_path, capsys):
     bad = copy.deepcopy(cert)
     del bad["flights"]["box"]
-    _rejected(bad, tmp_path, capsys, "flights present")
+    assert_rejected(bad, tmp_path, capsys, "flights present")
 
 
 def test_a_trace_ball_inside_the_unit_band_is_rejected(cert, tmp_path, capsys):
     bad = copy.deepcopy(cert)
     bad["trace"] = {"mid": "1.5", "rad": "0.001"}
-    _rejected(bad, tmp_path, capsys, "claims on the certificate's balls")
+    assert_rejected(bad, tmp_path, capsys, "claims on the certificate's balls")
 
 
 def test_another_level_is_rejected(cert, tmp_path, capsys):
@@ -105,7 +94,7 @@ def test_another_level_is_rejected(cert, tmp_path, capsys):
     bad = copy.deepcopy(cert)
     bad["level"] = "1/1"
     bad["theorem"] = theorem.section_fixed_point_theorem(bad["params"], "1/1")
-    _rejected(bad, tmp_path, capsys, "level Newton (box)")
+    assert_rejected(bad, tmp_path, capsys, "level Newton (box)")
 
 
 @pytest.mark.parametrize("shift, check", [(10, "claims on the certificate's balls"), (Fraction(1, 2), "level (box) recomputed")])
@@ -115,19 +104,19 @@ def test_the_shifted_box_control_is_rejected(cert, tmp_path, capsys, shift, chec
     ball over the shifted box) is outside the certificate's ball."""
     bad = copy.deepcopy(cert)
     bad["point"]["theta_c"] = str(Fraction(bad["point"]["theta_c"]) + shift * Fraction(bad["settings"]["r"]))
-    _rejected(bad, tmp_path, capsys, check)
+    assert_rejected(bad, tmp_path, capsys, check)
 
 
 def test_a_dropped_step_is_rejected(cert, tmp_path, capsys):
     bad = copy.deepcopy(cert)
     bad["flights"]["thin"]["steps2"] = bad["flights"]["thin"]["steps2"][:-1]
-    _rejected(bad, tmp_path, capsys, "thin steps")
+    assert_rejected(bad, tmp_path, capsys, "thin steps")
 
 
 def test_an_unknown_kind_is_bad_input(cert, tmp_path, capsys):
     bad = copy.deepcopy(cert)
     bad["kind"] = "horseshoe"
-    code, _, err = _run(bad, tmp_path, capsys)
+    code, _, err = verify_cli(bad, tmp_path, capsys)
     assert code == 2 and len(err) == 1 and "unknown certificate kind" in err[0]
 
 
@@ -227,7 +216,7 @@ def test_the_interval_certificate_states_its_theorem_and_rejects_a_wider_interva
     bad = copy.deepcopy(c)  # a consistent claim for twice the interval: the level's Newton ball is recomputed wider
     bad["settings"]["lam_rad"] = "2/5000000"
     bad["theorem"] = theorem.section_fixed_point_theorem(c["params"], "9/10", "2/5000000")
-    _rejected(bad, tmp_path, capsys, "level (box) recomputed")
+    assert_rejected(bad, tmp_path, capsys, "level (box) recomputed")
 
 
 @pytest.mark.slow

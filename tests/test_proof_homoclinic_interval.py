@@ -14,6 +14,8 @@ from importlib import resources
 
 import pytest
 
+from helpers import assert_rejected, verify_cli
+
 from magrod.cli import main
 from magrod.proof import ball, fields, search, theorem
 
@@ -25,19 +27,6 @@ NAME = "homoclinic_target_interval.json"
 @pytest.fixture(scope="module")
 def shipped():
     return json.loads(resources.files("magrod.proof").joinpath("certificates", NAME).read_text())
-
-
-def _verify(c, tmp_path, capsys):
-    p = tmp_path / "c.json"
-    p.write_text(json.dumps(c))
-    code = main(["prove", "--verify", str(p)])
-    cap = capsys.readouterr()
-    return code, cap.out, cap.err.strip().splitlines()
-
-
-def _rejected(c, tmp_path, capsys, check):
-    code, _, err = _verify(c, tmp_path, capsys)
-    assert code == 1 and len(err) == 1 and "certificate rejected" in err[0] and check in err[0], (code, err)
 
 
 def test_interval_params_enclose_every_lambdabar_of_the_interval():
@@ -64,7 +53,7 @@ def test_bad_lam_rad_is_exit_2_naming_it(w, why, tmp_path, capsys):
 
 def test_the_shipped_interval_certificate_verifies_with_the_interval_theorem(shipped, tmp_path, capsys):
     assert shipped["settings"]["lam_rad"] == "1/10000000000000"
-    code, out, _ = _verify(shipped, tmp_path, capsys)
+    code, out, _ = verify_cli(shipped, tmp_path, capsys)
     want = theorem.homoclinic_theorem(shipped["params"], ["0", "pi"], "1/10000000000000")
     assert code == 0 and f"theorem: {want}" in out
     assert "every lambdabar in [99999999999/10000000000000, 100000000001/10000000000000]" in want
@@ -85,7 +74,7 @@ def test_a_wider_interval_than_the_enclosures_carry_is_rejected(shipped, tmp_pat
         bad = copy.deepcopy(shipped)
         bad["settings"]["lam_rad"] = w
         bad["theorem"] = theorem.homoclinic_theorem(bad["params"], ["0", "pi"], w)
-        _rejected(bad, tmp_path, capsys, check)
+        assert_rejected(bad, tmp_path, capsys, check)
 
 
 def test_the_point_certificate_relabelled_as_an_interval_is_rejected(tmp_path, capsys):
@@ -96,19 +85,19 @@ def test_the_point_certificate_relabelled_as_an_interval_is_rejected(tmp_path, c
     c = json.loads(resources.files("magrod.proof").joinpath("certificates", "homoclinic_target.json").read_text())
     c["settings"]["lam_rad"] = "1/10000000000000"
     c["theorem"] = theorem.homoclinic_theorem(c["params"], ["0", "pi"], "1/10000000000000")
-    _rejected(c, tmp_path, capsys, "saddle Krawczyk")
+    assert_rejected(c, tmp_path, capsys, "saddle Krawczyk")
 
 
 def test_the_point_theorem_on_interval_data_and_the_reverse_are_rejected(shipped, tmp_path, capsys):
     bad = copy.deepcopy(shipped)
     bad["theorem"] = theorem.homoclinic_theorem(bad["params"], ["0", "pi"])
-    _rejected(bad, tmp_path, capsys, "theorem text")
+    assert_rejected(bad, tmp_path, capsys, "theorem text")
     bad = copy.deepcopy(shipped)
     del bad["settings"]["lam_rad"]  # the point's data, but the interval's theorem: it claims more
-    _rejected(bad, tmp_path, capsys, "theorem text")
+    assert_rejected(bad, tmp_path, capsys, "theorem text")
     bad = copy.deepcopy(shipped)
     bad["settings"]["lam_rad"] = "-1/10000000000000"
-    code, _, err = _verify(bad, tmp_path, capsys)
+    code, _, err = verify_cli(bad, tmp_path, capsys)
     assert code == 2 and len(err) == 1 and "lam_rad" in err[0], err
 
 
@@ -116,7 +105,7 @@ def test_the_shifted_saddle_box_is_rejected(shipped, tmp_path, capsys):
     bad = copy.deepcopy(shipped)
     k = bad["saddle"]["K"][0]
     k["mid"] = ball.decimal(Fraction(k["mid"]) + 4 * Fraction(k["rad"]))
-    _rejected(bad, tmp_path, capsys, "saddle K[0] recomputed")
+    assert_rejected(bad, tmp_path, capsys, "saddle K[0] recomputed")
 
 
 def test_the_mutated_field_fails_to_prove_on_the_interval(tmp_path, capsys):
@@ -136,7 +125,7 @@ def test_the_cli_proves_the_interval_and_says_for_which_lambdabar(tmp_path, caps
     assert f"for every lambdabar in [{Fraction(1, 100) - w}, {Fraction(1, 100) + w}]" in text
     c = json.loads((out / "certificate.json").read_text())
     assert c["settings"]["lam_rad"] == "1/100000000000000"
-    code, vout, _ = _verify(c, tmp_path, capsys)
+    code, vout, _ = verify_cli(c, tmp_path, capsys)
     assert code == 0 and theorem.homoclinic_theorem(c["params"], ["pi"], "1/100000000000000") in vout
 
 

@@ -15,6 +15,8 @@ import json
 
 import pytest
 
+from helpers import assert_rejected, verify_cli
+
 from magrod.cli import main
 from magrod.proof import search, theorem, verify
 
@@ -30,19 +32,6 @@ def cert(tmp_path_factory):
     return c
 
 
-def _run(c, tmp_path, capsys, *extra):
-    p = tmp_path / "c.json"
-    p.write_text(json.dumps(c))
-    code = main(["prove", "--verify", str(p), *extra])
-    cap = capsys.readouterr()
-    return code, cap.out, cap.err.strip().splitlines()
-
-
-def _rejected(c, tmp_path, capsys, check):
-    code, _, err = _run(c, tmp_path, capsys)
-    assert code == 1 and len(err) == 1 and "certificate rejected" in err[0] and check in err[0], (code, err)
-
-
 def _by_target(c, t):
     return next(x for x in c["crossings"] if x["target"] == t)
 
@@ -52,7 +41,7 @@ def test_the_vocabulary_of_targets_is_one():
 
 
 def test_the_valid_certificate_verifies_and_prints_the_generated_theorem(cert, tmp_path, capsys):
-    code, out, _ = _run(cert, tmp_path, capsys)
+    code, out, _ = verify_cli(cert, tmp_path, capsys)
     assert code == 0
     want = theorem.homoclinic_theorem(cert["params"], ["0", "pi"])
     assert f"theorem: {want}" in out and "two distinct transverse symmetric homoclinic orbits" in want
@@ -63,22 +52,22 @@ def test_deleted_crossings_are_rejected(cert, tmp_path, capsys):
     for keep in ([], ["pi"], ["0"]):
         bad = copy.deepcopy(cert)
         bad["crossings"] = [x for x in bad["crossings"] if x["target"] in keep]
-        _rejected(bad, tmp_path, capsys, "one crossing per target")
+        assert_rejected(bad, tmp_path, capsys, "one crossing per target")
 
 
 def test_a_duplicated_crossing_is_rejected(cert, tmp_path, capsys):
     bad = copy.deepcopy(cert)
     bad["crossings"].append(copy.deepcopy(_by_target(cert, "pi")))
-    _rejected(bad, tmp_path, capsys, "one crossing per target")
+    assert_rejected(bad, tmp_path, capsys, "one crossing per target")
 
 
 def test_psi_zero_twice_is_rejected(cert, tmp_path, capsys):
     zero = _by_target(cert, "0")
     bad = copy.deepcopy(cert)  # the pi crossing replaced by a second copy of the psi = 0 one
     bad["crossings"] = [copy.deepcopy(zero), copy.deepcopy(zero)]
-    _rejected(bad, tmp_path, capsys, "one crossing per target")
+    assert_rejected(bad, tmp_path, capsys, "one crossing per target")
     bad["settings"]["targets"] = ["0", "0"]  # ... and the settings made to agree with it
-    _rejected(bad, tmp_path, capsys, "targets distinct")
+    assert_rejected(bad, tmp_path, capsys, "targets distinct")
 
 
 @pytest.mark.parametrize("name", ["2pi", "pi/2", "", "PI", "0.0"])
@@ -86,20 +75,20 @@ def test_an_unknown_target_is_rejected(cert, tmp_path, capsys, name):
     """The old verifier read every target other than "0" as pi."""
     bad = copy.deepcopy(cert)
     _by_target(bad, "pi")["target"] = name
-    _rejected(bad, tmp_path, capsys, "crossings recognised")
+    assert_rejected(bad, tmp_path, capsys, "crossings recognised")
     bad["settings"]["targets"] = ["0", name]
-    _rejected(bad, tmp_path, capsys, "targets recognised")
+    assert_rejected(bad, tmp_path, capsys, "targets recognised")
 
 
 def test_a_theorem_text_claiming_more_is_rejected(cert, tmp_path, capsys):
     bad = copy.deepcopy(cert)
     bad["theorem"] = cert["theorem"].replace("to q*", "to q*, and the 9-D rod is nonintegrable")
-    _rejected(bad, tmp_path, capsys, "theorem text")
+    assert_rejected(bad, tmp_path, capsys, "theorem text")
     # one orbit proved, two claimed: the pi crossing dropped consistently, but the two-orbit text kept
     weak = copy.deepcopy(cert)
     weak["crossings"] = [copy.deepcopy(_by_target(cert, "pi"))]
     weak["settings"]["targets"] = ["pi"]
-    _rejected(weak, tmp_path, capsys, "theorem text")
+    assert_rejected(weak, tmp_path, capsys, "theorem text")
 
 
 def test_a_consistent_weakening_verifies_with_the_weaker_theorem(cert, tmp_path, capsys):
@@ -107,7 +96,7 @@ def test_a_consistent_weakening_verifies_with_the_weaker_theorem(cert, tmp_path,
     weak["crossings"] = [copy.deepcopy(_by_target(cert, "pi"))]
     weak["settings"]["targets"] = ["pi"]
     weak["theorem"] = theorem.homoclinic_theorem(cert["params"], ["pi"])
-    code, out, _ = _run(weak, tmp_path, capsys, "--json")
+    code, out, _ = verify_cli(weak, tmp_path, capsys, "--json")
     d = json.loads(out)
     assert code == 0 and d["ok"] and d["theorem"] == weak["theorem"] and list(d["slopes"]) == ["pi"]
     assert "one transverse symmetric homoclinic orbit" in d["theorem"] and "psi = 0" not in d["theorem"]
@@ -116,7 +105,7 @@ def test_a_consistent_weakening_verifies_with_the_weaker_theorem(cert, tmp_path,
 def test_settings_that_do_not_match_the_data_are_rejected(cert, tmp_path, capsys):
     bad = copy.deepcopy(cert)
     bad["settings"]["saddle_radius"] = "1/1000"
-    _rejected(bad, tmp_path, capsys, "settings match the data")
+    assert_rejected(bad, tmp_path, capsys, "settings match the data")
 
 
 def test_the_theorem_generator_refuses_what_it_cannot_state():
@@ -248,7 +237,7 @@ def test_fig4a_shifted_saddle_box_is_rejected(fig4a, tmp_path, capsys):
     from magrod.proof import ball
 
     k["mid"] = ball.decimal(Fraction(k["mid"]) + 4 * Fraction(k["rad"]))
-    _rejected(bad, tmp_path, capsys, "saddle K[0] recomputed")
+    assert_rejected(bad, tmp_path, capsys, "saddle K[0] recomputed")
 
 
 @pytest.mark.parametrize("lam", ["0.135", "0.1575", "0.175", "0.186"])
