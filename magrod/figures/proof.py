@@ -51,15 +51,9 @@ NOT_IN_REPRODUCE: tuple = ()
 
 
 def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
-    import json
-    from importlib import resources
-
-    from ..proof import verify_certificate
-
     out = ensure_writable_dir(out_dir)
     t0 = time.perf_counter()
-    cert = json.loads(resources.files("magrod.proof").joinpath("certificates", SHIPPED).read_text())
-    v = verify_certificate(cert)
+    cert, v, _ = _verified(SHIPPED)
     side = {"params": cert["params"], "ok": v.ok, "reason": v.reason, "n_checks": len(v.checks), "quick": quick,
             "certificate": f"magrod/proof/certificates/{SHIPPED}", "re_proved": False, "versions": versions()}
     paths = [str(atomic_write_json(out / "proof_certificate.json", cert))]
@@ -78,32 +72,20 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     side["not_verified_in_quick"] = ([TARGET_INTERVAL] if quick else []) + [n for _, n in FIG4[len(fig4):]] + \
         [n for _, n, _ in (*FIG4_SECTION[len(fig4_section):], *FIG4_HORSESHOE[len(fig4_horseshoe):])]
     if not quick:
-        ti = json.loads(resources.files("magrod.proof").joinpath("certificates", TARGET_INTERVAL).read_text())
-        vi = verify_certificate(ti)
-        side["target_interval"] = {"params": ti["params"], "lam_rad": ti["settings"]["lam_rad"], "ok": vi.ok,
-                                   "reason": vi.reason, "n_checks": len(vi.checks), "theorem": vi.theorem,
-                                   "slopes": vi.slopes, "certificate": f"magrod/proof/certificates/{TARGET_INTERVAL}",
-                                   "verify_wall_time_s": round(vi.wall_time_s, 1)}
+        ti, v4, entry = _verified(TARGET_INTERVAL)
+        side["target_interval"] = {**entry, "lam_rad": ti["settings"]["lam_rad"], "slopes": v4.slopes}
         paths.append(str(atomic_write_json(out / "proof_certificate_interval.json", ti)))
     for key, name in fig4:
-        other = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
-        v4 = verify_certificate(other)
-        side["fig4"].append({"panel": key, "params": other["params"], "ok": v4.ok, "reason": v4.reason,
-                             "n_checks": len(v4.checks), "certificate": f"magrod/proof/certificates/{name}",
-                             "theorem": v4.theorem, "slopes": v4.slopes,
-                             "verify_wall_time_s": round(v4.wall_time_s, 1)})
+        other, v4, entry = _verified(name)
+        side["fig4"].append({"panel": key, **entry, "slopes": v4.slopes})
         paths.append(str(atomic_write_json(out / f"proof_certificate_fig{key}.json", other)))
     # the section certificates (statements 11-13): verified, one sidecar entry each, a copy beside the figure
     for group, prefix, entries in (("fig4_section", "fixed_point", fig4_section),
                                    ("fig4_horseshoe", "horseshoe", fig4_horseshoe)):
         side[group] = []
         for key, name, st in entries:
-            other = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
-            v4 = verify_certificate(other)
-            side[group].append({"panel": key, "params": other["params"], "level": other["level"], "ok": v4.ok,
-                                "reason": v4.reason, "n_checks": len(v4.checks), "theorem": v4.theorem,
-                                "statement": st, "certificate": f"magrod/proof/certificates/{name}",
-                                "verify_wall_time_s": round(v4.wall_time_s, 1),
+            other, v4, entry = _verified(name)
+            side[group].append({"panel": key, **entry, "level": other["level"], "statement": st,
                                 "lam_rad": str(other.get("settings", {}).get("lam_rad", "0")),
                                 **({"values": v4.values} if group == "fig4_section" else {})})
             paths.append(str(atomic_write_json(out / f"proof_certificate_{prefix}_fig{key}.json", other)))
@@ -113,6 +95,21 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     paths.append(str(atomic_write_json(out / "proof.json", side)))
     paths.append(str(_figure(out, side, quick)))
     return paths
+
+
+def _verified(name: str) -> tuple:
+    """(certificate, VerifyResult, sidecar entry) of the shipped certificate `name`, verified by the complete
+    verifier: the entry holds what every REPORT row reads (parameters, verdict, checks, theorem, file, time)."""
+    import json
+    from importlib import resources
+
+    from ..proof import verify_certificate
+
+    cert = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
+    v = verify_certificate(cert)
+    return cert, v, {"params": cert["params"], "ok": v.ok, "reason": v.reason, "n_checks": len(v.checks),
+                     "theorem": v.theorem, "certificate": f"magrod/proof/certificates/{name}",
+                     "verify_wall_time_s": round(v.wall_time_s, 1)}
 
 
 def _figure(out, side, quick):

@@ -477,8 +477,7 @@ def _proof_target_interval(d) -> list:
     if not f:
         return []
     w = Fraction(f["lam_rad"])
-    slopes = "; ".join(f"psi = {t}: dtheta_u/dpsi in [{float(Fraction(lo)):+.4e}, {float(Fraction(hi)):+.4e}]"
-                       for t, (lo, hi) in f["slopes"].items()) if f["ok"] else ""
+    slopes = _slopes_text(f)
     return [{"label": f"eq:full_ham_nondim, a > 2b, for every lambdabar in {f['params']['lam']} +- {float(w):.1g} "
                       "(computer-assisted proof, beyond the paper)",
              "paper": "(not proved in the paper)",
@@ -489,14 +488,19 @@ def _proof_target_interval(d) -> list:
                          "orbits for every lambdabar of the interval") if f["ok"] else "certificate NOT verified"}]
 
 
+def _slopes_text(f) -> str:
+    """The verified dtheta_u/dpsi bounds of a homoclinic certificate's sidecar entry, one clause per target."""
+    return "; ".join(f"psi = {t}: dtheta_u/dpsi in [{float(Fraction(lo)):+.4e}, {float(Fraction(hi)):+.4e}]"
+                     for t, (lo, hi) in f["slopes"].items()) if f["ok"] else ""
+
+
 def _proof_fig4a(d) -> list:
     """Issue 27: the same theorem at Fig 4's rod, on the saddle-focus's own level (not the figure's h = 0.9)."""
     from ..generated.names import PARAMS
 
     rows = []
     for f in d.get("fig4", []):
-        slopes = "; ".join(f"psi = {t}: dtheta_u/dpsi in [{float(Fraction(lo)):+.4e}, {float(Fraction(hi)):+.4e}]"
-                           for t, (lo, hi) in f["slopes"].items()) if f["ok"] else ""
+        slopes = _slopes_text(f)
         rows.append({
             "label": f"eq:full_ham_nondim at fig:poincare1 ({f['panel'][1]})'s rod (computer-assisted proof, beyond "
                      "the paper)",

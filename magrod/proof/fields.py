@@ -65,14 +65,7 @@ class IntervalParams(ExactParams):
     lam_rad: Fraction = Fraction(0)
 
     def balls(self) -> tuple:
-        out = list(ExactParams.balls(self))
-        if self.lam_rad:
-            out[PARAMS.index("lam")] = ball.interval(self.lam - self.lam_rad, self.lam + self.lam_rad)
-        return tuple(out)
-
-    def lam_bounds(self) -> tuple:
-        """(lam - lam_rad, lam + lam_rad), exact."""
-        return self.lam - self.lam_rad, self.lam + self.lam_rad
+        return _with_lam_interval(ExactParams.balls(self), self.lam, self.lam_rad)
 
 
 def chart_field(p: ExactParams, module=gen) -> Field:
@@ -210,9 +203,14 @@ LAM = gen.PARAMS.index("lam")
 def parameter_balls(p: ExactParams, lam_rad: Fraction = Fraction(0)) -> tuple:
     """The parameters as balls in generated/validated.py's order; lambdabar widened to [lam - lam_rad, lam + lam_rad]
     (every enclosure computed with it holds for every lambdabar of the interval)."""
-    out = list(p.balls())
+    return _with_lam_interval(p.balls(), p.lam, lam_rad)
+
+
+def _with_lam_interval(balls, lam: Fraction, lam_rad) -> tuple:
+    """The parameter balls with lambdabar's replaced by [lam - lam_rad, lam + lam_rad] (unchanged for lam_rad 0)."""
+    out = list(balls)
     if lam_rad:
-        out[LAM] = ball.interval(p.lam - lam_rad, p.lam + lam_rad)
+        out[gen.PARAMS.index("lam")] = ball.interval(lam - lam_rad, lam + lam_rad)
     return tuple(out)
 
 
