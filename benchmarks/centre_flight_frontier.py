@@ -1,0 +1,158 @@
+"""Why the horseshoe verifications cost what they cost (issue 27, reproduce's +60 s): the accuracy-cost frontier of
+the validated integrator's centre ("thin") flights, which are ~70 % of the steps of every shipped horseshoe.
+
+The flight: one return of the section map from Fig 4(b)'s saddle x0 (fixed_point_fig4b.json; return time 5.13),
+C^0, Newton series, 128 bits -- the flight HORSESHOE_CENTRE_TOL_FIG4B was tuned on (core/tolerances.py).  Measured:
+
+  1. remainder inflation: per step, the Lagrange remainder x^[p+1](Y) h^(p+1) on the a priori enclosure Y, its
+     radius against its midpoint (the true remainder's size) and against the last Taylor term (~tol);
+  2. the radius of the box coefficients x^[k](Y) per unit width of Y, by k and by the width (the dependency growth
+     of Arb series arithmetic on a box; Newton's and Picard's series);
+  3. order x tolerance: steps, CPU and the enclosure of P(x0) (which failed to validate a step);
+  4. a remainder-aware step control (reject a step whose remainder radius exceeds rem_tol): steps and enclosure.
+
+Numerical measurements of a rigorous integrator's enclosure widths (each width is itself rigorous).  What they say:
+the enclosure of a centre after one return is set by the remainder's radius on Y (inflated ~1e11 x at the median
+step), not by the true truncation error; higher order inflates faster than it gains (order >= 24 fails to validate
+steps), and shortening the inflated steps costs as many steps as a smaller tol.  Order 20 with tol 1e-28 .. 1e-32 is
+on the frontier; a cheaper centre flight needs a remainder that is not a box evaluation (Taylor models, or Cauchy
+bounds from a complex-time enclosure), i.e. a new integrator and every horseshoe re-proved.
+
+    python benchmarks/centre_flight_frontier.py [--out benchmarks/centre_flight_frontier.json]   # ~2 min, 1 core
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import time
+from fractions import Fraction
+from importlib import resources
+
+import numpy as np
+
+
+def _setup():
+    from magrod.proof import fields
+    from magrod.proof.horseshoe import dyadic, t_approach
+
+    c = json.loads(resources.files("magrod.proof").joinpath("certificates", "fixed_point_fig4b.json").read_text())
+    p = fields.ExactParams(**{k: Fraction(v) for k, v in c["params"].items()})
+    th = Fraction(c["newton"]["mid"])
+    pc = dyadic(float(Fraction(c["point"]["level_newton"]["centre"]["mid"])), 60)
+    t_a = t_approach(c["float"]["half_time"] * 2, Fraction(1, 256))
+    return p, Fraction(c["level"]), th, pc, t_a
+
+
+def _fly(order, tol, hook=None):
+    """One C^0 return of x0; hook(sd, h, order) may raise EnclosureError (rejects the step).  (steps, cpu, P(x0)
+    radii) or the failure."""
+    from magrod.proof import ball, fields, section_return, taylor
+
+    p, h, th, pc, t_a = _setup()
+    orig = taylor.step_data
+
+    def wrapped(fld, S, hh, order_, c1=True, cx=None):
+        sd = orig(fld, S, hh, order_, c1, cx)
+        if hook is not None:
+            hook(sd, hh, order_)
+        return sd
+
+    taylor.step_data = wrapped
+    t0 = time.process_time()
+    try:
+        with ball.workprec(128):
+            fld = fields.chart_field(p)
+            fld.series = "newton"
+            fl = section_return.piece_return(fld.pars, h, fld, [th, Fraction(0)], [[0, 0], [0, 0]], pc,
+                                             Fraction(1, 10**8), t_a, Fraction(1, 256), order=order, tol=tol,
+                                             tol_thin=tol, box=False, thin_c1=False)
+        return {"order": order, "tol": tol, "ok": True, "steps": sum(len(s) for s in fl["steps"]["thin"]),
+                "cpu_s": round(time.process_time() - t0, 2), "Pc_rad": [float(v.rad()) for v in fl["Pc"]]}
+    except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
+        return {"order": order, "tol": tol, "ok": False, "reason": str(err)[:120],
+                "cpu_s": round(time.process_time() - t0, 2)}
+    finally:
+        taylor.step_data = orig
+
+
+def inflation(tol):
+    from magrod.proof import ball
+
+    rows = []
+
+    def hook(sd, hh, order):
+        hp = float(ball.pow_int(hh, order + 1))
+        rows.append((max(abs(float(v.mid())) for v in sd.cY) * hp, max(float(v.rad()) for v in sd.cY) * hp,
+                     max(abs(float(c[order].mid())) for c in sd.cx) * float(hh) ** order,
+                     max(float(v.rad()) for v in sd.Y)))
+
+    run = _fly(20, tol, hook)
+    a = np.array(rows)
+    ratio = a[:, 1] / np.maximum(a[:, 0], 1e-300)
+    return {**run, "remainder_rad_over_mid": {"median": float(np.median(ratio)), "max": float(ratio.max())},
+            "sum_remainder_rad": float(a[:, 1].sum()), "sum_remainder_mid": float(a[:, 0].sum()),
+            "sum_last_term": float(a[:, 2].sum()), "Y_rad_median": float(np.median(a[:, 3]))}
+
+
+def coefficient_growth():
+    from flint import arb
+
+    from magrod.proof import ball, fields, taylor
+
+    p = _setup()[0]
+    out = []
+    with ball.workprec(128):
+        fld = fields.chart_field(p)
+        x = [arb(0.751), arb(0.3), arb(0.2), arb(1.13)]  # a point of the flight's middle (theta = 0.75)
+        for series in ("newton", "picard"):
+            fld.series = series
+            cp, _ = taylor.solution_series(fld, x, 21)
+            row = {"series": series, "k": [1, 5, 10, 15, 21],
+                   "point_abs": [max(abs(float(c[k].mid())) for c in cp) for k in (1, 5, 10, 15, 21)], "by_width": {}}
+            for w in (1e-2, 1e-3, 1e-4, 1e-6):
+                Y = [v + ball.interval(-1, 1) * arb(w) for v in x]
+                cY, _ = taylor.solution_series(fld, Y, 21)
+                row["by_width"][f"{w:g}"] = [max(float(c[k].rad()) for c in cY) / w for k in (1, 5, 10, 15, 21)]
+            out.append(row)
+    return out
+
+
+def remainder_control(tol, rem_tol):
+    from magrod.proof import ball, taylor
+
+    n = {"rejected": 0}
+
+    def hook(sd, hh, order):
+        r = max(float(v.rad()) for v in sd.cY) * float(ball.pow_int(hh, order + 1))
+        if r > rem_tol and float(hh) > 1e-4:
+            n["rejected"] += 1
+            raise taylor.EnclosureError("remainder radius above rem_tol")
+
+    return {**_fly(20, tol, hook), "rem_tol": rem_tol, **n}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default=None)
+    args = ap.parse_args()
+    t0 = time.perf_counter()
+    res = {"machine": platform.processor() or platform.machine(),
+           "flight": "one return of Fig 4(b)'s x0 (fixed_point_fig4b.json), C^0, Newton series, 128 bits",
+           "inflation": [inflation(1e-25), inflation(1e-32)],
+           "coefficient_growth": coefficient_growth(),
+           "order_tol": [_fly(o, t) for o in (20, 22, 24, 26, 32) for t in (1e-25, 1e-28, 1e-32)],
+           "remainder_control": [remainder_control(1e-25, r) for r in (1e-24, 1e-30)]}
+    res["wall_s"] = round(time.perf_counter() - t0, 1)
+    text = json.dumps(res, indent=1)
+    if args.out:
+        with open(args.out, "w") as fh:
+            fh.write(text + "\n")
+    for r in res["order_tol"]:
+        print(r)
+    for r in res["inflation"] + res["remainder_control"]:
+        print({k: v for k, v in r.items()})
+
+
+if __name__ == "__main__":
+    main()
