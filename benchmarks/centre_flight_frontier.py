@@ -15,8 +15,9 @@ Numerical measurements of a rigorous integrator's enclosure widths (each width i
 the enclosure of a centre after one return is set by the remainder's radius on Y (inflated ~1e11 x at the median
 step), not by the true truncation error; higher order inflates faster than it gains (order >= 24 fails to validate
 steps), and shortening the inflated steps costs as many steps as a smaller tol.  Order 20 with tol 1e-28 .. 1e-32 is
-on the frontier; a cheaper centre flight needs a remainder that is not a box evaluation (Taylor models, or Cauchy
-bounds from a complex-time enclosure), i.e. a new integrator and every horseshoe re-proved.
+on the frontier; a cheaper centre flight needs a remainder that is not a box evaluation (Taylor models; Cauchy bounds
+from a first-order complex-time enclosure would need R < 1/|Df| ~ 0.044 at x0: far shorter steps), i.e. a new
+integrator and every horseshoe re-proved.
 
     python benchmarks/centre_flight_frontier.py [--out benchmarks/centre_flight_frontier.json]   # ~2 min, 1 core
 """
