@@ -16,9 +16,11 @@ geometry that the prover then proves.  Not a proof.
         [--wcap=7]
 
 Stored run (fig4d_horseshoe_design.json, 2 cores, ~20 s): W^u on Fix(R) at return 35 from s = 1.1573e-7, theta =
-1.81863 on the psi = pi branch, flight time 112.77, W^u-W^s angle 36.8 deg; the design fig4d starts 12 returns
-further out (s* = 3.636e-5 = d, n_exc = 23, m = 0, k = 24 sets): every link's margins positive, (a') >= 0.231,
-(b) >= 0.500 (linear, hull and sampled alike).  Scratch runs of the same homoclinic orbit (not stored): d = 4.44e-8
+1.81863 on the psi = pi branch, flight time 112.77, W^u-W^s angle 36.8 deg; the design fig4d starts there
+(s* = 1.157e-7 = d, n_exc = 35, m = 0, k = 36 sets): every link's margins positive, (a') >= 0.231 (0.231 at
+N31 => N32, where the rigorous run 8 below fails), (b) >= 0.500 (linear, hull and sampled alike).  Until
+2026-12-03 the design started 12 returns further out (s* = 3.636e-5, n_exc = 23, k = 24: the same float margins;
+runs 2-4 below).  Scratch runs of the same homoclinic orbit (not stored): d = 4.44e-8
 (s* = 1.157e-7, n_exc = 35, m = 2, k = 38): qu = qs = 1.5: (a') >= 0.292, (b) >= 0.500; qu = qs = 1.3: 0.231, 0.300;
 qu = qs = 1.2: 0.167, 0.200 (its prover run failed at the crossing step near theta = pi: horseshoe.fig4d_settings,
 lead); d = 3.64e-5 with qs = 1.5: (a') -0.005 at N0 => N1 (the widths reach only 0.49 d at N1).
@@ -33,7 +35,18 @@ The rigorous runs (horseshoe.prove, not a proving design: fig4d_settings is not 
   4. the same with N18 .. N22 in 2 x 2 pieces: every piece flown, then N0 => N0 (a') failed: margin 1 - max |y_s| =
      -31.49 (float: +0.38), 613 s at load ~5.  The C^1 enclosure [DP(N0)] over a set of size 3e-5 is ~100x too wide
      for the mean-value form (its excess grows like the size squared relative to the widths): a proof needs d ~ 1e-7,
-     i.e. the ~38-set chain of run 1 with lead 1/1024 (est. > 15 min: beyond the 10-minute budget; not run).
+     i.e. the ~38-set chain of run 1 with lead 1/1024.
+  5. (2026-12-03, idle 2 cores unless stated) d = 1.27e-6 (31 sets, s* = 1.157e-7 mu_u^5, n_exc = 30, p_rad
+     1/20000, one piece per set): N0 => N0 (a') -0.52, 182 s at load 2.  d = 4.9e-7 (33 sets, N0 in 2 x 2 pieces):
+     N0 => N0 (a') 0.274, N0 => N1 0.17, then N1 => N2 (b) failed (the exit edges' images straddle), 353 s at load 3.
+  6. d = 1.157e-7 (36 sets, n_exc = 35, the design fig4d_settings with one piece per set): every link up to
+     N29 => N30 closed ((a') >= 0.157, (b) >= 1.38), N30 => N31 (a') -1.165 (the pass near theta = pi), 540 s at
+     load 3.
+  7. the same with N30, N31 in 4 x 4 pieces, N32 .. N34 in 2 x 2, p_rad 1/20000: N30 => N31 (a') -0.461, the
+     pieces' centres (pbar_psi solved about their set's p_c in the wide Newton box) enclosed to +-1.2 of N31's width.
+  8. p_rad 1e-6 (fig4d_settings as stored): N30 => N31 (a') 0.122, N31 => N32 (a') -0.113 (centre offset +-0.069
+     in y_s); prove 651 s idle (chain passes 194 s, 76 pieces' flights 455 s): over the 10-minute budget before the
+     last links.  Not shipped: no horseshoe is claimed at (d).
 """
 from __future__ import annotations
 

@@ -133,33 +133,34 @@ def fig4b_settings() -> HorseshoeSettings:
 
 
 def fig4d_settings() -> HorseshoeSettings:
-    """The float design of a Fig 4(d) chain (lambdabar = 93/500; benchmarks/fig4d_horseshoe_design.py, .json).
-    NOT a proving design, hence not in DESIGNS: its prover run (N18 .. N22 cut into 2 x 2 pieces, 613 s at load ~5)
-    failed at N0 => N0 (a'), margin 1 - max |y_s| = -31.5 against the float 0.38: at this set size (d = 3.6e-5) the
-    C^1 enclosure [DP(N0)] of the mean-value form is ~100x too wide; with one piece per set N18's box flight raised
-    ValueError (a divisor containing 0).  A proof needs sets ~300x smaller (d ~ 1e-7: the 38-set chain below, whose
-    first run failed at a crossing step near theta = pi before lead = 1/1024; not re-run: > 10 min).  The
-    saddle is weak (mu_u = 1.615, sigma = 1 / mu_u = 0.619) but its homoclinic orbit is benign: W^u (side +e_u)
-    meets Fix(R) at the 35th return from s = 1.157e-7 (theta = 1.8186, psi = pi branch at the last five centres),
-    the exit-entry angle is 44.5 deg near x0 and >= 34.6 deg along the whole chain, W^u-W^s angle 36.8 deg at the
-    end; the unit exit vector is stretched by 1.615-1.66 per link, 1.50, 0.87, 4.11, 1.34 on the last four.
-    The sets are large (d = dist(x0, c_1) = s* = 3.64e-5, the W^u point 12 returns further out, n_exc = 23, no
-    pull-back): k = 24 sets instead of 38 at d = 4.4e-8 (the chain near x0 is linear at that scale: the float hull
-    and sampled margins equal the linear ones to 1e-4), so that the centre flights at PROOF_STEP_TOL resolve them
-    and one chain pass suffices.  Margins qu = 1.5 (< mu_u: the lengths stay at L where a link stretches by mu_u),
-    qs = 1.3 (1 / (qs sigma) = 1.24 per link lets the entry widths pulled back from N24 reach the cap 7 L at N1 ..
-    N14; with qs = 1.5, 1.08 per link, they reach only 0.49 d at N1: (a') -0.005 at N0 => N1).  N0 => N1: mu_u l0 >
-    d + l1 with l0 + l1 < d needs l1 < d (mu_u - 1) / (mu_u + 1) = 0.235 d; l0 = 0.8 d, l1 = 0.1 d give (b)
-    (mu_u l0 - d) / l1 - 1 = 1.92 and the entry thickness l0 / mu_u = 0.50 d of P(N0) against w1 = 0.7 d (a') 0.29.
-    Float margins: (a') >= 0.231 (qs binds), (b) >= 0.500 (qu binds).  lead = 1/1024: the orbit passes within 0.0103
-    of theta = pi at the 32nd and 33rd returns of the long chain (the 20th, 21st here), where the crossing step of
-    length 2 lead = 1/128 of the default failed ("field not evaluable on the trial enclosure": sin theta).
-    p_rad = 1/2000: pbar_psi varies by ~3e-5 over N0 (|d pbar_psi / d theta| = 1.24), more than the default 1e-6
-    (the first run of this design failed at "N0 branch box"); the level's other root is >= 0.02 away at every
-    centre (0.18 at x0)."""
-    return HorseshoeSettings(m_back=0, n_exc=23, s_star=3.636215240269992e-05, qu=1.5, qs=1.3, l0_frac=0.8,
+    """The closest design to a Fig 4(d) proof (lambdabar = 93/500, the panel the chaos indicator calls regular;
+    benchmarks/fig4d_horseshoe_design.py, .json).  NOT a proving design, hence not in DESIGNS: its prover run fails
+    at N31 => N32 and already takes 651 s on an idle 2-core machine (over the 10-minute budget).  The saddle is weak
+    (mu_u = 1.615, sigma = 1 / mu_u = 0.619) but its homoclinic orbit is benign: W^u (side +e_u) meets Fix(R) at the
+    35th return from s* = 1.157e-7 (theta = 1.8186, the psi = pi branch at the last five centres), the exit-entry
+    angle is 44.5 deg near x0 and >= 34.6 deg along the chain, W^u-W^s angle 36.8 deg at the end.  k = 36 sets at
+    d = dist(x0, c_1) = s* (no pull-back, n_exc = 35).  Margins qu = 1.5 (< mu_u), qs = 1.3 (1 / (qs sigma) = 1.24
+    per link lets the entry widths pulled back from the end reach the cap 7 L); N0 => N1: mu_u l0 > d + l1 with
+    l0 + l1 < d needs l1 < d (mu_u - 1) / (mu_u + 1) = 0.235 d; l0 = 0.8 d, l1 = 0.1 d.
+    Why so small a d: the C^1 enclosure [DP(X)] over a set is wider than DP's variation by a factor that grows with
+    the set, and the mean-value form's excess goes like its size squared relative to the widths: at d = 3.6e-5
+    (24 sets) N0 => N0 (a') failed at -31.5 (float +0.38), at 1.3e-6 (31 sets) at -0.52, at 4.9e-7 (33 sets, N0 in
+    2 x 2 pieces) N1 => N2 (b) failed; at 1.157e-7 with one piece per set every link to N30 closed ((a') >= 0.157,
+    (b) >= 1.38) and N30 => N31 failed (a') at -1.165: the orbit passes within 0.0103 of theta = pi at the 32nd and
+    33rd returns.  With N30, N31 in 4 x 4 pieces (a 3 x 3 grid has non-dyadic centres) and N32 .. N34 in 2 x 2:
+    N30 => N31 closes ((a') 0.122) and N31 => N32 fails at (a') -0.113, the pieces' centres enclosed only to
+    +-0.069 of N32's entry width (y_s) after the return past theta = pi, the mean-value term adding the rest;
+    prove 651 s idle: two chain passes 194 s, the 76 pieces' flights 455 s (one core).  What would close it:
+    centre flights at 1e-28 and N31 in 8 x 8 pieces, i.e. > 15 min -- or a prover that flies the pieces on both
+    cores.
+    lead = 1/1024 (the crossing step of length 1/128 near theta = pi was not validated: "field not evaluable",
+    sin theta); p_rad the default 1e-6 (pbar_psi varies by ~1.6e-7 over N0; with 1/20000 the pieces' centres, whose
+    pbar_psi is solved in a box about their set's p_c, were enclosed after the return to +-1.2 of N31's width).
+    Centre flights at PROOF_STEP_TOL: the second chain pass leaves the end within 1 % of N35's width."""
+    return HorseshoeSettings(m_back=0, n_exc=35, s_star=1.1573e-07, qu=1.5, qs=1.3, l0_frac=0.8,
                              l1_frac=0.1, w_cap=7.0, tol_thin=PROOF_STEP_TOL, passes=("thin", "thin", "thin"),
-                             stop_frac=1e-2, lead=Fraction(1, 1024), p_rad=Fraction(1, 2000))
+                             stop_frac=1e-2, lead=Fraction(1, 1024),
+                             pieces={30: (4, 4), 31: (4, 4), 32: (2, 2), 33: (2, 2), 34: (2, 2)})
 
 
 def fig4c_settings() -> HorseshoeSettings:
