@@ -19,7 +19,7 @@ on the frontier; a cheaper centre flight needs a remainder that is not a box eva
 from a first-order complex-time enclosure would need R < 1/|Df| ~ 0.044 at x0: far shorter steps), i.e. a new
 integrator and every horseshoe re-proved.
 
-    python benchmarks/centre_flight_frontier.py [--out benchmarks/centre_flight_frontier.json]   # ~2 min, 1 core
+    python benchmarks/centre_flight_frontier.py [--out benchmarks/centre_flight_frontier.json]   # ~70 s, 1 core
 """
 from __future__ import annotations
 
@@ -47,7 +47,8 @@ def _setup():
 
 def _fly(order, tol, hook=None):
     """One C^0 return of x0; hook(sd, h, order) may raise EnclosureError (rejects the step).  (steps, cpu, P(x0)
-    radii) or the failure."""
+    radii) or the failure.  The hook wraps taylor.step_data for the flight's duration (restored after): the library
+    has no per-step callback, and a benchmark must not add one to the verifier's trust base."""
     from magrod.proof import ball, fields, section_return, taylor
 
     p, h, th, pc, t_a = _setup()
