@@ -41,7 +41,7 @@ def renamed_keywords(**old_to_new):
     >>> with warnings.catch_warnings(record=True) as w:
     ...     warnings.simplefilter("always")
     ...     f(params=3), str(w[0].message)
-    (3, "f(params=...) is deprecated: the argument is now called system")
+    (3, 'f(params=...) is deprecated: the argument is now called system')
     """
     import functools
 
