@@ -17,7 +17,7 @@ import logging
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from ..chaos import MAPPABLE
-from .options import PARAM_HELP, ROOT_HELP, START_HELP, integer, number, out_dir, stem
+from .options import PARAM_HELP, ROOT_HELP, START_HELP, add_out, integer, number, out_dir, stem
 
 _OVERRIDES = (*PARAMS, "h", "theta0", "ptheta0", "psi0")
 
@@ -59,7 +59,7 @@ def add_arguments(p):
                         "systems")
     p.add_argument("--connect-timeout", default="5", help="seconds to reach the scheduler before giving up")
     p.add_argument("--worker-timeout", default="60", help="seconds to wait for a worker to join the scheduler")
-    p.add_argument("--out", required=True, help="output directory (made absolute: Dask workers write there)")
+    add_out(p, files=True, help="output directory (made absolute: Dask workers write there)")
     p.add_argument("--stem", default="chaosmap", help="file name stem")
     p.add_argument("--model", default=None, metavar="NAME|FILE.py",
                    help="a rod model of the family (`magrod models`) or a model file: Lyapunov estimates over two of "

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import (LIMITS, ROOT_HELP, add_panel, add_params, add_start, add_threads, integer, number, out_dir,
+from .options import (LIMITS, ROOT_HELP, add_panel, add_params, add_start, add_workers, integer, number, out_dir,
                       params_from, stem)
 
 COORDINATES = ("theta", "ptheta", "psi", "ppsi")  # checked against magrod.chaos.portrait in the tests
@@ -30,7 +30,7 @@ def add_arguments(p):
     p.add_argument("--root", default="smallest", choices=("smallest", "largest"), help=ROOT_HELP)
     p.add_argument("--direction", default="positive", choices=("any", "negative", "positive"),
                    help="sign of d/dt sin(psi) at recorded crossings")
-    add_threads(p)
+    add_workers(p, help="threads (default: all cores)", old=("--threads",))
     p.add_argument("--out", default=None, help="write <stem>.npz/.json/.png into this directory")
     p.add_argument("--stem", default="orbitdiagram", help="file name stem")
 
@@ -73,7 +73,7 @@ def run(args) -> dict:
     if len(values) * (iterates + transient) > 10 * LIMITS["iterates"]:
         raise ParameterError("values", f"{len(values)} values x {iterates + transient} iterates: at most "
                                        f"{10 * LIMITS['iterates']} section points in one command")
-    workers = None if args.threads is None else integer("threads", args.threads, maximum=256)
+    workers = None if args.workers is None else integer("workers", args.workers, maximum=256)
     name = stem("stem", args.stem)
     out = out_dir("out", args.out) if args.out is not None else None
     # the paper's panels of the same figure that vary this parameter (and share everything else)

@@ -8,7 +8,7 @@ LIMITS = {
     "max_pulses": 12,        # N-pulse search: the branch is integrated past N near-saddle passages
     "samples": 2_001,        # multipulse scan: one unstable-branch integration per sample
     "points": 1_000_000,     # rod samples
-    "jobs": 64,              # reproduce worker processes
+    "workers": 64,           # worker processes or threads of one command
 }
 
 
