@@ -34,7 +34,7 @@ def add_arguments(p):
     p.add_argument("--indicator", default="growth", choices=sorted(MAPPABLE),
                    help="field drawn in the PNG (the store holds all; chaos is classified by the growth exponent)")
     p.add_argument("--t-max", default="3000", help="integration length T per orbit")
-    p.add_argument("--tol", default="0", help="Taylor tolerance (0 = machine epsilon)")
+    p.add_argument("--tol", default=None, help="Taylor tolerance (default: machine epsilon; 0 means it too)")
     p.add_argument("--renorm-dt", default="10", help="renormalisation interval of the tangent vector")
     p.add_argument("--threshold", default="3", help="chaotic iff growth exponent > threshold")
     p.add_argument("--tile", default="16", help="tile edge in grid points (one Dask task, one zarr chunk)")
@@ -123,7 +123,7 @@ def spec_from_args(args):
     bound = None if args.refine_bound is None else number("refine_bound", args.refine_bound)
     threshold = number("threshold", args.threshold)
     spec = MapSpec(x, y, base=base, panel=str(args.panel).lower(), root=args.root,
-                   t_max=number("t_max", args.t_max, bound=1e7), tol=number("tol", args.tol, bound=1.0),
+                   t_max=number("t_max", args.t_max, bound=1e7), tol=0.0 if args.tol is None else number("tol", args.tol, bound=1.0),
                    renorm_dt=number("renorm_dt", args.renorm_dt), tile=integer("tile", args.tile, maximum=1024),
                    refine=refine, refine_bound=bound, early_exit=bool(getattr(args, "early_exit", False)),
                    **({"refine_threshold": threshold} if refine else {}))

@@ -21,7 +21,7 @@ def add_arguments(p):
     p.add_argument("--root", default="smallest", choices=["smallest", "largest"], help=ROOT_HELP)
     p.add_argument("--t-max", default="3000", help="integration length T")
     p.add_argument("--renorm-dt", default="10", help="interval between QR re-orthonormalisations (GALI samples)")
-    p.add_argument("--tol", default="0", help="Taylor tolerance (0 = machine epsilon)")
+    p.add_argument("--tol", default=None, help="Taylor tolerance (default: machine epsilon; 0 means it too)")
     p.add_argument("--gali", action="store_true", help="also GALI_2, GALI_3, GALI_4 of the orbit")
     p.add_argument("--out", default=None, help="write <stem>.json and <stem>.png into this directory")
     p.add_argument("--stem", default="spectrum", help="file name stem")
@@ -43,7 +43,7 @@ def run(args) -> dict:
             start[name] = number(name, v)
     t_max = number("t_max", args.t_max, bound=1e7)
     renorm_dt = number("renorm_dt", args.renorm_dt)
-    tol = number("tol", args.tol, bound=1.0)
+    tol = 0.0 if args.tol is None else number("tol", args.tol, bound=1.0)
     if tol < 0:
         raise ParameterError("tol", f"must be >= 0 (0 = machine epsilon), got {tol:g}")
     name = stem("stem", args.stem)
