@@ -33,7 +33,7 @@ def test_registry_model_defaults_and_ranges():
         s.replace(B1=0)
     assert e.value.name == "B1"
     with pytest.raises(mr.ParameterError) as e:
-        s.rod  # the paper's chart asked of another model: named
+        _ = s.rod  # the paper's chart asked of another model: named
     assert e.value.name == "model"
 
 
