@@ -17,7 +17,7 @@ import logging
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from ..chaos import MAPPABLE
-from .options import PARAM_HELP, ROOT_HELP, START_HELP, add_out, integer, number, out_dir, stem
+from .options import PARAM_HELP, ROOT_HELP, START_HELP, add_out, add_workers, integer, number, out_dir, stem
 
 _OVERRIDES = (*PARAMS, "h", "theta0", "ptheta0", "psi0")
 
@@ -47,8 +47,7 @@ def add_arguments(p):
     p.add_argument("--early-exit", action="store_true",
                    help="stop an orbit after T/2 once its growth exponent passes the threshold with a margin (no class "
                         "changes; store array 'exit_time'); default: every orbit runs for T")
-    p.add_argument("--workers", default=None,
-                   help="LocalCluster worker processes (1 thread and ~300 MB each; default 2, at most the CPUs "
+    add_workers(p, help="LocalCluster worker processes (1 thread and ~300 MB each; default 2, at most the CPUs "
                         "this process may use)")
     p.add_argument("--scheduler", default=None,
                    help="a running Dask scheduler instead: tcp://HOST:PORT, HOST:PORT or tls://HOST:PORT (TLS "
