@@ -116,8 +116,14 @@ BATTERY = [
     (["poincare", "--panel", "4a", "--out", "/proc/magrod-test"], "out", 2),
     (["poincare", "--panel", "4a", "--out", "{tmp}/file"], "out", 2),
     (["poincare", "--panel", "4a", "--out", "{tmp}/" + "d" * 300], "out", 2),
-    (["poincare", "--m", "1.7", "--mu", "0.4", "--gamma", "3", "--delta", "3", "--lam", "0.135", "--h", "0.9"],
-     "theta0", 2),
+    # without --panel the paper's Fig 4(a) gives what is not given (one default panel for every command)
+    (["poincare", "--m", "1.7", "--mu", "0.4", "--gamma", "3", "--delta", "3", "--lam", "0.135", "--h", "0.9",
+      "--theta0", "nan"], "theta0", 2),
+    (["poincare", "--model", "nosuch"], "model", 2),
+    (["saddle", "--model", "nosuch"], "model", 2),
+    (["explore", "--model", "nosuch"], "model", 2),
+    (["explore", "--model", "kirchhoff", "--panel", "4a"], "panel", 2),
+    (["saddle", "--model", "kirchhoff"], "model", 2),
     # --- homoclinic
     (["homoclinic", "--m", "3", "--gamma", "1"], "m", 2),
     (["homoclinic", "--m", "1.7", "--gamma", "-1"], "gamma", 2),
