@@ -64,8 +64,8 @@ class ModelExplorer(pn.viewable.Viewer):
         if registry is not None:
             registry.add(self)
         names = tuple(system.code.names.STATE)
-        self.x_select = pn.widgets.Select(name="horizontal", options=list(names), value=names[0], width=140)
-        self.y_select = pn.widgets.Select(name="vertical", options=list(names), value=names[min(1, len(names) - 1)],
+        self.x_select = pn.widgets.Select(label="horizontal", options=list(names), value=names[0], width=140)
+        self.y_select = pn.widgets.Select(label="vertical", options=list(names), value=names[min(1, len(names) - 1)],
                                           width=140)
         self.fig = figure(width=640, height=520, title=f"{system.model}: section in the body frame",
                           x_axis_label=self.x_select.value, y_axis_label=self.y_select.value)
