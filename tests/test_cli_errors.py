@@ -218,7 +218,7 @@ BATTERY = [
     (["chaosmap", "--panel", "9z", "--out", "{tmp}/o"], "panel", 2),
     (["chaosmap", "--stem", "../x", "--out", "{tmp}/o"], "stem", 2),
     (["chaosmap", "--out", "/proc/magrod-test"], "out", 2),
-    (["chaosmap"], "out", 2),
+    (["chaosmap", "--out", "{tmp}/file"], "out", 2),  # --out is optional (default ./out), checked when given
     # --- chaosmap (issue 17): duplicate and conflicting options, impossible starts, what cannot finish, clusters
     (["chaosmap", "--x", "lam:0:1:4", "--x", "lam:0:1:5", "--out", "{tmp}/o"], "x", 2),
     (["chaosmap", "--stem", "a", "--stem", "b", "--out", "{tmp}/o"], "stem", 2),
