@@ -55,3 +55,21 @@ def test_old_keyword_panel_still_works_with_a_warning():
         page = mr.explore(panel="4c", iterates=10)
     assert page.panel_key == "4c"
     page.close()
+
+
+def test_the_page_draws_the_coordinates_that_vary():
+    """The section fixes one coordinate (a plot of it against another is a line at 0): the page opens on the two
+    coordinates that vary most over the section."""
+    import numpy as np
+
+    page = mr.explore("kirchhoff", iterates=30)
+    try:
+        assert page.wait(timeout=300) and page.result.success
+        names = list(page.x_select.options)
+        pts = page.result.points
+        spread = [float(np.nanmax(pts[..., i]) - np.nanmin(pts[..., i])) for i in range(len(names))]
+        shown = {names.index(page.x_select.value), names.index(page.y_select.value)}
+        assert len(shown) == 2 and min(spread[i] for i in shown) >= sorted(spread)[-2]
+        assert min(spread) < 1e-8  # one coordinate is fixed by the section, and it is not drawn
+    finally:
+        page.close()

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import (LIMITS, ROOT_HELP, add_panel, add_params, add_start, add_workers, integer, number, out_dir,
-                      params_from, stem)
+from .options import (system_from, LIMITS, ROOT_HELP, add_panel, add_params, add_start, add_workers, integer, number, out_dir,
+                      stem)
 
 COORDINATES = ("theta", "ptheta", "psi", "ppsi")  # checked against magrod.chaos.portrait in the tests
 MAX_VALUES = 1_000_000  # = magrod.chaos.section.MAX_ORBITS (not imported: that would load heyoka)
@@ -56,16 +56,13 @@ def parse_values(text: str) -> list:
 
 
 def run(args) -> dict:
-    from ..core.printed import PANELS, panel
+    from ..core.printed import PANELS
 
     if args.parameter not in PARAMS:
         raise ParameterError("parameter", f"must be a model parameter ({', '.join(PARAMS)}), got {args.parameter!r}")
     values = parse_values(args.values)
-    try:
-        P = panel(args.panel)
-    except ParameterError as exc:
-        raise ParameterError("panel", exc.message) from None
-    base = P.params.replace(**{k: v for k, v in params_from(args).items()})
+    system, P = system_from(args)  # the rod and its panel, resolved once (ParameterError naming the field)
+    base = system.rod
     start = {k: (number(k, getattr(args, k)) if getattr(args, k) is not None else getattr(P, k))
              for k in ("h", "theta0", "ptheta0", "psi0")}
     iterates = integer("iterates", args.iterates)

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import (LIMITS, ROOT_INDEX_HELP, add_model, add_out, add_params, add_precision, add_workers, indicator, integer, number, out_dir,
-                      params_from, stem)
+from .options import (LIMITS, ROOT_INDEX_HELP, add_model, add_out, add_params, add_precision, add_workers, indicator,
+                      system_from, integer, number, out_dir,
+                      stem)
 
 _START = ("h", "theta0", "ptheta0", "psi0")
 # the choices, known without importing heyoka (checked against magrod.chaos.section in the tests)
@@ -58,11 +59,10 @@ def _overridden(args) -> bool:
 def _inputs(args) -> tuple[dict, str | None]:
     from ..core.printed import PANELS, panel
 
-    P = panel(args.panel if args.panel is not None else "4a")  # ParameterError("panel")
-    vals = dict(P.params.to_dict(), **P.start())
+    system, P = system_from(args, default_panel="4a")  # the rod, resolved once (ParameterError naming the field)
+    vals = dict(system.params, **P.start())
     # the panel named by the result: the one given, or the default one when nothing of it is overridden
-    key = P.key if args.panel is not None or not _overridden(args) else None
-    vals = params_from(args, vals)
+    key = panel(args.panel or "4a").key if args.panel is not None or not _overridden(args) else None
     for name in _START:
         v = getattr(args, name)
         if v is not None:
@@ -169,10 +169,9 @@ def _run_portrait(args, vals, key, params) -> dict:
 def _inputs_portrait(args) -> tuple[dict, str | None]:
     from ..core.printed import PANELS, panel
 
-    P = panel(args.panel if args.panel is not None else "4a")  # ParameterError("panel")
-    vals = dict(P.params.to_dict(), h=P.h)
-    key = P.key if args.panel is not None or not _overridden(args) else None
-    vals = params_from(args, vals)
+    system, P = system_from(args, default_panel="4a")
+    vals = dict(system.params, h=P.h)
+    key = panel(args.panel or "4a").key if args.panel is not None or not _overridden(args) else None
     if args.h is not None:
         vals["h"] = number("h", args.h)
     for name in PARAMS:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import ROOT_HELP, add_panel, add_params, add_start, number, out_dir, params_from, stem
+from .options import ROOT_HELP, add_panel, add_params, add_start, number, out_dir, stem, system_from
 
 _START = ("h", "theta0", "ptheta0", "psi0")
 
@@ -28,14 +28,7 @@ def add_arguments(p):
 
 
 def run(args) -> dict:
-    from ..core.printed import panel
-    from ..core.params import RodParams
-
-    try:
-        P = panel(args.panel)
-    except ParameterError as exc:
-        raise ParameterError("panel", exc.message) from None
-    vals = params_from(args, P.params.to_dict())
+    system, P = system_from(args)  # the rod and its panel, resolved once (ParameterError naming the field)
     start = dict(P.start())
     for name in _START:
         v = getattr(args, name)
@@ -48,9 +41,9 @@ def run(args) -> dict:
         raise ParameterError("tol", f"must be >= 0 (0 = machine epsilon), got {tol:g}")
     name = stem("stem", args.stem)
     out = out_dir("out", args.out) if args.out is not None else None
-    params = RodParams(**{k: vals[k] for k in PARAMS})
+    params = system.rod
     overridden = any(getattr(args, k) is not None for k in (*PARAMS, *_START))
-    what = P.key if not overridden else params
+    what = P.key if not overridden else params  # the panel key itself when nothing is overridden
     kw = dict(h=start["h"], theta0=start["theta0"], ptheta0=start["ptheta0"], psi0=start.get("psi0", 0.0),
               root=args.root, t_max=t_max, renorm_dt=renorm_dt, tol=tol or None)
     if not overridden:

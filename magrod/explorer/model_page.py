@@ -67,18 +67,19 @@ class ModelExplorer(pn.viewable.Viewer):
         self.x_select = pn.widgets.Select(label="horizontal", options=list(names), value=names[0], width=140)
         self.y_select = pn.widgets.Select(label="vertical", options=list(names), value=names[min(1, len(names) - 1)],
                                           width=140)
-        self.fig = figure(width=640, height=520, title=f"{system.model}: section in the body frame",
+        self.fig = figure(width=640, height=520, name="model-section", title=f"{system.model}: section in the body frame",
                           x_axis_label=self.x_select.value, y_axis_label=self.y_select.value)
-        self.sources = [ColumnDataSource({"x": [], "y": []}) for _ in range(N_ORBITS)]
+        self.sources = [ColumnDataSource({"x": [], "y": []}, name=f"model-src-{k}") for k in range(N_ORBITS)]
         for k, src in enumerate(self.sources):
             self.fig.scatter("x", "y", source=src, size=2, color=COLOURS[k % len(COLOURS)])
         params_text = ", ".join(f"{k} = {v:g}" for k, v in system.params.items())
         self.status = pn.pane.Markdown(f"computing {N_ORBITS} orbits x {self.iterates} crossings ...",
-                                       css_classes=["model-status"])
+                                       css_classes=["magrod-model-status"])
         self.notice = pn.pane.Markdown(f"**What this page offers for this model.** {self.limited}.",
-                                       css_classes=["model-notice"])
-        self.x_select.param.watch(lambda e: self._draw(), "value")
-        self.y_select.param.watch(lambda e: self._draw(), "value")
+                                       css_classes=["magrod-model-notice"])
+        self._drawing = False
+        self.x_select.param.watch(lambda e: None if self._drawing else self._draw(), "value")
+        self.y_select.param.watch(lambda e: None if self._drawing else self._draw(), "value")
         self._layout = pn.Column(pn.pane.Markdown(f"## magrod explore: model `{system.model}`\n{params_text}"),
                                  self.notice, pn.Row(self.x_select, self.y_select), self.fig, self.status)
         self._thread = threading.Thread(target=self._compute, name="magrod-explore-model", daemon=True)
@@ -95,15 +96,32 @@ class ModelExplorer(pn.viewable.Viewer):
         except Exception as exc:  # shown on the page, one line (the server keeps running)
             self.error = f"{type(exc).__name__}: {exc}"
         self.latencies.append(time.perf_counter() - self._t0)
-        self.warmed.set()
-        self._done.set()
-        if self._closed:
-            return
-        doc = self._doc
-        if doc is not None and getattr(doc, "session_context", None) is not None:
-            doc.add_next_tick_callback(self._draw)
-        else:
-            self._draw()
+        try:
+            doc = self._doc
+            if self._closed:
+                pass
+            elif doc is not None and getattr(doc, "session_context", None) is not None:
+                doc.add_next_tick_callback(self._first_draw)  # Bokeh models change on the document's own thread
+            else:
+                self._first_draw()  # no server: drawn before wait() returns
+        finally:
+            self.warmed.set()
+            self._done.set()
+
+    def _first_draw(self):
+        """Draw in the two coordinates that vary most over the section (never the coordinate the section fixes),
+        ties broken by state order; the user's choice afterwards is kept."""
+        if self.result is not None and self.error is None:
+            pts = np.asarray(self.result.points, float)
+            with np.errstate(invalid="ignore"):
+                spread = np.array([np.nanmax(pts[..., i]) - np.nanmin(pts[..., i]) if np.isfinite(pts[..., i]).any()
+                                   else 0.0 for i in range(pts.shape[-1])])
+            order = sorted(range(len(spread)), key=lambda i: (-spread[i], i))
+            names = list(self.x_select.options)
+            self._drawing = True
+            self.x_select.value, self.y_select.value = names[order[0]], names[order[min(1, len(order) - 1)]]
+            self._drawing = False
+        self._draw()
 
     def _draw(self):
         names = list(self.x_select.options)
