@@ -19,7 +19,8 @@ def test_a_paper_only_command_names_the_model_and_the_reason(command, tmp_path, 
     obj = json.loads(cap.out)
     lines = [ln for ln in cap.err.splitlines() if ln.strip()]
     assert rc == 2 and obj["parameter"] == "model" and len(lines) == 1, (obj, lines)
-    assert "kirchhoff" in lines[0] and cli.PAPER_ONLY[command].split(" (")[0] in lines[0]
+    structure, why = cli.PAPER_ONLY[command]  # the structure the model lacks, and why: named
+    assert "'kirchhoff' has none" in lines[0] and structure in lines[0] and why in lines[0]
     assert list(tmp_path.iterdir()) == []  # nothing written
 
 
@@ -28,6 +29,16 @@ def test_a_model_file_is_not_loaded_by_a_paper_only_command(tmp_path, capsys):
     f.write_text("raise SystemExit('this file must not run')\n")
     rc = cli.main(["splitting", "--model", str(f), "--json"])
     assert rc == 2 and json.loads(capsys.readouterr().out)["parameter"] == "model"
+
+
+@pytest.mark.parametrize("command", sorted(cli.PAPER_ONLY))
+def test_an_unknown_model_is_named_unknown_by_every_command(command, tmp_path, capsys, monkeypatch):
+    """Before, a paper-only command gave the same message for --model nosuch as for --model kirchhoff."""
+    monkeypatch.chdir(tmp_path)
+    rc = cli.main([command, *REQUIRED.get(command, []), "--model", "nosuch", "--json"])
+    obj = json.loads(capsys.readouterr().out)
+    assert rc == 2 and obj["parameter"] == "model" and "unknown model 'nosuch'" in obj["error"], obj
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_the_paper_rod_by_name_is_the_default(capsys):

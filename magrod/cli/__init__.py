@@ -126,21 +126,30 @@ PAPER_ONLY = {
 
 
 def _check_model(args) -> None:
-    """--model resolved once (an unknown name or a bad model file is a ParameterError("model") saying so); a
-    command that needs what the model lacks says which structure, by name."""
+    """--model checked once before anything runs: an unknown name or a missing model file is a
+    ParameterError("model") saying so; a command that needs what the model lacks says which structure, by name.
+    Nothing is loaded here (a model file is code the user runs on purpose: the command that computes with it loads
+    it, through as_system; a command that cannot use it never runs it)."""
     model = getattr(args, "model", None)
     if model is None or model == DEFAULT_MODEL:
         return
-    from ..core.system import as_system
+    from ..core import models
 
-    system, _ = as_system(model)  # ParameterError("model"): unknown model, or a model file that does not load
-    args.model = system.model
-    if system.is_paper or args.command not in PAPER_ONLY:
+    if models.is_model_path(model):
+        from pathlib import Path
+
+        if not Path(model).is_file():
+            models.resolve(model)  # the registry's own words for a missing file
+        name = str(model)
+    else:
+        if model not in models.registered():
+            models.resolve(model)  # ParameterError("model"): unknown model, with the registered names
+        name = model
+    if name == models.DEFAULT or args.command not in PAPER_ONLY:
         return
     structure, why = PAPER_ONLY[args.command]
-    raise ParameterError("model", f"{args.command} needs {structure}, and the model {system.model!r} has none: "
-                                  f"{why}; for this model use magrod check, poincare, chaosmap, explore or "
-                                  "landscape --model")
+    raise ParameterError("model", f"{args.command} needs {structure}, and the model {name[:80]!r} has none: {why}; "
+                                  "for this model use magrod check, poincare, chaosmap, explore or landscape --model")
 
 
 def build_parser() -> argparse.ArgumentParser:
