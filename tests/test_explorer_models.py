@@ -73,3 +73,24 @@ def test_the_page_draws_the_coordinates_that_vary():
         assert min(spread) < 1e-8  # one coordinate is fixed by the section, and it is not drawn
     finally:
         page.close()
+
+
+def test_a_model_file_opens_too(tmp_path, monkeypatch):
+    """`explore("./my_rod.py")`: a user's model file (not in the registry) opens its section like a registered model
+    (the file is code the user runs on purpose; it is compiled into a cache keyed by its content)."""
+    from test_models_files import GOOD
+
+    from magrod.core import models
+
+    monkeypatch.setenv("MAGROD_MODEL_CACHE", str(tmp_path / "cache"))
+    models._LOADED.clear()
+    f = tmp_path / "my_rod.py"
+    f.write_text(GOOD)
+    page = mr.explore(str(f), iterates=20)
+    try:
+        assert page.wait(timeout=300) and page.result.success
+        assert page.result.energy_error <= 1e-12 and page.result.casimir_error <= 1e-12
+        assert "has none" in page.limited and page.system.params == {"A": 1.0, "C": 2.0}  # the file's defaults
+    finally:
+        page.close()
+        models._LOADED.clear()
