@@ -74,3 +74,21 @@ def test_positive_uses_the_table_and_one_wording():
     with pytest.raises(mr.ParameterError) as e:
         positive("iterates", LIMITS["iterates"] + 1)
     assert e.value.name == "iterates" and f"{LIMITS['iterates']:g}" in e.value.message
+
+
+@pytest.mark.parametrize("iterates", [LIMITS["iterates"] + 1, 0, "100", 2.5, True])
+def test_iterates_one_limit_one_wording_on_every_path(iterates):
+    """poincare_section(iterates=...) said "<= 2000000 (the limit of what a run can finish ...)" for the paper's rod
+    and, with model=, accepted up to 1e7 with "an integer in [1, 1e7]"; now the same check on both paths, the
+    command line's."""
+    errors = []
+    for call in (lambda: mr.poincare_section("4a", iterates=iterates),
+                 lambda: mr.poincare_section(model="anisotropic", iterates=iterates)):
+        with pytest.raises(mr.ParameterError) as e:
+            call()
+        errors.append(str(e.value))
+    assert errors[0] == errors[1] and errors[0].startswith("iterates:"), errors
+    if iterates == LIMITS["iterates"] + 1:
+        with pytest.raises(mr.ParameterError) as e:
+            integer("iterates", str(iterates))
+        assert errors[0].replace(repr(iterates), "X") == str(e.value).replace(repr(str(iterates)), "X")

@@ -70,7 +70,6 @@ from ..core.errors import ParameterError, require_finite, require_positive_int
 from ..generated import scalars
 from ..core.params import RodParams
 from ..core.precision import Precision
-from ..core.limits import LIMITS
 from ..core.printed import Panel, panel, panel_kwargs, with_overrides
 from ..core.results import Result
 from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, ROOT_XTOL, START_LEVEL_TOL
@@ -537,11 +536,9 @@ class SectionOptions:
 
     def __post_init__(self):
         put = object.__setattr__
-        iterates = require_positive_int("iterates", self.iterates)
-        if iterates > LIMITS["iterates"]:
-            raise ParameterError("iterates", f"must be <= {LIMITS['iterates']} (the limit of what a run can finish: "
-                                             f"~200 bytes and ~0.2 ms per point), got {iterates}")
-        put(self, "iterates", iterates)
+        from ..core.limits import count
+
+        put(self, "iterates", count("iterates", self.iterates))  # the one limit and wording (core/limits.py)
         if self.direction not in DIRECTIONS:
             raise ParameterError("direction", f"must be one of {sorted(DIRECTIONS)}, got {self.direction!r}")
         if self.branch not in BRANCHES:

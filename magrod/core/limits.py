@@ -36,6 +36,16 @@ def integer(name: str, value, minimum: int = 1, maximum: int | None = None) -> i
     return i
 
 
+def count(name: str, value, minimum: int = 1, maximum: int | None = None) -> int:
+    """`integer` for the library: a number, never a string (a string is the command line's, parsed there);
+    the same limits and words.  ParameterError(name)."""
+    from .errors import ParameterError
+
+    if isinstance(value, (str, bytes, bool)):
+        raise ParameterError(name, f"must be an integer, got {str(value)[:40]!r}")
+    return integer(name, value, minimum, maximum)
+
+
 def positive(name: str, value, maximum: float | None = None) -> float:
     """A finite number in (0, maximum] (maximum defaults to LIMITS[name], if any): an integration time t_max, a
     renormalisation interval renorm_dt.  The one check of such a value, by the library's functions and the ones
