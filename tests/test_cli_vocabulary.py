@@ -79,14 +79,14 @@ def test_one_name_per_concept():
 
 
 # the commands whose product is files: --out defaults to ./out there; elsewhere nothing is written without --out
-FILE_COMMANDS = {"figure", "reproduce", "chaosmap", "continue", "multipulse"}
+FILE_COMMANDS = {"figure", "reproduce", "chaosmap", "continue", "multipulse", "rod"}
 # the commands that study the paper's rod at a paper panel
 PANEL_COMMANDS = {"poincare", "orbitdiagram", "spectrum", "chaosmap", "explore", "saddle", "multipulse"}
 # a command -> the public function it calls: where the function takes precision=, the command takes --precision
 FUNCTION_OF = {"poincare": "poincare_section", "saddle": "saddle", "spectrum": "lyapunov_spectrum",
                "chaosmap": "chaos_map", "orbitdiagram": "orbit_diagram", "multipulse": "multipulse_orbits",
-               "continue": "continue_branch", "rod": "rod_shape", "splitting": "splitting",
-               "homoclinic": "homoclinic_orbit", "explore": "explore", "check": "integrability_report"}
+               "continue": "continue_branch", "splitting": "splitting", "explore": "explore",
+               "check": "integrability_report"}
 PARALLELISM_WORDS = ("thread", "worker", "process", "core")
 # options that are about parallelism without being a count of workers (where to find them, how long to wait)
 NOT_A_COUNT = {"--scheduler", "--scheduler-file", "--worker-timeout"}

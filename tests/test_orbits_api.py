@@ -218,7 +218,7 @@ def test_every_orbit_file_reads_back_with_magrod_rod(tmp_path, capsys):
         with np.load(f) as z:
             assert set(ORBIT_ARRAYS) - {"angle"} <= set(z.files)
         kinds[f.parent.name] += 1
-        assert main(["rod", "--from", str(f), "--json", "--points", "501"]) == 0
+        assert main(["rod", "--from", str(f), "--json", "--points", "501", "--out", str(tmp_path / "rod")]) == 0
         out = json.loads(capsys.readouterr().out)
         assert out["ok"] and out["orthonormality"] <= 1e-12
         assert math.isfinite(float(d["T"]))

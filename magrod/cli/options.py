@@ -124,7 +124,8 @@ def add_panel(p, *, dest="panel", default=None, help="a panel of the paper"):
 # parallelism: --workers N everywhere (threads or processes, as the command's help says; the library's workers=);
 #   --threads (poincare, orbitdiagram) and --jobs (reproduce) are its old names, one deprecation line each
 # output: --out DIR on every command, never required; files are written only there; the commands whose product
-#   is files (OUT_DEFAULT) write into ./out when it is not given, the others write only when it is given
+#   is files (figure, reproduce, chaosmap, continue, multipulse, rod) write into ./out when it is not given, the
+#   others write only when it is given
 # a pulse count: --pulses N (multipulse's --max-pulses is its old name)
 # what is studied: --panel (a paper panel) and --model NAME|FILE.py (a registered model or a model file), each
 #   resolved once by magrod.core.system.as_system (`system_from`); --precision where the library takes it
