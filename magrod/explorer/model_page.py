@@ -26,19 +26,44 @@ def limitation(model: str) -> str:
             "seeded starts on one level of H and the Casimirs, in the model's body frame")
 
 
-def model_section(system, iterates: int):
-    """The engine's section of `system` (a System of any model): a result with `points` (N, iterates, dim),
-    `state_names`, `energy_error`, `casimir_error`, `success`, `message`."""
+class SectionView:
+    """The page's view of a model's section, whichever way the engine returns it: `points` (N, iterates, dim), NaN
+    where an orbit stopped early; `energy_error` = max |H - h| and `casimir_error` = the largest Casimir drift over
+    the orbits; `success` and `message` (the first failing orbit's)."""
+
+    def __init__(self, success, message, points, energy_error, casimir_error):
+        self.success, self.message, self.points = bool(success), str(message), points
+        self.energy_error, self.casimir_error = float(energy_error), float(casimir_error)
+
+    @classmethod
+    def of_runs(cls, runs, iterates: int) -> "SectionView":
+        """From one result per orbit (each with `points` (n, dim), `max_abs_dH`, `casimir_drift`)."""
+        dim = max(np.asarray(r.points).shape[-1] for r in runs)
+        pts = np.full((len(runs), iterates, dim), np.nan)
+        for k, r in enumerate(runs):
+            q = np.asarray(r.points, float)[:iterates]
+            pts[k, :len(q)] = q
+        bad = [r for r in runs if not r.success]
+        return cls(not bad, bad[0].message if bad else "ok", pts, max(float(r.max_abs_dH) for r in runs),
+                   max(float(r.casimir_drift or 0.0) for r in runs))
+
+
+def model_section(system, iterates: int) -> SectionView:
+    """The engine's section of `system` (a System of any model): N_ORBITS orbits from its seeded starts on one
+    level of H and the Casimirs, in the model's body frame."""
     import inspect
 
     from .. import poincare_section
 
     first = next(iter(inspect.signature(poincare_section).parameters), "")
     if first == "system":  # the one calling convention: the System carries the model and its parameters
-        return poincare_section(system, iterates=iterates, n_orbits=N_ORBITS)
-    from ..chaos.model_chaos import model_section as section
+        from .. import poincare_sections
 
-    return section(system.model, params=system.params, n_orbits=N_ORBITS, iterates=iterates)
+        return SectionView.of_runs(poincare_sections(system, starts=N_ORBITS, iterates=iterates), iterates)
+    from ..chaos import model_section as section
+
+    r = section(system.model, params=system.params, n_orbits=N_ORBITS, iterates=iterates)
+    return SectionView(r.success, r.message, r.points, r.energy_error, r.casimir_error)
 
 
 class ModelExplorer(pn.viewable.Viewer):
