@@ -17,7 +17,7 @@ import logging
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from ..chaos import MAPPABLE
-from .options import PARAM_HELP, ROOT_HELP, START_HELP, add_out, add_precision, add_workers, integer, precision_kw, number, out_dir, stem
+from .options import PARAM_HELP, ROOT_HELP, START_HELP, add_out, add_workers, integer, number, out_dir, stem
 
 _OVERRIDES = (*PARAMS, "h", "theta0", "ptheta0", "psi0")
 
@@ -47,7 +47,6 @@ def add_arguments(p):
     p.add_argument("--early-exit", action="store_true",
                    help="stop an orbit after T/2 once its growth exponent passes the threshold with a margin (no class "
                         "changes; store array 'exit_time'); default: every orbit runs for T")
-    add_precision(p)
     add_workers(p, help="LocalCluster worker processes (1 thread and ~300 MB each; default 2, at most the CPUs "
                         "this process may use)")
     p.add_argument("--scheduler", default=None,
@@ -171,8 +170,7 @@ def _run_model(args) -> dict:
     renorm = number("renorm_dt", args.renorm_dt)
     name = stem("stem", args.stem)
     out = out_dir("out", args.out)
-    cm = mr.chaos_map(axes[0], axes[1], model=mc, t_max=t_max, renorm_dt=renorm, **params,
-                      **precision_kw(args, mr.chaos_map))
+    cm = mr.chaos_map(axes[0], axes[1], model=mc, t_max=t_max, renorm_dt=renorm, **params)
     if not cm.success:
         raise ParameterError("model", cm.message)
     d = {k: v for k, v in cm.to_dict().items() if k not in ("lyap", "chaotic")}
@@ -211,8 +209,6 @@ def run(args) -> dict:
     from ..store.resumable import stored_map
     from . import children_immune, pause_point
 
-    prec = precision_kw(args, stored_map, what="chaos_map")  # refused before anything is created
-
     pth = tiles.paths(out, name)
     label, unit = ("chaosmap (refined)", "tile part") if spec.refine else ("chaosmap", "tile")
     # the number of tiles to do is known once the store is opened: the bar counts up without a total
@@ -220,8 +216,7 @@ def run(args) -> dict:
         cm = stored_map(spec, out, stem=name, workers=workers, scheduler=address, force=args.force,
                         connect_timeout=connect_timeout, worker_timeout=worker_timeout, progress=update,
                         on_round=lambda *a: pause_point("chaosmap-round"),
-                        on_submitted=lambda: pause_point("chaosmap-running"), start_guard=children_immune,
-                        **prec)
+                        on_submitted=lambda: pause_point("chaosmap-running"), start_guard=children_immune)
     if not cm.success and "store_identity" not in cm.run:  # a task failed in a worker (magrod.store.resumable)
         return {"ok": False, "error": cm.message, "tiles": cm.run["tiles"]}
     run = dict(cm.run)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import LIMITS, add_out, add_precision, precision_kw, integer, number, out_dir, params_from
+from .options import LIMITS, add_out, integer, number, out_dir, params_from
 
 START = dict(m=1.7, mu=0.0021, gamma=1.0, delta=1.0, lam=0.001)  # near Fig 6, generic side mu > 2 lam
 
@@ -27,7 +27,6 @@ def add_arguments(p):
     p.add_argument("--range", nargs=2, metavar=("LO", "HI"), help="stop when the parameter leaves [LO, HI]")
     p.add_argument("--allow-boundary", action="store_true",
                    help="allow --range to cross a stability (Hamiltonian-Hopf) boundary of the saddle")
-    add_precision(p)
     add_out(p, files=True)
 
 
@@ -95,8 +94,7 @@ def run(args) -> dict:
     # the branch itself is the library's continue_branch (issue 25: the command no longer rebuilds it)
     with bar(steps, "continue", not args.quiet) as update:
         br = continue_branch(r, name, steps, ds=ds, direction=args.direction,
-                               bounds=(lo, hi) if args.range else None, progress=update,
-                               **precision_kw(args, continue_branch))
+                               bounds=(lo, hi) if args.range else None, progress=update)
     names = br.names
     wall = time.perf_counter() - t0
     stem = "branch_mu2lam" if args.mu2lam else f"branch_N{N}_{name}"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import LIMITS, add_alias, add_precision, precision_kw, add_out, add_params, add_pulses, integer, number, out_dir, params_from
+from .options import LIMITS, add_alias, add_out, add_params, add_pulses, integer, number, out_dir, params_from
 
 FREE = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))  # = magrod.orbits.multipulse.FREE_PARAMETERS
 
@@ -21,8 +21,6 @@ def add_arguments(p):
     p.add_argument("--span", default=None,
                    help="relative scan range of the free parameter, in (0, 1) (default 0.5; mu = 2 lam only)")
     p.add_argument("--samples", default="81", help="scan samples")
-    add_precision(p, help="floating-point precision of the search (the shooting refines in long double where it "
-                          "must)")
     add_out(p, files=True)
 
 
@@ -47,8 +45,7 @@ def run(args) -> dict:
     out = out_dir("out", args.out)
     with bar(samples, "scan", not args.quiet) as update:
         search = multipulse_orbits(params, max_pulses, free=args.free, span=span, samples=samples,
-                                   with_uncertainty=True, progress=update,
-                                   **precision_kw(args, multipulse_orbits))
+                                   with_uncertainty=True, progress=update)
     written = write_search(search, out, stem=f"figure{args.panel}" if args.panel else "multipulse")
     return {**search.to_dict(), "files": written["files"], "table": written["table"]}
 

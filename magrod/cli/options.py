@@ -169,22 +169,6 @@ def add_precision(p, *, default="double", choices=PRECISIONS, help="floating-poi
     p.add_argument("--precision", default=default, choices=tuple(choices), help=help)
 
 
-def precision_kw(args, *functions, what: str | None = None) -> dict:
-    """The keyword for --precision: {} for double (every function's default, so the run is the one without the
-    option, bit for bit), {"precision": name} when every function behind the command takes precision=, else a
-    ParameterError("precision") naming the function that runs in double precision only."""
-    import inspect
-
-    value = getattr(args, "precision", "double")
-    if value == "double":
-        return {}
-    for fn in functions:
-        if "precision" not in inspect.signature(fn).parameters:
-            raise ParameterError("precision", f"{what or getattr(fn, '__name__', fn)}() runs in double precision "
-                                              f"only in this release, not {value!r}")
-    return {"precision": value}
-
-
 def add_model(p, *, help="the rod model: a registered name (`magrod models`) or a model file (default: the "
                          "paper's rod)", params=True):
     """--model NAME|FILE.py and, with `params`, --model-params NAME=VALUE,... (the model's parameters)."""

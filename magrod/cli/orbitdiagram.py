@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import (system_from, add_precision, precision_kw, LIMITS, ROOT_HELP, add_panel, add_params, add_start, add_workers, integer, number, out_dir,
+from .options import (system_from, LIMITS, ROOT_HELP, add_panel, add_params, add_start, add_workers, integer, number, out_dir,
                       stem)
 
 COORDINATES = ("theta", "ptheta", "psi", "ppsi")  # checked against magrod.chaos.portrait in the tests
@@ -31,7 +31,6 @@ def add_arguments(p):
     p.add_argument("--direction", default="positive", choices=("any", "negative", "positive"),
                    help="sign of d/dt sin(psi) at recorded crossings")
     add_workers(p, help="threads (default: all cores)", old=("--threads",))
-    add_precision(p)
     p.add_argument("--out", default=None, help="write <stem>.npz/.json/.png into this directory")
     p.add_argument("--stem", default="orbitdiagram", help="file name stem")
 
@@ -90,7 +89,7 @@ def run(args) -> dict:
     with bar(len(values) * (iterates + transient), "orbit diagram", not args.quiet) as update:
         res = orbit_diagram(args.parameter, values, base=base, iterates=iterates, transient=transient,
                             coordinate=args.coordinate, root=args.root, direction=args.direction, marks=marks,
-                            workers=workers, progress=update, **start, **precision_kw(args, orbit_diagram))
+                            workers=workers, progress=update, **start)
     res.base = P.key
     paths = {}
     if res.success and out is not None:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import ROOT_HELP, add_panel, add_precision, precision_kw, add_params, add_start, number, out_dir, stem, system_from
+from .options import ROOT_HELP, add_panel, add_params, add_start, number, out_dir, stem, system_from
 
 _START = ("h", "theta0", "ptheta0", "psi0")
 
@@ -22,7 +22,6 @@ def add_arguments(p):
     p.add_argument("--t-max", default="3000", help="integration length T")
     p.add_argument("--renorm-dt", default="10", help="interval between QR re-orthonormalisations (GALI samples)")
     p.add_argument("--tol", default=None, help="Taylor tolerance (default: machine epsilon; 0 means it too)")
-    add_precision(p)
     p.add_argument("--gali", action="store_true", help="also GALI_2, GALI_3, GALI_4 of the orbit")
     p.add_argument("--out", default=None, help="write <stem>.json and <stem>.png into this directory")
     p.add_argument("--stem", default="spectrum", help="file name stem")
@@ -52,7 +51,6 @@ def run(args) -> dict:
 
     from .. import gali, lyapunov_spectrum
 
-    kw.update(precision_kw(args, lyapunov_spectrum, *((gali,) if args.gali else ())))
     sp = lyapunov_spectrum(what, **kw)
     g = gali(what, **kw) if args.gali else None
     res = {"ok": bool(sp.success and (g is None or g.success)), "panel": P.key if not overridden else None,
