@@ -70,6 +70,7 @@ from ..core.errors import ParameterError, require_finite, require_positive_int
 from ..generated import scalars
 from ..core.params import RodParams
 from ..core.precision import Precision
+from ..core.limits import LIMITS
 from ..core.printed import Panel, panel, panel_kwargs, with_overrides
 from ..core.results import Result
 from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, ROOT_XTOL, START_LEVEL_TOL
@@ -538,7 +539,8 @@ class SectionOptions:
         put = object.__setattr__
         from ..core.limits import count
 
-        put(self, "iterates", count("iterates", self.iterates))  # the one limit and wording (core/limits.py)
+        # the one limit and wording of iterates, whatever the path (core/limits.py)
+        put(self, "iterates", count("iterates", self.iterates, maximum=LIMITS["iterates"]))
         if self.direction not in DIRECTIONS:
             raise ParameterError("direction", f"must be one of {sorted(DIRECTIONS)}, got {self.direction!r}")
         if self.branch not in BRANCHES:
