@@ -11,7 +11,7 @@ REQUIRED = {"homoclinic": ["--m", "1.7", "--gamma", "1"], "melnikov": ["--m", "1
             "rod": ["--from", "x.npz"], "orbitdiagram": ["--parameter", "lam", "--values", "0.135,0.15"]}
 
 
-@pytest.mark.parametrize("command", sorted(cli.PAPER_ONLY))
+@pytest.mark.parametrize("command", [c for c in sorted(cli.PAPER_ONLY) if not cli.routes_models(c)])
 def test_a_paper_only_command_names_the_model_and_the_reason(command, tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     rc = cli.main([command, *REQUIRED.get(command, []), "--model", "kirchhoff", "--json"])
@@ -44,3 +44,20 @@ def test_an_unknown_model_is_named_unknown_by_every_command(command, tmp_path, c
 def test_the_paper_rod_by_name_is_the_default(capsys):
     rc = cli.main(["homoclinic", "--m", "1.7", "--gamma", "1", "--model", cli.DEFAULT_MODEL, "--json"])
     assert rc == 0 and json.loads(capsys.readouterr().out)["m"] == 1.7
+
+
+@pytest.mark.parametrize("command", sorted(cli.ROUTED))
+def test_a_routed_command_runs_another_model_once_the_library_does(command, capsys):
+    """A command whose public function takes a System first runs any model (`magrod saddle --model anisotropic`):
+    its numbers are the library's.  Until the function takes a System the command refuses the model, naming it."""
+    import magrod as mr
+
+    argv = [command, "--model", "anisotropic", "--model-params", "B1=1,B2=1.02,C=1.5", "--json"]
+    rc = cli.main(argv)
+    d = json.loads(capsys.readouterr().out)
+    if not cli.routes_models(command):
+        assert rc == 2 and d["parameter"] == "model" and "'anisotropic' has none" in d["error"]
+        return
+    ref = getattr(mr, cli.ROUTED[command])(mr.System("anisotropic", B1=1, B2=1.02, C=1.5))
+    assert rc == 0 and d["kind"] == ref.kind == "saddle-focus" and d["H"] == float(ref.H)
+    assert d["accuracy"]["passed"]

@@ -125,6 +125,25 @@ PAPER_ONLY = {
 }
 
 
+# Commands of PAPER_ONLY whose public function is already written for every model once it takes a System first
+# (the one calling convention): from then on the command runs any model, without an edit here.
+ROUTED = {"saddle": "saddle"}
+
+
+def routes_models(command: str) -> bool:
+    """True if `command` runs any model: not paper-only, or its public function takes a System first."""
+    if command not in PAPER_ONLY:
+        return True
+    if command not in ROUTED:
+        return False
+    import inspect
+
+    import magrod
+
+    params = list(inspect.signature(getattr(magrod, ROUTED[command])).parameters)
+    return bool(params) and params[0] == "system"
+
+
 def _check_model(args) -> None:
     """--model checked once before anything runs: an unknown name or a missing model file is a
     ParameterError("model") saying so; a command that needs what the model lacks says which structure, by name.
@@ -145,7 +164,7 @@ def _check_model(args) -> None:
         if model not in models.registered():
             models.resolve(model)  # ParameterError("model"): unknown model, with the registered names
         name = model
-    if name == models.DEFAULT or args.command not in PAPER_ONLY:
+    if name == models.DEFAULT or routes_models(args.command):
         return
     structure, why = PAPER_ONLY[args.command]
     raise ParameterError("model", f"{args.command} needs {structure}, and the model {name[:80]!r} has none: {why}; "
