@@ -46,18 +46,33 @@ def test_the_paper_rod_by_name_is_the_default(capsys):
     assert rc == 0 and json.loads(capsys.readouterr().out)["m"] == 1.7
 
 
+# a routed command, the extra options of its run, and how its output compares with the library's result
+ROUTED_RUNS = {
+    "saddle": ([], lambda d, ref: d["kind"] == ref.kind == "saddle-focus" and d["H"] == float(ref.H)
+               and d["accuracy"]["passed"]),
+    "spectrum": (["--t-max", "50"], lambda d, ref: d["exponents"] == ref.exponents.tolist() and d["model"] ==
+                 "anisotropic" and abs(sum(d["exponents"])) < 1e-6),
+}
+
+
 @pytest.mark.parametrize("command", sorted(cli.ROUTED))
 def test_a_routed_command_runs_another_model_once_the_library_does(command, capsys):
     """A command whose public function takes a System first runs any model (`magrod saddle --model anisotropic`):
     its numbers are the library's.  Until the function takes a System the command refuses the model, naming it."""
     import magrod as mr
 
-    argv = [command, "--model", "anisotropic", "--model-params", "B1=1,B2=1.02,C=1.5", "--json"]
+    extra, agrees = ROUTED_RUNS[command]
+    argv = [command, "--model", "anisotropic", "--model-params", "B1=1,B2=1.02,C=1.5", *extra, "--json"]
     rc = cli.main(argv)
     d = json.loads(capsys.readouterr().out)
     if not cli.routes_models(command):
         assert rc == 2 and d["parameter"] == "model" and "'anisotropic' has none" in d["error"]
         return
-    ref = getattr(mr, cli.ROUTED[command])(mr.System("anisotropic", B1=1, B2=1.02, C=1.5))
-    assert rc == 0 and d["kind"] == ref.kind == "saddle-focus" and d["H"] == float(ref.H)
-    assert d["accuracy"]["passed"]
+    system = mr.System("anisotropic", B1=1, B2=1.02, C=1.5)
+    fn = getattr(mr, cli.ROUTED[command])
+    ref = fn(system, t_max=50.0) if command == "spectrum" else fn(system)
+    assert rc == 0 and agrees(d, ref), d
+
+
+def test_every_routed_command_has_a_check():
+    assert set(ROUTED_RUNS) == set(cli.ROUTED)

@@ -127,7 +127,7 @@ PAPER_ONLY = {
 
 # Commands of PAPER_ONLY whose public function is already written for every model once it takes a System first
 # (the one calling convention): from then on the command runs any model, without an edit here.
-ROUTED = {"saddle": "saddle"}
+ROUTED = {"saddle": "saddle", "spectrum": "lyapunov_spectrum"}
 
 
 def routes_models(command: str) -> bool:
