@@ -20,7 +20,7 @@ def add_arguments(p):
     p.add_argument("--parameter", required=True, help=f"the model parameter varied: {', '.join(PARAMS)}")
     p.add_argument("--values", required=True,
                    help="LO:HI:N (N values, LO to HI) or a comma-separated, strictly monotone list")
-    add_panel(p, default="4a", help="panel giving the rod, level and start")
+    add_panel(p, help="panel giving the rod, level and start (default 4a)")
     add_params(p, help_suffix=" (overrides the panel's)")
     g = p.add_argument_group("level and start (override the panel's)")
     add_start(g)
@@ -61,7 +61,7 @@ def run(args) -> dict:
     if args.parameter not in PARAMS:
         raise ParameterError("parameter", f"must be a model parameter ({', '.join(PARAMS)}), got {args.parameter!r}")
     values = parse_values(args.values)
-    system, P = system_from(args)  # the rod and its panel, resolved once (ParameterError naming the field)
+    system, P = system_from(args, default_panel="4a")  # the rod and its panel, resolved once
     base = system.rod
     start = {k: (number(k, getattr(args, k)) if getattr(args, k) is not None else getattr(P, k))
              for k in ("h", "theta0", "ptheta0", "psi0")}
