@@ -178,3 +178,26 @@ def test_one_name_per_quantity():
                 if "eta" in names or ("eps" in names and rel.startswith("orbits/")):
                     bad.append(f"{rel}:{node.lineno} {node.name}")
     assert not bad, bad
+
+
+def test_integrability_report_takes_the_system_first():
+    """integrability_report(system): the model of any System (or what converts to one) gives that model's report;
+    the paper's rod the paper's; the old first argument (a substitution) and model= still work, with one
+    DeprecationWarning each, and give the same report."""
+    import warnings
+
+    s = mr.System("magnetic")
+    new = mr.integrability_report(s)
+    assert new.source.endswith("magnetic/report.json")
+    assert mr.integrability_report("4a").source == mr.integrability_report().source == "generated/report.json"
+    with pytest.warns(DeprecationWarning, match="system"):
+        old = mr.integrability_report(model="magnetic")
+    assert old.rows == new.rows
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        sub = mr.integrability_report({"lambda": 0})
+    assert len(w) == 1 and "subs=" in str(w[0].message)
+    assert sub.substitution == mr.integrability_report(subs={"lambda": 0}).substitution
+    with pytest.raises(mr.ParameterError) as e:
+        mr.integrability_report("nosuch")
+    assert e.value.name == "model"

@@ -52,9 +52,9 @@ BAD = [
     (["melnikov", "--m", "5", "--gamma", "1"], "m"),
     (["figure", "9"], "number"),
     (["multipulse", "--m", "3", "--gamma", "1", "--delta", "1", "--lam", "0.001", "--mu", "0.002"], "m"),
-    (["multipulse", "--figure", "6", "--max-pulses", "0"], "max"),
+    (["multipulse", "--panel", "6", "--pulses", "0"], "pulses"),
     (["rod", "--from", "/nonexistent/orbit.npz"], "from"),
-    (["reproduce", "--jobs", "0"], "jobs"),
+    (["reproduce", "--workers", "0"], "workers"),
     (["check", "--subs", "x=1"], "subs"),
 ]
 

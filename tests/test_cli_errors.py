@@ -76,9 +76,9 @@ BATTERY = [
     (["poincare", "--panel", "4a", "--formulation", "x"], "formulation", 2),
     (["poincare", "--panel", "4a", "--m"], "m", 2),
     (["melnikov", "--m", "1.7", "--gamma", "1", "--integrand", "x"], "integrand", 2),
-    (["multipulse", "--figure", "8"], "figure", 2),
-    (["multipulse", "--figure", "x"], "figure", 2),
-    (["multipulse", "--figure", "6", "--free", "mu"], "free", 2),
+    (["multipulse", "--panel", "8"], "panel", 2),
+    (["multipulse", "--panel", "x"], "panel", 2),
+    (["multipulse", "--panel", "6", "--free", "mu"], "free", 2),
     (["homoclinic"], "m", 2),
     (["rod"], "from", 2),
     (["figure"], "number", 2),
@@ -116,8 +116,14 @@ BATTERY = [
     (["poincare", "--panel", "4a", "--out", "/proc/magrod-test"], "out", 2),
     (["poincare", "--panel", "4a", "--out", "{tmp}/file"], "out", 2),
     (["poincare", "--panel", "4a", "--out", "{tmp}/" + "d" * 300], "out", 2),
-    (["poincare", "--m", "1.7", "--mu", "0.4", "--gamma", "3", "--delta", "3", "--lam", "0.135", "--h", "0.9"],
-     "theta0", 2),
+    # without --panel the paper's Fig 4(a) gives what is not given (one default panel for every command)
+    (["poincare", "--m", "1.7", "--mu", "0.4", "--gamma", "3", "--delta", "3", "--lam", "0.135", "--h", "0.9",
+      "--theta0", "nan"], "theta0", 2),
+    (["poincare", "--model", "nosuch"], "model", 2),
+    (["saddle", "--model", "nosuch"], "model", 2),
+    (["explore", "--model", "nosuch"], "model", 2),
+    (["explore", "--model", "kirchhoff", "--panel", "4a"], "panel", 2),
+    (["saddle", "--model", "kirchhoff"], "model", 2),
     # --- homoclinic
     (["homoclinic", "--m", "3", "--gamma", "1"], "m", 2),
     (["homoclinic", "--m", "1.7", "--gamma", "-1"], "gamma", 2),
@@ -146,14 +152,14 @@ BATTERY = [
     # --- multipulse
     (["multipulse", "--m", "3", "--gamma", "1", "--delta", "1", "--lam", "0.001", "--mu", "0.002",
       "--out", "{tmp}/o"], "m", 2),
-    (["multipulse", "--figure", "6", "--max-pulses", "0", "--out", "{tmp}/o"], "max_pulses", 2),
-    (["multipulse", "--figure", "6", "--max-pulses", "1e12", "--out", "{tmp}/o"], "max_pulses", 2),
-    (["multipulse", "--figure", "6", "--samples", "1e12", "--out", "{tmp}/o"], "samples", 2),
-    (["multipulse", "--figure", "6", "--samples", "2", "--out", "{tmp}/o"], "samples", 2),
-    (["multipulse", "--figure", "6", "--span", "1.5", "--out", "{tmp}/o"], "span", 2),
-    (["multipulse", "--figure", "6", "--span", "nan", "--out", "{tmp}/o"], "span", 2),
-    (["multipulse", "--out", "{tmp}/o"], "figure", 2),
-    (["multipulse", "--figure", "6", "--mu", "0.0019", "--out", "{tmp}/o"], "mu", 2),  # mu < 2 lam: no saddle
+    (["multipulse", "--panel", "6", "--pulses", "0", "--out", "{tmp}/o"], "pulses", 2),
+    (["multipulse", "--panel", "6", "--pulses", "1e12", "--out", "{tmp}/o"], "pulses", 2),
+    (["multipulse", "--panel", "6", "--samples", "1e12", "--out", "{tmp}/o"], "samples", 2),
+    (["multipulse", "--panel", "6", "--samples", "2", "--out", "{tmp}/o"], "samples", 2),
+    (["multipulse", "--panel", "6", "--span", "1.5", "--out", "{tmp}/o"], "span", 2),
+    (["multipulse", "--panel", "6", "--span", "nan", "--out", "{tmp}/o"], "span", 2),
+    (["multipulse", "--out", "{tmp}/o"], "panel", 2),
+    (["multipulse", "--panel", "6", "--mu", "0.0019", "--out", "{tmp}/o"], "mu", 2),  # mu < 2 lam: no saddle
     (["multipulse", *M6, "--out", "/proc/magrod-test"], "out", 2),
     # --- rod: damaged input files
     (["rod", "--from", "{tmp}/missing.npz"], "from", 2),
@@ -167,9 +173,9 @@ BATTERY = [
     (["rod", "--from", "{orbit:good}", "--points", "1"], "points", 2),
     (["rod", "--from", "{orbit:good}", "--out", "/proc/magrod-test"], "out", 2),
     # --- reproduce
-    (["reproduce", "--jobs", "0", "--out", "{tmp}/o"], "jobs", 2),
-    (["reproduce", "--jobs", "1e6", "--out", "{tmp}/o"], "jobs", 2),
-    (["reproduce", "--jobs", "x", "--out", "{tmp}/o"], "jobs", 2),
+    (["reproduce", "--workers", "0", "--out", "{tmp}/o"], "workers", 2),
+    (["reproduce", "--workers", "1e6", "--out", "{tmp}/o"], "workers", 2),
+    (["reproduce", "--workers", "x", "--out", "{tmp}/o"], "workers", 2),
     (["reproduce", "--only", "", "--out", "{tmp}/o"], "only", 2),
     (["reproduce", "--only", "3,3", "--out", "{tmp}/o"], "only", 2),
     (["reproduce", "--only", "9", "--out", "{tmp}/o"], "only", 2),
@@ -212,7 +218,7 @@ BATTERY = [
     (["chaosmap", "--panel", "9z", "--out", "{tmp}/o"], "panel", 2),
     (["chaosmap", "--stem", "../x", "--out", "{tmp}/o"], "stem", 2),
     (["chaosmap", "--out", "/proc/magrod-test"], "out", 2),
-    (["chaosmap"], "out", 2),
+    (["chaosmap", "--out", "{tmp}/file"], "out", 2),  # --out is optional (default ./out), checked when given
     # --- chaosmap (issue 17): duplicate and conflicting options, impossible starts, what cannot finish, clusters
     (["chaosmap", "--x", "lam:0:1:4", "--x", "lam:0:1:5", "--out", "{tmp}/o"], "x", 2),
     (["chaosmap", "--stem", "a", "--stem", "b", "--out", "{tmp}/o"], "stem", 2),
@@ -444,7 +450,7 @@ def _start_reproduce(out: Path, *extra):
 
 
 def test_workers_die_with_their_parent(tmp_path):
-    p = _start_reproduce(tmp_path / "o", "--only", "4,5", "--jobs", "2", "--force")
+    p = _start_reproduce(tmp_path / "o", "--only", "4,5", "--workers", "2", "--force")
     workers = []
     for _ in range(300):
         workers = [c for c in _children(p.pid) if _alive(c)]
@@ -481,7 +487,7 @@ def test_ctrl_c_exits_130_with_one_line(tmp_path, sig, code):
     """Deterministic: the signal is sent while both workers are running figures (the test hook says when), to the
     whole process group as a terminal does.  One line, exit 128 + signum, workers gone, no temporary left."""
     marker = tmp_path / "running"
-    p = _start_paused(tmp_path / "o", marker, "reproduce-running", "--only", "4,5", "--jobs", "2", "--force")
+    p = _start_paused(tmp_path / "o", marker, "reproduce-running", "--only", "4,5", "--workers", "2", "--force")
     _wait_for(marker, p)
     workers = [c for c in _children(p.pid) if _alive(c)]
     os.killpg(p.pid, sig)
@@ -548,7 +554,7 @@ def test_signal_after_the_result_was_printed_changes_nothing(fig_run, tmp_path):
     code (0 here), the JSON on stdout is whole, nothing on stderr, no KeyboardInterrupt at shutdown."""
     for sig in (signal.SIGINT, signal.SIGTERM):
         marker = tmp_path / f"printed-{sig}"
-        p = subprocess.Popen([sys.executable, "-m", "magrod.cli", "reproduce", "--quick", "--only", FIG, "--jobs",
+        p = subprocess.Popen([sys.executable, "-m", "magrod.cli", "reproduce", "--quick", "--only", FIG, "--workers",
                               "2", "--out", str(fig_run), "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True, cwd=tempfile.gettempdir(), start_new_session=True,
                              env={**os.environ, "MAGROD_TEST_PAUSE": f"printed:{marker}"})

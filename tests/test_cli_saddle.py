@@ -29,7 +29,14 @@ def test_the_straight_rod_at_lambdabar_zero_is_the_closed_form(capsys):
     assert d["unstable_eigenvalue"][0] == pytest.approx(scalars.saddle_rate(1.7, 1.0), rel=1e-12)
 
 
-@pytest.mark.parametrize("argv, name", [(["--m", "1.7"], "mu"), (["--panel", "9z"], "panel"),
+def test_without_a_panel_the_rod_is_fig_4a_with_the_values_given(capsys):
+    """One default panel for every command that takes one (4a): `saddle --m 1.8` is Fig 4(a)'s rod with m = 1.8."""
+    rc, d = _run(["--m", "1.8"], capsys)
+    ref = mr.saddle(mr.panel("4a").params.replace(m=1.8)).to_dict()
+    assert rc == 0 and d["params"] == ref["params"] and d["H"] == ref["H"]
+
+
+@pytest.mark.parametrize("argv, name", [(["--m", "1.7", "--mu", "nan"], "mu"), (["--panel", "9z"], "panel"),
                                         (["--panel", "4a", "--mu", "0.1"], "mu"), (["--panel", "4a", "--m", "x"], "m")])
 def test_bad_input_names_the_parameter(argv, name, capsys):
     rc, d = _run(argv, capsys)

@@ -445,3 +445,47 @@ def test_ctrl_c_stops_everything(server, browser):
     assert rc == 130 and server.stderr().strip().splitlines()[-1].startswith("magrod explore: error: interrupted")
     with socket.socket() as s:  # nothing listens any more
         assert s.connect_ex(("127.0.0.1", server.port)) != 0
+
+
+def test_another_model_in_the_browser(browser, tmp_path):
+    """`magrod explore --model anisotropic`: the page of another model loads, draws the engine's section (points in
+    the plot, the conservation achieved in the status line) and says by name what it cannot do; screenshot
+    explore-model.png."""
+    port = _free_port()
+    err = open(tmp_path / "server.err", "w+")
+    proc = subprocess.Popen([sys.executable, "-m", "magrod.cli", "explore", "--no-browser", "--port", str(port),
+                             "--model", "anisotropic", "--iterates", "200"], stdout=subprocess.PIPE, stderr=err,
+                            text=True)
+    try:
+        deadline = time.time() + 180
+        while True:
+            assert proc.poll() is None, (tmp_path / "server.err").read_text()
+            try:
+                _status(port)
+                break
+            except OSError:
+                assert time.time() < deadline, "server did not come up"
+                time.sleep(0.2)
+        page = browser.new_page()
+        page.goto(f"http://127.0.0.1:{port}/")
+        page.wait_for_function("() => window.Bokeh && Bokeh.documents.length > 0 && "
+                               "Bokeh.documents[0].get_model_by_name('model-section') !== null", timeout=60_000)
+        status = _wait_text(page, ".magrod-model-status", lambda s: "max |H - h|" in s, timeout=120)
+        assert "; ok" in status, status
+        h = float(re.search(r"max \|H - h\| = (\S+),", status).group(1))
+        assert h <= 1e-12, status
+        notice = _text(page, ".magrod-model-notice")
+        assert "'anisotropic' has none" in notice and "Euler chart" in notice, notice
+        n = page.evaluate("() => Bokeh.documents[0].get_model_by_name('model-src-0').data.x.length")
+        assert n > 0
+        ARTIFACTS.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(ARTIFACTS / "explore-model.png"))
+        page.close()
+    finally:
+        proc.send_signal(signal.SIGINT)
+        try:
+            proc.wait(20)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait(10)
+        err.close()

@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 import magrod
+from magrod.core.precision import Precision
 
 ROOT = Path(magrod.__file__).resolve().parent
 NUMERICS = ("core", "orbits", "chaos", "separatrix", "integrability", "proof")  # the numerics wing (subpackages)
@@ -253,3 +254,99 @@ def test_one_class_per_name_for_the_shared_concepts():
             if isinstance(node, ast.ClassDef) and node.name in names:
                 seen.setdefault(node.name, []).append(_rel(path))
     assert {k: v for k, v in seen.items() if len(v) > 1} == {}
+
+
+# --------------------------------------------------------------------------------------------------------------
+# one calling convention: what is studied comes first, as `system` (anything magrod.core.system.as_system takes);
+# a function that continues a result takes it second; the options are keyword-only, spelled the same everywhere
+# (T is the rod's tension and M its twisting moment in the paper's notation, never a time: not listed below)
+CONVENTION = {"precision", "tol", "t_max", "iterates", "progress", "workers", "verify"}
+OTHER_SPELLINGS = {  # a parameter spelt like this means one of CONVENTION
+    "fp_type": "precision", "dtype": "precision", "prec": "precision", "rtol": "tol", "atol": "tol",
+    "tolerance": "tol", "tmax": "t_max", "t_end": "t_max", "max_time": "t_max", "t_final": "t_max",
+    "n_iterates": "iterates", "n_iter": "iterates", "iterations": "iterates", "n_points": "iterates",
+    "callback": "progress", "progress_bar": "progress", "threads": "workers", "n_workers": "workers",
+    "jobs": "workers", "n_jobs": "workers", "processes": "workers", "check": "verify", "validate": "verify",
+}
+NOT_STUDIED = {"panel": "a look-up of the paper's printed panels by key: it returns what converts to a System"}
+# Public functions not yet on the convention, each with the helper whose branch converts it.  The test below fails
+# as soon as one of them is converted, so this list only shrinks; once every branch has landed it is empty.
+NOT_YET_CONVERTED = {
+    "poincare_section": "engine", "poincare_sections": "engine", "section_start": "engine",
+    "section_points": "engine", "section_portrait": "engine", "orbit_diagram": "engine", "lyapunov": "engine",
+    "lyapunov_spectrum": "engine", "gali": "engine", "chaos_map": "engine",
+    "saddle": "orbits", "homoclinic_orbit": "orbits", "multipulse_orbits": "orbits", "continue_branch": "orbits",
+    "rod_shape": "orbits", "splitting": "orbits",
+}
+
+
+def _public_functions():
+    return {n: getattr(magrod, n) for n in sorted(PUBLIC) if inspect.isfunction(getattr(magrod, n))}
+
+
+def _converted(fn) -> bool:
+    params = list(inspect.signature(fn).parameters.values())
+    return bool(params) and params[0].name == "system" and params[0].kind in (
+        inspect.Parameter.POSITIONAL_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD)
+
+
+def _convention_offences(name, fn) -> list:
+    """What in fn's signature breaks the one calling convention (empty if nothing)."""
+    bad = []
+    params = list(inspect.signature(fn).parameters.values())
+    if not _converted(fn):
+        first = params[0].name if params else "(none)"
+        bad.append(f"{name}: first parameter {first!r}, not a positional 'system'")
+    for p in params:
+        if p.name in OTHER_SPELLINGS:
+            bad.append(f"{name}: {p.name}= is spelt {OTHER_SPELLINGS[p.name]}= everywhere")
+        if p.name in CONVENTION and p.kind is not p.KEYWORD_ONLY:
+            bad.append(f"{name}: {p.name}= is not keyword-only")
+        if p.name == "tol" and p.default is not None and p.default is not inspect.Parameter.empty:
+            bad.append(f"{name}: tol= defaults to {p.default!r}, not None (the method's default)")
+        if p.name == "precision" and not (p.default is None or isinstance(p.default, (str, Precision))):
+            bad.append(f"{name}: precision= defaults to {p.default!r}, not a Precision, its name or None")
+    return bad
+
+
+@pytest.mark.parametrize("name", sorted(set(_public_functions()) - set(NOT_STUDIED)))
+def test_one_calling_convention(name):
+    """Walk the public functions: the first argument is `system`, the options keyword-only and spelt as everywhere
+    else (precision=, tol= defaulting to None, t_max=, iterates=, progress=, workers=, verify=).  Seen to fail on
+    integrability_report(subs, ...) and explore(panel, ...) before they took the system first."""
+    fn = _public_functions()[name]
+    bad = _convention_offences(name, fn)
+    if name in NOT_YET_CONVERTED:
+        assert bad, (f"{name} now follows the calling convention: remove it from NOT_YET_CONVERTED "
+                     f"({NOT_YET_CONVERTED[name]})")
+        pytest.xfail(f"not yet converted ({NOT_YET_CONVERTED[name]}): {bad[0]}")
+    assert not bad, bad
+
+
+def test_the_convention_check_catches_each_offence():
+    """The walk's own check, on functions written to break each rule once."""
+    def ok(system, orbit=None, *, precision=None, tol=None, t_max=1.0, iterates=10, progress=None, workers=None,
+           verify=True):
+        pass
+
+    def first(params, *, tol=None):
+        pass
+
+    def spelt(system, *, fp_type=None, threads=2):
+        pass
+
+    def positional_option(system, tol=None):
+        pass
+
+    def zero_tol(system, *, tol=0.0):
+        pass
+
+    assert _convention_offences("ok", ok) == []
+    assert "'params'" in _convention_offences("first", first)[0]
+    assert len(_convention_offences("spelt", spelt)) == 2
+    assert "keyword-only" in _convention_offences("positional_option", positional_option)[0]
+    assert "not None" in _convention_offences("zero_tol", zero_tol)[0]
+
+
+def test_the_allowlists_name_public_functions():
+    assert set(NOT_YET_CONVERTED) | set(NOT_STUDIED) <= set(_public_functions())

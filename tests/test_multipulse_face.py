@@ -153,7 +153,7 @@ def test_cli_multipulse_prints_the_public_search(monkeypatch, tmp_path, capsys, 
         return fig6_search
 
     monkeypatch.setattr(multipulse, "multipulse_orbits", fake)
-    assert main(["multipulse", "--figure", "6", "--max-pulses", "2", "--samples", "41", "--json", "--quiet",
+    assert main(["multipulse", "--panel", "6", "--pulses", "2", "--samples", "41", "--json", "--quiet",
                  "--out", str(tmp_path)]) == 0
     out = json.loads(capsys.readouterr().out)
     assert seen["params"] == fig6_search.params and seen["max_pulses"] == 2 and seen["samples"] == 41

@@ -206,10 +206,10 @@ def test_every_orbit_file_reads_back_with_magrod_rod(tmp_path, capsys):
     from magrod.core.io import ORBIT_ARRAYS, load_orbit_file
 
     straight, periodic = tmp_path / "straight", tmp_path / "periodic"
-    assert main(["multipulse", "--figure", "6", "--max-pulses", "2", "--samples", "21", "--quiet", "--out",
+    assert main(["multipulse", "--panel", "6", "--pulses", "2", "--samples", "21", "--quiet", "--out",
                  str(straight)]) == 0
     assert main(["multipulse", "--m", "1.7", "--mu", "0.0021", "--gamma", "1", "--delta", "1", "--lam", "0.001",
-                 "--max-pulses", "1", "--samples", "61", "--quiet", "--out", str(periodic)]) == 0
+                 "--pulses", "1", "--samples", "61", "--quiet", "--out", str(periodic)]) == 0
     capsys.readouterr()
     files = sorted(straight.glob("*_N*.npz")) + sorted(periodic.glob("*_N*.npz"))
     kinds = {"straight": 0, "periodic": 0}
@@ -218,7 +218,7 @@ def test_every_orbit_file_reads_back_with_magrod_rod(tmp_path, capsys):
         with np.load(f) as z:
             assert set(ORBIT_ARRAYS) - {"angle"} <= set(z.files)
         kinds[f.parent.name] += 1
-        assert main(["rod", "--from", str(f), "--json", "--points", "501"]) == 0
+        assert main(["rod", "--from", str(f), "--json", "--points", "501", "--out", str(tmp_path / "rod")]) == 0
         out = json.loads(capsys.readouterr().out)
         assert out["ok"] and out["orthonormality"] <= 1e-12
         assert math.isfinite(float(d["T"]))

@@ -186,9 +186,17 @@ def test_cli_unwritable_out(tmp_path, capsys):
     assert "out" in capsys.readouterr().err
 
 
-def test_cli_free_form_missing_parameter(capsys):
-    assert cli.main(["poincare", "--m", "1.7", "--mu", "0.4", "--json"]) == 2
-    assert json.loads(capsys.readouterr().out)["parameter"] == "gamma"
+def test_cli_free_form_fills_in_from_the_default_panel(capsys):
+    """Without --panel, what is not given is Fig 4(a)'s (one default panel for every command that takes one), and
+    the result does not claim to be the panel's."""
+    assert cli.main(["poincare", "--m", "1.7", "--mu", "0.38", "--iterates", "10", "--json"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    from magrod.core.printed import panel
+
+    P = panel("4a")
+    assert r["parameters"] == {**P.params.to_dict(), "mu": 0.38} and r["panel"] is None and r["h"] == P.h
+    assert cli.main(["poincare", "--m", "1.7", "--mu", "nan", "--json"]) == 2
+    assert json.loads(capsys.readouterr().out)["parameter"] == "mu"
 
 
 # ------------------------------------------------------------------------------------------- CLI and files

@@ -88,7 +88,7 @@ def test_data_files_are_bit_identical(tmp_path):
 
 
 def test_reproduce_bad_inputs(tmp_path, capsys):
-    assert cli.main(["reproduce", "--out", str(tmp_path), "--jobs", "0"]) == 2
-    assert "jobs" in capsys.readouterr().err
+    assert cli.main(["reproduce", "--out", str(tmp_path), "--workers", "0"]) == 2
+    assert "workers" in capsys.readouterr().err
     assert cli.main(["reproduce", "--out", str(tmp_path), "--only", "9"]) == 2
     assert "only" in capsys.readouterr().err

@@ -90,7 +90,7 @@ def test_cli_exit_codes(tmp_path):
     from magrod.cli import main
 
     # issue 13: mu != 2 lam is accepted (orbits to the periodic saddle); mu < 2 lam has no saddle near the rod
-    assert main(["multipulse", "--figure", "6", "--mu", "0.0019", "--out", str(tmp_path / "x"), "--quiet"]) == 2
+    assert main(["multipulse", "--panel", "6", "--mu", "0.0019", "--out", str(tmp_path / "x"), "--quiet"]) == 2
     assert not (tmp_path / "x").exists()
 
 

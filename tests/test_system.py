@@ -51,3 +51,22 @@ def test_precision_and_dict_round_trip():
     t, _ = as_system(d["params"], model=d["model"], precision=d["precision"])
     assert t == s
     assert len(repr(s)) < 200
+
+
+def test_a_result_converts_to_its_system():
+    """A result passed first converts to the system it was computed for: its `.system`, or, for a result of the
+    paper's rod without one, its `.params` (old calls that pass a result first keep working)."""
+    from types import SimpleNamespace
+
+    from magrod.core.results import jsonable
+
+    s = mr.System("anisotropic", C=2.0, precision="long double")
+    assert as_system(SimpleNamespace(system=s))[0] == s
+    assert mr.System.from_result(SimpleNamespace(system=s)) == s
+    assert as_system(SimpleNamespace(system=s), C=2.5)[0].params["C"] == 2.5
+    r = mr.poincare_section("4b", iterates=5)
+    assert mr.System.from_result(r) == mr.System("4b")
+    assert jsonable({"system": s}) == {"system": s.to_dict()}
+    with pytest.raises(mr.ParameterError) as e:
+        as_system(SimpleNamespace(system=3))
+    assert e.value.name == "system"

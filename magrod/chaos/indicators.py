@@ -429,6 +429,9 @@ def body_indicators(x0, pars, *, t_max, tol=None, renorm_dt=DEFAULT_RENORM_DT, p
     batch size systems.batch_width() ($MAGROD_BATCH_WIDTH or the CPU's SIMD size), w0 the fixed generic direction.  Max |H - H0| and Casimir drift are
     returned per orbit; an orbit with v3 <= 0 or drift > DRIFT_LIMIT is LEFT_RANGE.
     Cost: ~4.4 us per orbit per unit time (tol = eps, AVX-512 batch of 8)."""
+    from ..core.limits import positive
+
+    t_max, renorm_dt = positive("t_max", t_max), positive("renorm_dt", renorm_dt)
     x0 = np.atleast_2d(np.asarray(x0, float).T).T if np.ndim(x0) == 1 else np.asarray(x0, float)
     pars = np.asarray(pars, float)
     if pars.ndim == 1:

@@ -218,9 +218,11 @@ def model_section(model=None, *, params=None, x0=None, level_of=None, n_orbits: 
     """
     mc = _model(model)
     pars = np.array(mc.parameters(params))
-    for name, v, lo in (("n_orbits", n_orbits, 1), ("iterates", iterates, 1)):
-        if isinstance(v, bool) or not isinstance(v, int) or v < lo or v > 10**7:
-            raise ParameterError(name, f"must be an integer in [{lo}, 1e7], got {v!r}")
+    from ..core.limits import count
+
+    # the limits and words of the paper's section and the command line (core/limits.py), whatever the path
+    iterates = count("iterates", iterates)
+    n_orbits = count("n_orbits", n_orbits, maximum=4096)
     t_max = 100.0 * iterates if t_max is None else t_max
     if not (isinstance(t_max, (int, float)) and math.isfinite(t_max) and t_max > 0):
         raise ParameterError("t_max", f"must be a positive finite number, got {t_max!r}")

@@ -537,11 +537,10 @@ class SectionOptions:
 
     def __post_init__(self):
         put = object.__setattr__
-        iterates = require_positive_int("iterates", self.iterates)
-        if iterates > LIMITS["iterates"]:
-            raise ParameterError("iterates", f"must be <= {LIMITS['iterates']} (the limit of what a run can finish: "
-                                             f"~200 bytes and ~0.2 ms per point), got {iterates}")
-        put(self, "iterates", iterates)
+        from ..core.limits import count
+
+        # the one limit and wording of iterates, whatever the path (core/limits.py)
+        put(self, "iterates", count("iterates", self.iterates, maximum=LIMITS["iterates"]))
         if self.direction not in DIRECTIONS:
             raise ParameterError("direction", f"must be one of {sorted(DIRECTIONS)}, got {self.direction!r}")
         if self.branch not in BRANCHES:

@@ -23,7 +23,7 @@ import threading
 import warnings
 
 from ..core.errors import EnvironmentFault, ParameterError
-from .options import HelpFormatter
+from .options import HelpFormatter, add_model, add_out
 
 EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_ENVIRONMENT, EXIT_INTERRUPTED = 0, 1, 2, 3, 130  # 128 + signal number
 
@@ -98,32 +98,77 @@ class Parser(argparse.ArgumentParser):
         raise UsageError(_param_of(message), message)
 
 
-# Every command takes --model (issue 26).  These compute for the paper's rod only; with another model they say so,
-# by name and with the reason, before anything runs (a model file is never loaded for them).
+# Every command takes --model NAME|FILE.py, resolved once (magrod.core.system.as_system): an unknown name or a bad
+# file is refused as such.  These commands need a structure that only the paper's rod has in this release; with
+# another model they say which, by name, before anything runs: (the structure, why).
 DEFAULT_MODEL = "magnetic-extensible"  # = magrod.core.models.DEFAULT (not imported: it would load the model code)
 PAPER_ONLY = {
-    "homoclinic": "its closed-form lambdabar = 0 homoclinic orbit is derived for the paper's rod (derive/homoclinic.py)",
-    "melnikov": "its Mel'nikov integrand (eq:Mel_ext) is derived for the paper's rod",
-    "figure": "the paper's figures are of the paper's rod",
-    "multipulse": "the Fix(R) shooting engine runs on the paper's reduced chart (its reversor R and its saddles)",
-    "rod": "the rod shape integrates the paper's body frame with its director frame",
-    "reproduce": "it reproduces the paper, whose rod this is (the other models: magrod landscape)",
-    "continue": "the Fix(R) shooting engine runs on the paper's reduced chart (its reversor R and its saddles)",
-    "splitting": "the scaling mu = a eps^2, lambdabar = b eps^2 and its saddles are the paper's rod's",
-    "prove": "the validated fields (generated/validated.py) are generated for the paper's rod",
-    "orbitdiagram": "it runs on the paper's Euler chart (its start and energy level)",
-    "explore": "it draws the paper's Euler-chart section",
-    "saddle": "its straight rod and helical relative equilibrium are the paper's rod's (orbits/equilibrium.py, periodic.py)",
+    "homoclinic": ("a closed-form homoclinic orbit at lambdabar = 0",
+                   "it is derived for the paper's rod only (derive/homoclinic.py)"),
+    "melnikov": ("a derived Mel'nikov integrand", "eq:Mel_ext is derived for the paper's rod only"),
+    "figure": ("the paper's figures", "they are figures of the paper's rod"),
+    "multipulse": ("the reduced Euler chart with its reversor R",
+                   "the command's Fix(R) shooting runs on the paper's reduced chart"),
+    "rod": ("an orbit file of the paper's reduced chart", "`magrod multipulse` writes orbits of the paper's rod"),
+    "reproduce": ("the paper's claims", "it reproduces the paper (the other models: magrod landscape)"),
+    "continue": ("the reduced Euler chart with its reversor R",
+                 "the command's Fix(R) shooting runs on the paper's reduced chart"),
+    "splitting": ("the small-parameter scaling mu = a eps^2, lambdabar = b eps^2",
+                  "that scaling is written for the paper's rod"),
+    "prove": ("validated fields (generated/validated.py)", "they are generated for the paper's rod only"),
+    "orbitdiagram": ("the reduced Euler chart (a start theta0, pbar_theta0 on a level Hbar = h)",
+                     "the command's starts are points of the paper's chart"),
+    "saddle": ("the straight rod and the helical relative equilibrium of the reduced chart",
+               "the command's saddle search is written on the paper's chart (orbits/equilibrium.py, periodic.py)"),
+    "spectrum": ("the reduced Euler chart (a start theta0, pbar_theta0 on a level Hbar = h)",
+                 "the command's start is a point of the paper's chart"),
 }
 
 
+# Commands of PAPER_ONLY whose public function is already written for every model once it takes a System first
+# (the one calling convention): from then on the command runs any model, without an edit here.
+ROUTED = {"saddle": "saddle", "spectrum": "lyapunov_spectrum"}
+
+
+def routes_models(command: str) -> bool:
+    """True if `command` runs any model: not paper-only, or its public function takes a System first."""
+    if command not in PAPER_ONLY:
+        return True
+    if command not in ROUTED:
+        return False
+    import inspect
+
+    import magrod
+
+    params = list(inspect.signature(getattr(magrod, ROUTED[command])).parameters)
+    return bool(params) and params[0] == "system"
+
+
 def _check_model(args) -> None:
+    """--model checked once before anything runs: an unknown name or a missing model file is a
+    ParameterError("model") saying so; a command that needs what the model lacks says which structure, by name.
+    Nothing is loaded here (a model file is code the user runs on purpose: the command that computes with it loads
+    it, through as_system; a command that cannot use it never runs it)."""
     model = getattr(args, "model", None)
-    if model is None or args.command not in PAPER_ONLY or model == DEFAULT_MODEL:
+    if model is None or model == DEFAULT_MODEL:
         return
-    raise ParameterError("model", f"{args.command} computes for the paper's rod ({DEFAULT_MODEL}) only, not "
-                                  f"{str(model)[:80]!r}: {PAPER_ONLY[args.command]}; for other models use magrod "
-                                  "check, poincare, chaosmap or landscape --model")
+    from ..core import models
+
+    if models.is_model_path(model):
+        from pathlib import Path
+
+        if not Path(model).is_file():
+            models.resolve(model)  # the registry's own words for a missing file
+        name = str(model)
+    else:
+        if model not in models.registered():
+            models.resolve(model)  # ParameterError("model"): unknown model, with the registered names
+        name = model
+    if name == models.DEFAULT or routes_models(args.command):
+        return
+    structure, why = PAPER_ONLY[args.command]
+    raise ParameterError("model", f"{args.command} needs {structure}, and the model {name[:80]!r} has none: {why}; "
+                                  "for this model use magrod check, poincare, chaosmap, explore or landscape --model")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -136,9 +181,13 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--quiet", action="store_true", help="no progress output")
         p.set_defaults(_module=module)
         importlib.import_module(module).add_arguments(p)
-        if name in PAPER_ONLY:
-            p.add_argument("--model", default=None, metavar="NAME",
-                           help=f"the rod model: this command computes for the paper's rod ({DEFAULT_MODEL}) only")
+        have = {o for a in p._actions for o in a.option_strings}
+        if "--model" not in have:
+            add_model(p, params=False, help="the rod model: a registered name (`magrod models`) or a model file; "
+                                            f"this command needs a structure of the paper's rod ({DEFAULT_MODEL})")
+        if "--out" not in have:  # one rule: --out DIR on every command; here the result is written as JSON there
+            add_out(p, help=f"write the result as DIR/{name}.json")
+            p.set_defaults(_result_out=name)
     return parser
 
 
@@ -380,6 +429,10 @@ def _main(argv=None) -> int:
         if args.json:
             args.quiet = True
         _check_model(args)
+        if getattr(args, "_result_out", None) and args.out is not None:
+            from ..core.io import check_out_path
+
+            check_out_path(args.out, "out")  # refused before the run: a bad --out writes nothing
         mod = importlib.import_module(args._module)
         if args.command not in LIGHT_COMMANDS and "heyoka" not in sys.modules:
             with signals_deferred():
@@ -390,6 +443,13 @@ def _main(argv=None) -> int:
             # `except BaseException: pass`), and the run went on to its end: the signal is still honoured
             raise Interrupted(_STATE["unhandled"])
         ok = bool(result.get("ok", True))
+        if getattr(args, "_result_out", None) and args.out is not None:
+            from ..core.io import atomic_write_text, ensure_writable_dir
+
+            out = ensure_writable_dir(args.out, "out")
+            result = {**result, "files": [str(atomic_write_text(out / f"{args._result_out}.json",
+                                                                 json.dumps(_clean(result), sort_keys=True,
+                                                                            allow_nan=False, indent=1) + "\n"))]}
         text = json.dumps(_clean(result), sort_keys=True, allow_nan=False) if want_json else mod.format_text(result)
         _STATE["armed"] = False  # from here on the run is finished: a signal ends it quietly with this exit code
         _emit(text)

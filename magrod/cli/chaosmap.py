@@ -17,7 +17,7 @@ import logging
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
 from ..chaos import MAPPABLE
-from .options import PARAM_HELP, ROOT_HELP, START_HELP, integer, number, out_dir, stem
+from .options import PARAM_HELP, ROOT_HELP, START_HELP, add_out, add_workers, integer, number, out_dir, stem
 
 _OVERRIDES = (*PARAMS, "h", "theta0", "ptheta0", "psi0")
 
@@ -34,7 +34,7 @@ def add_arguments(p):
     p.add_argument("--indicator", default="growth", choices=sorted(MAPPABLE),
                    help="field drawn in the PNG (the store holds all; chaos is classified by the growth exponent)")
     p.add_argument("--t-max", default="3000", help="integration length T per orbit")
-    p.add_argument("--tol", default="0", help="Taylor tolerance (0 = machine epsilon)")
+    p.add_argument("--tol", default=None, help="Taylor tolerance (default: machine epsilon; 0 means it too)")
     p.add_argument("--renorm-dt", default="10", help="renormalisation interval of the tangent vector")
     p.add_argument("--threshold", default="3", help="chaotic iff growth exponent > threshold")
     p.add_argument("--tile", default="16", help="tile edge in grid points (one Dask task, one zarr chunk)")
@@ -47,8 +47,7 @@ def add_arguments(p):
     p.add_argument("--early-exit", action="store_true",
                    help="stop an orbit after T/2 once its growth exponent passes the threshold with a margin (no class "
                         "changes; store array 'exit_time'); default: every orbit runs for T")
-    p.add_argument("--workers", default=None,
-                   help="LocalCluster worker processes (1 thread and ~300 MB each; default 2, at most the CPUs "
+    add_workers(p, help="LocalCluster worker processes (1 thread and ~300 MB each; default 2, at most the CPUs "
                         "this process may use)")
     p.add_argument("--scheduler", default=None,
                    help="a running Dask scheduler instead: tcp://HOST:PORT, HOST:PORT or tls://HOST:PORT (TLS "
@@ -59,7 +58,7 @@ def add_arguments(p):
                         "systems")
     p.add_argument("--connect-timeout", default="5", help="seconds to reach the scheduler before giving up")
     p.add_argument("--worker-timeout", default="60", help="seconds to wait for a worker to join the scheduler")
-    p.add_argument("--out", required=True, help="output directory (made absolute: Dask workers write there)")
+    add_out(p, files=True, help="output directory (made absolute: Dask workers write there)")
     p.add_argument("--stem", default="chaosmap", help="file name stem")
     p.add_argument("--model", default=None, metavar="NAME|FILE.py",
                    help="a rod model of the family (`magrod models`) or a model file: Lyapunov estimates over two of "
@@ -123,7 +122,7 @@ def spec_from_args(args):
     bound = None if args.refine_bound is None else number("refine_bound", args.refine_bound)
     threshold = number("threshold", args.threshold)
     spec = MapSpec(x, y, base=base, panel=str(args.panel).lower(), root=args.root,
-                   t_max=number("t_max", args.t_max, bound=1e7), tol=number("tol", args.tol, bound=1.0),
+                   t_max=number("t_max", args.t_max, bound=1e7), tol=0.0 if args.tol is None else number("tol", args.tol, bound=1.0),
                    renorm_dt=number("renorm_dt", args.renorm_dt), tile=integer("tile", args.tile, maximum=1024),
                    refine=refine, refine_bound=bound, early_exit=bool(getattr(args, "early_exit", False)),
                    **({"refine_threshold": threshold} if refine else {}))

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import integer, number, out_dir, params_from
+from .options import LIMITS, add_out, integer, number, out_dir, params_from
 
 START = dict(m=1.7, mu=0.0021, gamma=1.0, delta=1.0, lam=0.001)  # near Fig 6, generic side mu > 2 lam
 
@@ -27,7 +27,7 @@ def add_arguments(p):
     p.add_argument("--range", nargs=2, metavar=("LO", "HI"), help="stop when the parameter leaves [LO, HI]")
     p.add_argument("--allow-boundary", action="store_true",
                    help="allow --range to cross a stability (Hamiltonian-Hopf) boundary of the saddle")
-    p.add_argument("--out", default="out/continue", help="output directory")
+    add_out(p, files=True)
 
 
 def _check_range(params, name: str, rng, mu2lam: bool):
@@ -57,7 +57,7 @@ def run(args) -> dict:
     from ..core.params import RodParams
     from ..core.progress import bar
 
-    N = integer("pulses", args.pulses, maximum=12)
+    N = integer("pulses", args.pulses, maximum=LIMITS["max_pulses"])
     steps = integer("steps", args.steps, maximum=10_000)
     ds = number("ds", args.ds)
     if not (0 < ds <= 1):

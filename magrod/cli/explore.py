@@ -1,35 +1,36 @@
 """`magrod explore`: the interactive Poincare-section explorer in the browser (Panel + Bokeh), on 127.0.0.1 by
 default.  Click on the section to launch an orbit; Ctrl-C stops the server and every computation.  Bad input
 (an unknown panel, a port outside 1..65535 or in use, a non-loopback --host without --allow-remote) exits 2
-before anything is bound."""
+before anything is bound.  --model NAME|FILE.py opens any other rod model: the engine's section of several orbits
+in the model's body frame (an unknown model is refused, naming it)."""
 from __future__ import annotations
 
-from .options import integer
+from .options import add_model, add_out, add_panel, integer, system_from
 
 
 def add_arguments(p):
-    from ..core.printed import PANELS
-
-    p.add_argument("--panel", default="4a", help=f"paper panel whose rod and level to start with: {', '.join(PANELS)}")
+    add_panel(p, help="paper panel whose rod and level to start with (default 4a)")
+    add_model(p, help="the rod model: a registered name (`magrod models`) or a model file; another model than the "
+                      "paper's rod opens the engine's section of several orbits (default: the paper's rod)")
     p.add_argument("--host", default="127.0.0.1", help="address to bind (loopback unless --allow-remote)")
     p.add_argument("--port", default="5006", help="TCP port, 1..65535")
     p.add_argument("--no-browser", action="store_true", help="do not open a browser tab")
     p.add_argument("--allow-remote", action="store_true",
                    help="allow a non-loopback --host (anyone who can reach it can run computations)")
     p.add_argument("--iterates", default="1000", help="iterates per orbit (changeable on the page)")
-    p.add_argument("--out", default=None, help="directory the page's 'Export' button writes into")
+    add_out(p, help="directory the page's 'Export' button writes into")
 
 
 def run(args) -> dict:
-    from ..core.printed import panel
     from .options import out_dir
 
-    key = panel(args.panel).key  # ParameterError("panel") before anything starts
+    system, pan = system_from(args, default_panel="4a")  # ParameterError("panel"/"model") before anything starts
     iterates = integer("iterates", args.iterates)
     out = out_dir("out", args.out) if args.out is not None else None
     from ..explorer.server import ExplorerServer
 
-    srv = ExplorerServer(key, host=args.host, port=args.port, show=not args.no_browser,
+    srv = ExplorerServer((system, pan.key if pan is not None else None), host=args.host, port=args.port,
+                         show=not args.no_browser,
                          allow_remote=args.allow_remote, iterates=iterates, out_dir=out,
                          log=(lambda text: None) if args.quiet else None)
     srv.warm()

@@ -7,7 +7,9 @@ def add_arguments(p):
     from .options import add_format
 
     p.add_argument("number", help="figure number: " + ", ".join(FIGURES))
-    p.add_argument("--out", default="out", help="output directory")
+    from .options import add_out
+
+    add_out(p, files=True, help="output directory")
     p.add_argument("--quick", action="store_true", help="reduced-size variant (fewer iterates/points)")
     add_format(p)
 

@@ -4,22 +4,24 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import add_params, integer, number, out_dir, params_from
+from .options import LIMITS, add_alias, add_out, add_params, add_pulses, integer, number, out_dir, params_from
 
 FREE = ("lam",) + tuple(p for p in PARAMS if p not in ("mu", "lam"))  # = magrod.orbits.multipulse.FREE_PARAMETERS
 
 
 def add_arguments(p):
-    p.add_argument("--figure", type=int, choices=(6, 7), help="parameters of fig:multimodal1 (6) / fig:multimodal2 (7)")
-    add_params(p, help_suffix=" (free-parameter form; overrides --figure)")
+    p.add_argument("--panel", type=int, choices=(6, 7), metavar="PANEL",
+                   help="the paper's parameters of fig:multimodal1 (6) or fig:multimodal2 (7)")
+    add_alias(p, "--figure", "--panel", "panel", type=int)
+    add_params(p, help_suffix=" (free-parameter form; overrides --panel)")
     p.add_argument("--free", default=None, choices=FREE,
                    help="parameter solved for together with T (mu follows it: mu = 2 lam; default lam; mu = 2 lam "
                         "only)")
-    p.add_argument("--max-pulses", default="6", help="look for N-pulse orbits, N = 1..max")
+    add_pulses(p, default="6", help="look for N-pulse orbits, N = 1 .. this number", old=("--max-pulses",))
     p.add_argument("--span", default=None,
                    help="relative scan range of the free parameter, in (0, 1) (default 0.5; mu = 2 lam only)")
     p.add_argument("--samples", default="81", help="scan samples")
-    p.add_argument("--out", default="out/multipulse", help="output directory")
+    add_out(p, files=True)
 
 
 def run(args) -> dict:
@@ -32,19 +34,19 @@ def run(args) -> dict:
     from ..figures.multipulse import write_search
     from .. import multipulse_orbits
 
-    base = MULTIPULSE[args.figure]["params"].to_dict() if args.figure else {}
+    base = MULTIPULSE[args.panel]["params"].to_dict() if args.panel else {}
     vals = params_from(args, base)
-    if args.figure is None and any(k not in vals for k in PARAMS):
-        raise ParameterError("figure", "give --figure 6|7 or all of " + " ".join(f"--{k}" for k in PARAMS))
+    if args.panel is None and any(k not in vals for k in PARAMS):
+        raise ParameterError("panel", "give --panel 6|7 or all of " + " ".join(f"--{k}" for k in PARAMS))
     params = RodParams(**vals)
-    max_pulses = integer("max_pulses", args.max_pulses)
+    max_pulses = integer("pulses", args.pulses, maximum=LIMITS["max_pulses"])
     span = number("span", args.span) if args.span is not None else None
     samples = integer("samples", args.samples, minimum=3)
     out = out_dir("out", args.out)
     with bar(samples, "scan", not args.quiet) as update:
         search = multipulse_orbits(params, max_pulses, free=args.free, span=span, samples=samples,
                                    with_uncertainty=True, progress=update)
-    written = write_search(search, out, stem=f"figure{args.figure}" if args.figure else "multipulse")
+    written = write_search(search, out, stem=f"figure{args.panel}" if args.panel else "multipulse")
     return {**search.to_dict(), "files": written["files"], "table": written["table"]}
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..core.errors import MAX_MAGNITUDE, require_finite
+from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
 from ..core.limits import LIMITS, integer  # noqa: F401  (integer: the count parser, defined with the limits)
 from ..generated.names import PARAMS
 
@@ -120,11 +120,125 @@ def add_panel(p, *, dest="panel", default=None, help="a panel of the paper"):
     add_alias(p, "--figure", "--panel", dest)
 
 
+# ---- one CLI vocabulary: the same option name for the same concept in every command ----------------------------
+# parallelism: --workers N everywhere (threads or processes, as the command's help says; the library's workers=);
+#   --threads (poincare, orbitdiagram) and --jobs (reproduce) are its old names, one deprecation line each
+# output: --out DIR on every command, never required; files are written only there; the commands whose product
+#   is files (figure, reproduce, chaosmap, continue, multipulse, rod) write into ./out when it is not given, the
+#   others write only when it is given
+# a pulse count: --pulses N (multipulse's --max-pulses is its old name)
+# what is studied: --panel (a paper panel) and --model NAME|FILE.py (a registered model or a model file), each
+#   resolved once by magrod.core.system.as_system (`system_from`); --precision where the library takes it
+WORKERS_HELP = "parallel workers"
+OUT_DEFAULT = "out"
+OUT_HELP = "output directory (files are written only there)"
+PRECISIONS = ("double", "long double", "quad", "mp")
+
+
+def add_workers(p, *, default=None, help="parallel workers", old=()):
+    """--workers N (the library's workers=); each name in `old` is a deprecated spelling of it."""
+    text = help if help.lower().startswith(WORKERS_HELP) else f"{WORKERS_HELP}: {help}"
+    p.add_argument("--workers", dest="workers", default=default, metavar="N", help=text)
+    for o in old:
+        add_alias(p, o, "--workers", "workers")
+
+
 def add_threads(p, *, help="threads (default: all cores)"):
-    """--threads N where a command runs threads; --workers is kept for processes (chaosmap's Dask workers) and is
-    the deprecated old name here."""
-    p.add_argument("--threads", dest="threads", default=None, metavar="N", help=help)
-    add_alias(p, "--workers", "--threads", "threads")
+    """Deprecated name of add_workers(old=("--threads",)), kept for one release."""
+    add_workers(p, help=help, old=("--threads",))
+
+
+def add_out(p, *, files=False, help=None):
+    """--out DIR: `files=True` for a command whose product is files (default ./out), else written only if given."""
+    if files:
+        p.add_argument("--out", default=OUT_DEFAULT, metavar="DIR", help=help or OUT_HELP)
+    else:
+        p.add_argument("--out", default=None, metavar="DIR",
+                       help=(help or OUT_HELP) + " (default: nothing is written)")
+
+
+def add_pulses(p, *, default, help, old=()):
+    """--pulses N, the one name of a pulse count; `old` are deprecated spellings."""
+    p.add_argument("--pulses", dest="pulses", default=default, metavar="N", help=help)
+    for o in old:
+        add_alias(p, o, "--pulses", "pulses")
+
+
+def add_precision(p, *, default="double", choices=PRECISIONS, help="floating-point precision of the run"):
+    """--precision NAME (magrod.core.precision.Precision's names)."""
+    p.add_argument("--precision", default=default, choices=tuple(choices), help=help)
+
+
+def add_model(p, *, help="the rod model: a registered name (`magrod models`) or a model file (default: the "
+                         "paper's rod)", params=True):
+    """--model NAME|FILE.py and, with `params`, --model-params NAME=VALUE,... (the model's parameters)."""
+    p.add_argument("--model", default=None, metavar="NAME|FILE.py", help=help)
+    if params:
+        p.add_argument("--model-params", default=None, metavar="NAME=VALUE,...",
+                       help="with --model: the model's parameters (the others at the model's defaults)")
+
+
+def model_params(args) -> dict:
+    """--model-params NAME=VALUE,... as {name: float} (ParameterError("model_params") on a bad item)."""
+    text = getattr(args, "model_params", None)
+    out = {}
+    if not text:
+        return out
+    for item in str(text).split(","):
+        if not item.strip():
+            continue
+        name, eq, value = item.partition("=")
+        name = name.strip()
+        if not eq or not name:
+            raise ParameterError("model_params", f"expected NAME=VALUE,..., got {item.strip()[:60]!r}")
+        if name in out:
+            raise ParameterError("model_params", f"{name} given twice")
+        out[name] = require_finite(name, value.strip())
+    return out
+
+
+def first_argument(fn, system, legacy):
+    """What to pass first to the public function `fn`: the System once `fn` takes one (its first parameter is named
+    ``system``), else `legacy` (the value its older signature takes, e.g. ``system.rod``).  The commands thereby
+    follow each function as it moves to the one calling convention."""
+    import inspect
+
+    params = list(inspect.signature(fn).parameters)
+    return system if params and params[0] == "system" else legacy
+
+
+def is_paper_model(model) -> bool:
+    from ..core.models import DEFAULT
+
+    return model is None or model == DEFAULT
+
+
+def system_from(args, *, overrides=None, default_panel=None):
+    """(System, Panel or None): what the command studies, resolved ONCE by as_system from --model (with
+    --model-params) or from --panel (default `default_panel`) and the paper's parameter options (--m --mu ...).
+    A panel with --model is refused: a paper panel is of the paper's rod."""
+    from ..core.system import as_system
+
+    model = getattr(args, "model", None)
+    key = getattr(args, "panel", None)
+    if not is_paper_model(model):
+        if key is not None:
+            raise ParameterError("panel", f"a paper panel is of the paper's rod, not the model {str(model)[:80]!r}: "
+                                          "give the model's parameters by --model-params")
+        given = [n for n in PARAMS if getattr(args, n, None) is not None]
+        if given and not hasattr(args, "model_params"):
+            raise ParameterError(given[0], f"--{given[0]} is a parameter of the paper's rod, not of the model "
+                                           f"{str(model)[:80]!r}")
+        return as_system(model, **model_params(args))
+    if getattr(args, "model_params", None):
+        raise ParameterError("model_params", "needs --model (the paper's rod takes --m --mu --gamma --delta --lam)")
+    vals = params_from(args) if overrides is None else overrides
+    key = key if key is not None else default_panel
+    if key is not None:
+        from ..core.printed import panel
+
+        key = panel(key)  # ParameterError("panel") for an unknown panel
+    return as_system(key, **vals)
 
 
 def indicator(value: str) -> str:

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import (LIMITS, ROOT_HELP, add_panel, add_params, add_start, add_threads, integer, number, out_dir,
-                      params_from, stem)
+from .options import (system_from, LIMITS, ROOT_HELP, add_panel, add_params, add_start, add_workers, integer, number, out_dir,
+                      stem)
 
 COORDINATES = ("theta", "ptheta", "psi", "ppsi")  # checked against magrod.chaos.portrait in the tests
 MAX_VALUES = 1_000_000  # = magrod.chaos.section.MAX_ORBITS (not imported: that would load heyoka)
@@ -20,7 +20,7 @@ def add_arguments(p):
     p.add_argument("--parameter", required=True, help=f"the model parameter varied: {', '.join(PARAMS)}")
     p.add_argument("--values", required=True,
                    help="LO:HI:N (N values, LO to HI) or a comma-separated, strictly monotone list")
-    add_panel(p, default="4a", help="panel giving the rod, level and start")
+    add_panel(p, help="panel giving the rod, level and start (default 4a)")
     add_params(p, help_suffix=" (overrides the panel's)")
     g = p.add_argument_group("level and start (override the panel's)")
     add_start(g)
@@ -30,7 +30,7 @@ def add_arguments(p):
     p.add_argument("--root", default="smallest", choices=("smallest", "largest"), help=ROOT_HELP)
     p.add_argument("--direction", default="positive", choices=("any", "negative", "positive"),
                    help="sign of d/dt sin(psi) at recorded crossings")
-    add_threads(p)
+    add_workers(p, help="threads (default: all cores)", old=("--threads",))
     p.add_argument("--out", default=None, help="write <stem>.npz/.json/.png into this directory")
     p.add_argument("--stem", default="orbitdiagram", help="file name stem")
 
@@ -56,16 +56,13 @@ def parse_values(text: str) -> list:
 
 
 def run(args) -> dict:
-    from ..core.printed import PANELS, panel
+    from ..core.printed import PANELS
 
     if args.parameter not in PARAMS:
         raise ParameterError("parameter", f"must be a model parameter ({', '.join(PARAMS)}), got {args.parameter!r}")
     values = parse_values(args.values)
-    try:
-        P = panel(args.panel)
-    except ParameterError as exc:
-        raise ParameterError("panel", exc.message) from None
-    base = P.params.replace(**{k: v for k, v in params_from(args).items()})
+    system, P = system_from(args, default_panel="4a")  # the rod and its panel, resolved once
+    base = system.rod
     start = {k: (number(k, getattr(args, k)) if getattr(args, k) is not None else getattr(P, k))
              for k in ("h", "theta0", "ptheta0", "psi0")}
     iterates = integer("iterates", args.iterates)
@@ -73,7 +70,7 @@ def run(args) -> dict:
     if len(values) * (iterates + transient) > 10 * LIMITS["iterates"]:
         raise ParameterError("values", f"{len(values)} values x {iterates + transient} iterates: at most "
                                        f"{10 * LIMITS['iterates']} section points in one command")
-    workers = None if args.threads is None else integer("threads", args.threads, maximum=256)
+    workers = None if args.workers is None else integer("workers", args.workers, maximum=256)
     name = stem("stem", args.stem)
     out = out_dir("out", args.out) if args.out is not None else None
     # the paper's panels of the same figure that vary this parameter (and share everything else)

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import (LIMITS, ROOT_INDEX_HELP, add_params, add_threads, indicator, integer, number, out_dir,
-                      params_from, stem)
+from .options import (LIMITS, ROOT_INDEX_HELP, add_model, add_out, add_params, add_precision, add_workers, indicator,
+                      system_from, integer, number, out_dir,
+                      stem)
 
 _START = ("h", "theta0", "ptheta0", "psi0")
 # the choices, known without importing heyoka (checked against magrod.chaos.section in the tests)
@@ -23,9 +24,9 @@ FORMULATIONS = ("reduced", "body")
 def add_arguments(p):
     from .options import add_panel, add_start
 
-    add_panel(p, help="a panel of the paper, giving the rod, level and start")
-    add_params(p, help_suffix=" (needed without --panel)")
-    g = p.add_argument_group("level and start (needed without --panel; override the panel's)")
+    add_panel(p, help="a panel of the paper, giving the rod, level and start (default 4a)")
+    add_params(p, help_suffix=" (overrides the panel's)")
+    g = p.add_argument_group("level and start (override the panel's)")
     add_start(g, _START)
     g.add_argument("--ppsi0", type=str, default=None, help="give pbar_psi0 instead of --h (then h = Hbar(start))")
     p.add_argument("--iterates", type=str, default="10000", help="number of section points")
@@ -43,29 +44,25 @@ def add_arguments(p):
     p.add_argument("--indicator", default="growth", type=indicator, metavar="{growth,fli,lyap,none}",
                    help="with --starts: colour of each orbit (chaos indicator of its start)")
     p.add_argument("--t-indicator", default="1000", help="with --starts: integration time of the indicator")
-    add_threads(p, help="with --starts: threads (default: all cores)")
-    p.add_argument("--out", default=None, help="write <stem>.npz/.json/.png into this directory")
+    add_workers(p, help="with --starts: threads (default: all cores)", old=("--threads",))
+    add_precision(p, help="floating-point precision of the run (the paper's rod)")
+    add_out(p, help="write <stem>.npz/.json/.png into this directory")
     p.add_argument("--stem", default=None, help="file name stem (default: fig<PANEL> or poincare)")
-    p.add_argument("--model", default=None, metavar="NAME|FILE.py",
-                   help="a rod model of the family (`magrod models`) or a model file: its energy-level section in "
-                        "the body frame (the paper's options above do not apply; default: the paper's rod)")
-    p.add_argument("--model-params", default=None, metavar="NAME=VALUE,...",
-                   help="with --model: the model's parameters (the others at their defaults)")
+    add_model(p, help="a rod model of the family (`magrod models`) or a model file: its energy-level section in "
+                      "the body frame (the paper's options above do not apply; default: the paper's rod)")
+
+
+def _overridden(args) -> bool:
+    return any(getattr(args, n, None) is not None for n in (*PARAMS, *_START, "ppsi0"))
 
 
 def _inputs(args) -> tuple[dict, str | None]:
     from ..core.printed import PANELS, panel
 
-    vals = {}
-    key = None
-    if args.panel is not None:
-        try:
-            P = panel(args.panel)
-        except ParameterError as exc:
-            raise ParameterError("panel", exc.message) from None
-        key = P.key
-        vals = dict(P.params.to_dict(), **P.start())
-    vals = params_from(args, vals)
+    system, P = system_from(args, default_panel="4a")  # the rod, resolved once (ParameterError naming the field)
+    vals = dict(system.params, **P.start())
+    # the panel named by the result: the one given, or the default one when nothing of it is overridden
+    key = panel(args.panel or "4a").key if args.panel is not None or not _overridden(args) else None
     for name in _START:
         v = getattr(args, name)
         if v is not None:
@@ -135,7 +132,7 @@ def _run_portrait(args, vals, key, params) -> dict:
     t_ind = number("t_indicator", args.t_indicator, bound=1e7)
     if t_ind <= 0:
         raise ParameterError("t_indicator", f"must be > 0, got {t_ind}")
-    workers = None if args.threads is None else integer("threads", args.threads, maximum=256)
+    workers = None if args.workers is None else integer("workers", args.workers, maximum=256)
     t_max = None if args.t_max is None else number("t_max", args.t_max, bound=100.0 * LIMITS["iterates"])
     if t_max is not None and t_max <= 0:
         raise ParameterError("t_max", f"must be > 0, got {t_max}")
@@ -172,14 +169,9 @@ def _run_portrait(args, vals, key, params) -> dict:
 def _inputs_portrait(args) -> tuple[dict, str | None]:
     from ..core.printed import PANELS, panel
 
-    vals, key = {}, None
-    if args.panel is not None:
-        try:
-            P = panel(args.panel)
-        except ParameterError as exc:
-            raise ParameterError("panel", exc.message) from None
-        key, vals = P.key, dict(P.params.to_dict(), h=P.h)
-    vals = params_from(args, vals)
+    system, P = system_from(args, default_panel="4a")
+    vals = dict(system.params, h=P.h)
+    key = panel(args.panel or "4a").key if args.panel is not None or not _overridden(args) else None
     if args.h is not None:
         vals["h"] = number("h", args.h)
     for name in PARAMS:
@@ -216,7 +208,7 @@ def run(args) -> dict:
                                                                           maximum=10**9)
     kw = dict(h=vals.get("h"), theta0=vals["theta0"], ptheta0=vals["ptheta0"], psi0=vals["psi0"],
               p_psi0=vals.get("p_psi0"), iterates=iterates, root=root, direction=args.direction, branch=args.branch,
-              formulation=args.formulation, t_max=t_max, verify=True)
+              formulation=args.formulation, t_max=t_max, verify=True, precision=args.precision)
     try:
         with bar(iterates, "poincare", not args.quiet) as update:
             res = poincare_section(params, **kw, progress=update)
@@ -249,6 +241,9 @@ def _run_model(args) -> dict:
     for opt in ("panel", "starts", *PARAMS, *_START, "ppsi0"):
         if getattr(args, opt, None) is not None:
             raise ParameterError(opt, "is an option of the paper's rod: with --model give --model-params")
+    if args.precision != "double":
+        raise ParameterError("precision", "the section of a model other than the paper's rod runs in double "
+                                          "precision in this release")
     mc = resolve(args.model)
     params = {k: float(v) for k, v in parse_assignments("model-params", args.model_params, mc.names.PARAMS).items()}
     iterates = integer("iterates", args.iterates)

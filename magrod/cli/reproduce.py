@@ -1,7 +1,7 @@
 """`magrod reproduce`: every figure and claim of the paper in one command, with a claim-by-claim REPORT.md.
 
 Nothing symbolic is re-derived (generated/ is used as is).  Figures run as independent tasks in worker
-processes (--jobs), each task writing its files atomically; a task whose stamp (same quick flag, same
+processes (--workers), each task writing its files atomically; a task whose stamp (same quick flag, same
 package versions, every file present with its recorded content hash) is found in OUT/.state/ is skipped, so an
 interrupted run resumes.  Ctrl-C (exit 130), SIGTERM (143) and SIGHUP (129) stop the workers at once (they
 ignore the terminal's signals: stopping them is the parent's job), keep the stamps of finished figures, remove
@@ -16,15 +16,15 @@ from pathlib import Path
 
 from ..core.errors import EnvironmentFault, ParameterError
 from ..figures import FIGURES
-from .options import add_format, formats_from, integer
+from .options import add_format, add_out, add_workers, formats_from, integer
 
 TASKS = list(FIGURES)
 
 
 def add_arguments(p):
-    p.add_argument("--out", default="out", help="output directory for PNGs, data, sidecars and REPORT.md")
+    add_out(p, files=True, help="output directory for PNGs, data, sidecars and REPORT.md")
     p.add_argument("--quick", action="store_true", help="reduced sizes (fewer Poincare iterates etc.), ~1 min")
-    p.add_argument("--jobs", default="2", help="worker processes (figures run in parallel)")
+    add_workers(p, default="2", help="worker processes (figures run in parallel)", old=("--jobs",))
     p.add_argument("--only", default=",".join(TASKS), help="comma-separated figure numbers to run")
     p.add_argument("--force", action="store_true", help="ignore finished-task stamps and recompute everything")
     add_format(p)
@@ -143,7 +143,7 @@ def run(args) -> dict:
     from . import children_immune, pause_point
     from .options import out_dir
 
-    jobs = integer("jobs", args.jobs)
+    jobs = integer("workers", args.workers)
     tasks = _tasks(args.only)
     formats = formats_from(args)
     out = ensure_writable_dir(out_dir("out", args.out))

@@ -6,7 +6,9 @@ from pathlib import Path
 
 def add_arguments(p):
     p.add_argument("--from", dest="source", required=True, help="orbit .npz written by `magrod multipulse`")
-    p.add_argument("--out", default=None, help="output directory (default: next to the input file)")
+    from .options import add_out
+
+    add_out(p, files=True)
     p.add_argument("--points", default="3001", help="samples along the rod")
 
 
@@ -16,7 +18,7 @@ def run(args) -> dict:
     from .options import integer, out_dir
 
     points = integer("points", args.points, minimum=2)
-    out = out_dir("out", args.out if args.out is not None else str(Path(args.source).parent))
+    out = out_dir("out", args.out)
     r = rod_from_orbit_file(args.source, n=points)
     stem = Path(args.source).stem
     paths = plot_rod(r, out, stem, title=f"{stem}: pars (m, mu, gamma, delta, lam) = "

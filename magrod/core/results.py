@@ -50,6 +50,8 @@ def jsonable(o, inline: int | None = None, _key: str = ""):
 
     if isinstance(o, Result):
         return o.to_dict()
+    if type(o).__name__ == "System" and hasattr(o, "to_dict"):  # core.system.System: {"model", "params", "precision"}
+        return o.to_dict()
     if isinstance(o, Enum):
         return o.value
     if dataclasses.is_dataclass(o) and not isinstance(o, type):

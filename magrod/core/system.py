@@ -10,6 +10,8 @@ again.  What converts to a System:
 * a ``RodParams``: the paper's rod with those non-dimensional parameters;
 * a registered model name ("anisotropic", ...) or the path of a model file ("./my_rod.py"): that model at its
   file's defaults;
+* a result (anything with a ``.system``, or a result of the paper's rod with ``.params``, a RodParams): the system
+  it was computed for, so that a function continuing a result may take the result first, as old calls did;
 * ``None``: the paper's rod at Fig 4(a)'s parameters.
 
 Keyword overrides (``lam=0.15``, ``B2=3``) replace parameter values; an unknown name is a ParameterError naming it.
@@ -140,6 +142,11 @@ class System:
 
         return np.array(self.values, dtype=float)
 
+    @classmethod
+    def from_result(cls, result) -> "System":
+        """The system a result was computed for (its ``.system``, or the paper's rod with its ``.params``)."""
+        return as_system(result)[0]
+
     def replace(self, **changes) -> "System":
         """A copy with parameter values (or ``precision=``) changed, validated again."""
         precision = changes.pop("precision", self.precision)
@@ -205,11 +212,15 @@ def as_system(x=None, *, model=None, precision=None, **overrides):
         name, base = (PAPER_MODEL if model is None else model), dict(x)
     elif x is None:
         name, base = (PAPER_MODEL if model is None else model), {}
+    elif isinstance(getattr(x, "system", None), System):  # a result: the system it was computed for
+        return as_system(x.system, model=model, precision=precision, **overrides)
+    elif isinstance(getattr(x, "params", None), RodParams):  # a result of the paper's rod that predates .system
+        name, base = PAPER_MODEL, x.params.to_dict()
     elif isinstance(x, str) or models.is_model_path(x):
         name, base = x, {}
     else:
         raise ParameterError("system", "must be a System, a model name or file, a paper panel key ('4a' .. '5d'), a "
-                                       f"RodParams or a dict of parameter values, got {type(x).__name__}")
+                                       f"RodParams, a result or a dict of parameter values, got {type(x).__name__}")
     if not isinstance(name, str) or name != PAPER_MODEL:
         code = models.resolve(name)  # ParameterError("model") for an unknown name or a bad file
         name = code.name if code.origin == "registry" else code.origin

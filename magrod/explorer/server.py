@@ -64,11 +64,14 @@ def check_address(host, port, allow_remote: bool = False) -> tuple[str, int]:
 class ExplorerServer:
     """A running explorer server (Panel on Bokeh/tornado) with its registry of sessions."""
 
-    def __init__(self, panel="4a", *, host=DEFAULT_HOST, port=DEFAULT_PORT, show=True, allow_remote=False,
+    def __init__(self, system="4a", *, host=DEFAULT_HOST, port=DEFAULT_PORT, show=True, allow_remote=False,
                  iterates=1000, out_dir=None, log=None):
-        from ..core.printed import panel as paper_panel
+        from . import page_system
 
-        self.panel = paper_panel(panel).key  # ParameterError("panel") first: nothing started yet
+        # a panel key, a System (any model) or (System, panel key): ParameterError("panel"/"model") first, nothing
+        # started yet
+        self.what = system if isinstance(system, tuple) else page_system(system)
+        self.system, self.panel = self.what
         self.host, self.port = check_address(host, port, allow_remote)
         self.show, self.iterates, self.out_dir = bool(show), int(iterates), out_dir
         self.log = log or (lambda text: print(f"magrod explore: {text}", file=sys.stderr, flush=True))
@@ -83,7 +86,8 @@ class ExplorerServer:
         import panel as pn
         from tornado.web import RequestHandler
 
-        from .app import Explorer, Registry, status_json
+        from . import open_page
+        from .app import Registry, status_json
 
         pn.extension("plotly", notifications=False)
         self.registry = registry = Registry()
@@ -94,7 +98,7 @@ class ExplorerServer:
                 self.write(status_json(registry))
 
         def factory():
-            return Explorer(self.panel, iterates=self.iterates, out_dir=self.out_dir, registry=registry)
+            return open_page(self.what, iterates=self.iterates, out_dir=self.out_dir, registry=registry)
 
         origins = [f"{self.host}:{self.port}", f"localhost:{self.port}", f"127.0.0.1:{self.port}"]
         # panel's get_server installs a SIGINT handler that only stops the event loop (the process then exits 0
@@ -119,7 +123,12 @@ class ExplorerServer:
         from ..core.printed import panel as paper_panel
         from .worker import solve_start, stream_section
 
-        P = paper_panel(self.panel)
+        if not self.system.is_paper:
+            from .model_page import model_section
+
+            model_section(self.system, 2)
+            return
+        P = paper_panel(self.panel or "4a")
         st = solve_start(P.params, P.h, P.theta0, P.ptheta0, P.psi0)
         stream_section(st, 2)
         from .model import energy_boundary
@@ -137,7 +146,7 @@ class ExplorerServer:
         sys.setswitchinterval(SWITCH_INTERVAL)
         server = self._build()
         server.start()
-        self.log(f"serving {self.url} (panel {self.panel}); Ctrl-C stops")
+        self.log(f"serving {self.url} ({self._what_text()}); Ctrl-C stops")
         if self.show:
             server.io_loop.add_callback(server.show, "/")
         try:
@@ -147,8 +156,13 @@ class ExplorerServer:
             t = time.perf_counter()
             self.stop()
             self.log(f"stopped: every computation cancelled, worker threads joined in {time.perf_counter() - t:.3f} s")
-        return {"ok": True, "url": self.url, "panel": self.panel, "served_s": time.perf_counter() - t0,
+        return {"ok": True, "url": self.url, "panel": self.panel, "model": self.system.model, "served_s": time.perf_counter() - t0,
                 "first_points_s": list(self.registry.latencies)}
+
+    def _what_text(self) -> str:
+        if not self.system.is_paper:
+            return f"model {self.system.model}"
+        return f"panel {self.panel}" if self.panel else repr(self.system)
 
     def stop(self) -> None:
         """Cancel every computation, close every session, stop the server."""

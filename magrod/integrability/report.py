@@ -163,14 +163,18 @@ def model_report(model) -> IntegrabilityReport:
                                statuses, [], None)
 
 
-def integrability_report(subs=None, *, rederive: bool = False, everything: bool = False,
+def integrability_report(system=None, *, subs=None, rederive: bool = False, everything: bool = False,
                          model=None) -> IntegrabilityReport:
     """The symbolic integrability checks: Casimirs, Jacobi identity, involution of H, I1, I2, the Poisson map of
     the reduction and when I2bar is conserved.
 
     Parameters
     ----------
-    subs : dict or str, optional
+    system : System, model name, model file, panel key or RodParams, optional
+        What is studied (magrod.core.system.as_system); the report is symbolic, so only its model matters.  None or
+        the paper's rod: the paper's report below; any other model: its derivation report (equations, Jacobi
+        identity, Casimirs found, S^1 symmetry, involution table, candidate integrals, integrals found).
+    subs : dict or str, keyword-only, optional
         Compute the involution table live for a modified model, e.g. {"lambda": 0} or "B2=B1,c_J=c_H" (symbols
         B1 B2 C c_H c_J c_K lambda; c = 1/stiffness, so c_H = c_J = c_K = 0 is the inextensible, unshearable
         rod).  Needs SymPy (the `derive` extra).
@@ -179,9 +183,7 @@ def integrability_report(subs=None, *, rederive: bool = False, everything: bool 
     everything : bool
         Every derived result, not only the integrability ones.
     model : str or path, keyword-only
-        A rod model of the family (`magrod models`) or a model file: its derivation report (equations, Jacobi
-        identity, Casimirs found, S^1 symmetry, involution table, candidate integrals, integrals found by the
-        degree-2 ansatz).  None: the paper's rod, as above.
+        Deprecated spelling of `system` for a model (kept for one release): that model's derivation report.
 
     Returns
     -------
@@ -191,7 +193,8 @@ def integrability_report(subs=None, *, rederive: bool = False, everything: bool 
     Raises
     ------
     ParameterError
-        Naming `subs` if the substitution is refused by its grammar (user input is data, never code).
+        Naming `subs` if the substitution is refused by its grammar (user input is data, never code); `model` for
+        an unknown model; `system` for what does not convert to a System.
 
     Examples
     --------
@@ -199,7 +202,7 @@ def integrability_report(subs=None, *, rederive: bool = False, everything: bool 
     >>> rep = mr.integrability_report()
     >>> rep.statuses["casimirs"], "melnikov_vanishes" in rep.disagreements_with_paper
     ('holds', True)
-    >>> mr.integrability_report(model="magnetic").row("integrals_found")["details"]["beyond_the_algebra"]
+    >>> mr.integrability_report("magnetic").row("integrals_found")["details"]["beyond_the_algebra"]
     ['B*e33*lam + m1*n1 + m2*n2 + m3*n3']
 
     Notes
@@ -208,8 +211,27 @@ def integrability_report(subs=None, *, rederive: bool = False, everything: bool 
     points) and its status (proved / numerical / disagrees with the paper).  Reading the checked-in report costs
     nothing; `subs` costs a few seconds of SymPy.
     """
+    import warnings
+
     from ..core.errors import ParameterError
 
+    if isinstance(system, dict) or (isinstance(system, str) and "=" in system):
+        # the old first argument was the substitution: integrability_report({"lambda": 0}) / ("B2=B1")
+        warnings.warn("integrability_report(subs) is deprecated: the first argument is now the system; pass "
+                      "subs=...", DeprecationWarning, stacklevel=2)
+        if subs is not None:
+            raise ParameterError("subs", "given twice (as the first argument and as subs=)")
+        system, subs = None, system
+    if model is not None:
+        warnings.warn("integrability_report(model=...) is deprecated: the argument is now called system",
+                      DeprecationWarning, stacklevel=2)
+        if system is not None:
+            raise ParameterError("model", "give the model as the first argument (system), not also as model=")
+    elif system is not None:
+        from ..core.system import as_system
+
+        resolved, _ = as_system(system)
+        model = None if resolved.is_paper else resolved.model
     if model is not None:
         if subs is not None or rederive or everything:
             raise ParameterError("model", "a model's report is read as derived: do not combine it with subs, "

@@ -149,7 +149,10 @@ def find(params: RodParams, pulses: int, *, samples: int = 181, launch_distance:
     is a different launch phase (angle shift b ln(launch_distance'/launch_distance)/a, T shift ln(launch_distance'/launch_distance)/a ~ 6.93 for 1e-7 -> 1e-9),
     and a Newton started from the other launch_distance's angle slides to a neighbouring symmetric point (it used to: 3-pulse
     searches ended on 2-pulse orbits)."""
+    from ..core.limits import integer
+
     pulses = require_positive_int("pulses", pulses)
+    samples = integer("samples", samples, minimum=3)  # the limit and words of multipulse_orbits and the CLI
     prec = shooting_precision(pulses, precision)
     launch_distance = launch_distance if launch_distance is not None else LAUNCH_DISTANCE[prec]
     s = saddle if saddle is not None else periodic_saddle(params)

@@ -105,6 +105,14 @@ def _check(m, gamma, delta, a, b, eps, precision):
 def scaled_params(m, gamma, delta, a, b, eps) -> RodParams:
     """RodParams with lambdabar = b eps^2 and mu = a eps^2 (float64); mu = 2 lambdabar exactly when a = 2b
     (`is_equilibrium_case`)."""
+    eps = require_finite("eps", eps)
+    tiny = np.finfo(float).tiny
+    if not 0 < eps <= 1:
+        raise ParameterError("eps", f"must be in (0, 1], got {eps!r}")
+    for coef, name in ((a, "mu = a eps^2"), (b, "lambdabar = b eps^2")):
+        if float(coef) != 0 and abs(float(coef)) * eps ** 2 < tiny:
+            raise ParameterError("eps", f"= {eps:g}: {name} underflows below the smallest normal double "
+                                        f"({tiny:.3g}); the splitting is not computable there")
     lam = float(b) * float(eps) ** 2
     mu = scalars.straight_rod_mu(m=m, mu=0.0, gamma=gamma, delta=delta, lam=lam) if is_equilibrium_case(a, b) \
         else float(a) * float(eps) ** 2
