@@ -69,8 +69,9 @@ class _Queue:
             return orbit
 
 
-def _worker(queue: _Queue, *, direction, tol) -> None:
-    ta = batch_section_integrator(direction, float(tol))
+def _worker(queue: _Queue, *, direction, tol, key=systems.PAPER_KEY) -> None:
+    ta = (batch_section_integrator(direction, float(tol)) if key == systems.PAPER_KEY
+          else systems.model_section_batch(key, direction, float(tol)))
     b = ta.batch_size
     lanes: list = [None] * b
     t_stop = np.zeros(b)
@@ -140,20 +141,21 @@ def _worker(queue: _Queue, *, direction, tol) -> None:
                     done(j, False, lanes[j].failure_message(tv[j], res[j][0]), tv[j])
 
 
-def run(orbits, *, direction="positive", tol=None, workers=None) -> None:
+def run(orbits, *, direction="positive", tol=None, workers=None, key=systems.PAPER_KEY) -> None:
     """Integrate every orbit in SIMD lanes on `workers` threads (default: all cores, at most one per batch of
     orbits).  An orbit is a `magrod.chaos.section._Orbit` (the crossing handling every section loop shares): a lane
     starts it from `orbit.x0`, `orbit.pars` with the guard `orbit.t_max`, hands it each crossing
     (`keep(x)`, then `record(x, t)`, True once its iterates are reached) and ends it with
     `finish(t, success, message)`, which assembles `orbit.result` (called from the worker threads)."""
     orbits = list(orbits)
+    # key: the model (systems.model_key) whose body field and section event the lanes integrate
     if not orbits:
         return
     b = systems.batch_width()
     n_threads = max(1, min(int(workers or os.cpu_count() or 1), -(-len(orbits) // b)))
     tol = float(tol) if tol else float(np.finfo(float).eps)
     queue = _Queue(orbits)
-    kw = dict(direction=direction, tol=tol)
+    kw = dict(direction=direction, tol=tol, key=key)
     if n_threads == 1:
         _worker(queue, **kw)
         return

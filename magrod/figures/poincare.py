@@ -44,6 +44,10 @@ def plot_section(res, ax=None, **kw):
     """PoincareResult.plot: the section points in (theta, pbar_theta) on ax (a new figure if None)."""
     from .plots import axes
 
+    if res.points.ndim == 2 and res.points.shape[1] != 4:  # a model's states at the crossings (not the chart)
+        from .models import plot_model_section
+
+        return plot_model_section(res, ax, **kw)
     ax = axes(ax)
     plot_points(ax, res, panel_title(res.panel, res))
     return ax
