@@ -121,8 +121,8 @@ def job_ensemble(scalar_sample):
 
 def job_diagram():
     vals = np.linspace(0.131, 0.2, 200)
-    orbit_diagram("lam", vals[:4], iterates=10)
-    wb, cb, od = timed(lambda: orbit_diagram("lam", vals, iterates=500, workers=2))
+    orbit_diagram("4a", "lam", vals[:4], iterates=10)
+    wb, cb, od = timed(lambda: orbit_diagram("4a", "lam", vals, iterates=500, workers=2))
     rb = [o for o in od.orbits if o is not None]
     P = panel("4a")
     sub = vals[::10]

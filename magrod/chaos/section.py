@@ -1503,7 +1503,7 @@ def _assemble_model(start: StateStart, options: SectionOptions, pars, raw, times
     else:
         dH, casimir, residual, sdot = np.zeros(0), None, np.zeros(0), np.zeros(0, np.int8)
     h_scale = max(1.0, float(systems.term_scale(system, "H", start.x0)[0]))
-    extra = {"energy_scale": h_scale}
+    extra = {"energy_scale": h_scale, "x0": [float(v) for v in start.x0]}
     return PoincareResult(
         success=success, message=message, params=dict(system.params), h=float(start.h), theta0=nan, ptheta0=nan,
         psi0=nan, p_psi0=nan, roots=np.zeros(0), root_index=-1, formulation="body", direction=options.direction,

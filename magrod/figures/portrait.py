@@ -175,7 +175,7 @@ def build(out_dir, *, quick=False, progress=False) -> list[str]:
     lam_min = accessible_threshold("4a", "lam", *RANGE)
     values = grid[grid >= lam_min]
     with bar(values.size * iterates, "orbit diagram", progress) as update:
-        od = orbit_diagram("lam", values, base="4a", iterates=iterates, marks=marks, progress=update)
+        od = orbit_diagram("4a", "lam", values, iterates=iterates, marks=marks, progress=update)
     ind = start_indicators(od.orbits, t_max=t_ind)
     g = np.where(ind["status"] == 0, ind["growth_exponent"], np.nan)
     # the four panels themselves, on the same footing (same start rule, same indicator time)
