@@ -42,9 +42,7 @@ def model_names(model) -> tuple | None:
     """The parameter names of a map's model (None for the paper's rod: its AXIS_NAMES)."""
     if model is None:
         return None
-    from ..core.models import resolve
-
-    return tuple(resolve(model).names.PARAMS)
+    return tuple(_map_system(model).names)
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -295,7 +293,7 @@ def _check_some_point_physical(spec: "MapSpec") -> None:
                 if spec.model is None:
                     RodParams(**{k: v[k] for k in PARAMS})
                 else:
-                    _map_system(spec.model).code.parameters(v)
+                    _map_system(spec.model).replace(**{k: v[k] for k in _map_system(spec.model).names})
                 return
             except ParameterError as exc:
                 err = exc
@@ -374,10 +372,10 @@ def model_start_point(system, v: dict):
     mb = systems.model_body(system)
     nan = np.full(mb.dim, np.nan)
     try:
-        pars = np.array(system.code.parameters({k: v[k] for k in mb.params}))
+        at = system.replace(**{k: v[k] for k in mb.params})  # the model's admissible set (RodParams for the paper)
     except ParameterError:
         return nan, np.full(len(mb.params), np.nan), UNPHYSICAL, np.nan
-    at = system.replace(**dict(zip(mb.params, pars)))
+    pars = at.array()
     ref = np.array(system.code.names.REFERENCE, float)
     try:
         x0 = project_to_level(at, ref, np.asarray(mb.level(ref, pars), float))
@@ -614,7 +612,9 @@ class ChaosMap(Result):
     def accuracy(self) -> dict:
         """Worst conservation over the computed points against DRIFT_LIMIT (points beyond it are LEFT_RANGE)."""
         s = self.summary()
-        return {"max_abs_dH": s["max_abs_dH"], "max_casimir_drift": s["max_casimir_drift"], "limit": DRIFT_LIMIT}
+        worst = [v for v in (s["max_abs_dH"], s["max_casimir_drift"]) if v is not None]
+        return {"max_abs_dH": s["max_abs_dH"], "max_casimir_drift": s["max_casimir_drift"], "limit": DRIFT_LIMIT,
+                "passed": bool(worst) and all(np.isfinite(v) and v <= DRIFT_LIMIT for v in worst)}
 
     def summary(self, threshold=GROWTH_THRESHOLD) -> dict:
         return map_summary(self.spec, self.fields, self.wall_s, threshold)
@@ -789,8 +789,8 @@ def _map_args(system, x, y, panel, model, values):
     from ..core.system import System, as_system
 
     sys_ = system if isinstance(system, System) and model is None else as_system(system, model=model)[0]
-    if sys_.is_paper:
-        return x, y, sys_.rod, None
+    # a System (of any model, the paper's rod included) has no chart start: its orbits start from the model's
+    # reference state on its level at each point (model_start_point); a panel or RodParams keeps the chart's
     return x, y, sys_, sys_.model
 
 

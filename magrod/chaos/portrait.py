@@ -503,7 +503,8 @@ def orbit_diagram(system=None, parameter=None, values=None, *, base=_UNSET, h=No
     v = _monotone_values(values)
     if not callable(parameter):
         sys_, base = resolve(system, model)
-        if not sys_.is_paper or x0 is not None:
+        if not sys_.is_paper or x0 is not None or (isinstance(base, RodParams) and h is None and theta0 is None
+                                                   and ptheta0 is None):
             return _model_diagram(sys_, parameter, v, x0, t0, iterates=iterates, transient=transient,
                                   coordinate=coordinate, direction=direction, t_max=t_max, marks=marks,
                                   workers=workers, progress=progress)
