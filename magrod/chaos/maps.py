@@ -323,7 +323,7 @@ def panel_base(key) -> dict:
     """PARAMS and START values of a paper panel (magrod.chaos.section.PANELS; a Panel too), or the PARAMS of a
     RodParams (its start values are then given as keywords or on an axis)."""
     from ..core.params import RodParams
-    from ..core.printed import PANELS, Panel
+    from ..paper.printed import PANELS, Panel
 
     if isinstance(key, RodParams):
         return key.to_dict()
@@ -781,7 +781,7 @@ def _map_args(system, x, y, panel, model, values):
         system = panel
         if panel is None:
             return x, y, None, None
-    from ..core.printed import Panel
+    from ..paper.printed import Panel
 
     if model is None and (system is None or isinstance(system, (RodParams, Panel)) or (
             isinstance(system, str) and system.lower() in _panels())):
@@ -795,7 +795,7 @@ def _map_args(system, x, y, panel, model, values):
 
 
 def _panels():
-    from ..core.printed import PANELS
+    from ..paper.printed import PANELS
 
     return PANELS
 
@@ -965,12 +965,10 @@ def _n_workers(client) -> int:
 
 
 def panel_indicators(keys=("4a", "4b", "4c", "4d"), *, t_max=3000.0, tol=None, root="smallest") -> dict:
-    """{panel: dict of the indicators of the paper's orbit} (one batch).  Cost ~t_max * 5 us per panel."""
-    starts = [start_point(panel_base(k), root) for k in keys]
-    ind = body_indicators(np.array([s[0] for s in starts]).T, np.array([s[1] for s in starts]).T, t_max=t_max,
-                          tol=tol)
-    return {k: {f: (float(getattr(ind, f)[i]) if f != "status" else REASONS[int(ind.status[i])]) for f in
-                _KEYS + ("status",)} | {"chaotic": bool(ind.chaotic[i])} for i, k in enumerate(keys)}
+    """Moved to magrod.paper.panel_indicators (the paper's panels are the paper package's); this name forwards."""
+    from ..paper.panels import panel_indicators as run
+
+    return run(keys, t_max=t_max, tol=tol, root=root)
 
 
 # ---- the CF attributes of a map: its zarr store (store.py) and ChaosMap.to_xarray() ----------------------------

@@ -23,7 +23,7 @@ import numpy as np
 from ..core import systems
 from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite, require_positive_int
 from ..core.params import RodParams
-from ..core.printed import Panel, panel
+from ..paper.printed import Panel, panel
 from ..core.results import Result, jsonable
 from ..generated.names import PARAMS
 from ..core.deprecation import renamed_keywords

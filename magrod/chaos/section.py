@@ -12,7 +12,7 @@ SectionOptions(iterates, t_max, direction, branch, formulation, precision, tol, 
 section_points(start, options, *, cancel=None) -> SectionPoints: the one section loop as a stream of SectionChunk;
              .result is the PoincareResult (poincare_section drains it; the explorer draws it as it comes).  The
              lanes of batch.py hand their crossings to the same _Orbit (branch filter, buffer, messages, assembly)
-run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.core.printed.PANELS), threads
+run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.paper.printed.PANELS), threads
 orbit_stretch(res, dt=0.05)             -> the axial stretch v3 along the orbit (min, fraction <= 0; two forms)
 (figures: magrod/figures/poincare.py; files: PoincareResult.arrays()/summary())
 
@@ -71,7 +71,7 @@ from ..generated import scalars
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.limits import LIMITS
-from ..core.printed import Panel, panel, panel_kwargs, with_overrides
+from ..paper.printed import Panel, panel, with_overrides
 from ..core.results import Result
 from ..core.deprecation import renamed_keywords
 from ..core.system import as_system
@@ -689,7 +689,7 @@ def resolve(system, model=None, overrides=None, precision=None) -> tuple:
     and start fill in what is not given, its key labels the result) or the RodParams, with the keyword overrides
     applied as before; a list of them (many orbits) is returned as the second item with System None.  For any
     other model the second item is None."""
-    from ..core.printed import PANELS
+    from ..paper.printed import PANELS
     from ..core.system import System
 
     overrides = dict(overrides or {})
@@ -1673,20 +1673,8 @@ def orbit_stretch(res: PoincareResult, *, dt=STRETCH_DT, precision=Precision.DOU
     return out
 
 
-# ----------------------------------------------------------------------------------------------------------
-# several panels at once
-# ----------------------------------------------------------------------------------------------------------
 def run_panels(keys, *, iterates=10_000, workers=2, progress=None, **kw) -> dict:
-    """Run several paper panels (magrod.core.printed.PANELS) concurrently in threads (heyoka's propagate releases the
-    GIL; each thread owns its integrators).  Returns {key: PoincareResult}.  progress: optional thread-safe
-    callable(n_new_points) (e.g. magrod.core.progress.bar)."""
-    keys = [str(k).lower() for k in keys]
-    for k in keys:
-        panel_kwargs(k)
-    iterates = require_positive_int("iterates", iterates)
+    """Moved to magrod.paper.run_panels (the paper's panels are the paper package's); this name forwards."""
+    from ..paper.panels import run_panels as run
 
-    def one(k):
-        return k, poincare_section(k, iterates=iterates, progress=progress, **kw)
-
-    with ThreadPoolExecutor(max_workers=max(1, int(workers))) as ex:
-        return dict(ex.map(one, keys))
+    return run(keys, iterates=iterates, workers=workers, progress=progress, **kw)

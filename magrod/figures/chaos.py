@@ -14,9 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..chaos import AXIS_NAMES, GROWTH_THRESHOLD, MAPPABLE, OK, MapSpec, map_tiles, panel_base, panel_indicators, parse_axis
+from ..chaos import AXIS_NAMES, GROWTH_THRESHOLD, MAPPABLE, OK, MapSpec, map_tiles, panel_base, parse_axis
+from ..paper import panel_indicators
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..core.printed import PANELS
+from ..paper.printed import PANELS
 from ..core.progress import bar
 from .common import atomic_savefig, label, pyplot
 

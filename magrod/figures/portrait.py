@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..core.printed import PANELS
+from ..paper.printed import PANELS
 from ..core.progress import bar
 from ..core.tolerances import THRESHOLD_XTOL
 from .common import LABELS, atomic_savefig, pyplot
@@ -140,7 +140,7 @@ def accessible_threshold(base="4a", parameter="lam", lo=0.12, hi=0.2, xtol=THRES
     the grid values by the caller); lo if the level is reached there already."""
     from ..chaos import solve_p_psi
     from ..core.errors import ParameterError
-    from ..core.printed import panel
+    from ..paper.printed import panel
 
     P = panel(base)
 
@@ -165,7 +165,7 @@ def build(out_dir, *, quick=False, progress=False) -> list[str]:
     lambdabar above ~0.1305 (Hbar(theta0, psi0, pbar_theta0, .) > 0.9 for every pbar_psi below): the values under
     that threshold have no orbit and are drawn as a grey band; the threshold is in the sidecar."""
     from ..chaos import GROWTH_THRESHOLD
-    from ..chaos import panel_indicators
+    from ..paper import panel_indicators
     from .. import orbit_diagram
     from ..chaos import start_indicators
 
