@@ -36,9 +36,10 @@ import warnings
 import numpy as np
 
 from magrod.chaos.portrait import grid_starts, orbit_diagram
-from magrod.chaos.section import poincare_section, poincare_sections, run_panels
+from magrod.chaos.section import poincare_section, poincare_sections
+from magrod.paper import run_panels
 from magrod.core import systems
-from magrod.core.printed import PANELS, panel
+from magrod.paper.printed import PANELS, panel
 from _peers import compile_c  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
 
 KEYS = list(PANELS)

@@ -6,7 +6,7 @@ Public API
 tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=10.0, project=None, check=None) -> Indicators
 body_indicators(x0, pars, *, t_max, tol=None, renorm_dt=10.0, project=True, batch_size=None) -> Indicators
 reference_indicators(name, x0, pars, *, t_max, ...) -> Indicators        name in REFERENCE_SYSTEMS
-panel_indicators(keys=("4a", "4d"), *, t_max=...) -> {key: Indicators}   the paper's orbits
+(the paper's orbits: magrod.paper.panel_indicators)
 Axis, MapSpec, parse_axis(option, text), tiles(spec), compute_tile(spec, iy, ix) -> dict, chaos_map(spec) -> MapResult
 
 Indicators (Froeschle, Lega & Gonczi 1997; Benettin et al. 1980; Cincotta & Simo 2000)

@@ -964,13 +964,6 @@ def _n_workers(client) -> int:
         return 1
 
 
-def panel_indicators(keys=("4a", "4b", "4c", "4d"), *, t_max=3000.0, tol=None, root="smallest") -> dict:
-    """Moved to magrod.paper.panel_indicators (the paper's panels are the paper package's); this name forwards."""
-    from ..paper.panels import panel_indicators as run
-
-    return run(keys, t_max=t_max, tol=tol, root=root)
-
-
 # ---- the CF attributes of a map: its zarr store (store.py) and ChaosMap.to_xarray() ----------------------------
 UNITS = {**{k: f.unit for k, f in BY_NAME.items()}, "status": "code", "inferred": "flag", "level": "round"}
 LONG = {**{k: f.long for k, f in BY_NAME.items()},

@@ -1671,10 +1671,3 @@ def orbit_stretch(res: PoincareResult, *, dt=STRETCH_DT, precision=Precision.DOU
     out = _stretch_summary(sampler.acc, dt, T, np.dtype(fp_type).name, res, pars)
     out["sampled"] = "re-integrated (orbit_stretch)"
     return out
-
-
-def run_panels(keys, *, iterates=10_000, workers=2, progress=None, **kw) -> dict:
-    """Moved to magrod.paper.run_panels (the paper's panels are the paper package's); this name forwards."""
-    from ..paper.panels import run_panels as run
-
-    return run(keys, iterates=iterates, workers=workers, progress=progress, **kw)

@@ -177,7 +177,7 @@ def _run_model(args) -> dict:
     cm = mr.chaos_map(system, axes[0], axes[1], t_max=t_max, renorm_dt=renorm)
     if not cm.success:
         raise ParameterError("model", cm.message)
-    from ..chaos.indicators import GROWTH_THRESHOLD
+    from ..chaos import GROWTH_THRESHOLD
 
     chaotic = cm.fields["growth_exponent"] > GROWTH_THRESHOLD
     d = {k: v for k, v in cm.to_dict().items() if k != "fields"}

@@ -17,7 +17,7 @@ import numpy as np
 from ..chaos import AXIS_NAMES, GROWTH_THRESHOLD, MAPPABLE, OK, MapSpec, map_tiles, panel_base, parse_axis
 from ..paper import panel_indicators
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..paper.printed import PANELS
+from ..paper import PANELS
 from ..core.progress import bar
 from .common import atomic_savefig, label, pyplot
 

@@ -114,7 +114,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     integrable Kirchhoff rod, (c) one of the anisotropic rod on the same kind of level, (d) the homoclinic
     splitting of the anisotropic and curved rods against Mel'nikov; sidecar landscape.json
     (every line's labelled evidence and the anisotropic scan)."""
-    from ..chaos.section import poincare_sections
+    from .. import poincare_sections
     from ..core.io import atomic_savefig, atomic_write_json, ensure_writable_dir, versions
     from ..integrability import rod_landscape as landscape
     from .common import pyplot

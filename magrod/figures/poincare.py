@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..paper.printed import PANELS
+from ..paper import PANELS
 from ..core.progress import bar
 from .common import atomic_savefig, pictures_of, pyplot
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..paper.printed import PANELS
+from ..paper import PANELS
 from ..core.progress import bar
 from ..core.tolerances import THRESHOLD_XTOL
 from .common import LABELS, atomic_savefig, pyplot
@@ -140,7 +140,7 @@ def accessible_threshold(base="4a", parameter="lam", lo=0.12, hi=0.2, xtol=THRES
     the grid values by the caller); lo if the level is reached there already."""
     from ..chaos import solve_p_psi
     from ..core.errors import ParameterError
-    from ..paper.printed import panel
+    from ..paper import panel
 
     P = panel(base)
 

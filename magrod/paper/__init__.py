@@ -7,40 +7,19 @@ Imported lazily: `import magrod.paper` loads nothing numerical until a name is u
 """
 from __future__ import annotations
 
-import importlib
+from ..core.lazy import namespace
 
 _API = {
     # printed values and panels
-    "PANELS": "magrod.paper.printed",
-    "Panel": "magrod.paper.printed",
-    "panel": "magrod.paper.printed",
-    "panel_kwargs": "magrod.paper.printed",
-    "with_overrides": "magrod.paper.printed",
-    "PAPER_CLAIMS": "magrod.paper.printed",
-    "POINCARE_ITERATES": "magrod.paper.printed",
-    "MULTIPULSE": "magrod.paper.printed",
-    "FIG2_M": "magrod.paper.printed",
-    "FIG2_GAMMAS": "magrod.paper.printed",
-    "FIG3": "magrod.paper.printed",
+    **{k: "printed" for k in ("PANELS", "Panel", "panel", "panel_kwargs", "with_overrides", "PAPER_CLAIMS",
+                              "POINCARE_ITERATES", "MULTIPULSE", "FIG2_M", "FIG2_GAMMAS", "FIG2_ZERO_BRACKET",
+                              "FIG3")},
     # experiments on the panels
-    "run_panels": "magrod.paper.panels",
-    "panel_indicators": "magrod.paper.panels",
-    # the epsilon scans of the splitting and its generic cases (defined with the splitting engine)
-    "eps_scan": ("magrod.separatrix.splitting", "scan"),
-    "tilted_scan": ("magrod.separatrix.splitting", "tilted_scan"),
-    "EPS_SCAN": ("magrod.separatrix.splitting", "EPS_SCAN"),
-    "GENERIC_CASES": ("magrod.separatrix.generic", "CASES"),
-    "compare_generic": ("magrod.separatrix.generic", "compare_generic"),
+    "run_panels": "panels",
+    "panel_indicators": "panels",
+    # the epsilon scans of the splitting and its generic cases (numerics: the splitting engine)
+    **{k: "splitting" for k in ("eps_scan", "tilted_scan", "EPS_SCAN", "GENERIC_CASES", "compare_generic")},
 }
-__all__ = sorted(_API)
 
-
-def __getattr__(name: str):
-    if name in _API:
-        mod, attr = (_API[name], name) if isinstance(_API[name], str) else _API[name]
-        return getattr(importlib.import_module(mod), attr)
-    raise AttributeError(f"module 'magrod.paper' has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_API))
+__getattr__, __dir__, __all__ = namespace(__name__, _API)
+del namespace
