@@ -1127,6 +1127,7 @@ def _refuse(res) -> None:
 # scalar loop itself as a stream of chunks (poincare_section drains it, the explorer draws it as it comes)
 # ----------------------------------------------------------------------------------------------------------
 PROGRESS_EVERY = 200  # section points between two progress(n) calls
+START_CROSSING_T = 1e-12  # a model's event this close to t = 0 is its start lying on the section (not recorded)
 
 
 class _Orbit:
@@ -1167,6 +1168,10 @@ class _Orbit:
         """Record a kept crossing (a 4-D chart state for frame 0, a body state for frame 1); True once the
         requested number of iterates is reached."""
         n = self.n
+        if n == 0 and t <= START_CROSSING_T and isinstance(self.start, StateStart):
+            # a start landed on the section (a crossing of another run) meets its event at t ~ 1e-17 or not,
+            # by the sign of its residual: it is the start, never a crossing, so every start gives the same points
+            return False
         if n == self.raw.shape[0]:
             cap = min(self.options.iterates, max(4096, 2 * n))
             self.raw = np.vstack([self.raw, np.full((cap - n, self.raw.shape[1]), np.nan)])
