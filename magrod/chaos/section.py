@@ -542,15 +542,18 @@ def level_starts(system, starts=None, *, level_of=None, seed: int = 0, name: str
     return out
 
 
-def section_start(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
-                  **overrides) -> SectionStart:
+@renamed_keywords(params="system")
+def section_start(system=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
+                  model=None, x0=None, level_of=None, **overrides) -> SectionStart:
     """The validated start of a Poincare section: the one resolver of `poincare_section`, `poincare_sections`
     and the explorer.
 
     Parameters
     ----------
-    params : RodParams, Panel or str
-        The rod, or a paper panel whose level and start fill in what is not given.
+    system : System, RodParams, Panel or str
+        The rod, or a paper panel whose level and start fill in what is not given; any other model (a System, a
+        name or a model file): its start `x0` (default its reference state) on the level of `level_of` (default
+        its own), a StateStart.
     h : float, optional
         Energy level; pbar_psi0 is solved for (`root` picks one of the real roots).
     theta0, ptheta0, psi0 : float
@@ -584,8 +587,10 @@ def section_start(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi
     -----
     The roots are those of `solve_p_psi` (a dense scan polished by brentq to the last ulp of Hbar).
     """
-    params, key, h, theta0, ptheta0, psi0 = resolve_start(with_overrides(params, overrides), h, theta0, ptheta0,
-                                                          psi0, p_psi0)
+    sys_, params = resolve(system, model, overrides)
+    if sys_ is not None and (x0 is not None or state_path(sys_, params, theta0, ptheta0, h, p_psi0)):
+        return level_starts(sys_, None if x0 is None else [x0], level_of=level_of, name="x0")[0]
+    params, key, h, theta0, ptheta0, psi0 = resolve_start(params, h, theta0, ptheta0, psi0, p_psi0)
     theta0, ptheta0, psi0, _ = _check_start(theta0, ptheta0, psi0)
     if p_psi0 is not None:
         p_psi0 = require_finite("p_psi0", p_psi0)
@@ -1376,15 +1381,16 @@ class SectionPoints:
             yield self._chunk(sent, o.n)
 
 
-def section_points(start, options=None, *, cancel=None, progress=None, first=8, every=0.04,
+@renamed_keywords(start="system")
+def section_points(system, options=None, *, cancel=None, progress=None, first=8, every=0.04,
                    verify=True) -> SectionPoints:
     """The Poincare section of one orbit as a stream: chunks of points as they are computed (the explorer's form
     of `poincare_section`; the same loop, the same integrator, hence the same points to the last bit).
 
     Parameters
     ----------
-    start : SectionStart
-        From `section_start`.
+    system : SectionStart, StateStart, or what `section_start` takes
+        The start (`section_start`'s result), or a system whose start `section_start` resolves.
     options : SectionOptions, optional
         Default SectionOptions() (10 000 iterates, body frame, double precision).
     cancel : threading.Event, optional
@@ -1423,6 +1429,7 @@ def section_points(start, options=None, *, cancel=None, progress=None, first=8, 
     handling and the assembly) serves this loop and the SIMD lanes alike, and `poincare_section` drains this
     stream.
     """
+    start = system if isinstance(system, (SectionStart, StateStart)) else section_start(system)
     return SectionPoints(start, SectionOptions() if options is None else options, cancel=cancel,
                          progress=progress, first=first, every=every, verify=verify)
 
