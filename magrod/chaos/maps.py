@@ -781,6 +781,8 @@ def _map_args(system, x, y, panel, model, values):
         system = panel
         if panel is None:
             return x, y, None, None
+        if isinstance(panel, str) and panel.lower() not in _panels():
+            raise ParameterError("panel", f"unknown panel {panel!r}; choose from {', '.join(_panels())}")
     from ..paper.printed import Panel
 
     if model is None and (system is None or isinstance(system, (RodParams, Panel)) or (
