@@ -4,7 +4,11 @@
     python benchmarks/batch_ratios.py --json benchmarks/batch_ratios_w4.json
     MAGROD_BATCH_WIDTH=8 python benchmarks/batch_ratios.py --json benchmarks/batch_ratios_w8.json
 
-Jobs (issue 18's, benchmarks/batch_sections.py):
+Jobs (issue 18's, benchmarks/batch_sections.py, and the one engine's):
+  scaling   the 8 panels against 1 panel with two workers, in processes (the default) and in threads: the cost of 8
+            panels in units of one, and the same points either way
+  engine    the paper's rod through the one engine from body states (the path of every model) against its chart
+            path, the same 8 orbits: the CPU ratio and the agreement of the first crossings
   panels    the 8 panels of Figs 4-5 x 10 000 iterates: batched (poincare_sections, 2 threads) vs the scalar
             run_panels (2 threads)
   ensemble  64 orbits x 1000 iterates on the Fig 4(a) level: batched (2 threads) vs scalar one by one (the first
@@ -36,9 +40,10 @@ import warnings
 import numpy as np
 
 from magrod.chaos.portrait import grid_starts, orbit_diagram
-from magrod.chaos.section import poincare_section, poincare_sections, run_panels
+from magrod.chaos.section import poincare_section, poincare_sections
+from magrod.paper import run_panels
 from magrod.core import systems
-from magrod.core.printed import PANELS, panel
+from magrod.paper.printed import PANELS, panel
 from _peers import compile_c  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
 
 KEYS = list(PANELS)
@@ -52,10 +57,90 @@ def uptime() -> str:
         return f"load {os.getloadavg()}"
 
 
+def cpu() -> float:
+    """CPU seconds of this process and of the batch's worker processes (magrod.chaos.batch: two or more workers run
+    in spawned processes, whose CPU time.process_time does not see; read from /proc where there is one)."""
+    from magrod.chaos import batch
+
+    total = time.process_time()
+    if batch._POOL:
+        tick = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
+        for pid in list(getattr(batch._POOL[0], "_processes", {}) or {}):
+            try:
+                with open(f"/proc/{pid}/stat") as fh:
+                    f = fh.read().rsplit(")", 1)[1].split()
+                total += (int(f[11]) + int(f[12])) / tick
+            except (OSError, ValueError, IndexError):
+                pass
+    return total
+
+
 def timed(f):
-    w0, c0 = time.perf_counter(), time.process_time()
+    w0, c0 = time.perf_counter(), cpu()
     out = f()
-    return time.perf_counter() - w0, time.process_time() - c0, out
+    return time.perf_counter() - w0, cpu() - c0, out
+
+
+def _lanes(processes: bool):
+    """A context in which the batch runs its workers in processes (the default) or in threads (the older way)."""
+    import contextlib
+
+    from magrod.chaos import batch
+
+    @contextlib.contextmanager
+    def ctx():
+        orig = batch.run
+
+        def run(orbits, **kw):
+            return orig(orbits, processes=processes, **kw)
+
+        batch.run = run
+        try:
+            yield
+        finally:
+            batch.run = orig
+    return ctx()
+
+
+def job_scaling(iterates):
+    """8 panels against 1 panel, two workers, in processes and in threads: the cost of 8 panels in units of one."""
+    out = {}
+    for name, procs in (("processes", True), ("threads", False)):
+        with _lanes(procs):
+            poincare_sections(KEYS, iterates=10, workers=2)
+            w8, c8, r8 = timed(lambda: poincare_sections(KEYS, iterates=iterates, workers=2))
+            w1, c1, _ = timed(lambda: poincare_sections(KEYS[:1], iterates=iterates, workers=2))
+        out[name] = {"wall_8": w8, "wall_1": w1, "ratio_8_over_1": w8 / w1, "cpu_8": c8, "cpu_1": c1,
+                     "points_equal": None, "last": [r.points[-1].tolist() for r in r8]}
+        print(f"== scaling ({name}): 8 panels {w8:.2f} s, 1 panel {w1:.2f} s wall: {w8 / w1:.2f}x one panel "
+              f"| {uptime()[-30:]}", flush=True)
+    out["points_equal"] = out["processes"]["last"] == out["threads"]["last"]
+    print(f"   processes and threads give the same points: {out['points_equal']}", flush=True)
+    return out
+
+
+def job_engine(iterates):
+    """The paper's rod through the one engine from body states (section.StateStart: the path of every model) against
+    its chart path (the paper's panels), the same 8 orbits in the same lanes."""
+    from magrod.chaos.section import SectionOptions, StateStart, _run_lanes
+    from magrod.core.system import as_system
+
+    chart = poincare_sections(KEYS, iterates=iterates, workers=2)
+    starts = []
+    for k, r in zip(KEYS, chart):
+        s = as_system(k)[0]
+        x0 = r.body_points[0]
+        starts.append(StateStart(s, x0, systems.model_body(s).level(x0, s.array())))
+    opts = SectionOptions(iterates=iterates)
+    _run_lanes(starts[:2], SectionOptions(iterates=10), 2, None)
+    wc, cc, _ = timed(lambda: poincare_sections(KEYS, iterates=iterates, workers=2))
+    we, ce, re_ = timed(lambda: _run_lanes(starts, opts, 2, None))
+    same = max(float(np.max(np.abs(a.body_points[1:11] - b.points[0:10]))) for a, b in zip(chart, re_))
+    print(f"== engine: chart path {wc:.2f} s wall / {cc:.2f} s CPU; one engine from body states {we:.2f} s wall / "
+          f"{ce:.2f} s CPU: CPU ratio chart/engine {cc / ce:.2f}x; first crossings agree to {same:.1e} "
+          f"| {uptime()[-30:]}", flush=True)
+    return {"chart_wall_s": wc, "chart_cpu_s": cc, "engine_wall_s": we, "engine_cpu_s": ce,
+            "cpu_ratio_chart_over_engine": cc / ce, "first_crossings_agree_to": same}
 
 
 class Jit:
@@ -121,8 +206,8 @@ def job_ensemble(scalar_sample):
 
 def job_diagram():
     vals = np.linspace(0.131, 0.2, 200)
-    orbit_diagram("lam", vals[:4], iterates=10)
-    wb, cb, od = timed(lambda: orbit_diagram("lam", vals, iterates=500, workers=2))
+    orbit_diagram("4a", "lam", vals[:4], iterates=10)
+    wb, cb, od = timed(lambda: orbit_diagram("4a", "lam", vals, iterates=500, workers=2))
     rb = [o for o in od.orbits if o is not None]
     P = panel("4a")
     sub = vals[::10]
@@ -133,7 +218,8 @@ def job_diagram():
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--only", default="panels,ensemble,diagram")
+    ap.add_argument("--only", default="panels,ensemble,diagram,scaling,engine")
+    ap.add_argument("--iterates", type=int, default=10_000, help="iterates per orbit of the scaling and engine jobs")
     ap.add_argument("--scalar-sample", type=int, default=16)
     ap.add_argument("--jit-span", type=float, default=1000.0)
     ap.add_argument("--no-jitcode", action="store_true")
@@ -150,6 +236,9 @@ def main(argv=None):
         except ImportError as exc:
             out["jitcode"] = f"unavailable: {exc}"
     for name in a.only.split(","):
+        if name in ("scaling", "engine"):
+            out["jobs"][name] = (job_scaling if name == "scaling" else job_engine)(a.iterates)
+            continue
         r = {"panels": job_panels, "ensemble": lambda: job_ensemble(a.scalar_sample), "diagram": job_diagram}[name]()
         wb, cb, rb = r["batched"]
         ws, cs, rs = r["scalar"]

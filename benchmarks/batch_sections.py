@@ -80,8 +80,8 @@ def ensemble(repeat, n=64, iterates=1000):
 
 def diagram(repeat, n=200, iterates=500):
     vals = np.linspace(0.131, 0.2, n)
-    orbit_diagram("lam", vals[:4], iterates=10)
-    w, walls, od = best(lambda: orbit_diagram("lam", vals, iterates=iterates, workers=2), repeat)
+    orbit_diagram("4a", "lam", vals[:4], iterates=10)
+    w, walls, od = best(lambda: orbit_diagram("4a", "lam", vals, iterates=iterates, workers=2), repeat)
     print(f"== orbit diagram {n} values x {iterates} iterates: {w:.2f} s ({', '.join(f'{x:.2f}' for x in walls)}), "
           f"max |dH| {od.worst_dH:.2e}, ok {od.success} ==", flush=True)
     return dict(n=n, iterates=iterates, wall_s=w, runs=walls, max_dH=od.worst_dH)

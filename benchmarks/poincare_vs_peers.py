@@ -27,8 +27,9 @@ import time
 import numpy as np
 
 from magrod.core import systems
-from magrod.chaos.section import poincare_section, run_panels
-from magrod.core.printed import PANELS, PAPER_CLAIMS, panel_kwargs
+from magrod.chaos.section import poincare_section
+from magrod.paper import run_panels
+from magrod.paper.printed import PANELS, PAPER_CLAIMS, panel_kwargs
 from _peers import compile_c  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
 
 

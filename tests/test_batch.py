@@ -9,7 +9,7 @@ import pytest
 from magrod.chaos import section
 from magrod.chaos.section import MAX_ORBITS, poincare_section, poincare_sections
 from magrod.core.errors import ParameterError
-from magrod.core.printed import PANELS, panel
+from magrod.paper.printed import PANELS, panel
 from magrod.core.tolerances import START_LEVEL_TOL
 
 KEYS = list(PANELS)

@@ -82,7 +82,9 @@ def test_integrable_limits_are_regular(x, y, over):
 
 def test_paper_panels_4a_chaotic_4d_regular():
     """fig:poincare1: (a) a chaotic sea, (d) a closed curve -- by the indicator, at T = 3000."""
-    p = maps.panel_indicators(("4a", "4d"), t_max=3000.0)
+    from magrod.paper import panel_indicators
+
+    p = panel_indicators(("4a", "4d"), t_max=3000.0)
     assert p["4a"]["chaotic"] and p["4a"]["growth_exponent"] > 3 * THR
     assert not p["4d"]["chaotic"] and p["4d"]["growth_exponent"] < 1.5
     for d in p.values():  # conservation budget at the level of the Poincare runs (~1e-13)

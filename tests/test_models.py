@@ -152,21 +152,22 @@ def test_kovalevskaya_and_goryachev_chaplygin_cases_are_found(ratio, level, degr
 def test_sections_conserve_H_and_the_casimirs(name):
     """Each model's energy-level section at tol = eps conserves H and every Casimir to <= 1e-12 (the issue's bound);
     with tol = 1e-6 the same run misses it (the check can fail)."""
-    from magrod.chaos.model_chaos import model_section
+    import magrod as mr
 
-    s = model_section(name, n_orbits=2, iterates=40)
-    assert s.success and s.counts == [40, 40]
-    assert s.energy_error <= 1e-12 and s.casimir_error <= 1e-12
-    loose = model_section(name, n_orbits=2, iterates=40, tol=1e-6)
-    assert max(loose.energy_error, loose.casimir_error) > 1e-12
-    assert np.all(np.abs(s.points[:, :, 0 if name != "curved" else 1]) < 1e-12)  # on the section
+    s = mr.poincare_sections(name, starts=2, iterates=40)
+    assert all(r.success for r in s) and [r.n_points for r in s] == [40, 40]
+    assert max(r.max_abs_dH / r.extra["energy_scale"] for r in s) <= 1e-12
+    assert max(r.casimir_drift for r in s) <= 1e-12
+    loose = mr.poincare_sections(name, starts=2, iterates=40, tol=1e-6, verify=False)
+    assert max(max(r.max_abs_dH / r.extra["energy_scale"], r.casimir_drift) for r in loose) > 1e-12
+    assert max(float(np.max(np.abs(r.section_residual))) for r in s) < 1e-12  # on the section
 
 
 def test_indicator_regular_for_kirchhoff_chaotic_for_anisotropic():
     import magrod as mr
 
-    reg = mr.lyapunov(model="kirchhoff", t_max=1000.0)
-    cha = mr.lyapunov(model="anisotropic", t_max=1000.0)
+    reg = mr.lyapunov("kirchhoff", t_max=1000.0)
+    cha = mr.lyapunov("anisotropic", t_max=1000.0)
     assert reg.success and cha.success and not reg.chaotic and cha.chaotic
 
 
@@ -182,12 +183,14 @@ def test_steps_that_need_the_s1_symmetry_name_the_model_and_the_reason():
 
 
 def test_chaos_map_over_a_models_parameters_has_its_integrable_line():
-    """mr.chaos_map(model=...): along B2 = B1 = 1 (isotropic: m3 is an integral) the orbit is regular, at B2 = 3 it
-    is chaotic (the same start on each point's level); conservation is part of success."""
+    """mr.chaos_map over a model's parameters: along B2 = B1 = 1 (isotropic: m3 is an integral) the orbit is regular,
+    at B2 = 3 it is chaotic (the same start on each point's level); the conservation relative to the size of the
+    terms of H and the Casimirs is recorded per point."""
     import magrod as mr
 
-    cm = mr.chaos_map(("B2", 1.0, 3.0, 2), ("C", 0.5, 0.5, 1), model="anisotropic", t_max=500.0)
-    assert cm.success and cm.lyap.shape == (1, 2) and cm.chaotic.tolist() == [[False, True]]
+    cm = mr.chaos_map("anisotropic", ("B2", 1.0, 3.0, 2), ("C", 0.5, 0.5, 1), t_max=500.0)
+    assert cm.success and cm.fields["lyap"].shape == (1, 2) and cm.chaotic.tolist() == [[False, True]]
+    assert float(np.max(cm.fields["max_abs_dH"])) <= 1e-12 and float(np.max(cm.fields["casimir_drift"])) <= 1e-12
 
 
 def test_poincare_command_with_a_model_writes_its_files(tmp_path, capsys):
@@ -248,19 +251,17 @@ def test_search_verdict_does_not_depend_on_the_parameter_point(name):
 
 def test_model_integrator_round_trip():
     """heyoka style: forward to t = 50 and back to 0 returns the start (6-D anisotropic rod, chaotic) to ~1e-10."""
-    from magrod.chaos.model_chaos import _integrator, _model, starts
+    import magrod as mr
+    from magrod.chaos.section import level_starts
     from magrod.core import systems
 
-    mc = _model("anisotropic")
-    pars = np.array(mc.parameters())
-    x0, _ = starts(mc, pars, 1, 0)
-    ta = _integrator(mc.directory, "tangent")
-    n = mc.dim
-    s0 = np.concatenate([x0[0], np.eye(n)[0]])
-    systems.reset(ta, s0, 0.0, pars)
+    system = mr.System("anisotropic")
+    x0 = level_starts(system)[0].x0
+    ta = systems.model_integrator(system)
+    systems.reset(ta, x0, 0.0, system.array())
     ta.propagate_until(50.0)
     ta.propagate_until(0.0)
-    assert np.max(np.abs(ta.state[:n] - x0[0])) < 1e-9
+    assert np.max(np.abs(ta.state - x0)) < 1e-9
 
 
 def test_chaosmap_command_with_a_model(tmp_path, capsys):
@@ -280,7 +281,7 @@ def test_magnetic_model_equals_the_papers_body_system_at_zero_extensibility():
     lambdabar / m^4) at gamma = delta = 0 is the `magnetic` model of the registry with B = C = 1.  The same start,
     integrated by both for t = 20 (a chaotic-range panel's parameters), agrees to round-off; the mutation lambda =
     lambdabar / m^2 (a wrong scale) does not."""
-    from magrod.chaos.model_chaos import _integrator, _model
+    import magrod as mr
     from magrod.core import systems
 
     m, mu, lambar = 1.7, 0.4, 0.135
@@ -292,14 +293,13 @@ def test_magnetic_model_equals_the_papers_body_system_at_zero_extensibility():
     systems.reset(ta, x0, 0.0, pars)
     ta.propagate_until(20.0)
     ref = ta.state.copy()
-    mc = _model("magnetic")
-    tb = _integrator(mc.directory, "tangent")
-    n = mc.dim
+    magnetic = mr.System("magnetic", B=1, C=1)
+    tb = systems.model_integrator(magnetic)
 
     def run(lam):
-        systems.reset(tb, np.concatenate([x0, np.eye(n)[0]]), 0.0, mc.parameters({"B": 1, "C": 1, "lam": lam}))
+        systems.reset(tb, x0, 0.0, magnetic.replace(lam=lam).array())
         tb.propagate_until(20.0)
-        return tb.state[:n].copy()
+        return tb.state.copy()
 
     assert np.max(np.abs(run(lambar / m**4) - ref)) < 1e-10
     assert np.max(np.abs(run(lambar / m**2) - ref)) > 1e-4
@@ -311,21 +311,22 @@ def test_magnetic_euler_chart_is_the_papers_chart_at_zero_extensibility():
     frame (B = 1 != C = 0.75, m3 = 0.5): integrated for s = (B/m3) t_k, its state has the chart coordinates of the
     k-th section point to ~1e-9.  Mutation: s = t_k (the scale forgotten) does not."""
     import magrod as mr
-    from magrod.chaos.model_chaos import _integrator, _model, magnetic_to_paper
+    from magrod.chaos.charts import magnetic_to_paper
     from magrod.core import systems
 
-    sec = mr.poincare_section(model="magnetic", formulation="reduced", iterates=3)
+    sec = mr.poincare_section("magnetic", formulation="reduced", iterates=3)
     assert sec.success and sec.points.shape == (3, 4)
-    mc = _model("magnetic")
-    pars = np.array(mc.parameters())
+    system = mr.System("magnetic")
+    mc = system.code
+    pars = system.array()
     x0 = np.array(mc.names.REFERENCE)
     rp, _, c = magnetic_to_paper(mc, x0, pars)
-    tb = _integrator(mc.directory, "tangent")
+    tb = systems.model_integrator(system)
     n = mc.dim
     idx = [systems.chart_index(k) for k in ("theta", "psi", "ptheta", "ppsi")]
 
     def chart_at(s):
-        systems.reset(tb, np.concatenate([x0, np.eye(n)[0]]), 0.0, pars)
+        systems.reset(tb, x0, 0.0, pars)
         tb.propagate_until(float(s))
         _, q, _ = magnetic_to_paper(mc, tb.state[:n].copy(), pars)
         q = q[idx]
@@ -341,7 +342,7 @@ def test_magnetic_euler_chart_is_the_papers_chart_at_zero_extensibility():
         assert diff(chart_at(c * sec.times[k]), sec.points[k]) < 1e-9
     assert diff(chart_at(sec.times[1]), sec.points[1]) > 1e-3
     with pytest.raises(mr.ParameterError, match="m3 > 0"):
-        mr.poincare_section(model="magnetic", formulation="reduced", starts=[[0.2, 0.1, -0.5, 0.3, 0.1, 0.9, 0.6, 0, 0.8]])
+        mr.poincare_section("magnetic", formulation="reduced", starts=[[0.2, 0.1, -0.5, 0.3, 0.1, 0.9, 0.6, 0, 0.8]])
 
 
 def test_model_parameters_as_keyword_overrides_or_a_dict():

@@ -82,8 +82,8 @@ def test_good_file_check_and_section(cache, tmp_path, capsys):
     assert r["certified"] and "I1" in r["known"]
     import magrod as mr
 
-    sec = mr.poincare_section(model=str(f), iterates=20)
-    assert sec.success and sec.model == "my-rod" and sec.energy_error <= 1e-12
+    sec = mr.poincare_section(str(f), iterates=20)
+    assert sec.success and sec.system.code.name == "my-rod" and sec.max_abs_dH <= 1e-12
     f.write_text(GOOD.replace('default", (0, sp.oo), 2)', 'default", (0, sp.oo), 2)') + "\n# changed\n")
     from magrod.core import models
 
@@ -155,8 +155,8 @@ def test_a_model_given_by_H_on_another_algebra(cache, tmp_path):
 
     r = model_search(str(f), 4)
     assert r.certified and r.known == ["C1", "H"]
-    sec = mr.poincare_section(model=str(f), iterates=10)
-    assert sec.success and sec.energy_error <= 1e-12 and sec.casimir_error <= 1e-12
+    sec = mr.poincare_section(str(f), iterates=10)
+    assert sec.success and sec.max_abs_dH <= 1e-12 and sec.casimir_drift <= 1e-12
 
 
 def test_check_model_imports_neither_heyoka_nor_matplotlib(tmp_path):

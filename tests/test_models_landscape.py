@@ -64,8 +64,8 @@ def test_bad_input_of_the_model_commands(argv, param, capsys, tmp_path):
     assert not out.exists() or not any(out.iterdir())  # nothing written
 
 
-@pytest.mark.parametrize("module", ["magrod.integrability.model_search", "magrod.chaos.model_chaos",
-                                    "magrod.integrability.landscape", "magrod.separatrix.model_splitting"])
+@pytest.mark.parametrize("module", ["magrod.integrability.model_search", "magrod.integrability.landscape",
+                                    "magrod.separatrix.model_splitting"])
 def test_module_examples_run(module):
     import importlib
 

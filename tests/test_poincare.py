@@ -12,8 +12,9 @@ from magrod.core.errors import ParameterError
 from magrod.core.params import RodParams
 from magrod.core.precision import Precision
 from magrod.figures.poincare import _figure, figure_4, figure_5
-from magrod.chaos.section import poincare_section, run_panels, solve_p_psi
-from magrod.core.printed import PANELS, panel_kwargs
+from magrod.chaos.section import poincare_section, solve_p_psi
+from magrod.paper import run_panels
+from magrod.paper.printed import PANELS, panel_kwargs
 
 EPS = np.finfo(float).eps
 # the conservation target (the paper reports 3.6e-9 / 3.9e-9 with DOP853 at rtol 1e-12)

@@ -101,9 +101,13 @@ def test_section_start_of_a_rod_needs_the_start_and_checks_the_level():
     with pytest.raises(ParameterError) as e:  # off the level by far more than START_LEVEL_TOL
         mr.section_start(P.params, P.h, P.theta0, P.ptheta0, p_psi0=s.p_psi0 + 1e-6)
     assert e.value.name == "h" and "off the level" in e.value.message
+    # a panel is a system: its start is resolved once (section_start), the same points as from that start
+    a = mr.section_points(P, mr.SectionOptions(iterates=5)).run()
+    b = mr.section_points(mr.section_start(P), mr.SectionOptions(iterates=5)).run()
+    assert np.array_equal(a.points, b.points)
     with pytest.raises(ParameterError) as e:
-        mr.section_points(P)  # a panel is not a start
-    assert e.value.name == "start"
+        mr.section_points(3.5)  # not a system
+    assert e.value.name == "system"
 
 
 @pytest.mark.parametrize("kw, name", [

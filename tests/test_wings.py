@@ -29,7 +29,7 @@ ALLOWED = {
 # the face, the vocabulary, and what derive/ wrote as plain data and closed forms (never the heyoka builders)
 ALWAYS = ("magrod.core", "magrod.generated.names", "magrod.generated.scalars")
 # the numerics packages whose second tier (__all__) the wings may use: docs/architecture.md
-NUMERICS = ("chaos", "orbits", "separatrix", "integrability", "proof")
+NUMERICS = ("chaos", "orbits", "separatrix", "integrability", "proof", "paper")  # paper: the paper's own package
 
 
 def public(package: str) -> set:

@@ -16,13 +16,11 @@ _API = {
     "parse_axis": "maps",
     "panel_base": "maps",
     "map_tiles": ("maps", "tiles"),
-    "panel_indicators": "maps",
     "MAX_LEVELS": "refine",
     # sections: the level's admissible window, the start's pbar_psi, start tables, the paper's panels
     "admissible_interval": "section",
     "solve_p_psi": "section",
     "start_table": "section",
-    "run_panels": "section",
     "DEFAULT_FORMULATION": "section",
     "STRETCH_DT": "section",
     "grid_starts": "portrait",

@@ -69,8 +69,9 @@ class _Queue:
             return orbit
 
 
-def _worker(queue: _Queue, *, direction, tol) -> None:
-    ta = batch_section_integrator(direction, float(tol))
+def _worker(queue: _Queue, *, direction, tol, key=systems.PAPER_KEY, width=None) -> None:
+    ta = (batch_section_integrator(direction, float(tol), width) if key == systems.PAPER_KEY
+          else systems.model_section_batch(key, direction, float(tol), width))
     b = ta.batch_size
     lanes: list = [None] * b
     t_stop = np.zeros(b)
@@ -140,23 +141,111 @@ def _worker(queue: _Queue, *, direction, tol) -> None:
                     done(j, False, lanes[j].failure_message(tv[j], res[j][0]), tv[j])
 
 
-def run(orbits, *, direction="positive", tol=None, workers=None) -> None:
+def run(orbits, *, direction="positive", tol=None, workers=None, key=systems.PAPER_KEY, processes=True) -> None:
     """Integrate every orbit in SIMD lanes on `workers` threads (default: all cores, at most one per batch of
     orbits).  An orbit is a `magrod.chaos.section._Orbit` (the crossing handling every section loop shares): a lane
     starts it from `orbit.x0`, `orbit.pars` with the guard `orbit.t_max`, hands it each crossing
     (`keep(x)`, then `record(x, t)`, True once its iterates are reached) and ends it with
     `finish(t, success, message)`, which assembles `orbit.result` (called from the worker threads)."""
     orbits = list(orbits)
+    # key: the model (systems.model_key) whose body field and section event the lanes integrate
     if not orbits:
         return
     b = systems.batch_width()
     n_threads = max(1, min(int(workers or os.cpu_count() or 1), -(-len(orbits) // b)))
     tol = float(tol) if tol else float(np.finfo(float).eps)
     queue = _Queue(orbits)
-    kw = dict(direction=direction, tol=tol)
+    kw = dict(direction=direction, tol=tol, key=key, width=b)
     if n_threads == 1:
         _worker(queue, **kw)
+        return
+    if processes and _processes_ok() and _picklable(orbits[0]):
+        _run_processes(orbits, n_threads, b, kw)
         return
     with ThreadPoolExecutor(max_workers=n_threads) as ex:
         for f in [ex.submit(_worker, queue, **kw) for _ in range(n_threads)]:
             f.result()
+
+
+# --------------------------------------------------------------------------------------------------------------
+# two or more workers: processes.  heyoka's propagate releases the GIL, but every crossing costs ~10 us of Python
+# in the lane loop, and with two threads that Python is serialised: measured 1.1-1.5x for 2 threads against
+# 1.5-2.1x for 2 processes (benchmarks/batch_ratios.py).  Each process runs the same lane loop on a contiguous
+# share of the orbits; a lane's steps do not depend on its neighbours, so the points are those of one thread.
+# --------------------------------------------------------------------------------------------------------------
+_POOL: list = []  # [ProcessPoolExecutor, n]: kept for the process (spawned workers load heyoka's JIT cache once)
+
+
+def _pool(n: int):
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+
+    if _POOL and _POOL[1] == n:
+        return _POOL[0]
+    if _POOL:
+        _POOL[0].shutdown(wait=False, cancel_futures=True)
+        _POOL.clear()
+    # spawn, never fork: a forked child of a process running heyoka's (LLVM's) threads may deadlock
+    ex = ProcessPoolExecutor(max_workers=n, mp_context=mp.get_context("spawn"))
+    _POOL[:] = [ex, n]
+    return ex
+
+
+def _processes_ok() -> bool:
+    """Spawned workers re-import the main module: only when that is harmless (no main file, or one that guards
+    its top level with `if __name__ == "__main__"`), and only while heyoka's disk cache is on (a run repeated
+    with freshly compiled code, systems.bypass_disk_cache, stays in this process)."""
+    import sys
+
+    if not hy.llvm_state.get_diskcache_enabled():
+        return False
+    main = sys.modules.get("__main__")
+    path = getattr(main, "__file__", None)
+    if not path:
+        return True
+    try:
+        with open(path, encoding="utf-8", errors="replace") as fh:
+            text = fh.read()
+    except OSError:
+        return False
+    return "__main__" in text
+
+
+def _picklable(orbit) -> bool:
+    import pickle
+
+    try:
+        pickle.dumps((orbit.start, orbit.options))
+        return True
+    except Exception:  # noqa: BLE001 - an unpicklable start (a user's object): the threads instead
+        return False
+
+
+def _process_task(orbit_type, starts, options, kw) -> list:
+    """In a worker process: the orbits of `starts` (section._Orbit, passed as `orbit_type`: this module does not
+    import the section module) through the lane loop; their results."""
+    orbits = [orbit_type(s, options) for s in starts]
+    _worker(_Queue(orbits), **kw)
+    return [o.result for o in orbits]
+
+
+def _run_processes(orbits, n: int, b: int, kw) -> None:
+    """The orbits in contiguous shares of about equal size (a whole number of SIMD batches where possible) on n
+    processes; each orbit's result, progress and wall time handed back to it here."""
+    N = len(orbits)
+    cuts = [round(i * N / n) for i in range(n + 1)]
+    if N >= n * b:
+        cuts = [min(N, round(i * -(-N // b) / n) * b) for i in range(n + 1)]
+        cuts[-1] = N
+    parts = [(lo, hi) for lo, hi in zip(cuts[:-1], cuts[1:]) if hi > lo]
+    ex = _pool(n)
+    futs = [(lo, hi, ex.submit(_process_task, type(orbits[lo]), [o.start for o in orbits[lo:hi]],
+                                        orbits[lo].options, kw))
+            for lo, hi in parts]
+    for lo, hi, f in futs:
+        for o, res in zip(orbits[lo:hi], f.result()):
+            o.result = res
+            o.n = res.n_points
+            if o.progress is not None and res.n_points > o.reported:
+                o.progress(res.n_points - o.reported)
+                o.reported = res.n_points

@@ -6,7 +6,7 @@ Public API
 tangent_indicators(ta, x0, w0, pars, *, t_max, renorm_dt=10.0, project=None, check=None) -> Indicators
 body_indicators(x0, pars, *, t_max, tol=None, renorm_dt=10.0, project=True, batch_size=None) -> Indicators
 reference_indicators(name, x0, pars, *, t_max, ...) -> Indicators        name in REFERENCE_SYSTEMS
-panel_indicators(keys=("4a", "4d"), *, t_max=...) -> {key: Indicators}   the paper's orbits
+(the paper's orbits: magrod.paper.panel_indicators)
 Axis, MapSpec, parse_axis(option, text), tiles(spec), compute_tile(spec, iy, ix) -> dict, chaos_map(spec) -> MapResult
 
 Indicators (Froeschle, Lega & Gonczi 1997; Benettin et al. 1980; Cincotta & Simo 2000)
@@ -489,3 +489,55 @@ def reference_indicators(name, x0, pars=None, *, t_max, tol=None, renorm_dt=1.0,
                              renorm_dt=renorm_dt, valid=start)
     ind.status[~start] = NO_ROOT  # e.g. a Henon-Heiles start whose energy level is not reached
     return ind
+
+
+# ----------------------------------------------------------------------------------------------------------
+# any model in its body frame (the same engine: tangent_indicators with the model's tangent integrator)
+# ----------------------------------------------------------------------------------------------------------
+class _ModelCheck:
+    """A model's conservation budget along an orbit: |H - H0| and max_k |C_k - C_k0|, each relative to the size
+    of its terms at the start (systems.term_scale, at least 1); an orbit beyond DRIFT_LIMIT has left its invariant
+    set (LEFT_RANGE).  A model has no axial-stretch convention of the paper's: min_stretch is NaN."""
+
+    def __init__(self, system, x0, p):
+        self.system = system
+        self.mb = systems.model_body(system)
+        self.g0 = self.mb.level(x0, p)
+        self.scale = np.maximum(1.0, np.concatenate([systems.term_scale(system, "H", x0, p),
+                                                     systems.term_scale(system, "casimirs", x0, p)]))
+
+    def __call__(self, x, p):
+        d = np.abs(self.mb.level(x, p) - self.g0) / self.scale
+        dH = d[0]
+        dC = np.max(d[1:], axis=0) if d.shape[0] > 1 else np.zeros_like(dH)
+        ok = (dH <= DRIFT_LIMIT) & (dC <= DRIFT_LIMIT)
+        # row 3 is -v3 (min_stretch = -max): -NaN here so that min_stretch is the canonical +NaN (a zarr chunk of
+        # the fill value reads back bit for bit)
+        return ok, np.vstack([dH, dC, np.full_like(dH, -np.nan)])
+
+
+def model_project(system):
+    """project(x, w, p) onto the tangent space of the level set of every first integral the model states (H, the
+    Casimirs, state components with zero right-hand side: systems.ModelBody.neutral_gradients)."""
+    G = systems.model_body(system).neutral_gradients
+    return lambda x, w, p: _project(G(x, p), x, w)
+
+
+def model_indicators(system, x0, *, t_max, tol=None, renorm_dt=DEFAULT_RENORM_DT, project=True, batch_size=None,
+                     w0=None, valid=None, history=False, exit_above=None, pars=None) -> Indicators:
+    """`body_indicators` for any System: orbits x0 (dim, N) of its model, parameters pars (npars, N) (default the
+    System's values for every orbit).  The paper's rod is `body_indicators` itself (the same compiled code)."""
+    x0 = np.asarray(x0, float)
+    x0 = x0[:, None] if x0.ndim == 1 else x0
+    n, N = x0.shape
+    p = system.array() if pars is None else np.asarray(pars, float)
+    p = np.repeat(p[:, None], N, axis=1) if p.ndim == 1 else p
+    if system.is_paper:
+        return body_indicators(x0, p, t_max=t_max, tol=tol, renorm_dt=renorm_dt, project=project,
+                               batch_size=batch_size, w0=w0, valid=valid, history=history, exit_above=exit_above)
+    ta = systems.model_tangent_batch(system, batch_size, tol)
+    w0 = generic_w0(n, N) if w0 is None else np.asarray(w0, float).reshape(n, -1)
+    return tangent_indicators(ta, x0, w0, p, t_max=t_max, renorm_dt=renorm_dt,
+                              project=model_project(system) if project else None,
+                              check=lambda xs, ps: _ModelCheck(system, xs, ps), valid=valid, history=history,
+                              exit_above=exit_above)

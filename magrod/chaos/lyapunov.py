@@ -12,11 +12,12 @@ import numpy as np
 
 from ..core.errors import ParameterError, require_finite
 from ..core.params import RodParams
-from ..core.printed import with_overrides
+from ..core.deprecation import renamed_keywords
+from ..core.precision import Precision
 from ..core.results import Result
 from ..core.tolerances import DRIFT_LIMIT
-from .indicators import DEFAULT_RENORM_DT, GROWTH_THRESHOLD, OK, REASONS, body_indicators
-from .section import DEFAULT_ROOT, section_start
+from .indicators import DEFAULT_RENORM_DT, GROWTH_THRESHOLD, OK, REASONS, body_indicators, model_indicators
+from .section import DEFAULT_ROOT, level_starts, resolve, section_start, state_path
 
 DEFAULT_T_MAX = 3000.0  # the Fig 4 orbits are sticky: T <= 2000 is marginal for the verdict (indicators.py)
 
@@ -52,8 +53,18 @@ class LyapunovResult(Result):
     max_abs_dH: float
     casimir_drift: float
     min_stretch: float
+    system: object = None  # the System studied (core.system.System)
 
     _repr_fields = ("panel", "lyap", "growth_exponent", "chaotic", "t_max", "max_abs_dH", "casimir_drift")
+
+    # older names (the model family's result, kept one release): the conservation as energy_error/casimir_error
+    energy_error = property(lambda self: self.max_abs_dH, doc="Deprecated spelling of max_abs_dH.")
+    casimir_error = property(lambda self: self.casimir_drift, doc="Deprecated spelling of casimir_drift.")
+
+    @property
+    def regular_bound(self) -> float:
+        """10 ln T / T: the older verdict's bound on lyap (a regular orbit's estimate decays like ln t / t)."""
+        return 10.0 * np.log(self.t_max) / self.t_max
 
     @property
     def lyap_history(self) -> np.ndarray:
@@ -67,6 +78,13 @@ class LyapunovResult(Result):
                   and np.isfinite(self.casimir_drift) and self.casimir_drift <= DRIFT_LIMIT)
         return {"max_abs_dH": self.max_abs_dH, "casimir_drift": self.casimir_drift, "limit": DRIFT_LIMIT,
                 "passed": ok}
+
+    def to_dict(self) -> dict:
+        d = super().to_dict()
+        d["system"] = None if self.system is None else self.system.to_dict()
+        if not isinstance(self.params, RodParams):
+            d["params"] = dict(self.params)
+        return d
 
     def criterion(self) -> str:
         return f"chaotic iff growth_exponent = (FLI(T) - FLI(T/2))/ln 2 > {self.threshold:g}"
@@ -98,15 +116,18 @@ def body_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=None
     return params, key, h, theta0, ptheta0, psi0, p_psi0, x0, pars
 
 
-def lyapunov(params=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
+@renamed_keywords(params="system")
+def lyapunov(system=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
              t_max=DEFAULT_T_MAX, renorm_dt=DEFAULT_RENORM_DT, tol=None, project=True, model=None, x0=None,
-             **overrides) -> LyapunovResult:
+             level_of=None, seed=0, precision=None, **overrides) -> LyapunovResult:
     """Maximal Lyapunov exponent, Fast Lyapunov Indicator and growth exponent of one orbit, with the history.
 
     Parameters
     ----------
-    params : RodParams, Panel or str
-        The rod, or a paper panel ("4a" .. "5d") whose parameters and start fill in what is not given.
+    system : System, RodParams, Panel or str
+        What is studied (magrod.System or what converts to it): a paper panel ("4a" .. "5d") whose parameters and
+        start fill in what is not given, a RodParams, or any model (a name or a model file: its body frame, start
+        `x0`); None: the paper's rod at Fig 4(a).
     h, theta0, ptheta0, psi0, p_psi0, root
         The start, as in `poincare_section` (pbar_psi0 solves Hbar = h; `root` picks the root).
     t_max : float
@@ -121,11 +142,16 @@ def lyapunov(params=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi
     **overrides : float
         Model parameters replacing those of `params`: ``lyapunov("4a", lam=0.15)``.
     model : str or path, keyword-only
-        A rod model of the family (`magrod models`) or a model file: the exponent of one of its orbits in the body
-        frame (magrod.chaos.model_chaos.model_lyapunov; the overrides, or `params` as a dict, are its parameters:
-        ``lyapunov(model="anisotropic", B2=3)``; `x0` its start; returns a ModelLyapunov).
+        The model when `system` is a dict of its parameter values.
     x0 : array, keyword-only
-        With `model`: the start (default a seeded perturbation of the model's reference state).
+        Any model but the paper's: the start (dim,), put on the level of `level_of` (default its own); default the
+        model's reference state.
+    level_of : array, keyword-only
+        Any model: the state whose level of H and the Casimirs the start is put on.
+    seed : int, keyword-only
+        Unused for a given start (kept for the older spelling of the model path).
+    precision : Precision or str, keyword-only
+        "double" only (the tangent integrator is a float64 SIMD batch).
 
     Returns
     -------
@@ -143,7 +169,7 @@ def lyapunov(params=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi
     >>> ly = mr.lyapunov("4a", t_max=1000)
     >>> ly.success, ly.times.shape, bool(ly.lyap > 0)
     (True, (100,), True)
-    >>> mr.lyapunov(model="kirchhoff", t_max=200).chaotic   # the integrable Kirchhoff rod (issue 26)
+    >>> bool(mr.lyapunov("kirchhoff", t_max=200).chaotic)   # the integrable Kirchhoff rod
     False
 
     Notes
@@ -152,15 +178,15 @@ def lyapunov(params=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi
     chaotic once lyap T/(2 ln 2) > 3.  Cost: ~5 us per unit time in a SIMD batch (one lane used here; for many
     orbits use `chaos_map`).  References: Benettin et al. 1980; Froeschle, Lega & Gonczi 1997.
     """
-    if model is not None:  # issue 26: the model family; keyword overrides are the model's own parameters
-        from .model_chaos import model_lyapunov, model_parameters
-
-        return model_lyapunov(model, params=model_parameters(params, overrides), x0=x0, t_max=t_max,
-                              renorm_dt=renorm_dt)
-    if params is None:
-        raise ParameterError("params", "required: a RodParams or a panel name (or model=...)")
-    params = with_overrides(params, overrides)
+    system, params = resolve(system, model, overrides, precision)
+    if system is None:
+        raise ParameterError("system", "one System, panel or RodParams (many orbits: chaos_map)")
+    if system.precision is not Precision.DOUBLE:
+        raise ParameterError("precision", f"must be 'double' for Lyapunov exponents (a float64 SIMD tangent "
+                                          f"integrator), got {system.precision.value!r}")
     t_max, renorm_dt = check_run(t_max, renorm_dt)
+    if not system.is_paper or x0 is not None or state_path(system, params, theta0, ptheta0, h, p_psi0):
+        return _model_lyapunov(system, x0, level_of, t_max=t_max, renorm_dt=renorm_dt, tol=tol, project=project)
     params, key, h, theta0, ptheta0, psi0, p_psi0, x0, pars = body_start(params, h, theta0, ptheta0, psi0, p_psi0,
                                                                          root)
     ind = body_indicators(x0[:, None], pars, t_max=t_max, tol=tol, renorm_dt=renorm_dt, project=project,
@@ -172,4 +198,20 @@ def lyapunov(params=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi
                           float(p_psi0), float(t_max), float(ind.renorm_dt), float(ind.lyap[0]), float(ind.fli[0]),
                           float(ind.fli_half[0]), float(ind.growth_exponent[0]), bool(ind.chaotic[0]),
                           GROWTH_THRESHOLD, ind.times, ind.log_growth[0], float(ind.max_abs_dH[0]),
-                          float(ind.casimir_drift[0]), float(ind.min_stretch[0]))
+                          float(ind.casimir_drift[0]), float(ind.min_stretch[0]), system)
+
+
+def _model_lyapunov(system, x0, level_of, *, t_max, renorm_dt, tol, project) -> LyapunovResult:
+    """`lyapunov` of any model but the paper's: its start on its level (section.level_starts), the one indicator
+    engine (indicators.model_indicators), conservation relative to the size of H's and the Casimirs' terms."""
+    start = level_starts(system, None if x0 is None else [x0], level_of=level_of, name="x0")[0]
+    ind = model_indicators(system, start.x0[:, None], t_max=t_max, tol=tol, renorm_dt=renorm_dt, project=project,
+                           history=True)
+    status = int(ind.status[0])
+    ok = status == OK
+    message = "ok" if ok else f"indicator not computed: {REASONS[status]}"
+    nan = float("nan")
+    return LyapunovResult(ok, message, dict(system.params), None, start.h, nan, nan, nan, nan, float(t_max),
+                          float(ind.renorm_dt), float(ind.lyap[0]), float(ind.fli[0]), float(ind.fli_half[0]),
+                          float(ind.growth_exponent[0]), bool(ind.chaotic[0]), GROWTH_THRESHOLD, ind.times,
+                          ind.log_growth[0], float(ind.max_abs_dH[0]), float(ind.casimir_drift[0]), nan, system)

@@ -6,6 +6,8 @@ function of (spec, tile).  Indicators and the chaos criterion come from magrod/c
 """
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 from dataclasses import asdict, dataclass, field
 
@@ -20,7 +22,27 @@ from ..core.tolerances import DRIFT_LIMIT
 from ..generated.names import BODY_STATE, PARAMS
 from .fields import BY_NAME, EXIT_FIELDS, MAP_EXTRA_FIELDS
 from .indicators import (_KEYS, DEFAULT_RENORM_DT, EXIT_MARGIN, FAILED, GROWTH_THRESHOLD, NO_ROOT, OK, REASONS,
-                         UNPHYSICAL, body_indicators)
+                         UNPHYSICAL, body_indicators, model_indicators)
+
+# the names an Axis may vary: the paper's rod's AXIS_NAMES, or (while a model's map is specified) its parameters
+_AXIS_NAMES = contextvars.ContextVar("magrod_axis_names", default=None)
+
+
+@contextlib.contextmanager
+def axis_names(names):
+    """Axes built inside vary one of `names` (a model's parameters; None: the paper's AXIS_NAMES)."""
+    token = _AXIS_NAMES.set(None if names is None else tuple(names))
+    try:
+        yield
+    finally:
+        _AXIS_NAMES.reset(token)
+
+
+def model_names(model) -> tuple | None:
+    """The parameter names of a map's model (None for the paper's rod: its AXIS_NAMES)."""
+    if model is None:
+        return None
+    return tuple(_map_system(model).names)
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -55,8 +77,9 @@ class Axis:
     n: int
 
     def __post_init__(self):
-        if self.name not in AXIS_NAMES:
-            raise ParameterError("name", f"unknown parameter {self.name!r}; choose from {', '.join(AXIS_NAMES)}")
+        names = _AXIS_NAMES.get() or AXIS_NAMES
+        if self.name not in names:
+            raise ParameterError("name", f"unknown parameter {self.name!r}; choose from {', '.join(names)}")
         lo = require_finite("lo", self.lo, MAX_MAGNITUDE)
         hi = require_finite("hi", self.hi, MAX_MAGNITUDE)
         try:
@@ -131,6 +154,7 @@ class MapSpec:
     refine_bound: float | None = None
     refine_threshold: float = GROWTH_THRESHOLD
     early_exit: bool = False
+    model: str | None = None  # None: the paper's rod; else a registered model or a model file (its parameters)
 
     def __post_init__(self):
         if self.x.name == self.y.name:
@@ -153,10 +177,15 @@ class MapSpec:
         require_positive_int("tile", self.tile)
         if self.root not in ("smallest", "largest"):
             raise ParameterError("root", f"must be 'smallest' or 'largest', got {self.root!r}")
-        missing = [k for k in AXIS_NAMES if k not in self.base and k not in (self.x.name, self.y.name)]
+        names = model_names(self.model) or AXIS_NAMES
+        for ax, which in ((self.x, "x"), (self.y, "y")):
+            if ax.name not in names:
+                raise ParameterError(which, f"unknown parameter {ax.name!r}; choose from {', '.join(names)}")
+        missing = [k for k in names if k not in self.base and k not in (self.x.name, self.y.name)]
         if missing:
             raise ParameterError(missing[0], "no value: give it, or a panel that sets it (panel= / --panel)")
-        _check_theta0(self)
+        if self.model is None:
+            _check_theta0(self)
         _check_some_point_physical(self)
         _check_refine(self)
         _check_early_exit(self)
@@ -177,6 +206,8 @@ class MapSpec:
                 d.pop(k)
         if not self.early_exit:  # likewise without early exit
             d.pop("early_exit")
+        if self.model is None:  # the paper's rod: its maps' identity is what it was before any other model
+            d.pop("model")
         return d
 
     @property
@@ -190,7 +221,8 @@ class MapSpec:
     @classmethod
     def from_dict(cls, d: dict) -> "MapSpec":
         d = dict(d)
-        d["x"], d["y"] = Axis(**d["x"]), Axis(**d["y"])
+        with axis_names(model_names(d.get("model"))):
+            d["x"], d["y"] = Axis(**d["x"]), Axis(**d["y"])
         return cls(**d)
 
     def point(self, ix: int, iy: int) -> dict:
@@ -258,7 +290,10 @@ def _check_some_point_physical(spec: "MapSpec") -> None:
         for yv in (spec.y.lo, spec.y.hi):
             v = {**spec.base, spec.x.name: xv, spec.y.name: yv}
             try:
-                RodParams(**{k: v[k] for k in PARAMS})
+                if spec.model is None:
+                    RodParams(**{k: v[k] for k in PARAMS})
+                else:
+                    _map_system(spec.model).replace(**{k: v[k] for k in _map_system(spec.model).names})
                 return
             except ParameterError as exc:
                 err = exc
@@ -288,7 +323,7 @@ def panel_base(key) -> dict:
     """PARAMS and START values of a paper panel (magrod.chaos.section.PANELS; a Panel too), or the PARAMS of a
     RodParams (its start values are then given as keywords or on an axis)."""
     from ..core.params import RodParams
-    from ..core.printed import PANELS, Panel
+    from ..paper.printed import PANELS, Panel
 
     if isinstance(key, RodParams):
         return key.to_dict()
@@ -318,6 +353,59 @@ def start_point(v: dict, root: str = "smallest"):
         return nan9, p, NO_ROOT, np.nan
     q = roots[0] if root == "smallest" else roots[-1]
     return systems.euler_to_body(v["theta0"], v["psi0"], v["ptheta0"], q, p), p, OK, float(q)
+
+
+@systems.cache
+def _map_system(model: str):
+    """The System of a map's model at its defaults (the points' parameters are passed per orbit)."""
+    from ..core.system import as_system
+
+    return as_system(model)[0]
+
+
+def model_start_point(system, v: dict):
+    """(x0 (dim,), pars, status, NaN) of one grid point of a model's map: the model's reference state put on its
+    own level of H and the Casimirs at the point's parameters (section.project_to_level); status UNPHYSICAL
+    outside the model's admissible set, NO_ROOT where the level cannot be reached."""
+    from .section import project_to_level
+
+    mb = systems.model_body(system)
+    nan = np.full(mb.dim, np.nan)
+    try:
+        at = system.replace(**{k: v[k] for k in mb.params})  # the model's admissible set (RodParams for the paper)
+    except ParameterError:
+        return nan, np.full(len(mb.params), np.nan), UNPHYSICAL, np.nan
+    pars = at.array()
+    ref = np.array(system.code.names.REFERENCE, float)
+    try:
+        x0 = project_to_level(at, ref, np.asarray(mb.level(ref, pars), float))
+    except ParameterError:
+        return nan, pars, NO_ROOT, np.nan
+    return x0, pars, OK, np.nan
+
+
+def _indicators(spec, starts, **kw):
+    """The indicators of a map's starts [(x0, pars, status, p_psi0)]: the one engine for every model."""
+    if spec.model is None:
+        n, npar = len(BODY_STATE), len(PARAMS)
+    else:
+        mb = systems.model_body(_map_system(spec.model))
+        n, npar = mb.dim, len(mb.params)
+    x0 = np.array([s[0] for s in starts]).T.reshape(n, -1)
+    p = np.array([s[1] for s in starts]).T.reshape(npar, -1)
+    st0 = np.array([s[2] for s in starts], np.int8)
+    common = dict(t_max=spec.t_max, tol=spec.tol or None, renorm_dt=spec.renorm_dt, batch_size=spec.batch_size,
+                  valid=st0 == OK, exit_above=spec.exit_above)
+    if spec.model is None:
+        return body_indicators(np.nan_to_num(x0), np.nan_to_num(p, nan=1.0), **common), st0
+    return model_indicators(_map_system(spec.model), np.nan_to_num(x0), pars=np.nan_to_num(p, nan=1.0),
+                            **common), st0
+
+
+def _start(spec, v):
+    if spec.model is None:
+        return start_point(v, spec.root)
+    return model_start_point(_map_system(spec.model), v)
 
 
 @dataclass(frozen=True)
@@ -360,13 +448,8 @@ def compute_tile(spec: MapSpec, tile: Tile) -> dict:
     iys = range(tile.ys.start, tile.ys.stop)
     ixs = range(tile.xs.start, tile.xs.stop)
     pts = [spec.point(ix, iy) for iy in iys for ix in ixs]
-    starts = [start_point(v, spec.root) for v in pts]
-    x0 = np.array([s[0] for s in starts]).T
-    p = np.array([s[1] for s in starts]).T
-    st0 = np.array([s[2] for s in starts], np.int8)
-    ind = body_indicators(np.nan_to_num(x0), np.nan_to_num(p, nan=1.0), t_max=spec.t_max, tol=spec.tol or None,
-                          renorm_dt=spec.renorm_dt, batch_size=spec.batch_size, valid=st0 == OK,
-                          exit_above=spec.exit_above)
+    starts = [_start(spec, v) for v in pts]
+    ind, st0 = _indicators(spec, starts)
     shape = (len(iys), len(ixs))
     out = {k: getattr(ind, k).reshape(shape) for k in _KEYS}
     out["p_psi0"] = np.array([s[3] for s in starts]).reshape(shape)
@@ -384,13 +467,8 @@ def compute_points(spec: MapSpec, iy, ix) -> dict:
     same numbers as compute_tile gives at those points (each orbit has its own batch lane and the same start
     tangent vector), so a refined map's computed points are the brute-force map's."""
     iy, ix = np.asarray(iy, int), np.asarray(ix, int)
-    starts = [start_point(spec.point(int(x), int(y)), spec.root) for y, x in zip(iy, ix)]
-    x0 = np.array([s[0] for s in starts]).T.reshape(len(BODY_STATE), -1)
-    p = np.array([s[1] for s in starts]).T.reshape(len(PARAMS), -1)
-    st0 = np.array([s[2] for s in starts], np.int8)
-    ind = body_indicators(np.nan_to_num(x0), np.nan_to_num(p, nan=1.0), t_max=spec.t_max, tol=spec.tol or None,
-                          renorm_dt=spec.renorm_dt, batch_size=spec.batch_size, valid=st0 == OK,
-                          exit_above=spec.exit_above)
+    starts = [_start(spec, spec.point(int(x), int(y))) for y, x in zip(iy, ix)]
+    ind, st0 = _indicators(spec, starts)
     out = {k: np.asarray(getattr(ind, k), float) for k in _KEYS}
     out["p_psi0"] = np.array([s[3] for s in starts], float)
     out["status"] = np.where(st0 == OK, ind.status, st0).astype(np.int8)
@@ -511,6 +589,22 @@ class ChaosMap(Result):
         return self.spec.shape
 
     @property
+    def chaotic(self) -> np.ndarray:
+        """growth_exponent > GROWTH_THRESHOLD per point (ny, nx) (False where missing)."""
+        with np.errstate(invalid="ignore"):
+            return np.asarray(self.fields["growth_exponent"]) > GROWTH_THRESHOLD
+
+    @property
+    def system(self):
+        """The System whose parameters the map varies around (its base values; the paper's rod for a panel map)."""
+        from ..core.system import as_system
+
+        if self.spec.model is not None:
+            return as_system(self.spec.model, **self.spec.base)[0]
+        return as_system({k: self.spec.base[k] for k in PARAMS if k in self.spec.base} if all(
+            k in self.spec.base for k in PARAMS) else None)[0]
+
+    @property
     def fraction_chaotic(self):
         return self.summary()["fraction_chaotic"]
 
@@ -518,7 +612,9 @@ class ChaosMap(Result):
     def accuracy(self) -> dict:
         """Worst conservation over the computed points against DRIFT_LIMIT (points beyond it are LEFT_RANGE)."""
         s = self.summary()
-        return {"max_abs_dH": s["max_abs_dH"], "max_casimir_drift": s["max_casimir_drift"], "limit": DRIFT_LIMIT}
+        worst = [v for v in (s["max_abs_dH"], s["max_casimir_drift"]) if v is not None]
+        return {"max_abs_dH": s["max_abs_dH"], "max_casimir_drift": s["max_casimir_drift"], "limit": DRIFT_LIMIT,
+                "passed": bool(worst) and all(np.isfinite(v) and v <= DRIFT_LIMIT for v in worst)}
 
     def summary(self, threshold=GROWTH_THRESHOLD) -> dict:
         return map_summary(self.spec, self.fields, self.wall_s, threshold)
@@ -652,21 +748,78 @@ def _tile_task(spec_dict: dict, tile_key: str) -> dict:
     return compute_tile(spec, tile_of(spec, tile_key))
 
 
-def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_dt=DEFAULT_RENORM_DT,
+def _is_axis(v) -> bool:
+    """An axis (or a MapSpec) rather than a System: the older calling form chaos_map(x, y, panel=...)."""
+    return isinstance(v, (Axis, MapSpec)) or (isinstance(v, str) and ":" in v) or (
+        isinstance(v, (tuple, list)) and len(v) == 4 and isinstance(v[0], str))
+
+
+_UNSET = object()
+_NO_BASE = object()
+
+
+def _map_args(system, x, y, panel, model, values):
+    """(x, y, base system or panel for map_spec, model name or None) from the calling forms: chaos_map(system, x,
+    y) (the convention), chaos_map(x, y, panel=...) (older, deprecated) and model=/panel= (deprecated)."""
+    import warnings
+
+    if system is _NO_BASE:  # chaos_map's older panel=None: no base values, all given
+        return x, y, None, None
+    if isinstance(system, MapSpec):
+        return system, x, None, None
+    if _is_axis(system):  # the older form: the axes first
+        if y is not None:
+            raise ParameterError("y", "three axes given: call chaos_map(system, x, y)")
+        x, y, system = system, x, None
+        warnings.warn("chaos_map(x, y, panel=...) is deprecated: call chaos_map(system, x, y) (system: a panel key, "
+                      "a System, a model name or file)", DeprecationWarning, stacklevel=3)
+    if panel is not _UNSET:
+        if system is not None:
+            raise TypeError("chaos_map() got both a system and panel= (deprecated)")
+        warnings.warn("chaos_map(panel=...) is deprecated: the argument is now called system", DeprecationWarning,
+                      stacklevel=3)
+        system = panel
+        if panel is None:
+            return x, y, None, None
+        if isinstance(panel, str) and panel.lower() not in _panels():
+            raise ParameterError("panel", f"unknown panel {panel!r}; choose from {', '.join(_panels())}")
+    from ..paper.printed import Panel
+
+    if model is None and (system is None or isinstance(system, (RodParams, Panel)) or (
+            isinstance(system, str) and system.lower() in _panels())):
+        return x, y, DEFAULT_PANEL if system is None else system, None
+    from ..core.system import System, as_system
+
+    sys_ = system if isinstance(system, System) and model is None else as_system(system, model=model)[0]
+    # a System (of any model, the paper's rod included) has no chart start: its orbits start from the model's
+    # reference state on its level at each point (model_start_point); a panel or RodParams keeps the chart's
+    return x, y, sys_, sys_.model
+
+
+def _panels():
+    from ..paper.printed import PANELS
+
+    return PANELS
+
+
+def chaos_map(system=None, x=None, y=None, *, t_max=3000.0, tol=None, renorm_dt=DEFAULT_RENORM_DT,
               root="smallest", tile=DEFAULT_TILE, refine=0, refine_bound=None, early_exit=False, client=None,
-              progress=None, model=None, **values) -> ChaosMap:
-    """Chaos indicators over a plane of two parameters or start values, around a paper panel.
+              progress=None, model=None, panel=_UNSET, **values) -> ChaosMap:
+    """Chaos indicators over a plane of two parameters or start values of a system.
 
     Parameters
     ----------
+    system : System, str, Panel, RodParams or MapSpec
+        What is studied: a paper panel ("4a" .. "5d"), whose parameters and start fill in every value not on an
+        axis; a RodParams (the parameters only: the start values then come as keywords or on an axis); any other
+        model (a System, a registered name or a model file), whose reference state, put on its own level of H
+        and the Casimirs at each point's parameters, starts every orbit; None: panel 4a.  A MapSpec alone is
+        computed as it is.  (The older form chaos_map(x, y, panel=...) is deprecated.)
     x, y : tuple, str or Axis
         The axes: (name, lo, hi, n), "name:lo:hi:n" or Axis; name is a parameter (m, mu, gamma, delta, lam) or a
         start value (h, theta0, ptheta0, psi0).  A MapSpec may be given as `x` alone.
-    panel : str, Panel, RodParams or None
-        Paper panel whose parameters and start fill in every value not on an axis (a RodParams gives the
-        parameters only: the start values then come as keywords; None: give them all).
     t_max, tol, renorm_dt, root
-        As in `lyapunov` (tol 0 = machine epsilon, the default: see Notes for the evidence).
+        As in `lyapunov` (tol None = machine epsilon, the default: see Notes for the evidence).
     tile : int
         Tile edge (one task per tile; in a refined map, one task per tile and round).
     refine : int
@@ -689,9 +842,9 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
         Values overriding the panel's (e.g. lam=0.15, h=0.9).
 
     model : str or path, keyword-only
-        A rod model of the family (`magrod models`) or a model file: Lyapunov estimates over two of its parameters,
-        (name, lo, hi, n) each (magrod.chaos.model_chaos.model_chaos_map; the other parameters in `values`;
-        returns a ModelChaosMap).
+        The model when `system` is a dict of its parameter values (older spelling: chaos_map(x, y, model=...)).
+    panel : deprecated
+        The older name of `system`.
 
     Returns
     -------
@@ -711,10 +864,10 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     Examples
     --------
     >>> import magrod as mr
-    >>> cm = mr.chaos_map(("lam", 0.12, 0.2, 2), ("gamma", 2.0, 3.5, 2), t_max=200)
+    >>> cm = mr.chaos_map("4a", ("lam", 0.12, 0.2, 2), ("gamma", 2.0, 3.5, 2), t_max=200)
     >>> cm.success, cm.shape, cm.to_xarray()["growth_exponent"].dims
     (True, (2, 2), ('gamma', 'lam'))
-    >>> rm = mr.chaos_map(("lam", 0.12, 0.2, 5), ("gamma", 2.0, 3.5, 5), t_max=200, refine=2)
+    >>> rm = mr.chaos_map("4a", ("lam", 0.12, 0.2, 5), ("gamma", 2.0, 3.5, 5), t_max=200, refine=2)
     >>> rm.fields["inferred"].shape, int(rm.fields["inferred"].sum()) <= 25 - 4
     ((5, 5), True)
 
@@ -759,42 +912,49 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     real: at most half of each chaotic orbit's T, nothing on regular ones (benchmarks/README.md, "early exit").
     Every orbit that does not exit has the brute-force map's numbers bit for bit (tests/test_early_exit.py).
     """
-    if model is not None:  # issue 26: the model family
-        from .model_chaos import model_chaos_map
-
-        return model_chaos_map(model, x, y, t_max=t_max, renorm_dt=renorm_dt,
-                               params=values or None)
+    x, y, base, model = _map_args(system, x, y, panel, model, values)
+    base = _NO_BASE if base is None and model is None else base
     if isinstance(x, MapSpec):
         if y is not None or values:
             raise ParameterError("y", "give a MapSpec alone, or two axes")
         check_cost(x, _n_workers(client))
         return compute_map(x, progress=progress, client=client)
-    spec = map_spec(x, y, panel=panel, t_max=t_max, tol=tol, renorm_dt=renorm_dt, root=root, tile=tile,
-                    refine=refine, refine_bound=refine_bound, early_exit=early_exit, **values)
+    spec = map_spec(base, x, y, t_max=t_max, tol=tol, renorm_dt=renorm_dt, root=root, tile=tile,
+                    refine=refine, refine_bound=refine_bound, early_exit=early_exit, model=model, **values)
     check_cost(spec, _n_workers(client))
     return compute_map(spec, progress=progress, client=client)
 
 
-def map_spec(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_dt=DEFAULT_RENORM_DT,
-             root="smallest", tile=DEFAULT_TILE, refine=0, refine_bound=None, early_exit=False, **values) -> MapSpec:
-    """The MapSpec `chaos_map` computes (same arguments, validated the same way; a MapSpec given as x alone is
+def map_spec(system=None, x=None, y=None, *, t_max=3000.0, tol=None, renorm_dt=DEFAULT_RENORM_DT,
+             root="smallest", tile=DEFAULT_TILE, refine=0, refine_bound=None, early_exit=False, model=None,
+             panel=_UNSET, **values) -> MapSpec:
+    """The MapSpec `chaos_map` computes (same arguments, validated the same way; a MapSpec given alone is
     returned as it is): for a stored map (magrod.store.resumable) or to inspect a map's grid and cost first."""
+    x, y, base_sys, model = _map_args(system, x, y, panel, model, values)
     if isinstance(x, MapSpec):
         if y is not None or values:
             raise ParameterError("y", "give a MapSpec alone, or two axes")
         return x
     if y is None:
         raise ParameterError("y", "missing: give two axes (name, lo, hi, n)")
-    ax, ay = Axis.of(x, "x"), Axis.of(y, "y")
-    base = panel_base(panel) if panel is not None else {}
+    names = model_names(model)
+    with axis_names(names):
+        ax, ay = Axis.of(x, "x"), Axis.of(y, "y")
+    tol = 0.0 if tol is None else tol  # 0 = machine epsilon in a spec (the store identity of every existing map)
+    if model is not None:
+        base = dict(base_sys.params)
+    else:
+        base = panel_base(base_sys) if base_sys is not None else {}
+    names = names or AXIS_NAMES
     for k, v in values.items():
-        if k not in AXIS_NAMES:
-            raise ParameterError(k, f"not a parameter or start value; choose from {', '.join(AXIS_NAMES)}")
+        if k not in names:
+            raise ParameterError(k, f"not a parameter or start value; choose from {', '.join(names)}")
         if k in (ax.name, ay.name):
             raise ParameterError(k, f"is varied on the {'x' if k == ax.name else 'y'} axis: do not also fix it")
         base[k] = require_finite(k, v, MAX_MAGNITUDE)
-    return MapSpec(ax, ay, base=base, panel=panel, root=root, t_max=t_max, tol=tol, renorm_dt=renorm_dt, tile=tile,
-                   refine=refine, refine_bound=refine_bound, early_exit=early_exit)
+    pan = None if model is not None else base_sys
+    return MapSpec(ax, ay, base=base, panel=pan, root=root, t_max=t_max, tol=tol, renorm_dt=renorm_dt, tile=tile,
+                   refine=refine, refine_bound=refine_bound, early_exit=early_exit, model=model)
 
 
 def _n_workers(client) -> int:
@@ -804,15 +964,6 @@ def _n_workers(client) -> int:
         return max(1, len(client.scheduler_info().get("workers", {})))
     except Exception:  # noqa: BLE001 - not a Client: compute_map says so when it uses it
         return 1
-
-
-def panel_indicators(keys=("4a", "4b", "4c", "4d"), *, t_max=3000.0, tol=None, root="smallest") -> dict:
-    """{panel: dict of the indicators of the paper's orbit} (one batch).  Cost ~t_max * 5 us per panel."""
-    starts = [start_point(panel_base(k), root) for k in keys]
-    ind = body_indicators(np.array([s[0] for s in starts]).T, np.array([s[1] for s in starts]).T, t_max=t_max,
-                          tol=tol)
-    return {k: {f: (float(getattr(ind, f)[i]) if f != "status" else REASONS[int(ind.status[i])]) for f in
-                _KEYS + ("status",)} | {"chaotic": bool(ind.chaotic[i])} for i, k in enumerate(keys)}
 
 
 # ---- the CF attributes of a map: its zarr store (store.py) and ChaosMap.to_xarray() ----------------------------
@@ -849,10 +1000,15 @@ def dataset_attrs(spec) -> dict:
             "title": "magrod chaos map (Sinden & van der Heijden, spatial chaos of a conducting rod)",
             "criterion": f"chaotic iff growth_exponent > {GROWTH_THRESHOLD:g}",
             "tolerance": "machine epsilon" if not spec.tol else repr(spec.tol),
-            "formulation": "body (9-D, generated/body.py)",
-            "tangent_vectors": "projected onto the level set of C1, C2, C3, H, m3 (magrod.chaos.indicators)"}
+            **({"formulation": "body (9-D, generated/body.py)",
+                "tangent_vectors": "projected onto the level set of C1, C2, C3, H, m3 (magrod.chaos.indicators)"}
+               if getattr(spec, "model", None) is None else
+               {"model": str(spec.model), "formulation": "the model's body frame (its generated body.py)",
+                "tangent_vectors": "projected onto the level set of H, the Casimirs and the integrals with zero "
+                                   "right-hand side (magrod.chaos.indicators.model_project)"})}
 
 
 def _axis_label(name: str) -> str:
     return {"lam": "lambdabar", "mu": "mu", "gamma": "gamma", "delta": "delta", "m": "m", "h": "h (energy)",
-            "theta0": "theta at the start", "ptheta0": "pbar_theta at the start", "psi0": "psi at the start"}[name]
+            "theta0": "theta at the start", "ptheta0": "pbar_theta at the start",
+            "psi0": "psi at the start"}.get(name, f"model parameter {name}")

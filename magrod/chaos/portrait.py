@@ -23,11 +23,14 @@ import numpy as np
 from ..core import systems
 from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite, require_positive_int
 from ..core.params import RodParams
-from ..core.printed import Panel, panel
+from ..paper.printed import Panel, panel
 from ..core.results import Result, jsonable
 from ..generated.names import PARAMS
-from .indicators import GROWTH_THRESHOLD, body_indicators
-from .section import MAX_ORBITS, poincare_sections, resolve_start, solve_p_psi, start_table
+from ..core.deprecation import renamed_keywords
+from ..core.system import as_system
+from .indicators import GROWTH_THRESHOLD, body_indicators, model_indicators
+from .section import (MAX_ORBITS, poincare_sections, resolve, resolve_start, solve_p_psi, start_table,
+                      state_path)
 
 INDICATORS = ("growth_exponent", "lyap", "fli")
 DEFAULT_T_INDICATOR = 1000.0  # cost ~5 us per orbit and unit time; Fig 4(a) needs T ~ 3000 to look chaotic
@@ -99,6 +102,7 @@ class SectionPortrait(Result):
     wall_s: float
     panel: str | None = None
     threshold: float = GROWTH_THRESHOLD
+    system: object = None  # the System studied
 
     _repr_fields = ("n_orbits", "h", "indicator", "fraction_chaotic", "max_abs_dH", "wall_s")
 
@@ -132,7 +136,10 @@ class SectionPortrait(Result):
 
     def summary(self) -> dict:
         return jsonable({"success": self.success, "message": self.message, "panel": self.panel,
-                         "parameters": self.params.to_dict(), "h": self.h, "n_orbits": self.n_orbits,
+                         **({} if self.system is None or self.system.is_paper and isinstance(self.params, RodParams)
+                            else {"system": self.system.to_dict()}),
+                         "parameters": self.params.to_dict() if isinstance(self.params, RodParams) else
+                         dict(self.params), "h": self.h, "n_orbits": self.n_orbits,
                          "iterates": [r.n_points for r in self.orbits], "indicator": self.indicator,
                          "t_indicator": self.t_indicator, "threshold": self.threshold,
                          "fraction_chaotic": self.fraction_chaotic, "accuracy": self.accuracy,
@@ -141,7 +148,7 @@ class SectionPortrait(Result):
     def arrays(self) -> dict:
         """points (N, K, 4) padded with NaN to the longest orbit, dH (N, K), starts, indicator values."""
         K = max((r.n_points for r in self.orbits), default=0)
-        pts = np.full((self.n_orbits, K, 4), np.nan)
+        pts = np.full((self.n_orbits, K, self.orbits[0].points.shape[1] if self.orbits else 4), np.nan)
         dH = np.full((self.n_orbits, K), np.nan)
         for i, r in enumerate(self.orbits):
             pts[i, : r.n_points] = r.points
@@ -197,28 +204,32 @@ def grid_starts(params, h=None, *, theta0=(0.1, 3.0, 8), ptheta0=(-1.0, 1.0, 8),
     return np.array(out)
 
 
-def section_portrait(params, h=None, *, starts, iterates=1000, indicator="growth_exponent",
+@renamed_keywords(params="system")
+def section_portrait(system=None, h=None, *, starts, iterates=1000, indicator="growth_exponent",
                      t_indicator=DEFAULT_T_INDICATOR, root="smallest", direction="positive", t_max=None,
-                     workers=None, progress=None) -> SectionPortrait:
+                     workers=None, progress=None, model=None, level_of=None, seed=0, **overrides) -> SectionPortrait:
     """Section portrait of one energy level: the Poincare sections sin(psi) = 0 of many orbits, each coloured by a
     chaos indicator of its start.
 
     Parameters
     ----------
-    params : RodParams, Panel or str
-        The rod (a paper panel gives its parameters and, unless h is given, its level).
+    system : System, RodParams, Panel or str
+        What is studied: the paper's rod (a paper panel gives its parameters and, unless h is given, its level),
+        or any model (a System, a name or a model file: its own section, from its states).
     h : float, optional
-        The level Hbar = h shared by every orbit.
-    starts : array of shape (N, 2), (N, 3) or (N, 4)
-        (theta0, ptheta0[, psi0[, p_psi0]]) per orbit; without p_psi0 it is solved for (`root`), with it the
-        start must lie on the level (within START_LEVEL_TOL).  `grid_starts` makes a grid of accessible starts.
+        The level Hbar = h shared by every orbit (the paper's chart).
+    starts : array of shape (N, 2), (N, 3) or (N, 4), or states (N, dim), or an int
+        The paper's chart: (theta0, ptheta0[, psi0[, p_psi0]]) per orbit; without p_psi0 it is solved for
+        (`root`), with it the start must lie on the level (within START_LEVEL_TOL).  `grid_starts` makes a grid of
+        accessible starts.  Any model: its states (N, dim), or N seeded perturbations of its reference state, put
+        on the level of `level_of` (default the reference state: one level for the portrait).
     iterates : int
         Section points per orbit.
     indicator : {"growth_exponent", "lyap", "fli"} or None
         The colour of an orbit (magrod.chaos.indicators; chaotic iff growth_exponent > 3); None: no indicator.
     t_indicator : float
         Integration time of the indicator.
-    root, direction, t_max, workers, progress
+    root, direction, t_max, workers, progress, model, level_of, seed, **overrides
         As in `poincare_section` (workers: threads, default all cores).
 
     Returns
@@ -253,8 +264,13 @@ def section_portrait(params, h=None, *, starts, iterates=1000, indicator="growth
         raise ParameterError("indicator", f"must be one of {', '.join(INDICATORS)} or None, got {indicator!r}")
     if indicator is not None and not require_finite("t_indicator", t_indicator) > 0:
         raise ParameterError("t_indicator", f"must be > 0, got {t_indicator}")
-    if isinstance(params, (list, tuple)):
-        raise ParameterError("params", "one rod per portrait: give a RodParams or a panel, and the starts")
+    if isinstance(system, (list, tuple)):
+        raise ParameterError("system", "one rod per portrait: give a System, a RodParams or a panel, and the starts")
+    sys_, params = resolve(system, model, overrides)
+    if state_path(sys_, params, None, None, h, None, starts):
+        return _model_portrait(sys_, starts, t0, iterates=iterates, indicator=indicator, t_indicator=t_indicator,
+                               direction=direction, t_max=t_max, workers=workers, progress=progress,
+                               level_of=level_of, seed=seed)
     params_r, key, h, *_ = resolve_start(params, h, 0.5, 0.0, 0.0)
     if h is None and not (np.ndim(starts) == 2 and np.shape(starts)[1] == 4):
         raise ParameterError("h", "give the energy level h of the portrait (or p_psi0 as a fourth column)")
@@ -270,7 +286,34 @@ def section_portrait(params, h=None, *, starts, iterates=1000, indicator="growth
     msg = "ok" if not bad else f"{len(bad)} of {len(orbits)} orbits failed (first: orbit {bad[0]}: " \
                                f"{orbits[bad[0]].message})"
     return SectionPortrait(not bad, msg, params_r, float(orbits[0].h), table, orbits, indicator, values,
-                           float(t_indicator) if indicator is not None else None, time.perf_counter() - t0, key)
+                           float(t_indicator) if indicator is not None else None, time.perf_counter() - t0, key,
+                           system=sys_)
+
+
+def _model_portrait(system, starts, t0, *, iterates, indicator, t_indicator, direction, t_max, workers, progress,
+                    level_of, seed) -> SectionPortrait:
+    """A portrait from body-frame states (any model): one level (that of `level_of`, default the reference
+    state's), the one section engine, the one indicator engine on the starts."""
+    if level_of is None:
+        level_of = np.asarray(system.code.names.REFERENCE, float)
+    orbits = poincare_sections(system, starts=starts, level_of=level_of, seed=seed, iterates=iterates,
+                               direction=direction, t_max=t_max, workers=workers, progress=progress)
+    x0 = np.array([_start_state(r) for r in orbits])
+    values = np.full(len(orbits), np.nan)
+    if indicator is not None:
+        ind = model_indicators(system, x0.T, t_max=float(t_indicator))
+        values = np.where(ind.status == 0, getattr(ind, indicator), np.nan)
+    bad = [i for i, r in enumerate(orbits) if not r.success]
+    msg = "ok" if not bad else f"{len(bad)} of {len(orbits)} orbits failed (first: orbit {bad[0]}: " \
+                               f"{orbits[bad[0]].message})"
+    return SectionPortrait(not bad, msg, dict(system.params), float(orbits[0].h), x0, orbits, indicator, values,
+                           float(t_indicator) if indicator is not None else None, time.perf_counter() - t0, None,
+                           system=system)
+
+
+def _start_state(r) -> np.ndarray:
+    """The start of a model's section orbit (its StateStart's x0, kept in the result's extra)."""
+    return np.asarray(r.extra["x0"], float)
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -304,6 +347,7 @@ class OrbitDiagram(Result):
     orbits: list = field(default_factory=list)  # one PoincareResult per value; None where no_root
     base: str | None = None
     no_root: np.ndarray | None = None  # (M,) bool: the start is not on the level at this value (nothing computed)
+    system: object = None  # the System whose parameter is varied (its base values)
 
     _repr_fields = ("parameter", "n_values", "iterates", "coordinate", "worst_dH", "wall_s")
 
@@ -323,7 +367,10 @@ class OrbitDiagram(Result):
 
     def coordinate_values(self, coordinate=None) -> np.ndarray:
         """The plotted coordinate of every point (K,)."""
-        return self.points[:, COORDINATES[coordinate or self.coordinate]]
+        c = coordinate or self.coordinate
+        if self.points.shape[1] == 4 and c in COORDINATES:
+            return self.points[:, COORDINATES[c]]
+        return self.points[:, systems.model_body(self.system).state.index(c)]
 
     def summary(self) -> dict:
         return jsonable({"success": self.success, "message": self.message, "parameter": self.parameter,
@@ -370,26 +417,55 @@ def _monotone_values(values) -> np.ndarray:
     return v
 
 
-def orbit_diagram(parameter, values, *, base="4a", h=None, theta0=None, ptheta0=None, psi0=None, iterates=500,
-                  transient=0, coordinate="theta", root="smallest", direction="positive", t_max=None, marks=None,
-                  workers=None, progress=None) -> OrbitDiagram:
+_UNSET = object()
+
+
+def _diagram_args(system, parameter, values, base):
+    """(system, parameter, values) from orbit_diagram(system, parameter, values) or the older forms
+    orbit_diagram(parameter, values, base=...) and base= (deprecated, one warning)."""
+    import warnings
+
+    if values is None and parameter is not None and not isinstance(parameter, str) and not callable(parameter):
+        warnings.warn("orbit_diagram(parameter, values, base=...) is deprecated: call orbit_diagram(system, "
+                      "parameter, values)", DeprecationWarning, stacklevel=3)
+        system, parameter, values = (None if base is _UNSET else base), system, parameter
+        return ("4a" if system is None else system), parameter, values
+    if base is not _UNSET:
+        if system is not None:
+            raise TypeError("orbit_diagram() got both a system and base= (deprecated)")
+        warnings.warn("orbit_diagram(base=...) is deprecated: the argument is now called system",
+                      DeprecationWarning, stacklevel=3)
+        system = base
+    return ("4a" if system is None else system), parameter, values
+
+
+def orbit_diagram(system=None, parameter=None, values=None, *, base=_UNSET, h=None, theta0=None, ptheta0=None,
+                  psi0=None, iterates=500, transient=0, coordinate=None, root="smallest", direction="positive",
+                  t_max=None, marks=None, workers=None, progress=None, model=None, x0=None) -> OrbitDiagram:
     """Orbit diagram: the section points sin(psi) = 0 of one orbit per parameter value, against the parameter.
 
     Parameters
     ----------
+    system : System, str, Panel or RodParams
+        What is studied, and the values the parameter is varied from: a paper panel (its rod, level and start;
+        default Figure 4(a): h = 0.9, theta0 = 0.1, pbar_theta0 = 0.5), a RodParams (give h, theta0, ptheta0), or
+        any model (a System, a name or a model file): its section from `x0` (default its reference state), put on
+        its own level of H and the Casimirs at each value.  (The older form orbit_diagram(parameter, values,
+        base=...) is deprecated.)
     parameter : str or callable
-        A model parameter (m, mu, gamma, delta, lam) varied from `base`, or params_fn(value) -> RodParams (or a
-        Panel, which then also gives the level and start).
+        A parameter of the model varied from `system`'s values (the paper's rod: m, mu, gamma, delta, lam), or,
+        for the paper's rod, params_fn(value) -> RodParams (or a Panel, which then also gives the level and start).
     values : array of shape (M,)
         Strictly monotone parameter values.
-    base : str, Panel or RodParams
-        The rod, level and start the values vary (default Figure 4(a): h = 0.9, theta0 = 0.1, pbar_theta0 = 0.5).
+    model, x0
+        Any model: the model when `system` is a dict of its values; the start state (dim,).
     h, theta0, ptheta0, psi0 : float, optional
         Override the base's level and start (needed when base is a RodParams).
     iterates : int
         Section points per value, after dropping the first `transient`.
-    coordinate : {"theta", "ptheta", "psi", "ppsi"}
-        The coordinate plotted against the parameter.
+    coordinate : {"theta", "ptheta", "psi", "ppsi"} or a state name
+        The coordinate plotted against the parameter (default theta; any other model: its second state
+        component).
     marks : dict, optional
         {label: value} drawn as vertical lines (e.g. the paper's panels).
     root, direction, t_max, workers, progress
@@ -411,7 +487,7 @@ def orbit_diagram(parameter, values, *, base="4a", h=None, theta0=None, ptheta0=
     Examples
     --------
     >>> import magrod as mr
-    >>> od = mr.orbit_diagram("lam", [0.135, 0.16, 0.186], iterates=40)
+    >>> od = mr.orbit_diagram("4a", "lam", [0.135, 0.16, 0.186], iterates=40)
     >>> od.success, od.values.size, od.points.shape
     (True, 3, (120, 4))
 
@@ -423,14 +499,26 @@ def orbit_diagram(parameter, values, *, base="4a", h=None, theta0=None, ptheta0=
     500 iterates), plus one energy-root solve per value (~1-8 ms each) before the lanes start.
     """
     t0 = time.perf_counter()
+    system, parameter, values = _diagram_args(system, parameter, values, base)
     v = _monotone_values(values)
+    if not callable(parameter):
+        sys_, base = resolve(system, model)
+        if not sys_.is_paper or x0 is not None or (isinstance(base, RodParams) and h is None and theta0 is None
+                                                   and ptheta0 is None):
+            return _model_diagram(sys_, parameter, v, x0, t0, iterates=iterates, transient=transient,
+                                  coordinate=coordinate, direction=direction, t_max=t_max, marks=marks,
+                                  workers=workers, progress=progress)
+    else:
+        base = system
+    coordinate = "theta" if coordinate is None else coordinate
     if coordinate not in COORDINATES:
         raise ParameterError("coordinate", f"must be one of {', '.join(COORDINATES)}, got {coordinate!r}")
     iterates = require_positive_int("iterates", iterates)
     transient = int(transient)
     if transient < 0 or transient != float(transient):
         raise ParameterError("transient", f"must be an integer >= 0, got {transient!r}")
-    if isinstance(base, (str, Panel)):
+    if isinstance(base, (str, Panel)) or (base is not None and not isinstance(base, RodParams)
+                                          and getattr(base, "key", None)):
         P = panel(base)
         base_params, base_key = P.params, P.key
         h = P.h if h is None else h
@@ -521,4 +609,71 @@ def orbit_diagram(parameter, values, *, base="4a", h=None, theta0=None, ptheta0=
                         np.array([nan if r is None else r.max_abs_dH for r in orbits]),
                         np.array([nan if r is None else r.final_time for r in orbits]), ok, float(P0.h),
                         float(P0.theta0), float(P0.ptheta0), float(P0.psi0), iterates, transient, coordinate,
-                        time.perf_counter() - t0, dict(marks or {}), orbits, base_key, no_root)
+                        time.perf_counter() - t0, dict(marks or {}), orbits, base_key, no_root,
+                        as_system(base_params)[0])
+
+
+def _model_diagram(system, parameter, v, x0, t0, *, iterates, transient, coordinate, direction, t_max, marks,
+                   workers, progress) -> OrbitDiagram:
+    """An orbit diagram of any model over one of its parameters: per value the model's start (x0, default its
+    reference state) on its own level there (section.level_starts), all values in the SIMD lanes of the one
+    section engine."""
+    from .section import SectionOptions, StateStart, _check_model_options, _refuse, _run_lanes, project_to_level
+
+    mb = systems.model_body(system)
+    if not isinstance(parameter, str) or parameter not in mb.params:
+        raise ParameterError("parameter", f"must be a parameter of the model {system.model!r} "
+                                          f"({', '.join(mb.params)}), got {parameter!r}")
+    coordinate = mb.state[1] if coordinate is None else coordinate
+    if coordinate not in mb.state:
+        raise ParameterError("coordinate", f"must be a state variable of {system.model!r} ({', '.join(mb.state)}), "
+                                           f"got {coordinate!r}")
+    iterates = require_positive_int("iterates", iterates)
+    transient = int(transient)
+    if transient < 0:
+        raise ParameterError("transient", f"must be an integer >= 0, got {transient!r}")
+    start = np.asarray(system.code.names.REFERENCE if x0 is None else x0, float)
+    if start.shape != (mb.dim,) or not np.all(np.isfinite(start)):
+        raise ParameterError("x0", f"must be a finite state of {mb.dim} components {mb.state}")
+    opts = SectionOptions(iterates=iterates + transient, t_max=t_max, direction=direction)
+    _check_model_options(system, opts)
+    starts, no_root = [], np.zeros(v.size, bool)
+    for i, x in enumerate(v):
+        try:
+            si = system.replace(**{parameter: float(x)})
+        except ParameterError as exc:
+            raise ParameterError("values", f"value {i} = {x:g}: {exc.name}: {exc.message}") from None
+        g0 = np.asarray(mb.level(start, si.array()), float)
+        try:
+            starts.append(StateStart(si, project_to_level(si, start, g0), g0, f"{parameter}={x:g}"))
+        except ParameterError:
+            no_root[i] = True
+    orbits_run = _run_lanes(starts, opts, workers, progress) if starts else []
+    for r in orbits_run:
+        if r.success and not r.accuracy_checks()["passed"]:
+            _refuse(r)
+    it = iter(orbits_run)
+    orbits = [None if nr else next(it) for nr in no_root]
+    idx, pts = [np.zeros(0, np.int32)], [np.zeros((0, mb.dim))]
+    for i, r in enumerate(orbits):
+        if r is not None:
+            keep = r.points[transient:]
+            idx.append(np.full(keep.shape[0], i, dtype=np.int32))
+            pts.append(keep)
+    ok = np.array([r is not None and r.success for r in orbits])
+    failed = [i for i, r in enumerate(orbits) if r is not None and not r.success]
+    parts = []
+    if failed:
+        parts.append(f"{len(failed)} of {len(orbits)} orbits failed (first: value {v[failed[0]]:g}: "
+                     f"{orbits[failed[0]].message})")
+    if no_root.any():
+        parts.append(f"{int(no_root.sum())} of {no_root.size} values: the start cannot be put on its level (marked "
+                     f"no_root)")
+    nan = float("nan")
+    return OrbitDiagram(not failed and not no_root.all(), "; ".join(parts) or "ok", parameter, v,
+                        np.concatenate(idx), np.concatenate(pts),
+                        np.array([0 if r is None else r.n_points for r in orbits]),
+                        np.array([nan if r is None else r.max_abs_dH for r in orbits]),
+                        np.array([nan if r is None else r.final_time for r in orbits]), ok,
+                        float(orbits_run[0].h) if orbits_run else nan, nan, nan, nan, iterates, transient, coordinate,
+                        time.perf_counter() - t0, dict(marks or {}), orbits, None, no_root, system)

@@ -12,7 +12,7 @@ SectionOptions(iterates, t_max, direction, branch, formulation, precision, tol, 
 section_points(start, options, *, cancel=None) -> SectionPoints: the one section loop as a stream of SectionChunk;
              .result is the PoincareResult (poincare_section drains it; the explorer draws it as it comes).  The
              lanes of batch.py hand their crossings to the same _Orbit (branch filter, buffer, messages, assembly)
-run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.core.printed.PANELS), threads
+run_panels(keys, ...)                   -> {panel: PoincareResult} for paper panels (magrod.paper.printed.PANELS), threads
 orbit_stretch(res, dt=0.05)             -> the axial stretch v3 along the orbit (min, fraction <= 0; two forms)
 (figures: magrod/figures/poincare.py; files: PoincareResult.arrays()/summary())
 
@@ -71,9 +71,11 @@ from ..generated import scalars
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.limits import LIMITS
-from ..core.printed import Panel, panel, panel_kwargs, with_overrides
+from ..paper.printed import Panel, panel, with_overrides
 from ..core.results import Result
-from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, ROOT_XTOL, START_LEVEL_TOL
+from ..core.deprecation import renamed_keywords
+from ..core.system import as_system
+from ..core.tolerances import CASIMIR_TOL, ENERGY_TOL, MODEL_LEVEL_TOL, ROOT_XTOL, START_LEVEL_TOL
 
 DIRECTIONS = systems.DIRECTIONS
 BRANCHES = ("any", "0", "pi")
@@ -291,6 +293,7 @@ class PoincareResult(Result):
     stretch: dict | None = None  # the axial stretch sampled along the run (stretch_dt); summary only, not arrays()
     retried_without_jit_cache: bool = False  # verify=True repeated the run with freshly compiled code
     panel: str | None = None
+    system: object = None  # the System studied (core.system.System)
 
     _repr_fields = ("panel", "n_points", "h", "p_psi0", "final_time", "max_abs_dH", "casimir_drift", "wall_s")
 
@@ -318,7 +321,10 @@ class PoincareResult(Result):
         ({"npz": key, "shape", "dtype"}; `save()` or magrod poincare --out writes them to .npz)."""
         from ..core.results import array_refs, jsonable
 
-        return {**jsonable(self.summary()), "arrays": array_refs(self.arrays())}
+        d = {**jsonable(self.summary()), "arrays": array_refs(self.arrays())}
+        if self.system is not None:
+            d["system"] = self.system.to_dict()
+        return d
 
     def to_xarray(self):
         """The section points as an xarray.Dataset over the iterate index (attributes: the summary)."""
@@ -347,7 +353,9 @@ class PoincareResult(Result):
         `passed` is both (and finite)."""
         energy_tol = ENERGY_TOL if energy_tol is None else energy_tol
         casimir_tol = CASIMIR_TOL if casimir_tol is None else casimir_tol
-        e_ok = bool(np.isfinite(self.max_abs_dH) and self.max_abs_dH <= energy_tol)
+        # a model's level is checked relative to the size of H's terms at the start (at least 1)
+        e_scale = self.extra.get("energy_scale", 1.0) if isinstance(self.extra, dict) else 1.0
+        e_ok = bool(np.isfinite(self.max_abs_dH) and self.max_abs_dH <= energy_tol * e_scale)
         c = self.casimir_drift
         c_ok = c is None or bool(np.isfinite(c) and c <= casimir_tol)
         return {"energy_tol": energy_tol, "casimir_tol": casimir_tol, "energy_ok": e_ok, "casimir_ok": c_ok,
@@ -355,8 +363,10 @@ class PoincareResult(Result):
 
     def summary(self) -> dict:
         """JSON-able metadata (everything except the per-point arrays)."""
-        return {"success": self.success, "message": self.message, "panel": self.panel,
-                "parameters": self.params.to_dict(),
+        model = {} if isinstance(self.params, RodParams) else {"model": self.system.model,
+                                                                "state_names": list(systems.model_body(self.system).state)}
+        return {"success": self.success, "message": self.message, "panel": self.panel, **model,
+                "parameters": self.params.to_dict() if isinstance(self.params, RodParams) else dict(self.params),
                 "h": self.h, "theta0": self.theta0, "ptheta0": self.ptheta0, "psi0": self.psi0,
                 "p_psi0": self.p_psi0, "roots": [float(r) for r in self.roots], "root_index": self.root_index,
                 "formulation": self.formulation, "direction": self.direction, "branch": self.branch_filter,
@@ -443,15 +453,107 @@ class SectionStart:
                 f"fig:poincare1: the smaller root)")
 
 
-def section_start(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
-                  **overrides) -> SectionStart:
+@dataclass(frozen=True, eq=False)
+class StateStart:
+    """A launch point of a section of any model in its body frame: the System, the state x0 (dim,) and the level
+    g0 = (H, C1, ...) the orbit lies on (`level_starts` builds them: the starts projected onto one level).  The
+    paper's rod's chart starts are `SectionStart`s; both feed the one section loop (`_Orbit`)."""
+
+    system: object
+    x0: np.ndarray
+    level: np.ndarray
+    panel: str | None = None
+
+    @property
+    def h(self) -> float:
+        return float(self.level[0])
+
+    def body_state(self, fp_type=float) -> np.ndarray:
+        return self.x0 if fp_type is float else [fp_type(v) for v in self.x0]
+
+
+LEVEL_TOL = MODEL_LEVEL_TOL  # Gauss-Newton projection of a start onto the level (core/tolerances.py)
+PERTURBATION = 0.05  # size of the seeded perturbations of a model's reference state (default starts)
+
+
+def project_to_level(system, x, g0, max_steps: int = 50) -> np.ndarray:
+    """x moved onto the level g(x) = g0 of (H, C1, ...) of the System's model by least-norm Gauss-Newton steps
+    with the generated gradients, to |g(x) - g0| <= LEVEL_TOL (relative to the size of the terms of g at x when
+    they are large).  ParameterError("x0") if it does not converge (a singular level)."""
+    mb = systems.model_body(system)
+    pars = system.array()
+    n = mb.dim
+    x = np.array(x, dtype=float)
+    for _ in range(max_steps):
+        r = mb.level(x, pars) - g0
+        if np.max(np.abs(r) / np.maximum(1.0, _level_scale(system, x))) <= LEVEL_TOL:
+            return x
+        G = mb.level_gradients(x, pars).reshape(len(g0), n)
+        try:
+            x = x - G.T @ np.linalg.solve(G @ G.T, r)
+        except np.linalg.LinAlgError:
+            break
+    res = float(np.max(np.abs(mb.level(x, pars) - g0)))
+    raise ParameterError("x0", f"could not put a start on the level of H and the Casimirs of {mb.name!r} (residual "
+                               f"{res:.2e}); the level may be singular there")
+
+
+def _level_scale(system, x) -> np.ndarray:
+    """The size of the terms of (H, C1, ...) at x (systems.term_scale): what a level residual is relative to."""
+    return np.concatenate([systems.term_scale(system, "H", x), systems.term_scale(system, "casimirs", x)])
+
+
+def level_starts(system, starts=None, *, level_of=None, seed: int = 0, name: str = "starts") -> list:
+    """StateStarts of a model's section on one level of H and the Casimirs.
+
+    starts: None (the model's reference state), an int N (N seeded perturbations of size PERTURBATION of the
+    reference state, `seed`), or states of shape (dim,) or (N, dim); each is projected onto the level of
+    `level_of` (default: the reference state for generated starts, else each start's own level).
+    ParameterError naming `name` or level_of on a wrong shape or non-finite values."""
+    mb = systems.model_body(system)
+    ref = np.array(system.code.names.REFERENCE if level_of is None else level_of, dtype=float)
+    if ref.shape != (mb.dim,) or not np.all(np.isfinite(ref)):
+        raise ParameterError("level_of", f"must be a finite state of {mb.dim} components {mb.state}")
+    pars = system.array()
+    if starts is None or (isinstance(starts, (int, np.integer)) and not isinstance(starts, bool)):
+        n = 1 if starts is None else int(starts)
+        if not 1 <= n <= MAX_ORBITS:
+            raise ParameterError(name, f"must be a number of orbits in [1, {MAX_ORBITS}] or states, got {n}")
+        g0 = np.asarray(mb.level(ref, pars), dtype=float)
+        if starts is None:
+            xs = [project_to_level(system, ref, g0)]
+        else:
+            rng = np.random.default_rng(seed)
+            xs = [project_to_level(system, ref + PERTURBATION * rng.standard_normal(mb.dim), g0) for _ in range(n)]
+        return [StateStart(system, x, g0) for x in xs]
+    try:
+        a = np.asarray(starts, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(name, f"must be states of shape (N, {mb.dim}) ({', '.join(mb.state)})") from None
+    a = np.atleast_2d(a)
+    if a.ndim != 2 or a.shape[1] != mb.dim or not np.all(np.isfinite(a)):
+        raise ParameterError(name, f"must be finite states of shape (N, {mb.dim}) ({', '.join(mb.state)}), got "
+                                   f"shape {a.shape}")
+    _count_check(a.shape[0], name)
+    out = []
+    for x in a:
+        g0 = np.asarray(mb.level(ref if level_of is not None else x, pars), dtype=float)
+        out.append(StateStart(system, project_to_level(system, x, g0), g0))
+    return out
+
+
+@renamed_keywords(params="system")
+def section_start(system=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
+                  model=None, x0=None, level_of=None, **overrides) -> SectionStart:
     """The validated start of a Poincare section: the one resolver of `poincare_section`, `poincare_sections`
     and the explorer.
 
     Parameters
     ----------
-    params : RodParams, Panel or str
-        The rod, or a paper panel whose level and start fill in what is not given.
+    system : System, RodParams, Panel or str
+        The rod, or a paper panel whose level and start fill in what is not given; any other model (a System, a
+        name or a model file): its start `x0` (default its reference state) on the level of `level_of` (default
+        its own), a StateStart.
     h : float, optional
         Energy level; pbar_psi0 is solved for (`root` picks one of the real roots).
     theta0, ptheta0, psi0 : float
@@ -485,8 +587,10 @@ def section_start(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi
     -----
     The roots are those of `solve_p_psi` (a dense scan polished by brentq to the last ulp of Hbar).
     """
-    params, key, h, theta0, ptheta0, psi0 = resolve_start(with_overrides(params, overrides), h, theta0, ptheta0,
-                                                          psi0, p_psi0)
+    sys_, params = resolve(system, model, overrides)
+    if sys_ is not None and (x0 is not None or state_path(sys_, params, theta0, ptheta0, h, p_psi0)):
+        return level_starts(sys_, None if x0 is None else [x0], level_of=level_of, name="x0")[0]
+    params, key, h, theta0, ptheta0, psi0 = resolve_start(params, h, theta0, ptheta0, psi0, p_psi0)
     theta0, ptheta0, psi0, _ = _check_start(theta0, ptheta0, psi0)
     if p_psi0 is not None:
         p_psi0 = require_finite("p_psi0", p_psi0)
@@ -583,20 +687,63 @@ class SectionOptions:
         return self.formulation == "body" and self.precision is Precision.DOUBLE and self.stretch_dt is None
 
 
-def poincare_section(params=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
+def resolve(system, model=None, overrides=None, precision=None) -> tuple:
+    """(System, what the paper's chart path takes or None): the one conversion of a public function's first
+    argument (core.system.as_system), at its entry.  For the paper's rod the second item is the Panel (its level
+    and start fill in what is not given, its key labels the result) or the RodParams, with the keyword overrides
+    applied as before; a list of them (many orbits) is returned as the second item with System None.  For any
+    other model the second item is None."""
+    from ..paper.printed import PANELS
+    from ..core.system import System
+
+    overrides = dict(overrides or {})
+    if isinstance(system, (list, tuple)):
+        return None, with_overrides(system, overrides)
+    paperish = system is None or isinstance(system, (RodParams, Panel)) or (
+        isinstance(system, str) and system.lower() in PANELS)
+    if model is None and paperish:
+        legacy = with_overrides("4a" if system is None else system, overrides)
+        return as_system(legacy, precision=precision)[0], legacy
+    if isinstance(system, dict) and model is None:
+        raise ParameterError("system", "a dict of parameter values needs model= (the model they belong to)")
+    sys_, pan = as_system(system, model=model, precision=precision, **overrides)
+    if not sys_.is_paper:
+        return sys_, None
+    if pan is None and isinstance(system, System):
+        return sys_, sys_.rod
+    return sys_, pan if pan is not None else sys_.rod
+
+
+def state_path(system, params, theta0=None, ptheta0=None, h=None, p_psi0=None, starts=None) -> bool:
+    """Whether a call runs from body-frame states (`level_starts`: any model, the paper's rod included) rather than
+    from the paper's chart start (theta0, pbar_theta0, h): every model but the paper's; for the paper's rod, when
+    `starts` are its body states (N, 9) or a number of orbits, or when a RodParams comes without any chart start."""
+    if not system.is_paper:
+        return True
+    if isinstance(starts, (int, np.integer)) and not isinstance(starts, bool):
+        return True
+    if starts is not None:
+        return np.ndim(starts) in (1, 2) and np.shape(starts)[-1] == NBODY
+    return isinstance(params, RodParams) and theta0 is None and ptheta0 is None and h is None and p_psi0 is None
+
+
+@renamed_keywords(params="system")
+def poincare_section(system=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
                      root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION,
-                     precision=Precision.DOUBLE, tol=None, t_max=None, verify=True, pole_switch=(0.05, 0.1),
+                     precision=None, tol=None, t_max=None, verify=True, pole_switch=(0.05, 0.1),
                      radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None, starts=None, workers=None,
-                     model=None, **overrides):
+                     model=None, level_of=None, seed=0, **overrides):
     """Poincare section sin(psi) = 0 of one orbit of the reduced system (paper sec. 8, fig:poincare1/2), or of
     many orbits at once in the SIMD lanes of heyoka's batch integrator.
 
     Parameters
     ----------
-    params : RodParams, Panel or str, or a list of them
-        The rod, or a paper panel ("4a" .. "5d", or `magrod.panel("4a")`), whose parameters and start are used
-        unless h, theta0, ptheta0, psi0 are given.  A list (of panels, or of RodParams sharing the start given)
-        runs one orbit per entry and returns a list of results.
+    system : System, RodParams, Panel, str, or a list of them
+        What is studied (magrod.System, or what converts to it): a paper panel ("4a" .. "5d", or
+        `magrod.panel("4a")`), whose parameters and start are used unless h, theta0, ptheta0, psi0 are given; a
+        RodParams; a registered model name or a model file (its section in its body frame: `starts` are then its
+        states, see below); None: the paper's rod at Fig 4(a).  A list (of panels, or of RodParams sharing the start
+        given) runs one orbit per entry and returns a list of results (deprecated: `poincare_sections`).
     h : float, optional
         Energy level Hbar = h; pbar_psi0 is solved for (all real roots are reported, `root` picks one).
     theta0, ptheta0, psi0 : float or array of shape (N,)
@@ -639,12 +786,18 @@ def poincare_section(params=None, h=None, theta0=None, ptheta0=None, psi0=None, 
         Sample the axial stretch v3 every stretch_dt along the same integration (result.stretch).
 
     model : str or path, optional
-        A rod model of the family (`magrod models`: kirchhoff, anisotropic, curved, extensible, magnetic,
-        magnetic-extensible) or a model file ./my_rod.py: its energy-level section in the body frame
-        (magrod.chaos.model_chaos.model_section; the keyword overrides, or `params` as a dict, are then the model's
-        parameters, e.g. ``poincare_section(model="anisotropic", B2=3)``, `starts` its states of shape (N, dim), and
-        the result a ModelSection).  formulation="reduced" needs the model's S^1
-        symmetry: an error names the model and the reason otherwise.
+        The model when `system` is a dict of its parameter values (the older spelling ``poincare_section(model=
+        "anisotropic", B2=3)`` is ``poincare_section(mr.System("anisotropic", B2=3))``).  For any model but the
+        paper's rod the section is its own section function crossed upwards (generated body.py, or SECTION of a
+        model file), in its body frame: `starts` are its states (dim,) or (N, dim), or an int N (N seeded
+        perturbations of its reference state), projected onto the level of H and the Casimirs of `level_of`
+        (default: the reference state, or each start's own); points are the states at the crossings.
+        formulation="reduced" needs the model's S^1 chart, branch the Euler-angle chart: an error names the model
+        and the reason otherwise.
+    level_of : array of shape (dim,), optional
+        Any model: the state whose level of H and the Casimirs the starts are put on.
+    seed : int
+        Any model: the seed of the generated starts (starts=N).
 
     Returns
     -------
@@ -668,7 +821,7 @@ def poincare_section(params=None, h=None, theta0=None, ptheta0=None, psi0=None, 
     >>> sec = mr.poincare_section("4a", iterates=100, lam=0.15)  # the panel's start on another rod
     >>> sec.panel, sec.params.lam
     ('4a, lam=0.15', 0.15)
-    >>> mr.poincare_section(model="anisotropic", iterates=20).energy_error < 1e-12   # another rod model (issue 26)
+    >>> bool(mr.poincare_section("anisotropic", iterates=20).max_abs_dH < 1e-12)   # another rod model
     True
 
     Many orbits: `poincare_sections` (a list, always).
@@ -687,19 +840,32 @@ def poincare_section(params=None, h=None, theta0=None, ptheta0=None, psi0=None, 
     batched orbit equals its scalar run (tests/test_batch.py: to round-off over the first crossings, until
     chaotic divergence).  Other configurations run the scalar path per start on `workers` threads.
     """
-    if model is not None:  # issue 26: the model family; keyword overrides are the model's own parameters
-        from .model_chaos import magnetic_chart_start, model_parameters, section_for_model
+    system, params = resolve(system, model, overrides, precision)
+    if precision is None:
+        precision = Precision.DOUBLE if system is None else system.precision
+    if system is not None and state_path(system, params, theta0, ptheta0, h, p_psi0, starts):
+        if formulation == "reduced":
+            from .charts import magnetic_chart_start
 
-        mp = model_parameters(params, overrides)
-        chart = magnetic_chart_start(model, mp, starts) if formulation == "reduced" else None
-        if chart is not None:  # the magnetic rod's Euler chart is the paper's at gamma = delta = 0
-            return poincare_section(chart[0], **chart[1], iterates=iterates, formulation="reduced", tol=tol,
-                                    t_max=t_max, verify=verify)
-        return section_for_model(model, mp, formulation, iterates=iterates, tol=tol, t_max=t_max, verify=verify,
-                                 starts=starts)
-    if params is None:
-        raise ParameterError("params", "required: a RodParams, a panel name or a list of them (or model=...)")
-    params = with_overrides(params, overrides)
+            chart = magnetic_chart_start(system, starts)
+            if chart is not None:  # the magnetic rod's Euler chart is the paper's at gamma = delta = 0
+                return poincare_section(chart[0], **chart[1], iterates=iterates, formulation="reduced", tol=tol,
+                                        t_max=t_max, verify=verify)
+        options = SectionOptions(iterates=iterates, t_max=t_max, direction=direction, branch=branch,
+                                 formulation=formulation, precision=precision, tol=tol, stretch_dt=stretch_dt)
+        _check_model_options(system, options)
+        many = starts is not None and (np.ndim(starts) == 2 and np.shape(starts)[0] > 1
+                                       or isinstance(starts, (int, np.integer)) and int(starts) > 1)
+        out = _model_sections(system, starts, options, level_of=level_of, seed=seed, workers=workers,
+                              progress=progress, verify=verify)
+        if many:
+            import warnings
+
+            warnings.warn("poincare_section with many orbits returns a list: call magrod.poincare_sections instead "
+                          "(this form of poincare_section goes away in the next release)", DeprecationWarning,
+                          stacklevel=2)
+            return out
+        return out[0]
     if _is_many(params, theta0, ptheta0, psi0, starts):
         import warnings
 
@@ -737,21 +903,23 @@ def _verified(start: SectionStart, options: SectionOptions, progress, verify: bo
     return res
 
 
-def poincare_sections(systems, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
+@renamed_keywords(systems="system", params="system")
+def poincare_sections(system=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, iterates=10_000,
                       root=DEFAULT_ROOT, direction="positive", branch="any", formulation=DEFAULT_FORMULATION,
-                      precision=Precision.DOUBLE, tol=None, t_max=None, verify=True, pole_switch=(0.05, 0.1),
+                      precision=None, tol=None, t_max=None, verify=True, pole_switch=(0.05, 0.1),
                       radicand_switch=(1e-3, 2e-3), progress=None, stretch_dt=None, starts=None, workers=None,
-                      **overrides) -> list:
+                      model=None, level_of=None, seed=0, **overrides) -> list:
     """Poincare sections sin(psi) = 0 of many orbits at once (the SIMD lanes of heyoka's batch integrator): always
     a list of PoincareResult, one per orbit, in the order given.
 
     Parameters
     ----------
-    systems : RodParams, Panel or str, or a list of them
+    system : System, RodParams, Panel or str, or a list of them
         One rod or panel with many starts (`starts`, or arrays theta0/ptheta0/psi0), or a list of rods/panels
-        (one orbit each, each with the start given or its panel's).
+        (one orbit each, each with the start given or its panel's); or any model (a System, a model name or
+        file) with `starts` its states (N, dim) or an int N.
     h, theta0, ptheta0, psi0, p_psi0, starts, iterates, root, direction, branch, formulation, precision, tol,
-    t_max, verify, pole_switch, radicand_switch, progress, stretch_dt, workers, **overrides
+    t_max, verify, pole_switch, radicand_switch, progress, stretch_dt, workers, model, level_of, seed, **overrides
         As in `poincare_section`.
 
     Returns
@@ -778,7 +946,15 @@ def poincare_sections(systems, h=None, theta0=None, ptheta0=None, psi0=None, *, 
     integrator's steps (tests/test_batch.py).  Other configurations run the scalar path per start on `workers`
     threads.  Cost: the 8 paper panels x 10 000 iterates take ~2 s on 2 cores (benchmarks/README.md).
     """
-    systems_ = with_overrides(systems, overrides)
+    sys_, systems_ = resolve(system, model, overrides, precision)
+    if precision is None:
+        precision = Precision.DOUBLE if sys_ is None else sys_.precision
+    if sys_ is not None and state_path(sys_, systems_, theta0, ptheta0, h, p_psi0, starts):
+        options = SectionOptions(iterates=iterates, t_max=t_max, direction=direction, branch=branch,
+                                 formulation=formulation, precision=precision, tol=tol, stretch_dt=stretch_dt)
+        _check_model_options(sys_, options)
+        return _model_sections(sys_, starts, options, level_of=level_of, seed=seed, workers=workers,
+                               progress=progress, verify=verify)
     if not _is_many(systems_, theta0, ptheta0, psi0, starts):
         systems_ = [systems_]
     return _many_sections(systems_, h, theta0, ptheta0, psi0, starts=starts, p_psi0=p_psi0, iterates=iterates,
@@ -887,7 +1063,8 @@ def _run_lanes(starts, options: SectionOptions, workers, progress) -> list:
     from . import batch
 
     orbits = [_Orbit(s, options, index=k, progress=progress) for k, s in enumerate(starts)]
-    batch.run(orbits, direction=options.direction, tol=options.taylor_tol, workers=workers)
+    key = systems.model_key(starts[0].system) if starts and isinstance(starts[0], StateStart) else systems.PAPER_KEY
+    batch.run(orbits, direction=options.direction, tol=options.taylor_tol, workers=workers, key=key)
     return [o.result for o in orbits]
 
 
@@ -923,6 +1100,24 @@ def _many_sections(params, h, theta0, ptheta0, psi0, *, starts, p_psi0, iterates
     return out
 
 
+def _model_sections(system, starts, options: SectionOptions, *, level_of=None, seed=0, workers=None, progress=None,
+                    verify=True) -> list:
+    """Sections of any model (not the paper's chart): its starts on one level (`level_starts`), then the one
+    section loop, in the SIMD lanes for double precision (batch.py) or scalar per start (`SectionPoints`)."""
+    if workers is not None:
+        workers = require_positive_int("workers", workers)
+    todo = level_starts(system, starts, level_of=level_of, seed=seed)
+    if options.precision is Precision.DOUBLE:
+        out = _run_lanes(todo, options, workers, progress)
+    else:
+        out = [SectionPoints(s, options, progress=progress).run() for s in todo]
+    if verify:
+        for r in out:
+            if r.success and not r.accuracy_checks()["passed"]:
+                _refuse(r)
+    return out
+
+
 def _refuse(res) -> None:
     acc = res.accuracy_checks()
     res.success = False
@@ -936,6 +1131,7 @@ def _refuse(res) -> None:
 # scalar loop itself as a stream of chunks (poincare_section drains it, the explorer draws it as it comes)
 # ----------------------------------------------------------------------------------------------------------
 PROGRESS_EVERY = 200  # section points between two progress(n) calls
+START_CROSSING_T = 1e-12  # a model's event this close to t = 0 is its start lying on the section (not recorded)
 
 
 class _Orbit:
@@ -949,12 +1145,13 @@ class _Orbit:
 
     def __init__(self, start: SectionStart, options: SectionOptions, *, index=None, progress=None):
         self.start, self.options, self.index, self.progress = start, options, index, progress
-        self.pars = start.params.array()
+        model = isinstance(start, StateStart)
+        self.pars = start.system.array() if model else start.params.array()
         self.x0 = start.body_state(options.precision.fp_type)
         self.t_max = options.time_limit
         # the point buffer is made by the first record (a million queued lane orbits hold none) and grown by
         # doubling: iterates may be huge when t_max is the real limit
-        self.raw = np.full((0, NBODY), np.nan)
+        self.raw = np.full((0, len(self.x0) if model else NBODY), np.nan)
         self.times = np.zeros(0)
         self.frame = np.zeros(0, dtype=np.int8)
         self.n = self.reported = 0
@@ -975,9 +1172,13 @@ class _Orbit:
         """Record a kept crossing (a 4-D chart state for frame 0, a body state for frame 1); True once the
         requested number of iterates is reached."""
         n = self.n
+        if n == 0 and t <= START_CROSSING_T and isinstance(self.start, StateStart):
+            # a start landed on the section (a crossing of another run) meets its event at t ~ 1e-17 or not,
+            # by the sign of its residual: it is the start, never a crossing, so every start gives the same points
+            return False
         if n == self.raw.shape[0]:
             cap = min(self.options.iterates, max(4096, 2 * n))
-            self.raw = np.vstack([self.raw, np.full((cap - n, NBODY), np.nan)])
+            self.raw = np.vstack([self.raw, np.full((cap - n, self.raw.shape[1]), np.nan)])
             self.times = np.concatenate([self.times, np.zeros(cap - n)])
             self.frame = np.concatenate([self.frame, np.zeros(cap - n, dtype=np.int8)])
         self.raw[n, : len(state)] = state
@@ -990,8 +1191,9 @@ class _Orbit:
         return n >= self.options.iterates
 
     def time_limit_message(self) -> str:
+        what = "its section" if isinstance(self.start, StateStart) else "sin(psi) = 0"
         return (f"t_max = {self.t_max:g} reached after {self.n} of {self.options.iterates} iterates (max-time guard; "
-                f"raise t_max or check that the orbit crosses sin(psi) = 0)")
+                f"raise t_max or check that the orbit crosses {what})")
 
     def failure_message(self, t, outcome) -> str:
         return f"integration failed at t = {float(t):g} ({outcome}) after {self.n} iterates"
@@ -1002,8 +1204,9 @@ class _Orbit:
             self.progress(self.n - self.reported)
             self.reported = self.n
         n = self.n
-        res = _assemble(self.start, self.options, self.pars, self.raw[:n], self.times[:n], self.frame[:n],
-                        float(final_time), switches, success, message)
+        assemble = _assemble_model if isinstance(self.start, StateStart) else _assemble
+        res = assemble(self.start, self.options, self.pars, self.raw[:n], self.times[:n], self.frame[:n],
+                       float(final_time), switches, success, message)
         res.wall_s = time.perf_counter() - self.t0_wall
         self.result = res
         return res
@@ -1035,9 +1238,11 @@ class SectionPoints:
 
     def __init__(self, start: SectionStart, options: SectionOptions, *, cancel=None, progress=None, first=None,
                  every=None, verify=False):
-        if not isinstance(start, SectionStart):
+        if not isinstance(start, (SectionStart, StateStart)):
             raise ParameterError("start", f"must be a SectionStart (magrod.section_start), got "
                                           f"{type(start).__name__}")
+        if isinstance(start, StateStart):
+            _check_model_options(start.system, options)
         if not isinstance(options, SectionOptions):
             raise ParameterError("options", f"must be a SectionOptions, got {type(options).__name__}")
         self.start, self.options = start, options
@@ -1058,6 +1263,11 @@ class SectionPoints:
 
     def _chunk(self, lo: int, hi: int) -> SectionChunk:
         o = self._orbit
+        if isinstance(self.start, StateStart):
+            points = o.raw[lo:hi].copy()
+            dH = systems.model_body(self.start.system).level(np.ascontiguousarray(points.T), o.pars)[0] - \
+                self.start.h if hi > lo else np.zeros(0)
+            return SectionChunk(points, o.times[lo:hi], o.frame[lo:hi], dH, hi)
         points, dH, *_ = _chart_points(o.raw[lo:hi], o.frame[lo:hi], o.pars, self.start.h, casimirs=False)
         return SectionChunk(points, o.times[lo:hi], o.frame[lo:hi], dH, hi)
 
@@ -1069,13 +1279,21 @@ class SectionPoints:
         # the tolerance is fixed at construction, so it is part of the integrator cache key
         key = (opts.formulation, opts.direction, opts.pole_switch, opts.radicand_switch, opts.precision,
                opts.taylor_tol)
-        ta_r, ta_b = _integrators(*key)
+        if isinstance(self.start, StateStart):  # any model: its body frame, its section event
+            key = (systems.model_key(self.start.system), opts.direction, opts.precision, opts.taylor_tol)
+            systems.model_body(self.start.system)
+            ta_r, ta_b = None, _model_section_integrator(*key)
+            builder = _model_section_integrator
+        else:
+            ta_r, ta_b = _integrators(*key)
+            builder = _integrators
         with _IN_USE_LOCK:
             own = id(ta_b) in _IN_USE
             if not own:
                 _IN_USE.add(id(ta_b))
         if own:  # another stream is suspended on this thread's integrators (zip of two streams): build a pair
-            ta_r, ta_b = _integrators.__wrapped__(*key)
+            pair = builder.__wrapped__(*key)
+            ta_r, ta_b = pair if builder is _integrators else (None, pair)
         try:
             yield from self._loop(ta_r, ta_b)
         finally:
@@ -1088,16 +1306,15 @@ class SectionPoints:
         formulation, iterates = opts.formulation, opts.iterates
         pole_switch, radicand_switch = opts.pole_switch, opts.radicand_switch
         fp_type = opts.precision.fp_type
-        params, pars = start.params, o.pars
-        theta0, ptheta0, psi0, p_psi0 = start.theta0, start.ptheta0, start.psi0, start.p_psi0
+        params, pars = getattr(start, "params", None), o.pars
 
         def chart_ok_4d(th, pps, leave):
             i = 1 if leave else 0
             return np.sin(th) > pole_switch[i] and _radicand(params, pps) > radicand_switch[i]
 
-        if formulation == "reduced" and chart_ok_4d(theta0, p_psi0, False):
+        if formulation == "reduced" and chart_ok_4d(start.theta0, start.p_psi0, False):
             mode = FRAME_REDUCED
-            _set(ta_r, np.array([theta0, psi0, ptheta0, p_psi0]), 0.0, pars)
+            _set(ta_r, np.array([start.theta0, start.psi0, start.ptheta0, start.p_psi0]), 0.0, pars)
         else:
             mode = FRAME_BODY
             _set(ta_b, o.x0, 0.0, pars)
@@ -1163,15 +1380,16 @@ class SectionPoints:
             yield self._chunk(sent, o.n)
 
 
-def section_points(start, options=None, *, cancel=None, progress=None, first=8, every=0.04,
+@renamed_keywords(start="system")
+def section_points(system, options=None, *, cancel=None, progress=None, first=8, every=0.04,
                    verify=True) -> SectionPoints:
     """The Poincare section of one orbit as a stream: chunks of points as they are computed (the explorer's form
     of `poincare_section`; the same loop, the same integrator, hence the same points to the last bit).
 
     Parameters
     ----------
-    start : SectionStart
-        From `section_start`.
+    system : SectionStart, StateStart, or what `section_start` takes
+        The start (`section_start`'s result), or a system whose start `section_start` resolves.
     options : SectionOptions, optional
         Default SectionOptions() (10 000 iterates, body frame, double precision).
     cancel : threading.Event, optional
@@ -1210,6 +1428,7 @@ def section_points(start, options=None, *, cancel=None, progress=None, first=8, 
     handling and the assembly) serves this loop and the SIMD lanes alike, and `poincare_section` drains this
     stream.
     """
+    start = system if isinstance(system, (SectionStart, StateStart)) else section_start(system)
     return SectionPoints(start, SectionOptions() if options is None else options, cancel=cancel,
                          progress=progress, first=first, every=every, verify=verify)
 
@@ -1268,7 +1487,74 @@ def _assemble(start: SectionStart, options: SectionOptions, pars, raw, times, fr
         branch=branch_flag, psi_dot_sign=np.sign(psi_dot).astype(np.int8), frame=frame, dH=dH,
         body_points=body_points, section_residual=section_residual,
         max_abs_dH=float(np.max(np.abs(dH))) if n else 0.0, casimir_drift=casimir, final_time=final_time,
-        n_frame_switches=int(switches), wall_s=0.0, precision=options.precision, panel=start.panel)
+        n_frame_switches=int(switches), wall_s=0.0, precision=options.precision, panel=start.panel,
+        system=as_system(start.params, precision=options.precision)[0])
+
+
+def _assemble_model(start: StateStart, options: SectionOptions, pars, raw, times, frame, final_time, switches,
+                    success, message) -> PoincareResult:
+    """The PoincareResult of a model's orbit: points are the model's states at the crossings (N, dim); dH = H - h;
+    casimir_drift = max_k max |C_k - C_k0| / (the size of C_k's terms, systems.term_scale; at least 1): a drift
+    relative to what the Casimir is made of, never to its value (which may be 0, or huge)."""
+    system = start.system
+    mb = systems.model_body(system)
+    n = raw.shape[0]
+    x = np.ascontiguousarray(raw.T)
+    nan = float("nan")
+    if n:
+        g = mb.level(x, pars)
+        dH = g[0] - start.level[0]
+        scale = np.maximum(1.0, _level_scale(system, x))
+        casimir = float(np.max(np.abs(g[1:] - start.level[1:, None]) / scale[1:])) if mb.n_casimirs else 0.0
+        residual = mb.section(x, pars)[0]
+        # the sign of d/dt of the section function at the crossing: grad(section) . f
+        J = mb.rhs(x, pars)
+        G = _section_gradient(system)(x, pars)
+        sdot = np.sign(np.sum(G * J, axis=0)).astype(np.int8)
+    else:
+        dH, casimir, residual, sdot = np.zeros(0), None, np.zeros(0), np.zeros(0, np.int8)
+    h_scale = max(1.0, float(systems.term_scale(system, "H", start.x0)[0]))
+    extra = {"energy_scale": h_scale, "x0": [float(v) for v in start.x0]}
+    return PoincareResult(
+        success=success, message=message, params=dict(system.params), h=float(start.h), theta0=nan, ptheta0=nan,
+        psi0=nan, p_psi0=nan, roots=np.zeros(0), root_index=-1, formulation="body", direction=options.direction,
+        branch_filter=options.branch, tol=options.taylor_tol, iterates=options.iterates, t_max=options.time_limit,
+        points=raw.copy(), times=times, branch=np.ones(n, np.int8), psi_dot_sign=sdot, frame=frame, dH=dH,
+        body_points=raw.copy(), section_residual=residual, max_abs_dH=float(np.max(np.abs(dH))) if n else 0.0,
+        casimir_drift=casimir, final_time=final_time, n_frame_switches=0, wall_s=0.0, precision=options.precision,
+        extra=extra, panel=start.panel, system=system)
+
+
+@systems.cache
+def _section_gradient_key(key: str):
+    import heyoka as hy
+
+    mb = systems.body_of(key)
+    return systems.CFunc([hy.diff(mb.expr("section"), xj) for xj in mb.variables], mb.variables)
+
+
+def _section_gradient(system):
+    systems.model_body(system)
+    return _section_gradient_key(systems.model_key(system))
+
+
+@systems.per_thread
+def _model_section_integrator(key, direction, precision, tol):
+    """A model's scalar integrator with its section as a stopping terminal event (one per thread and key)."""
+    return systems._model_integrator.__wrapped__(key, (("section", direction),), precision, tol)
+
+
+def _check_model_options(system, options: SectionOptions) -> None:
+    """What a model's section can do: its body frame, every crossing of its section (the branch filter and the
+    stretch sampling are the paper's chart's)."""
+    if options.formulation != "body":
+        system.code.require_s1("the reduced (Euler-angle) formulation")
+    if options.branch != "any":
+        raise ParameterError("branch", f"the branch filter needs the Euler-angle chart (psi = 0 or pi), and the "
+                                       f"model {system.model!r} has none: its section is its own section function")
+    if options.stretch_dt is not None:
+        raise ParameterError("stretch_dt", f"the axial stretch sampler is the paper's rod's v3 = dH/dn3 in its "
+                                           f"chart; the model {system.model!r} has none")
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -1396,22 +1682,3 @@ def orbit_stretch(res: PoincareResult, *, dt=STRETCH_DT, precision=Precision.DOU
     out = _stretch_summary(sampler.acc, dt, T, np.dtype(fp_type).name, res, pars)
     out["sampled"] = "re-integrated (orbit_stretch)"
     return out
-
-
-# ----------------------------------------------------------------------------------------------------------
-# several panels at once
-# ----------------------------------------------------------------------------------------------------------
-def run_panels(keys, *, iterates=10_000, workers=2, progress=None, **kw) -> dict:
-    """Run several paper panels (magrod.core.printed.PANELS) concurrently in threads (heyoka's propagate releases the
-    GIL; each thread owns its integrators).  Returns {key: PoincareResult}.  progress: optional thread-safe
-    callable(n_new_points) (e.g. magrod.core.progress.bar)."""
-    keys = [str(k).lower() for k in keys]
-    for k in keys:
-        panel_kwargs(k)
-    iterates = require_positive_int("iterates", iterates)
-
-    def one(k):
-        return k, poincare_section(k, iterates=iterates, progress=progress, **kw)
-
-    with ThreadPoolExecutor(max_workers=max(1, int(workers))) as ex:
-        return dict(ex.map(one, keys))

@@ -38,7 +38,7 @@ from ..core.results import Result
 from ..core.tolerances import DRIFT_LIMIT
 from .indicators import DEFAULT_RENORM_DT, _steps, reference_system
 from .lyapunov import DEFAULT_T_MAX, body_start, check_run
-from .section import DEFAULT_ROOT
+from .section import DEFAULT_ROOT, level_starts, resolve, state_path
 
 GALI_ORDERS = (2, 3, 4)
 _W_SEED = 29  # the fixed generic start vectors of GALI (same on every machine)
@@ -133,8 +133,8 @@ class LyapunovSpectrum(Result):
 
     success: bool
     message: str
-    system: str
-    params: RodParams | None
+    control: str  # "body" (a rod model in its body frame) or the control system ("lorenz", "henon_heiles")
+    params: RodParams | dict | None
     panel: str | None
     x0: np.ndarray
     t_max: float
@@ -144,8 +144,9 @@ class LyapunovSpectrum(Result):
     history: np.ndarray
     max_abs_dH: float
     casimir_drift: float
+    system: object = None  # the System studied (None for a control system)
 
-    _repr_fields = ("system", "panel", "exponents", "t_max", "max_abs_dH")
+    _repr_fields = ("control", "panel", "exponents", "t_max", "max_abs_dH")
 
     @property
     def pairing(self) -> np.ndarray:
@@ -159,7 +160,7 @@ class LyapunovSpectrum(Result):
 
     @property
     def accuracy(self) -> dict:
-        ok = bool(self.system != "body" or (self.max_abs_dH <= DRIFT_LIMIT and self.casimir_drift <= DRIFT_LIMIT))
+        ok = bool(self.control != "body" or (self.max_abs_dH <= DRIFT_LIMIT and self.casimir_drift <= DRIFT_LIMIT))
         return {"max_pairing": float(np.max(np.abs(self.pairing))) if self.pairing.size else 0.0,
                 "sum": float(np.sum(self.exponents)), "max_abs_dH": self.max_abs_dH,
                 "casimir_drift": self.casimir_drift, "limit": DRIFT_LIMIT, "passed": ok}
@@ -172,8 +173,8 @@ class GaliResult(Result):
 
     success: bool
     message: str
-    system: str
-    params: RodParams | None
+    control: str  # "body" (a rod model in its body frame) or the control system ("lorenz", "henon_heiles")
+    params: RodParams | dict | None
     panel: str | None
     x0: np.ndarray
     t_max: float
@@ -183,8 +184,9 @@ class GaliResult(Result):
     gali: np.ndarray
     max_abs_dH: float
     casimir_drift: float
+    system: object = None  # the System studied (None for a control system)
 
-    _repr_fields = ("system", "panel", "final", "t_max")
+    _repr_fields = ("control", "panel", "final", "t_max")
 
     @property
     def final(self) -> dict:
@@ -208,39 +210,101 @@ class GaliResult(Result):
 
     @property
     def accuracy(self) -> dict:
-        ok = bool(self.system != "body" or (self.max_abs_dH <= DRIFT_LIMIT and self.casimir_drift <= DRIFT_LIMIT))
+        ok = bool(self.control != "body" or (self.max_abs_dH <= DRIFT_LIMIT and self.casimir_drift <= DRIFT_LIMIT))
         return {"max_abs_dH": self.max_abs_dH, "casimir_drift": self.casimir_drift, "limit": DRIFT_LIMIT,
                 "passed": ok}
+
+
+def _to_dict(self) -> dict:
+    d = Result.to_dict(self)
+    d["system"] = None if self.system is None else self.system.to_dict()
+    if isinstance(self.params, dict):
+        d["params"] = dict(self.params)
+    return d
+
+
+LyapunovSpectrum.to_dict = _to_dict
+GaliResult.to_dict = _to_dict
+LyapunovSpectrum.formulation = GaliResult.formulation = property(
+    lambda self: self.control, doc="Deprecated spelling of control (the field was called system).")
 
 
 # ----------------------------------------------------------------------------------------------------------
 # the public functions
 # ----------------------------------------------------------------------------------------------------------
-def _prepare(params, h, theta0, ptheta0, psi0, p_psi0, root, t_max, renorm_dt, tol, system):
+CONTROLS = ("lorenz", "henon_heiles")
+
+
+def _control_keyword(fn):
+    """The older spelling system="lorenz" (the control system; `system` is now the first argument, what is
+    studied) keeps working for one release as control=, with one DeprecationWarning."""
+    import functools
+    import warnings
+
+    @functools.wraps(fn)
+    def inner(*args, **kw):
+        if isinstance(kw.get("system"), str) and (args or "params" in kw):
+            warnings.warn(f"{fn.__name__}(system={kw['system']!r}) is deprecated: the control system is now "
+                          f"control=; system is what is studied", DeprecationWarning, stacklevel=2)
+            kw["control"] = kw.pop("system")
+        if "params" in kw:
+            warnings.warn(f"{fn.__name__}(params=...) is deprecated: the argument is now called system",
+                          DeprecationWarning, stacklevel=2)
+            kw["system"] = kw.pop("params")
+        return fn(*args, **kw)
+
+    inner.__deprecated_keywords__ = {"params": "system"}
+    return inner
+
+
+def _model_check(system, x0):
+    """The conservation of a model along a run, relative to the size of its H's and Casimirs' terms at x0."""
+    from .indicators import _ModelCheck
+
+    chk = _ModelCheck(system, np.asarray(x0, float)[:, None], system.array()[:, None])
+
+    def check(x):
+        _, d = chk(np.asarray(x, float)[:, None], system.array()[:, None])
+        return d[:2, 0]
+    return check
+
+
+def _prepare(system, h, theta0, ptheta0, psi0, p_psi0, root, t_max, renorm_dt, tol, control, model, x0, level_of,
+             overrides):
     t_max, renorm_dt = check_run(t_max, renorm_dt)
-    if system == "body":
-        params, key, *_, x0, pars = body_start(params, h, theta0, ptheta0, psi0, p_psi0, root)
-        return (_body_variational(tol), systems.dim("body"), x0, pars, params, key,
-                _body_check(x0, pars), t_max, renorm_dt)
-    if system not in ("lorenz", "henon_heiles"):
-        raise ParameterError("system", f"unknown system {system!r}; choose body (the rod), lorenz or henon_heiles")
-    ta, n, p = _reference_variational(system, tol)
-    x0 = np.asarray(params, float)
-    if x0.shape != (n,) or not np.all(np.isfinite(x0)):
-        raise ParameterError("params", f"the start of {system} must be {n} finite numbers, got {params!r}")
-    return ta, n, x0, np.asarray(p, float), None, None, None, t_max, renorm_dt
+    if control in (None, "body"):
+        sys_, params = resolve(system, model, overrides)
+        if sys_ is None:
+            raise ParameterError("system", "one System, panel or RodParams")
+        if not sys_.is_paper or x0 is not None or state_path(sys_, params, theta0, ptheta0, h, p_psi0):
+            start = level_starts(sys_, None if x0 is None else [x0], level_of=level_of, name="x0")[0]
+            return (systems.model_variational(sys_, tol), len(start.x0), start.x0, sys_.array(),
+                    dict(sys_.params), None, _model_check(sys_, start.x0), t_max, renorm_dt, sys_)
+        params, key, *_, x0_, pars = body_start(params, h, theta0, ptheta0, psi0, p_psi0, root)
+        return (_body_variational(tol), systems.dim("body"), x0_, pars, params, key,
+                _body_check(x0_, pars), t_max, renorm_dt, sys_)
+    if control not in CONTROLS:
+        raise ParameterError("system", f"unknown control system {control!r}; choose body (a rod), lorenz or "
+                                       "henon_heiles")
+    ta, n, p = _reference_variational(control, tol)
+    start = np.asarray(system if x0 is None else x0, float)
+    if start.shape != (n,) or not np.all(np.isfinite(start)):
+        raise ParameterError("x0", f"the start of {control} must be {n} finite numbers, got {system!r}")
+    return ta, n, start, np.asarray(p, float), None, None, None, t_max, renorm_dt, None
 
 
-def lyapunov_spectrum(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
-                      t_max=DEFAULT_T_MAX, renorm_dt=DEFAULT_RENORM_DT, tol=None, system="body",
-                      _reorthonormalise=True) -> LyapunovSpectrum:
+@_control_keyword
+def lyapunov_spectrum(system=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
+                      t_max=DEFAULT_T_MAX, renorm_dt=DEFAULT_RENORM_DT, tol=None, control=None, model=None, x0=None,
+                      level_of=None, _reorthonormalise=True, **overrides) -> LyapunovSpectrum:
     """The Lyapunov spectrum of one orbit: all n finite-time exponents by QR re-orthonormalisation (Benettin).
 
     Parameters
     ----------
-    params : RodParams, Panel or str, or a start (n,)
-        The rod, or a paper panel ("4a" .. "5d") whose parameters and start fill in what is not given; with
-        `system` "lorenz" or "henon_heiles" (the controls), the start state.
+    system : System, RodParams, Panel or str, or a start (n,)
+        What is studied: a paper panel ("4a" .. "5d") whose parameters and start fill in what is not given, a
+        RodParams, or any model (a System, a name or a model file: its body frame, from `x0` or its reference
+        state on its level); with `control` "lorenz" or "henon_heiles", the start state.
     h, theta0, ptheta0, psi0, p_psi0, root
         The start, as in `lyapunov`.
     t_max : float
@@ -250,8 +314,11 @@ def lyapunov_spectrum(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p
         by ~e^0.2 in between; a stiff contraction, e.g. Lorenz's -14.6, needs renorm_dt ~ 0.1).
     tol : float, optional
         Taylor tolerance (default machine epsilon).
-    system : str
-        "body" (the rod, default), "lorenz" (sigma, r, b = 10, 28, 8/3) or "henon_heiles".
+    control : str, optional
+        None (the system given), "lorenz" (sigma, r, b = 10, 28, 8/3) or "henon_heiles": a control system of
+        textbook values (the older spelling system="lorenz" is deprecated).
+    model, x0, level_of, **overrides
+        As in `lyapunov`.
 
     Returns
     -------
@@ -277,28 +344,31 @@ def lyapunov_spectrum(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p
     Henon-Heiles pairing.  References: Benettin, Galgani, Giorgilli & Strelcyn, Meccanica 15 (1980) 9 and 21;
     Skokos, Lect. Notes Phys. 790 (2010) 63.  Cost ~0.3 ms per unit time of the 90-equation system.
     """
-    ta, n, x0, pars, params, key, check, t_max, renorm_dt = _prepare(params, h, theta0, ptheta0, psi0, p_psi0, root,
-                                                                      t_max, renorm_dt, tol, system)
+    ta, n, x0, pars, params, key, check, t_max, renorm_dt, sys_ = _prepare(
+        system, h, theta0, ptheta0, psi0, p_psi0, root, t_max, renorm_dt, tol, control, model, x0, level_of, overrides)
+    control = "body" if control is None else control
     times, hist, drift, fail = _run(ta, n, x0, pars, t_max=t_max, renorm_dt=renorm_dt, W0=np.eye(n),
                                     mode="spectrum", check=check, reorthonormalise=_reorthonormalise)
     ex = hist[-1].copy() if fail is None else np.full(n, np.nan)
     if fail is None:
         order = np.argsort(-ex, kind="stable")  # QR keeps them ordered in the limit; sorted for a finite T
         ex, hist = ex[order], hist[:, order]
-    ok = bool(fail is None and (system != "body" or max(drift) <= DRIFT_LIMIT))
+    ok = bool(fail is None and (control != "body" or max(drift) <= DRIFT_LIMIT))
     msg = "ok" if ok else (fail or f"conservation beyond DRIFT_LIMIT (|dH| {drift[0]:.1e}, Casimirs {drift[1]:.1e})")
-    return LyapunovSpectrum(ok, msg, system, params, key, np.asarray(x0, float), float(t_max), float(times[0]), ex,
-                            times, hist, float(drift[0]) if system == "body" else math.nan,
-                            float(drift[1]) if system == "body" else math.nan)
+    return LyapunovSpectrum(ok, msg, control, params, key, np.asarray(x0, float), float(t_max), float(times[0]), ex,
+                            times, hist, float(drift[0]) if control == "body" else math.nan,
+                            float(drift[1]) if control == "body" else math.nan, sys_)
 
 
-def gali(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
-         t_max=DEFAULT_T_MAX, renorm_dt=DEFAULT_RENORM_DT, tol=None, system="body") -> GaliResult:
+@_control_keyword
+def gali(system=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, root=DEFAULT_ROOT,
+         t_max=DEFAULT_T_MAX, renorm_dt=DEFAULT_RENORM_DT, tol=None, control=None, model=None, x0=None, level_of=None,
+         **overrides) -> GaliResult:
     """The Generalized Alignment Indices GALI_2, GALI_3, GALI_4 of one orbit (Skokos, Bountis & Antonopoulos 2007).
 
     Parameters
     ----------
-    params : RodParams, Panel or str, or a start (n,)
+    system : System, RodParams, Panel or str, or a start (n,)
         As in `lyapunov_spectrum`.
     h, theta0, ptheta0, psi0, p_psi0, root
         The start, as in `lyapunov`.
@@ -308,8 +378,8 @@ def gali(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, r
         Interval at which the deviation vectors are rescaled to unit length and GALI_k is sampled.
     tol : float, optional
         Taylor tolerance (default machine epsilon).
-    system : str
-        "body" (the rod), "lorenz" or "henon_heiles".
+    control, model, x0, level_of, **overrides
+        As in `lyapunov_spectrum`.
 
     Returns
     -------
@@ -335,17 +405,18 @@ def gali(params, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi0=None, r
     power law (Skokos et al. 2007: constant up to the torus dimension, then t^(-2(k - N)) in a canonical system of
     N degrees of freedom).  Start vectors: k fixed seeded Gaussian directions.  Values below ~1e-15 are rounding.
     """
-    ta, n, x0, pars, params, key, check, t_max, renorm_dt = _prepare(params, h, theta0, ptheta0, psi0, p_psi0, root,
-                                                                      t_max, renorm_dt, tol, system)
+    ta, n, x0, pars, params, key, check, t_max, renorm_dt, sys_ = _prepare(
+        system, h, theta0, ptheta0, psi0, p_psi0, root, t_max, renorm_dt, tol, control, model, x0, level_of, overrides)
+    control = "body" if control is None else control
     k = max(GALI_ORDERS)
     if n < k:
-        raise ParameterError("system", f"GALI_{k} needs at least {k} dimensions, {system} has {n}")
+        raise ParameterError("system", f"GALI_{k} needs at least {k} dimensions, {control} has {n}")
     W0 = np.random.default_rng(_W_SEED).standard_normal((n, k))
     W0 /= np.linalg.norm(W0, axis=0)
     times, hist, drift, fail = _run(ta, n, x0, pars, t_max=t_max, renorm_dt=renorm_dt, W0=W0, mode="gali",
                                     check=check)
-    ok = bool(fail is None and (system != "body" or max(drift) <= DRIFT_LIMIT))
+    ok = bool(fail is None and (control != "body" or max(drift) <= DRIFT_LIMIT))
     msg = "ok" if ok else (fail or f"conservation beyond DRIFT_LIMIT (|dH| {drift[0]:.1e}, Casimirs {drift[1]:.1e})")
-    return GaliResult(ok, msg, system, params, key, np.asarray(x0, float), float(t_max), float(times[0]),
-                      GALI_ORDERS, times, hist, float(drift[0]) if system == "body" else math.nan,
-                      float(drift[1]) if system == "body" else math.nan)
+    return GaliResult(ok, msg, control, params, key, np.asarray(x0, float), float(t_max), float(times[0]),
+                      GALI_ORDERS, times, hist, float(drift[0]) if control == "body" else math.nan,
+                      float(drift[1]) if control == "body" else math.nan, sys_)

@@ -170,12 +170,21 @@ def _run_model(args) -> dict:
     renorm = number("renorm_dt", args.renorm_dt)
     name = stem("stem", args.stem)
     out = out_dir("out", args.out)
-    cm = mr.chaos_map(axes[0], axes[1], model=mc, t_max=t_max, renorm_dt=renorm, **params)
+    from ..core.system import as_system
+
+    system = as_system(mc.name if mc.origin == "registry" else mc.origin, **params)[0]
+    cm = mr.chaos_map(system, axes[0], axes[1], t_max=t_max, renorm_dt=renorm)
     if not cm.success:
         raise ParameterError("model", cm.message)
-    d = {k: v for k, v in cm.to_dict().items() if k not in ("lyap", "chaotic")}
-    d["fraction_chaotic"] = float(cm.chaotic.mean())
-    d["files"] = [str(atomic_savez(out / f"{name}.npz", x=cm.x, y=cm.y, lyap=cm.lyap, chaotic=cm.chaotic)),
+    from ..chaos import GROWTH_THRESHOLD
+
+    chaotic = cm.fields["growth_exponent"] > GROWTH_THRESHOLD
+    d = {k: v for k, v in cm.to_dict().items() if k != "fields"}
+    d["model"] = mc.name
+    d["fraction_chaotic"] = float(cm.summary()["fraction_chaotic"])
+    d["files"] = [str(atomic_savez(out / f"{name}.npz", x=cm.spec.x.values(), y=cm.spec.y.values(),
+                                   lyap=cm.fields["lyap"], growth_exponent=cm.fields["growth_exponent"],
+                                   chaotic=chaotic)),
                   str(atomic_write_json(out / f"{name}.json", {**d, "versions": versions()}))]
     d["ok"] = True
     d["model_map"] = True

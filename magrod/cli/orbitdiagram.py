@@ -87,7 +87,7 @@ def run(args) -> dict:
     from ..core.progress import bar
 
     with bar(len(values) * (iterates + transient), "orbit diagram", not args.quiet) as update:
-        res = orbit_diagram(args.parameter, values, base=base, iterates=iterates, transient=transient,
+        res = orbit_diagram(base, args.parameter, values, iterates=iterates, transient=transient,
                             coordinate=args.coordinate, root=args.root, direction=args.direction, marks=marks,
                             workers=workers, progress=update, **start)
     res.base = P.key

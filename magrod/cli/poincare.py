@@ -252,14 +252,31 @@ def _run_model(args) -> dict:
         raise ParameterError("stem", "names the files written into --out: give --out too")
     name = stem("stem", args.stem) if args.stem is not None else mc.name.replace("-", "_")
     out = out_dir("out", args.out) if args.out is not None else None
-    res = mr.poincare_section(model=mc, params=params, iterates=iterates, t_max=t_max,
-                              formulation=args.formulation)
-    d = res.to_dict()
+    import numpy as np
+
+    from ..core.system import as_system
+
+    system = as_system(mc.name if mc.origin == "registry" else mc.origin, **params)[0]
+    secs = mr.poincare_sections(system, starts=4, iterates=iterates, t_max=t_max, formulation=args.formulation)
+    bad = [r for r in secs if not r.success]
+    if bad:
+        raise ParameterError("model", bad[0].message)
+    points = np.full((len(secs), iterates, len(secs[0].points[0]) if secs[0].n_points else 0), np.nan)
+    for k, r in enumerate(secs):
+        points[k, : r.n_points] = r.points
+    from ..core import systems as _systems
+
+    mb = _systems.model_body(system)
+    lvl = mb.level(secs[0].body_points[0], system.array()) if secs[0].n_points else []
+    d = {"success": True, "message": secs[0].message, "model": mc.name, "params": system.params,
+         "system": system.to_dict(), "state_names": list(mb.state),
+         "level": {k: float(v) for k, v in zip(("H", *mc.names.CASIMIRS), lvl)},
+         "counts": [r.n_points for r in secs], "points_shape": list(points.shape),
+         "energy_error": max(r.max_abs_dH for r in secs),
+         "casimir_error": max(r.casimir_drift or 0.0 for r in secs)}
     d["model_section"] = True
-    if not res.success:
-        raise ParameterError("model", res.message)
     if out is not None:
-        d["files"] = [str(atomic_savez(out / f"{name}.npz", points=res.points)),
+        d["files"] = [str(atomic_savez(out / f"{name}.npz", points=points)),
                       str(atomic_write_json(out / f"{name}.json", {**d, "versions": versions()}))]
     d["ok"] = True
     return d

@@ -694,3 +694,287 @@ def body_stretch() -> CFunc:
     """The axial stretch v3 = dH/dn3 of the constitutive law (eq:hyperelastic); a physical rod has v3 > 0."""
     x = variables("body")
     return CFunc([hy.diff(body.hamiltonian(*x, *pars()), x[state_index("body", "n3")])], x)
+
+
+# --------------------------------------------------------------------------------------------------------------
+# any model of the registry or a model file: its body-frame field x' = J(x) grad H (generated body.py of the model)
+# --------------------------------------------------------------------------------------------------------------
+PAPER_KEY = "paper"  # the paper's rod: the top-level generated tree (generated/body.py), at its numeric scale
+
+
+class ModelBody:
+    """One model's body-frame field, compiled once per model and process (never per parameter value: the model's
+    parameters are the runtime parameters hy.par[i] = names[i]).  Built by `model_body(system)`.
+
+    state, params, casimir_names: the model's names; `expr(name)` the generated expressions of
+    "H" (for the paper's rod H - offset = Hbar on the chart), "casimirs", "section", "rhs"; compiled functions
+    (CFunc, evaluated on (n,) or (n, N) states): `level` = (H, C1, ...), `level_gradients` ((1 + k) x n, row-major),
+    `level_scale` (the size of each of (H, C1, ...)'s terms at the state: `term_scale`), `rhs`, `jacobian`,
+    `neutral_gradients` (the gradients of every first integral the model states: H, the Casimirs and each state
+    component whose right-hand side is identically 0), `section`.  Integrators: `integrator`, `batch_integrator`,
+    `tangent_batch`, `variational_integrator` (per thread, reset before use)."""
+
+    def __init__(self, key, name, state, params, module, is_paper):
+        self.key, self.name, self.is_paper = key, name, is_paper
+        self.state, self.params, self.module = tuple(state), tuple(params), module
+        x = self.variables
+        p = self.pars
+        self.casimir_names = tuple(f"C{i + 1}" for i in range(len(module.casimirs(*x, *p))))
+
+    @property
+    def dim(self) -> int:
+        return len(self.state)
+
+    @property
+    def n_casimirs(self) -> int:
+        return len(self.casimir_names)
+
+    @property
+    def variables(self) -> tuple:
+        return _model_variables(self.state)
+
+    @property
+    def pars(self) -> list:
+        return [hy.par[i] for i in range(len(self.params))]
+
+    def system(self) -> list:
+        """[(variable, rhs)]."""
+        return self.module.system() if self.is_paper else list(zip(self.variables, self.expr("rhs")))
+
+    def expr(self, what: str):
+        x, p, m = self.variables, self.pars, self.module
+        if what == "H":
+            H = m.hamiltonian(*x, *p)
+            return H - m.hamiltonian_offset(*p) if self.is_paper else H
+        if what == "casimirs":
+            return list(m.casimirs(*x, *p))
+        if what == "section":
+            return m.section(*x, *p)
+        if what == "rhs":
+            return [r for _, r in m.system()] if self.is_paper else list(m.rhs(*x, *p))
+        raise ValueError(f"unknown expression {what!r}")
+
+    def integrals(self) -> list:
+        """H, the Casimirs, and each state component whose right-hand side is identically 0 (e.g. the twist m3
+        of an isotropic rod): every first integral the model states, whose gradients span the directions across
+        the orbit's invariant level set."""
+        x = self.variables
+        zero = [x[i] for i, f in enumerate(self.expr("rhs")) if f == hy.expression(0.0)]
+        return [self.expr("H"), *self.expr("casimirs"), *zero]
+
+    def __getattr__(self, name):  # the compiled functions, built on first use and kept
+        if name not in _MODEL_CFUNCS:
+            raise AttributeError(name)
+        return _model_cfunc(self.key, name)
+
+    def __repr__(self) -> str:
+        return f"ModelBody({self.name!r}, state={self.state}, params={self.params})"
+
+
+_MODEL_CFUNCS = ("level", "level_gradients", "rhs", "jacobian", "neutral_gradients", "section")
+_MODEL_BODIES: dict = {}  # key -> ModelBody (the model's expressions; the compiled objects are in `cache`s)
+
+
+@lru_cache(maxsize=None)
+def _model_variables(state: tuple) -> tuple:
+    return tuple(hy.make_vars(*state))
+
+
+def model_key(system) -> str:
+    """The key of a System's model in every per-model cache: PAPER_KEY for the paper's rod, else the directory of
+    its generated code (a registry package, or a model file's content-keyed cache entry)."""
+    return PAPER_KEY if system.is_paper else system.code.directory
+
+
+def model_body(system) -> ModelBody:
+    """The ModelBody of a System's model (core.system.System; built once per model and process)."""
+    key = model_key(system)
+    mb = _MODEL_BODIES.get(key)
+    if mb is None:
+        if system.is_paper:
+            mb = ModelBody(key, system.model, names.BODY_STATE, PARAMS, body, True)
+        else:
+            code = system.code
+            mb = ModelBody(key, code.name, code.names.STATE, code.names.PARAMS, code.body, False)
+        _MODEL_BODIES[key] = mb
+    return mb
+
+
+def body_of(key: str) -> ModelBody:
+    """The ModelBody registered under a model key (what the per-thread builders compile)."""
+    return _MODEL_BODIES[key]
+
+
+@cache
+def _model_cfunc(key: str, what: str) -> CFunc:
+    mb = body_of(key)
+    x = mb.variables
+    if what == "level":
+        return CFunc([mb.expr("H"), *mb.expr("casimirs")], x)
+    if what == "level_gradients":
+        return CFunc([hy.diff(g, xj) for g in [mb.expr("H"), *mb.expr("casimirs")] for xj in x], x)
+    if what == "rhs":
+        return CFunc(mb.expr("rhs"), x)
+    if what == "jacobian":
+        return CFunc([hy.diff(fi, xj) for fi in mb.expr("rhs") for xj in x], x)
+    if what == "neutral_gradients":
+        return CFunc([hy.diff(g, xj) for g in mb.integrals() for xj in x], x)
+    if what == "section":
+        return CFunc([mb.expr("section")], x)
+    raise ValueError(what)
+
+
+class _Terms:
+    """A number and the sum of the absolute values of the terms it is made of, carried through + - * / ** (the
+    generated expressions are sums of products of state variables and parameters): `term_scale`."""
+
+    __slots__ = ("v", "s")
+
+    def __init__(self, v, s):
+        self.v, self.s = v, s
+
+    @staticmethod
+    def of(a):
+        return a if isinstance(a, _Terms) else _Terms(a, np.abs(a))
+
+    def __add__(self, o):
+        o = _Terms.of(o)
+        return _Terms(self.v + o.v, self.s + o.s)
+
+    __radd__ = __add__
+
+    def __sub__(self, o):
+        o = _Terms.of(o)
+        return _Terms(self.v - o.v, self.s + o.s)
+
+    def __rsub__(self, o):
+        return _Terms.of(o) - self
+
+    def __neg__(self):
+        return _Terms(-self.v, self.s)
+
+    def __mul__(self, o):
+        o = _Terms.of(o)
+        return _Terms(self.v * o.v, self.s * o.s)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o):
+        o = _Terms.of(o)
+        return _Terms(self.v / o.v, self.s / np.abs(o.v))
+
+    def __rtruediv__(self, o):
+        return _Terms.of(o) / self
+
+    def __pow__(self, k):
+        return _Terms(self.v ** k, self.s ** k)
+
+
+def term_scale(system, what: str, x, pars_=None) -> np.ndarray:
+    """The size of the terms of H ("H") or of each Casimir ("casimirs") at the states x ((n,) or (n, N)): the sum
+    of the absolute values of the terms of the generated expression (for a polynomial in expanded form, of its
+    monomials).  A drift test relative to it is scaled by what the Casimir is made of, never by its value, which
+    may be 0 (m.n on its zero level) or huge (m^2 + n^2/kappa at small kappa).  Evaluated by running the generated
+    Python function on numbers that carry their terms' sizes (no SymPy, no compilation)."""
+    import types
+
+    mb = model_body(system)
+    fn = {"H": mb.module.hamiltonian, "casimirs": mb.module.casimirs}[what]
+    g = types.FunctionType(fn.__code__, {**fn.__globals__, "_E": lambda v: v})
+    x = np.asarray(x, dtype=float)
+    p = system.array() if pars_ is None else np.asarray(pars_, dtype=float)
+    out = g(*[_Terms(xi, np.abs(xi)) for xi in x], *[_Terms(pi, np.abs(pi)) for pi in p])
+    out = out if isinstance(out, list) else [out]
+    return np.array([np.broadcast_to(_Terms.of(o).s, x.shape[1:]) for o in out], dtype=float)
+
+
+def _model_events(mb: ModelBody, events, precision, bits, batch):
+    out = []
+    for ev in events:
+        name, direction, *offset = ev if isinstance(ev, tuple) else (ev, "any")
+        if name != "section":
+            raise ValueError(f"unknown model event {name!r}; known: ['section']")
+        e = mb.expr("section")
+        if offset and offset[0]:
+            e = e - float(offset[0])
+        d = DIRECTIONS[direction]
+        if batch:
+            out.append(hy.t_event_batch(e, direction=d))
+        elif precision.fp_type is float:
+            out.append(hy.t_event(e, direction=d))
+        else:
+            out.append(hy.t_event(e, direction=d, fp_type=precision.fp_type))
+    return out
+
+
+@per_thread
+def _model_integrator(key, events, precision, tol):
+    mb = body_of(key)
+    return taylor(mb.system(), [0.0] * mb.dim, [1.0] * len(mb.params), precision=precision, tol=tol,
+                  t_events=_model_events(mb, events, precision, None, False))
+
+
+def model_integrator(system, *, events=(), precision=Precision.DOUBLE, tol=None):
+    """A per-thread scalar integrator of the System's model (for the paper's rod: `integrator("body", ...)`, the
+    same compiled code), events by name ("section", or (name, direction[, offset])); reset before use."""
+    precision = Precision.parse(precision)
+    if system.is_paper:
+        return _paper_integrator(tuple(events), precision, tol)
+    model_body(system)
+    return _model_integrator(model_key(system), tuple(events), precision, tol)
+
+
+@per_thread
+def _paper_integrator(events, precision, tol):
+    return integrator("body", events=events, precision=precision, tol=tol)
+
+
+@per_thread
+def _model_batch(key, direction, tol, width):
+    mb = body_of(key)
+    st = np.ones((mb.dim, width))
+    return build(hy.taylor_adaptive_batch, mb.system(), st, pars=np.ones((len(mb.params), width)),
+                 tol=float(tol or 0.0), t_events=_model_events(mb, [("section", direction)], Precision.DOUBLE,
+                                                              None, True))
+
+
+def model_section_batch(key: str, direction: str, tol: float, width: int | None = None):
+    """The batch integrator of a model (by `model_key`) with its section event in every lane: the paper's rod's
+    is `batch_integrator("body", events=[("section", direction)])`; per thread and (direction, tol, width)."""
+    width = int(width or batch_width())
+    if key == PAPER_KEY:
+        return _paper_section_batch(direction, tol, width)
+    return _model_batch(key, direction, tol, width)
+
+
+@per_thread
+def _paper_section_batch(direction, tol, width):
+    return batch_integrator("body", events=[("section", direction)], tol=tol, batch_size=width)
+
+
+@per_thread
+def _model_tangent(key, batch_size, tol):
+    mb = body_of(key)
+    return tangent_batch(mb.system(), len(mb.params), batch_size=batch_size, tol=tol)
+
+
+def model_tangent_batch(system, batch_size=None, tol=None):
+    """`tangent_batch` of the System's model (for the paper's rod: `body_tangent_batch`), per thread."""
+    if system.is_paper:
+        return body_tangent_batch(batch_size, tol)
+    model_body(system)
+    return _model_tangent(model_key(system), int(batch_size or batch_width()), tol)
+
+
+@per_thread
+def _model_variational(key, tol):
+    mb = body_of(key)
+    vsys = hy.var_ode_sys(mb.system(), list(mb.variables), order=1)
+    return taylor(vsys, [0.0] * mb.dim, [1.0] * len(mb.params), tol=tol, compact_mode=True)
+
+
+def model_variational(system, tol=None):
+    """Integrator of the model's state and d x(t)/d x(0) (hy.var_ode_sys, compact mode), per thread; reset with
+    `reset_variational`."""
+    model_body(system)
+    return _model_variational(model_key(system), tol)

@@ -14,9 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..chaos import AXIS_NAMES, GROWTH_THRESHOLD, MAPPABLE, OK, MapSpec, map_tiles, panel_base, panel_indicators, parse_axis
+from ..chaos import AXIS_NAMES, GROWTH_THRESHOLD, MAPPABLE, OK, MapSpec, map_tiles, panel_base, parse_axis
+from ..paper import panel_indicators
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..core.printed import PANELS
+from ..paper import PANELS
 from ..core.progress import bar
 from .common import atomic_savefig, label, pyplot
 
@@ -203,7 +204,7 @@ def plot_spectrum(res, ax=None, **kw):
     ax.set_xscale("log")
     ax.set_xlabel("t (scaled arclength)")
     ax.set_ylabel(r"running exponent $\lambda_i(t)$")
-    where = f"panel {res.panel}" if res.panel else res.system
+    where = f"panel {res.panel}" if res.panel else (res.system.model if res.system is not None else res.control)
     ax.set_title(f"Lyapunov spectrum, {where}, T = {res.t_max:g}\nmax |lambda_i + lambda_(n+1-i)| = "
                  f"{res.accuracy['max_pairing']:.2g}, sum = {res.accuracy['sum']:.1e}", fontsize=8)
     ax.legend(fontsize=6, ncol=3)
@@ -221,7 +222,7 @@ def plot_gali(res, ax=None, **kw):
     ax.axhline(1e-15, color="0.5", lw=0.6, ls=":")
     ax.set_xlabel("t (scaled arclength)")
     ax.set_ylabel("GALI$_k$")
-    where = f"panel {res.panel}" if res.panel else res.system
+    where = f"panel {res.panel}" if res.panel else (res.system.model if res.system is not None else res.control)
     ax.set_title(f"GALI, {where}, T = {res.t_max:g} (dotted: rounding level)", fontsize=8)
     ax.legend(fontsize=7)
     return ax

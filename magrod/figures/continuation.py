@@ -18,7 +18,7 @@ from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, vers
 from ..core.params import RodParams
 from ..orbits import (find_periodic_multipulse, fold_summary, mu2lam_problem, on_level, periodic_problem, point_at,
                       pseudo_arclength, shoot_multipulse)
-from ..core.printed import MULTIPULSE
+from ..paper import MULTIPULSE
 from ..core.tolerances import FOLD_BRANCH_TOL
 from .common import atomic_savefig, label, pyplot
 

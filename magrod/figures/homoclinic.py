@@ -8,7 +8,7 @@ import numpy as np
 from ..generated import scalars
 from ..orbits import homoclinic_closed_form as homoclinic, phase_portrait_energy, verify_homoclinic as verify
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..core.printed import FIG3
+from ..paper import FIG3
 from ..core.progress import bar
 from .common import atomic_savefig, pyplot, rect
 

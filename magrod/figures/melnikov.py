@@ -8,7 +8,7 @@ import numpy as np
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
 from ..separatrix import (INTEGRANDS, melnikov_amplitude as amplitude, melnikov_amplitude_zero as amplitude_zero,
                           melnikov_function, primitive_check)
-from ..core.printed import FIG2_GAMMAS, FIG2_M, FIG2_ZERO_BRACKET
+from ..paper import FIG2_GAMMAS, FIG2_M, FIG2_ZERO_BRACKET
 from ..core.progress import bar
 from .common import atomic_savefig, pyplot
 

@@ -5,21 +5,24 @@ from __future__ import annotations
 import numpy as np
 
 
-def plot_model_section(sec, ax=None, x=None, y=None, **kw):
-    """ModelSection.plot: the crossings projected on two state coordinates (default: the two after the section's
-    own), one colour per orbit."""
+def plot_model_section(secs, ax=None, x=None, y=None, **kw):
+    """The section of a model (a PoincareResult, or a list of them: one colour per orbit) projected on two state
+    coordinates (default: the two after the section's own)."""
+    from ..core import systems
     from .plots import axes
 
+    secs = list(secs) if isinstance(secs, (list, tuple)) else [secs]
     ax = axes(ax)
-    names = list(sec.state_names)
+    names = list(systems.model_body(secs[0].system).state)
     i = names.index(x) if x else 1
     j = names.index(y) if y else 2
-    for k in range(sec.points.shape[0]):
-        p = sec.points[k, : sec.counts[k]]
-        ax.plot(p[:, i], p[:, j], ".", ms=1.5, **kw)
+    for s in secs:
+        ax.plot(s.points[:, i], s.points[:, j], ".", ms=1.5, **kw)
     ax.set_xlabel(names[i])
     ax.set_ylabel(names[j])
-    ax.set_title(f"{sec.model}: section, |dH| <= {sec.energy_error:.1e}, |dC| <= {sec.casimir_error:.1e}", fontsize=8)
+    dH = max(s.max_abs_dH for s in secs)
+    dC = max(s.casimir_drift or 0.0 for s in secs)
+    ax.set_title(f"{secs[0].system.model}: section, |dH| <= {dH:.1e}, |dC|/size <= {dC:.1e}", fontsize=8)
     return ax
 
 
@@ -33,7 +36,7 @@ def plot_model_lyapunov(ly, ax=None, **kw):
     ax.loglog(t, 10 * np.log(np.maximum(t, 2.0)) / t, "r--", lw=0.8, label="10 ln t / t")
     ax.set_xlabel("t")
     ax.set_ylabel("lyapunov estimate")
-    ax.set_title(f"{ly.model}: lyap = {ly.lyap:.3g} ({'chaotic' if ly.chaotic else 'regular'})", fontsize=8)
+    ax.set_title(f"{ly.system.model}: lyap = {ly.lyap:.3g} ({'chaotic' if ly.chaotic else 'regular'})", fontsize=8)
     ax.legend(fontsize=7)
     return ax
 
@@ -111,7 +114,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     integrable Kirchhoff rod, (c) one of the anisotropic rod on the same kind of level, (d) the homoclinic
     splitting of the anisotropic and curved rods against Mel'nikov; sidecar landscape.json
     (every line's labelled evidence and the anisotropic scan)."""
-    from ..chaos import model_section
+    from .. import poincare_sections
     from ..core.io import atomic_savefig, atomic_write_json, ensure_writable_dir, versions
     from ..integrability import rod_landscape as landscape
     from .common import pyplot
@@ -120,7 +123,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     out = ensure_writable_dir(out_dir)
     land = landscape(4, quick=quick)
     iters = 150 if quick else 600
-    secs = [model_section(m, n_orbits=6, iterates=iters) for m in ("kirchhoff", "anisotropic")]
+    secs = [poincare_sections(m, starts=6, iterates=iters) for m in ("kirchhoff", "anisotropic")]
     splits = [ln["splitting"] for ln in land.to_dict()["lines"] if "splitting" in ln]
     fig = plt.figure(figsize=(15 if splits else 12, 8.5))
     gs = fig.add_gridspec(2, 3 if splits else 2, height_ratios=[1, 1.3])
@@ -131,8 +134,10 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
         plot_model_splitting(splits, fig.add_subplot(gs[1, 2]))
     fig.tight_layout()
     d = land.to_dict()
-    d["sections"] = [{"model": s.model, "counts": s.counts, "energy_error": s.energy_error,
-                      "casimir_error": s.casimir_error, "success": s.success} for s in secs]
+    d["sections"] = [{"model": s[0].system.model, "counts": [r.n_points for r in s],
+                      "energy_error": max(r.max_abs_dH for r in s),
+                      "casimir_error": max(r.casimir_drift or 0.0 for r in s),
+                      "success": all(r.success for r in s)} for s in secs]
     d["quick"] = bool(quick)
     d["versions"] = versions()
     return [str(atomic_write_json(out / "landscape.json", d)), str(atomic_savefig(fig, out / "landscape.png", dpi=110))]

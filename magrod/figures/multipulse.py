@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.io import atomic_write_json, ensure_writable_dir, versions, write_orbit
-from ..core.printed import MULTIPULSE
+from ..paper import MULTIPULSE
 from ..core.progress import bar
 from ..core.tolerances import LAUNCH_DISTANCES
 from .. import multipulse_orbits

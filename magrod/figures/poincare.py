@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..core.printed import PANELS
+from ..paper import PANELS
 from ..core.progress import bar
 from .common import atomic_savefig, pictures_of, pyplot
 
@@ -44,6 +44,10 @@ def plot_section(res, ax=None, **kw):
     """PoincareResult.plot: the section points in (theta, pbar_theta) on ax (a new figure if None)."""
     from .plots import axes
 
+    if res.points.ndim == 2 and res.points.shape[1] != 4:  # a model's states at the crossings (not the chart)
+        from .models import plot_model_section
+
+        return plot_model_section(res, ax, **kw)
     ax = axes(ax)
     plot_points(ax, res, panel_title(res.panel, res))
     return ax
@@ -71,7 +75,8 @@ def save_result(res, out_dir, stem: str, *, key=None, label=None, formats=("png"
 
 
 def _figure(fig_no: str, out_dir, quick=False, progress=False, iterates=None, workers=2) -> list[str]:
-    from ..chaos import DEFAULT_FORMULATION, STRETCH_DT, run_panels
+    from ..chaos import DEFAULT_FORMULATION, STRETCH_DT
+    from ..paper import run_panels
 
     plt = pyplot()
     out = ensure_writable_dir(out_dir)

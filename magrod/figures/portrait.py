@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.io import atomic_savez, atomic_write_json, ensure_writable_dir, versions
-from ..core.printed import PANELS
+from ..paper import PANELS
 from ..core.progress import bar
 from ..core.tolerances import THRESHOLD_XTOL
 from .common import LABELS, atomic_savefig, pyplot
@@ -140,7 +140,7 @@ def accessible_threshold(base="4a", parameter="lam", lo=0.12, hi=0.2, xtol=THRES
     the grid values by the caller); lo if the level is reached there already."""
     from ..chaos import solve_p_psi
     from ..core.errors import ParameterError
-    from ..core.printed import panel
+    from ..paper import panel
 
     P = panel(base)
 
@@ -165,7 +165,7 @@ def build(out_dir, *, quick=False, progress=False) -> list[str]:
     lambdabar above ~0.1305 (Hbar(theta0, psi0, pbar_theta0, .) > 0.9 for every pbar_psi below): the values under
     that threshold have no orbit and are drawn as a grey band; the threshold is in the sidecar."""
     from ..chaos import GROWTH_THRESHOLD
-    from ..chaos import panel_indicators
+    from ..paper import panel_indicators
     from .. import orbit_diagram
     from ..chaos import start_indicators
 
@@ -175,7 +175,7 @@ def build(out_dir, *, quick=False, progress=False) -> list[str]:
     lam_min = accessible_threshold("4a", "lam", *RANGE)
     values = grid[grid >= lam_min]
     with bar(values.size * iterates, "orbit diagram", progress) as update:
-        od = orbit_diagram("lam", values, base="4a", iterates=iterates, marks=marks, progress=update)
+        od = orbit_diagram("4a", "lam", values, iterates=iterates, marks=marks, progress=update)
     ind = start_indicators(od.orbits, t_max=t_ind)
     g = np.where(ind["status"] == 0, ind["growth_exponent"], np.nan)
     # the four panels themselves, on the same footing (same start rule, same indicator time)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from .. import __version__
 from ..core.io import versions
-from ..core.printed import PAPER_CLAIMS, MULTIPULSE
+from ..paper import PAPER_CLAIMS, MULTIPULSE
 from ..proof import statement_status
 
 

@@ -243,7 +243,7 @@ _STORE_DOC = """
 """
 
 
-def chaos_map(x, y=None, *, store=None, stem: str = "chaosmap", workers: int | None = None,
+def chaos_map(system=None, x=None, y=None, *, store=None, stem: str = "chaosmap", workers: int | None = None,
               scheduler: str | None = None, force: bool = False, **kw) -> maps.ChaosMap:
     if store is None:
         for k, v in (("stem", stem != "chaosmap"), ("workers", workers is not None),
@@ -251,11 +251,9 @@ def chaos_map(x, y=None, *, store=None, stem: str = "chaosmap", workers: int | N
             if v:
                 raise ParameterError(k, "applies only with store=DIR (an in-memory map runs in this process, or on "
                                         "the Dask `client` given)")
-        return maps.chaos_map(x, y, **kw)
-    if kw.get("model") is not None:
-        raise ParameterError("store", "a model map is computed in memory: drop store= (or model=)")
+        return maps.chaos_map(system, x, y, **kw)
     client, progress = kw.pop("client", None), kw.pop("progress", None)
-    spec = maps.map_spec(x, y, **kw)
+    spec = maps.map_spec(system, x, y, **kw)
     return stored_map(spec, store, stem=stem, workers=workers, scheduler=scheduler, client=client, force=force,
                       progress=progress)
 
