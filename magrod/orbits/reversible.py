@@ -30,7 +30,8 @@ from ..core.errors import ParameterError
 from ..core.results import Result
 from ..core.tolerances import EPS
 from . import model_field
-from .equilibria import Equilibrium, leaf_basis, relative_equilibrium, reversor, spectrum
+from .equilibria import Equilibrium, leaf_basis, relative_equilibrium, spectrum
+from .equilibria import reversor as _reversor
 
 LAUNCH = 1e-6  # launch distance: launch error ~ delta^2 = 1e-12, rounding amplified along W^u ~ eps / delta ~ 1e-10
 N_ALPHA = 48  # launch-circle samples of the start scan
@@ -180,10 +181,12 @@ class SymmetricOrbit(Result):
         return self.system.array()
 
 
-def symmetric_homoclinic(system, *, equilibrium: Equilibrium | None = None, alpha=None, T=None,
+def symmetric_homoclinic(system, *, equilibrium: Equilibrium | None = None, reversor=None, alpha=None, T=None,
                          delta: float = LAUNCH, tol: float | None = None, n_alpha: int = N_ALPHA) -> SymmetricOrbit:
     """A symmetric homoclinic orbit to the system's saddle (default: the straight twisted rod,
     magrod.orbits.equilibria.straight_rod) by shooting onto Fix(R) of the model's reversor (module docstring).
+    `reversor`: which one, where the model has several (default: the first of equilibria.reversors fixing the
+    equilibrium) -- at an integrable member, the one that survives the perturbation to be continued.
 
     Raises
     ------
@@ -194,7 +197,7 @@ def symmetric_homoclinic(system, *, equilibrium: Equilibrium | None = None, alph
 
     eq = straight_rod(system) if equilibrium is None else equilibrium
     _require_saddle(eq, "a homoclinic orbit")
-    R = reversor(system, fixing=eq.x)
+    R = _reversor(system, fixing=eq.x) if reversor is None else reversor
     tol = RESIDUAL_TOL if tol is None else float(tol)
     if alpha is None or T is None:
         a0, T0 = _scan(system, eq, R, delta, n_alpha)
