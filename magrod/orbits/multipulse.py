@@ -527,7 +527,7 @@ def multipulse_orbits(params: RodParams, max_pulses: int = 4, *, free: str | Non
     """
     import time
 
-    from .shooting import saddle as saddle_of
+    from .shooting import paper_saddle as saddle_of
 
     if not isinstance(params, RodParams):
         raise ParameterError("params", f"must be a RodParams, got {type(params).__name__}")

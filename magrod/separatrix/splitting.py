@@ -59,7 +59,7 @@ from ..core.results import Result
 from ..core.tolerances import MU_TOL, REAL128_QUADRATURE_TOL, SPLITTING_LAUNCH
 from ..generated import scalars
 from ..orbits.shooting import Crossing, crossing_events
-from ..orbits.shooting import saddle as orbit_saddle
+from ..orbits.shooting import paper_saddle as orbit_saddle
 from ..core.deprecation import deprecated_alias
 
 THETA_TURN_MIN = 0.3  # a zero of pbar_theta counts as the turning point only where theta exceeds this
