@@ -155,8 +155,10 @@ class SymmetricOrbit(Result):
     level_drift: float
     launch_level_gap: float
     extra: dict = dc_field(default_factory=dict)
+    pulses: int = 1  # excursions from the saddle along the whole orbit
+    noise_floor: float = 0.0
 
-    _repr_fields = ("system", "alpha", "T", "residual", "level_drift")
+    _repr_fields = ("system", "pulses", "alpha", "T", "residual", "level_drift")
     kind = "equilibrium"
 
     @property
@@ -344,3 +346,112 @@ def continue_homoclinic(system, orbit: SymmetricOrbit, parameter: str, *, steps:
 def spectrum_at(system, x):
     """Leaf spectrum of the system at x (a convenience for branches)."""
     return spectrum(system, x)[0]
+
+
+# ------------------------------------------------------------------------------------------------------------------
+# N-pulse orbits
+# ------------------------------------------------------------------------------------------------------------------
+EXCURSION = 0.3  # an excursion: the distance from x* above this fraction of the primary's largest distance
+
+
+def _blocks(dist, thr) -> list:
+    """[(lo, hi)] index ranges where dist >= thr."""
+    above = dist >= thr
+    out, i = [], 0
+    while i < dist.size:
+        if above[i]:
+            j = i
+            while j + 1 < dist.size and above[j + 1]:
+                j += 1
+            out.append((i, j))
+            i = j + 1
+        else:
+            i += 1
+    return out
+
+
+def count_pulses(orbit: SymmetricOrbit, thr: float) -> int:
+    smp = orbit.sample(4001)
+    dist = np.max(np.abs(smp["x"] - orbit.equilibrium.x), axis=1)
+    return len(_blocks(dist, thr))
+
+
+def multipulse(system, max_pulses: int = 3, *, samples=None, delta: float = LAUNCH, tol=None):
+    """Symmetric N-pulse homoclinic orbits (N = 1..max_pulses) to the straight twisted rod of a reversible model:
+    a scan of the launch angle for the approach to Fix(R) at the orbit's middle (inside excursion (N + 1)/2 for
+    odd N, between excursions N/2 and N/2 + 1 for even N), Newton from each local minimum over the angle, and
+    the pulses of each converged orbit counted (excursions above EXCURSION of the primary's size).  Returns a
+    MultipulseSearch (orbits: SymmetricOrbit, `.pulses`)."""
+    import time
+
+    from .equilibria import straight_rod
+    from .multipulse import MultipulseSearch
+
+    t0 = time.perf_counter()
+    eq = straight_rod(system)
+    _require_saddle(eq, "multipulse orbits")
+    if eq.kind != "saddle-focus":
+        raise ParameterError("model", f"the multipulse search needs a saddle-focus (its unstable manifold a disc, "
+                                      f"the launch angle the unknown), and the model {system.model!r}'s straight rod "
+                                      f"is a {eq.kind}")
+    R = _reversor(system, fixing=eq.x)
+    tol = RESIDUAL_TOL if tol is None else float(tol)
+    samples = 96 if samples is None else int(samples)
+    kappa = eq.unstable_eigenvalue.real
+    leg = (2 * math.log(1 / delta) + 16) / kappa
+    flip = list(R.flipped)
+    alphas = 2 * np.pi * np.arange(samples) / samples
+    grid = np.linspace(0, (max_pulses + 1) * leg, 400 * (max_pulses + 1) + 1)
+    runs = []
+    for a in alphas:
+        X = _flow(system, launch(eq, a, delta), None, grid)
+        dist = np.max(np.abs(X - eq.x), axis=1)
+        runs.append((X, dist))
+    ok = [d for _, d in runs if np.all(np.isfinite(d))]
+    peak = float(np.median([np.max(d) for d in ok]))
+    thr = EXCURSION * peak
+    orbits, seen = [], []
+    for N in range(1, max_pulses + 1):
+        scores = np.full(samples, np.inf)
+        times = np.zeros(samples)
+        for i, (X, dist) in enumerate(runs):
+            if not np.all(np.isfinite(dist)):
+                continue
+            b = _blocks(dist, thr)
+            k = (N + 1) // 2
+            if N % 2:
+                if len(b) < k:
+                    continue
+                lo, hi = b[k - 1]
+            else:
+                if len(b) < k + 1:
+                    continue
+                lo, hi = b[k - 1][1], b[k][0]
+            sc = np.max(np.abs(X[lo:hi + 1][:, flip]), axis=1)
+            j = int(np.argmin(sc))
+            scores[i], times[i] = sc[j], grid[lo + j]
+        # Newton from each local minimum of the score over the launch circle (the best 6)
+        mins = [i for i in range(samples) if np.isfinite(scores[i]) and scores[i] <= scores[i - 1]
+                and scores[i] <= scores[(i + 1) % samples]]
+        mins = sorted(mins, key=lambda i: scores[i])[:6]
+        for i in mins:
+            err, a, T = _newton(system, eq, R, float(alphas[i]), float(times[i]), delta, tol)
+            if not err <= tol:
+                continue
+            o = _orbit(system, eq, R, a, T, delta, tol)
+            if not o.success:
+                continue
+            o.pulses = count_pulses(o, thr)
+            key = (o.pulses, round(o.T, 6), round(o.alpha, 6))
+            if o.pulses != N or any(abs(o.T - s_[1]) < 1e-6 and abs(math.remainder(o.alpha - s_[2], 2 * math.pi))
+                                    < 1e-6 for s_ in seen):
+                continue
+            seen.append(key)
+            orbits.append(o)
+    orbits.sort(key=lambda o: (o.pulses, o.T))
+    n = len(orbits)
+    found = sorted({o.pulses for o in orbits})
+    msg = (f"{n} symmetric orbit(s) to the straight rod of the model {system.model!r}, pulses {found}, for "
+           f"N <= {max_pulses}")
+    return MultipulseSearch(n > 0, msg, None, eq, orbits, [], max_pulses, None, time.perf_counter() - t0, [], None,
+                            samples, False, system)

@@ -329,6 +329,7 @@ class ModelSplitting(Result):
     status_label: str = "numerical (floating point with error evidence)"
     wall_time_s: float = 0.0
     notes: list = field(default_factory=list)
+    system: object = None  # what was studied (set by magrod.separatrix.splitting.splitting)
 
     _repr_fields = ("model", "melnikov_unit", "scaling_order", "control")
 
