@@ -278,13 +278,13 @@ def reversor(system, fixing=None) -> Reversor:
     ParameterError
         "model", naming the model, if it has no reversor (fixing that state).
     """
-    found = reversors(system)
+    found = every = reversors(system)
     if fixing is not None:
         x = np.asarray(fixing, float)
         scale = 1.0 + float(np.max(np.abs(x)))
         found = [r for r in found if np.max(np.abs(np.asarray(r.signs) * x - x)) <= 1e3 * EPS * scale]
     if not found:
-        where = " fixing the equilibrium" if fixing is not None else ""
+        where = " fixing the equilibrium" if every else ""
         raise ParameterError("model", f"symmetric (reversible) orbits need a reversor, and the model "
                                       f"{system.model!r} has none{where}: no reflection of body components R with "
                                       "R f(x) = -f(R x) preserving H and the Casimirs (checked: every diagonal sign "

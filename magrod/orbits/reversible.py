@@ -222,7 +222,7 @@ def _orbit(system, eq, R, alpha, T, delta, tol) -> SymmetricOrbit:
     xm = X[-1]
     res = float(np.max(np.abs(xm[list(R.flipped)])))
     ok = res <= tol and drift <= 1e-12
-    msg = (f"symmetric homoclinic orbit of the model {system.model!r}: x(T) on Fix{R!r} to {res:.2g}" if ok else
+    msg = (f"symmetric homoclinic orbit of the model {system.model!r}: x(T) on Fix(R), R = {R!r}, to {res:.2g}" if ok else
            f"no symmetric homoclinic orbit converged (residual {res:.3g}, drift {drift:.2g})")
     return SymmetricOrbit(bool(ok), msg, system, eq, R, float(alpha) % (2 * np.pi), float(T), float(delta), x0, xm,
                           res, drift, gap)
