@@ -104,7 +104,7 @@ def test_symmetric_homoclinic_orbit_with_its_accuracy(model):
     sg = np.asarray(o.reversor.signs, float)
     tt = np.linspace(o.T - 4.0, o.T + 4.0, 81)
     X = _flow(s, o.x0, None, np.concatenate([[0.0], tt]))[1:]
-    dev = np.max(np.abs(X[::-1] - sg * X))
+    dev = np.max(np.abs(X[::-1] - o.reversor.apply(X)))
     assert dev <= 1e-6, dev
     wrong = -sg
     wrong[o.equilibrium.x != 0] = 1.0
@@ -296,3 +296,19 @@ def test_a_model_file_outside_the_registry(skew_rod):
     with pytest.raises(mr.ParameterError) as exc:
         mr.splitting(s)
     assert exc.value.name == "model" and "small parameter" in str(exc.value)
+
+
+def test_a_model_file_with_a_rotated_reversor(skew_rod):
+    """The same file at A1 = A2: an isotropic rod curved in the direction at atan(k2/k1) from d1.  Its reversor is the
+    reflection of the body frame through the plane of d3 and the curvature (no diagonal one): found to rounding, and
+    the symmetric homoclinic orbit to its straight rod shot onto its Fix(R) and continued in k2."""
+    s = skew_rod.replace(A1=1, A2=1, k1=0.1, k2=0.05)
+    (R,) = reversors(s)
+    assert R.signs is None and R.residual <= 1e3 * EPS and R.codim == 2
+    ang = math.atan2(0.05, 0.1)
+    Rm = R.matrix
+    assert abs(Rm[0, 0] - math.cos(2 * ang)) <= 1e-12 and abs(Rm[0, 1] - math.sin(2 * ang)) <= 1e-12
+    o = mr.homoclinic_orbit(s)
+    assert o.success and o.accuracy["passed"], o.message
+    br = mr.continue_branch(s, o, parameter="k2", steps=1, ds=0.02)
+    assert br.success and br.max_residual <= 1e-9

@@ -419,5 +419,5 @@ def continue_branch(system=None, orbit=None, parameter: str = "mu", steps: int =
     br = pseudo_arclength(F, u0, scale=scale, ds=float(ds), ds_max=max(float(ds), 0.5), steps=steps, par=2,
                           direction=direction, bounds=bd, names=names, tol=tol, progress=progress)
     br.kind, br.parameter, br.pulses, br.start = orbit.kind, parameter, orbit.pulses, p
-    br.system = system
+    br.system = as_system(p, precision=system.precision)[0]  # the branch's start: the orbit's own parameters
     return br

@@ -28,6 +28,7 @@ state order, and one fixing the given equilibrium preferred.
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass, field as dc_field
 
 import numpy as np
@@ -208,26 +209,81 @@ def straight_rod(system, *, M: float = 1.0, T: float = 1.0, tol=None) -> Equilib
 # ------------------------------------------------------------------------------------------------------------------
 # the reversor
 # ------------------------------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Reversor:
-    """A linear involution R = diag(signs) with R f(x) = -f(R x), H(R x) = H(x), C(R x) = C(x): `flipped` the
-    indices with sign -1 (Fix(R) = {x_j = 0, j in flipped}); `residual` the largest relative defect of the three
-    identities at the test points (numeric evidence)."""
+    """A linear involution R with R f(x) = -f(R x), H(R x) = H(x), C(R x) = C(x) (`matrix`, n x n): a reflection of
+    body components (diagonal: `signs`, `flipped` the indices with sign -1) or a reflection of the body frame
+    through a plane containing d3 at angle `angle` from d1 (the same 3 x 3 reflection on every body vector).
+    Fix(R) = {P x = 0}, P (`fix_rows`, k x n) an orthonormal basis of the range of I - R; `residual` the largest
+    relative defect of the three identities at the test points (numeric evidence)."""
 
-    signs: tuple
+    matrix: np.ndarray
     names: tuple
     residual: float
+    label: str
+
+    @property
+    def signs(self) -> tuple | None:
+        """The diagonal of a diagonal reversor (None for a rotated reflection)."""
+        R = self.matrix
+        if np.any(R - np.diag(np.diag(R))):
+            return None
+        return tuple(int(v) for v in np.diag(R))
 
     @property
     def flipped(self) -> tuple:
-        return tuple(i for i, s in enumerate(self.signs) if s < 0)
+        """The indices a diagonal reversor negates (empty for a rotated one)."""
+        sg = self.signs
+        return () if sg is None else tuple(i for i, v in enumerate(sg) if v < 0)
 
     @property
-    def matrix(self) -> np.ndarray:
-        return np.diag(np.asarray(self.signs, float))
+    def fix_rows(self) -> np.ndarray:
+        A = (np.eye(len(self.names)) - self.matrix) / 2
+        U, sv, _ = np.linalg.svd(A)
+        P = U[:, sv > 0.5].T
+        # a deterministic basis: each row's largest entry positive (core.eigen.fix_sign)
+        return np.array([eigen.fix_sign(r) for r in P])
+
+    @property
+    def codim(self) -> int:
+        return int(round(np.trace((np.eye(len(self.names)) - self.matrix) / 2)))
+
+    def project(self, x) -> np.ndarray:
+        """P x (x of shape (n,) or (N, n)): zero on Fix(R)."""
+        return np.asarray(x, float) @ self.fix_rows.T
+
+    def apply(self, x) -> np.ndarray:
+        return np.asarray(x, float) @ self.matrix.T
 
     def __repr__(self) -> str:
-        return f"Reversor({', '.join('-' + self.names[i] for i in self.flipped)})"
+        return f"Reversor({self.label})"
+
+
+def _diagonal(signs, names, residual) -> Reversor:
+    flipped = [names[i] for i, v in enumerate(signs) if v < 0]
+    return Reversor(np.diag(np.asarray(signs, float)), tuple(names), residual, ", ".join("-" + k for k in flipped))
+
+
+def _triples(names) -> list:
+    """[(i1, i2, i3)] of the state's body vectors (x1, x2, x3 named alike: m, n, e3 ...)."""
+    out = []
+    for i, k in enumerate(names):
+        if k.endswith("1") and k[:-1] + "2" in names and k[:-1] + "3" in names:
+            out.append((i, names.index(k[:-1] + "2"), names.index(k[:-1] + "3")))
+    return out
+
+
+def _frame_reflection(names, angle: float) -> np.ndarray | None:
+    """The reflection of every body vector through the plane containing d3 at `angle` from d1 (None if the state is
+    not made of body vectors)."""
+    tri = _triples(names)
+    if sum(len(t) for t in tri) != len(names):
+        return None
+    c, s_ = np.cos(2 * angle), np.sin(2 * angle)
+    Rm = np.eye(len(names))
+    for i1, i2, _ in tri:
+        Rm[np.ix_([i1, i2], [i1, i2])] = [[c, s_], [s_, -c]]
+    return Rm
 
 
 def _test_points(mf, pars, n=8) -> np.ndarray:
@@ -237,25 +293,40 @@ def _test_points(mf, pars, n=8) -> np.ndarray:
 
 def reversor_defect(system, signs, points=None) -> float:
     """max over test points of |R f(x) + f(R x)| and |H(R x) - H(x)|, |C(R x) - C(x)|, relative to the terms'
-    size."""
+    size; `signs` the diagonal of R (n,) or R itself (n, n)."""
     mf = field(system)
     pars = system.array()
     X = _test_points(mf, pars) if points is None else points
     s = np.asarray(signs, float)
+    Rm = np.diag(s) if s.ndim == 1 else s
     Xt = np.ascontiguousarray(X.T)  # (n, points): one batched call per function
-    Xr = s[:, None] * Xt
+    Xr = np.ascontiguousarray(Rm @ Xt)
     f, fr = np.asarray(mf.rhs(Xt, pars)), np.asarray(mf.rhs(Xr, pars))
     lv = np.vstack([mf.H(Xt, pars), mf.casimirs(Xt, pars)])
     lr = np.vstack([mf.H(Xr, pars), mf.casimirs(Xr, pars)])
     scale = 1.0 + np.max(np.abs(f), axis=0) + np.max(np.abs(lv), axis=0) + np.sum(Xt * Xt, axis=0)
-    return float(max(np.max(np.abs(s[:, None] * f + fr) / scale), np.max(np.abs(lv - lr) / scale)))
+    return float(max(np.max(np.abs(Rm @ f + fr) / scale), np.max(np.abs(lv - lr) / scale)))
 
 
 REVERSOR_TOL = 1e3 * EPS
 
 
+_REVERSORS: dict = {}
+
+
 def reversors(system) -> list:
-    """Every diagonal-sign reversor of the model (fewest flips first, then by state order)."""
+    """The model's reversors at the system's parameter values (`find_reversors`, cached per model and values)."""
+    key = (field(system).key, system.values)
+    if key not in _REVERSORS:
+        _REVERSORS[key] = find_reversors(system)
+    return list(_REVERSORS[key])
+
+
+def find_reversors(system) -> list:
+    """Every reversor of the model among the reflections of body components (diagonal sign matrices: fewest flips
+    first, then by state order) and, where the state is made of body vectors and no diagonal one exists, the
+    reflections of the body frame through a plane containing d3 (the angle located by a scan and golden-section
+    refinement of the defect: an isotropic rod curved in a direction other than d1's)."""
     mf = field(system)
     pars = system.array()
     X = _test_points(mf, pars)
@@ -266,7 +337,27 @@ def reversors(system) -> list:
             signs[list(flip)] = -1
             d = reversor_defect(system, signs, X)
             if d <= REVERSOR_TOL:
-                out.append(Reversor(tuple(int(v) for v in signs), mf.state, d))
+                out.append(_diagonal(signs, mf.state, d))
+    if out or _frame_reflection(mf.state, 0.0) is None:
+        return out
+    grid = np.pi * np.arange(90) / 90
+    vals = [reversor_defect(system, _frame_reflection(mf.state, a), X) for a in grid]
+    for j in np.argsort(vals)[:2]:
+        lo, hi = grid[j] - np.pi / 90, grid[j] + np.pi / 90
+        g = (math.sqrt(5) - 1) / 2
+        for _ in range(60):  # golden section on the defect (smooth, minimum 0 at a reversor): 4e-15 rad
+            a, b = hi - g * (hi - lo), lo + g * (hi - lo)
+            if reversor_defect(system, _frame_reflection(mf.state, a), X) < \
+                    reversor_defect(system, _frame_reflection(mf.state, b), X):
+                hi = b
+            else:
+                lo = a
+        ang = 0.5 * (lo + hi) % np.pi
+        Rm = _frame_reflection(mf.state, ang)
+        d = reversor_defect(system, Rm, X)
+        if d <= REVERSOR_TOL and not any(np.allclose(Rm, r.matrix, atol=1e-9) for r in out):
+            out.append(Reversor(Rm, mf.state, d, f"reflection of the body frame through the plane of d3 at "
+                                                 f"{math.degrees(ang):.6g} deg from d1"))
     return out
 
 
@@ -282,11 +373,12 @@ def reversor(system, fixing=None) -> Reversor:
     if fixing is not None:
         x = np.asarray(fixing, float)
         scale = 1.0 + float(np.max(np.abs(x)))
-        found = [r for r in found if np.max(np.abs(np.asarray(r.signs) * x - x)) <= 1e3 * EPS * scale]
+        found = [r for r in found if np.max(np.abs(r.apply(x) - x)) <= 1e3 * EPS * scale]
     if not found:
         where = " fixing the equilibrium" if every else ""
         raise ParameterError("model", f"symmetric (reversible) orbits need a reversor, and the model "
                                       f"{system.model!r} has none{where}: no reflection of body components R with "
                                       "R f(x) = -f(R x) preserving H and the Casimirs (checked: every diagonal sign "
-                                      "matrix)")
+                                      "matrix, and every reflection of the body frame through a plane containing "
+                                      "d3)")
     return found[0]

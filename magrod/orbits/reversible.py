@@ -76,7 +76,6 @@ def _scan(system, eq, R, delta, n_alpha):
     kappa = eq.unstable_eigenvalue.real
     t_end = (2 * math.log(1 / delta) + 16) / kappa
     grid = np.linspace(0, t_end, 801)
-    flip = list(R.flipped)
     best = (np.inf, 0.0, 0.0)
     complex_ = abs(eq.unstable_eigenvalue.imag) > 0
     alphas = 2 * np.pi * np.arange(n_alpha) / n_alpha if complex_ else np.array([0.0, np.pi])
@@ -91,7 +90,7 @@ def _scan(system, eq, R, delta, n_alpha):
         hi = lo
         while hi < dist.size - 1 and above[hi + 1]:
             hi += 1
-        score = np.max(np.abs(X[lo:hi + 1][:, flip]), axis=1)
+        score = np.max(np.abs(R.project(X[lo:hi + 1])), axis=1)
         j = lo + int(np.argmin(score))
         if score[j - lo] < best[0]:
             best = (float(score[j - lo]), float(a), float(grid[j]))
@@ -100,12 +99,11 @@ def _scan(system, eq, R, delta, n_alpha):
 
 def _residual(system, eq, R, alpha, T, delta):
     x = _flow(system, launch(eq, alpha, delta), T)
-    return x[list(R.flipped)], x
+    return R.project(x), x
 
 
 def _newton(system, eq, R, alpha, T, delta, tol, max_iter=25):
     mf = model_field.field(system)
-    flip = list(R.flipped)
     pars = system.array()
     complex_ = abs(eq.unstable_eigenvalue.imag) > 0
     best = (np.inf, alpha, T)
@@ -118,7 +116,7 @@ def _newton(system, eq, R, alpha, T, delta, tol, max_iter=25):
             break
         if err <= tol:
             break
-        cols = [np.asarray(mf.rhs(x, pars), float)[flip]]
+        cols = [R.project(np.asarray(mf.rhs(x, pars), float))]
         if complex_:
             rp, _ = _residual(system, eq, R, alpha + FD_STEP, T, delta)
             rm, _ = _residual(system, eq, R, alpha - FD_STEP, T, delta)
@@ -175,8 +173,7 @@ class SymmetricOrbit(Result):
         h = (n + 1) // 2
         t1 = np.linspace(0.0, self.T, h)
         X1 = _flow(self.system, self.x0, None, t1)
-        s = np.asarray(self.reversor.signs, float)
-        X2 = (s * X1[::-1])[1:]
+        X2 = self.reversor.apply(X1[::-1])[1:]
         return {"t": np.concatenate([t1, 2 * self.T - t1[::-1][1:]]), "x": np.vstack([X1, X2])}
 
     def params_array(self) -> np.ndarray:
@@ -220,7 +217,7 @@ def _orbit(system, eq, R, alpha, T, delta, tol) -> SymmetricOrbit:
     drift = float(np.max(np.abs(lv - lv[0]) / scale))
     gap = float(np.max(np.abs(mf.level(x0, pars) - eq.level) / scale))
     xm = X[-1]
-    res = float(np.max(np.abs(xm[list(R.flipped)])))
+    res = float(np.max(np.abs(R.project(xm))))
     ok = res <= tol and drift <= 1e-12
     msg = (f"symmetric homoclinic orbit of the model {system.model!r}: x(T) on Fix(R), R = {R!r}, to {res:.2g}" if ok else
            f"no symmetric homoclinic orbit converged (residual {res:.3g}, drift {drift:.2g})")
@@ -272,7 +269,6 @@ def homoclinic_problem(system, orbit: SymmetricOrbit, parameter: str):
     _index(system, parameter)
     mf = model_field.field(system)
     R = orbit.reversor
-    flip = list(R.flipped)
     eq0 = orbit.equilibrium
     c = np.asarray(mf.casimirs(eq0.x, system.array()), float)
     delta = orbit.launch_distance
@@ -290,12 +286,12 @@ def homoclinic_problem(system, orbit: SymmetricOrbit, parameter: str):
     def res(a, T, p):
         e = eq_at(p)
         x = _flow(e.system, launch(e, a, delta), T)
-        return x[flip], x, e
+        return R.project(x), x, e
 
     def F(u):
         a, T, p = (float(v) for v in u)
         r, x, e = res(a, T, p)
-        dT = np.asarray(mf.rhs(x, e.system.array()), float)[flip]
+        dT = R.project(np.asarray(mf.rhs(x, e.system.array()), float))
         da = (res(a + FD_STEP, T, p)[0] - res(a - FD_STEP, T, p)[0]) / (2 * FD_STEP)
         h = 1e-6 * max(1.0, abs(p))
         dp = (res(a, T, p + h)[0] - res(a, T, p - h)[0]) / (2 * h)
@@ -328,10 +324,10 @@ def continue_homoclinic(system, orbit: SymmetricOrbit, parameter: str, *, steps:
     from .continuation import pseudo_arclength
 
     k = _index(system, parameter)
-    if len(orbit.reversor.flipped) != 2 or abs(orbit.equilibrium.unstable_eigenvalue.imag) == 0:
+    if orbit.reversor.codim != 2 or abs(orbit.equilibrium.unstable_eigenvalue.imag) == 0:
         raise ParameterError("model", f"continuing symmetric homoclinic orbits needs a saddle-focus on a 4-D leaf "
                                       f"(two unknowns alpha, T and two Fix(R) conditions), and the model "
-                                      f"{system.model!r} has Fix(R) of codimension {len(orbit.reversor.flipped)}")
+                                      f"{system.model!r} has Fix(R) of codimension {orbit.reversor.codim}")
     F = homoclinic_problem(system, orbit, parameter)
     u0 = np.array([orbit.alpha, orbit.T, system.values[k]])
     bd = None if bounds is None else {2: tuple(float(b) for b in bounds)}
@@ -399,7 +395,6 @@ def multipulse(system, max_pulses: int = 3, *, samples=None, delta: float = LAUN
     samples = 96 if samples is None else int(samples)
     kappa = eq.unstable_eigenvalue.real
     leg = (2 * math.log(1 / delta) + 16) / kappa
-    flip = list(R.flipped)
     alphas = 2 * np.pi * np.arange(samples) / samples
     grid = np.linspace(0, (max_pulses + 1) * leg, 400 * (max_pulses + 1) + 1)
     runs = []
@@ -427,7 +422,7 @@ def multipulse(system, max_pulses: int = 3, *, samples=None, delta: float = LAUN
                 if len(b) < k + 1:
                     continue
                 lo, hi = b[k - 1][1], b[k][0]
-            sc = np.max(np.abs(X[lo:hi + 1][:, flip]), axis=1)
+            sc = np.max(np.abs(R.project(X[lo:hi + 1])), axis=1)
             j = int(np.argmin(sc))
             scores[i], times[i] = sc[j], grid[lo + j]
         # Newton from each local minimum of the score over the launch circle (the best 6)

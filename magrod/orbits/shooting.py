@@ -123,6 +123,14 @@ def saddle(system=None, *, precision=None, M: float = 1.0, T: float = 1.0):
     ('equilibrium', 0.664602)
     >>> saddle(mr.System("anisotropic", B1=1, B2=1.02, C=1.5)).kind
     'saddle-focus'
+
+    Notes
+    -----
+    The paper's rod: `paper_saddle` (mu = 2 lam decided to MU_TOL; eigen-decomposition of the compiled Jacobian, or
+    Gauss-Newton and one variational integration for the periodic saddle).  Other models: Gauss-Newton on
+    f(x) = 0, C(x) = c from the straight twisted rod, the spectrum of the Jacobian restricted to the symplectic
+    leaf, sorted by magrod.core.eigen.order and the eigenvector's phase fixed by core.eigen.fix_phase (nothing
+    LAPACK decides reaches the result); < 1 ms after the model's first compile.  Paper sec. 3 and 8.
     """
     from ..core.system import as_system
 
