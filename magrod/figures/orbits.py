@@ -37,6 +37,35 @@ def plot_saddle(s, ax=None, **kw):
     return ax
 
 
+def plot_equilibrium(e, ax=None, **kw):
+    """An equilibrium of any model: its spectrum on the symplectic leaf in the complex plane, the leading
+    unstable eigenvalue marked."""
+    ax = axes(ax)
+    z = np.asarray(e.eigenvalues)
+    ax.axvline(0.0, color="0.7", lw=0.8)
+    ax.plot(z.real, z.imag, "o", mfc="none", color="k", **kw)
+    u = e.unstable_eigenvalue
+    ax.plot([u.real], [u.imag], "o", color="tab:red", label=f"unstable {u.real:.4g} + {u.imag:.4g}i")
+    ax.set_xlabel("Re eigenvalue")
+    ax.set_ylabel("Im eigenvalue")
+    ax.set_title(f"{e.kind} of {e.system!r}"[:120], fontsize=8)
+    ax.legend(fontsize=7)
+    return ax
+
+
+def plot_symmetric_orbit(orbit, ax=None, n: int = 2001, **kw):
+    """Every state component of a symmetric homoclinic orbit of any model against s - T (the symmetric point at 0)."""
+    ax = axes(ax, figsize=(6.0, 3.0))
+    smp = orbit.sample(n)
+    t = smp["t"] - orbit.T
+    for j, name in enumerate(orbit.reversor.names):
+        ax.plot(t, smp["x"][:, j], lw=1, label=name, **kw)
+    ax.set_xlabel("s - T (arclength from the symmetric point)")
+    ax.set_title(f"{orbit.pulses}-pulse symmetric orbit, {orbit.reversor!r}"[:120], fontsize=8)
+    ax.legend(fontsize=6, ncol=3)
+    return ax
+
+
 def plot_homoclinic(orb, ax=None, t_max=None, **kw):
     """theta(t) and pbar_theta(t) of the closed-form lambda = 0 homoclinic orbit (fig:angles)."""
     ax = axes(ax)

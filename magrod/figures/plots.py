@@ -28,6 +28,8 @@ PLOTTERS: dict[str, str] = {
     "PulseSearch": "orbits:plot_pulse_search",
     "Branch": "orbits:plot_branch",
     "RodShape": "orbits:plot_rod_shape",
+    "Equilibrium": "orbits:plot_equilibrium",
+    "SymmetricOrbit": "orbits:plot_symmetric_orbit",
     # many orbits (magrod/figures/portrait.py)
     "SectionPortrait": "portrait:plot_portrait",
     "OrbitDiagram": "portrait:plot_orbit_diagram",
