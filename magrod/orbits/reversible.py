@@ -366,10 +366,19 @@ def _blocks(dist, thr) -> list:
     return out
 
 
-def count_pulses(orbit: SymmetricOrbit, thr: float) -> int:
+def count_pulses(orbit: SymmetricOrbit, thr: float) -> tuple:
+    """(excursions above thr, the closest passage to x* between two excursions: inf for one pulse)."""
     smp = orbit.sample(4001)
     dist = np.max(np.abs(smp["x"] - orbit.equilibrium.x), axis=1)
-    return len(_blocks(dist, thr))
+    b = _blocks(dist, thr)
+    gaps = [float(np.min(dist[b[i][1]:b[i + 1][0] + 1])) for i in range(len(b) - 1)]
+    return len(b), min(gaps, default=math.inf)
+
+
+# a passage between pulses closer to x* than this many launch distances is the launch's level error (O(delta^2) in
+# H and the Casimirs: orbits on that level pass x* at ~delta), not a multipulse orbit (the integrable rods'
+# artefacts pass at ~1e-8; the anisotropic rod's 2-pulse orbits at eps = 0.02 at 6e-3)
+PASSAGE_FLOOR = 1e3
 
 
 def multipulse(system, max_pulses: int = 3, *, samples=None, delta: float = LAUNCH, tol=None):
@@ -436,7 +445,10 @@ def multipulse(system, max_pulses: int = 3, *, samples=None, delta: float = LAUN
             o = _orbit(system, eq, R, a, T, delta, tol)
             if not o.success:
                 continue
-            o.pulses = count_pulses(o, thr)
+            o.pulses, passage = count_pulses(o, thr)
+            o.extra["closest_passage"] = passage
+            if passage < PASSAGE_FLOOR * delta:
+                continue
             key = (o.pulses, round(o.T, 6), round(o.alpha, 6))
             if o.pulses != N or any(abs(o.T - s_[1]) < 1e-6 and abs(math.remainder(o.alpha - s_[2], 2 * math.pi))
                                     < 1e-6 for s_ in seen):

@@ -838,8 +838,9 @@ NO_SPLITTING = {
                  "rod's stable and unstable manifolds coincide for every parameter value",
     "extensible": "it has no small parameter: the isotropic extensible rod is integrable (m3 is an integral) and its "
                   "straight rod's stable and unstable manifolds coincide for every parameter value",
-    "magnetic": "its straight rod is a saddle-centre on a 6-D leaf (the unstable manifold does not separate the "
-                "level), and the splitting engine measures a saddle-focus's 2-D manifolds on a 4-D leaf",
+    "magnetic": "it has no small parameter: the inextensible rod in a field is integrable (I2 = n.m + B lam e3.d3, "
+                "eq:int2), so its straight rod's stable and unstable manifolds coincide; its extensible perturbation "
+                "is the paper's rod (magnetic-extensible), whose splitting this function measures",
 }
 
 
