@@ -227,6 +227,13 @@ def test_paper_rod_paths_unchanged():
     assert exc.value.name == "lam"
 
 
+def test_splitting_of_a_model_with_a_small_parameter():
+    """mr.splitting dispatches the curved rod to its Mel'nikov measurement, which carries the system."""
+    s = mr.System("curved", B=1, C=0.75, k3=0.2)
+    r = mr.splitting(s, eps=(0.02, 0.01))
+    assert r.success and r.system == s and abs(r.melnikov_unit + 1.884) < 1e-3
+
+
 @pytest.mark.parametrize("model", ("kirchhoff", "extensible", "magnetic"))
 def test_splitting_needs_a_small_parameter(model):
     with pytest.raises(mr.ParameterError) as exc:

@@ -302,8 +302,13 @@ def homoclinic_orbit(system=None, gamma=None, *, m=None, precision=None, reverso
         from dataclasses import replace
 
         return replace(homoclinic(p.m, p.gamma), system=system)
+    from ..core.precision import Precision
     from .reversible import symmetric_homoclinic
 
+    if precision is not None and Precision.parse(precision) is not Precision.DOUBLE:
+        raise ParameterError("precision", f"the symmetric homoclinic orbits of the model {system.model!r} are shot in "
+                                          f"double precision only (their evidence: residual, level drift at tol = "
+                                          f"eps), got {precision!r}")
     return symmetric_homoclinic(system, reversor=reversor, tol=tol)
 
 
