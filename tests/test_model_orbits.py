@@ -231,7 +231,12 @@ def test_splitting_of_a_model_with_a_small_parameter():
     """mr.splitting dispatches the curved rod to its Mel'nikov measurement, which carries the system."""
     s = mr.System("curved", B=1, C=0.75, k3=0.2)
     r = mr.splitting(s, eps=(0.02, 0.01))
-    assert r.success and r.system == s and abs(r.melnikov_unit + 1.884) < 1e-3
+    assert type(r).__name__ == "Splitting" and r.kind == "melnikov"
+    assert r.success and r.system == s and abs(r.leading["melnikov_unit"] + 1.884) < 1e-3
+    assert r.leading["digits"] >= 2 and r.accuracy["passed"] and r.agreement <= 1e-6
+    import json
+
+    json.dumps(r.to_dict())
 
 
 @pytest.mark.parametrize("model", ("kirchhoff", "extensible", "magnetic"))

@@ -43,6 +43,7 @@ PLOTTERS: dict[str, str] = {
     "Landscape": "models:plot_landscape",
     "ModelChaosMap": "models:plot_model_chaos_map",
     "ModelSplitting": "models:plot_model_splitting",
+    "MelnikovScan": "models:plot_model_splitting",
 }
 
 

@@ -197,6 +197,10 @@ def plot_splitting(res, ax=None, **kw):
     a = 2b, the derived leading term b C_psi eps^2."""
     from .plots import axes
 
+    if res.kind == "melnikov":  # another model's splitting: its measurement against the Mel'nikov coefficient
+        from .models import plot_model_splitting
+
+        return plot_model_splitting(res.scan.to_dict(), ax=ax, **kw)
     ax = axes(ax)
     e = np.asarray(res.eps, float)
     ax.loglog(e, np.abs(res.measure), "ko", ms=4, label=("|psi_u|" if res.kind == "equilibrium" else "|s1|")

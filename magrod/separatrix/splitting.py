@@ -644,7 +644,14 @@ class Splitting(Result):
     coefficient of D(psi) = theta_u(psi) - theta_u(-psi), `d` = max_psi |D|), one value per eps, in the reference
     (last) precision.  agreement: max relative difference of `measure` between the precisions (the numerical
     error evidence).  fit: power law measure ~ C eps^p (>= 4 eps).  leading (a = 2b): the derived second-order
-    Mel'nikov coefficient b C_psi against the measured eps^2-extrapolation, with the digits they share."""
+    Mel'nikov coefficient b C_psi against the measured eps^2-extrapolation, with the digits they share.
+
+    kind "melnikov" (any other model with a saddle and a small parameter: the anisotropic rod, B2 = B1 (1 + eps), the
+    curved rod, k1 = eps): `measure` = c / eps, the measured leading coefficient of Delta(phi0) = c sin(k phi0) per
+    unit eps, `d` = c; agreement: max relative difference of c between the two methods (reversor, stable manifold);
+    fit: power law c ~ C eps^p; leading: the Mel'nikov coefficient per unit eps (closed form) with the digits the
+    smallest eps's c / eps shares with it; m, gamma, delta, a, b are NaN (the paper's rod's); `scan` the measurement
+    (magrod.separatrix.model_splitting.MelnikovScan: rows, controls, quadrature); `system` what was studied."""
 
     success: bool
     message: str
@@ -677,6 +684,8 @@ class Splitting(Result):
 
     @property
     def accuracy(self) -> dict:
+        if self.kind == "melnikov":
+            return self.scan.accuracy
         return {"agreement_between_precisions": self.agreement, "precisions": self.precisions}
 
     def to_dict(self) -> dict:
@@ -684,6 +693,9 @@ class Splitting(Result):
 
         d = {k: getattr(self, k) for k in ("success", "message", "kind", "m", "gamma", "delta", "a", "b", "eps",
                                            "precisions", "measure", "d", "agreement", "fit", "leading", "wall_s")}
+        d["system"] = self.system.to_dict() if self.system is not None else None
+        if self.kind == "melnikov":
+            d["scan"] = self.scan.to_dict()
         return jsonable(d)
 
 
@@ -855,9 +867,20 @@ def _model_splitting(system, eps, progress=None):
                                      "B2 = B1 (1 + eps) and the curved rod k1 = eps are)")
         raise ParameterError("model", f"the splitting of the separatrix needs a saddle and a small parameter, and "
                                       f"the model {system.model!r} has none: {why}")
+    t0 = time.perf_counter()
     eps = EPS_DEFAULT if eps is EPS_SCAN else eps
     small = "B2" if name == "anisotropic" else "k1"
     params = {k: v for k, v in system.params.items() if k != small}
     r = model_splitting(name, eps=eps, params=params)
-    r.system = system
-    return r
+    e = np.array([row["eps"] for row in r.rows], float)
+    c = np.array([row["A"] for row in r.rows], float)
+    fit = None
+    if e.size >= 2 and np.all(c != 0):
+        p, logC = np.polyfit(np.log(e), np.log(np.abs(c)), 1)
+        fit = {"C": float(math.copysign(math.exp(logC), c[-1])), "p": float(p)}
+    leading = {"melnikov_unit": r.melnikov_unit, "measured_unit": float(c[-1] / e[-1]),
+               "digits": digits_agreeing(float(c[-1] / e[-1]), r.melnikov_unit),
+               "remainder_order": r.scaling_order, "quadrature_error": r.quadrature_error}
+    nan = float("nan")
+    return Splitting(r.success, r.message, "melnikov", nan, nan, nan, nan, nan, e, ["double"], c / e, c,
+                     float(r.accuracy["A_minus_B"]), fit, leading, time.perf_counter() - t0, r, system)
