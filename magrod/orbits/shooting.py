@@ -137,7 +137,9 @@ def saddle(system=None, *, precision=None, M: float = 1.0, T: float = 1.0):
     system, _ = as_system(system)
     prec = system.precision if precision is None else Precision.parse(precision)
     if system.is_paper:
-        return paper_saddle(system.rod, precision=prec)
+        from dataclasses import replace
+
+        return replace(paper_saddle(system.rod, precision=prec), system=system)
     from .equilibria import straight_rod
 
     eq = straight_rod(system, M=M, T=T)
