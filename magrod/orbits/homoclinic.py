@@ -240,28 +240,25 @@ def homoclinic_orbit(system=None, gamma=None, *, m=None, precision=None, reverso
         Other models: the shooting tolerance on max |x_flipped(T)| (default 1e-9).  precision: double only.
     reversor : Reversor, optional
         Other models: which reversor, where the model has several (magrod.orbits.equilibria.reversors).
-
-    The closed form (the paper's rod):
-
-    Parameters
-    ----------
-    m : float
-        m = m3/sqrt(B C2) > 0 (>= 1e-3), below the buckling value m_c = 2 sqrt(1 + gamma).
-    gamma : float
-        Extensibility gamma >= 0 (gamma = 0 is the inextensible Kirchhoff rod, eq:Kirchhoff_homoclinic).
+    m, gamma : float, optional
+        The old spelling: the paper's rod's m = m3/sqrt(B C2) > 0 (>= 1e-3, below the buckling value
+        m_c = 2 sqrt(1 + gamma)) and extensibility gamma >= 0 (gamma = 0 is the inextensible Kirchhoff rod,
+        eq:Kirchhoff_homoclinic).
 
     Returns
     -------
-    HomoclinicOrbit
-        Constants ``u_+``, ``u_-``, k, kappa (the saddle rate), h (the homoclinic level), m_c, theta_max; the orbit's
-        `evaluate(t)` (theta, pbar_theta, cos theta, sin theta, psi'), `psibar(t)`, `time_at_theta(theta)`,
+    HomoclinicOrbit or SymmetricOrbit
+        Other models: a SymmetricOrbit (alpha, T, the reversor, residual, level drift, `.sample(n)`, `.system`).
+        The paper's rod: the closed form, a HomoclinicOrbit with constants ``u_+``, ``u_-``, k, kappa (the
+        saddle rate), h (the homoclinic level), m_c, theta_max; the orbit's `evaluate(t)` (theta, pbar_theta, cos theta, sin theta, psi'), `psibar(t)`, `time_at_theta(theta)`,
         `verify()` and `.plot()`.
 
     Raises
     ------
     ParameterError
         "m" if m <= 0, m < 1e-3 or m >= m_c (no homoclinic orbit: V''(0) >= 0); "gamma" if gamma < 0; either if
-        not finite or beyond 1e6.
+        not finite or beyond 1e6; "lam" for the paper's rod away from lam = mu = 0; "model" naming a model without
+        a reversor fixing its saddle, or without a saddle; "precision" for another model in other than double.
 
     Examples
     --------

@@ -142,6 +142,9 @@ def saddle(system=None, *, precision=None, M: float = 1.0, T: float = 1.0):
         return replace(paper_saddle(system.rod, precision=prec), system=system)
     from .equilibria import straight_rod
 
+    if prec is not Precision.DOUBLE:
+        raise ParameterError("precision", f"the equilibria of the model {system.model!r} are computed in double "
+                                          f"precision (their evidence: the residual max|f(x)|), got {str(prec)!r}")
     eq = straight_rod(system, M=M, T=T)
     if not eq.success or eq.kind not in ("saddle-focus", "saddle", "saddle-centre"):
         raise ParameterError("model", f"a saddle is needed, and the model {system.model!r} has none at the straight "
