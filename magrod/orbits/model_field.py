@@ -87,30 +87,27 @@ def _module(system):
 
 
 def field(system) -> ModelField:
-    """The compiled field of the system's model (built once per model and process)."""
+    """The compiled field of the system's model (built once per model and process; `systems.clear_caches`
+    forgets it like every compiled object)."""
     key, name, state, params, body = _module(system)
-    _BODIES[key] = (state, params, body)
-    return _field(key, name, state, params, body)
+    _BODIES[key] = (name, state, params, body)
+    return _field(key)
 
 
-_BODIES: dict = {}  # key -> (state, params, body module): what the per-thread integrator builders compile
+_BODIES: dict = {}  # key -> (name, state, params, body module): what the compiled builders below compile
 
 
-_FIELDS: dict = {}
-
-
-def _field(key, name, state, params, body) -> ModelField:
-    if key in _FIELDS:
-        return _FIELDS[key]
+@systems.cache
+def _field(key) -> ModelField:
     import heyoka as hy
 
+    name, state, params, body = _BODIES[key]
     x = hy.make_vars(*state)
     p = [hy.par[i] for i in range(len(params))]
     H = body.hamiltonian(*x, *p)
     f = body.rhs(*x, *p)
     cas = list(body.casimirs(*x, *p))
-    cnames = tuple(f"C{i + 1}" for i in range(len(cas)))
-    mf = ModelField(
+    return ModelField(
         key, name, tuple(state), tuple(params),
         rhs=systems.CFunc(f, x),
         jacobian=systems.CFunc([hy.diff(fi, xj) for fi in f for xj in x], x),
@@ -118,15 +115,13 @@ def _field(key, name, state, params, body) -> ModelField:
         casimirs=systems.CFunc(cas, x),
         casimir_gradients=systems.CFunc([hy.diff(c, xj) for c in cas for xj in x], x),
         grad_H=systems.CFunc([hy.diff(H, xj) for xj in x], x),
-        casimir_names=cnames)
-    _FIELDS[key] = mf
-    return mf
+        casimir_names=tuple(f"C{i + 1}" for i in range(len(cas))))
 
 
 def _exprs(key):
     import heyoka as hy
 
-    state, params, body = _BODIES[key]
+    _, state, params, body = _BODIES[key]
     x = hy.make_vars(*state)
     p = [hy.par[i] for i in range(len(params))]
     return x, p, body
