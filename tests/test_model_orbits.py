@@ -149,6 +149,9 @@ def test_homoclinic_at_eps_0_is_the_closed_form_and_continues_in_eps(model, kw, 
     br = mr.continue_branch(s0, o, parameter=par, steps=2, ds=0.02)
     assert br.success and br.points == 3 and br.max_residual <= 1e-9, br.message
     assert br.u[-1, 2] != br.u[0, 2] and br.system == s0
+    with pytest.raises(mr.ParameterError) as exc:  # the orbit belongs to its own system
+        mr.continue_branch(s1, o, parameter=par, steps=1)
+    assert exc.value.name == "system"
 
 
 def test_continuation_of_equilibria_and_its_folds():

@@ -375,6 +375,9 @@ def continue_branch(system=None, orbit=None, parameter: str = "mu", steps: int =
     if isinstance(orbit, (SymmetricOrbit, Equilibrium)):
         if not orbit.success:
             raise ParameterError("orbit", "must be a converged orbit or equilibrium")
+        if orbit.system != system:
+            raise ParameterError("system", f"the orbit was computed for {orbit.system!r}, not {system!r}: pass its "
+                                           "own system (orbit.system) to start the branch from it")
         steps = require_positive_int("steps", steps)
         if not (0 < float(ds) <= 1):
             raise ParameterError("ds", f"must be in (0, 1], got {ds}")

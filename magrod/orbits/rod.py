@@ -278,6 +278,8 @@ def rod_shape(system=None, orbit=None, n: int = 3001) -> RodShape:
         if not getattr(orbit, "success", False):
             raise ParameterError("orbit", "must be a converged orbit of the model (a symmetric homoclinic orbit or "
                                           "an equilibrium)")
+        if getattr(orbit, "system", system) != system:
+            raise ParameterError("system", f"the orbit was computed for {orbit.system!r}, not {system!r}")
         rod, dev, dev1, T = _model_shape(system, orbit, n)
         return RodShape(True, f"rod of the model {system.model!r} reconstructed from the orbit (state + frame + "
                               "centreline integrated together)", rod["s"], rod["r"], rod["D"], rod["x"],
