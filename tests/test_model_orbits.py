@@ -192,15 +192,16 @@ def test_rod_shape_of_every_model(model):
 
 def test_symmetric_homoclinic_orbit_of_the_magnetic_rod():
     """9-D, 3 Casimirs, Fix(R) of codimension 3 on the 6-D leaf: consistent through the S^1 symmetry's integral; the
-    orbit conserves H and the Casimirs to 1e-12 and its rod's frame stays orthonormal with D^T z = e3."""
+    orbit conserves H and the Casimirs to 1e-12, its rod's frame stays orthonormal with D^T z = e3, and it continues
+    in lam."""
     s = mr.System("magnetic")
     o = mr.homoclinic_orbit(s)
     assert o.success and o.accuracy["passed"] and o.reversor.codim == 3, o.message
     rod = mr.rod_shape(s, o, n=300)
     assert rod.orthonormality <= 1e-12 and rod.field_consistency <= 1e-12
-    with pytest.raises(mr.ParameterError) as exc:
-        mr.continue_branch(s, o, parameter="lam", steps=1)
-    assert exc.value.name == "model" and "codimension 3" in str(exc.value)
+    # three Fix(R) conditions of rank 2 continued by projection: every point's full residual is reported
+    br = mr.continue_branch(s, o, parameter="lam", steps=2, ds=0.05)
+    assert br.success and br.points == 3 and br.max_residual <= 1e-9 and br.u[-1, 2] != 0.25, br.message
 
 
 def test_rod_shape_of_a_homoclinic_orbit():

@@ -320,20 +320,42 @@ def continue_equilibrium(system, eq: Equilibrium, parameter: str, *, steps: int 
 
 def continue_homoclinic(system, orbit: SymmetricOrbit, parameter: str, *, steps: int = 10, ds: float = 0.05,
                         direction: int = 1, bounds=None, tol: float | None = None):
-    """A branch of symmetric homoclinic orbits in `parameter`, with folds (Branch: u = (alpha, T, p))."""
+    """A branch of symmetric homoclinic orbits in `parameter`, with folds (Branch: u = (alpha, T, p)).
+
+    Fix(R) of codimension k > 2 (the 9-D rods: (m2, n2, e32) on a 6-D leaf) is consistent only through a further
+    integral (the S^1 symmetry's), so the k conditions have rank 2 along the branch: they are continued as their
+    projection U0^T r onto the two leading left singular vectors of their Jacobian at the start (for k = 2 an
+    orthogonal change of basis), and every point's full residual max|P x(T)| is recomputed and reported in
+    `residuals` (the evidence that the projection lost nothing)."""
     from .continuation import pseudo_arclength
 
     k = _index(system, parameter)
-    if orbit.reversor.codim != 2 or abs(orbit.equilibrium.unstable_eigenvalue.imag) == 0:
-        raise ParameterError("model", f"continuing symmetric homoclinic orbits needs a saddle-focus on a 4-D leaf "
-                                      f"(two unknowns alpha, T and two Fix(R) conditions), and the model "
-                                      f"{system.model!r} has Fix(R) of codimension {orbit.reversor.codim}")
+    if abs(orbit.equilibrium.unstable_eigenvalue.imag) == 0:
+        raise ParameterError("model", f"continuing symmetric homoclinic orbits needs a saddle-focus (the launch "
+                                      f"angle an unknown), and the model {system.model!r}'s saddle has a real "
+                                      "unstable eigenvalue")
     F = homoclinic_problem(system, orbit, parameter)
     u0 = np.array([orbit.alpha, orbit.T, system.values[k]])
+    _, J0 = F(u0)
+    U, sv, _ = np.linalg.svd(J0)
+    if sv.size < 2 or sv[1] <= 1e-8 * sv[0]:
+        raise ParameterError("model", f"the Fix(R) conditions of the model {system.model!r} have rank < 2 at the "
+                                      "start: the branch is not a curve in (alpha, T, parameter)")
+    U0 = U[:, :2]
+
+    def F2(u):
+        r, J = F(u)
+        return U0.T @ r, U0.T @ J
+
     bd = None if bounds is None else {2: tuple(float(b) for b in bounds)}
-    br = pseudo_arclength(F, u0, scale=np.array([1.0, 10.0, 1.0]), ds=ds, ds_max=max(ds, 0.2), steps=steps, par=2,
-                          direction=direction, bounds=bd, names=("alpha", "T", parameter),
-                          tol=RESIDUAL_TOL if tol is None else tol)
+    tol = RESIDUAL_TOL if tol is None else float(tol)
+    br = pseudo_arclength(F2, u0, scale=np.array([1.0, 10.0, 1.0]), ds=ds, ds_max=max(ds, 0.2), steps=steps,
+                          par=2, direction=direction, bounds=bd, names=("alpha", "T", parameter), tol=tol)
+    full = np.array([float(np.max(np.abs(F(u)[0]))) for u in br.u])
+    br.residuals = full
+    if np.any(full > tol) and br.success:
+        br.success = False
+        br.message += f"; full Fix(R) residual {float(np.max(full)):.3g} > {tol:g} (the projection lost a condition)"
     br.kind, br.parameter = "symmetric homoclinic branch", parameter
     br.system = system
     return br
