@@ -417,10 +417,10 @@ def multipulse(system, max_pulses: int = 3, *, samples=None, delta: float = LAUN
     t0 = time.perf_counter()
     eq = straight_rod(system)
     _require_saddle(eq, "multipulse orbits")
-    if eq.kind != "saddle-focus":
-        raise ParameterError("model", f"the multipulse search needs a saddle-focus (its unstable manifold a disc, "
-                                      f"the launch angle the unknown), and the model {system.model!r}'s straight rod "
-                                      f"is a {eq.kind}")
+    if abs(eq.unstable_eigenvalue.imag) == 0:
+        raise ParameterError("model", f"the multipulse search needs a complex unstable eigenvalue (the unstable "
+                                      f"manifold a disc, the launch angle the unknown), and the model "
+                                      f"{system.model!r}'s straight rod has a real one")
     R = _reversor(system, fixing=eq.x)
     tol = RESIDUAL_TOL if tol is None else float(tol)
     samples = 96 if samples is None else int(samples)
