@@ -19,6 +19,7 @@ PLOTTERS: dict[str, str] = {
     "RegimeSearch": "integrability:plot_regime_search",
     "FirstIntegralSearch": "integrability:plot_first_integrals",
     "Splitting": "splitting:plot_splitting",
+    "MelnikovFunction": "splitting:plot_melnikov_function",
     # orbits (magrod/figures/orbits.py)
     "StraightRod": "orbits:plot_saddle",
     "PeriodicSaddle": "orbits:plot_saddle",
