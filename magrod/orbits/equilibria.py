@@ -200,10 +200,7 @@ def straight_rod(system, *, M: float = 1.0, T: float = 1.0, tol=None) -> Equilib
     >>> e.kind, e.success
     ('saddle-focus', True)
     """
-    start = straight_rod_start(system, M, T)
-    if system.is_paper:
-        return relative_equilibrium(system, start, tol=tol)
-    return relative_equilibrium(system, start, tol=tol)
+    return relative_equilibrium(system, straight_rod_start(system, M, T), tol=tol)
 
 
 # ------------------------------------------------------------------------------------------------------------------
