@@ -13,13 +13,7 @@ def plot_saddle(s, ax=None, **kw):
     multipliers of the periodic saddle with the unit circle (log-polar would hide the pair at 1)."""
     ax = axes(ax)
     if s.kind == "equilibrium":
-        z = np.asarray(s.eigenvalues)
-        ax.axvline(0.0, color="0.7", lw=0.8)
-        ax.plot(z.real, z.imag, "o", mfc="none", color="k", **kw)
-        u = s.unstable_eigenvalue
-        ax.plot([u.real], [u.imag], "o", color="tab:red", label=f"unstable {u.real:.4g} + {u.imag:.4g}i")
-        ax.set_xlabel("Re eigenvalue")
-        ax.set_ylabel("Im eigenvalue")
+        _spectrum(ax, s.eigenvalues, s.unstable_eigenvalue, **kw)
         ax.set_title(f"straight rod (mu = 2 lam), H = {s.H:.6g}", fontsize=8)
     else:
         z = np.asarray(s.multipliers)
@@ -41,16 +35,20 @@ def plot_equilibrium(e, ax=None, **kw):
     """An equilibrium of any model: its spectrum on the symplectic leaf in the complex plane, the leading
     unstable eigenvalue marked."""
     ax = axes(ax)
-    z = np.asarray(e.eigenvalues)
-    ax.axvline(0.0, color="0.7", lw=0.8)
-    ax.plot(z.real, z.imag, "o", mfc="none", color="k", **kw)
-    u = e.unstable_eigenvalue
-    ax.plot([u.real], [u.imag], "o", color="tab:red", label=f"unstable {u.real:.4g} + {u.imag:.4g}i")
-    ax.set_xlabel("Re eigenvalue")
-    ax.set_ylabel("Im eigenvalue")
+    _spectrum(ax, e.eigenvalues, e.unstable_eigenvalue, **kw)
     ax.set_title(f"{e.kind} of {e.system!r}"[:120], fontsize=8)
     ax.legend(fontsize=7)
     return ax
+
+
+def _spectrum(ax, eigenvalues, u, **kw):
+    """Eigenvalues in the complex plane, the unstable one marked."""
+    z = np.asarray(eigenvalues)
+    ax.axvline(0.0, color="0.7", lw=0.8)
+    ax.plot(z.real, z.imag, "o", mfc="none", color="k", **kw)
+    ax.plot([u.real], [u.imag], "o", color="tab:red", label=f"unstable {u.real:.4g} + {u.imag:.4g}i")
+    ax.set_xlabel("Re eigenvalue")
+    ax.set_ylabel("Im eigenvalue")
 
 
 def plot_symmetric_orbit(orbit, ax=None, n: int = 2001, **kw):

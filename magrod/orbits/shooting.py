@@ -180,11 +180,8 @@ def paper_saddle(params: RodParams, *, precision=Precision.DOUBLE) -> Saddle:
     Examples
     --------
     >>> import magrod as mr
-    >>> from magrod.orbits.shooting import saddle
-    >>> s = saddle(mr.RodParams(m=1.7, mu=0.002, gamma=1, delta=1, lam=0.001))
-    >>> s.kind, round(s.unstable_eigenvalue.real, 6)
-    ('equilibrium', 0.664602)
-    >>> saddle(mr.RodParams(m=1.7, mu=0.0021, gamma=1, delta=1, lam=0.001)).kind
+    >>> from magrod.orbits.shooting import paper_saddle
+    >>> paper_saddle(mr.RodParams(m=1.7, mu=0.0021, gamma=1, delta=1, lam=0.001)).kind
     'periodic'
 
     Notes
