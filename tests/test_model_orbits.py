@@ -236,6 +236,13 @@ def test_paper_rod_paths_unchanged():
     a, b = mr.saddle(p), paper_saddle(p)
     np.testing.assert_array_equal(a.x, b.x)
     np.testing.assert_array_equal(a.unstable_vector, b.unstable_vector)
+    # the generic engine on the paper's rod: the same straight rod, its leaf spectrum the nonzero eigenvalues of the
+    # paper's 9 x 9 Jacobian (three zeros: the Casimirs)
+    g = straight_rod(mr.System(p))
+    np.testing.assert_array_equal(g.x, b.x)
+    assert abs(g.unstable_eigenvalue - b.unstable_eigenvalue) <= 1e-14
+    nonzero = b.eigenvalues[np.abs(b.eigenvalues) > 1e-12]
+    np.testing.assert_allclose(np.sort_complex(g.eigenvalues), np.sort_complex(nonzero), atol=1e-13)
     o = mr.homoclinic_orbit(mr.System(m=1.7, gamma=1.0, mu=0, lam=0))
     with pytest.warns(DeprecationWarning):
         o2 = mr.homoclinic_orbit(1.7, 1.0)
