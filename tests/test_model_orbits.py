@@ -250,6 +250,9 @@ def test_paper_rod_paths_unchanged():
     with pytest.raises(mr.ParameterError) as exc:
         mr.homoclinic_orbit("4a")
     assert exc.value.name == "lam"
+    with pytest.warns(DeprecationWarning, match="system"):  # the old keyword of the first argument
+        c = mr.saddle(params=p)
+    np.testing.assert_array_equal(c.x, b.x)
 
 
 def test_splitting_of_a_model_with_a_small_parameter():
