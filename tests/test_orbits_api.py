@@ -134,7 +134,7 @@ def test_one_cache_registry_cleared_by_bypass():
 def test_homoclinic_orbit_tolerance_is_honoured():
     """psibar(t, tol) used to ignore tol: a loose tolerance now gives a visibly different (less accurate) value,
     and the default (eps) one agrees with tol = 1e-15."""
-    orb = homoclinic_orbit(1.7, 1.0)
+    orb = homoclinic_orbit(RodParams(m=1.7, mu=0.0, gamma=1.0, delta=1.0, lam=0.0))
     t = np.linspace(0.0, 20.0, 9)
     exact = orb.psibar(t)
     loose = orb.psibar(t, tol=1e-4)
@@ -171,19 +171,19 @@ def test_multipulse_orbits_bad_input(kw, name):
 
 
 def test_continue_branch_both_kinds(fig6_search, generic_search):
-    br = continue_branch(generic_search[0], "mu", steps=2, ds=0.2)
+    br = continue_branch(GENERIC, generic_search[0], parameter="mu", steps=2, ds=0.2)
     assert br.success and br.points == 3 and br.names == ("T", "angle", "mu") and br.max_residual <= 1e-10
     assert br.kind == "periodic" and len(repr(br)) < 1000
     json.dumps(br.to_dict())
-    b2 = continue_branch(fig6_search[0], "m", steps=2, ds=0.01)
+    b2 = continue_branch(FIG6, fig6_search[0], parameter="m", steps=2, ds=0.01)
     assert b2.success and b2.names == ("T", "lam", "m") and b2.max_residual <= 1e-10
     # the first point is the orbit itself: lam* at m = 1.7
     assert abs(b2.u[0, 1] / fig6_search[0].free_value - 1) <= 1e-9
     with pytest.raises(ParameterError) as e:
-        continue_branch(fig6_search[0], "mu")  # mu follows lam on the straight rod's level
+        continue_branch(FIG6, fig6_search[0], parameter="mu")  # mu follows lam on the straight rod's level
     assert e.value.name == "parameter"
     with pytest.raises(ParameterError) as e:
-        continue_branch(fig6_search, "mu")
+        continue_branch(FIG6, fig6_search, parameter="mu")
     assert e.value.name == "orbit"
 
 

@@ -31,7 +31,7 @@ ds = cm.to_xarray()
 print("chaos map:", cm.success, dict(ds.sizes), f"fraction chaotic = {cm.fraction_chaotic:.2f}")
 
 # the closed-form lambdabar = 0 homoclinic orbit of the extensible rod (paper sec. 6)
-orb = mr.homoclinic_orbit(m=1.7, gamma=1.0)
+orb = mr.homoclinic_orbit(mr.System(m=1.7, gamma=1.0, mu=0, lam=0))
 print("homoclinic:", orb.success, f"theta_max = {orb.theta_max:.4f}")
 
 # the saddle at the panel's parameters: mu > 2 lambdabar, so the helical periodic saddle (mu = 2 lambdabar: the
@@ -44,13 +44,13 @@ print("saddle:", sad.kind, f"period {sad.T:.4f}")
 q = mr.RodParams(m=1.7, mu=0.0025, gamma=1, delta=1, lam=0.001)
 orbits = mr.multipulse_orbits(q, max_pulses=2)
 print("multipulse:", orbits.success, "pulses", orbits.pulses)
-branch = mr.continue_branch(orbits[0], parameter="mu", steps=10)
+branch = mr.continue_branch(q, orbits[0], parameter="mu", steps=10)
 print("branch:", branch.success, f"{branch.u.shape[0]} points, max residual {branch.residuals.max():.1e}")
-rod = mr.rod_shape(orbits[0])
+rod = mr.rod_shape(q, orbits[0])
 print("rod:", rod.success, f"length {rod.length:.3f}")
 
 # the splitting of the separatrix at a = 2b, in two precisions, against the derived leading term
-spl = mr.splitting(m=1.7, gamma=1, delta=1, a=2, b=1, eps=[0.02, 0.014, 0.01, 0.007, 0.005])
+spl = mr.splitting(mr.System(m=1.7, gamma=1, delta=1), a=2, b=1, eps=[0.02, 0.014, 0.01, 0.007, 0.005])
 print("splitting:", spl.kind, f"psi_u ~ eps^{spl.fit_exponent:.3f}, derived leading term to "
       f"{spl.leading_digits:.1f} digits")
 

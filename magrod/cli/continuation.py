@@ -93,8 +93,8 @@ def run(args) -> dict:
         r = found[0]
     # the branch itself is the library's continue_branch (issue 25: the command no longer rebuilds it)
     with bar(steps, "continue", not args.quiet) as update:
-        br = continue_branch(r, name, steps, ds=ds, direction=args.direction,
-                               bounds=(lo, hi) if args.range else None, progress=update)
+        br = continue_branch(r.params, r, parameter=name, steps=steps, ds=ds, direction=args.direction,
+                             bounds=(lo, hi) if args.range else None, progress=update)
     names = br.names
     wall = time.perf_counter() - t0
     stem = "branch_mu2lam" if args.mu2lam else f"branch_N{N}_{name}"

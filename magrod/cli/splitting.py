@@ -33,7 +33,7 @@ def _eps_list(s):
 
 
 def run(args) -> dict:
-    from .. import splitting
+    from .. import System, splitting
     from ..separatrix import scan_summary
     from ..core.progress import bar
 
@@ -43,8 +43,8 @@ def run(args) -> dict:
     dest = out_dir("out", args.out) if args.out is not None else None
     precs = tuple(p for p in (CHECK[args.precision], args.precision) if p)
     with bar(len(eps), "splitting", not args.quiet, unit="eps") as update:
-        spl = splitting(vals["m"], vals["gamma"], vals["delta"], vals["a"], vals["b"], eps, precisions=precs,
-                          n_phases=n, progress=update)
+        spl = splitting(System(m=vals["m"], gamma=vals["gamma"], delta=vals["delta"]), a=vals["a"], b=vals["b"],
+                        eps=eps, precisions=precs, n_phases=n, progress=update)
     res = spl.scan
     if spl.kind == "equilibrium":
         out = {"ok": True, "case": "equilibrium (a = 2b)", **scan_summary(res)}

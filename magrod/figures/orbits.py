@@ -13,13 +13,7 @@ def plot_saddle(s, ax=None, **kw):
     multipliers of the periodic saddle with the unit circle (log-polar would hide the pair at 1)."""
     ax = axes(ax)
     if s.kind == "equilibrium":
-        z = np.asarray(s.eigenvalues)
-        ax.axvline(0.0, color="0.7", lw=0.8)
-        ax.plot(z.real, z.imag, "o", mfc="none", color="k", **kw)
-        u = s.unstable_eigenvalue
-        ax.plot([u.real], [u.imag], "o", color="tab:red", label=f"unstable {u.real:.4g} + {u.imag:.4g}i")
-        ax.set_xlabel("Re eigenvalue")
-        ax.set_ylabel("Im eigenvalue")
+        _spectrum(ax, s.eigenvalues, s.unstable_eigenvalue, **kw)
         ax.set_title(f"straight rod (mu = 2 lam), H = {s.H:.6g}", fontsize=8)
     else:
         z = np.asarray(s.multipliers)
@@ -34,6 +28,39 @@ def plot_saddle(s, ax=None, **kw):
         ax.set_ylabel("Im multiplier")
         ax.set_title(f"periodic saddle: period T = {s.T:.6g}, H = {s.H:.6g}", fontsize=8)
     ax.legend(fontsize=7)
+    return ax
+
+
+def plot_equilibrium(e, ax=None, **kw):
+    """An equilibrium of any model: its spectrum on the symplectic leaf in the complex plane, the leading
+    unstable eigenvalue marked."""
+    ax = axes(ax)
+    _spectrum(ax, e.eigenvalues, e.unstable_eigenvalue, **kw)
+    ax.set_title(f"{e.kind} of {e.system!r}"[:120], fontsize=8)
+    ax.legend(fontsize=7)
+    return ax
+
+
+def _spectrum(ax, eigenvalues, u, **kw):
+    """Eigenvalues in the complex plane, the unstable one marked."""
+    z = np.asarray(eigenvalues)
+    ax.axvline(0.0, color="0.7", lw=0.8)
+    ax.plot(z.real, z.imag, "o", mfc="none", color="k", **kw)
+    ax.plot([u.real], [u.imag], "o", color="tab:red", label=f"unstable {u.real:.4g} + {u.imag:.4g}i")
+    ax.set_xlabel("Re eigenvalue")
+    ax.set_ylabel("Im eigenvalue")
+
+
+def plot_symmetric_orbit(orbit, ax=None, n: int = 2001, **kw):
+    """Every state component of a symmetric homoclinic orbit of any model against s - T (the symmetric point at 0)."""
+    ax = axes(ax, figsize=(6.0, 3.0))
+    smp = orbit.sample(n)
+    t = smp["t"] - orbit.T
+    for j, name in enumerate(orbit.reversor.names):
+        ax.plot(t, smp["x"][:, j], lw=1, label=name, **kw)
+    ax.set_xlabel("s - T (arclength from the symmetric point)")
+    ax.set_title(f"{orbit.pulses}-pulse symmetric orbit, {orbit.reversor!r}"[:120], fontsize=8)
+    ax.legend(fontsize=6, ncol=3)
     return ax
 
 

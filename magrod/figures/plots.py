@@ -19,6 +19,7 @@ PLOTTERS: dict[str, str] = {
     "RegimeSearch": "integrability:plot_regime_search",
     "FirstIntegralSearch": "integrability:plot_first_integrals",
     "Splitting": "splitting:plot_splitting",
+    "MelnikovFunction": "splitting:plot_melnikov_function",
     # orbits (magrod/figures/orbits.py)
     "StraightRod": "orbits:plot_saddle",
     "PeriodicSaddle": "orbits:plot_saddle",
@@ -28,6 +29,8 @@ PLOTTERS: dict[str, str] = {
     "PulseSearch": "orbits:plot_pulse_search",
     "Branch": "orbits:plot_branch",
     "RodShape": "orbits:plot_rod_shape",
+    "Equilibrium": "orbits:plot_equilibrium",
+    "SymmetricOrbit": "orbits:plot_symmetric_orbit",
     # many orbits (magrod/figures/portrait.py)
     "SectionPortrait": "portrait:plot_portrait",
     "OrbitDiagram": "portrait:plot_orbit_diagram",
@@ -41,6 +44,7 @@ PLOTTERS: dict[str, str] = {
     "Landscape": "models:plot_landscape",
     "ModelChaosMap": "models:plot_model_chaos_map",
     "ModelSplitting": "models:plot_model_splitting",
+    "MelnikovScan": "models:plot_model_splitting",
 }
 
 

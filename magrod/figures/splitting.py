@@ -197,6 +197,10 @@ def plot_splitting(res, ax=None, **kw):
     a = 2b, the derived leading term b C_psi eps^2."""
     from .plots import axes
 
+    if res.kind == "melnikov":  # another model's splitting: its measurement against the Mel'nikov coefficient
+        from .models import plot_model_splitting
+
+        return plot_model_splitting(res.scan.to_dict(), ax=ax, **kw)
     ax = axes(ax)
     e = np.asarray(res.eps, float)
     ax.loglog(e, np.abs(res.measure), "ko", ms=4, label=("|psi_u|" if res.kind == "equilibrium" else "|s1|")
@@ -212,4 +216,22 @@ def plot_splitting(res, ax=None, **kw):
     ax.set_title(f"m={res.m:g}, $\\gamma$={res.gamma:g}, $\\delta$={res.delta:g}, a={res.a:g}, b={res.b:g} "
                  f"({res.kind})", fontsize=8)
     ax.legend(fontsize=7)
+    return ax
+
+
+def plot_melnikov_function(res, ax=None, **kw):
+    """MelnikovFunction.plot: M(phi0) (dots) and its trigonometric fit (line) against the phase phi0."""
+    from .plots import axes
+
+    ax = axes(ax)
+    order = np.argsort(res.phi)
+    ax.plot(res.phi[order], res.M[order], "ko", ms=3, **kw)
+    grid = np.linspace(0, 2 * np.pi, 400)
+    c = res.coefficients
+    fit = c[0] + sum(c[2 * h - 1] * np.cos(h * grid) + c[2 * h] * np.sin(h * grid) for h in range(1, (c.size - 1) // 2 + 1))
+    ax.plot(grid, fit, "C3-", lw=1)
+    ax.axhline(0.0, color="0.7", lw=0.8)
+    ax.set_xlabel(r"$\phi_0$")
+    ax.set_ylabel(f"M (per unit {res.parameter})")
+    ax.set_title(res.message[:110], fontsize=7)
     return ax

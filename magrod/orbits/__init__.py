@@ -26,6 +26,12 @@ _API = {
     "mu2lam_problem": "continuation",
     "point_at": "continuation",
     "pseudo_arclength": "continuation",
+    # every model: equilibria on a leaf, the model's reversors, symmetric orbits, their branches
+    "relative_equilibrium": "equilibria",
+    "reversors": "equilibria",
+    "symmetric_homoclinic": "reversible",
+    "continue_equilibrium": "reversible",
+    "continue_homoclinic": "reversible",
     # the rod in space
     "rod_from_orbit": ("rod", "from_orbit"),
     "reconstruct_rod": ("rod", "reconstruct"),

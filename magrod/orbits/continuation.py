@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core.deprecation import renamed_keywords
 from ..core.errors import ParameterError, require_positive_int
 from ..core.params import RodParams
 from ..core.precision import Precision
@@ -57,6 +58,7 @@ class Branch(Result):
     parameter: str = ""
     pulses: int = 0
     start: RodParams | None = None
+    system: object = None  # what was studied (the System at the start)
 
     _repr_fields = ("names", "points", "fold_values", "max_residual")
 
@@ -81,7 +83,8 @@ class Branch(Result):
     def to_dict(self) -> dict:
         d = {k: jsonable(getattr(self, k)) for k in ("success", "message", "names", "kind", "parameter", "pulses",
                                                       "u", "tangents", "residuals", "iterations")}
-        d.update({"folds": fold_summary(self), "start": self.start.to_dict() if self.start else None})
+        d.update({"folds": fold_summary(self), "start": self.start.to_dict() if self.start else None,
+                  "system": self.system.to_dict() if self.system is not None else None})
         return d
 
 
@@ -283,14 +286,22 @@ def wrap_angle(a: float) -> float:
     return math.remainder(a, 2 * math.pi) % (2 * math.pi)
 
 
-def continue_branch(orbit, parameter: str = "mu", steps: int = 50, *, ds: float = 0.1, direction: int = 1,
-                    bounds: tuple | None = None, tol: float = SHOOTING_TOL, progress=None) -> Branch:
-    """Follow a symmetric homoclinic orbit through parameter space by pseudo-arclength continuation.
+@renamed_keywords(params="system")
+def continue_branch(system=None, orbit=None, parameter: str = "mu", steps: int = 50, *, ds: float = 0.1,
+                    direction: int = 1, bounds: tuple | None = None, tol: float | None = None,
+                    progress=None) -> Branch:
+    """Follow a symmetric homoclinic orbit, or an equilibrium, through parameter space by pseudo-arclength
+    continuation, with its folds.
 
     Parameters
     ----------
-    orbit : MultipulseOrbit
-        A converged orbit (from multipulse_orbits).  Straight rod (mu = 2 lam, codimension one): the branch is a
+    system : System, or what converts to one (magrod.core.system.as_system)
+        The model and its parameters at the start.  The old spelling ``continue_branch(orbit, parameter, steps)``
+        (the orbit first) works for one release.
+    orbit : MultipulseOrbit, SymmetricOrbit or Equilibrium
+        Any model: a symmetric homoclinic orbit (homoclinic_orbit; unknowns u = (alpha, T, parameter), the
+        equilibrium recomputed on the start's leaf at each point) or an equilibrium (saddle; u = (x, parameter)).
+        The paper's rod: a converged orbit (from multipulse_orbits).  Straight rod (mu = 2 lam, codimension one): the branch is a
         curve in the (lam, parameter) plane, unknowns u = (T, lam, parameter), mu = 2 lam kept.  Periodic saddle
         (mu > 2 lam, generic): u = (T, launch angle, parameter).
     parameter : str
@@ -327,7 +338,7 @@ def continue_branch(orbit, parameter: str = "mu", steps: int = 50, *, ds: float 
     >>> from magrod.orbits.continuation import continue_branch
     >>> from magrod.orbits.multipulse import multipulse_orbits
     >>> primaries = multipulse_orbits(mr.RodParams(m=1.7, mu=0.0021, gamma=1, delta=1, lam=0.001), max_pulses=1)
-    >>> br = continue_branch(primaries[0], "mu", steps=3, ds=0.2)
+    >>> br = continue_branch(primaries[0].params, primaries[0], parameter="mu", steps=3, ds=0.2)
     >>> br.success, br.points, br.names
     (True, 4, ('T', 'angle', 'mu'))
     >>> br.max_residual <= 1e-10
@@ -342,8 +353,39 @@ def continue_branch(orbit, parameter: str = "mu", steps: int = 50, *, ds: float 
     are kept (T depends on launch_distance).  Cost: one variational integration and two saddle constructions per parameter
     direction per Newton step (~0.05-0.5 s per point).  Accuracy: every point has max|F| <= tol.
     """
+    from ..core.system import as_system
+    from .equilibria import Equilibrium
+    from .reversible import SymmetricOrbit, continue_equilibrium, continue_homoclinic
     from .shooting import MultipulseOrbit
 
+    if orbit is None or isinstance(orbit, str):
+        # the old call continue_branch(orbit, parameter, steps): the orbit first
+        import warnings
+
+        warnings.warn("continue_branch(orbit, parameter, ...) is deprecated: call continue_branch(system, orbit, "
+                      "parameter=...)", DeprecationWarning, stacklevel=3)
+        if isinstance(orbit, str):
+            if isinstance(parameter, int) and not isinstance(parameter, bool):
+                steps = parameter
+            parameter = orbit
+        orbit, system = system, None
+    if system is None:
+        system = getattr(orbit, "system", None) or getattr(orbit, "params", None)
+    system, _ = as_system(system)
+    if isinstance(orbit, (SymmetricOrbit, Equilibrium)):
+        if not orbit.success:
+            raise ParameterError("orbit", "must be a converged orbit or equilibrium")
+        if orbit.system != system:
+            raise ParameterError("system", f"the orbit was computed for {orbit.system!r}, not {system!r}: pass its "
+                                           "own system (orbit.system) to start the branch from it")
+        steps = require_positive_int("steps", steps)
+        if not (0 < float(ds) <= 1):
+            raise ParameterError("ds", f"must be in (0, 1], got {ds}")
+        if direction not in (-1, 1):
+            raise ParameterError("direction", f"must be +1 or -1, got {direction!r}")
+        go = continue_homoclinic if isinstance(orbit, SymmetricOrbit) else continue_equilibrium
+        return go(system, orbit, parameter, steps=steps, ds=float(ds), direction=direction, bounds=bounds, tol=tol)
+    tol = SHOOTING_TOL if tol is None else float(tol)
     if not isinstance(orbit, MultipulseOrbit) or not orbit.success:
         raise ParameterError("orbit", "must be a converged MultipulseOrbit (magrod.orbits.multipulse.multipulse_orbits)")
     steps = require_positive_int("steps", steps)
@@ -380,4 +422,5 @@ def continue_branch(orbit, parameter: str = "mu", steps: int = 50, *, ds: float 
     br = pseudo_arclength(F, u0, scale=scale, ds=float(ds), ds_max=max(float(ds), 0.5), steps=steps, par=2,
                           direction=direction, bounds=bd, names=names, tol=tol, progress=progress)
     br.kind, br.parameter, br.pulses, br.start = orbit.kind, parameter, orbit.pulses, p
+    br.system = as_system(p, precision=system.precision)[0]  # the branch's start: the orbit's own parameters
     return br

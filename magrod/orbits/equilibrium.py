@@ -16,7 +16,7 @@ the body frame (a uniform helix, paper sec. 3): magrod.orbits.periodic.  Both im
 magrod.orbits.shooting (params, H, kind, launch_point, at), which the one shooting engine uses."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -101,6 +101,7 @@ class StraightRod(Result):
     success: bool = True
     message: str = "straight rod: a hyperbolic equilibrium on the chart's level (mu = 2 lam)"
     precision: Precision = Precision.DOUBLE
+    system: object = field(default=None, compare=False)  # what was studied (set by magrod.orbits.shooting.saddle)
 
     kind = "equilibrium"
     _repr_fields = ("kind", "params", "unstable_eigenvalue", "H")

@@ -139,6 +139,7 @@ class HomoclinicOrbit(Result):
     extra: dict = field(default_factory=dict, compare=False)
     success: bool = True
     message: str = "closed form (derive/homoclinic.py); verify() compares an independent integration"
+    system: object = field(default=None, compare=False)  # what was studied (the paper's rod at lam = mu = 0)
 
     _repr_fields = ("m", "gamma", "kappa", "theta_max", "h", "m_c")
 
@@ -222,33 +223,48 @@ def _psibar_integrator(tol=None):
     return systems.taylor([(psib, e["psidot"])], [0.0], [1.0, 1.0], tol=tol)
 
 
-def homoclinic_orbit(m, gamma) -> HomoclinicOrbit:
-    """The closed-form homoclinic orbit of the straight rod at lambdabar = mu = 0 (paper sec. 6, fig:angles).
+def homoclinic_orbit(system=None, gamma=None, *, m=None, precision=None, reversor=None, tol=None):
+    """A homoclinic orbit to the saddle of a rod model.
+
+    The paper's rod at lambdabar = mu = 0: the closed form of sec. 6 (fig:angles; below).  Any other model: a
+    symmetric homoclinic orbit to its straight twisted rod, shot onto Fix(R) of the model's reversor
+    (magrod.orbits.reversible.symmetric_homoclinic; a ParameterError naming the model if it has none).  The old
+    spelling ``homoclinic_orbit(m, gamma)`` (the paper's rod's m and gamma) works for one release.
 
     Parameters
     ----------
-    m : float
-        m = m3/sqrt(B C2) > 0 (>= 1e-3), below the buckling value m_c = 2 sqrt(1 + gamma).
-    gamma : float
-        Extensibility gamma >= 0 (gamma = 0 is the inextensible Kirchhoff rod, eq:Kirchhoff_homoclinic).
+    system : System, or what converts to one (magrod.core.system.as_system)
+        The model and its parameters; the paper's rod needs lam = mu = 0 here (other parameters:
+        multipulse_orbits).
+    precision, tol : optional
+        Other models: the shooting tolerance on max |x_flipped(T)| (default 1e-9).  precision: double only.
+    reversor : Reversor, optional
+        Other models: which reversor, where the model has several (magrod.orbits.equilibria.reversors).
+    m, gamma : float, optional
+        The old spelling: the paper's rod's m = m3/sqrt(B C2) > 0 (>= 1e-3, below the buckling value
+        m_c = 2 sqrt(1 + gamma)) and extensibility gamma >= 0 (gamma = 0 is the inextensible Kirchhoff rod,
+        eq:Kirchhoff_homoclinic).
 
     Returns
     -------
-    HomoclinicOrbit
-        Constants ``u_+``, ``u_-``, k, kappa (the saddle rate), h (the homoclinic level), m_c, theta_max; the orbit's
-        `evaluate(t)` (theta, pbar_theta, cos theta, sin theta, psi'), `psibar(t)`, `time_at_theta(theta)`,
+    HomoclinicOrbit or SymmetricOrbit
+        Other models: a SymmetricOrbit (alpha, T, the reversor, residual, level drift, `.sample(n)`, `.system`).
+        The paper's rod: the closed form, a HomoclinicOrbit with constants ``u_+``, ``u_-``, k, kappa (the
+        saddle rate), h (the homoclinic level), m_c, theta_max; the orbit's `evaluate(t)` (theta, pbar_theta, cos theta, sin theta, psi'), `psibar(t)`, `time_at_theta(theta)`,
         `verify()` and `.plot()`.
 
     Raises
     ------
     ParameterError
         "m" if m <= 0, m < 1e-3 or m >= m_c (no homoclinic orbit: V''(0) >= 0); "gamma" if gamma < 0; either if
-        not finite or beyond 1e6.
+        not finite or beyond 1e6; "lam" for the paper's rod away from lam = mu = 0; "model" naming a model without
+        a reversor fixing its saddle, or without a saddle; "precision" for another model in other than double.
 
     Examples
     --------
+    >>> import magrod as mr
     >>> from magrod.orbits.homoclinic import homoclinic_orbit
-    >>> orb = homoclinic_orbit(m=1.7, gamma=1.0)
+    >>> orb = homoclinic_orbit(mr.System(m=1.7, gamma=1.0, mu=0, lam=0))
     >>> round(orb.theta_max, 12), round(orb.kappa, 12)
     (1.598491574827, 0.664862032674)
     >>> t = orb.time_at_theta(1e-3)
@@ -266,7 +282,31 @@ def homoclinic_orbit(m, gamma) -> HomoclinicOrbit:
     integrates generated.field in 256-bit arithmetic (~0.6 s) and compares.  Reference: Sinden & van der
     Heijden, sec. 6, eq:extensible_ham, fig:angles.
     """
-    return homoclinic(m, gamma)
+    if m is not None or (isinstance(system, (int, float)) and not isinstance(system, bool)):
+        import warnings
+
+        warnings.warn("homoclinic_orbit(m, gamma) is deprecated: pass a System, e.g. homoclinic_orbit("
+                      "mr.System(m=1.7, gamma=1, mu=0, lam=0))", DeprecationWarning, stacklevel=2)
+        return homoclinic(system if m is None else m, gamma)
+    from ..core.system import as_system
+
+    system, _ = as_system(system)
+    if system.is_paper:
+        p = system.rod
+        if p.lam != 0 or p.mu != 0:
+            raise ParameterError("lam", f"the paper's rod's closed-form homoclinic orbit is at lam = mu = 0 (got lam = "
+                                        f"{p.lam:g}, mu = {p.mu:g}); at other parameters use multipulse_orbits")
+        from dataclasses import replace
+
+        return replace(homoclinic(p.m, p.gamma), system=system)
+    from ..core.precision import Precision
+    from .reversible import symmetric_homoclinic
+
+    if precision is not None and Precision.parse(precision) is not Precision.DOUBLE:
+        raise ParameterError("precision", f"the symmetric homoclinic orbits of the model {system.model!r} are shot in "
+                                          f"double precision only (their evidence: residual, level drift at tol = "
+                                          f"eps), got {precision!r}")
+    return symmetric_homoclinic(system, reversor=reversor, tol=tol)
 
 
 def homoclinic(m, gamma) -> HomoclinicOrbit:

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core.deprecation import renamed_keywords
 from ..core.errors import ParameterError, require_positive_int
 from ..core.params import RodParams
 from ..core.precision import Precision
@@ -404,6 +405,7 @@ class MultipulseSearch(Result):
     span: float | None = None
     samples: int | None = None
     with_uncertainty: bool = False
+    system: object = None  # what was studied
 
     _repr_fields = ("kind", "params", "pulses", "failures")
 
@@ -462,13 +464,17 @@ def _count(name: str, value, minimum: int = 1) -> int:
     return v
 
 
-def multipulse_orbits(params: RodParams, max_pulses: int = 4, *, free: str | None = None, span: float | None = None,
+@renamed_keywords(params="system")
+def multipulse_orbits(system=None, max_pulses: int = 4, *, free: str | None = None, span: float | None = None,
                       samples: int | None = None, with_uncertainty: bool = False, progress=None) -> MultipulseSearch:
     """Symmetric N-pulse homoclinic orbits, N = 1..max_pulses, to the saddle that exists at `params`.
 
     Parameters
     ----------
-    params : RodParams
+    system : System, or what converts to one (magrod.core.system.as_system)
+        The model and its parameters.  Other models than the paper's rod: symmetric N-pulse homoclinic orbits to
+        the straight twisted rod of a reversible model (magrod.orbits.reversible.multipulse; a ParameterError
+        naming the model if it has no reversor or no saddle-focus).  The paper's rod:
         mu = 2 lam (within MU_TOL): the saddle is the straight rod and symmetric orbits are of codimension one --
         each exists at its own value of `free`, searched within value * [1 - span, 1 + span]; mu > 2 lam: the
         saddle is the helical periodic one and orbits are generic, found at `params` (launch-angle scan).
@@ -527,10 +533,15 @@ def multipulse_orbits(params: RodParams, max_pulses: int = 4, *, free: str | Non
     """
     import time
 
-    from .shooting import saddle as saddle_of
+    from ..core.system import as_system
+    from .shooting import paper_saddle as saddle_of
 
-    if not isinstance(params, RodParams):
-        raise ParameterError("params", f"must be a RodParams, got {type(params).__name__}")
+    sysv, _ = as_system(system)
+    if not sysv.is_paper:
+        from .reversible import multipulse
+
+        return multipulse(sysv, _count("max_pulses", max_pulses), samples=samples)
+    params = sysv.rod
     max_pulses = _count("max_pulses", max_pulses)
     if samples is not None:
         samples = _count("samples", samples, minimum=3)
@@ -573,4 +584,4 @@ def multipulse_orbits(params: RodParams, max_pulses: int = 4, *, free: str | Non
            f"for N <= {max_pulses}" + (f"; none for N = {[f.pulses_target for f in failures]}" if failures else ""))
     return MultipulseSearch(n > 0, msg, params, s, orbits, failures, max_pulses,
                             free if s.kind == "equilibrium" else None, time.perf_counter() - t0, searches,
-                            span if s.kind == "equilibrium" else None, samples, bool(with_uncertainty))
+                            span if s.kind == "equilibrium" else None, samples, bool(with_uncertainty), sysv)

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -251,6 +251,7 @@ class PeriodicSaddle(Result):
     success: bool = True
     message: str = "periodic saddle: the helical relative equilibrium (mu > 2 lam)"
     precision: Precision = Precision.DOUBLE
+    system: object = field(default=None, compare=False)  # what was studied (set by magrod.orbits.shooting.saddle)
 
     kind = "periodic"
     _repr_fields = ("kind", "params", "T", "unstable_multiplier", "H", "hyperbolic")

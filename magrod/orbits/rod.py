@@ -17,6 +17,7 @@ import numpy as np
 
 from ..core import systems
 from ..core.errors import ParameterError
+from ..core.deprecation import renamed_keywords
 from ..core.results import Result
 
 N = systems.dim("body")
@@ -82,6 +83,84 @@ def from_orbit(d: dict, n: int = 3001) -> dict:
     return rod
 
 
+def reconstruct_model(system, x0, s_grid, D0=None, r0=(0.0, 0.0, 0.0)) -> dict:
+    """`reconstruct` for any model: state, director frame D' = D hat(u) and centreline r' = D v integrated together,
+    u = dH/dm, v = dH/dn by hy.diff of the model's H (model_field.frame_integrator).  The space z-axis is the
+    field e3 where the model has one (D0^T z = e3_body), else the force n (constant in space: the balance n' = 0
+    of a rod without distributed load), else d3.
+
+    Returns the keys of `reconstruct`; field_consistency is max|D^T z - e3_body| with a field, else the drift of
+    the force in space max|D n_body - D0 n_body(0)| (both zero exactly: numerical evidence of the frame's accuracy)."""
+    from . import model_field
+
+    s_grid = np.asarray(s_grid, float)
+    if s_grid.ndim != 1 or s_grid.size < 2 or np.any(np.diff(s_grid) <= 0):
+        raise ParameterError("s_grid", "must be an increasing 1-D array with at least 2 points")
+    mf = model_field.field(system)
+    x0 = np.asarray(x0, float)
+    idx = model_field.strain_indices(system)
+    nb = list(idx[3:])
+    e3 = [mf.index(k) for k in ("e31", "e32", "e33")] if mf.has("e31", "e32", "e33") else None
+    if D0 is None:
+        axis = x0[e3] if e3 else (x0[nb] if np.linalg.norm(x0[nb]) > 0 else np.array([0.0, 0.0, 1.0]))
+        D0 = initial_frame(axis)
+    D0 = np.asarray(D0, float)
+    ta = model_field.frame_integrator(system)
+    ta.time = float(s_grid[0])
+    ta.state[:] = np.concatenate([x0, D0.ravel(), np.asarray(r0, float)])
+    ta.pars[:] = system.array()
+    out = np.array(ta.propagate_grid(s_grid)[-1])
+    n = mf.dim
+    x, D, r = out[:, :n], out[:, n:n + 9].reshape(-1, 3, 3), out[:, n + 9:n + 12]
+    eye = np.eye(3)
+    ortho = float(np.max(np.abs(np.einsum("nki,nkj->nij", D, D) - eye)))
+    det = float(np.max(np.abs(np.linalg.det(D) - 1)))
+    if e3:
+        consistency = float(np.max(np.abs(D[:, 2, :] - x[:, e3])))
+    else:
+        f_space = np.einsum("nij,nj->ni", D, x[:, nb])
+        consistency = float(np.max(np.abs(f_space - f_space[0])))
+    return {"s": s_grid, "x": x, "D": D, "r": r, "orthonormality": ortho, "det": det,
+            "field_consistency": consistency}
+
+
+def _model_shape(system, orbit, n: int):
+    """(dict of `reconstruct_model`, deviation, deviation of the first half, T) of a symmetric orbit or an equilibrium
+    (a uniform helix over 4 pitches of its curvature, or length 20 for a straight rod)."""
+    from .equilibria import Equilibrium
+    from .reversible import SymmetricOrbit
+
+    if isinstance(orbit, SymmetricOrbit):
+        smp = orbit.sample(2 * n + 1)
+        t, X = smp["t"], smp["x"]
+        # the window where the rod is not straight to the launch distance: |x - x*| >= 1e3 delta
+        far = np.max(np.abs(X - orbit.equilibrium.x), axis=1) >= 1e3 * orbit.launch_distance
+        win = np.flatnonzero(far)
+        lo, hi = (int(win[0]), int(win[-1])) if win.size >= 2 else (0, t.size - 1)
+        idx = np.arange(lo, hi + 1)[:: max(1, (hi - lo + 1) // n)]
+        grid = np.concatenate([[0.0], t[idx]]) if t[idx][0] > 0 else t[idx]
+        rod = reconstruct_model(system, orbit.x0, grid)
+        keep = rod["s"] >= t[lo]
+        for k in ("s", "x", "D", "r"):
+            rod[k] = rod[k][keep]
+        rod["r"] = rod["r"] - rod["r"][0]
+        dev = np.max(np.abs(rod["x"] - X[idx]), axis=1)
+        return rod, float(np.max(dev)), float(np.max(dev[rod["s"] <= orbit.T])), float(orbit.T)
+    if isinstance(orbit, Equilibrium):
+        from . import model_field
+
+        pars = system.array()
+        g = np.asarray(model_field.field(system).grad_H(orbit.x, pars), float)
+        idx = model_field.strain_indices(system)
+        k = float(np.linalg.norm(g[list(idx[:3])]))
+        length = 8 * np.pi / k if k > 1e-12 else 20.0
+        rod = reconstruct_model(system, orbit.x, np.linspace(0.0, length, n))
+        dev = float(np.max(np.abs(rod["x"] - orbit.x)))
+        return rod, dev, dev, length / 2
+    raise ParameterError("orbit", "must be a converged orbit (a symmetric homoclinic orbit or MultipulseOrbit), an "
+                                  "equilibrium, an orbit file's arrays or its path")
+
+
 @dataclass(repr=False)
 class RodShape(Result):
     """The 3-D rod of an orbit: arclength s (n,), centreline r (n, 3) (z along the field, r[0] = 0), director
@@ -103,6 +182,7 @@ class RodShape(Result):
     deviation_first_half: float
     pars: np.ndarray
     T: float
+    system: object = None
 
     _repr_fields = ("length", "end_to_end", "orthonormality", "field_consistency", "deviation_first_half")
     # to_xarray(): one sample dimension, named axes, and CF attributes (the scale of derive/numeric_scale.py)
@@ -132,50 +212,79 @@ class RodShape(Result):
         return float(np.linalg.norm(self.r[-1] - self.r[0]))
 
 
-def rod_shape(orbit, n: int = 3001) -> RodShape:
-    """The rod's 3-D shape (directors and extensible centreline) of a symmetric homoclinic orbit.
+@renamed_keywords(params="system")
+def rod_shape(system=None, orbit=None, n: int = 3001) -> RodShape:
+    """The rod's 3-D shape (directors and centreline) of an orbit of any model.
 
     Parameters
     ----------
-    orbit : MultipulseOrbit, dict or path
-        A converged orbit (multipulse_orbits), the arrays of an orbit file (magrod.core.io.load_orbit_file), or
-        the path of an orbit file written by magrod.
+    system : System, or what converts to one (magrod.core.system.as_system)
+        The model and its parameters.  A result passed here (the old spelling ``rod_shape(orbit)``) stands for
+        itself and its system.
+    orbit : SymmetricOrbit, MultipulseOrbit, Equilibrium, dict or path
+        A converged symmetric homoclinic orbit (any model), an equilibrium (its uniform helix), a paper's-rod
+        orbit (multipulse_orbits), the arrays of an orbit file (magrod.core.io.load_orbit_file), or its path.
     n : int
         About this many samples along the plotted window (>= 2).
 
     Returns
     -------
     RodShape
-        Arclength, centreline, director frames, body states and the frame checks; `.plot()` (a 3-D tube).
+        Arclength, centreline, director frames, body states and the frame checks; `.system`; `.plot()` (a 3-D
+        tube).
 
     Raises
     ------
     ParameterError
-        "orbit" if not a converged orbit, "from" if the file is not a magrod orbit file, "n" if n < 2.
+        "orbit" if not a converged orbit, "from" if the file is not a magrod orbit file, "n" if n < 2, "model" if
+        the model has no body moments and forces (m, n) to integrate the frame from.
 
     Examples
     --------
     >>> import magrod as mr
     >>> from magrod.orbits.multipulse import multipulse_orbits
     >>> from magrod.orbits.rod import rod_shape
-    >>> found = multipulse_orbits(mr.RodParams(m=1.7, mu=0.002, gamma=1, delta=1, lam=0.001), max_pulses=2,
-    ...                           samples=41)
-    >>> rod = rod_shape(found[0], n=501)
+    >>> p = mr.RodParams(m=1.7, mu=0.002, gamma=1, delta=1, lam=0.001)
+    >>> found = multipulse_orbits(p, max_pulses=2, samples=41)
+    >>> rod = rod_shape(p, found[0], n=501)
     >>> rod.orthonormality < 1e-12 and rod.field_consistency < 1e-12
     True
 
     Notes
     -----
-    Method: the body system, D' = D hat(u) and r' = D v (u = dH/dm, v = dH/dn: the extensible, shearable
-    constitutive law) integrated together by heyoka from the launch point over the plotted window ``|tau| <= 1``
-    (from_orbit), so the frame is as accurate as the state (orthonormality drift ~1e-14).  The space frame has z
-    along the field.  Cost: one integration of 21 equations (~10 ms).  Reference: paper sec. 2, eq:hyperelastic.
+    Method: the body system, D' = D hat(u) and r' = D v (u = dH/dm, v = dH/dn of the model's H by hy.diff: the
+    paper's rod's extensible, shearable constitutive law, or any model's) integrated together by heyoka from the
+    launch point over the plotted window (paper's rod: ``|tau| <= 1``, from_orbit; other models: where the orbit is
+    1e3 launch distances away from the saddle), so the frame is as accurate as the state (orthonormality drift
+    ~1e-14).  The space frame has z along the field (or the force).  Cost: one integration of n + 12 equations
+    (~10 ms).  Reference: paper sec. 2, eq:hyperelastic.
     """
     from ..core.errors import require_positive_int
+    from ..core.system import System, as_system
 
+    if orbit is None or isinstance(orbit, int) and not isinstance(orbit, bool):
+        # the old call rod_shape(orbit[, n]): the orbit first, its system from it
+        if isinstance(orbit, int):
+            n = orbit
+        orbit, system = system, getattr(system, "system", None)
+    if system is None and hasattr(orbit, "system"):
+        system = orbit.system
     n = require_positive_int("n", n)
     if n < 2:
         raise ParameterError("n", f"must be >= 2, got {n}")
+    if system is not None and not isinstance(system, System):
+        system = as_system(system)[0]
+    if system is not None and not system.is_paper:
+        if not getattr(orbit, "success", False):
+            raise ParameterError("orbit", "must be a converged orbit of the model (a symmetric homoclinic orbit or "
+                                          "an equilibrium)")
+        if getattr(orbit, "system", system) != system:
+            raise ParameterError("system", f"the orbit was computed for {orbit.system!r}, not {system!r}")
+        rod, dev, dev1, T = _model_shape(system, orbit, n)
+        return RodShape(True, f"rod of the model {system.model!r} reconstructed from the orbit (state + frame + "
+                              "centreline integrated together)", rod["s"], rod["r"], rod["D"], rod["x"],
+                        rod["orthonormality"], rod["det"], rod["field_consistency"], dev, dev1, system.array(), T,
+                        system=system)
     if isinstance(orbit, (str, Path)):
         from ..core.io import load_orbit_file
 
@@ -183,13 +292,44 @@ def rod_shape(orbit, n: int = 3001) -> RodShape:
     elif isinstance(orbit, dict):
         d = orbit
     else:
+        from .equilibria import Equilibrium
+        from .reversible import SymmetricOrbit
+
+        if isinstance(orbit, (SymmetricOrbit, Equilibrium)) and getattr(orbit, "success", False):
+            rod, dev, dev1, T = _model_shape(orbit.system, orbit, n)
+            return RodShape(True, "rod reconstructed from the orbit (state + frame + centreline integrated "
+                                  "together)", rod["s"], rod["r"], rod["D"], rod["x"], rod["orthonormality"],
+                            rod["det"], rod["field_consistency"], dev, dev1, orbit.system.array(), T,
+                            system=orbit.system)
         if not getattr(orbit, "success", False) or not hasattr(orbit, "sample"):
             raise ParameterError("orbit", "must be a converged MultipulseOrbit, an orbit file's arrays or its path")
         orb = orbit.sample()
         d = {"x0": orbit.x0, "T": orbit.T, "pars": orbit.params.array(), "t": orb["t"], "tau": orb["tau"],
              "x": orb["x"]}
     rod = from_orbit(d, n)
+    if system is None:
+        from ..core.system import System as _S
+
+        system = _S._make(models_default(), _paper_names(), tuple(float(v) for v in rod["pars"]), _double())
     return RodShape(True, "rod reconstructed from the orbit (state + frame + centreline integrated together)",
                     rod["s"], rod["r"], rod["D"], rod["x"], rod["orthonormality"], rod["det"],
                     rod["field_consistency"], rod["deviation_from_symmetric_orbit"], rod["deviation_first_half"],
-                    np.asarray(rod["pars"], float), float(rod["T"]))
+                    np.asarray(rod["pars"], float), float(rod["T"]), system=system)
+
+
+def models_default() -> str:
+    from ..core.system import PAPER_MODEL
+
+    return PAPER_MODEL
+
+
+def _paper_names() -> tuple:
+    from ..core.system import _paper_names as names
+
+    return names()
+
+
+def _double():
+    from ..core.precision import Precision
+
+    return Precision.DOUBLE

@@ -46,6 +46,7 @@ import numpy as np
 
 from ..core import systems
 from ..core.deprecation import deprecated_attribute
+from ..core.deprecation import renamed_keywords
 from ..core.errors import ParameterError
 from ..core.params import RodParams
 from ..core.precision import Precision
@@ -85,7 +86,74 @@ class Saddle(Protocol):
         ...
 
 
-def saddle(params: RodParams, *, precision=Precision.DOUBLE) -> Saddle:
+@renamed_keywords(params="system")
+def saddle(system=None, *, precision=None, M: float = 1.0, T: float = 1.0):
+    """The saddle of a rod model.  The paper's rod: the straight rod (an equilibrium) when mu = 2 lam, the helical
+    periodic saddle when mu > 2 lam (`paper_saddle`).  Any other model: the straight twisted rod of twisting moment
+    M and tension T, or the relative equilibrium next to it on its leaf (magrod.orbits.equilibria.straight_rod),
+    with its spectrum on the symplectic leaf and its kind (the anisotropic and curved rods': a saddle-focus).
+
+    Parameters
+    ----------
+    system : System, or what converts to one (magrod.core.system.as_system)
+        The model and its parameters (a paper panel key, a RodParams, a model name or file ...).
+    precision : Precision or str, optional
+        The paper's rod: the working precision of the saddle's launch points (default: the system's).
+    M, T : float
+        Other models: the straight rod's twisting moment and tension (the leaf searched).
+
+    Returns
+    -------
+    StraightRod, PeriodicSaddle or Equilibrium
+        The paper's rod: result objects of the saddle protocol; other models: an Equilibrium (x, eigenvalues on
+        the leaf sorted deterministically, kind, unstable eigenvalue and phase-fixed eigenvector, `.system`).
+
+    Raises
+    ------
+    ParameterError
+        The paper's rod: "mu" if mu < 2 lam, "m" if not hyperbolic.  Other models: "model" if no saddle is found on
+        the leaf (the equilibrium is a centre or degenerate there).
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> from magrod.orbits.shooting import saddle
+    >>> s = saddle(mr.RodParams(m=1.7, mu=0.002, gamma=1, delta=1, lam=0.001))
+    >>> s.kind, round(s.unstable_eigenvalue.real, 6)
+    ('equilibrium', 0.664602)
+    >>> saddle(mr.System("anisotropic", B1=1, B2=1.02, C=1.5)).kind
+    'saddle-focus'
+
+    Notes
+    -----
+    The paper's rod: `paper_saddle` (mu = 2 lam decided to MU_TOL; eigen-decomposition of the compiled Jacobian, or
+    Gauss-Newton and one variational integration for the periodic saddle).  Other models: Gauss-Newton on
+    f(x) = 0, C(x) = c from the straight twisted rod, the spectrum of the Jacobian restricted to the symplectic
+    leaf, sorted by magrod.core.eigen.order and the eigenvector's phase fixed by core.eigen.fix_phase (nothing
+    LAPACK decides reaches the result); < 1 ms after the model's first compile.  Paper sec. 3 and 8.
+    """
+    from ..core.system import as_system
+
+    system, _ = as_system(system)
+    prec = system.precision if precision is None else Precision.parse(precision)
+    if system.is_paper:
+        from dataclasses import replace
+
+        return replace(paper_saddle(system.rod, precision=prec), system=system)
+    from .equilibria import straight_rod
+
+    if prec is not Precision.DOUBLE:
+        raise ParameterError("precision", f"the equilibria of the model {system.model!r} are computed in double "
+                                          f"precision (their evidence: the residual max|f(x)|), got {str(prec)!r}")
+    eq = straight_rod(system, M=M, T=T)
+    if not eq.success or eq.kind not in ("saddle-focus", "saddle", "saddle-centre"):
+        raise ParameterError("model", f"a saddle is needed, and the model {system.model!r} has none at the straight "
+                                      f"rod (M, T) = ({M:g}, {T:g}): its equilibrium there is a {eq.kind} "
+                                      f"({eq.message})")
+    return eq
+
+
+def paper_saddle(params: RodParams, *, precision=Precision.DOUBLE) -> Saddle:
     """The saddle of the rod at `params`: the straight rod (an equilibrium) when mu = 2 lam, the helical periodic
     saddle when mu > 2 lam.
 
@@ -112,11 +180,8 @@ def saddle(params: RodParams, *, precision=Precision.DOUBLE) -> Saddle:
     Examples
     --------
     >>> import magrod as mr
-    >>> from magrod.orbits.shooting import saddle
-    >>> s = saddle(mr.RodParams(m=1.7, mu=0.002, gamma=1, delta=1, lam=0.001))
-    >>> s.kind, round(s.unstable_eigenvalue.real, 6)
-    ('equilibrium', 0.664602)
-    >>> saddle(mr.RodParams(m=1.7, mu=0.0021, gamma=1, delta=1, lam=0.001)).kind
+    >>> from magrod.orbits.shooting import paper_saddle
+    >>> paper_saddle(mr.RodParams(m=1.7, mu=0.0021, gamma=1, delta=1, lam=0.001)).kind
     'periodic'
 
     Notes

@@ -28,6 +28,8 @@ _API = {
     "melnikov_amplitude_zero": ("melnikov", "amplitude_zero"),
     "melnikov_function": "melnikov",
     "primitive_check": "melnikov",
+    # any model with a saddle and a small parameter: M(phi0) along its integrable member's homoclinic orbit
+    "melnikov_along_orbit": "melnikov_orbit",
 }
 
 __getattr__, __dir__, __all__ = namespace(__name__, _API)

@@ -59,8 +59,8 @@ from ..core.results import Result
 from ..core.tolerances import MU_TOL, REAL128_QUADRATURE_TOL, SPLITTING_LAUNCH
 from ..generated import scalars
 from ..orbits.shooting import Crossing, crossing_events
-from ..orbits.shooting import saddle as orbit_saddle
-from ..core.deprecation import deprecated_alias
+from ..orbits.shooting import paper_saddle as orbit_saddle
+from ..core.deprecation import deprecated_alias, renamed_keywords
 
 THETA_TURN_MIN = 0.3  # a zero of pbar_theta counts as the turning point only where theta exceeds this
 T_MAX = 2000.0
@@ -652,7 +652,14 @@ class Splitting(Result):
     coefficient of D(psi) = theta_u(psi) - theta_u(-psi), `d` = max_psi |D|), one value per eps, in the reference
     (last) precision.  agreement: max relative difference of `measure` between the precisions (the numerical
     error evidence).  fit: power law measure ~ C eps^p (>= 4 eps).  leading (a = 2b): the derived second-order
-    Mel'nikov coefficient b C_psi against the measured eps^2-extrapolation, with the digits they share."""
+    Mel'nikov coefficient b C_psi against the measured eps^2-extrapolation, with the digits they share.
+
+    kind "melnikov" (any other model with a saddle and a small parameter: the anisotropic rod, B2 = B1 (1 + eps), the
+    curved rod, k1 = eps): `measure` = c / eps, the measured leading coefficient of Delta(phi0) = c sin(k phi0) per
+    unit eps, `d` = c; agreement: max relative difference of c between the two methods (reversor, stable manifold);
+    fit: power law c ~ C eps^p; leading: the Mel'nikov coefficient per unit eps (closed form) with the digits the
+    smallest eps's c / eps shares with it; m, gamma, delta, a, b are NaN (the paper's rod's); `scan` the measurement
+    (magrod.separatrix.model_splitting.MelnikovScan: rows, controls, quadrature); `system` what was studied."""
 
     success: bool
     message: str
@@ -671,6 +678,7 @@ class Splitting(Result):
     leading: dict | None
     wall_s: float
     scan: object = field(default=None, repr=False)
+    system: object = None  # what was studied (the paper's rod at its m, gamma, delta)
 
     _repr_fields = ("kind", "eps", "measure", "agreement", "fit_exponent", "leading_digits")
 
@@ -684,6 +692,8 @@ class Splitting(Result):
 
     @property
     def accuracy(self) -> dict:
+        if self.kind == "melnikov":
+            return self.scan.accuracy
         return {"agreement_between_precisions": self.agreement, "precisions": self.precisions}
 
     def to_dict(self) -> dict:
@@ -691,6 +701,9 @@ class Splitting(Result):
 
         d = {k: getattr(self, k) for k in ("success", "message", "kind", "m", "gamma", "delta", "a", "b", "eps",
                                            "precisions", "measure", "d", "agreement", "fit", "leading", "wall_s")}
+        d["system"] = self.system.to_dict() if self.system is not None else None
+        if self.kind == "melnikov":
+            d["scan"] = self.scan.to_dict()
         return jsonable(d)
 
 
@@ -723,16 +736,23 @@ def check_eps(eps, precision) -> list:
     return vals
 
 
-def splitting(m, gamma=None, delta=None, a=None, b=None, eps=EPS_SCAN, *, precisions=None, n_phases=64,
-              harmonics=4, progress=None) -> Splitting:
-    """The splitting of the stable and unstable manifolds of the saddle under mu = a eps^2, lambdabar = b eps^2
-    (the paper's scaling eq:condition_unperturbed_1), measured in two precisions.
+@renamed_keywords(params="system")
+def splitting(system=None, gamma=None, delta=None, a=None, b=None, eps=EPS_SCAN, *, m=None, precisions=None,
+              n_phases=64, harmonics=4, progress=None):
+    """The splitting of the stable and unstable manifolds of a rod model's saddle under its small parameter.
+
+    The paper's rod: under mu = a eps^2, lambdabar = b eps^2 (the paper's scaling eq:condition_unperturbed_1),
+    measured in two precisions (below).  The anisotropic rod (B2 = B1 (1 + eps)) and the curved rod (k1 = eps):
+    the splitting of the straight twisted rod's homoclinic manifold against its Mel'nikov function
+    (magrod.separatrix.model_splitting).  Other models: a ParameterError naming the model and what it lacks.
 
     Parameters
     ----------
-    m, gamma, delta : float, or a RodParams first
-        The rod (0 < m < m_c = 2 sqrt(1 + gamma), gamma, delta >= 0); ``splitting(RodParams(...), a=2, b=1)``
-        takes m, gamma and delta from it (its mu and lambdabar are what the scaling varies, so they are not used).
+    system : System, or what converts to one (magrod.core.system.as_system)
+        The paper's rod (0 < m < m_c = 2 sqrt(1 + gamma), gamma, delta >= 0; its mu and lambdabar are what the
+        scaling varies, so they are not used), or a model with a splitting measurement: its other parameters are
+        the unperturbed member's.  The old spellings ``splitting(m, gamma, delta, a, b)`` and ``m=`` work for one
+        release.
     a, b : float
         mu = a eps^2, lambdabar = b eps^2, a >= 2b; a = 2b is the straight-rod saddle (an equilibrium), a > 2b the
         tilted saddle-focus.
@@ -759,7 +779,7 @@ def splitting(m, gamma=None, delta=None, a=None, b=None, eps=EPS_SCAN, *, precis
     Examples
     --------
     >>> import magrod as mr
-    >>> spl = mr.splitting(m=1.7, gamma=1, delta=1, a=2, b=1, eps=[0.1, 0.03, 0.01])
+    >>> spl = mr.splitting(mr.System(m=1.7, gamma=1, delta=1), a=2, b=1, eps=[0.1, 0.03, 0.01])
     >>> spl.kind, bool(spl.agreement < 1e-8), bool(all(spl.measure < 0))
     ('equilibrium', True, True)
 
@@ -773,8 +793,19 @@ def splitting(m, gamma=None, delta=None, a=None, b=None, eps=EPS_SCAN, *, precis
     ~0.1 s per eps in quad (a = 2b); n_phases first crossings per eps for a > 2b.
     """
     t0 = time.perf_counter()
-    if isinstance(m, RodParams):
-        m, gamma, delta = m.m, m.gamma if gamma is None else gamma, m.delta if delta is None else delta
+    sysv = None
+    if m is not None or (isinstance(system, (int, float)) and not isinstance(system, bool)):
+        warnings.warn("splitting(m, gamma, delta, ...) is deprecated: pass a System first, e.g. splitting(mr.System("
+                      "m=1.7, gamma=1, delta=1), a=2, b=1)", DeprecationWarning, stacklevel=3)
+        m = system if m is None else m
+    else:
+        from ..core.system import as_system
+
+        sysv, _ = as_system(system)
+        if not sysv.is_paper:
+            return _model_splitting(sysv, eps, progress)
+        rod = sysv.rod
+        m, gamma, delta = rod.m, rod.gamma if gamma is None else gamma, rod.delta if delta is None else delta
     for name, v in (("gamma", gamma), ("delta", delta), ("a", a), ("b", b)):
         if v is None:
             raise ParameterError(name, "missing: splitting(m, gamma, delta, a, b, eps) or splitting(RodParams, a=, b=)")
@@ -818,4 +849,46 @@ def splitting(m, gamma=None, delta=None, a=None, b=None, eps=EPS_SCAN, *, precis
     return Splitting(True, "; ".join(notes) or "ok", "equilibrium" if equilibrium else "tilted", float(m),
                      float(gamma), float(delta), float(a), float(b), np.asarray(eps, float),
                      [p.value for p in precisions], measure, d, float(agreement), fit, leading,
-                     time.perf_counter() - t0, sc)
+                     time.perf_counter() - t0, sc, sysv)
+
+
+# why a model has no splitting measurement: what it lacks
+NO_SPLITTING = {
+    "kirchhoff": "it has no small parameter: the isotropic rod is integrable (m3 is an integral) and its straight "
+                 "rod's stable and unstable manifolds coincide for every parameter value",
+    "extensible": "it has no small parameter: the isotropic extensible rod is integrable (m3 is an integral) and its "
+                  "straight rod's stable and unstable manifolds coincide for every parameter value",
+    "magnetic": "it has no small parameter: the inextensible rod in a field is integrable (I2 = n.m + B lam e3.d3, "
+                "eq:int2), so its straight rod's stable and unstable manifolds coincide; its extensible perturbation "
+                "is the paper's rod (magnetic-extensible), whose splitting this function measures",
+}
+
+
+def _model_splitting(system, eps, progress=None):
+    """The splitting of a non-paper model (model_splitting), or the named error."""
+    from .model_splitting import EPS_DEFAULT, SPLITTING_MODELS, model_splitting
+
+    name = system.code.name if system.code.origin == "registry" else system.model
+    if name not in SPLITTING_MODELS:
+        why = NO_SPLITTING.get(name, "it is not a perturbation, by a named small parameter, of an integrable rod "
+                                     "whose saddle has a homoclinic manifold in closed form (the anisotropic rod "
+                                     "B2 = B1 (1 + eps) and the curved rod k1 = eps are)")
+        raise ParameterError("model", f"the splitting of the separatrix needs a saddle and a small parameter, and "
+                                      f"the model {system.model!r} has none: {why}")
+    t0 = time.perf_counter()
+    eps = EPS_DEFAULT if eps is EPS_SCAN else eps
+    small = "B2" if name == "anisotropic" else "k1"
+    params = {k: v for k, v in system.params.items() if k != small}
+    r = model_splitting(name, eps=eps, params=params)
+    e = np.array([row["eps"] for row in r.rows], float)
+    c = np.array([row["A"] for row in r.rows], float)
+    fit = None
+    if e.size >= 2 and np.all(c != 0):
+        p, logC = np.polyfit(np.log(e), np.log(np.abs(c)), 1)
+        fit = {"C": float(math.copysign(math.exp(logC), c[-1])), "p": float(p)}
+    leading = {"melnikov_unit": r.melnikov_unit, "measured_unit": float(c[-1] / e[-1]),
+               "digits": digits_agreeing(float(c[-1] / e[-1]), r.melnikov_unit),
+               "remainder_order": r.scaling_order, "quadrature_error": r.quadrature_error}
+    nan = float("nan")
+    return Splitting(r.success, r.message, "melnikov", nan, nan, nan, nan, nan, e, ["double"], c / e, c,
+                     float(r.accuracy["A_minus_B"]), fit, leading, time.perf_counter() - t0, r, system)
