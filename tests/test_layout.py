@@ -269,13 +269,6 @@ OTHER_SPELLINGS = {  # a parameter spelt like this means one of CONVENTION
     "jobs": "workers", "n_jobs": "workers", "processes": "workers", "check": "verify", "validate": "verify",
 }
 NOT_STUDIED = {"panel": "a look-up of the paper's printed panels by key: it returns what converts to a System"}
-# Public functions not yet on the convention, each with the helper whose branch converts it.  The test below fails
-# as soon as one of them is converted, so this list only shrinks; once every branch has landed it is empty.
-NOT_YET_CONVERTED = {
-    "saddle": "orbits", "homoclinic_orbit": "orbits", "multipulse_orbits": "orbits", "continue_branch": "orbits",
-    "rod_shape": "orbits", "splitting": "orbits",
-}
-
 
 def _public_functions():
     return {n: getattr(magrod, n) for n in sorted(PUBLIC) if inspect.isfunction(getattr(magrod, n))}
@@ -313,10 +306,6 @@ def test_one_calling_convention(name):
     integrability_report(subs, ...) and explore(panel, ...) before they took the system first."""
     fn = _public_functions()[name]
     bad = _convention_offences(name, fn)
-    if name in NOT_YET_CONVERTED:
-        assert bad, (f"{name} now follows the calling convention: remove it from NOT_YET_CONVERTED "
-                     f"({NOT_YET_CONVERTED[name]})")
-        pytest.xfail(f"not yet converted ({NOT_YET_CONVERTED[name]}): {bad[0]}")
     assert not bad, bad
 
 
@@ -346,4 +335,4 @@ def test_the_convention_check_catches_each_offence():
 
 
 def test_the_allowlists_name_public_functions():
-    assert set(NOT_YET_CONVERTED) | set(NOT_STUDIED) <= set(_public_functions())
+    assert set(NOT_STUDIED) <= set(_public_functions())

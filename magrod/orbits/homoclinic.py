@@ -237,7 +237,7 @@ def homoclinic_orbit(system=None, gamma=None, *, m=None, precision=None, reverso
         The model and its parameters; the paper's rod needs lam = mu = 0 here (other parameters:
         multipulse_orbits).
     precision, tol : optional
-        Other models: the shooting tolerance on max |x_flipped(T)| (default 1e-9).  precision: double only.
+        Other models: the shooting tolerance on ``max |x_flipped(T)|`` (default 1e-9).  precision: double only.
     reversor : Reversor, optional
         Other models: which reversor, where the model has several (magrod.orbits.equilibria.reversors).
     m, gamma : float, optional
