@@ -210,6 +210,14 @@ def test_a_user_rods_report_is_written_for_it(cache, capsys):
     assert "degree <= 4" in text and "m3" in text
 
 
+def test_a_user_rods_report_from_the_api_has_no_paper_line(cache):
+    import magrod as mr
+
+    text = mr.integrability_report(model=str(SO4)).text()
+    assert "printed paper" not in text and "so4-rod" in text.splitlines()[0]
+    assert "none declared" in text  # the file declares no candidates: said so, not an empty line
+
+
 def test_coordinate_integrals_count_whatever_the_candidates_are_named(cache, tmp_path):
     from magrod.core.models import resolve
 
