@@ -110,11 +110,30 @@ def s1_symmetric(model: Model) -> bool:
     return sp.expand(sum(sp.diff(model.H, x) * delta[x] for x in model.state)) == 0
 
 
+def named_casimirs(model: Model) -> dict:
+    """{"C1": ..}: the Casimirs found (casimirs()), or the model's own CASIMIRS where it gives them -- each checked
+    (J grad C = 0 expanded) and together spanning exactly the Casimirs found (ModelError otherwise)."""
+    found = casimirs(model)
+    if not model.casimirs:
+        return {f"C{i}": c for i, c in enumerate(found, 1)}
+    from .spec import ModelError
+
+    for k, c in model.casimirs.items():
+        bad = [r for r in sp.expand(model.J * gradient(c, model.state)) if r != 0]
+        if bad:
+            raise ModelError("casimirs", f"{k} = {c} is not a Casimir: J grad {k} has the entry {bad[0]}")
+    given = list(model.casimirs.values())
+    r = _span_rank(found, model.state)
+    if not (_span_rank(given, model.state) == r == _span_rank(found + given, model.state) == len(given)):
+        raise ModelError("casimirs", f"CASIMIRS do not form a basis of the {r} Casimirs of degree <= "
+                                     f"{CASIMIR_DEGREE} found: {'; '.join(str(c) for c in found)}")
+    return dict(model.casimirs)
+
+
 def integrals(model: Model) -> dict:
-    """{name: polynomial}: H, the Casimirs C1.. found, and the candidates."""
+    """{name: polynomial}: H, the Casimirs C1.. (found, or the model's own where it names them), the candidates."""
     out = {"H": model.H}
-    for i, c in enumerate(casimirs(model), 1):
-        out[f"C{i}"] = c
+    out.update(named_casimirs(model))
     for k, (e, _) in model.candidates.items():
         out[k] = sp.expand(sp.sympify(e, strict=True))  # checked SymPy (spec.sym)
     return out
@@ -230,20 +249,26 @@ def _rangestr(b):
 
 
 def names_module(model: Model, fs: dict) -> str:
+    return module_source(f"Names of the model {model.name!r} ({model.title}): state, parameters with meanings, "
+                         "ranges and defaults, the Casimirs found, the candidates.", "models/pipeline.py", [],
+                         names_constants(model, fs), lib=None)
+
+
+def names_constants(model: Model, fs: dict) -> dict:
+    """The constants of a model's names module (core.models.ModelCode.names)."""
     cas = tuple(k for k in fs if k.startswith("C") and k[1:].isdigit())
-    consts = {"NAME": model.name, "TITLE": model.title, "SOURCE": model.source,
+    return {"NAME": model.name, "TITLE": model.title, "SOURCE": model.source,
               "STATE": tuple(str(x) for x in model.state), "PARAMS": tuple(str(p) for p in model.params),
               "MEANINGS": tuple(v[0] for v in model.parameters.values()),
               "RANGES": tuple((_rangestr(v[1][0]), _rangestr(v[1][1])) for v in model.parameters.values()),
               "DEFAULTS": tuple(float(sp.sympify(v[2], strict=True)) for v in model.parameters.values()),
               "CASIMIRS": cas, "CANDIDATES": tuple(model.candidates), "S1_SYMMETRIC": s1_symmetric(model),
               "REFERENCE": tuple(model.reference[x] for x in model.state)}
-    return module_source(f"Names of the model {model.name!r} ({model.title}): state, parameters with meanings, "
-                         "ranges and defaults, the Casimirs found, the candidates.", "models/pipeline.py", [], consts,
-                         lib=None)
 
 
-def body_module(model: Model, fs: dict) -> str:
+def body_parts(model: Model, fs: dict) -> list:
+    """The functions of a model's body module that the paper's own body.py (derive/build.py) does not write:
+    candidates, constraints, constraint_gradients."""
     X = model.state
     pr = HeyokaPrinter(_names(model))
     args = [str(x) for x in X] + [str(p) for p in model.params]
@@ -251,15 +276,28 @@ def body_module(model: Model, fs: dict) -> str:
     cons = [model.H] + cas
     grads = [sp.diff(c, x) for c in cons for x in X]
     cands = [fs[k] for k in model.candidates]
+    return [
+        function_source("candidates", args, cands or [sp.Integer(0)], pr, "The candidate integrals, CANDIDATES order."),
+        function_source("constraints", args, cons, pr, "(H, C1, ...): the level of a section."),
+        function_source("constraint_gradients", args, grads, pr,
+                        "Gradients of (H, C1, ...) w.r.t. the state, row by row (flattened)."),
+    ]
+
+
+def body_module(model: Model, fs: dict) -> str:
+    X = model.state
+    pr = HeyokaPrinter(_names(model))
+    args = [str(x) for x in X] + [str(p) for p in model.params]
+    cas = [v for k, v in fs.items() if k.startswith("C") and k[1:].isdigit()]
+    extra = body_parts(model, fs)
     parts = [
         function_source("hamiltonian", args, model.H, pr, "H(x)."),
         function_source("rhs", args, list(equations(model)), pr, "x' = J(x) grad H."),
         function_source("casimirs", args, cas or [sp.Integer(0)], pr, "The Casimirs found, in CASIMIRS order."),
-        function_source("candidates", args, cands or [sp.Integer(0)], pr, "The candidate integrals, CANDIDATES order."),
+        extra[0],
         function_source("section", args, model.section, pr, "The Poincare section function (crossed upwards)."),
-        function_source("constraints", args, cons, pr, "(H, C1, ...): the level of a section."),
-        function_source("constraint_gradients", args, grads, pr,
-                        "Gradients of (H, C1, ...) w.r.t. the state, row by row (flattened)."),
+        extra[1],
+        extra[2],
         'def pars():\n    """hy.par[i] = PARAMS[i]."""\n    return [hy.par[i] for i in range(len(PARAMS))]\n',
         ('def system():\n    """[(variable, rhs)] for hy.taylor_adaptive."""\n    xs = hy.make_vars(*STATE)\n'
          '    return list(zip(xs, rhs(*xs, *pars())))\n'),
@@ -328,11 +366,11 @@ CACHED_HEADER = ("Compiled from a model file into magrod's model cache; recompil
                  "changes (`magrod check --model FILE --no-cache` compiles afresh).")
 
 
-def model_files(model: Model, cached: bool = False) -> dict:
+def model_files(model: Model, cached: bool = False, fs: dict | None = None, results: list | None = None) -> dict:
     """{filename: text} of generated/models/<ident>/; `cached`: of a user's model file's cache entry (its header
-    says so, not how to regenerate the registry)."""
-    fs = integrals(model)
-    results = derive_results(model)
+    says so, not how to regenerate the registry).  `fs`, `results`: integrals() and derive_results() if known."""
+    fs = integrals(model) if fs is None else fs
+    results = derive_results(model) if results is None else results
     params = [{"name": str(p), "meaning": v[0], "range": [str(v[1][0]), str(v[1][1])], "default": str(v[2])}
               for p, v in model.parameters.items()]
     rep = {"model": model.name, "title": model.title, "source": model.source, "state": [str(x) for x in model.state],

@@ -1,4 +1,6 @@
-"""The rod models at runtime: the registered models' generated code (generated/models/<name>/), or a user's model
+"""The rod models at runtime: the registered models' generated code (generated/models/<name>/; the default model,
+the paper's rod, is the paper's own tree at generated/ top level: names.py, body.py, integrals.py,
+model_report.json), or a user's model
 file compiled into a cache directory keyed by the evaluated model -- its SymPy expressions, so an edited helper
 module that the file imports counts and an edited comment does not -- never into the package.  `resolve(path,
 cache=False)` or MAGROD_NO_MODEL_CACHE=1 bypasses the cache (a fresh compile into a temporary directory).
@@ -162,6 +164,11 @@ _LOADED: dict = {}
 
 
 def _load_registered(name: str) -> ModelCode:
+    if name == DEFAULT:  # the paper's rod: the paper's own tree at generated/ top level, generated once
+        names, fi = (importlib.import_module(f"magrod.generated.{m}") for m in ("names", "integrals"))
+        d = Path(names.__file__).parent
+        return ModelCode(name, "registry", names, fi, json.loads((d / "model_report.json").read_text()), str(d),
+                         "magrod.generated.body")
     ident = name.replace("-", "_")
     pkg = f"magrod.generated.models.{ident}"
     names, fi = (importlib.import_module(f"{pkg}.{m}") for m in ("names", "first_integrals"))

@@ -160,7 +160,10 @@ def model_report(model) -> IntegrabilityReport:
     rows = mc.report["results"]
     statuses = {r["key"]: r["status"] for r in rows}
     bad = [r["key"] for r in rows if r["status"] == "disagrees"]
-    src = (f"generated/models/{mc.name.replace('-', '_')}/report.json" if mc.origin == "registry"
+    from ..core.models import DEFAULT
+
+    src = ("generated/model_report.json" if mc.origin == "registry" and mc.name == DEFAULT else
+           f"generated/models/{mc.name.replace('-', '_')}/report.json" if mc.origin == "registry"
            else f"{mc.origin} (compiled into {mc.directory})")
     return IntegrabilityReport(not bad, "ok" if not bad else f"checks that fail: {', '.join(bad)}", src, rows,
                                statuses, [], None, mc.name)
