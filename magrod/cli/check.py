@@ -19,7 +19,9 @@ def add_arguments(p):
                         "controls lambda = 0, inextensible, anisotropic, extensible")
     p.add_argument("--degree", type=str, default=None, help="maximum degree D of the search, 1 <= D <= 12 (default 4; "
                                                              "D = 6 takes minutes)")
-    p.add_argument("--seed", type=str, default=None, help="seed of the random rational parameter values (default 20)")
+    p.add_argument("--seed", type=str, default=None,
+                   help="seed of the random rational parameter values (default 20; with --model: the model's "
+                        "defaults unless a seed is given)")
     p.add_argument("--model", default=None, metavar="NAME|FILE.py",
                    help="a rod model of the family (`magrod models`) or a model file ./my_rod.py (code you run on "
                         "purpose: executed, checked, compiled into the cache): its derivation report and the exact "
