@@ -45,6 +45,7 @@ from magrod.paper import run_panels
 from magrod.core import systems
 from magrod.paper.printed import PANELS, panel
 from _peers import compile_c  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
+import _smoke  # noqa: E402
 
 KEYS = list(PANELS)
 RTOLS = (1e-12, 1e-14)
@@ -190,29 +191,32 @@ class Jit:
 def job_panels():
     poincare_sections(KEYS, iterates=10, workers=2)
     run_panels(KEYS, iterates=10, workers=2)
-    wb, cb, rb = timed(lambda: poincare_sections(KEYS, iterates=10_000, workers=2))
-    ws, cs, rs = timed(lambda: run_panels(KEYS, iterates=10_000, workers=2))
+    it = _smoke.n(10_000, 10)
+    wb, cb, rb = timed(lambda: poincare_sections(KEYS, iterates=it, workers=2))
+    ws, cs, rs = timed(lambda: run_panels(KEYS, iterates=it, workers=2))
     return dict(batched=(wb, cb, rb), scalar=(ws, cs, list(rs.values())), scale=1.0, sample=rb)
 
 
 def job_ensemble(scalar_sample):
-    starts = grid_starts("4a", theta0=(0.1, 3.0, 10), ptheta0=(-1.0, 1.0, 10))[:64]
+    starts = grid_starts("4a", theta0=(0.1, 3.0, 10), ptheta0=(-1.0, 1.0, 10))[:_smoke.n(64, 4)]
+    it = _smoke.n(1000, 10)
     poincare_sections("4a", starts=starts[:8], iterates=10, workers=2)
-    wb, cb, rb = timed(lambda: poincare_sections("4a", starts=starts, iterates=1000, workers=2))
+    wb, cb, rb = timed(lambda: poincare_sections("4a", starts=starts, iterates=it, workers=2))
     sub = starts[:scalar_sample]
-    ws, cs, rs = timed(lambda: [poincare_section("4a", theta0=a, ptheta0=b, iterates=1000) for a, b in sub])
+    ws, cs, rs = timed(lambda: [poincare_section("4a", theta0=a, ptheta0=b, iterates=it) for a, b in sub])
     return dict(batched=(wb, cb, rb), scalar=(ws, cs, rs), scale=len(starts) / len(sub), sample=rb[:16])
 
 
 def job_diagram():
-    vals = np.linspace(0.131, 0.2, 200)
+    vals = np.linspace(0.131, 0.2, _smoke.n(200, 20))
+    it = _smoke.n(500, 10)
     orbit_diagram("4a", "lam", vals[:4], iterates=10)
-    wb, cb, od = timed(lambda: orbit_diagram("4a", "lam", vals, iterates=500, workers=2))
+    wb, cb, od = timed(lambda: orbit_diagram("4a", "lam", vals, iterates=it, workers=2))
     rb = [o for o in od.orbits if o is not None]
     P = panel("4a")
     sub = vals[::10]
     ws, cs, rs = timed(lambda: [poincare_section(P.params.replace(lam=float(v)), P.h, P.theta0, P.ptheta0, P.psi0,
-                                                 iterates=500) for v in sub])
+                                                 iterates=it) for v in sub])
     return dict(batched=(wb, cb, rb), scalar=(ws, cs, rs), scale=len(vals) / len(sub), sample=rb[::10])
 
 
@@ -224,7 +228,10 @@ def main(argv=None):
     ap.add_argument("--jit-span", type=float, default=1000.0)
     ap.add_argument("--no-jitcode", action="store_true")
     ap.add_argument("--json", default=None)
+    ap.add_argument("--smoke", action="store_true", help=_smoke.HELP)
     a = ap.parse_args(argv)
+    if _smoke.enable(a.smoke):
+        a.scalar_sample, a.jit_span, a.json = 2, 10.0, None
     warnings.simplefilter("ignore", DeprecationWarning)
     out = {"uptime_before": uptime(), "width": systems.batch_width(), "cores": os.cpu_count(), "jobs": {}}
     print(out["uptime_before"], f"| batch width {out['width']}", flush=True)

@@ -28,6 +28,7 @@ from magrod.chaos.portrait import grid_starts, orbit_diagram
 from magrod.chaos.section import poincare_section, run_panels
 from magrod.core import systems
 from magrod.core.printed import PANELS
+import _smoke  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
 
 KEYS = list(PANELS)
 
@@ -51,8 +52,9 @@ def best(f, repeat):
 def panels(repeat):
     poincare_section(KEYS, iterates=10, workers=2)
     run_panels(KEYS, iterates=10, workers=2)
-    wb, allb, rb = best(lambda: poincare_section(KEYS, iterates=10_000, workers=2), repeat)
-    ws, alls, rs = best(lambda: run_panels(KEYS, iterates=10_000, workers=2), repeat)
+    it = _smoke.n(10_000, 10)
+    wb, allb, rb = best(lambda: poincare_section(KEYS, iterates=it, workers=2), repeat)
+    ws, alls, rs = best(lambda: run_panels(KEYS, iterates=it, workers=2), repeat)
     dh_b = max(r.max_abs_dH for r in rb)
     dh_s = max(r.max_abs_dH for r in rs.values())
     print(f"== 8 panels x 10 000 iterates, 2 threads: batched {wb:.2f} s (runs {', '.join(f'{w:.2f}' for w in allb)}), "
@@ -111,12 +113,17 @@ def main(argv=None):
     ap.add_argument("--only", default="panels,ensemble,diagram,agreement")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--json", default=None)
+    ap.add_argument("--smoke", action="store_true", help=_smoke.HELP)
     a = ap.parse_args(argv)
+    if _smoke.enable(a.smoke):
+        a.repeat, a.json = 1, None
     out = {"uptime_before": uptime(), "simd": systems.recommended_batch_size(), "cores": os.cpu_count()}
     print(f"{out['uptime_before']}\nheyoka batch width {out['simd']}, {out['cores']} cores", flush=True)
     for part in a.only.split(","):
-        out[part] = {"panels": lambda: panels(a.repeat), "ensemble": lambda: ensemble(a.repeat),
-                     "diagram": lambda: diagram(a.repeat), "agreement": agreement}[part]()
+        out[part] = {"panels": lambda: panels(a.repeat),
+                     "ensemble": lambda: ensemble(a.repeat, *_smoke.n((64, 1000), (16, 10))),
+                     "diagram": lambda: diagram(a.repeat, *_smoke.n((200, 500), (4, 10))),
+                     "agreement": lambda: agreement(_smoke.n(100, 10))}[part]()
     out["uptime_after"] = uptime()
     print(out["uptime_after"])
     if a.json:

@@ -49,11 +49,11 @@ def run_map(n, t_max, workers):
     return wall, cm
 
 
-def profile():
+def profile(t_max=1000.0):
     import cProfile
     import pstats
 
-    s = spec(16, 1000.0)
+    s = spec(16, t_max)
     tile = maps.tiles(s)[0]
     maps.compute_tile(s, tile)  # build / load
     pr = cProfile.Profile()
@@ -73,9 +73,9 @@ def profile():
     return dict(wall_s=wall, integration_s=integ, roots_s=roots)
 
 
-def scaling():
+def scaling(runs=((32, 500, 1), (32, 500, 2), (64, 500, 2), (32, 250, 2), (32, 1000, 2))):
     rows = []
-    for n, t_max, w in ((32, 500, 1), (32, 500, 2), (64, 500, 2), (32, 250, 2), (32, 1000, 2)):
+    for n, t_max, w in runs:
         wall, cm = run_map(n, t_max, w)
         s = cm.summary()
         rows.append(dict(n=n, t_max=t_max, workers=w, wall_s=wall, points_per_s=n * n / wall,
@@ -118,14 +118,20 @@ def main(argv=None):
     ap.add_argument("--save", default=None)
     ap.add_argument("--compare", nargs=2, default=None)
     ap.add_argument("--json", default=None)
+    ap.add_argument("--smoke", action="store_true", help="run once on a tiny span (benchmarks/smoke.py, CI): "
+                    "one tile at T = 40, one 8 x 8 map on 2 workers; measures nothing, writes nothing")
     a = ap.parse_args(argv)
+    if a.smoke:
+        a.only, a.json, a.save, a.compare = "profile,scaling", None, None, None
     res = {"uptime_before": uptime()}
     print(res["uptime_before"], flush=True)
     if a.compare:
         res["compare"] = compare(*a.compare)
     else:
         for part in a.only.split(","):
-            res[part] = {"profile": profile, "scaling": scaling, "map128": lambda: map128(a.save)}[part]()
+            res[part] = {"profile": lambda: profile(40.0 if a.smoke else 1000.0),
+                         "scaling": lambda: scaling(((8, 40, 2),)) if a.smoke else scaling(),
+                         "map128": lambda: map128(a.save)}[part]()
     res["uptime_after"] = uptime()
     print(res["uptime_after"])
     if a.json:

@@ -197,11 +197,17 @@ def map128():
 
 
 if __name__ == "__main__":
+    import _smoke
+
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--only", default="peers,batch,workers", help="peers, batch, workers, map128")
     ap.add_argument("--span", type=float, default=500.0)
+    ap.add_argument("--smoke", action="store_true", help=_smoke.HELP)
     a = ap.parse_args()
+    if _smoke.enable(a.smoke):
+        a.span = 20.0
     print(f"heyoka SIMD width {systems.recommended_batch_size()}, {os.cpu_count()} cores")
     for part in a.only.split(","):
-        {"peers": lambda: peers(a.span), "batch": lambda: batch_vs_scalar(2000.0), "workers": workers,
+        {"peers": lambda: peers(a.span), "batch": lambda: batch_vs_scalar(_smoke.n(2000.0, 20.0)),
+         "workers": lambda: workers(*_smoke.n((32, 1000.0), (8, 40.0))),
          "map128": map128}[part]()

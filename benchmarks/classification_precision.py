@@ -252,7 +252,13 @@ def main():
     ap.add_argument("--plot", default=None, help="draw the JSON of a finished study next to it (.png)")
     ap.add_argument("--report", default=None, help="comma-separated cache directories: the study from their maps")
     ap.add_argument("--cost", default=None, help="only the in-process cost per orbit at each (T, tol), into this JSON")
+    ap.add_argument("--smoke", action="store_true", help="run once on a tiny span (benchmarks/smoke.py, CI): a 4 x 4 "
+                    "map at T = 20 and two tolerances, cached in a temporary directory; measures nothing")
     a = ap.parse_args()
+    if a.smoke:
+        import tempfile
+
+        a.n, a.t_max, a.tols, a.out, a.cache = 4, 20.0, "1e-8", None, tempfile.mkdtemp(prefix="magrod-smoke-")
     if a.cost:
         out = {"uptime_before": uptime(), "seconds_per_orbit": cost(), "uptime_after": uptime()}
         with open(a.cost, "w") as fh:

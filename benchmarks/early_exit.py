@@ -32,7 +32,11 @@ def main():
     ap.add_argument("--t-max", default="1000,3000")
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--json", default=None)
+    ap.add_argument("--smoke", action="store_true", help="run once on a tiny span (benchmarks/smoke.py, CI): a "
+                    "4 x 4 map at T = 40, once; measures nothing, writes nothing")
     a = ap.parse_args()
+    if a.smoke:
+        a.n, a.t_max, a.repeat, a.json = 4, "40", 1, None
     out = {"grid": a.n, "uptime_before": uptime(), "runs": {}}
     for T in (float(t) for t in a.t_max.split(",")):
         best, res = {}, {}

@@ -15,7 +15,16 @@ import math
 import sys
 from fractions import Fraction
 
-path = sys.argv[1] if len(sys.argv) > 1 else "enclosure_boxes.json"
+args = [a for a in sys.argv[1:] if a != "--smoke"]
+path = args[0] if args else "enclosure_boxes.json"
+if "--smoke" in sys.argv:  # benchmarks/smoke.py: convert a copy of the shipped run, in a temporary directory
+    import shutil
+    import tempfile
+    from pathlib import Path
+
+    src = Path(__file__).with_name("enclosure_boxes.json")
+    path = str(Path(tempfile.mkdtemp(prefix="magrod-smoke-")) / src.name)
+    shutil.copy(src, path)
 d = json.load(open(path))
 
 

@@ -5,9 +5,11 @@ Not a test (tests/test_first_integrals.py checks the contract at D = 4)."""
 import sys
 import time
 
+import _smoke  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
 from magrod.integrability.first_integrals import first_integral_search
 
-for D in [int(a) for a in sys.argv[1:]] or (4, 5, 6):
+_smoke.from_argv()  # --smoke: degree 2 only
+for D in [int(a) for a in sys.argv[1:]] or _smoke.n((4, 5, 6), (2,)):
     t0 = time.perf_counter()
     r = first_integral_search(D)
     wall = time.perf_counter() - t0

@@ -21,13 +21,15 @@ import sys
 import time
 from pathlib import Path
 
+import _smoke  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
+
 
 def regenerate() -> dict:
     from magrod.derive import models
     from magrod.derive.build import models_files
 
     out = {}
-    for name in models.NAMES:
+    for name in _smoke.n(models.NAMES, models.NAMES[:1]):
         t0 = time.perf_counter()
         models_files([name])
         out[name] = round(time.perf_counter() - t0, 2)
@@ -41,10 +43,10 @@ def search() -> dict:
     for name in ("kirchhoff", "anisotropic", "curved", "extensible", "magnetic", "magnetic-extensible"):
         model_search(name, 2)  # imports and first compile out of the timing
         t0 = time.perf_counter()
-        r = model_search(name, 4)
+        r = model_search(name, _smoke.n(4, 2))
         out[name] = {"s": round(time.perf_counter() - t0, 3), "certified": r.certified}
     t0 = time.perf_counter()
-    r = model_search("anisotropic", 4, values={"B1": 1, "B2": 4, "C": 4}, level={"C2": 0})
+    r = model_search("anisotropic", _smoke.n(4, 3), values={"B1": 1, "B2": 4, "C": 4}, level={"C2": 0})
     out["anisotropic 1:4:4 on C2 = 0 (Goryachev-Chaplygin)"] = {"s": round(time.perf_counter() - t0, 3),
                                                                  "new": r.new_integrals}
     return out
@@ -62,7 +64,8 @@ def sympy_peer() -> dict:
     mc = resolve("anisotropic")
     vals = parameter_values(mc, None, 20)
     X = vector_field(mc, vals)
-    cols = [_column(X, mu) for mu in monomials(4, mc.dim)]
+    D = _smoke.n(4, 2)
+    cols = [_column(X, mu) for mu in monomials(D, mc.dim)]
     rows = sorted({r for c in cols for r in c})
     ri = {r: i for i, r in enumerate(rows)}
     M = sp.zeros(len(rows), len(cols))
@@ -75,7 +78,7 @@ def sympy_peer() -> dict:
     from magrod.integrability.model_search import model_search
 
     t0 = time.perf_counter()
-    r = model_search(mc, 4, exact_new=False)
+    r = model_search(mc, D, seed=20, exact_new=False)  # the same rational parameters as the matrix above
     t_magrod = time.perf_counter() - t0
     return {"matrix": [len(rows), len(cols)], "sympy_rank_s": round(t_sympy, 3), "magrod_search_s": round(t_magrod, 3),
             "ratio": round(t_sympy / t_magrod, 1), "kernel_sympy": len(cols) - rank, "kernel_magrod": r.kernel_dims[-1]}
@@ -85,27 +88,30 @@ def splitting() -> dict:
     from magrod.separatrix.model_splitting import model_splitting
 
     out = {}
-    for name in ("anisotropic", "curved"):
-        for label, kw in (("quick", {"eps": (0.02, 0.01), "n_phase": 24}), ("full", {"precision_check": True})):
+    for name in _smoke.n(("anisotropic", "curved"), ("anisotropic",)):
+        for label, kw in _smoke.n((("quick", {"eps": (0.02, 0.01), "n_phase": 24}), ("full", {"precision_check": True})), (("quick", {"eps": (0.02, 0.01), "n_phase": 24}),)):
             times = []
-            for _ in range(2):
+            for _ in range(_smoke.n(2, 1)):
                 t0 = time.perf_counter()
                 r = model_splitting(name, **kw)
                 times.append(round(time.perf_counter() - t0, 3))
-            out[f"{name} {label}"] = {"first_s": times[0], "again_s": times[1], "success": r.success,
+            out[f"{name} {label}"] = {"first_s": times[0], "again_s": times[-1], "success": r.success,
                                       "melnikov_unit": r.melnikov_unit, "scaling_order": round(r.scaling_order, 3)}
     return out
 
 
 def landscape_cli() -> dict:
     out = {}
-    for label, extra in (("quick", ["--quick"]), ("quick, no splitting", ["--quick", "--no-splitting"]),
-                         ("full", [])):
+    for label, extra in _smoke.n((("quick", ["--quick"]), ("quick, no splitting", ["--quick", "--no-splitting"]),
+                                  ("full", [])),
+                                 (("tiny", ["--no-scan", "--no-splitting", "--degree", "2", "--t-max", "20"]),)):
         t0 = time.perf_counter()
         p = subprocess.run([sys.executable, "-m", "magrod.cli", "landscape", "--json", *extra], capture_output=True,
                            text=True, env={**os.environ, "PYTHONWARNINGS": "ignore"})
         out[label] = {"s": round(time.perf_counter() - t0, 1), "exit": p.returncode,
                       "message": json.loads(p.stdout)["message"] if p.returncode == 0 else p.stderr[-200:]}
+        if _smoke.ON and p.returncode != 0:
+            raise RuntimeError(f"magrod landscape {' '.join(extra)}: exit {p.returncode}: {p.stderr[-400:]}")
     return out
 
 
@@ -117,7 +123,12 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=Path(__file__).with_name("models.json"))
     ap.add_argument("--part", nargs="+", choices=sorted(PARTS), default=None)
+    ap.add_argument("--smoke", action="store_true", help=_smoke.HELP)
     a = ap.parse_args(argv)
+    if _smoke.enable(a.smoke):
+        for key in a.part or PARTS:
+            print(key, PARTS[key](), flush=True)
+        return
     res = json.loads(a.out.read_text()) if a.part and a.out.exists() else {}
     for key in a.part or PARTS:
         res[key] = PARTS[key]()

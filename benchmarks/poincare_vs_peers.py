@@ -31,6 +31,8 @@ from magrod.chaos.section import poincare_section
 from magrod.paper import run_panels
 from magrod.paper.printed import PANELS, PAPER_CLAIMS, panel_kwargs
 from _peers import compile_c  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
+import _smoke  # noqa: E402
+from magrod.core.limits import LIMITS  # noqa: E402
 
 
 def _hbar_fn():
@@ -43,7 +45,8 @@ def magrod_runs(T):
     for form in ("body", "reduced"):
         poincare_section(**kw, iterates=5, formulation=form)  # warm: build integrators (JIT cache)
         t0 = time.perf_counter()
-        r = poincare_section(**kw, iterates=10**7, formulation=form, t_max=T)
+        # as many iterates as the library allows: the run stops at t_max = T, the peers' span
+        r = poincare_section(**kw, iterates=LIMITS["iterates"], formulation=form, t_max=T)
         out[f"magrod ({form})"] = dict(wall_s=time.perf_counter() - t0, max_abs_dH=r.max_abs_dH,
                                        n_points=r.n_points, t_end=r.final_time)
     return out
@@ -142,7 +145,7 @@ def panels():
     for form in ("body", "reduced"):
         run_panels(list(PANELS), iterates=5, formulation=form)  # warm the cache in this process
         t0 = time.perf_counter()
-        res = run_panels(list(PANELS), iterates=10_000, workers=2, formulation=form)
+        res = run_panels(list(PANELS), iterates=_smoke.n(10_000, 10), workers=2, formulation=form)
         wall = time.perf_counter() - t0
         worst = max(r.max_abs_dH for r in res.values())
         print(f"  {form:8s}: wall {wall:6.2f} s (sum of per-panel {sum(r.wall_s for r in res.values()):6.2f} s), "
@@ -180,7 +183,7 @@ def times():
     out = {}
     for root in ("smallest", "largest"):
         for direction in ("positive", "any"):
-            res = run_panels(list(PANELS), iterates=10_000, root=root, direction=direction)
+            res = run_panels(list(PANELS), iterates=_smoke.n(10_000, 10), root=root, direction=direction)
             row = {k: round(r.final_time) for k, r in res.items()}
             out[f"{root}/{direction}"] = row
             print(f"  root={root:8s} direction={direction:8s}: " + "  ".join(f"{k} {v:6d}" for k, v in row.items()))
@@ -194,12 +197,15 @@ def main(argv=None):
     ap.add_argument("--span-iterates", type=int, default=1000,
                     help="peers run over the time span of this many magrod iterates (10000 = the full figure)")
     ap.add_argument("--json", default=None, help="also write the numbers to this JSON file")
+    ap.add_argument("--smoke", action="store_true", help=_smoke.HELP)
     a = ap.parse_args(argv)
+    if _smoke.enable(a.smoke):
+        a.span_iterates, a.json = 5, None
     res = {}
     if a.only in (None, "panels"):
         res["panels"] = panels()
     if a.only in (None, "longdouble"):
-        res["longdouble"] = longdouble()
+        res["longdouble"] = longdouble(_smoke.n(600, 10))
     if a.only in (None, "times"):
         res["times"] = times()
     if a.only in (None, "peers"):

@@ -15,6 +15,7 @@ import warnings
 
 import numpy as np
 
+import _smoke  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
 from magrod.chaos import batch
 from magrod.chaos.section import poincare_section
 from magrod.core import systems
@@ -53,14 +54,15 @@ def one(mode, nthreads, X, pars, n=3000):
 
 def main():
     warnings.simplefilter("ignore")
+    _smoke.from_argv()  # --smoke: 30 calls per thread, one round
     mode = sys.argv[1] if len(sys.argv) > 1 else "ev"
     counts = [int(sys.argv[2])] if len(sys.argv) > 2 else (1, 2)
     r = poincare_section("4a", iterates=8)
     X = r.body_points[[0, 3, 5, 7]].T.copy()
     pars = np.repeat(r.params.array()[:, None], 4, axis=1)
-    for _ in range(2):
+    for _ in range(_smoke.n(2, 1)):
         for n in counts:
-            w, c, res = one(mode, n, X, pars)
+            w, c, res = one(mode, n, X, pars, _smoke.n(3000, 30))
             print(mode, "threads", n, f"wall {w:.2f} cpu {c:.2f}",
                   {k: (round(a, 2), round(b, 2)) for k, (a, b) in res.items()}, flush=True)
 

@@ -71,7 +71,11 @@ def main():
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--no-brute", action="store_true", help="refined maps only (the 1024^2 run)")
     ap.add_argument("--out", default=None)
+    ap.add_argument("--smoke", action="store_true", help="run once on a tiny span (benchmarks/smoke.py, CI): a "
+                    "32 x 32 grid at T = 40, one refined level; measures nothing, writes nothing")
     a = ap.parse_args()
+    if a.smoke:
+        a.n, a.t_max, a.levels, a.out = 32, 40.0, [1], None
     out = {"grid": a.n, "t_max": a.t_max, "workers": a.workers, "uptime_before": uptime(), "refined": {}}
     from heyoka import recommended_simd_size
 

@@ -49,6 +49,8 @@ from magrod.chaos.section import poincare_section  # noqa: E402
 from magrod.core import systems  # noqa: E402
 from magrod.core.printed import panel_kwargs  # noqa: E402
 from _peers import compile_c  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
+import _smoke  # noqa: E402
+from magrod.core.limits import LIMITS  # noqa: E402
 
 N_CROSS = 50
 MAGROD_TOLS = [2.0**-52, 1e-15, 1e-14, 1e-13, 1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7, 1e-6]
@@ -98,7 +100,8 @@ def magrod_scalar(T, ref, repeat):
     rows = []
     for tol in MAGROD_TOLS:
         poincare_section(**kw, iterates=3, tol=tol, verify=False)  # build / load the integrator
-        wall, r = best_of(lambda tol=tol: poincare_section(**kw, iterates=10**7, t_max=T, tol=tol, verify=False),
+        wall, r = best_of(lambda tol=tol: poincare_section(**kw, iterates=LIMITS["iterates"], t_max=T, tol=tol,
+                                                           verify=False),
                           repeat)
         n = min(N_CROSS, r.n_points)
         rows.append(dict(tol=tol, wall_s=wall, max_abs_dH=r.max_abs_dH, n_points=r.n_points,
@@ -213,7 +216,7 @@ def sections(repeat, scipy_rtols):
     from poincare_vs_peers import sympy_rhs
 
     kw = panel_kwargs("4a")
-    probe = poincare_section(**kw, iterates=1000)
+    probe = poincare_section(**kw, iterates=_smoke.n(1000, 2 * N_CROSS))
     T = probe.final_time + 1e-6
     print(f"== sections: Fig 4(a), T = {T:.1f} (1000 iterates), {N_CROSS} crossings against long double ==",
           flush=True)
@@ -314,14 +317,23 @@ def main(argv=None):
     ap.add_argument("--scipy-rtols", default=",".join(f"{r:g}" for r in SCIPY_RTOLS))
     ap.add_argument("--json", default="work_precision.json")
     ap.add_argument("--png", default="work_precision.png")
+    ap.add_argument("--smoke", action="store_true", help=_smoke.HELP)
     a = ap.parse_args(argv)
+    if _smoke.enable(a.smoke):  # one tolerance of each sweep, a few crossings, written into a temporary directory
+        import tempfile
+
+        global N_CROSS, MAGROD_TOLS, JITCODE_RTOLS, LYAP_TOLS, LYAP_RTOLS
+        N_CROSS, MAGROD_TOLS, JITCODE_RTOLS, LYAP_TOLS, LYAP_RTOLS = 3, MAGROD_TOLS[:1], [1e-10], [2.0**-52], [1e-10]
+        a.repeat, a.scipy_rtols = 1, "1e-8"
+        tmp = tempfile.mkdtemp(prefix="magrod-smoke-")
+        a.json, a.png = os.path.join(tmp, "wp.json"), os.path.join(tmp, "wp.png")
     res = {"uptime_before": uptime()}
     print(res["uptime_before"], flush=True)
     for part in a.only.split(","):
         if part == "sections":
             res["sections"] = sections(a.repeat, [float(x) for x in a.scipy_rtols.split(",") if x])
         elif part == "lyapunov":
-            res["lyapunov"] = lyapunov(a.repeat)
+            res["lyapunov"] = lyapunov(a.repeat, _smoke.n(1000.0, 20.0))
     res["uptime_after"] = uptime()
     print(res["uptime_after"])
     with open(a.json, "w") as fh:

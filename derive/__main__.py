@@ -1,7 +1,8 @@
 """python -m derive            regenerate generated/ (the paper's model and generated/models/<name>/ per model)
 python -m derive --check    regenerate into a temporary directory and fail (exit 1) with a diff if generated/
                             is stale (an orphan file, in generated/ or under generated/models/, counts as stale)
-python -m derive --model NAME [--check]   only that model's generated/models/<name>/ (issue 26)"""
+python -m derive --model NAME [--check]   only that model's generated/models/<name>/ (the default model,
+                            the paper's rod, is the top-level tree: the whole build)"""
 from __future__ import annotations
 
 import argparse
@@ -88,6 +89,10 @@ def main(argv=None) -> int:
 
         if a.model not in NAMES:
             ap.error(f"--model: unknown model {a.model!r}; registered: {', '.join(NAMES)}")
+        from .models import DEFAULT
+
+        if a.model == DEFAULT:  # the paper's rod is the paper's tree at generated/ top level: the whole build
+            a.model = None
     if a.check:
         return check(a.out, a.model)
     if a.model is None:

@@ -36,15 +36,37 @@ def _pars_src():
             'hy.par[0..4]."""\n    return [hy.par[i] for i in range(len(PARAMS))]\n')
 
 
-def names_module():
-    """generated/names.py: the model's state and parameter names, importable without heyoka or SymPy."""
+def names_module(model_consts: dict | None = None):
+    """generated/names.py: the model's state and parameter names, importable without heyoka or SymPy; with
+    `model_consts` (paper_model().names) also what the registry's model needs (core.models.ModelCode.names)."""
     ev = list(ns.events_body())
     consts = {"BODY_STATE": tuple(BODY_ARGS), "REDUCED_STATE": tuple(RED_ARGS), "CHART": tuple(CHART_ARGS),
               "PARAMS": tuple(PAR_ARGS), "BODY_EVENTS": tuple(ev),
               "CLOSED_FORM_REGULAR": homoclinic.CLOSED_FORM_REGULAR}
+    for k, v in (model_consts or {}).items():
+        if k in consts and consts[k] != v:
+            raise AssertionError(f"the registry's paper model and the paper's tree disagree on {k}: {v} != {consts[k]}")
+        consts.setdefault(k, v)
     return module_source("Names and order of the model's state variables, chart coordinates and runtime parameters "
-                         "(hy.par[i] is PARAMS[i]).  The single source of these lists for magrod.", "build.py", [],
+                         "(hy.par[i] is PARAMS[i]).  The single source of these lists for magrod; also the names of "
+                         "the registry's default model 'magnetic-extensible', which is this tree.", "build.py", [],
                          consts, lib=None)
+
+
+def paper_model() -> dict:
+    """The paper's rod as the registry's default model (derive/models/magnetic_extensible.py: the same H, J and
+    Casimirs at the same numeric scale), generated once with the paper's tree: {"names": constants for names.py,
+    "body": functions for body.py, "integrals.py", "model_report.json", "model_report.md": texts}."""
+    from .models import DEFAULT, get, pipeline
+
+    model = get(DEFAULT)
+    if [str(p) for p in model.params] != PAR_ARGS or [str(x) for x in model.state] != BODY_ARGS:
+        raise AssertionError("derive/models/magnetic_extensible.py must use the paper's state and parameters")
+    fs = pipeline.integrals(model)
+    files = pipeline.model_files(model, fs=fs)
+    return {"names": pipeline.names_constants(model, fs), "body": pipeline.body_parts(model, fs),
+            "integrals.py": files["first_integrals.py"], "model_report.json": files["report.json"],
+            "model_report.md": files["report.md"]}
 
 
 def scalars_module():
@@ -132,7 +154,9 @@ def reduced_module():
                          imports=NAMES_IMPORT), {"Hbar": Hbar, "rhs": rhs, "I2bar": I2bar}
 
 
-def body_module():
+def body_module(extra=()):
+    """generated/body.py (and the expressions validated.py is built from); `extra`: more functions of the registry's
+    model (paper_model()["body"]: candidates, constraints, constraint_gradients)."""
     H = ns.body_hamiltonian()
     rhs = ns.body_rhs()
     pr = HeyokaPrinter(BODY_NAMES)
@@ -155,6 +179,7 @@ def body_module():
             "e31^2 + e32^2 = sin(theta)^2: distance from the chart's poles.",
             "mu - 2 lambdabar m.e3 = mu - 2 lambdabar pbar_psi: the radicand of eq:alignment_condition.",
             "e32 m1 - e31 m2 = sin(theta) pbar_theta: zero at the turning points of theta."))],
+        *extra,
         _pars_src(), _system_src(BODY_ARGS, "rhs"),
     ]
     return module_source("Singularity-free 9-D body-frame system in (m, n, e3) (paper sec. 2), at the numeric scale "
@@ -289,8 +314,11 @@ def build(out_dir: Path, verbose=True, workers: int = 2) -> dict:
     files = {}
     src, red = reduced_module()
     files["reduced.py"] = src
-    src, bod = body_module()
+    pm = paper_model()  # the registry's default model is this tree: its pieces go into names.py, body.py, ...
+    src, bod = body_module(pm["body"])
     files["body.py"] = src
+    for k in ("integrals.py", "model_report.json", "model_report.md"):
+        files[k] = pm[k]
     files["validated.py"] = validated.module(red, bod)  # issue 21
     files["homoclinic.py"] = homoclinic.module()
     files["melnikov.py"] = melnikov.module()
@@ -315,7 +343,7 @@ def build(out_dir: Path, verbose=True, workers: int = 2) -> dict:
             more, done = second_half()
         files.update(more)
         pre.update(done)
-    files["names.py"] = names_module()
+    files["names.py"] = names_module(pm["names"])
     files["scalars.py"] = scalars_module()
     results, _ = all_results(pre)
     results += validated.derive_all(red, bod)  # issue 21
@@ -340,12 +368,13 @@ def build(out_dir: Path, verbose=True, workers: int = 2) -> dict:
 # --------------------------------------------------------------------------------------------------------------
 def models_files(names=None, verbose=False) -> dict:
     """{relative path under generated/: text} for the registered models (all, or `names`), plus
-    generated/models/__init__.py (the list of models).  The paper's own files above are not touched."""
+    generated/models/__init__.py (the list of models).  The default model, the paper's rod, is not among them: it
+    is the paper's tree at generated/ top level (paper_model(), written by build())."""
     from . import models
     from .models import pipeline
 
     out = {}
-    chosen = models.NAMES if names is None else names
+    chosen = [n for n in (models.NAMES if names is None else names) if n != models.DEFAULT]  # the paper's tree above
     for name in chosen:
         t0 = time.perf_counter()
         m = models.get(name)

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .codegen import BallPrinter, function_source, module_source
+from .codegen import BallPrinter
 from .model import B1, B2, C, X, cH, cJ, cK, lam, structure_matrix
 from .poisson import first_integrals, hamiltonian_compliance
 from .results import DISAGREES, HOLDS, Result
@@ -88,19 +88,33 @@ def derive_all():
                     "terms": {k: len(v[0]) for k, v in pol.items()}})]
 
 
+def model():
+    """The rod of this search as a model of the pipeline (derive/models/spec.py Model): anisotropic, extensible and
+    shearable (compliance form), in a field -- the family that the registered models specialise.  Its data module is
+    written by the one generator of every model's search data (derive/models/pipeline.py first_integrals_module).
+    lambda is named `lam` in the generated code (a Python keyword otherwise)."""
+    from .models.spec import Model
+
+    lam_s = sp.Symbol("lam", real=True)
+    ren = {lam: lam_s}
+    params = [p.subs(ren) for p in PARAMS]
+    meaning = ("bending stiffness B1", "bending stiffness B2", "torsional stiffness", "shear compliance 1/H",
+               "shear compliance 1/J", "extensional compliance 1/K", "lambda = I Bbar: current times field strength")
+    ranges = [(0, sp.oo)] * 6 + [(-sp.oo, sp.oo)]
+    parameters = {p: (mn, rg, 1) for p, mn, rg in zip(params, meaning, ranges)}
+    fi = first_integrals({})
+    cas = {k: sp.expand(fi[k].subs(ren)) for k in ("C1", "C2", "C3")}
+    cands = {"I1": (fi["I1"], "eq:magnetic_lagrange"), "I2": (sp.expand(fi["I2"].subs(ren)), "eq:int2")}
+    return Model("paper-family", "the paper's rod family: anisotropic, extensible, shearable, in a field (compliance "
+                 "form)", "this paper (sec. 2)",
+                 list(X), parameters, structure_matrix().subs(ren), sp.expand(hamiltonian_compliance().subs(ren)),
+                 candidates=cands, casimirs=cas)
+
+
 def module() -> str:
-    pr = FractionPrinter(NAMES)
-    pol = polynomials()
-    parts, consts = [], {"PARAMETERS": PARAM_NAMES}
-    for k, (monos, coefs) in pol.items():
-        consts[f"{k}_MONOMIALS"] = tuple(monos)
-        parts.append(function_source(k, list(PARAM_NAMES), list(coefs), pr,
-                                     f"Coefficients of {k} in the order of {k}_MONOMIALS (exponents of BODY_STATE)."))
-    st = structure_terms()
-    consts["STRUCTURE_TERMS"] = tuple((i, j, k) for i, j, k, _ in st)
-    parts.append(function_source("structure", list(PARAM_NAMES), [c for *_, c in st], pr,
-                                 "Coefficients c with J_ij = sum c x_k, in the order of STRUCTURE_TERMS (i, j, k)."))
-    return module_source("Exact data of the polynomial first-integral search (issue 20): H, J(x; lambda) and the "
-                         "known integrals as monomials with rational coefficients (fractions.Fraction).",
-                         "first_integrals.py", parts, consts, lib=None,
-                         imports=("from fractions import Fraction as _Q",))
+    """generated/first_integrals.py: model()'s search data, by the generator of every model's (pipeline)."""
+    from .models import pipeline
+
+    m = model()
+    fs = {"H": m.H, **m.casimirs, **{k: e for k, (e, _) in m.candidates.items()}}
+    return pipeline.first_integrals_module(m, fs)

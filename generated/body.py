@@ -104,6 +104,66 @@ def ptheta_sin(m1, m2, m3, n1, n2, n3, e31, e32, e33, m, mu, gamma, delta, lam):
     return _E(((-(e31 * m2)) + (e32 * m1)))
 
 
+def candidates(m1, m2, m3, n1, n2, n3, e31, e32, e33, m, mu, gamma, delta, lam):
+    """The candidate integrals, CANDIDATES order."""
+    return [
+        _E(m3),
+        _E(((m1 * n1) + (m2 * n2) + (m3 * n3) + (e33 * lam / ((m ** 4))))),
+    ]
+
+
+def constraints(m1, m2, m3, n1, n2, n3, e31, e32, e33, m, mu, gamma, delta, lam):
+    """(H, C1, ...): the level of a section."""
+    return [
+        _E((((m1 ** 2) / (2.0)) + ((m2 ** 2) / (2.0)) + ((m3 ** 2) / (2.0)) + n3 + (delta * (m ** 2) * (n1 ** 2) / (2.0)) + (delta * (m ** 2) * (n2 ** 2) / (2.0)) + (delta * (m ** 2) * (n3 ** 2) / (2.0)) + (gamma * (m ** 2) * (n3 ** 2) / (2.0)))),
+        _E((((n1 ** 2) / (2.0)) + ((n2 ** 2) / (2.0)) + ((n3 ** 2) / (2.0)) + (e31 * lam * m1 / ((m ** 4))) + (e32 * lam * m2 / ((m ** 4))) + (e33 * lam * m3 / ((m ** 4))))),
+        _E(((e31 * n1) + (e32 * n2) + (e33 * n3))),
+        _E(((e31 ** 2) + (e32 ** 2) + (e33 ** 2))),
+    ]
+
+
+def constraint_gradients(m1, m2, m3, n1, n2, n3, e31, e32, e33, m, mu, gamma, delta, lam):
+    """Gradients of (H, C1, ...) w.r.t. the state, row by row (flattened)."""
+    return [
+        _E(m1),
+        _E(m2),
+        _E(m3),
+        _E((delta * (m ** 2) * n1)),
+        _E((delta * (m ** 2) * n2)),
+        _E((1.0 + (delta * (m ** 2) * n3) + (gamma * (m ** 2) * n3))),
+        _E(0.0),
+        _E(0.0),
+        _E(0.0),
+        _E((e31 * lam / ((m ** 4)))),
+        _E((e32 * lam / ((m ** 4)))),
+        _E((e33 * lam / ((m ** 4)))),
+        _E(n1),
+        _E(n2),
+        _E(n3),
+        _E((lam * m1 / ((m ** 4)))),
+        _E((lam * m2 / ((m ** 4)))),
+        _E((lam * m3 / ((m ** 4)))),
+        _E(0.0),
+        _E(0.0),
+        _E(0.0),
+        _E(e31),
+        _E(e32),
+        _E(e33),
+        _E(n1),
+        _E(n2),
+        _E(n3),
+        _E(0.0),
+        _E(0.0),
+        _E(0.0),
+        _E(0.0),
+        _E(0.0),
+        _E(0.0),
+        _E((2.0 * e31)),
+        _E((2.0 * e32)),
+        _E((2.0 * e33)),
+    ]
+
+
 def pars():
     """The runtime parameters PARAMS = (m, mu, gamma, delta, lambdabar) as heyoka parameters hy.par[0..4]."""
     return [hy.par[i] for i in range(len(PARAMS))]

@@ -37,20 +37,38 @@ def test_generated_models_are_fresh_and_orphans_are_stale(fresh_models, tmp_path
 
 
 def test_the_paper_model_through_the_generic_pipeline_equals_its_own_derivation():
-    """magnetic-extensible's H (Legendre transform by derive/models/spec.py) equals derive/poisson.py's H of the
-    paper's model with B1 = B2 = B, H = J = S; its Casimirs span the printed eq:magnetic_casimirs1-3."""
-    from magrod.derive import paper, poisson
-    from magrod.derive import model as pm
+    """magnetic-extensible is the paper's rod at the numeric scale: its H and J are derive/numeric_scale.py's (the
+    Legendre transform of derive/poisson.py at B = C = m3 = 1), its named Casimirs are the printed
+    eq:magnetic_casimirs1-3 and span the Casimirs the pipeline finds, and its parameters are the paper's
+    non-dimensional ones (generated/names.py PARAMS)."""
+    from magrod.derive import numeric_scale as ns
+    from magrod.derive.paper import lambar
+    from magrod.generated import names
 
     m = models.get("magnetic-extensible")
-    B, S = (s for s in m.params if str(s) in ("B", "S"))
+    assert tuple(str(p) for p in m.params) == names.PARAMS == ("m", "mu", "gamma", "delta", "lam")
     lam = next(s for s in m.params if str(s) == "lam")
-    H_paper, _ = poisson.hamiltonian()
-    H_paper = H_paper.subs({pm.B1: B, pm.B2: B, pm.Hs: S, pm.J: S})
-    assert sp.expand(m.H - H_paper) == 0
+    assert sp.expand(m.H - ns.body_hamiltonian().subs(lambar, lam)) == 0
+    assert sp.expand(m.J - ns.structure_matrix(ns.LAMBDA_BODY).subs(lambar, lam)) == sp.zeros(9, 9)
+    named = list(pipeline.named_casimirs(m).values())
+    printed = [c.subs(lambar, lam) for c in ns.casimirs_body()]
+    assert all(sp.expand(a - b) == 0 for a, b in zip(named, printed))
     found = pipeline.casimirs(m)
-    printed = [c.subs(pm.lam, lam) for c in paper.eq_magnetic_casimirs()]
-    assert pipeline._span_rank(found, m.state) == 3 == pipeline._span_rank(found + printed, m.state)
+    assert pipeline._span_rank(found, m.state) == 3 == pipeline._span_rank(found + named, m.state)
+
+
+def test_the_paper_rod_is_generated_once():
+    """The registry's default model is the paper's tree at generated/ top level: no generated/models copy, its body
+    functions are generated/body.py's, its names generated/names.py's."""
+    from pathlib import Path
+
+    import magrod.generated as g
+    from magrod.core.models import resolve
+
+    assert not (Path(g.__file__).parent / "models" / "magnetic_extensible").exists()
+    mc = resolve("magnetic-extensible")
+    assert mc.names.__name__ == "magrod.generated.names" and mc.body_module == "magrod.generated.body"
+    assert mc.names.PARAMS == ("m", "mu", "gamma", "delta", "lam") and mc.names.CASIMIRS == ("C1", "C2", "C3")
 
 
 @pytest.mark.parametrize("name", models.NAMES)
@@ -143,9 +161,14 @@ def test_kovalevskaya_and_goryachev_chaplygin_cases_are_found(ratio, level, degr
 
     vals = dict(zip(("B1", "B2", "C"), ratio))
     r = model_search("anisotropic", degree, values=vals, level=level)
-    assert not r.certified and len(r.new_integrals) == 1 and r.new_verified == [True] and r.success
-    assert model_search("anisotropic", degree, values=vals).certified if level else True
-    assert model_search("anisotropic", degree, values={"B1": 1, "B2": 2, "C": 3}, level=level).certified
+    # found (one integral beyond H and the Casimirs, re-checked), and certified complete with it
+    assert len(r.new_integrals) == 1 and r.new_verified == [True] and r.certified and r.success
+    assert r.kernel_dims[-1] > model_search("anisotropic", degree, values=vals, level=level,
+                                            exact_new=False).algebra_dims[-1]
+    plain = model_search("anisotropic", degree, values=vals) if level else r
+    assert plain.certified and (not plain.new_integrals if level else True)
+    r = model_search("anisotropic", degree, values={"B1": 1, "B2": 2, "C": 3}, level=level)
+    assert r.certified and not r.new_integrals
 
 
 @pytest.mark.parametrize("name", models.NAMES)

@@ -84,13 +84,17 @@ def test_good_file_check_and_section(cache, tmp_path, capsys):
 
     sec = mr.poincare_section(str(f), iterates=20)
     assert sec.success and sec.system.code.name == "my-rod" and sec.max_abs_dH <= 1e-12
-    f.write_text(GOOD.replace('default", (0, sp.oo), 2)', 'default", (0, sp.oo), 2)') + "\n# changed\n")
     from magrod.core import models
 
+    f.write_text(GOOD + "\n# an edited comment: the same evaluated model, the same entry\n")
+    models._LOADED.clear()
+    assert cli.main(["check", "--model", str(f), "--json"]) == 0
+    assert len(list(cache.iterdir())) == 1
+    f.write_text(GOOD.replace('"torsional stiffness", (0, sp.oo), 2)', '"torsional stiffness", (0, sp.oo), 3)'))
     models._LOADED.clear()
     assert cli.main(["check", "--model", str(f), "--json"]) == 0
     capsys.readouterr()
-    assert len(list(cache.iterdir())) == 2  # new content, new entry
+    assert len(list(cache.iterdir())) == 2  # a new model, a new entry
 
 
 @pytest.mark.parametrize("name,edit,check", BAD, ids=[b[0] for b in BAD])

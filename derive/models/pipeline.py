@@ -53,29 +53,87 @@ def casimirs(model: Model, degree: int = CASIMIR_DEGREE) -> list:
     A, _ = sp.linear_eq_to_matrix(eqs, cs)
     out = []
     for vec in A.rref(simplify=True)[0].nullspace(simplify=True) if A.rows else [sp.eye(len(cs))[:, i] for i in range(len(cs))]:
-        lead = next(v for v in vec if v != 0)
-        out.append(sp.expand(sum(sp.factor(v / lead) * mm for v, mm in zip(vec, monos))))
+        out.append(sp.expand(sum(c * mm for c, mm in zip(primitive(vec, model.params), monos))))
     return sorted(out, key=sp.default_sort_key)
+
+
+def primitive(vec, params) -> list:
+    """The coefficients `vec` (rational functions of the parameters) scaled to polynomials in the parameters with
+    no common factor, the first non-zero one with a positive leading coefficient: kappa m^2 + n^2, never
+    m^2 + n^2/kappa, so a Casimir stays defined (and non-zero) at every parameter value where the bracket is."""
+    fr = [sp.fraction(sp.factor(sp.together(v))) for v in vec]
+    den = sp.Integer(1)
+    for _, d in fr:
+        den = sp.lcm(den, d)
+    nums = [sp.expand(sp.cancel(n * den / d)) for n, d in fr]
+    g = sp.Integer(0)
+    for n in nums:
+        g = sp.gcd(g, n)
+    nums = [sp.expand(sp.cancel(n / g)) for n in nums]
+    lead = next(n for n in nums if n != 0)
+    sign = sp.Poly(lead, *params).LC() if params and lead.free_symbols else lead
+    return [-n if sign < 0 else n for n in nums]
+
+
+def body_vectors(model: Model) -> list:
+    """The state read as body vectors: the symbols named <stem>1, <stem>2, <stem>3 for a common stem (m1 m2 m3,
+    e31 e32 e33), wherever they sit in STATE; if the names do not form such triples, consecutive triples of the
+    state."""
+    X = model.state
+    by = {str(x): x for x in X}
+    vecs, used = [], set()
+    for x in X:
+        name = str(x)
+        if name in used or not name.endswith("1"):
+            continue
+        stem = name[:-1]
+        trip = [by.get(f"{stem}{i}") for i in (1, 2, 3)]
+        if stem and all(trip):
+            vecs.append(trip)
+            used.update(str(t) for t in trip)
+    if len(used) == len(X):
+        return vecs
+    if len(X) % 3:
+        return []
+    return [X[k:k + 3] for k in range(0, len(X), 3)]
 
 
 def s1_symmetric(model: Model) -> bool:
     """True if H is invariant under a rotation of the body frame about d3: every body vector a = (a1, a2, a3) of
-    the state moves with the generator a -> (-a2, a1, 0) (the state is read as consecutive triples)."""
-    X = model.state
-    if len(X) % 3:
+    the state (body_vectors: by name, whatever the order of STATE) moves with the generator a -> (-a2, a1, 0)."""
+    vecs = body_vectors(model)
+    if not vecs:
         return False
-    delta = []
-    for k in range(0, len(X), 3):
-        a1, a2, _ = X[k:k + 3]
-        delta += [-a2, a1, 0]
-    return sp.expand(sum(sp.diff(model.H, x) * d for x, d in zip(X, delta))) == 0
+    delta = {}
+    for a1, a2, a3 in vecs:
+        delta.update({a1: -a2, a2: a1, a3: 0})
+    return sp.expand(sum(sp.diff(model.H, x) * delta[x] for x in model.state)) == 0
+
+
+def named_casimirs(model: Model) -> dict:
+    """{"C1": ..}: the Casimirs found (casimirs()), or the model's own CASIMIRS where it gives them -- each checked
+    (J grad C = 0 expanded) and together spanning exactly the Casimirs found (ModelError otherwise)."""
+    found = casimirs(model)
+    if not model.casimirs:
+        return {f"C{i}": c for i, c in enumerate(found, 1)}
+    from .spec import ModelError
+
+    for k, c in model.casimirs.items():
+        bad = [r for r in sp.expand(model.J * gradient(c, model.state)) if r != 0]
+        if bad:
+            raise ModelError("casimirs", f"{k} = {c} is not a Casimir: J grad {k} has the entry {bad[0]}")
+    given = list(model.casimirs.values())
+    r = _span_rank(found, model.state)
+    if not (_span_rank(given, model.state) == r == _span_rank(found + given, model.state) == len(given)):
+        raise ModelError("casimirs", f"CASIMIRS do not form a basis of the {r} Casimirs of degree <= "
+                                     f"{CASIMIR_DEGREE} found: {'; '.join(str(c) for c in found)}")
+    return dict(model.casimirs)
 
 
 def integrals(model: Model) -> dict:
-    """{name: polynomial}: H, the Casimirs C1.. found, and the candidates."""
+    """{name: polynomial}: H, the Casimirs C1.. (found, or the model's own where it names them), the candidates."""
     out = {"H": model.H}
-    for i, c in enumerate(casimirs(model), 1):
-        out[f"C{i}"] = c
+    out.update(named_casimirs(model))
     for k, (e, _) in model.candidates.items():
         out[k] = sp.expand(sp.sympify(e, strict=True))  # checked SymPy (spec.sym)
     return out
@@ -127,50 +185,54 @@ def derive_results(model: Model) -> list:
     fs = integrals(model)
     cas = {k: v for k, v in fs.items() if k.startswith("C") and k[1:].isdigit()}
     res = []
-    res.append(Result("hamiltonian", model.source, "H = Legendre transform of W" if model.W is not None else "H as given",
+    res.append(Result("hamiltonian", "hamiltonian", "H = Legendre transform of W" if model.W is not None else "H as given",
                       HOLDS, "symbolic: x = dW/ds solved for the free strains, fixed strains substituted" if
                       model.W is not None else "given", {"H": fmt(model.H)}))
     eom = equations(model)
-    res.append(Result("equations", model.source, "x' = J grad H", HOLDS, "symbolic: J grad H expanded",
+    res.append(Result("equations", "equations", "x' = J grad H", HOLDS, "symbolic: J grad H expanded",
                       {str(x): fmt(e) for x, e in zip(X, eom)}))
     bad = jacobi_failures(model.J, X)
     n3 = len(list(itertools.combinations(range(len(X)), 3)))
-    res.append(Result("jacobi", model.source, f"Jacobi identity of J (all {n3} index triples)",
+    res.append(Result("jacobi", "jacobi", f"Jacobi identity of J (all {n3} index triples)",
                       HOLDS if not bad else DISAGREES, "symbolic: every cyclic sum expands to 0",
                       {"failing_triples": [str(b[0]) for b in bad]}))
     # every Casimir commutes with every coordinate function: J grad C = 0 exactly
     resid = {k: [fmt(r) for r in sp.expand(model.J * gradient(c, X)) if r != 0] for k, c in cas.items()}
     ok = all(not v for v in resid.values())
-    res.append(Result("casimirs", model.source,
+    res.append(Result("casimirs", "casimirs",
                       f"Casimirs found by solving J grad C = 0 over all polynomials of degree <= {CASIMIR_DEGREE}",
                       HOLDS if ok else DISAGREES, "symbolic: null space of the ansatz system; {C, x_i} = 0 re-checked "
                       "for every coordinate", {"basis_found": {k: fmt(v) for k, v in cas.items()},
                                                 "nonzero {C, x_i}": resid}))
     sym = s1_symmetric(model)
-    res.append(Result("s1_symmetry", model.source, "S^1 symmetry: H invariant under rotation of the body frame about d3",
+    res.append(Result("s1_symmetry", "s1_symmetry", "S^1 symmetry: H invariant under rotation of the body frame about d3",
                       HOLDS if sym else "absent", "symbolic: derivative of H along the generator a -> d3 x a expanded",
                       {"symmetric": sym, "euler_chart": "applicable" if sym else
                        "not applicable: H is not invariant under rotations about d3"}))
     table = involution_table(model, fs)
-    res.append(Result("involution", model.source, "Brackets among H, the Casimirs found and the candidate integrals",
+    res.append(Result("involution", "involution", "Brackets among H, the Casimirs found and the candidate integrals",
                       HOLDS, "symbolic: each bracket grad f . J grad g expanded and factored", {"table": table}))
     cands = {k: table.get(f"{{H,{k}}}") == "0" for k in model.candidates}
-    res.append(Result("candidates", model.source, "Literature candidate integrals: is {H, I} = 0?", HOLDS,
+    res.append(Result("candidates", "candidates", "Literature candidate integrals: is {H, I} = 0?", HOLDS,
                       "symbolic: from the involution table",
                       {"first_integral": cands, "references": {k: r for k, (_, r) in model.candidates.items()}}))
-    known = {**cas, "H": model.H, **{k: fs[k] for k, v in cands.items() if v}}
-    found = integrals_by_ansatz(model, {k: v for k, v in known.items() if k not in model.candidates} | {
-        k: v for k, v in known.items() if k == "I1"})
+    # the known algebra: H, the Casimirs and every coordinate that is an integral (m3 of a rod symmetric about d3),
+    # whatever the candidates are called
+    coords = {str(x): x for x in X if bracket(model, x, model.H) == 0}
+    found = integrals_by_ansatz(model, {**cas, "H": model.H, **coords})
     inspan = {k: _span_rank(found["span"] + [fs[k]], X) == _span_rank(found["span"], X) for k in model.candidates}
     beyond = {k: _span_rank(found["span"][:found["dim_known_algebra"]] + [fs[k]], X) > found["dim_known_algebra"]
               for k in model.candidates}
-    res.append(Result("integrals_found", model.source,
+    res.append(Result("integrals_found", "integrals_found",
                       "Polynomial integrals of degree <= 2 found by an ansatz ({F, H} = 0 identically in the "
-                      "parameters), against the algebra of H, the Casimirs and m3 where it is an integral",
+                      "parameters), against the algebra of H, the Casimirs and the coordinates that are integrals"
+                      + (f" ({', '.join(coords)})" if coords else ""),
                       HOLDS, "symbolic: null space of the ansatz system; spans compared by rank",
                       {"dim_kernel": found["dim_kernel"], "dim_known_algebra": found["dim_known_algebra"],
+                       "coordinate_integrals": list(coords),
                        "beyond_the_algebra": [fmt(e) for e in found["extra"]],
-                       "candidate in the span found": inspan, "candidate beyond H, Casimirs, m3": beyond}))
+                       "candidate in the span found": inspan,
+                       "candidate beyond H, Casimirs, coordinate integrals": beyond}))
     return res
 
 
@@ -187,20 +249,26 @@ def _rangestr(b):
 
 
 def names_module(model: Model, fs: dict) -> str:
+    return module_source(f"Names of the model {model.name!r} ({model.title}): state, parameters with meanings, "
+                         "ranges and defaults, the Casimirs found, the candidates.", "models/pipeline.py", [],
+                         names_constants(model, fs), lib=None)
+
+
+def names_constants(model: Model, fs: dict) -> dict:
+    """The constants of a model's names module (core.models.ModelCode.names)."""
     cas = tuple(k for k in fs if k.startswith("C") and k[1:].isdigit())
-    consts = {"NAME": model.name, "TITLE": model.title, "SOURCE": model.source,
+    return {"NAME": model.name, "TITLE": model.title, "SOURCE": model.source,
               "STATE": tuple(str(x) for x in model.state), "PARAMS": tuple(str(p) for p in model.params),
               "MEANINGS": tuple(v[0] for v in model.parameters.values()),
               "RANGES": tuple((_rangestr(v[1][0]), _rangestr(v[1][1])) for v in model.parameters.values()),
               "DEFAULTS": tuple(float(sp.sympify(v[2], strict=True)) for v in model.parameters.values()),
               "CASIMIRS": cas, "CANDIDATES": tuple(model.candidates), "S1_SYMMETRIC": s1_symmetric(model),
               "REFERENCE": tuple(model.reference[x] for x in model.state)}
-    return module_source(f"Names of the model {model.name!r} ({model.title}): state, parameters with meanings, "
-                         "ranges and defaults, the Casimirs found, the candidates.", "models/pipeline.py", [], consts,
-                         lib=None)
 
 
-def body_module(model: Model, fs: dict) -> str:
+def body_parts(model: Model, fs: dict) -> list:
+    """The functions of a model's body module that the paper's own body.py (derive/build.py) does not write:
+    candidates, constraints, constraint_gradients."""
     X = model.state
     pr = HeyokaPrinter(_names(model))
     args = [str(x) for x in X] + [str(p) for p in model.params]
@@ -208,15 +276,28 @@ def body_module(model: Model, fs: dict) -> str:
     cons = [model.H] + cas
     grads = [sp.diff(c, x) for c in cons for x in X]
     cands = [fs[k] for k in model.candidates]
+    return [
+        function_source("candidates", args, cands or [sp.Integer(0)], pr, "The candidate integrals, CANDIDATES order."),
+        function_source("constraints", args, cons, pr, "(H, C1, ...): the level of a section."),
+        function_source("constraint_gradients", args, grads, pr,
+                        "Gradients of (H, C1, ...) w.r.t. the state, row by row (flattened)."),
+    ]
+
+
+def body_module(model: Model, fs: dict) -> str:
+    X = model.state
+    pr = HeyokaPrinter(_names(model))
+    args = [str(x) for x in X] + [str(p) for p in model.params]
+    cas = [v for k, v in fs.items() if k.startswith("C") and k[1:].isdigit()]
+    extra = body_parts(model, fs)
     parts = [
         function_source("hamiltonian", args, model.H, pr, "H(x)."),
         function_source("rhs", args, list(equations(model)), pr, "x' = J(x) grad H."),
         function_source("casimirs", args, cas or [sp.Integer(0)], pr, "The Casimirs found, in CASIMIRS order."),
-        function_source("candidates", args, cands or [sp.Integer(0)], pr, "The candidate integrals, CANDIDATES order."),
+        extra[0],
         function_source("section", args, model.section, pr, "The Poincare section function (crossed upwards)."),
-        function_source("constraints", args, cons, pr, "(H, C1, ...): the level of a section."),
-        function_source("constraint_gradients", args, grads, pr,
-                        "Gradients of (H, C1, ...) w.r.t. the state, row by row (flattened)."),
+        extra[1],
+        extra[2],
         'def pars():\n    """hy.par[i] = PARAMS[i]."""\n    return [hy.par[i] for i in range(len(PARAMS))]\n',
         ('def system():\n    """[(variable, rhs)] for hy.taylor_adaptive."""\n    xs = hy.make_vars(*STATE)\n'
          '    return list(zip(xs, rhs(*xs, *pars())))\n'),
@@ -232,11 +313,24 @@ def _poly(expr, X):
     return [tuple(int(k) for k in mono) for mono, _ in terms], [sp.factor(c) for _, c in terms]
 
 
+def _exact(value) -> str:
+    """A default as an exact rational 'p/q' (a float default by its decimal digits: 0.1 -> '1/10')."""
+    from fractions import Fraction
+
+    v = sp.sympify(value, strict=True)
+    if v.is_Rational:
+        return str(Fraction(int(v.p), int(v.q)))
+    if v.is_Float:
+        return str(Fraction(str(v)).limit_denominator(10**15))
+    return str(Fraction(float(v)).limit_denominator(10**12))
+
+
 def first_integrals_module(model: Model, fs: dict) -> str:
     X = model.state
     pr = FractionPrinter({p: str(p) for p in model.params})
     pnames = [str(p) for p in model.params]
-    consts = {"PARAMETERS": tuple(pnames), "NVAR": len(X), "POLYNOMIALS": tuple(fs)}
+    consts = {"PARAMETERS": tuple(pnames), "DEFAULTS": tuple(_exact(v[2]) for v in model.parameters.values()),
+              "NVAR": len(X), "POLYNOMIALS": tuple(fs)}
     parts = []
     for k, e in fs.items():
         monos, coefs = _poly(e, X)
@@ -268,10 +362,15 @@ def report_markdown(model: Model, results) -> str:
     return "\n".join(lines)
 
 
-def model_files(model: Model) -> dict:
-    """{filename: text} of generated/models/<ident>/."""
-    fs = integrals(model)
-    results = derive_results(model)
+CACHED_HEADER = ("Compiled from a model file into magrod's model cache; recompiled whenever the evaluated model\n"
+                 "changes (`magrod check --model FILE --no-cache` compiles afresh).")
+
+
+def model_files(model: Model, cached: bool = False, fs: dict | None = None, results: list | None = None) -> dict:
+    """{filename: text} of generated/models/<ident>/; `cached`: of a user's model file's cache entry (its header
+    says so, not how to regenerate the registry).  `fs`, `results`: integrals() and derive_results() if known."""
+    fs = integrals(model) if fs is None else fs
+    results = derive_results(model) if results is None else results
     params = [{"name": str(p), "meaning": v[0], "range": [str(v[1][0]), str(v[1][1])], "default": str(v[2])}
               for p, v in model.parameters.items()]
     rep = {"model": model.name, "title": model.title, "source": model.source, "state": [str(x) for x in model.state],
@@ -282,4 +381,14 @@ def model_files(model: Model) -> dict:
              "report.md": report_markdown(model, results)}
     files["__init__.py"] = (f'"""Machine-written by derive/models/pipeline.py (python -m derive) -- DO NOT EDIT BY HAND.\n\n'
                             f'Model {model.name!r}: {model.title}."""\n')
+    if cached:
+        from ..codegen import HEADER
+
+        regen = HEADER.split("\n")[3]
+        files = {k: v.replace(regen, CACHED_HEADER).replace("(python -m derive) -- DO NOT EDIT BY HAND.",
+                                                            "-- DO NOT EDIT BY HAND.")
+                 for k, v in files.items()}
+        files["report.md"] = files["report.md"].replace("Written by `python -m derive` (derive/models/pipeline.py) "
+                                                        "-- do not edit.", "Compiled from the model file by "
+                                                        "derive/models/pipeline.py -- do not edit.")
     return files

@@ -22,6 +22,8 @@ defines, with SymPy:
   SECTION     the Poincare section function (default: STATE[0]), crossed upwards
   REFERENCE   {state Symbol: number}: a state near which default initial conditions are drawn (default: a
               seeded generic state with components in [0.1, 0.9])
+  CASIMIRS    {"C1": polynomial, ...}: the Casimirs in the model's own normalisation and order (e.g. the printed
+              ones); checked (J grad C = 0, and they span the Casimirs the pipeline finds), never assumed
 
 Every check below raises ModelError(check, text) naming the check that failed; `load_file` runs all of them
 before anything is written.
@@ -76,6 +78,22 @@ class Model:
     section: sp.Expr | None = None
     reference: dict = field(default_factory=dict)
     notes: str = ""
+    casimirs: dict = field(default_factory=dict)  # {"C1": expr, ...} as the model names them (optional)
+    helpers: list = field(default_factory=list)  # files of the user's own modules the model file imported
+
+    def fingerprint(self) -> str:
+        """The evaluated model as text (srepr of every expression, the data in a fixed order): equal for two files
+        that define the same model, different when an expression changed, wherever it was computed."""
+        params = [(sp.srepr(p), v[0], sp.srepr(sym(v[1][0])), sp.srepr(sym(v[1][1])), sp.srepr(sym(v[2])))
+                  for p, v in self.parameters.items()]
+        parts = [self.name, self.title, self.source, self.notes, [sp.srepr(x) for x in self.state], params,
+                 sp.srepr(self.J), sp.srepr(self.H), sp.srepr(self.W) if self.W is not None else "",
+                 [(sp.srepr(s), sp.srepr(x)) for s, x in self.strains],
+                 sorted((sp.srepr(k), sp.srepr(sym(v))) for k, v in self.fixed.items()),
+                 [(k, sp.srepr(sym(e)), str(r)) for k, (e, r) in self.candidates.items()],
+                 sp.srepr(self.section), [(sp.srepr(k), repr(v)) for k, v in self.reference.items()],
+                 [(k, sp.srepr(v)) for k, v in self.casimirs.items()]]
+        return repr(parts)
 
     @property
     def params(self) -> list:
@@ -194,8 +212,13 @@ def build_model(ns: dict, origin: str) -> Model:
     else:
         H = sp.expand(sym(ns["H"], "missing"))
     cands = dict(ns.get("CANDIDATES", {}))
+    given = dict(ns.get("CASIMIRS", {}))
+    for k in given:
+        if not (isinstance(k, str) and re.match(r"^C[1-9][0-9]?$", k)):
+            raise ModelError("casimirs", f"CASIMIRS names must be C1, C2, ..., got {k!r}")
+    given = {k: sp.expand(sym(v, "casimirs")) for k, v in sorted(given.items(), key=lambda kv: int(kv[0][1:]))}
     section = sym(ns.get("SECTION", X[0]), "state")
-    exprs = [H, section, *Jm] + [c[0] for c in cands.values()]
+    exprs = [H, section, *Jm] + [c[0] for c in cands.values()] + list(given.values())
     syms = set().union(*(sym(e).free_symbols for e in exprs))
     by_name: dict = {}
     for s in syms | set(X) | set(parameters):
@@ -241,7 +264,7 @@ def build_model(ns: dict, origin: str) -> Model:
         ref = {x: round(rng.uniform(0.1, 0.9), 3) for x in X}
     return Model(name, str(ns.get("TITLE", name)), str(ns.get("SOURCE", origin)), X, parameters, Jm, H,
                  sym(W) if W is not None else None, strains, fixed, cands, section,
-                 {x: float(ref.get(x, 0.0)) for x in X}, str(ns.get("NOTES", "")))
+                 {x: float(ref.get(x, 0.0)) for x in X}, str(ns.get("NOTES", "")), given)
 
 
 def load_file(path) -> Model:
@@ -251,13 +274,39 @@ def load_file(path) -> Model:
     if spec is None or spec.loader is None:
         raise ModelError("import", f"{path} is not a Python file")
     mod = importlib.util.module_from_spec(spec)
+    before = set(sys.modules)
     try:
         spec.loader.exec_module(mod)
     except Exception as exc:  # the user's code: every failure is 'does not import'
         raise ModelError("import", f"{path} does not import: {type(exc).__name__}: {exc}") from None
     finally:
         sys.modules.pop("magrod_user_model", None)
-    return build_model(vars(mod), str(path))
+        helpers = _user_modules(set(sys.modules) - before)
+    model = build_model(vars(mod), str(path))
+    model.helpers = helpers
+    return model
+
+
+def _user_modules(names) -> list:
+    """The files of the user's own modules among the newly imported `names` (not installed packages, not the
+    standard library), removed from sys.modules: the next load of the model file imports them afresh, so an edited
+    helper counts."""
+    import os
+    import sysconfig
+
+    installed = {os.path.realpath(p) for p in (sys.prefix, sys.base_prefix, sys.exec_prefix,
+                                               *sysconfig.get_paths().values()) if p}
+    out = []
+    for name in sorted(names):
+        f = getattr(sys.modules.get(name), "__file__", None)
+        if not f or name.split(".")[0] == "magrod":
+            continue
+        real = os.path.realpath(f)
+        if any(real.startswith(p + os.sep) for p in installed):
+            continue
+        out.append(real)
+        sys.modules.pop(name, None)
+    return out
 
 
 def load_module(mod) -> Model:

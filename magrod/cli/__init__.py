@@ -118,30 +118,12 @@ PAPER_ONLY = {
     "prove": ("validated fields (generated/validated.py)", "they are generated for the paper's rod only"),
     "orbitdiagram": ("the reduced Euler chart (a start theta0, pbar_theta0 on a level Hbar = h)",
                      "the command's starts are points of the paper's chart"),
-    "saddle": ("the straight rod and the helical relative equilibrium of the reduced chart",
-               "the command's saddle search is written on the paper's chart (orbits/equilibrium.py, periodic.py)"),
-    "spectrum": ("the reduced Euler chart (a start theta0, pbar_theta0 on a level Hbar = h)",
-                 "the command's start is a point of the paper's chart"),
 }
 
 
-# Commands of PAPER_ONLY whose public function is already written for every model once it takes a System first
-# (the one calling convention): from then on the command runs any model, without an edit here.
-ROUTED = {"saddle": "saddle", "spectrum": "lyapunov_spectrum"}
-
-
 def routes_models(command: str) -> bool:
-    """True if `command` runs any model: not paper-only, or its public function takes a System first."""
-    if command not in PAPER_ONLY:
-        return True
-    if command not in ROUTED:
-        return False
-    import inspect
-
-    import magrod
-
-    params = list(inspect.signature(getattr(magrod, ROUTED[command])).parameters)
-    return bool(params) and params[0] == "system"
+    """True if `command` runs any model (it is not one of PAPER_ONLY)."""
+    return command not in PAPER_ONLY
 
 
 def _check_model(args) -> None:

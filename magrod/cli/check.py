@@ -19,16 +19,23 @@ def add_arguments(p):
                         "controls lambda = 0, inextensible, anisotropic, extensible")
     p.add_argument("--degree", type=str, default=None, help="maximum degree D of the search, 1 <= D <= 12 (default 4; "
                                                              "D = 6 takes minutes)")
-    p.add_argument("--seed", type=str, default=None, help="seed of the random rational parameter values (default 20)")
+    p.add_argument("--seed", type=str, default=None,
+                   help="seed of the random rational parameter values (default 20; with --model: the model's "
+                        "defaults unless a seed is given)")
     p.add_argument("--model", default=None, metavar="NAME|FILE.py",
                    help="a rod model of the family (`magrod models`) or a model file ./my_rod.py (code you run on "
-                        "purpose: executed, checked, compiled into the cache): its derivation report; with "
-                        "--integrals the exact search on it (default: the paper's rod, as without --model)")
+                        "purpose: executed, checked, compiled into the cache): its derivation report and the exact "
+                        "search for polynomial first integrals (degree --degree, default 4) at its default "
+                        "parameters; with --integrals the search alone (default: the paper's rod, as without "
+                        "--model)")
     p.add_argument("--model-params", default=None, metavar="NAME=VALUE,...",
-                   help="with --model --integrals: exact parameter values (integer, decimal or p/q); the others are "
-                        "seeded random rationals")
+                   help="with --model: exact parameter values of the search (integer, decimal, 1e-8 or p/q); the "
+                        "others at the model's defaults (or seeded random rationals with --seed)")
     p.add_argument("--level", default=None, metavar="CASIMIR=VALUE,...",
-                   help="with --model --integrals: search on a special Casimir level, e.g. C2=0 (m.n = 0)")
+                   help="with --model: search on a special Casimir level, e.g. C2=0 (m.n = 0)")
+    p.add_argument("--no-cache", action="store_true",
+                   help="with --model FILE: compile the model file afresh into a temporary directory, the cache "
+                        "untouched (also: environment variable MAGROD_NO_MODEL_CACHE=1)")
 
 
 def run(args) -> dict:
@@ -40,6 +47,8 @@ def run(args) -> dict:
     for opt in ("model_params", "level"):
         if getattr(args, opt, None) is not None:
             raise ParameterError(opt.replace("_", "-"), "applies only with --model")
+    if getattr(args, "no_cache", False):
+        raise ParameterError("no-cache", "applies only with --model FILE")
 
     if args.integrals:
         if args.rederive or args.all:
@@ -66,51 +75,82 @@ def run(args) -> dict:
 
 
 def _run_model(args) -> dict:
-    """`check --model NAME|FILE [--integrals --degree D --model-params ... --level ...]`."""
+    """`check --model NAME|FILE [--integrals] [--degree D] [--seed S] [--model-params ...] [--level ...]`: the
+    model's derivation report and the exact search (--integrals: the search alone)."""
     from ..core.errors import ParameterError
     from ..core.models import resolve
+    from ..integrability import MAX_DEGREE
+    from ..integrability import search_model as model_search
     from . import options
     from .models import parse_assignments
 
     for opt in ("subs", "rederive", "all"):
         if getattr(args, opt):
             raise ParameterError(opt, "applies to the paper's rod, not with --model")
-    mc = resolve(args.model)
-    if not args.integrals:
-        for opt in ("model_params", "level", "degree", "seed"):
-            if getattr(args, opt) is not None:
-                raise ParameterError(opt.replace("_", "-"), "applies only with --integrals")
-        from ..integrability import model_report
-
-        rep = model_report(mc)
-        return {"ok": rep.success, "model": mc.name, "source": rep.source, "results": rep.rows,
-                "statuses": rep.statuses, "disagreements_with_paper": []}
-    from ..integrability import DEFAULT_SEED, MAX_DEGREE
-    from ..integrability import search_model as model_search
-
+    mc = resolve(args.model, cache=False if getattr(args, "no_cache", False) else None)
     degree = options.integer("degree", "4" if args.degree is None else args.degree, 1, MAX_DEGREE)
-    seed = options.integer("seed", DEFAULT_SEED if args.seed is None else args.seed, 0, 2**62)
+    seed = None if args.seed is None else options.integer("seed", args.seed, 0, 2**62)
     values = parse_assignments("model-params", args.model_params, mc.names.PARAMS)
     level = parse_assignments("level", args.level, mc.names.CASIMIRS)
     r = model_search(mc, degree, values=values, level=level, seed=seed)
     d = r.to_dict()
-    d["ok"] = True
-    d["search"] = True
-    return d
+    d["kind"] = "search"
+    if args.integrals:
+        d["ok"] = True
+        return d
+    from ..integrability import model_report
+
+    rep = model_report(mc)
+    return {"ok": rep.success, "kind": "model", "model": mc.name, "title": mc.names.TITLE,
+            "source": mc.names.SOURCE, "report": rep.source, "results": rep.rows, "statuses": rep.statuses,
+            "search": d}
+
+
+def _search_text(out: dict) -> list:
+    head = ("certified" if out["certified"] and not out["new_integrals"] else
+            f"found {len(out['new_integrals'])} integral(s); certified complete with them" if out["certified"] else
+            "not certified: the kernel exceeds the known algebra")
+    lines = [f"[{head}] model {out['model']}: polynomial first integrals of degree <= {out['degree']}"
+             + (f" on the level {out['level']}" if out["level"] else ""),
+             f"    parameters: {out['values']}",
+             f"    known: {', '.join(out['known'])}; candidates lost: {', '.join(out['candidates_lost']) or '-'}",
+             f"    dim ker L, degree <= 0..{out['degree']}: {out['kernel_dims']}",
+             f"    dim algebra (known and found):  {out['algebra_dims']}"]
+    for f, ok in zip(out["new_integrals"], out["new_verified"]):
+        lines.append(f"    found integral ({'{F, H} = 0 re-checked exactly' if ok else 'RE-CHECK FAILED'}): {f}")
+    lines += [f"    {out['message']}  ({out['wall_time_s']:.2f} s)", "", out["statement"]]
+    return lines
+
+
+def _model_text(out: dict) -> str:
+    lines = [f"magrod derivation report: model {out['model']} ({out['title']}; source: {out['source']})",
+             f"    read from {out['report']}", ""]
+    for r in out["results"]:
+        lines.append(f"[{r['status']}] {r['title']}")
+        lines.append(f"    shown by: {r['method']}")
+        d = r["details"]
+        if r["key"] == "involution":
+            nz = {k: v for k, v in d["table"].items() if v != "0"}
+            lines.append("    " + ("all brackets vanish" if not nz else "non-zero: " + "; ".join(
+                f"{k} = {v}" for k, v in nz.items())))
+        elif r["key"] == "casimirs":
+            lines.append("    found: " + "; ".join(f"{k} = {v}" for k, v in d["basis_found"].items()))
+        elif r["key"] == "integrals_found":
+            lines.append(f"    dim ker {d['dim_kernel']} vs known algebra {d['dim_known_algebra']}; beyond: "
+                         + ("; ".join(d["beyond_the_algebra"]) or "none"))
+        elif r["key"] == "candidates":
+            lines.append("    " + ("; ".join(f"{k}: {'integral' if v else 'NOT an integral'} ({d['references'][k]})"
+                                            for k, v in d["first_integral"].items())
+                                  or "none declared (the model file's CANDIDATES)"))
+        lines.append("")
+    return "\n".join(lines + _search_text(out["search"]))
 
 
 def format_text(out: dict) -> str:
-    if out.get("search"):
-        lines = [f"[{'certified' if out['certified'] else 'NOT certified'}] model {out['model']}: polynomial first "
-                 f"integrals of degree <= {out['degree']}" + (f" on the level {out['level']}" if out["level"] else ""),
-                 f"    parameters: {out['values']}",
-                 f"    known: {', '.join(out['known'])}; candidates lost: {', '.join(out['candidates_lost']) or '-'}",
-                 f"    dim ker L, degree <= 0..{out['degree']}: {out['kernel_dims']}",
-                 f"    dim known algebra:           {out['algebra_dims']}"]
-        for f, ok in zip(out["new_integrals"], out["new_verified"]):
-            lines.append(f"    NEW integral ({'{F, H} = 0 re-checked exactly' if ok else 'RE-CHECK FAILED'}): {f}")
-        lines += [f"    {out['message']}  ({out['wall_time_s']:.2f} s)", "", out["statement"]]
-        return "\n".join(lines)
+    if out.get("kind") == "search":
+        return "\n".join(_search_text(out))
+    if out.get("kind") == "model":
+        return _model_text(out)
     if "controls" in out:
         from ..integrability import format_integrals as fmt_integrals
 

@@ -11,7 +11,8 @@ import re
 
 from ..core.errors import ParameterError
 
-_ITEM = re.compile(r"^\s*([A-Za-z_][A-Za-z_0-9]*)\s*=\s*([-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:\s*/\s*\d+)?)\s*$")
+_ITEM = re.compile(r"^\s*([A-Za-z_][A-Za-z_0-9]*)\s*=\s*([-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d{1,3})?"
+                   r"(?:\s*/\s*\d+)?)\s*$")
 
 
 def parse_assignments(option: str, text, allowed) -> dict:
@@ -28,7 +29,7 @@ def parse_assignments(option: str, text, allowed) -> dict:
         m = _ITEM.match(item)
         if not m:
             raise ParameterError(option, f"cannot read {item.strip()[:40]!r}: expected NAME=VALUE with VALUE an "
-                                         "integer, a decimal or p/q")
+                                         "integer, a decimal (1e-8) or p/q")
         name, val = m.group(1), m.group(2).replace(" ", "")
         if name not in allowed:
             raise ParameterError(option, f"{name!r} is not one of {', '.join(allowed)}")
@@ -38,6 +39,8 @@ def parse_assignments(option: str, text, allowed) -> dict:
             out[name] = Fraction(val)
         except ZeroDivisionError:
             raise ParameterError(option, f"{name} = {val}: division by zero") from None
+        except ValueError:  # e.g. 1e-8/3: an exponent and a quotient together
+            raise ParameterError(option, f"cannot read {name} = {val}: give a decimal or p/q") from None
     return out
 
 

@@ -197,16 +197,6 @@ def model_params(args) -> dict:
     return out
 
 
-def first_argument(fn, system, legacy):
-    """What to pass first to the public function `fn`: the System once `fn` takes one (its first parameter is named
-    ``system``), else `legacy` (the value its older signature takes, e.g. ``system.rod``).  The commands thereby
-    follow each function as it moves to the one calling convention."""
-    import inspect
-
-    params = list(inspect.signature(fn).parameters)
-    return system if params and params[0] == "system" else legacy
-
-
 def is_paper_model(model) -> bool:
     from ..core.models import DEFAULT
 

@@ -8,7 +8,7 @@ function and prints the result's to_dict().
 Example:  magrod saddle --panel 4a --json"""
 from __future__ import annotations
 
-from .options import add_model, add_panel, add_params, add_precision, first_argument, system_from
+from .options import add_model, add_panel, add_params, add_precision, system_from
 
 
 def add_arguments(p):
@@ -25,13 +25,13 @@ def run(args) -> dict:
 
     system, _ = system_from(args, default_panel="4a")
     system = system.replace(precision=args.precision)
-    if not system.is_paper:  # reached once mr.saddle takes a System (cli.routes_models)
+    if not system.is_paper:
         s = mr.saddle(system)
         d = s.to_dict()
         return {"ok": bool(s.success), "model": system.model, "kind": s.kind, "params": system.params,
                 "H": float(s.H), "unstable_eigenvalue": d.get("unstable_eigenvalue"),
                 "eigenvalues": d.get("eigenvalues"), "accuracy": s.accuracy, "message": s.message}
-    s = mr.saddle(first_argument(mr.saddle, system, system.rod), precision=system.precision)
+    s = mr.saddle(system)
     return {"ok": bool(s.success), "kind": s.kind, **s.to_dict(), "accuracy": s.accuracy}
 
 

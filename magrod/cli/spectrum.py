@@ -31,7 +31,7 @@ def add_arguments(p):
 
 def run(args) -> dict:
     system, P = system_from(args, default_panel="4a")  # what is studied, resolved once (ParameterError naming it)
-    if not system.is_paper:  # reached once lyapunov_spectrum takes a System (cli.routes_models)
+    if not system.is_paper:
         for opt in (*_START, "root"):
             if opt != "root" and getattr(args, opt) is not None:
                 raise ParameterError(opt, "is a start on the paper's chart: another model's orbit starts at its "

@@ -51,19 +51,9 @@ class SectionView:
 def model_section(system, iterates: int) -> SectionView:
     """The engine's section of `system` (a System of any model): N_ORBITS orbits from its seeded starts on one
     level of H and the Casimirs, in the model's body frame."""
-    import inspect
+    from .. import poincare_sections
 
-    from .. import poincare_section
-
-    first = next(iter(inspect.signature(poincare_section).parameters), "")
-    if first == "system":  # the one calling convention: the System carries the model and its parameters
-        from .. import poincare_sections
-
-        return SectionView.of_runs(poincare_sections(system, starts=N_ORBITS, iterates=iterates), iterates)
-    from ..chaos import model_section as section
-
-    r = section(system.model, params=system.params, n_orbits=N_ORBITS, iterates=iterates)
-    return SectionView(r.success, r.message, r.points, r.energy_error, r.casimir_error)
+    return SectionView.of_runs(poincare_sections(system, starts=N_ORBITS, iterates=iterates), iterates)
 
 
 class ModelExplorer(pn.viewable.Viewer):

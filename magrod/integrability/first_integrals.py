@@ -122,9 +122,9 @@ def _poly(name: str, vals: dict) -> dict:
 def structure(vals: dict) -> list:
     """J as a 9 x 9 list of exact linear polynomials."""
     Jm = [[{} for _ in range(NVAR)] for _ in range(NVAR)]
-    for (i, j, k), c in zip(gen.STRUCTURE_TERMS, gen.structure(*(vals[p] for p in gen.PARAMETERS))):
+    for (i, j, mono), c in zip(gen.STRUCTURE_TERMS, gen.structure(*(vals[p] for p in gen.PARAMETERS))):
         if c != 0:
-            Jm[i][j] = _add(Jm[i][j], {_unit(k, NVAR): Fraction(c)})
+            Jm[i][j] = _add(Jm[i][j], {tuple(mono): Fraction(c)})
     return Jm
 
 

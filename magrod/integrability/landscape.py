@@ -24,7 +24,7 @@ Goryachev-Chaplygin (the pair containing C equal, four times the third, on m.n =
 Ratios are classes up to a common factor: (m, n) -> (t m, t n) maps the rod with stiffnesses t B to the rod with
 B, preserving polynomial degree.
 
-Cost: ~1 min for the whole landscape with the scan (benchmarks/bench_models.py); quick=True a few seconds.
+Cost: ~1 min for the whole landscape with the scan (benchmarks/models.py); quick=True a few seconds.
 """
 from __future__ import annotations
 
@@ -249,6 +249,54 @@ def anisotropic_scan(grid=GRID, degree: int = 4, seed: int = 20) -> list:
                              "integrals": beyond, "verified": r.new_verified, "certified_otherwise": r.success,
                              "explanation": explain(b1, b2, c, level) or "UNEXPLAINED"})
     return rows, len(classes)
+
+
+MAX_GRID_POINTS = 4096
+
+
+def stiffness_scan(model, grid: dict, degree: int = 4, *, values=None, level=None, seed: int | None = None) -> dict:
+    """The exact search (model_search) at every point of a parameter grid of any model -- a registered one or a
+    model file: `grid` {parameter: [exact values]}, the other parameters from `values` or the model's defaults.
+    Returns {"model", "degree", "level", "points": [{name: value}], "rows": [...]}, one row per point with an integral
+    beyond H and the Casimirs (a candidate kept, or integrals found exactly, each re-checked {F, H} = 0 from J and H
+    directly): its values, the integrals, their re-checks, and whether the rest is certified.  ParameterError naming
+    `grid` or a parameter for a bad grid (a name the model lacks, a value outside its range or where the model is
+    singular, more than MAX_GRID_POINTS points)."""
+    from ..core.errors import ParameterError
+    from ..core.models import resolve
+    from .model_search import _frac, model_search
+
+    mc = resolve(model)
+    if not isinstance(grid, dict) or not grid:
+        raise ParameterError("grid", "must name at least one parameter with its values: {name: [v1, v2, ...]}")
+    axes = {}
+    for k, vs in grid.items():
+        if k not in mc.names.PARAMS:
+            raise ParameterError("grid", f"{k!r} is not a parameter of the model {mc.name!r} "
+                                         f"({', '.join(mc.names.PARAMS)})")
+        if isinstance(vs, (str, bytes)) or not hasattr(vs, "__iter__"):
+            raise ParameterError("grid", f"the values of {k} must be a list")
+        vs = [_frac(k, v) for v in vs]
+        if not vs:
+            raise ParameterError("grid", f"{k} has no values")
+        axes[k] = list(dict.fromkeys(vs))
+    values = dict(values or {})
+    both = sorted(set(values) & set(axes))
+    if both:
+        raise ParameterError("grid", f"{', '.join(both)} is given both as a grid axis and a fixed value")
+    if math.prod(len(v) for v in axes.values()) > MAX_GRID_POINTS:
+        raise ParameterError("grid", f"has more than {MAX_GRID_POINTS} points")
+    points, rows = [], []
+    for combo in itertools.product(*axes.values()):
+        point = dict(zip(axes, combo))
+        points.append({k: str(v) for k, v in point.items()})
+        r = model_search(mc, degree, values={**values, **point}, level=level, seed=seed)
+        beyond = [f"{k} (candidate kept)" for k in r.candidates_found] + list(r.new_integrals)
+        if beyond:
+            rows.append({"values": {k: str(v) for k, v in point.items()}, "integrals": beyond,
+                         "verified": list(r.new_verified), "certified": r.certified})
+    return {"model": mc.name, "degree": int(degree), "level": {k: str(v) for k, v in (level or {}).items()},
+            "fixed": {k: str(v) for k, v in values.items()}, "points": points, "rows": rows}
 
 
 @dataclass(repr=False)

@@ -1,6 +1,6 @@
-"""Bring your own rod (issue 26): a user's model file is checked and put through the symbolic pipeline
-(derive/models/pipeline.py, live SymPy), and its generated code is written into a cache directory keyed by the
-file's content hash (magrod.core.models.cache_root), never into the installed package.
+"""Bring your own rod: a user's model file is checked and put through the symbolic pipeline (derive/models/
+pipeline.py, live SymPy), and its generated code is written into a cache directory keyed by the evaluated model
+(magrod.core.models.content_key, under cache_root), never into the installed package.
 
 Every check runs before anything is written (derive/models/spec.py: import, missing names, name clash, J skew,
 Jacobi identity, W polynomial and convex, parameters); a failure is a ParameterError naming `model` and the check.
@@ -34,18 +34,17 @@ def check_file(path: Path):
     return model
 
 
-def compile_file(path: Path, target: Path) -> tuple[Path, str]:
-    """(directory with names.py, body.py, first_integrals.py, report.json, report.md; the model's NAME).  Reuses
-    a complete cache entry; otherwise checks the file, derives, writes to a temporary directory, renames."""
+def compile_model(model, target: Path, *, cached: bool = True) -> tuple[Path, str]:
+    """(directory with names.py, body.py, first_integrals.py, report.json, report.md; the model's NAME) of a checked
+    model.  Reuses a complete entry at `target`; otherwise derives, writes to a temporary directory, renames."""
     marker = target / "report.json"
     if marker.is_file():
         import json
 
         return target, json.loads(marker.read_text())["model"]
-    model = check_file(path)
     from ..derive.models import pipeline
 
-    files = pipeline.model_files(model)
+    files = pipeline.model_files(model, cached=cached)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
         tmp = Path(tempfile.mkdtemp(prefix=".tmp-", dir=target.parent))
@@ -60,3 +59,8 @@ def compile_file(path: Path, target: Path) -> tuple[Path, str]:
     except OSError as exc:
         raise EnvironmentFault("model", f"cannot write the model cache {target.parent}: {exc.strerror or exc}") from None
     return target, model.name
+
+
+def compile_file(path: Path, target: Path) -> tuple[Path, str]:
+    """compile_model of the checked file."""
+    return compile_model(check_file(path), target)

@@ -17,7 +17,7 @@ clearing denominators column by column), integrals outside the known span are pi
 independently: {F, H} computed exactly as grad F . J grad H from J and H (not from the assembled matrix), and equal
 to 0 (generic) or to (C_k - c) G exactly (level).
 
-Cost: 6-D models, D = 4: ~0.1-0.5 s; 9-D, D = 4: a few seconds (benchmarks/bench_models.py).
+Cost: 6-D models, D = 4: ~0.1-0.5 s; 9-D, D = 4: a few seconds (benchmarks/models.py).
 """
 from __future__ import annotations
 
@@ -31,7 +31,7 @@ from flint import fmpz_mat, nmod_mat
 
 from ..core.errors import ParameterError
 from ..core.results import Result
-from .exact import (DEFAULT_SEED, PRIMES, _add, _column, _degree, _diff, _modp, _mul, algebra_dimensions, kernel_dimensions,
+from .exact import (PRIMES, _add, _column, _degree, _diff, _modp, _mul, algebra_dimensions, kernel_dimensions,
                     lie, monomials, sign_symmetries)
 
 
@@ -45,17 +45,20 @@ def _frac(name, v) -> Fraction:
         raise ParameterError(name, f"must be an exact rational (int, Fraction or 'p/q'), got {str(v)[:40]!r}") from None
 
 
-def parameter_values(mc, values=None, seed: int = DEFAULT_SEED) -> dict:
-    """{parameter: Fraction}: `values` where given (exact; inside the model's range), every other parameter a
-    seeded random rational inside its open range: p/q (1 <= p, q <= 997) offset from a finite end (of either sign on
-    (-inf, inf)), or lo + (hi - lo) p/997 on a bounded range."""
+def parameter_values(mc, values=None, seed: int | None = None) -> dict:
+    """{parameter: Fraction}: `values` where given (exact; inside the model's range), every other parameter at the
+    model's default (seed None: the file's own values, exact) or, with an integer seed, a seeded random rational
+    inside its open range: p/q (1 <= p, q <= 997) offset from a finite end (of either sign on (-inf, inf)), or
+    lo + (hi - lo) p/997 on a bounded range.  ParameterError naming a parameter where the model is singular."""
     rng = random.Random(seed)
     out = {}
     values = dict(values or {})
     for k in values:
         if k not in mc.names.PARAMS:
             raise ParameterError(str(k), f"is not a parameter of the model {mc.name!r} ({', '.join(mc.names.PARAMS)})")
-    for k, (lo, hi) in zip(mc.names.PARAMS, mc.names.RANGES):
+    defaults = getattr(mc.fi, "DEFAULTS", None) or tuple(str(Fraction(d).limit_denominator(10**12))
+                                                         for d in mc.names.DEFAULTS)
+    for k, (lo, hi), dflt in zip(mc.names.PARAMS, mc.names.RANGES, defaults):
         r = Fraction(rng.randint(1, 997), rng.randint(1, 997))
         flo, fhi = float(lo), float(hi)
         if math.isfinite(flo) and math.isfinite(fhi):
@@ -66,10 +69,11 @@ def parameter_values(mc, values=None, seed: int = DEFAULT_SEED) -> dict:
             r = Fraction(fhi) - r
         elif rng.random() < 0.5:
             r = -r
-        v = _frac(k, values[k]) if k in values else r
+        v = _frac(k, values[k]) if k in values else r if seed is not None else Fraction(dflt)
         if not flo < v < fhi:
             raise ParameterError(k, f"= {v} is outside the admissible range ({lo}, {hi})")
         out[k] = v
+    mc.check_regular({k: out[k] for k in values}, out)
     return out
 
 
@@ -218,7 +222,7 @@ class ModelSearch(Result):
                 "new_verified": list(self.new_verified), "passed": bool(self.certified and all(self.new_verified))}
 
 
-def model_search(model=None, degree: int = 4, *, values=None, level=None, seed: int = DEFAULT_SEED,
+def model_search(model=None, degree: int = 4, *, values=None, level=None, seed: int | None = None,
                  exact_new: bool = True) -> ModelSearch:
     """Polynomial first integrals of degree <= `degree` of a rod model, with a certificate.
 
@@ -229,22 +233,26 @@ def model_search(model=None, degree: int = 4, *, values=None, level=None, seed: 
     degree : int
         Maximum degree D, 1 <= D <= 12.
     values : dict, keyword-only
-        Exact parameter values {name: int | Fraction | 'p/q'}; the others are seeded random rationals.
+        Exact parameter values {name: int | Fraction | 'p/q'}; the others at the model's defaults.
     level : dict, keyword-only
         {Casimir name: exact value}, e.g. {"C2": 0} (m.n = 0 for the se(3)* models): search on that level.
-    seed : int, keyword-only
-        Seed of the random rational parameters (printed in the result).
+    seed : int or None, keyword-only
+        None: the parameters not in `values` at the model's defaults.  An integer: seeded random rationals instead
+        (generic parameters; printed in the result).
     exact_new : bool, keyword-only
         If the modular kernel exceeds the known algebra, compute the new integrals exactly and re-check them.
 
     Returns
     -------
     ModelSearch
+        new_integrals: the integrals found beyond the known ones, degree by degree, each added to the known
+        algebra before the next degree is searched (so products of known and found integrals are never "new");
+        certified: every integral of degree <= D is a polynomial in the known and the found ones.
 
     Raises
     ------
     ParameterError
-        Naming model, degree, seed, level or a parameter.
+        Naming model, degree, seed, level or a parameter (also one where the model is singular).
 
     Examples
     --------
@@ -260,8 +268,8 @@ def model_search(model=None, degree: int = 4, *, values=None, level=None, seed: 
 
     t0 = time.perf_counter()
     D = _degree(degree)
-    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**63:
-        raise ParameterError("seed", f"must be an integer in [0, 2^63), got {seed!r}")
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**63):
+        raise ParameterError("seed", f"must be None or an integer in [0, 2^63), got {seed!r}")
     mc = resolve(model)
     n = mc.fi.NVAR
     vals = parameter_values(mc, values, seed)
@@ -287,29 +295,56 @@ def model_search(model=None, degree: int = 4, *, values=None, level=None, seed: 
         lev[k] = _frac("level", v)
     p = next(q for q in PRIMES if all(c.denominator % q for Xi in X for c in Xi.values()))
     if not lev:
-        syms = sign_symmetries(X)
-        kd, _ = kernel_dimensions(X, D, p, syms)
-        ad = algebra_dimensions(known, D, p, n)
+        kd, _ = kernel_dimensions(X, D, p, sign_symmetries(X))
     else:
-        kd, ad = _level_dims(X, known, polys, lev, D, p, n)
-    certified = kd == ad
+        kd = _level_kernel_dims(X, polys, lev, D, p, n)
+    gens = dict(known)
     new, verified = [], []
-    if not certified and exact_new:
-        new_polys, ok = _new_integrals(mc, vals, X, known, polys, lev, D, n, p)
-        new = [poly_str(mc, F) for F in new_polys]
-        verified = ok
-    msg = (f"certified: every polynomial integral of degree <= {D} is a polynomial in {', '.join(known)}"
-           + (f" on the level {({k: str(v) for k, v in lev.items()})}" if lev else "") if certified else
-           f"{kd[-1] - ad[-1]} integral(s) of degree <= {D} beyond {', '.join(known)}"
-           + (f" on the level {({k: str(v) for k, v in lev.items()})}" if lev else "") + (f": found exactly and re-checked: {new}" if new else ""))
+    if exact_new:
+        # degree by degree: an integral found at degree d joins the algebra before degree d + 1 is searched
+        for d in range(1, D + 1):
+            if kd[d] > _algebra_dims(gens, polys, lev, d, p, n)[d]:
+                new_polys, ok = _new_integrals(mc, vals, X, gens, polys, lev, d, n, p)
+                for F, good in zip(new_polys, ok):
+                    gens[f"F{len(new) + 1}"] = F
+                    new.append(poly_str(mc, F))
+                    verified.append(good)
+    ad = _algebra_dims(gens, polys, lev, D, p, n)
+    certified = kd == ad
+    where = f" on the level {({k: str(v) for k, v in lev.items()})}" if lev else ""
+    names = ", ".join(known) + (f" and the integrals found ({'; '.join(new)})" if new else "")
+    if certified:
+        msg = (f"found {len(new)} integral(s) beyond {', '.join(known)} exactly ({'; '.join(new)}; "
+               f"{'each re-checked' if all(verified) else 'RE-CHECK FAILED'}); " if new else "") + \
+              f"certified: every polynomial integral of degree <= {D} is a polynomial in {names}{where}"
+    else:
+        msg = f"{kd[-1] - ad[-1]} integral(s) of degree <= {D} beyond {names}{where}, not computed exactly"
+    at = ("the model's default parameters " if seed is None else "the rational parameters ") + \
+        f"{({k: str(v) for k, v in vals.items()})}" + ("" if seed is None else f" (seed {seed})")
     statement = (f"No polynomial first integral of degree <= {D} of the model {mc.name!r} beyond the polynomials in "
-                 f"{', '.join(known)}" + (f" on the level {', '.join(f'{k} = {v}' for k, v in lev.items())}" if lev else "")
-                 + f", at the rational parameters {({k: str(v) for k, v in vals.items()})} (seed {seed}); generically "
-                 "in the parameters by lower semicontinuity of rank. Non-polynomial integrals: not addressed."
-                 if certified else msg)
-    return ModelSearch(certified or bool(new and all(verified)), msg, mc.name, {k: str(v) for k, v in vals.items()}, D,
+                 f"{names}" + (f" on the level {', '.join(f'{k} = {v}' for k, v in lev.items())}" if lev else "")
+                 + f", at {at}" + ("; generically in the parameters by lower semicontinuity of rank" if not new else
+                                   "; the integrals found hold at these parameters (re-checked exactly)")
+                 + ". Non-polynomial integrals: not addressed." if certified else msg)
+    return ModelSearch(bool(certified and all(verified)), msg, mc.name, {k: str(v) for k, v in vals.items()}, D,
                        {k: str(v) for k, v in lev.items()}, p, list(known), found, lost, kd, ad, certified, new,
                        verified, time.perf_counter() - t0, statement)
+
+
+def _algebra_dims(gens, polys, lev, D, p, n) -> list:
+    """rank_p of the algebra of `gens` (plus the level's ideal) in degree <= d, d = 0..D."""
+    if not lev:
+        return algebra_dimensions(gens, D, p, n)
+    ideal = _level_ideal(polys, lev, n)
+    out = []
+    for d in range(D + 1):
+        trivial = []
+        for g in ideal:
+            dg = max(sum(m) for m in g)
+            for a in monomials(d - dg, n) if d - dg >= 0 else []:
+                trivial.append(_mul(g, {a: Fraction(1)}))
+        out.append(_rank_p(_algebra(gens, d, n) + trivial, p))
+    return out
 
 
 def _level_ideal(polys, lev, n):
@@ -322,10 +357,10 @@ def _level_ideal(polys, lev, n):
     return gens
 
 
-def _level_dims(X, known, polys, lev, D, p, n):
-    """(dim_p V_d, rank_p(A_d + I_d)) for d = 0..D on the level (module docstring)."""
+def _level_kernel_dims(X, polys, lev, D, p, n):
+    """dim_p V_d for d = 0..D on the level (module docstring)."""
     ideal = _level_ideal(polys, lev, n)
-    kd, ad = [], []
+    kd = []
     for d in range(D + 1):
         fcols = [_column(X, mu) for mu in monomials(d, n)]
         gcols = []
@@ -344,13 +379,7 @@ def _level_dims(X, known, polys, lev, D, p, n):
             kd.append(len(cols) - M.rank())
         else:
             kd.append(len(cols))
-        trivial = []
-        for g in ideal:
-            dg = max(sum(m) for m in g)
-            for a in monomials(d - dg, n) if d - dg >= 0 else []:
-                trivial.append(_mul(g, {a: Fraction(1)}))
-        ad.append(_rank_p(_algebra(known, d, n) + trivial, p))
-    return kd, ad
+    return kd
 
 
 def _new_integrals(mc, vals, X, known, polys, lev, D, n, p):

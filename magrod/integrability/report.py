@@ -61,7 +61,8 @@ def custom_involution(text: str) -> dict:
 
 def format_text(out: dict) -> str:
     """Plain-text rendering of summary() / custom_involution() (used by `magrod check` and REPORT.md)."""
-    lines = [f"magrod integrability report ({out['source']})", ""]
+    lines = [f"magrod integrability report{' of the model ' + out['model'] if out.get('model') else ''} "
+             f"({out['source']})", ""]
     for r in out["results"]:
         lines.append(f"[{r['status']}] {r['label']}: {r['title']}")
         lines.append(f"    shown by: {r['method']}")
@@ -84,14 +85,15 @@ def format_text(out: dict) -> str:
             lines.append(f"    dim ker {d['dim_kernel']} vs known algebra {d['dim_known_algebra']}; beyond: "
                          + ("; ".join(d["beyond_the_algebra"]) or "none"))
         elif r["key"] == "candidates":
-            lines.append("    " + "; ".join(f"{k}: {'integral' if v else 'NOT an integral'} ({d['references'][k]})"
-                                            for k, v in d["first_integral"].items()))
+            lines.append("    " + ("; ".join(f"{k}: {'integral' if v else 'NOT an integral'} ({d['references'][k]})"
+                                             for k, v in d["first_integral"].items()) or "none declared"))
         elif r["key"] == "I2bar_conservation":
             for case, v in d["cases"].items():
                 lines.append(f"    {{I2bar, Hbar}} at {case}: {'0 (conserved)' if v == '0' else 'non-zero'}")
         lines.append("")
-    lines.append("disagreements with the printed paper (see docs/errata.md): "
-                 + (", ".join(out["disagreements_with_paper"]) or "none"))
+    if not out.get("model"):  # a model of the family is not the printed paper's rod: no such line
+        lines.append("disagreements with the printed paper (see docs/errata.md): "
+                     + (", ".join(out["disagreements_with_paper"]) or "none"))
     return "\n".join(lines)
 
 
@@ -108,6 +110,7 @@ class IntegrabilityReport(Result):
     statuses: dict
     disagreements_with_paper: list
     substitution: str | None = None
+    model: str | None = None  # a model of the family (model_report): no comparison with the printed paper
 
     _repr_fields = ("source", "substitution", "disagreements_with_paper")
 
@@ -128,7 +131,7 @@ class IntegrabilityReport(Result):
 
     def text(self) -> str:
         """The report as `magrod check` prints it."""
-        return format_text({"source": self.source, "results": self.rows,
+        return format_text({"source": self.source, "results": self.rows, "model": self.model,
                             "disagreements_with_paper": self.disagreements_with_paper})
 
 
@@ -157,10 +160,13 @@ def model_report(model) -> IntegrabilityReport:
     rows = mc.report["results"]
     statuses = {r["key"]: r["status"] for r in rows}
     bad = [r["key"] for r in rows if r["status"] == "disagrees"]
-    src = (f"generated/models/{mc.name.replace('-', '_')}/report.json" if mc.origin == "registry"
+    from ..core.models import DEFAULT
+
+    src = ("generated/model_report.json" if mc.origin == "registry" and mc.name == DEFAULT else
+           f"generated/models/{mc.name.replace('-', '_')}/report.json" if mc.origin == "registry"
            else f"{mc.origin} (compiled into {mc.directory})")
     return IntegrabilityReport(not bad, "ok" if not bad else f"checks that fail: {', '.join(bad)}", src, rows,
-                               statuses, [], None)
+                               statuses, [], None, mc.name)
 
 
 def integrability_report(system=None, *, subs=None, rederive: bool = False, everything: bool = False,

@@ -9,6 +9,7 @@ Regenerate with `python -m derive`; `python -m derive --check` fails if this fil
 from fractions import Fraction as _Q
 
 PARAMETERS = ('B', 'C', 'k1', 'k3')
+DEFAULTS = ('1', '3/4', '1/2', '1/5')
 NVAR = 6
 POLYNOMIALS = ('H', 'C1', 'C2', 'I1')
 H_MONOMIALS = ((0, 0, 0, 0, 0, 1), (0, 0, 1, 0, 0, 0), (0, 0, 2, 0, 0, 0), (0, 2, 0, 0, 0, 0), (1, 0, 0, 0, 0, 0), (2, 0, 0, 0, 0, 0))

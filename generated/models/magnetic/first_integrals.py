@@ -9,6 +9,7 @@ Regenerate with `python -m derive`; `python -m derive --check` fails if this fil
 from fractions import Fraction as _Q
 
 PARAMETERS = ('B', 'C', 'lam')
+DEFAULTS = ('1', '3/4', '1/4')
 NVAR = 9
 POLYNOMIALS = ('H', 'C1', 'C2', 'C3', 'I1', 'I2')
 H_MONOMIALS = ((0, 0, 0, 0, 0, 1, 0, 0, 0), (0, 0, 2, 0, 0, 0, 0, 0, 0), (0, 2, 0, 0, 0, 0, 0, 0, 0), (2, 0, 0, 0, 0, 0, 0, 0, 0))

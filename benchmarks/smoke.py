@@ -1,0 +1,87 @@
+"""Run every benchmark script once on a tiny span (`--smoke`), each in its own process, and fail if one does not
+run: a benchmark that no longer runs fails CI (.ci/run).  Prints each script's wall time.
+
+    python benchmarks/smoke.py            # every script of SMOKE
+    python benchmarks/smoke.py NAME ...   # only these (file names without .py)
+
+Scripts not in SMOKE are listed in NOT_SMOKED with the reason; tests/test_benchmarks.py checks that every script
+of benchmarks/ is in exactly one of the two, and that each script of SMOKE takes --smoke."""
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+# script -> extra arguments of its smoke run (besides --smoke)
+SMOKE = {
+    "poincare_vs_peers": [],
+    "chaos_vs_peers": [],
+    "work_precision": [],
+    "classification_precision": [],
+    "batch_ratios": [],
+    "batch_scaling": [],
+    "batch_sections": [],
+    "chaos_throughput": [],
+    "early_exit": [],
+    "refine_vs_brute": [],
+    "propagate_threads": [],
+    "first_integrals": [],
+    "models": [],
+    "continuation_branch": [],
+    "horseshoe_margins": [],
+    "enclosure_outward": [],
+    "prove_target": [],
+    "enclosure_boxes": [],
+}
+
+# script -> why it has no smoke run here: the proof designs, each a prover run (or a float design search feeding
+# one) whose smallest meaningful run takes minutes; they belong to the computer-assisted proofs' own reorganisation
+_DESIGN = "a proof design: one prover or design-search run per setting, minutes each; no tiny span yet"
+NOT_SMOKED = {
+    "enclosure_corner": "the second-order box theorem on the issue-20 corner: ~0.8 s per box, a budget of 3600 boxes",
+    "fig4_lambda_interval": _DESIGN + " (a fixed-point proof per lambdabar box)",
+    "homoclinic_interval": _DESIGN + " (a homoclinic proof per width, ~2 min)",
+    "fig4_candidates": _DESIGN + " (the float homoclinic-point search of Fig 4)",
+    "fig5_candidates": _DESIGN + " (the float homoclinic-point search of Fig 5)",
+    "fig4_homoclinic_budget": _DESIGN + " (a C^1 validated flight of one return)",
+    "fig4_horseshoe_design": _DESIGN,
+    "fig4b_horseshoe_design": _DESIGN,
+    "fig4c_horseshoe_design": _DESIGN,
+    "fig4d_horseshoe_design": _DESIGN,
+    "centre_flight_frontier": _DESIGN + " (order x tolerance sweep of the validated centre flights, ~70 s)",
+}
+
+TIMEOUT_S = 600
+
+
+def run(names=None) -> int:
+    names = list(names or SMOKE)
+    bad = []
+    t_all = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="magrod-smoke-") as cwd:  # a script that writes anyway writes here
+        for name in names:
+            t0 = time.perf_counter()
+            try:
+                p = subprocess.run([sys.executable, str(HERE / f"{name}.py"), "--smoke", *SMOKE[name]], cwd=cwd,
+                                   capture_output=True, text=True, timeout=TIMEOUT_S,
+                                   env={**os.environ, "PYTHONWARNINGS": "ignore", "MPLBACKEND": "Agg"})
+                rc, tail = p.returncode, (p.stderr or p.stdout)[-2000:]
+            except subprocess.TimeoutExpired:
+                rc, tail = "timeout", f"no exit within {TIMEOUT_S} s"
+            wall = time.perf_counter() - t0
+            print(f"{name:28s} {'ok' if rc == 0 else 'FAILED'} {wall:6.1f} s", flush=True)
+            if rc != 0:
+                bad.append(name)
+                print(tail, flush=True)
+    print(f"{len(names) - len(bad)} of {len(names)} benchmark scripts ran in {time.perf_counter() - t_all:.0f} s"
+          + (f"; FAILED: {', '.join(bad)}" if bad else ""))
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(run(sys.argv[1:]))
