@@ -123,7 +123,7 @@ BATTERY = [
     (["saddle", "--model", "nosuch"], "model", 2),
     (["explore", "--model", "nosuch"], "model", 2),
     (["explore", "--model", "kirchhoff", "--panel", "4a"], "panel", 2),
-    (["saddle", "--model", "kirchhoff"], "model", 2),
+    (["continue", "--model", "kirchhoff"], "model", 2),
     # --- homoclinic
     (["homoclinic", "--m", "3", "--gamma", "1"], "m", 2),
     (["homoclinic", "--m", "1.7", "--gamma", "-1"], "gamma", 2),

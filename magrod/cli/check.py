@@ -20,13 +20,13 @@ def add_arguments(p):
     p.add_argument("--degree", type=str, default=None, help="maximum degree D of the search, 1 <= D <= 12 (default 4; "
                                                              "D = 6 takes minutes)")
     p.add_argument("--seed", type=str, default=None,
-                   help="seed of the random rational parameter values (default 20; with --model: the model's "
-                        "defaults unless a seed is given)")
+                   help="seed of the random rational parameter values (default 20; with --model, the model's own "
+                        "parameter values unless a seed is given)")
     p.add_argument("--model", default=None, metavar="NAME|FILE.py",
                    help="a rod model of the family (`magrod models`) or a model file ./my_rod.py (code you run on "
                         "purpose: executed, checked, compiled into the cache): its derivation report and the exact "
-                        "search for polynomial first integrals (degree --degree, default 4) at its default "
-                        "parameters; with --integrals the search alone (default: the paper's rod, as without "
+                        "search for polynomial first integrals (to --degree) at the model's own parameter "
+                        "values; with --integrals the search alone (default: the paper's rod, as without "
                         "--model)")
     p.add_argument("--model-params", default=None, metavar="NAME=VALUE,...",
                    help="with --model: exact parameter values of the search (integer, decimal, 1e-8 or p/q); the "

@@ -13,8 +13,8 @@ def add_arguments(p):
                    help="skip the homoclinic splitting of the anisotropic and curved rods")
     p.add_argument("--t-max", type=str, default=None, help="length of the Lyapunov runs (default 2000, quick 500)")
     p.add_argument("--seed", type=str, default=None,
-                   help="seed of the rational parameters and the starts (default 20; with --model: the model's "
-                        "defaults unless a seed is given)")
+                   help="seed of the rational parameters and the starts (default 20; with --model, the model's own "
+                        "parameter values unless a seed is given)")
     p.add_argument("--model", default=None, metavar="NAME|FILE.py",
                    help="scan this model (a registered name or a model file) over --grid instead of the landscape")
     p.add_argument("--grid", action="append", default=None, metavar="NAME=V1,V2,...",
