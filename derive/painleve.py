@@ -388,3 +388,112 @@ def model_field(model, values: dict | None = None):
         vals[key] = sp.nsimplify(v)
     f = [sp.expand(e.subs(vals)) for e in equations(model)]
     return list(model.state), f, vals
+
+
+PAINLEVE_PASSED = "Painleve test passed"
+PAINLEVE_FAILED = "Painleve test failed"
+EVIDENCE = "evidence"
+PROVED = "proved"
+
+
+def model_analysis(model, values: dict | None = None, *, ars: bool = True) -> dict:
+    """The Kovalevskaya-Painleve analysis of a rod model (derive.models Model) at exact parameter values, as a
+    JSON-able dict: per weight choice the balances (c, exponents, verdict), the Painleve verdict (evidence), and
+    where the whole field is weighted-homogeneous Yoshida's theorem applied to H and the Casimirs found (proved)."""
+    from .models.pipeline import casimirs
+
+    X, f, vals = model_field(model, values)
+    res = analyse_field(f, X, ars=ars)
+    known = {"H": sp.expand(model.H.subs(vals))}
+    for i, c in enumerate(casimirs(model), 1):
+        known[f"C{i}"] = sp.expand(c.subs(vals))
+    choices = []
+    all_pass, any_bal = True, False
+    for ch in res["choices"]:
+        w, f0 = ch["weights"], ch["dominant"]
+        entry = {"weights": {str(x): int(wi) for x, wi in zip(X, w)}, "homogeneous": ch["homogeneous"],
+                 "dominant_part": [str(e) for e in f0], "balances": []}
+        for b in ch["balances"]:
+            any_bal = True
+            d = b.as_dict(X)
+            if d["verdict"] != "all integer, compatible":
+                all_pass = False
+            if ch["homogeneous"] and b.point is not None:
+                d["yoshida"] = yoshida_at(known, f0, X, w, b)
+            entry["balances"].append(d)
+        choices.append(entry)
+    out = {"parameters": {str(k): str(v) for k, v in vals.items()}, "choices": choices,
+           "homogeneous": any(c["homogeneous"] for c in choices)}
+    if not any_bal:
+        out["painleve"] = {"verdict": "no dominant balance found", "label": EVIDENCE}
+    else:
+        out["painleve"] = {"verdict": PAINLEVE_PASSED if all_pass else PAINLEVE_FAILED, "label": EVIDENCE,
+                           "meaning": "every balance found has integer exponents and compatible resonances" if
+                           all_pass else "some balance has non-integer exponents or a logarithmic resonance: the "
+                           "general solution is not single-valued (evidence of non-integrability, not a proof)"}
+    out["yoshida"] = yoshida_summary(choices, len(X), len(known) - 1)
+    return out
+
+
+def yoshida_at(known: dict, f0, X, w, b: Balance) -> dict:
+    """At a balance point c: the weighted degree of each known integral, whether its gradient vanishes at c, and
+    Yoshida's identity K^T grad I(c) = M grad I(c) checked exactly; the bound on the number of weighted-homogeneous
+    polynomial (and algebraic) integrals with gradients independent at c; the rank of the known gradients."""
+    cpt = dict(zip(X, b.point.values()))
+    K = kovalevskaya_matrix(f0, X, w, cpt).applyfunc(_canon)
+    rows, grads = {}, []
+    for k, I in known.items():
+        M = weighted_degree(I, X, w)
+        if M is None:
+            rows[k] = {"weighted_degree": None}
+            continue
+        _, resid, g = yoshida_identity(I, f0, X, w, cpt)
+        g = g.applyfunc(_canon)
+        nz = any(v != 0 for v in g)
+        if nz:
+            grads.append(g.T)
+        rows[k] = {"weighted_degree": int(M), "gradient_nonzero_at_c": nz,
+                   "identity_holds": all(_canon(v) == 0 for v in resid),
+                   "degree_is_exponent": any(r == M for r, _ in b.exponents)}
+    rank = sp.Matrix.vstack(*grads).rank(simplify=_canon) if grads else 0
+    return {"integrals": rows, "rank_of_known_gradients_at_c": int(rank),
+            "bound_polynomial": rational_left_eigenspace_dim(K, b.exponents, positive_integers_only=True),
+            "bound_algebraic": rational_left_eigenspace_dim(K, b.exponents)}
+
+
+def yoshida_summary(choices, n: int, n_casimirs: int) -> dict:
+    """Yoshida's theorem where the whole field is weighted-homogeneous (hypotheses checked), else not applicable."""
+    need = n_casimirs + (n - n_casimirs) // 2  # Casimirs + half the leaf dimension: Liouville on the generic leaf
+    hom = [c for c in choices if c["homogeneous"]]
+    if not hom:
+        return {"applies": False, "label": EVIDENCE,
+                "reason": "the field is not weighted-homogeneous for any positive integer weights (only its "
+                          "dominant part is): Yoshida's theorem needs the whole field homogeneous"}
+    best = None
+    for b in hom[0]["balances"]:
+        y = b.get("yoshida")
+        if not y:
+            continue
+        ok = all(r.get("identity_holds", True) for r in y["integrals"].values())
+        if not ok:
+            return {"applies": True, "label": "disagrees", "reason": "Yoshida's identity fails at a balance: the "
+                    "field or the integrals are wrong"}
+        if y["bound_polynomial"] <= y["rank_of_known_gradients_at_c"] and (best is None or y["bound_polynomial"] <
+                                                                              best["bound_polynomial"]):
+            best = {"balance_point": b["point"], **y}
+    if best is None:
+        return {"applies": True, "label": "no conclusion", "obstruction": False,
+                "statement": "Yoshida's theorem gives no obstruction: at every balance the positive-integer exponents "
+                             "leave room for weighted-homogeneous polynomial integrals beyond H and the Casimirs",
+                "needed_for_liouville": need}
+    return {"applies": True, "label": PROVED, "obstruction": True, "needed_for_liouville": need,
+            "balance_point": best["balance_point"], "bound_polynomial": best["bound_polynomial"],
+            "statement": (f"Yoshida (1983), hypotheses checked (field weighted-homogeneous, balance c exact, "
+                          f"K^T grad I = M grad I verified for H and the Casimirs): at the balance c every "
+                          f"weighted-homogeneous polynomial first integral has its gradient at c in the span of the "
+                          f"left eigenvectors of K(c) for positive integer exponents, a space of dimension "
+                          f"{best['bound_polynomial']} already spanned by the gradients of H and the Casimirs. "
+                          f"Hence there is no weighted-homogeneous polynomial first integral whose gradient at c is "
+                          f"independent of theirs (Liouville integrability on the generic leaf needs {need} "
+                          "independent integrals with the Casimirs). Not proved: non-existence of integrals whose "
+                          "gradients happen to be dependent at c, or of non-polynomial ones.")}
