@@ -59,6 +59,34 @@ def stale_model_files(fresh: dict, target: Path, only: str | None = None) -> lis
     return stale
 
 
+def decided_files() -> dict:
+    """generated/decided/: Kovalevskaya exponents, Yoshida, Morales-Ramis per registered model (derive/decided.py)."""
+    import time
+
+    from .decided import files
+
+    t0 = time.perf_counter()
+    out = files()
+    print(f"derive: integrability decided (exponents, Morales-Ramis): {time.perf_counter() - t0:.1f} s")
+    return out
+
+
+def stale_decided(target: Path) -> list:
+    """Like stale_model_files for generated/decided/ (every file there must be written by the derivation)."""
+    fresh = decided_files()
+    have = {str(p.relative_to(target)) for p in (target / "decided").rglob("*") if p.is_file()} \
+        if (target / "decided").exists() else set()
+    stale = []
+    for rel in sorted(set(fresh) | have):
+        old = (target / rel).read_text() if (target / rel).exists() else None
+        if fresh.get(rel) != old:
+            stale.append(rel)
+            diff = difflib.unified_diff((old or "").splitlines(True), (fresh.get(rel) or "").splitlines(True),
+                                        f"generated/{rel} (checked in)", f"generated/{rel} (fresh)", n=2)
+            sys.stdout.writelines(list(diff)[:200])
+    return stale
+
+
 def check(target: Path, model: str | None = None) -> int:
     if model is not None:
         from .models import get
@@ -70,6 +98,7 @@ def check(target: Path, model: str | None = None) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         fresh = build(Path(tmp), verbose=True)
     stale = stale_files(fresh, target) + stale_model_files(models_files(verbose=True), target)
+    stale += stale_decided(target)
     if stale:
         print(f"\nderive --check: generated/ is stale ({', '.join(stale)}). Run `python -m derive` and commit.")
         return 1
@@ -92,6 +121,7 @@ def main(argv=None) -> int:
         return check(a.out, a.model)
     if a.model is None:
         build(a.out)
+        write_files(a.out, decided_files())
     write_files(a.out, models_files(None if a.model is None else [a.model], verbose=True))
     return 0
 

@@ -225,7 +225,7 @@ def case3(r, var=x):
         return None
     S = sp.Mul(*[(var - p.c) for p in poles]) if poles else sp.Integer(1)
     for n in (4, 6, 12):
-        def E(b):
+        def E(b, n=n):
             sq = sp.sqrt(1 + 4 * b)
             vals = {_canon(6 + sp.Rational(12 * k, n) * sq) for k in range(-n // 2, n // 2 + 1)}
             return sorted((e for e in vals if e.is_integer), key=sp.default_sort_key)

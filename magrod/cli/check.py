@@ -27,6 +27,9 @@ def add_arguments(p):
     p.add_argument("--model-params", default=None, metavar="NAME=VALUE,...",
                    help="with --model --integrals: exact parameter values (integer, decimal or p/q); the others are "
                         "seeded random rationals")
+    p.add_argument("--fast", action="store_true",
+                   help="with --model FILE.py: skip the slow exact analyses (Kovalevskaya exponents, Painleve test, "
+                        "Morales-Ramis; seconds to minutes of SymPy); registered models read them stored")
     p.add_argument("--level", default=None, metavar="CASIMIR=VALUE,...",
                    help="with --model --integrals: search on a special Casimir level, e.g. C2=0 (m.n = 0)")
 
@@ -40,6 +43,8 @@ def run(args) -> dict:
     for opt in ("model_params", "level"):
         if getattr(args, opt, None) is not None:
             raise ParameterError(opt.replace("_", "-"), "applies only with --model")
+    if getattr(args, "fast", False):
+        raise ParameterError("fast", "applies only with --model")
 
     if args.integrals:
         if args.rederive or args.all:
@@ -82,7 +87,7 @@ def _run_model(args) -> dict:
                 raise ParameterError(opt.replace("_", "-"), "applies only with --integrals")
         from ..integrability import model_report
 
-        rep = model_report(mc)
+        rep = model_report(mc, decided=not args.fast)
         return {"ok": rep.success, "model": mc.name, "source": rep.source, "results": rep.rows,
                 "statuses": rep.statuses, "disagreements_with_paper": []}
     from ..integrability import DEFAULT_SEED, MAX_DEGREE
