@@ -91,6 +91,9 @@ def registry_results() -> dict:
         m = models.get(name)
         out["models"][name] = model_decided(m)
     out["symmetric_anisotropic_theorem"] = MR.symmetric_rod_theorem()
+    from . import kovalevskaya1889
+
+    out["kovalevskaya_1889"] = kovalevskaya1889.conditions()
     return out
 
 

@@ -205,7 +205,7 @@ class Balance:
         return {"groebner_basis": [str(g) for g in self.basis], "dimension": self.dimension,
                 "point": {str(x): str(v) for x, v in (self.point or {}).items()},
                 "charpoly": None if self.charpoly is None else str(sp.factor(self.charpoly)),
-                "exponents": [[str(r), m] for r, m in self.exponents], "kinds": sorted(self.kinds),
+                "exponents": [[str(r), int(m)] for r, m in self.exponents], "kinds": sorted(self.kinds),
                 "resonances": [int(k) for k in self.resonances], "compatible": self.compatible,
                 "compatibility_conditions": [str(c) for c in self.conditions], "verdict": self.verdict,
                 "note": self.note}
@@ -390,7 +390,7 @@ def model_field(model, values: dict | None = None):
     return list(model.state), f, vals
 
 
-PAINLEVE_PASSED = "Painleve test passed"
+PAINLEVE_PASSED = "Painleve test passed at every balance found"
 PAINLEVE_FAILED = "Painleve test failed"
 EVIDENCE = "evidence"
 PROVED = "proved"
@@ -428,7 +428,8 @@ def model_analysis(model, values: dict | None = None, *, ars: bool = True) -> di
         out["painleve"] = {"verdict": "no dominant balance found", "label": EVIDENCE}
     else:
         out["painleve"] = {"verdict": PAINLEVE_PASSED if all_pass else PAINLEVE_FAILED, "label": EVIDENCE,
-                           "meaning": "every balance found has integer exponents and compatible resonances" if
+                           "meaning": "every balance found (weights <= 3, resonances <= 8) has integer exponents and compatible "
+                           "resonances: necessary for the Painleve property, not a proof of integrability" if
                            all_pass else "some balance has non-integer exponents or a logarithmic resonance: the "
                            "general solution is not single-valued (evidence of non-integrability, not a proof)"}
     out["yoshida"] = yoshida_summary(choices, len(X), len(known) - 1)

@@ -189,3 +189,54 @@ def test_stored_decided_results_are_fresh():
 
     stored = json.loads((ROOT / "generated" / "decided" / "registry.json").read_text())
     assert stored == json.loads(json.dumps(decided.registry_results(), sort_keys=True, default=str))
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Kovalevskaya 1889 on the anisotropic rod, with the stiffnesses as symbols
+# ----------------------------------------------------------------------------------------------------------------
+def test_ratio_conditions_find_lagrange_and_kovalevskaya():
+    """The axis balances' exponents rho^2 - rho - 2D with D derived symbolically; D = T_k solved exactly for
+    k, k' <= 1: Lagrange (x = 1, any y), Kovalevskaya 1:2:2 and its mirror 2:1:2, and nothing else rational.
+    Goryachev-Chaplygin's d1 balance has D = 3/8 (exponents 3/2, -1/2): mutating 4:4 to 4:5 changes it."""
+    from magrod.derive import kovalevskaya1889 as K
+
+    res = K.conditions(k_max=1)
+    assert res["forms_checked"]
+    names = sorted(c["name"] for c in res["cases"])
+    assert names == ["Kovalevskaya (B2 = C = 2 B1)", "Kovalevskaya mirror (B1 = C = 2 B2)",
+                     "Lagrange (B1 = B2, C free)"]
+    assert all(c["verdict"].startswith("Painleve test passed") for c in res["cases"] if "Kovalevskaya" in c["name"])
+    D1 = (1 - 1 / K.x) * (1 - 2 / K.y)
+    assert D1.subs({K.x: 4, K.y: 4}) == R(3, 8) and res["goryachev_chaplygin"]["D_d1"] == "3/8"
+    assert D1.subs({K.x: 4, K.y: 5}) != R(3, 8)
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# what the runtime reads (generated/decided/registry.json) and shows
+# ----------------------------------------------------------------------------------------------------------------
+def test_stored_results_reach_the_report_and_the_landscape():
+    from magrod.integrability import decided
+
+    t = decided.theorem()
+    assert t["status"] == "proved" and t["exceptional_set"] == ["1", "2", "4"]
+    assert all(s["ok"] for s in t["steps"])
+    st = decided.stored()["models"]
+    assert st["anisotropic"]["strongest"]["label"] == "proved"
+    assert st["kirchhoff"]["morales_ramis"]["label"] == "no conclusion"  # control: abelian along both pendulums
+    assert st["kirchhoff"]["painleve"]["verdict"].startswith("Painleve test passed")
+    import magrod as mr
+
+    rep = mr.integrability_report(model="anisotropic")
+    assert rep.row("morales_ramis")["status"] == "proved"
+    assert "exponents" in "\n".join(rep.row("kovalevskaya_exponents")["details"]["balances"])
+    assert "[proved] Morales-Ramis" in rep.text()
+    ev, strongest = decided.landscape_evidence("anisotropic")
+    assert "proved" in strongest and any("r > 0 outside {1, 2, 4}" in e["detail"] for e in ev)
+
+
+def test_check_fast_applies_only_with_a_model():
+    import subprocess
+    import sys
+
+    p = subprocess.run([sys.executable, "-m", "magrod.cli", "check", "--fast"], capture_output=True, text=True)
+    assert p.returncode == 2 and "fast" in p.stderr
