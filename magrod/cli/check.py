@@ -30,6 +30,9 @@ def add_arguments(p):
     p.add_argument("--fast", action="store_true",
                    help="with --model FILE.py: skip the slow exact analyses (Kovalevskaya exponents, Painleve test, "
                         "Morales-Ramis; seconds to minutes of SymPy); registered models read them stored")
+    p.add_argument("--morales-ramis", action="store_true",
+                   help="with --model FILE.py: also run Morales-Ramis along the pendulum solutions (Kovacic's "
+                        "algorithm; tens of seconds per pendulum); registered models read it stored")
     p.add_argument("--level", default=None, metavar="CASIMIR=VALUE,...",
                    help="with --model --integrals: search on a special Casimir level, e.g. C2=0 (m.n = 0)")
 
@@ -43,8 +46,9 @@ def run(args) -> dict:
     for opt in ("model_params", "level"):
         if getattr(args, opt, None) is not None:
             raise ParameterError(opt.replace("_", "-"), "applies only with --model")
-    if getattr(args, "fast", False):
-        raise ParameterError("fast", "applies only with --model")
+    for opt in ("fast", "morales_ramis"):
+        if getattr(args, opt, False):
+            raise ParameterError(opt.replace("_", "-"), "applies only with --model")
 
     if args.integrals:
         if args.rederive or args.all:
@@ -87,7 +91,7 @@ def _run_model(args) -> dict:
                 raise ParameterError(opt.replace("_", "-"), "applies only with --integrals")
         from ..integrability import model_report
 
-        rep = model_report(mc, decided=not args.fast)
+        rep = model_report(mc, decided=not args.fast, morales_ramis=args.morales_ramis)
         return {"ok": rep.success, "model": mc.name, "source": rep.source, "results": rep.rows,
                 "statuses": rep.statuses, "disagreements_with_paper": []}
     from ..integrability import DEFAULT_SEED, MAX_DEGREE

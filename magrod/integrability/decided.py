@@ -24,9 +24,10 @@ def theorem() -> dict:
     return stored()["symmetric_anisotropic_theorem"]
 
 
-def model_result(mc, *, live: bool = True) -> dict | None:
+def model_result(mc, *, live: bool = True, morales_ramis: bool = False) -> dict | None:
     """The decided result of a resolved model (magrod.core.models.ModelCode): stored for registered models,
-    computed now for a model file (None if live=False)."""
+    computed now for a model file (None if live=False): the exponents and Yoshida (seconds), and Morales-Ramis only
+    if `morales_ramis` (Kovacic on a Heun-type equation: tens of seconds per pendulum)."""
     if mc.origin == "registry":
         return stored()["models"][mc.name]
     if not live:
@@ -41,7 +42,12 @@ def model_result(mc, *, live: bool = True) -> dict | None:
     except ImportError as exc:
         raise EnvironmentFault("model", f"the exponents of a model file need SymPy (pip install 'magrod[derive]'): "
                                         f"{exc}") from None
-    return json.loads(json.dumps(decided.model_decided(spec.load_file(Path(mc.origin))), default=str))
+    res = decided.model_decided(spec.load_file(Path(mc.origin)), morales_ramis=morales_ramis)
+    if not morales_ramis:
+        res["morales_ramis"] = {"label": "not run", "verdict": "not run for a model file unless asked "
+                                "(--morales-ramis; mr.integrability_report(model=..., morales_ramis=True))",
+                                "pendulums": []}
+    return json.loads(json.dumps(res, default=str))
 
 
 def _balance_line(b: dict) -> str:

@@ -152,17 +152,18 @@ def _subs_text(subs) -> str:
     return ",".join(parts)
 
 
-def model_report(model, decided: bool = True) -> IntegrabilityReport:
+def model_report(model, decided: bool = True, morales_ramis: bool = False) -> IntegrabilityReport:
     """The derivation report of a rod model of the family (generated/models/<name>/report.json, or a model file's
     cache entry: derive/models/pipeline.py), as an IntegrabilityReport, followed by the decided rows
     (magrod.integrability.decided: Kovalevskaya exponents and the Painleve test, Yoshida, Morales-Ramis; stored for
-    registered models, computed now with SymPy for a model file unless decided=False)."""
+    registered models, computed now with SymPy for a model file unless decided=False; Morales-Ramis for a model file
+    only with morales_ramis=True)."""
     from ..core.models import resolve
     from . import decided as _decided
 
     mc = resolve(model)
     rows = list(mc.report["results"])
-    rows += _decided.rows(_decided.model_result(mc, live=decided),
+    rows += _decided.rows(_decided.model_result(mc, live=decided, morales_ramis=morales_ramis),
                           skipped_reason="skipped (--fast): exponents and Morales-Ramis of a model file take SymPy "
                                          "time")
     statuses = {r["key"]: r["status"] for r in rows}
