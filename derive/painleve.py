@@ -467,7 +467,7 @@ def yoshida_summary(choices, n: int, n_casimirs: int) -> dict:
     need = n_casimirs + (n - n_casimirs) // 2  # Casimirs + half the leaf dimension: Liouville on the generic leaf
     hom = [c for c in choices if c["homogeneous"]]
     if not hom:
-        return {"applies": False, "label": EVIDENCE,
+        return {"applies": False, "label": "not applicable",
                 "reason": "the field is not weighted-homogeneous for any positive integer weights (only its "
                           "dominant part is): Yoshida's theorem needs the whole field homogeneous"}
     best = None

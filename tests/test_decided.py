@@ -144,7 +144,7 @@ def test_yoshida_identity_and_bound():
 
 def test_nonhomogeneous_model_gets_no_yoshida_theorem():
     res = painleve.model_analysis(models.get("extensible"), ars=False)
-    assert res["yoshida"]["applies"] is False and res["yoshida"]["label"] == "evidence"
+    assert res["yoshida"]["applies"] is False and res["yoshida"]["label"] == "not applicable"
 
 
 # ----------------------------------------------------------------------------------------------------------------
