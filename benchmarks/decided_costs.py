@@ -8,6 +8,8 @@ shared 2-core machine inflates wall times):
     Kovalevskaya rod 1:2:2 with the ARS conditions) -- target <= 10 s;
   * ratio_conditions: the NVEs along both pendulums of the symmetric rod with r symbolic and their Riemann data on
     the separatrix (the conditions on r that Kimura's theorem turns into the exceptional set);
+  * kovalevskaya_1889: the anisotropic rod with (B1, B2, C) symbols: the axis balances' exponents and the exact
+    solution of their integrality conditions for k, k' <= 6, with the full analysis at each rational case;
   * morales_ramis: one Kovacic run on a Heun-type NVE (r = 1/4, energy 0: the step that removes r = 1/4);
   * theorem: the whole symmetric-rod theorem, every step;
   * registry: what `python -m derive` spends on generated/decided/registry.json.
@@ -58,6 +60,11 @@ def main(argv=None) -> int:
     out, w, c = timed(conditions)
     res["ratio_conditions"] = {"wall_s": w, "cpu_s": c,
                                "exponent_differences": [[str(v) for v in d.values()] for d in out]}
+    from derive import kovalevskaya1889
+
+    out, w, c = timed(kovalevskaya1889.conditions)
+    res["kovalevskaya_1889"] = {"wall_s": w, "cpu_s": c, "cases": [f"{r['name']} (x = {r['x']}, y = {r['y']})"
+                                                                  for r in out["cases"]]}
     nves = MR.pendulum_nves(model, vals)
     p, q = nves[1][1], nves[1][2]
     sub = {MR.h: 0, MR.r: sp.Rational(1, 4)}
