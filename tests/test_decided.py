@@ -232,6 +232,17 @@ def test_stored_results_reach_the_report_and_the_landscape():
     assert "[proved] Morales-Ramis" in rep.text()
     ev, strongest = decided.landscape_evidence("anisotropic")
     assert "proved" in strongest and any("r > 0 outside {1, 2, 4}" in e["detail"] for e in ev)
+    import tempfile
+
+    from magrod.figures import report
+
+    with tempfile.TemporaryDirectory() as tmp:  # the REPORT.md row, from a landscape sidecar with no lines
+        Path(tmp, "landscape.json").write_text(json.dumps({"lines": [], "scan": [], "scan_grid": [],
+                                                           "scan_classes": 0, "degree": 2}))
+        rows = report._landscape(Path(tmp), True)
+    mr_row = [r for r in rows if r["label"] == "sec:intro [Mielke88] (Morales-Ramis)"]
+    assert len(mr_row) == 1 and "r not in {1, 2, 4}" in mr_row[0]["computed"]
+    assert mr_row[0]["verdict"].startswith("new result")
 
 
 def test_check_fast_applies_only_with_a_model():
