@@ -45,7 +45,7 @@ def model_result(mc, *, live: bool = True, morales_ramis: bool = False) -> dict 
     res = decided.model_decided(spec.load_file(Path(mc.origin)), morales_ramis=morales_ramis)
     if not morales_ramis:
         res["morales_ramis"] = {"label": "not run", "verdict": "not run for a model file unless asked "
-                                "(--morales-ramis; mr.integrability_report(model=..., morales_ramis=True))",
+                                "(--morales-ramis; magrod.integrability.model_report(model, morales_ramis=True))",
                                 "pendulums": []}
     return json.loads(json.dumps(res, default=str))
 
