@@ -285,7 +285,7 @@ def _is_algebraic_exp(omega, var):
     if not q.is_zero:
         return False
     for c, m in sp.roots(sp.Poly(den, var), multiple=False).items():
-        if m > 1 and _laurent_coeff(omega, var, c, -m) != 0:
+        if any(_laurent_coeff(omega, var, c, -k) != 0 for k in range(2, m + 1)):
             return False
         res = _laurent_coeff(omega, var, c, -1)
         if not sp.nsimplify(res).is_rational:
