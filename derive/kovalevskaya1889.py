@@ -8,13 +8,15 @@ derive/morales_ramis.symmetric_rod_theorem, step "scaling").
    (rho + 1)(rho - 2)(rho - 3)(rho - 4)(rho^2 - rho - 2 D), with D = (1 - x)(1 - 2x/y) along d2 and
    D = (1 - 1/x)(1 - 2/y) along d1 (computed, then compared with these forms).
 2. rho^2 - rho - 2D has integer roots iff 1 + 8D is an odd square, i.e. D = k(k+1)/2 is a triangular number T_k.
-3. The pair of conditions D2 = T_k, D1 = T_k' is solved exactly (sympy solve, a polynomial system in x, y) for each
-   pair 0 <= k, k' <= K: the positive solutions are the candidates (a bounded enumeration of the integer
-   parameters, not of the ratios).
-4. At each rational candidate every balance of the field is computed (derive/painleve.py) and the verdict recorded.
-The cases found are named: Lagrange (x = 1, any y), Kovalevskaya (1:2:2) and its mirror (2:1:2).  Irrational
-candidates (y = 2, x = 1 + sqrt(T_k), and mirrors) pass the axis balances; their other balances are not decided
-here (the Groebner engine works over Q).  Goryachev-Chaplygin (1:4:4): along d1, D = 3/8, 1 + 8D = 4, exponents
+3. The pair of conditions D2 = T_k, D1 = T_k' is solved completely (`conditions`: a positivity argument gives
+   k k' = 0, then three lines), cross-checked by solving the polynomial system for every pair k, k' <= K.
+4. At the rational points of the lines (T_k a square: k = 1, 8, 49, 288, ...) every balance of the field is
+   computed (derive/painleve.py) for the first two and their mirrors.
+Found: Lagrange (x = 1, any y), Kovalevskaya 1:2:2 and its mirror 2:1:2 (every balance integer and compatible), and
+1:7:2 (and 7:1:2): every exponent of every balance an integer, yet the Euler balance (n = 0) has a logarithmic
+resonance, so the Painleve test fails there: integer exponents alone do not single out Kovalevskaya's case, the
+compatibility conditions do.  Irrational points of the lines pass the axis balances; their other balances are not
+decided here (the Groebner engine works over Q).  Goryachev-Chaplygin (1:4:4): along d1, D = 3/8, 1 + 8D = 4, exponents
 3/2 and -1/2: algebraic branching (the weak Painleve property), so the Painleve test fails; its integral exists only
 on m.n = 0 (derive/morales_ramis.py, step "survivors")."""
 from __future__ import annotations
@@ -60,47 +62,60 @@ def axis_balances():
     return out
 
 
+def _in_families(xs, ys) -> bool:
+    """(x, y) on the Lagrange line x = 1, the line y = 2 or the line y = 2x."""
+    return any(sp.simplify(e) == 0 for e in (xs - 1, ys - 2, ys - 2 * xs))
+
+
 def conditions(k_max: int = K_MAX) -> dict:
-    """The exact solution of D_d2 = T_k, D_d1 = T_k' for 0 <= k, k' <= k_max, the cases found, their names and
-    the full exponent analysis at each rational one."""
+    """The complete solution of "both axis balances have integer exponents" (D_d2 = T_k, D_d1 = T_k'), the rational
+    cases on it with the full exponent analysis at each, and a cross-check by solving the pairs k, k' <= k_max.
+
+    Lemma (the argument; its identities checked here): for x < 1, D_d2 > 0 forces 1 - 2x/y in (0, 1), so
+    0 < D_d2 < 1 and k = 0; for x > 1, D_d1 > 0 forces y > 2, so 0 < D_d1 < 1 and k' = 0.  Hence k k' = 0 and the
+    solutions are: x = 1 (Lagrange, any y); k' = 0 with y = 2, where D_d2 = (1 - x)^2, x = 1 + sqrt(T_k); k = 0 with
+    y = 2x, where D_d1 = (1 - 1/x)^2, x = 1/(1 + sqrt(T_k')).  Rational ratios need T_k a square (square triangular
+    numbers 1, 36, 1225, ...): x = 2, 7, 36, ... on y = 2 and their mirrors."""
     ax = axis_balances()
     D1 = next(a["D"] for a in ax if a["axis"] == "d1")
     D2 = next(a["D"] for a in ax if a["axis"] == "d2")
-    ok_forms = (sp.simplify(D1 - (1 - 1 / x) * (1 - 2 / y)) == 0 and sp.simplify(D2 - (1 - x) * (1 - 2 * x / y)) == 0)
-    cands = []
+    ok_forms = (sp.simplify(D1 - (1 - 1 / x) * (1 - 2 / y)) == 0 and sp.simplify(D2 - (1 - x) * (1 - 2 * x / y)) == 0
+                and sp.factor(D2.subs(y, 2) - (1 - x)**2) == 0 and sp.factor(D1.subs(y, 2 * x) - (1 - 1 / x)**2) == 0
+                and sp.factor(D1.subs(y, 2)) == 0 and sp.factor(D2.subs(y, 2 * x)) == 0)
+    # cross-check: every positive solution for k, k' <= k_max lies on the three lines
+    found = []
     for k in range(k_max + 1):
         for kk in range(k_max + 1):
             e2 = sp.numer(sp.together(D2 - sp.Rational(k * (k + 1), 2)))
             e1 = sp.numer(sp.together(D1 - sp.Rational(kk * (kk + 1), 2)))
-            for s in sp.solve([e1, e2], [x, y], dict=True):
-                xs, ys = s.get(x), s.get(y)
+            for sol in sp.solve([e1, e2], [x, y], dict=True):
+                xs, ys = sol.get(x), sol.get(y)
                 if xs is None or ys is None:
-                    cands.append({"k": k, "k'": kk, "x": str(xs if xs is not None else "any"),
-                                  "y": str(ys if ys is not None else "any"), "family": True})
+                    found.append((k, kk, "x = 1" if xs == 1 else str(sol), True))
                     continue
                 xs, ys = sp.radsimp(sp.simplify(xs)), sp.radsimp(sp.simplify(ys))
                 if xs.is_positive and ys.is_positive:
-                    cands.append({"k": k, "k'": kk, "x": xs, "y": ys, "family": False})
+                    found.append((k, kk, f"x = {xs}, y = {ys}", _in_families(xs, ys)))
+    squares = [(k, sp.sqrt(sp.Rational(k * (k + 1), 2))) for k in range(1, 300)]
+    squares = [(k, s_) for k, s_ in squares if s_.is_rational]
     from . import models
 
     m = models.get("anisotropic")
-    out = []
-    for c in cands:
-        row = {k: str(v) for k, v in c.items()}
-        if c["family"]:
-            row["name"] = "Lagrange (B1 = B2, C free)" if c["x"] == "1" else "a family"
-            row["verdict"] = "axis balances integer along the family"
-        elif c["x"].is_rational and c["y"].is_rational:
-            res = painleve.model_analysis(m, {"B1": 1, "B2": c["x"], "C": c["y"]}, ars=True)
-            row["verdict"] = res["painleve"]["verdict"]
-            row["name"] = {(2, 2): "Kovalevskaya (B2 = C = 2 B1)",
-                           (sp.Rational(1, 2), 1): "Kovalevskaya mirror (B1 = C = 2 B2)"}.get((c["x"], c["y"]), "new")
-        else:
-            row["verdict"] = "axis balances integer; the other balances not decided (irrational ratios)"
-            row["name"] = "irrational candidate"
-        out.append(row)
-    return {"axis_balances": [{k: str(v) for k, v in a.items()} for a in ax], "forms_checked": ok_forms,
-            "k_max": k_max, "cases": out,
+    cases = [{"name": "Lagrange (B1 = B2, C free)", "ratios": "x = 1, any y", "verdict": "integrable (m3)"}]
+    for k, s_ in squares[:2]:
+        for xv, yv, mirror in ((1 + s_, sp.Integer(2), False), (1 / (1 + s_), 2 / (1 + s_), True)):
+            res = painleve.model_analysis(m, {"B1": 1, "B2": xv, "C": yv}, ars=True)
+            verdicts = sorted({b["verdict"] for ch in res["choices"] for b in ch["balances"]})
+            name = ("Kovalevskaya" + (" mirror (B1 = C = 2 B2)" if mirror else " (B2 = C = 2 B1)") if s_ == 1 else
+                    f"integer exponents, T_{k} = {s_}^2" + (" (mirror)" if mirror else ""))
+            cases.append({"name": name, "ratios": f"B1:B2:C = 1:{xv}:{yv}", "k": k,
+                          "verdict": res["painleve"]["verdict"], "balance_verdicts": verdicts})
+    return {"axis_balances": [{k: str(v) for k, v in a.items()} for a in ax], "forms_checked": bool(ok_forms),
+            "solution": "x = 1 (any y); y = 2, x = 1 + sqrt(T_k); y = 2x, x = 1/(1 + sqrt(T_k)); T_k = k(k+1)/2",
+            "rational_on_the_lines": [f"k = {k}: T_k = {s_}^2" for k, s_ in squares],
+            "cross_check": {"k_max": k_max, "solutions": [f"(k, k') = ({a}, {b}): {t}" for a, b, t, _ in found],
+                            "all_on_the_lines": all(f[3] for f in found)},
+            "cases": cases,
             "goryachev_chaplygin": {"D_d1": str(D1.subs({x: 4, y: 4})), "D_d2": str(D2.subs({x: 4, y: 4})),
                                     "exponents_d1": "3/2, -1/2 (1 + 8D = 4)",
                                     "meaning": "algebraic branching at the d1 balance: the Painleve test fails "
