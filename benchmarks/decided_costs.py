@@ -63,7 +63,7 @@ def main(argv=None) -> int:
     from derive import kovalevskaya1889
 
     out, w, c = timed(kovalevskaya1889.conditions)
-    res["kovalevskaya_1889"] = {"wall_s": w, "cpu_s": c, "cases": [f"{r['name']} (x = {r['x']}, y = {r['y']})"
+    res["kovalevskaya_1889"] = {"wall_s": w, "cpu_s": c, "cases": [f"{r['name']} ({r['ratios']}): {r['verdict']}"
                                                                   for r in out["cases"]]}
     nves = MR.pendulum_nves(model, vals)
     p, q = nves[1][1], nves[1][2]
