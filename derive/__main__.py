@@ -60,6 +60,60 @@ def stale_model_files(fresh: dict, target: Path, only: str | None = None) -> lis
     return stale
 
 
+def start_decided():
+    """(pool, future) of derive.decided.files() in a spawned process, so that it overlaps the paper's build; (None,
+    None) where no process can be started (then it runs here)."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    from .decided import files
+
+    try:
+        pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"))
+        return pool, pool.submit(files)
+    except (OSError, ValueError):
+        return None, None
+
+
+def decided_files(started=(None, None)) -> dict:
+    """generated/decided/: Kovalevskaya exponents, Yoshida, Morales-Ramis per registered model (derive/decided.py),
+    from the process `started` by start_decided() or computed here."""
+    import time
+    from concurrent.futures.process import BrokenProcessPool
+
+    from .decided import files
+
+    t0 = time.perf_counter()
+    pool, fut = started
+    out = None
+    if fut is not None:
+        try:
+            with pool:
+                out = fut.result()
+        except BrokenProcessPool:  # the child could not start: do it here
+            out = None
+    if out is None:
+        out = files()
+    print(f"derive: integrability decided (exponents, Morales-Ramis): {time.perf_counter() - t0:.1f} s more")
+    return out
+
+
+def stale_decided(target: Path, started=(None, None)) -> list:
+    """Like stale_model_files for generated/decided/ (every file there must be written by the derivation)."""
+    fresh = decided_files(started)
+    have = {str(p.relative_to(target)) for p in (target / "decided").rglob("*") if p.is_file()} \
+        if (target / "decided").exists() else set()
+    stale = []
+    for rel in sorted(set(fresh) | have):
+        old = (target / rel).read_text() if (target / rel).exists() else None
+        if fresh.get(rel) != old:
+            stale.append(rel)
+            diff = difflib.unified_diff((old or "").splitlines(True), (fresh.get(rel) or "").splitlines(True),
+                                        f"generated/{rel} (checked in)", f"generated/{rel} (fresh)", n=2)
+            sys.stdout.writelines(list(diff)[:200])
+    return stale
+
+
 def check(target: Path, model: str | None = None) -> int:
     if model is not None:
         from .models import get
@@ -68,9 +122,11 @@ def check(target: Path, model: str | None = None) -> int:
         print(f"derive --check: generated/models/{get(model).ident}/ is "
               + (f"stale ({', '.join(stale)})" if stale else "up to date"))
         return 1 if stale else 0
+    started = start_decided()
     with tempfile.TemporaryDirectory() as tmp:
         fresh = build(Path(tmp), verbose=True)
     stale = stale_files(fresh, target) + stale_model_files(models_files(verbose=True), target)
+    stale += stale_decided(target, started)
     if stale:
         print(f"\nderive --check: generated/ is stale ({', '.join(stale)}). Run `python -m derive` and commit.")
         return 1
@@ -96,7 +152,9 @@ def main(argv=None) -> int:
     if a.check:
         return check(a.out, a.model)
     if a.model is None:
+        started = start_decided()
         build(a.out)
+        write_files(a.out, decided_files(started))
     write_files(a.out, models_files(None if a.model is None else [a.model], verbose=True))
     return 0
 

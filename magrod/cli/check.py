@@ -31,6 +31,12 @@ def add_arguments(p):
     p.add_argument("--model-params", default=None, metavar="NAME=VALUE,...",
                    help="with --model: exact parameter values of the search (integer, decimal, 1e-8 or p/q); the "
                         "others at the model's defaults (or seeded random rationals with --seed)")
+    p.add_argument("--fast", action="store_true",
+                   help="with --model FILE.py: skip the slow exact analyses (Kovalevskaya exponents, Painleve test, "
+                        "Morales-Ramis; seconds to minutes of SymPy); registered models read them stored")
+    p.add_argument("--morales-ramis", action="store_true",
+                   help="with --model FILE.py: also run Morales-Ramis along the pendulum solutions (Kovacic's "
+                        "algorithm; tens of seconds per pendulum); registered models read it stored")
     p.add_argument("--level", default=None, metavar="CASIMIR=VALUE,...",
                    help="with --model: search on a special Casimir level, e.g. C2=0 (m.n = 0)")
     p.add_argument("--no-cache", action="store_true",
@@ -49,6 +55,9 @@ def run(args) -> dict:
             raise ParameterError(opt.replace("_", "-"), "applies only with --model")
     if getattr(args, "no_cache", False):
         raise ParameterError("no-cache", "applies only with --model FILE")
+    for opt in ("fast", "morales_ramis"):
+        if getattr(args, opt, False):
+            raise ParameterError(opt.replace("_", "-"), "applies only with --model")
 
     if args.integrals:
         if args.rederive or args.all:
@@ -100,7 +109,7 @@ def _run_model(args) -> dict:
         return d
     from ..integrability import model_report
 
-    rep = model_report(mc)
+    rep = model_report(mc, decided=not args.fast, morales_ramis=args.morales_ramis)
     return {"ok": rep.success, "kind": "model", "model": mc.name, "title": mc.names.TITLE,
             "source": mc.names.SOURCE, "report": rep.source, "results": rep.rows, "statuses": rep.statuses,
             "search": d}
@@ -142,6 +151,10 @@ def _model_text(out: dict) -> str:
             lines.append("    " + ("; ".join(f"{k}: {'integral' if v else 'NOT an integral'} ({d['references'][k]})"
                                             for k, v in d["first_integral"].items())
                                   or "none declared (the model file's CANDIDATES)"))
+        elif r["key"] in ("kovalevskaya_exponents", "morales_ramis"):
+            from ..integrability.decided import detail_lines
+
+            lines += detail_lines(r)
         lines.append("")
     return "\n".join(lines + _search_text(out["search"]))
 

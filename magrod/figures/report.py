@@ -269,6 +269,16 @@ def _landscape(out, quick):
                              f"degree {d['degree']}, generic level and m.n = 0: integrals beyond H and the Casimirs at "
                              f"{lagrange} Lagrange (B1 = B2) rows and at {special or 'no other row'}; each re-checked exactly",
                  "verdict": "new result (beyond the paper): holds except at the Kirchhoff-analogue top cases"})
+    from ..integrability.decided import theorem
+
+    t = theorem()
+    rows.append({"label": "sec:intro [Mielke88] (Morales-Ramis)",
+                 "paper": "anisotropy destroys integrability (no ratio named)",
+                 "computed": f"{t['status']}: {t['theorem']} Exceptional set {{{', '.join(t['exceptional_set'])}}}: "
+                             + "; ".join(f"r = {k}: {v}" for k, v in t["explanations"].items())
+                             + f". Not proved: {t['not_proved']}",
+                 "verdict": "new result (beyond the paper): proved for the symmetric family B2 = C = r B1"
+                            if t["status"] == "proved" else "not proved"})
     return rows
 # the figures (FIGURES keys) whose sidecars each claim extractor reads: a row of a failed figure says so
 FIGURES_OF = {"_fig2": ("2",), "_fig3": ("3",), "_fig4": ("4",), "_fig5": ("5",), "_fig6": ("6",), "_fig7": ("7",),

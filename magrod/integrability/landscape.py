@@ -203,6 +203,12 @@ def line(model: str, integrable_claim: bool, reference: str, sentence: str, *, d
                    f"{degree} (certified){' and chaotic (numerical)' if chaotic else ''}"
                    + ("; split homoclinic manifolds, as Mel'nikov predicts (numerical)" if split and split.success
                       else ""))
+    from .decided import landscape_evidence
+
+    more, strongest = landscape_evidence(model)
+    ev += more
+    if strongest and not liouville:
+        verdict = f"{strongest}; {verdict}"
     agree = "agrees" if liouville == integrable_claim else "disagrees"
     if split is not None and not split.success:
         agree = "disagrees"  # the measurement contradicts its own first-order theory: the line cannot stand

@@ -87,6 +87,10 @@ def format_text(out: dict) -> str:
         elif r["key"] == "candidates":
             lines.append("    " + ("; ".join(f"{k}: {'integral' if v else 'NOT an integral'} ({d['references'][k]})"
                                              for k, v in d["first_integral"].items()) or "none declared"))
+        elif r["key"] in ("kovalevskaya_exponents", "morales_ramis"):
+            from .decided import detail_lines
+
+            lines += detail_lines(r)
         elif r["key"] == "I2bar_conservation":
             for case, v in d["cases"].items():
                 lines.append(f"    {{I2bar, Hbar}} at {case}: {'0 (conserved)' if v == '0' else 'non-zero'}")
@@ -151,13 +155,20 @@ def _subs_text(subs) -> str:
     return ",".join(parts)
 
 
-def model_report(model) -> IntegrabilityReport:
+def model_report(model, decided: bool = True, morales_ramis: bool = False) -> IntegrabilityReport:
     """The derivation report of a rod model of the family (generated/models/<name>/report.json, or a model file's
-    cache entry: derive/models/pipeline.py), as an IntegrabilityReport."""
+    cache entry: derive/models/pipeline.py), as an IntegrabilityReport, followed by the decided rows
+    (magrod.integrability.decided: Kovalevskaya exponents and the Painleve test, Yoshida, Morales-Ramis; stored for
+    registered models, computed now with SymPy for a model file unless decided=False; Morales-Ramis for a model file
+    only with morales_ramis=True)."""
     from ..core.models import resolve
+    from . import decided as _decided
 
     mc = resolve(model)
-    rows = mc.report["results"]
+    rows = list(mc.report["results"])
+    rows += _decided.rows(_decided.model_result(mc, live=decided, morales_ramis=morales_ramis),
+                          skipped_reason="skipped (--fast): exponents and Morales-Ramis of a model file take SymPy "
+                                         "time")
     statuses = {r["key"]: r["status"] for r in rows}
     bad = [r["key"] for r in rows if r["status"] == "disagrees"]
     from ..core.models import DEFAULT

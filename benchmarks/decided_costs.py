@@ -1,0 +1,85 @@
+"""Costs of the exact integrability analyses (derive/painleve.py, derive/kovacic.py, derive/morales_ramis.py).
+
+    python benchmarks/decided_costs.py [--out benchmarks/decided_costs.json]
+
+Times, in one process on this machine (wall and CPU seconds; the machine's load average is recorded, since a
+shared 2-core machine inflates wall times):
+  * exponents: the Kovalevskaya exponents of every balance of a 6-D model (the anisotropic rod at 1:2:3 and the
+    Kovalevskaya rod 1:2:2 with the ARS conditions) -- target <= 10 s;
+  * ratio_conditions: the NVEs along both pendulums of the symmetric rod with r symbolic and their Riemann data on
+    the separatrix (the conditions on r that Kimura's theorem turns into the exceptional set);
+  * kovalevskaya_1889: the anisotropic rod with (B1, B2, C) symbols: the axis balances' exponents and the exact
+    solution of their integrality conditions for k, k' <= 6, with the full analysis at each rational case;
+  * morales_ramis: one Kovacic run on a Heun-type NVE (r = 1/4, energy 0: the step that removes r = 1/4);
+  * theorem: the whole symmetric-rod theorem, every step;
+  * registry: what `python -m derive` spends on generated/decided/registry.json.
+No number here is asserted by a test."""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+
+def timed(fn):
+    w0, c0 = time.perf_counter(), time.process_time()
+    out = fn()
+    return out, round(time.perf_counter() - w0, 2), round(time.process_time() - c0, 2)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "decided_costs.json")
+    ap.add_argument("--skip-registry", action="store_true", help="skip the (slow) registry timing")
+    a = ap.parse_args(argv)
+    import sympy as sp
+
+    from derive import decided, models, painleve
+    from derive import morales_ramis as MR
+
+    res = {"load_average_start": os.getloadavg()[0]}
+    m = models.get("anisotropic")
+    for tag, vals in (("exponents_1:2:3", {"B1": 1, "B2": 2, "C": 3}), ("exponents_1:2:2", {"B1": 1, "B2": 2, "C": 2})):
+        def run(vals=vals):
+            X, f, _ = painleve.model_field(m, vals)
+            return painleve.analyse_field(f, X)
+        out, w, c = timed(run)
+        res[tag] = {"wall_s": w, "cpu_s": c, "balances": sum(len(ch["balances"]) for ch in out["choices"])}
+
+    model, vals = MR._symmetric_rod()
+
+    def conditions():
+        nves = MR.pendulum_nves(model, vals)
+        return [MR.riemann_data(sp.cancel(p.subs(MR.h, 1)), sp.cancel(q.subs(MR.h, 1))) for _, p, q, _ in nves]
+    out, w, c = timed(conditions)
+    res["ratio_conditions"] = {"wall_s": w, "cpu_s": c,
+                               "exponent_differences": [[str(v) for v in d.values()] for d in out]}
+    from derive import kovalevskaya1889
+
+    out, w, c = timed(kovalevskaya1889.conditions)
+    res["kovalevskaya_1889"] = {"wall_s": w, "cpu_s": c, "cases": [f"{r['name']} ({r['ratios']}): {r['verdict']}"
+                                                                  for r in out["cases"]]}
+    nves = MR.pendulum_nves(model, vals)
+    p, q = nves[1][1], nves[1][2]
+    sub = {MR.h: 0, MR.r: sp.Rational(1, 4)}
+    out, w, c = timed(lambda: MR.galois_of(sp.cancel(p.subs(sub)), sp.cancel(q.subs(sub))))
+    res["morales_ramis_kovacic_heun"] = {"wall_s": w, "cpu_s": c, "group": out.group}
+    out, w, c = timed(MR.symmetric_rod_theorem)
+    res["theorem"] = {"wall_s": w, "cpu_s": c, "status": out["status"]}
+    if not a.skip_registry:
+        _, w, c = timed(decided.registry_results)
+        res["registry"] = {"wall_s": w, "cpu_s": c}
+    res["load_average_end"] = os.getloadavg()[0]
+    a.out.write_text(json.dumps(res, indent=1) + "\n")
+    print(json.dumps(res, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
