@@ -52,12 +52,13 @@ def test_typed_start_bad_text_is_a_message(page):
 
 
 def test_no_legend_item_per_orbit(page):
-    """The plot's legend has one item (the energy boundary) however many orbits there are; the orbits are listed
-    in the scrolling list beside the plot.  Seen to fail before (one LegendItem per orbit slot)."""
+    """The plot's legend has one item per branch of the section (its marker and energy boundary) however many
+    orbits there are; the orbits are listed in the scrolling list beside the plot.  Seen to fail before (one
+    LegendItem per orbit slot)."""
     for th in (0.3, 0.6, 0.9, 1.2):
         page.launch(th, 0.0)
     assert page.wait(120)
-    assert len(page.legend.items) == 1
+    assert len(page.legend.items) == 2
     assert len(page.orbit_list.options) == len(page.orbits) >= 5
 
 

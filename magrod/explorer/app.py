@@ -28,7 +28,8 @@ from pathlib import Path
 import numpy as np
 import panel as pn
 from bokeh.events import DoubleTap, Tap
-from bokeh.models import (ColorBar, ColumnDataSource, FixedTicker, Legend, LegendItem, LinearColorMapper, Range1d)
+from bokeh.models import (CDSView, ColorBar, ColumnDataSource, FixedTicker, GroupFilter, Legend, LegendItem,
+                          LinearColorMapper, Range1d)
 from bokeh.plotting import figure
 
 from ..core.errors import ParameterError
@@ -53,6 +54,13 @@ MARKER_SIZE = 3  # px, the page's marker-size control starts here
 # click or a typed start launches an orbit, and where the energy-level boundary is drawn)
 PROJECTIONS = {"θ – p̄θ": ("theta", "ptheta"), "θ – p̄ψ": ("theta", "ppsi"), "p̄θ – p̄ψ": ("ptheta", "ppsi")}
 AXIS_LABELS = {"theta": "θ", "ptheta": "p̄θ", "ppsi": "p̄ψ"}
+# each branch of the section (psi = 0, psi = pi) has its own marker, boundary line and "no root" shading: an orbit
+# crosses both, and a psi = pi point may lie where psi = 0 has no energy root (the two sections are overlaid)
+BRANCH_MARKER = {"0": "circle", "pi": "triangle"}
+BRANCH_STYLE = {"0": dict(line_color="black", line_dash="solid", fill_color="#c8c8c8", fill_alpha=0.75,
+                          hatch_pattern=None),
+                "pi": dict(line_color="#a6611a", line_dash="dashed", fill_color="#a6611a", fill_alpha=0.0,
+                           hatch_pattern="/")}
 PARAM_LABELS = {"m": "m", "mu": "μ", "gamma": "γ", "delta": "δ", "lam": "λ̄", "h": "h (level H̄ = h)",
                 "iterates": "iterates per orbit"}
 
@@ -66,8 +74,8 @@ class Orbit:
     ptheta0: float
     start: object = None  # worker.Start (None: no energy root at the current parameters)
     job: Job | None = None
-    source: ColumnDataSource | None = None
-    renderer: object = None
+    source: ColumnDataSource | None = None  # columns x, y and branch ("0" or "pi") of the drawn points
+    renderer: object = None  # _Glyphs: one scatter per branch over the one source
     iterates: int = 0  # the iterate count of its run (extended by extend())
     stride: int = 1  # display decimation: every stride-th point is drawn (DISPLAY_CAP)
     skip: int = 0  # points already shown before an extension's rerun (its first points are these, bit for bit)
@@ -85,10 +93,12 @@ class Orbit:
     rod_for: object = None  # the Start it was computed for
 
     def label(self, threshold: float) -> str:
+        """The orbit list's row: the start to 4 digits (the details show the exact doubles), so that the growth
+        exponent and the verdict fit the list's width."""
         g = getattr(self.indicator, "growth_exponent", None)
         verdict = "" if g is None else f", growth {g:.3g} → {'chaotic' if g > threshold else 'regular'}"
         state = "" if self.status == "done" else f" [{self.status}]"
-        return f"#{self.id}: θ₀={self.theta0!r}, p̄θ₀={self.ptheta0!r}, {self.n_points} pts{verdict}{state}"
+        return f"#{self.id}: θ₀={self.theta0:.4g}, p̄θ₀={self.ptheta0:.4g}, {self.n_points} pts{verdict}{state}"
 
 
 class Explorer(pn.viewable.Viewer):
@@ -148,7 +158,8 @@ class Explorer(pn.viewable.Viewer):
             self.inputs[name] = w
             self.errors[name] = _Text("", f"magrod-error-{name}", width=150,
                                       styles={"color": "#b00020", "font-size": "11px"}, margin=(0, 10, 0, 10))
-        self.panel_select = pn.widgets.Select(label="paper panel", options=list(PANELS), value=P.key, width=150)
+        self.panel_select = pn.widgets.Select(label="paper panel", options=list(PANELS), value=P.key, width=150,
+                                             css_classes=["magrod-panel"])
         self.panel_select.param.watch(self._deferred(self._on_panel), "value")
         self.status = _Text("Click inside the boundary to launch an orbit.", "magrod-status",
                             sizing_mode="stretch_width", styles={"font-size": "13px"}, min_height=40)
@@ -172,6 +183,12 @@ class Explorer(pn.viewable.Viewer):
         self.projection = pn.widgets.Select(label="projection", options=list(PROJECTIONS), value="θ – p̄θ",
                                             width=180, css_classes=["magrod-projection"])
         self.projection.param.watch(self._deferred(lambda e: self.set_projection(e.new)), "value")
+        self._branches_shown = set(model.BRANCH_PSI)  # shared with every orbit's _Glyphs
+        self.branch_toggle = pn.widgets.CheckButtonGroup(
+            name="section branches", options={f"{model.BRANCH_LABEL[k]} {'●' if k == '0' else '▲'}": k
+                                              for k in model.BRANCH_PSI},
+            value=list(model.BRANCH_PSI), width=180, css_classes=["magrod-branches"])
+        self.branch_toggle.param.watch(self._deferred(lambda e: self.show_branches(e.new)), "value")
         self.orbit_list.param.watch(self._deferred(self._on_select), "value")
         self.b_delete = pn.widgets.Button(label="Delete", width=80, css_classes=["magrod-delete"])
         self.b_clear = pn.widgets.Button(label="Clear", width=80, css_classes=["magrod-clear"])
@@ -201,28 +218,42 @@ class Explorer(pn.viewable.Viewer):
         f.title.text_font_size = "12px"
         f.axis.axis_label_text_font_size = "16px"
         f.axis.major_label_text_font_size = "12px"
-        self.forbidden = ColumnDataSource({"x": [], "top": [], "up": [], "lo": [], "bottom": []})
-        f.varea("x", "up", "top", source=self.forbidden, fill_color="#dddddd", fill_alpha=0.9)
-        f.varea("x", "bottom", "lo", source=self.forbidden, fill_color="#dddddd", fill_alpha=0.9)
-        b_up = f.line("x", "up", source=self.forbidden, color="black", line_width=1.5)
-        f.line("x", "lo", source=self.forbidden, color="black", line_width=1.5)
+        # per branch: the "no root" region (|p̄θ| beyond the boundary) shaded, and the boundary H̄ = h
+        self.forbidden, self._branch_shading, boundary_line = {}, {}, {}
+        for key in model.BRANCH_PSI:
+            st = BRANCH_STYLE[key]
+            src = ColumnDataSource({"x": [], "top": [], "up": [], "lo": [], "bottom": []}, name=f"forbidden-{key}")
+            hatch = {} if st["hatch_pattern"] is None else dict(hatch_pattern=st["hatch_pattern"],
+                                                                hatch_color=st["line_color"], hatch_alpha=0.55,
+                                                                hatch_scale=9.0)
+            areas = [f.varea("x", a, b, source=src, fill_color=st["fill_color"], fill_alpha=st["fill_alpha"],
+                             name=f"no-root-{key}", **hatch) for a, b in (("up", "top"), ("bottom", "lo"))]
+            lines = [f.line("x", c, source=src, color=st["line_color"], line_dash=st["line_dash"], line_width=1.5)
+                     for c in ("up", "lo")]
+            self.forbidden[key], self._branch_shading[key], boundary_line[key] = src, areas + lines, lines[0]
         self.start_marker = ColumnDataSource({"x": [], "y": []})
         f.scatter("x", "y", source=self.start_marker, marker="x", size=12, line_width=2, color="black")
         mapper = LinearColorMapper(palette=model.palette(self.threshold), low=0.0, high=1.0)
         ticks = model.colorbar_ticks(self.threshold)
         cb = ColorBar(color_mapper=mapper, ticker=FixedTicker(ticks=list(ticks)),
                       major_label_overrides={k: v for k, v in ticks.items()}, width=14, label_standoff=6,
-                      title=f"growth exponent (FLI(T)−FLI(T/2))/ln 2: chaotic > {self.threshold:g} "
-                            "(linear below, log above)", title_text_font_size="11px",
+                      # the definition (FLI(T) - FLI(T/2))/ln 2 and the scale are in the orbit's details
+                      title=f"growth exponent: chaotic > {self.threshold:g}", title_text_font_size="11px",
                       major_label_text_font_size="10px")
         f.add_layout(cb, "right")
         # one fixed legend item: the orbits are listed outside the plot (a legend item per orbit grew the legend
         # inside the plot's fixed height and squeezed the frame to a sliver after ~20 orbits)
-        self.legend = Legend(items=[LegendItem(label="H̄ = h boundary (grey: no energy root)", renderers=[b_up])],
-                             location="top_left", label_text_font_size="10px", background_fill_alpha=0.7,
-                             spacing=0, padding=4)
+        key_src = ColumnDataSource({"x": [], "y": []})  # legend keys only: the markers of the two branches
+        marks = {k: f.scatter("x", "y", source=key_src, marker=BRANCH_MARKER[k], size=7, color="#555555")
+                 for k in model.BRANCH_PSI}
+        items = []
+        for k in model.BRANCH_PSI:
+            shade = "grey" if k == "0" else "hatched"
+            items.append(LegendItem(label=f"{model.BRANCH_LABEL[k]} crossings; boundary H̄ = h, {shade}: no root",
+                                    renderers=[marks[k], boundary_line[k], self._branch_shading[k][0]]))
+        self.legend = Legend(items=items, location="top_left", label_text_font_size="10px",
+                             background_fill_alpha=0.7, spacing=0, padding=4, orientation="horizontal")
         f.add_layout(self.legend, "below")
-        self._boundary_renderers = [r for r in f.renderers]
         # Renderers made before the page exists: adding a renderer to a live document makes Bokeh walk every
         # model (~0.3 s, on the event loop, before the first points could be sent); a slot only changes data,
         # colour and visibility.  Orbits beyond N_SLOTS get new renderers (the slow path).
@@ -236,10 +267,14 @@ class Explorer(pn.viewable.Viewer):
         self.plot_pane = pn.pane.Bokeh(f, css_classes=["magrod-section"])
 
     def _new_slot(self, f, k):
-        src = ColumnDataSource({"x": [], "y": []}, name=f"slot-src-{k}")
+        """An orbit's source (columns x, y, branch) and its _Glyphs: one scatter per branch, each showing the
+        source's rows of its branch (a CDSView), with the branch's marker."""
+        src = ColumnDataSource(_EMPTY_POINTS(), name=f"slot-src-{k}")
         size = self.marker_size.value if hasattr(self, "marker_size") else MARKER_SIZE
-        r = f.scatter("x", "y", source=src, size=size, line_width=0, color=PENDING_COLOUR, visible=False)
-        return src, r
+        rs = {b: f.scatter("x", "y", source=src, size=size + (1 if b == "pi" else 0), line_width=0,
+                           marker=BRANCH_MARKER[b], color=PENDING_COLOUR, visible=False,
+                           view=CDSView(filter=GroupFilter(column_name="branch", group=b))) for b in BRANCH_MARKER}
+        return src, _Glyphs(rs, self._branches_shown)
 
     def _take_slot(self, o: Orbit):
         if self._free_slots:
@@ -257,7 +292,9 @@ class Explorer(pn.viewable.Viewer):
                            self.orbit_list, pn.Row(self.b_delete, self.b_clear, self.b_undo),
                            pn.Row(self.extend_input, self.b_extend), pn.Row(self.download, self.b_export),
                            self.details.pane, width=440)
-        view = pn.Row(self.marker_size, self.projection)
+        view = pn.Row(self.marker_size, self.projection,
+                      pn.Column(pn.pane.HTML("section branches shown", styles={"font-size": "12px"}, margin=(0, 5)),
+                                self.branch_toggle, margin=0))
         return pn.Column(pn.pane.HTML("<b>magrod explore</b>: Poincaré section sin ψ = 0 of the conducting rod "
                                       "(Sinden &amp; van der Heijden, sec. 8). Click, or type a start, to launch "
                                       "an orbit from (θ, p̄θ); p̄ψ solves H̄ = h.", styles={"font-size": "14px"}),
@@ -291,14 +328,16 @@ class Explorer(pn.viewable.Viewer):
     # the energy level
     # ------------------------------------------------------------------------------------------------------
     def _set_boundary(self):
-        b = model.energy_boundary(self.params, self.h, psi=self.psi0)
-        pmax = b["pmax"]
-        top = max(1.15 * float(pmax.max()), 0.1)
+        """Each branch's boundary |p̄θ| = pmax(θ) at the current level and its "no root" region beyond it."""
+        bounds = model.section_boundaries(self.params, self.h)
+        top = max(1.15 * max(float(b["pmax"].max()) for b in bounds.values()), 0.1)
         self.fig.y_range.start, self.fig.y_range.end = -top, top
-        x = np.concatenate([[0.0], b["theta"], [np.pi]])
-        up = np.concatenate([[pmax[0]], pmax, [pmax[-1]]])
-        self.forbidden.data = {"x": x, "top": np.full_like(x, 10 * top), "up": up, "lo": -up,
-                               "bottom": np.full_like(x, -10 * top)}
+        for key, b in bounds.items():
+            pmax = b["pmax"]
+            x = np.concatenate([[0.0], b["theta"], [np.pi]])
+            up = np.concatenate([[pmax[0]], pmax, [pmax[-1]]])
+            self.forbidden[key].data = {"x": x, "top": np.full_like(x, 10 * top), "up": up, "lo": -up,
+                                        "bottom": np.full_like(x, -10 * top)}
         p = self.params
         self.fig.title.text = (f"m = {p.m:g}, μ = {p.mu:g}, γ = {p.gamma:g}, δ = {p.delta:g}, λ̄ = {p.lam:g}, "
                                f"h = {self.h:g};  section sin ψ = 0 (ψ₀ = {self.psi0:g}), crossings with d/ds sin ψ "
@@ -323,19 +362,27 @@ class Explorer(pn.viewable.Viewer):
         self._on_input(None)
 
     def _on_input(self, event):
+        """Apply the widgets' values, or show every wrong field's message under it and, under each other field
+        whose typed value differs from the one in use, that it is not applied yet (never a silently stale box)."""
         if getattr(self, "_suspend", False):
             return
         for e in self.errors.values():
             e.object = ""
-        try:
-            params, h, iterates = model.parse_inputs(self._values())
-            model.check_energy_level(params, h)
-        except ParameterError as exc:
-            target = exc.name if exc.name in self.errors else "h"
-            self.errors[target].object = f"⚠ {exc}"
-            self._say(f"Not applied: {exc}", error=True)
+        parsed, errors = model.input_errors(self._values())
+        if errors:
+            for name, msg in errors.items():
+                self.errors[name].object = f"⚠ {_escape(msg)}"
+            in_use = {**self.params.to_dict(), "h": self.h, "iterates": self.iterates}
+            for name, w in self.inputs.items():
+                if name not in errors and not _same_number(w.value, in_use[name]):
+                    self.errors[name].object = (f"not applied until {', '.join(errors)} "
+                                                f"{'is' if len(errors) == 1 else 'are'} fixed; in use: "
+                                                f"{in_use[name]:g}")
+            self._say("Not applied: " + "; ".join(errors.values()), error=True)
             return
+        params, h, iterates = parsed
         changed = (params, h) != (self.params, self.h)
+        new_iterates = iterates != self.iterates
         self.iterates = iterates
         if changed:
             self.params, self.h = params, h
@@ -343,13 +390,16 @@ class Explorer(pn.viewable.Viewer):
             self._say(f"Parameters applied; relaunching {len(self.orbits)} orbit(s) from their starts.")
             for o in self.orbits:
                 self._launch(o)
-        else:
+        elif new_iterates:
             self._say(f"iterates per orbit = {iterates} (new orbits)")
 
     def set_input(self, name: str, value) -> str:
-        """Type `value` into the widget `name` (as a user would); returns the message shown next to it."""
+        """Type `value` into the widget `name` (as a user would); returns the message shown next to it (as text:
+        the page's HTML escapes what the user typed)."""
+        import html
+
         self.inputs[name].value = str(value)
-        return self.errors[name].object
+        return html.unescape(self.errors[name].object)
 
     # ------------------------------------------------------------------------------------------------------
     # orbits
@@ -419,14 +469,27 @@ class Explorer(pn.viewable.Viewer):
     def set_marker_size(self, size: int) -> None:
         """Marker size (px) of every orbit's points."""
         for src_r in [*self._free_slots, *[(o.source, o.renderer) for o in self.orbits if o.renderer is not None]]:
-            src_r[1].glyph.size = int(size)
+            src_r[1].set_size(int(size))
+
+    def show_branches(self, branches) -> None:
+        """Show the points, boundary and shading of these branches of the section only ("0": psi = 0, "pi":
+        psi = pi)."""
+        self._branches_shown.clear()
+        self._branches_shown.update(b for b in branches if b in model.BRANCH_PSI)
+        on_section_plane = PROJECTIONS[self.projection.value] == ("theta", "ptheta")
+        for key, rs in self._branch_shading.items():
+            for r in rs:
+                r.visible = on_section_plane and key in self._branches_shown
+        for _, g in [*self._free_slots, *[(o.source, o.renderer) for o in self.orbits if o.renderer is not None]]:
+            g.update()
 
     def set_projection(self, name: str) -> None:
         """Show the orbits in another projection of the section (PROJECTIONS); the energy-level boundary belongs
         to θ – p̄θ and is hidden in the others."""
         xk, yk = PROJECTIONS[name]
-        for r in self._boundary_renderers:
-            r.visible = (xk, yk) == ("theta", "ptheta")
+        for key, rs in self._branch_shading.items():
+            for r in rs:
+                r.visible = (xk, yk) == ("theta", "ptheta") and key in self._branches_shown
         self.legend.visible = (xk, yk) == ("theta", "ptheta")
         self.fig.xaxis.axis_label, self.fig.yaxis.axis_label = AXIS_LABELS[xk], AXIS_LABELS[yk]
         xs, ys = [], []
@@ -435,7 +498,8 @@ class Explorer(pn.viewable.Viewer):
                 continue
             x = np.concatenate(o.shown[xk]) if o.shown[xk] else np.empty(0)
             y = np.concatenate(o.shown[yk]) if o.shown[yk] else np.empty(0)
-            o.source.data = {"x": x, "y": y}
+            br = np.concatenate(o.shown["branch"]) if o.shown["branch"] else np.empty(0, dtype="<U2")
+            o.source.data = {"x": x, "y": y, "branch": br}
             o.pending = None  # included: o.shown holds every point decimated so far
             xs.append(x)
             ys.append(y)
@@ -477,7 +541,7 @@ class Explorer(pn.viewable.Viewer):
             if o in self.orbits:  # a relaunch at new parameters: keep the start, say why it has no points
                 o.start, o.status, o.message, o.n_points, o.result, o.indicator = None, "no root", msg, 0, None, None
                 if o.source is not None:
-                    o.source.data = {"x": [], "y": []}
+                    o.source.data = _EMPTY_POINTS()
                 self._style(o)
             else:
                 self._say(msg, error=True)
@@ -486,10 +550,10 @@ class Explorer(pn.viewable.Viewer):
             None, 0
         if o.renderer is None:
             self._take_slot(o)
-        o.source.data = {"x": [], "y": []}
+        o.source.data = _EMPTY_POINTS()
         o.iterates = o.iterates or self.iterates
         o.stride = max(1, -(-o.iterates // DISPLAY_CAP))
-        o.skip, o.shown, o.pending = 0, {k: [] for k in AXIS_LABELS}, None
+        o.skip, o.shown, o.pending = 0, {k: [] for k in (*AXIS_LABELS, "branch")}, None
         self._style(o)
         self._submit(o)
         self._say(f"#{o.id}: {start.describe()}; integrating {o.iterates} iterates in the background …")
@@ -506,7 +570,7 @@ class Explorer(pn.viewable.Viewer):
         where = f"(θ, p̄θ) = ({o.theta0:.4f}, {o.ptheta0:.4f})"
         if exc.name == "h":
             return (f"No orbit at {where}: H̄ = {self.h:g} has no real root p̄ψ there (the point lies outside the "
-                    f"energy-level boundary, in the grey region). {exc.message}")
+                    f"energy-level boundary of ψ = {self.psi0:g}, in its no-root region). {exc.message}")
         if exc.name == "mu":
             return f"No orbit at {where}: the radicand μ − 2λ̄p̄ψ of H̄ is negative for every p̄ψ. {exc.message}"
         return f"No orbit at {where}: {exc}"
@@ -515,8 +579,7 @@ class Explorer(pn.viewable.Viewer):
         g = getattr(o.indicator, "growth_exponent", None)
         colour = PENDING_COLOUR if g is None or not np.isfinite(g) else model.growth_colour(g, self.threshold)
         if o.renderer is not None:
-            o.renderer.glyph.fill_color = colour
-            o.renderer.glyph.line_color = colour
+            o.renderer.set_colour(colour)
 
     def _remove(self, o: Orbit):
         if o.job is not None:
@@ -668,7 +731,8 @@ class Explorer(pn.viewable.Viewer):
         if not keep.any():
             return
         cols = {"theta": c.theta[keep], "ptheta": c.ptheta[keep],
-                "ppsi": c.ppsi[keep] if c.ppsi is not None else np.full(int(keep.sum()), np.nan)}
+                "ppsi": c.ppsi[keep] if c.ppsi is not None else np.full(int(keep.sum()), np.nan),
+                "branch": model.branch_of(c.psi[keep])}
         for name, v in cols.items():
             o.shown[name].append(v)
         o.pending = (o.pending or []) + [cols]
@@ -683,7 +747,8 @@ class Explorer(pn.viewable.Viewer):
             return False
         xk, yk = PROJECTIONS[self.projection.value]
         o.source.stream({"x": np.concatenate([c[xk] for c in o.pending]),
-                         "y": np.concatenate([c[yk] for c in o.pending])})
+                         "y": np.concatenate([c[yk] for c in o.pending]),
+                         "branch": np.concatenate([c["branch"] for c in o.pending])})
         o.pending, o.last_stream = None, now
         return True
 
@@ -837,6 +902,45 @@ class Explorer(pn.viewable.Viewer):
                 f"orbits={len(self.orbits)}, running={self.running})")
 
 
+def _EMPTY_POINTS() -> dict:
+    return {"x": [], "y": [], "branch": []}
+
+
+class _Glyphs:
+    """The scatters of one orbit, one per branch of the section, shown as one: visible when the orbit is and its
+    branch is among the branches shown (`shown`, the page's set); one size and one colour (its growth exponent)."""
+
+    def __init__(self, renderers: dict, shown: set):
+        self.renderers, self._shown, self._visible = renderers, shown, False
+
+    @property
+    def visible(self) -> bool:
+        return self._visible
+
+    @visible.setter
+    def visible(self, value: bool) -> None:
+        self._visible = bool(value)
+        self.update()
+
+    def update(self) -> None:
+        for b, r in self.renderers.items():
+            r.visible = self._visible and b in self._shown
+
+    @property
+    def glyph(self):
+        """The psi = 0 scatter's glyph (size, colour: those of the orbit)."""
+        return self.renderers["0"].glyph
+
+    def set_size(self, size: int) -> None:
+        for b, r in self.renderers.items():  # the triangle one px larger: same visual weight as the circle
+            r.glyph.size = size + (1 if b == "pi" else 0)
+
+    def set_colour(self, colour: str) -> None:
+        for r in self.renderers.values():
+            r.glyph.fill_color = colour
+            r.glyph.line_color = colour
+
+
 class _Text:
     """A text line of the page as a bare Bokeh Div: setting `.object` changes one string property.  (A Panel HTML
     pane re-renders its model, and Bokeh then re-walks the whole document: ~0.3-2 s on the event loop.)"""
@@ -856,6 +960,13 @@ class _Text:
     @object.setter
     def object(self, text: str) -> None:
         self.div.text = text
+
+
+def _same_number(text, value) -> bool:
+    try:
+        return float(str(text).strip()) == float(value)
+    except ValueError:
+        return False
 
 
 def _escape(s: str) -> str:
