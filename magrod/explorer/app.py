@@ -28,8 +28,8 @@ from pathlib import Path
 import numpy as np
 import panel as pn
 from bokeh.events import DoubleTap, Tap
-from bokeh.models import (CDSView, ColorBar, ColumnDataSource, FixedTicker, GroupFilter, Legend, LegendItem,
-                          LinearColorMapper, Range1d)
+from bokeh.models import (CDSView, ColorBar, ColumnDataSource, FixedTicker, GlyphRenderer, GroupFilter, Legend,
+                          LegendItem, LinearColorMapper, Range1d, Scatter)
 from bokeh.plotting import figure
 
 from ..core.errors import ParameterError
@@ -41,13 +41,19 @@ POLL_MS = 50
 CLOSE_GRACE_S = 0.05  # a session without a connection for this long is closed (Bokeh does not reconnect a
 # session's websocket: a reloaded page is a new session)
 PENDING_COLOUR = "#555555"
-N_SLOTS = 24  # orbit renderers made with the page (see _build_plot)
+N_SLOTS = 24  # orbit renderers made with the page (see _build_plot), and made again in one batch when few are left
+SLOT_REFILL_AT = 4  # free slots left when the next batch is made (by poll(), while no orbit computes)
 # Display-only decimation: an orbit shows at most this many of its points (every k-th, k fixed at launch from its
 # iterate count), so that drawing stays fluid at 10^5 iterates; exports and results keep every point.
 DISPLAY_CAP = 20_000
 # The page receives an orbit's new points at most this often (the chunks in between are joined): every message
 # re-renders the plot, and at 25 messages a second a tab without a GPU spent all its time drawing.
 STREAM_INTERVAL_S = 0.25
+# ... and less often the more points the plot holds: every message repaints every drawn point (canvas), so the
+# repaint cost grows with the orbit count; messages at most every (points drawn) / PAINT_POINTS_PER_S seconds keep
+# the page's share of time spent painting bounded (measured: a repaint of 30 orbits x 1000 points took 0.2-0.4 s
+# in headless chromium at load ~4, and the time per click grew with the orbit count, 3.5 -> 4.9 s median)
+PAINT_POINTS_PER_S = 20_000
 DOUBLE_CLICK_PX = 4  # a DoubleTap this close (screen pixels) to the previous tap is a double click, not a new click
 MARKER_SIZE = 3  # px, the page's marker-size control starts here
 # the projections of the section sin psi = 0 (the level fixes the third coordinate; theta-pbar_theta is where a
@@ -258,6 +264,8 @@ class Explorer(pn.viewable.Viewer):
         # model (~0.3 s, on the event loop, before the first points could be sent); a slot only changes data,
         # colour and visibility.  Orbits beyond N_SLOTS get new renderers (the slow path).
         self._free_slots = [self._new_slot(f, k) for k in range(N_SLOTS)]
+        self._n_slots = N_SLOTS
+        self.slow_slots = 0  # renderers added to the live page during a click (the slow path: should stay 0)
         f.on_event(Tap, self._on_tap)
         # Bokeh turns a second click within 300 ms of the first into a DoubleTap and sends no Tap: a quick second
         # click elsewhere was lost.  A DoubleTap away from the last tap is a click; on the same spot it is the
@@ -266,20 +274,27 @@ class Explorer(pn.viewable.Viewer):
         self.fig = f
         self.plot_pane = pn.pane.Bokeh(f, css_classes=["magrod-section"])
 
-    def _new_slot(self, f, k):
+    def _new_slot(self, f, k, attach: bool = True):
         """An orbit's source (columns x, y, branch) and its _Glyphs: one scatter per branch, each showing the
-        source's rows of its branch (a CDSView), with the branch's marker."""
+        source's rows of its branch (a CDSView), with the branch's marker.  attach=False: the renderers are not
+        added to the figure yet (a batch is added in one change: _refill_slots)."""
         src = ColumnDataSource(_EMPTY_POINTS(), name=f"slot-src-{k}")
         size = self.marker_size.value if hasattr(self, "marker_size") else MARKER_SIZE
-        rs = {b: f.scatter("x", "y", source=src, size=size + (1 if b == "pi" else 0), line_width=0,
-                           marker=BRANCH_MARKER[b], color=PENDING_COLOUR, visible=False,
-                           view=CDSView(filter=GroupFilter(column_name="branch", group=b))) for b in BRANCH_MARKER}
+        rs = {b: GlyphRenderer(data_source=src, visible=False,
+                               glyph=Scatter(x="x", y="y", size=size + (1 if b == "pi" else 0), line_width=0,
+                                             marker=BRANCH_MARKER[b], fill_color=PENDING_COLOUR,
+                                             line_color=PENDING_COLOUR),
+                               view=CDSView(filter=GroupFilter(column_name="branch", group=b)))
+              for b in BRANCH_MARKER}
+        if attach:
+            f.renderers.extend(rs.values())
         return src, _Glyphs(rs, self._branches_shown)
 
     def _take_slot(self, o: Orbit):
         if self._free_slots:
             o.source, o.renderer = self._free_slots.pop(0)
         else:
+            self.slow_slots += 1
             o.source, o.renderer = self._new_slot(self.fig, f"extra-{o.id}")
         o.source.name = f"orbit-src-{o.id}"
         o.renderer.visible = True
@@ -300,6 +315,20 @@ class Explorer(pn.viewable.Viewer):
                                       "an orbit from (θ, p̄θ); p̄ψ solves H̄ = h.", styles={"font-size": "14px"}),
                          self.status.pane, pn.Row(side, pn.Column(self.plot_pane, view), orbits), self.rod_pane,
                          sizing_mode="stretch_width")
+
+    def _refill_slots(self) -> None:
+        """Add N_SLOTS renderers in one batch when few are left, between clicks: a renderer added to a live
+        document makes Bokeh walk every model (~0.3-1 s on the event loop); made in a click, that delayed the
+        click's first points from the 25th orbit on (measured: tap handler 0.01-0.08 s for orbits 1-24, 0.5-1.1 s
+        after).  The batch is one change of the figure's renderers: one walk, one message."""
+        if len(self._free_slots) >= SLOT_REFILL_AT or any(o.status == "running" for o in self.orbits):
+            return
+        new = [self._new_slot(self.fig, k, attach=False)
+               for k in range(self._n_slots, self._n_slots + N_SLOTS)]
+        # one change of the figure's renderers (one message, one rebuild of the page's renderer views)
+        self.fig.renderers = [*self.fig.renderers, *[r for _, g in new for r in g.renderers.values()]]
+        self._free_slots.extend(new)
+        self._n_slots += N_SLOTS
 
     def _deferred(self, fn):
         """A Panel widget callback that edits the page's Bokeh models.  Served, Panel runs widget callbacks
@@ -720,6 +749,7 @@ class Explorer(pn.viewable.Viewer):
             # the page's most expensive picture (software WebGL on a machine without a GPU), and drawing one per
             # finished orbit during a burst of clicks delayed every later click's first points
             self._show_details(rod=not any(q.status == "running" for q in self.orbits))
+        self._refill_slots()
         return n
 
     def _stream(self, o: Orbit, c) -> None:
@@ -743,7 +773,7 @@ class Explorer(pn.viewable.Viewer):
         if not o.pending or o.source is None:
             return False
         now = time.perf_counter()
-        if not force and now - o.last_stream < STREAM_INTERVAL_S:
+        if not force and now - o.last_stream < self._stream_interval():
             return False
         xk, yk = PROJECTIONS[self.projection.value]
         o.source.stream({"x": np.concatenate([c[xk] for c in o.pending]),
@@ -751,6 +781,12 @@ class Explorer(pn.viewable.Viewer):
                          "branch": np.concatenate([c["branch"] for c in o.pending])})
         o.pending, o.last_stream = None, now
         return True
+
+    def _stream_interval(self) -> float:
+        """Seconds between two messages of one orbit: STREAM_INTERVAL_S, longer when the plot holds many points
+        (PAINT_POINTS_PER_S)."""
+        drawn = sum(len(o.source.data["x"]) for o in self.orbits if o.source is not None)
+        return max(STREAM_INTERVAL_S, drawn / PAINT_POINTS_PER_S)
 
     def wait(self, timeout: float = 60.0) -> bool:
         """Poll until no orbit is computing (for scripts and tests); True if all finished in time."""
