@@ -137,7 +137,7 @@ def run(args) -> dict:
     import multiprocessing
     import os
 
-    from ..figures.report import claims, report_markdown
+    from ..figures.report import claims, mark_failed, report_markdown, tally
     from ..core.io import atomic_write_json, atomic_write_text, ensure_writable_dir, remove_stale_temporaries, versions
     from ..core.progress import bar
     from . import children_immune, pause_point
@@ -208,18 +208,23 @@ def run(args) -> dict:
         lock.release()
     report_path = out / "REPORT.md"
     rows = claims(out, args.quick)
+    counts = tally(mark_failed(rows, failures))
     atomic_write_text(report_path, report_markdown(rows, done, failures, args.quick, time.perf_counter() - t0))
     res = {"ok": not failures, "out": str(out), "report": str(report_path), "quick": args.quick,
            "figures": {t: {"paths": d["paths"], "skipped": d["skipped"], "wall_s": d.get("wall_s")}
                        for t, d in sorted(done.items())},
-           "failures": failures, "claims": rows, "wall_s": time.perf_counter() - t0}
+           "failures": failures, "claims": rows, "tally": counts, "wall_s": time.perf_counter() - t0}
     if failures:
         res["error"] = "figure(s) failed: " + "; ".join(f"{t}: {m}" for t, m in sorted(failures.items()))
     return res
 
 
 def format_text(r: dict) -> str:
+    from ..figures.report import tally_text
+
     lines = [f"reproduce: {'ok' if r['ok'] else 'with failures'} in {r['wall_s']:.1f} s -> {r['report']}"]
+    if r.get("tally"):
+        lines.append(f"  {sum(r['tally'].values())} claims: {tally_text(r['tally'])}")
     for t, d in r["figures"].items():
         lines.append(f"  figure {t}: {len(d['paths'])} files" + (" (skipped: already done)" if d["skipped"] else ""))
     for t, msg in r["failures"].items():
