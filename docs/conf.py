@@ -1,4 +1,4 @@
-"""Sphinx configuration of the magrod documentation (issue 19).
+"""Sphinx configuration of the magrod documentation.
 
 Build (the command in README.md):  python -m sphinx -W --keep-going -b html docs docs/_build/html
 -W turns every warning into an error (tests/test_docs.py builds it so).  The notebooks in docs/notebooks are
@@ -29,11 +29,17 @@ extensions = [
     "sphinx.ext.mathjax",
     "sphinxarg.ext",
 ]
-exclude_patterns = ["_build", "_generated_cache", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store"]
+exclude_patterns = ["_build", "_generated_cache", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store", "_templates"]
 html_theme = "pydata_sphinx_theme"
 html_title = f"magrod {release}"
-html_theme_options = {"navigation_with_keys": False, "show_toc_level": 2}
-html_static_path = []
+# a short top bar (the five parts of the root toctree, no "More" menu), the whole site in the left sidebar of every
+# page (_templates/site-nav.html), anchors scrolled clear of the sticky header (_static/magrod.css)
+html_theme_options = {"navigation_with_keys": False, "show_toc_level": 2, "header_links_before_dropdown": 5,
+                      "secondary_sidebar_items": ["page-toc"]}
+html_sidebars = {"**": ["site-nav"]}
+templates_path = ["_templates"]
+html_static_path = ["_static"]
+html_css_files = ["magrod.css"]
 
 # myst / myst-nb: notebooks executed at build time, rendered from their executed cells
 myst_enable_extensions = ["dollarmath", "colon_fence"]

@@ -143,7 +143,7 @@ def lyapunov(params=None, h=None, theta0=None, ptheta0=None, psi0=None, *, p_psi
     >>> ly = mr.lyapunov("4a", t_max=1000)
     >>> ly.success, ly.times.shape, bool(ly.lyap > 0)
     (True, (100,), True)
-    >>> mr.lyapunov(model="kirchhoff", t_max=200).chaotic   # the integrable Kirchhoff rod (issue 26)
+    >>> mr.lyapunov(model="kirchhoff", t_max=200).chaotic   # the integrable Kirchhoff rod
     False
 
     Notes

@@ -726,7 +726,7 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     magrod.store.resumable; `magrod chaosmap --out DIR` is that).
 
     The default tolerance stays machine epsilon, by the work-precision study of the classification
-    (benchmarks/classification_precision.py, benchmarks/README.md "Issue 28"; numerical evidence, two machines, the
+    (benchmarks/classification_precision.py, benchmarks/README.md "Chaos maps at scale"; numerical evidence, two machines, the
     map lam x gamma = [0, 0.3] x [0, 3] at Figure 4's start rule):
 
     * 128 x 128, T = 1000, against the brute-force tol = eps map: the brute-force maps at 1e-12 and 1e-10 have the

@@ -669,7 +669,7 @@ def poincare_section(params=None, h=None, theta0=None, ptheta0=None, psi0=None, 
     >>> sec = mr.poincare_section("4a", iterates=100, lam=0.15)  # the panel's start on another rod
     >>> sec.panel, sec.params.lam
     ('4a, lam=0.15', 0.15)
-    >>> mr.poincare_section(model="anisotropic", iterates=20).energy_error < 1e-12   # another rod model (issue 26)
+    >>> mr.poincare_section(model="anisotropic", iterates=20).energy_error < 1e-12   # another rod model
     True
 
     Many orbits: `poincare_sections` (a list, always).

@@ -28,7 +28,7 @@ FIGURES = {
     "proof": ("magrod.figures.proof", "build",
               "computer-assisted proof: transverse homoclinic orbits of the tilted saddle-focus, verified certificate"),
     "landscape": ("magrod.figures.models", "build",
-                  "the landscape of sec. 1 re-derived from the rod models (issue 26), the anisotropic B1:B2:C scan"),
+                  "the landscape of sec. 1 re-derived from the rod models, the anisotropic B1:B2:C scan"),
 }
 
 
