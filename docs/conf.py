@@ -29,7 +29,9 @@ extensions = [
     "sphinx.ext.mathjax",
     "sphinxarg.ext",
 ]
-exclude_patterns = ["_build", "_generated_cache", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store", "_templates"]
+exclude_patterns = ["_build", "_generated_cache", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store", "_templates",
+                    # the source of the six theory/*.md pages (each includes its part): not a page of its own
+                    "nonintegrability.md"]
 html_theme = "pydata_sphinx_theme"
 html_title = f"magrod {release}"
 # a short top bar (the five parts of the root toctree, no "More" menu), the whole site in the left sidebar of every

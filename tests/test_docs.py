@@ -208,7 +208,7 @@ def test_notebooks_rendered_from_executed_cells(site):
         html = (site / "notebooks" / f"{nb}.html").read_text()
         assert needle in html, nb
         assert "Traceback" not in html, nb
-    assert (site / "errata.html").exists() and (site / "nonintegrability.html").exists()
+    assert (site / "errata.html").exists() and (site / "theory" / "theorems.html").exists()
     assert (site / "architecture.html").exists()
 
 
@@ -230,3 +230,25 @@ def test_no_unfilled_placeholders_in_the_prose():
     found = [f"{p.relative_to(ROOT)}:{i}" for p in pages for i, line in enumerate(p.read_text().splitlines(), 1)
              if marker.search(line)]
     assert not found, found
+
+
+def test_theory_pages_show_the_whole_source_once_in_readable_parts():
+    """docs/nonintegrability.md (23 600 words) is shown as pages a reader can finish: each theory/*.md page includes
+    one part (between two part markers), the parts follow each other from the first marker to the last (nothing
+    left out, nothing twice), and no part exceeds 8000 words.  No docs build needed.  Seen to fail before the
+    split (no markers, one page)."""
+    src = (DOCS / "nonintegrability.md").read_text()
+    markers = re.findall(r"<!-- part: ([\w-]+) -->", src)
+    assert markers[0] == "splitting" and markers[-1] == "end" and len(markers) == len(set(markers))
+    spans = {}
+    for page in sorted((DOCS / "theory").glob("*.md")):
+        m = re.search(r"```\{include\} \.\./nonintegrability\.md\n:start-after: <!-- part: ([\w-]+) -->\n"
+                      r":end-before: <!-- part: ([\w-]+) -->\n```", page.read_text())
+        assert m, page.name
+        spans[m.group(1)] = m.group(2)
+    assert [spans.get(a) for a in markers[:-1]] == markers[1:], spans
+    for a, b in zip(markers, markers[1:]):
+        words = len(src.split(f"<!-- part: {a} -->")[1].split(f"<!-- part: {b} -->")[0].split())
+        assert words <= 8000, (a, words)
+    toc = (DOCS / "theory.md").read_text()
+    assert all(f"theory/{p.stem}" in toc for p in (DOCS / "theory").glob("*.md"))
