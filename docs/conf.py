@@ -44,7 +44,9 @@ html_static_path = ["_static"]
 html_css_files = ["magrod.css"]
 
 # myst / myst-nb: notebooks executed at build time, rendered from their executed cells
-myst_enable_extensions = ["dollarmath", "colon_fence"]
+# $...$ and $$...$$ (dollarmath) and LaTeX environments (amsmath), typeset by MathJax (sphinx.ext.mathjax; the
+# script comes from MathJax's CDN when a page with mathematics is opened)
+myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence"]
 myst_heading_anchors = 3
 nb_execution_mode = os.environ.get("MAGROD_NB_EXECUTION", "force")
 nb_execution_timeout = 300
