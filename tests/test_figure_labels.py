@@ -138,7 +138,8 @@ def test_no_offset_tick_labels(tmp_path):
 
 def test_chaos_map_axes_are_mathematical_and_its_contour_explained():
     """The map's axes read lambda-bar and gamma (never lam, gamma as code names), and the colour-bar label says
-    what the black line is.  Seen to fail before (labels 'lam', 'gamma'; no word on the contour)."""
+    what the black line is.  Seen to fail before (labels 'lam', 'gamma'; no word on the contour), and the key under
+    the map says it (the colour-bar label was four lines of prose)."""
     from matplotlib.figure import Figure
 
     spec = maps.MapSpec(maps.parse_axis("x", "lam:0.12:0.2:6"), maps.parse_axis("y", "gamma:2:4:6"),
@@ -150,7 +151,9 @@ def test_chaos_map_axes_are_mathematical_and_its_contour_explained():
     assert ax.get_xlabel() == r"$\bar\lambda$" and ax.get_ylabel() == r"$\gamma$"
     assert len(ax.collections) >= 2  # the mesh and the contour
     bar_label = fig.axes[1].get_ylabel().replace("\u00a0", " ").replace("\n", " ")
-    assert "black line on the map: growth exponent = 3" in bar_label, bar_label
+    assert bar_label == "growth exponent (chaotic > 3)", bar_label  # one short line (it was four lines of prose)
+    key = [t.get_text().replace("\u00a0", " ") for t in ax.get_legend().get_texts()]
+    assert "growth exponent = 3 (chaotic/regular boundary)" in key and "missing" in key, key
 
 
 def test_every_axis_label_of_the_figures_is_mathematical():

@@ -72,7 +72,7 @@ def _poincare_claims(out: Path, fig: str, label: str, bound: float, t_paper: flo
     rows = []
     cars = [c for c in _sidecars(out, f"fig{fig}[a-d].json")]
     if not cars:
-        return _not_run(label, f"Poincare sections of Figure {fig}")
+        return _not_run(label, f"Poincaré sections of Figure {fig}")
     worst = max(c["max_abs_dH"] for c in cars)
     n = min(c["n_points"] for c in cars)
     tmax = max(c["final_time"] for c in cars)
