@@ -13,7 +13,6 @@ import os
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 BASELINE = Path(__file__).resolve().parent / "baseline"
 TOL = 6.0  # RMS on 0..255 grey levels (matplotlib's own tests use 0-10 where fonts may differ)
