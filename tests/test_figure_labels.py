@@ -237,3 +237,28 @@ def test_every_contour_drawn_is_explained(tmp_path, monkeypatch):
             assert len(leg.get_texts()) >= len(colours), (ax.get_title(), [t.get_text() for t in leg.get_texts()])
             checked += 1
     assert checked >= 3
+
+
+@pytest.mark.parametrize("former", [False, True])
+def test_a_control_point_does_not_stretch_the_log_axis(former):
+    """The splitting figure's integrable controls (zero or at the rounding level) are drawn at a floor three decades
+    under the measurements, marked "<=": the axis spans the measurements, not 1e-40.  The former drawing
+    (max(|v|, 1e-40), former=True) is seen to fail the same check (the axis went down to 1e-40)."""
+    from matplotlib.figure import Figure
+
+    from magrod.figures.splitting import plot_control
+
+    eps = np.array([0.05, 0.1, 0.2, 0.4])
+    measured = 3e-3 * eps**4
+    ctl = np.array([0.0, 1e-30, 0.0, 2e-17])
+    ax = Figure().add_subplot()
+    ax.loglog(eps, measured, "o-")
+    if former:
+        ax.loglog(eps, np.maximum(np.abs(ctl), 1e-40), "x")
+    else:
+        floor = plot_control(ax, eps, ctl, measured, "control")
+        assert floor == pytest.approx(1e-3 * measured.min())
+        assert any("\\leq" in t for t in [h.get_label() for h in ax.get_lines()])
+    lo, hi = ax.get_ylim()
+    decades = np.log10(hi) - np.log10(lo)
+    assert (decades > 20) if former else (decades < 8), (lo, hi)
