@@ -107,3 +107,20 @@ def test_terminal_summary_prints_the_tally():
          "tally": {"reproduced": 3, "differs (erratum)": 1, "failed": 0}}
     text = format_text(r)
     assert "4 claims: 3 reproduced, 1 differs (erratum)" in text
+
+
+def test_the_quick_runs_time_in_the_help_is_the_benchmarks(tmp_path):
+    """`reproduce --help` quotes the quick run's time from benchmarks/reproduce_time.json (it said "~1 min" while
+    the run took 123 s); without the file it quotes no time.  Seen to fail before (a typed "~1 min")."""
+    import json
+
+    from magrod.cli import build_parser
+    from magrod.cli.reproduce import TIMING, quick_time_text
+
+    p = tmp_path / "t.json"
+    p.write_text(json.dumps({"min_wall_s": 123.4, "cores": 2, "runs": [{"wall_s": 123.4, "load_before": [4.5, 4, 4]}]}))
+    assert quick_time_text(p) == "measured 123 s on 2 cores at load 4.5 (benchmarks/reproduce_time.json)"
+    assert not re.search(r"\d", quick_time_text(tmp_path / "absent.json"))
+    sub = next(a for a in build_parser()._actions if hasattr(a, "choices") and a.choices and "reproduce" in a.choices)
+    text = " ".join(sub.choices["reproduce"].format_help().split())
+    assert " ".join(quick_time_text(TIMING).split()) in text and "~1 min" not in text

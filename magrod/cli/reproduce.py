@@ -21,9 +21,29 @@ from .options import add_format, formats_from, integer
 TASKS = list(FIGURES)
 
 
+# the measured wall time of `reproduce --quick` (benchmarks/reproduce_time.py writes it; present in a source
+# checkout): the help quotes it from there, so that it cannot go stale silently
+TIMING = Path(__file__).resolve().parents[2] / "benchmarks" / "reproduce_time.json"
+
+
+def quick_time_text(path=None) -> str:
+    """What the help says of the quick run's time: the benchmark's measured minimum with its machine, or, without
+    the benchmark's file (an installed package), where to measure it."""
+    import json
+
+    try:
+        t = json.loads(Path(path or TIMING).read_text())
+        wall, cores = float(t["min_wall_s"]), int(t["cores"])
+        load = max(float(r["load_before"][0]) for r in t["runs"] if r["wall_s"] == t["min_wall_s"])
+    except (OSError, ValueError, KeyError, TypeError, IndexError):
+        return "time: measure it with benchmarks/reproduce_time.py"
+    return f"measured {wall:.0f} s on {cores} cores at load {load:.1f} (benchmarks/reproduce_time.json)"
+
+
 def add_arguments(p):
     p.add_argument("--out", default="out", help="output directory for PNGs, data, sidecars and REPORT.md")
-    p.add_argument("--quick", action="store_true", help="reduced sizes (fewer Poincare iterates etc.), ~1 min")
+    p.add_argument("--quick", action="store_true",
+                   help=f"reduced sizes (fewer Poincaré iterates etc.); {quick_time_text()}")
     p.add_argument("--jobs", default="2", help="worker processes (figures run in parallel)")
     p.add_argument("--only", default=",".join(TASKS), help="comma-separated figure numbers to run")
     p.add_argument("--force", action="store_true", help="ignore finished-task stamps and recompute everything")
