@@ -331,6 +331,11 @@ class Tile:
     def key(self) -> str:
         return f"{self.iy}_{self.ix}"
 
+    @property
+    def n_points(self) -> int:
+        """The grid points of the tile (what a progress bar counts: points, not tiles)."""
+        return (self.ys.stop - self.ys.start) * (self.xs.stop - self.xs.start)
+
 
 def tiles(spec: MapSpec) -> list[Tile]:
     """The grid cut into tile x tile blocks, row-major; the same on every machine and for any worker count."""
@@ -625,7 +630,7 @@ def compute_map(spec: MapSpec, *, progress=None, client=None) -> ChaosMap:
         for k, v in res.items():
             fields[k][tile.ys, tile.xs] = v
         if progress is not None:
-            progress(1)
+            progress(tile.n_points)
     problem = check_fields(fields)
     return ChaosMap(problem is None, problem or "ok", spec, fields, time.perf_counter() - t0)
 
@@ -684,7 +689,7 @@ def chaos_map(x, y=None, *, panel=DEFAULT_PANEL, t_max=3000.0, tol=0.0, renorm_d
     client : dask.distributed.Client, optional
         Run the tiles on this cluster (the workers need magrod installed); None: in this process.
     progress : callable, optional
-        progress(n_tiles_done).
+        progress(n_points_done) as each tile finishes (a brute-force map; a refined map counts its tile parts).
     **values
         Values overriding the panel's (e.g. lam=0.15, h=0.9).
 

@@ -185,7 +185,7 @@ def build(out_dir, *, quick=False, progress=False) -> list[str]:
     spec = MapSpec(parse_axis("x", f"{REPRODUCE_AXES[0]}:{n}"),
                    parse_axis("y", f"{REPRODUCE_AXES[1]}:{n}"), base=panel_base("4a"),
                    panel="4a", t_max=t_max)
-    with bar(len(map_tiles(spec)), "chaos map", progress, unit="tile") as update:
+    with bar(sum(t.n_points for t in map_tiles(spec)), "chaos map", progress, unit="point") as update:
         from .. import chaos_map
 
         res = chaos_map(spec, progress=update)
