@@ -434,6 +434,15 @@ class Explorer(pn.viewable.Viewer):
     # orbits
     # ------------------------------------------------------------------------------------------------------
     def _on_tap(self, event):
+        doc = self.fig.document
+        if doc is None:
+            return self._tap(event)
+        from panel.io.document import hold
+
+        with hold(doc, policy="combine"):  # the launch's changes (marker, slot, colour, status): one message
+            return self._tap(event)
+
+    def _tap(self, event):
         self.tap_wall.append(time.time())
         self._last_tap_px = (event.sx, event.sy)
         t = time.perf_counter()
@@ -681,7 +690,18 @@ class Explorer(pn.viewable.Viewer):
     # ------------------------------------------------------------------------------------------------------
     def poll(self) -> int:
         """Move the workers' output onto the page (the periodic callback; call it by hand without a server).
-        Returns the number of messages handled."""
+        Returns the number of messages handled.  Served, the poll's changes reach the page as one message (a
+        document hold): every message repaints every drawn point, and a poll makes several changes (points, colour,
+        list, status) that were painted one by one."""
+        doc = self.fig.document if self._served else None
+        if doc is None:
+            return self._poll()
+        from panel.io.document import hold  # nests safely with Panel's own holds (it releases only its own)
+
+        with hold(doc, policy="combine"):
+            return self._poll()
+
+    def _poll(self) -> int:
         self._watch_connection()
         n = 0
         relabel = streamed_first = False
