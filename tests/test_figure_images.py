@@ -61,3 +61,26 @@ def test_poincare_panel(tmp_path):
     fig = Figure(figsize=(5.0, 4.2), layout="constrained")
     res.plot(ax=fig.add_subplot())
     _check(fig, "poincare_4a", tmp_path)
+
+
+def test_explorer_picture_shows_both_branches(tmp_path):
+    """The explorer's exported section picture (section.png) on Fig 5(a) with the orbit from (2.499, -0.003) that
+    crosses both branches: each branch's boundary and no-root shading (psi = 0 solid and grey, psi = pi dashed and
+    hatched) and its own marker.  Seen to fail with the picture as it was (one boundary, at psi = 0: RMS 51)."""
+    from matplotlib.testing.compare import compare_images
+
+    import magrod as mr
+    from magrod.explorer.export import section_picture
+
+    app = mr.explore("5a", iterates=300)
+    try:
+        o = app.launch(2.499, -0.003)
+        assert o is not None and app.wait(120) and o.status == "done", o and o.message
+        got = section_picture(app, tmp_path / "explore_5a.png")
+    finally:
+        app.close()
+    ref = BASELINE / "explore_5a.png"
+    if os.environ.get("MAGROD_WRITE_BASELINE"):
+        ref.write_bytes(Path(got).read_bytes())
+    err = compare_images(str(ref), str(got), tol=TOL)
+    assert err is None, err

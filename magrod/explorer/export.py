@@ -97,7 +97,7 @@ def section_picture(app, path) -> Path:
     ax.set_ylabel(r"$\bar p_\theta$")
     p = app.params
     ax.set_title(f"$m = {p.m:g}$, $\\mu = {p.mu:g}$, $\\gamma = {p.gamma:g}$, $\\delta = {p.delta:g}$, "
-                 f"$\\bar\\lambda = {p.lam:g}$, $h = {app.h:g}$: section $\\sin\\psi = 0$ "
+                 f"$\\bar\\lambda = {p.lam:g}$, $h = {app.h:g}$: section $\\sin\\psi = 0$, "
                  f"{sum(o.result is not None for o in app.orbits)} orbit(s)", fontsize=9)
     ax.legend(loc="upper right", fontsize=7)
     out = atomic_savefig(fig, path, dpi=150)
