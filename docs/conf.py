@@ -68,6 +68,24 @@ nitpicky = False
 smartquotes_action = "qe"
 
 
+def _summary_table() -> list[str]:
+    """A table at the top of the API page, as scipy's references open: every public name (linked to its entry)
+    with the first line of its docstring."""
+    import inspect
+
+    rows = []
+    for name in magrod.__all__:
+        doc = inspect.getdoc(getattr(magrod, name)) or ""
+        first = " ".join(doc.split("\n\n")[0].split()).replace("|", "/")
+        if len(first) > 160:
+            first = first[:160].rsplit(" ", 1)[0] + " ..."
+        kind = "class" if isinstance(getattr(magrod, name), type) else "function"
+        rows += [f"   * - `mr.{name} <#mr-{name.lower().replace('_', '-')}>`__", f"     - {kind}",
+                 f"     - {first or '(no summary)'}"]
+    return [".. list-table:: The public names", "   :header-rows: 1", "   :widths: 25 10 65", "",
+            "   * - name", "     - kind", "     - what it is", *rows, ""]
+
+
 def _write_api_page() -> None:
     """api.rst from magrod.__all__ (the pinned public names, tests/test_layout.py): one entry per name.
 
@@ -81,6 +99,7 @@ def _write_api_page() -> None:
     lines = ["API reference", "=============", "",
              "The public API is the flat namespace ``import magrod as mr``; these are the names in "
              "``magrod.__all__``, documented from their docstrings (numpydoc).", ""]
+    lines += _summary_table()
     for name in magrod.__all__:
         obj = getattr(magrod, name)
         kind = "autoclass" if isinstance(obj, type) else "autofunction"

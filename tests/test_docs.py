@@ -267,3 +267,17 @@ def test_mathematics_is_rendered_as_mathematics(site):
         for code in art.select("code, pre, span.math, div.math"):
             code.decompose()
         assert not re.search(r"\bW\^[us]\b", art.get_text()), name
+
+
+def test_api_page_opens_with_a_summary_table(site):
+    """The API page opens with a table of every public name (linked to its entry) and its one-line summary, as
+    scipy's references do.  Seen to fail before (no table: 24 entries one under the other, 38 000 px)."""
+    soup = bs4.BeautifulSoup((site / "api.html").read_text(), "html.parser")
+    table = soup.select_one("article table")
+    assert table is not None
+    rows = table.select("tbody tr")
+    ids = {x["id"] for x in soup.select("[id]")}
+    names = [r.select_one("a").get_text(strip=True) for r in rows]
+    assert names == [f"mr.{n}" for n in magrod.__all__]
+    assert all(r.select_one("a")["href"].lstrip("#") in ids for r in rows)
+    assert all(len(r.select("td")[2].get_text(strip=True)) > 10 for r in rows)
