@@ -1,8 +1,8 @@
-"""The explorer page: a Panel app with a Bokeh section plot (issue 19).
+"""The explorer page: a Panel app with a Bokeh section plot.
 
 Layout: parameter widgets (m, mu, gamma, delta, lambdabar, h, iterates; each validated as `magrod poincare`
-validates it, the message shown under the widget) | the section sin(psi) = 0 in (theta, pbar_theta) with the
-energy-level boundary, orbits coloured by their growth exponent on the chaos map's scale, the colour bar stating
+validates it, every wrong field's message shown under it) | the section sin(psi) = 0 in (theta, pbar_theta): each
+branch (psi = 0, psi = pi) with its own energy-level boundary, no-root shading and marker, orbits coloured by their growth exponent on the chaos map's scale, the colour bar stating
 the threshold | the orbit list (delete, clear, undo, export) and, for the selected orbit, its conservation errors
 and the 3-D rod.
 

@@ -55,7 +55,7 @@ def _is_panel_level(app) -> bool:
 
 
 def section_picture(app, path) -> Path:
-    """The section as the page shows it, drawn with matplotlib for print: boundary, forbidden region grey,
+    """The section as the page shows it, drawn with matplotlib for print: each branch's boundary and no-root region,
     every orbit in its growth-exponent colour, colour bar on the chaos map's scale with the threshold marked."""
     from ..figures.chaos import growth_ticks
     from ..figures.common import pyplot
