@@ -279,3 +279,20 @@ def test_model_section_axes_read_as_mathematics_and_its_title_has_no_diagnostics
     assert (ax.get_xlabel(), ax.get_ylabel()) == ("$m_{2}$", "$n_{2}$")
     assert "dH" not in ax.get_title() and "e-14" not in ax.get_title() and "Poincaré" in ax.get_title()
     assert math_name("eps") == r"$\varepsilon$" and math_name("ptheta") == r"$p_{\theta}$"
+
+
+def test_fig4_panel_titles_carry_no_diagnostics():
+    """Fig 4's panels are titled by the parameter that varies, in mathematics; max |Hbar - h| is in each panel's
+    sidecar, not in its title, and the suptitle says Poincaré.  Seen to fail before ("[max|$\\bar H$-h| = 3.6e-14]"
+    in every panel title, "Poincare")."""
+    import magrod as mr
+    from magrod.figures.poincare import panels_figure
+
+    keys = ["4a", "4b", "4c", "4d"]
+    results = {k: mr.poincare_section(k, iterates=20) for k in keys}
+    fig = panels_figure(results, keys, "4", 20)
+    titles = [ax.get_title() for ax in fig.axes]
+    assert titles == [r"(a) $\bar\lambda = 0.135$", r"(b) $\bar\lambda = 0.1575$", r"(c) $\bar\lambda = 0.175$",
+                      r"(d) $\bar\lambda = 0.186$"], titles
+    sup = fig._suptitle.get_text()
+    assert "Poincaré" in sup and "max" not in sup and "$h = 0.9$" in sup
