@@ -296,3 +296,16 @@ def test_fig4_panel_titles_carry_no_diagnostics():
                       r"(d) $\bar\lambda = 0.186$"], titles
     sup = fig._suptitle.get_text()
     assert "Poincaré" in sup and "max" not in sup and "$h = 0.9$" in sup
+
+
+def test_lyapunov_plot_title_says_its_verdict_plainly():
+    """LyapunovResult.plot's title: the verdict, the growth exponent and the threshold, not the criterion's code
+    ("(chaotic: chaotic iff growth_exponent = ...)").  Seen to fail before."""
+    import magrod as mr
+    from matplotlib.figure import Figure
+
+    res = mr.lyapunov("4a", t_max=200)
+    title = res.plot(ax=Figure().add_subplot()).get_title()
+    verdict = "chaotic" if res.chaotic else "regular"
+    assert f": {verdict} (growth exponent {res.growth_exponent:.3g}, threshold {res.threshold:g}" in title, title
+    assert "iff" not in title and "growth_exponent" not in title
