@@ -167,8 +167,11 @@ class Explorer(pn.viewable.Viewer):
         self.panel_select = pn.widgets.Select(label="paper panel", options=list(PANELS), value=P.key, width=150,
                                              css_classes=["magrod-panel"])
         self.panel_select.param.watch(self._deferred(self._on_panel), "value")
+        # a fixed height: a status line that wrapped to another line changed the page's layout, and a relayout
+        # repaints the plot's every point (measured: a repaint per status change)
         self.status = _Text("Click inside the boundary to launch an orbit.", "magrod-status",
-                            sizing_mode="stretch_width", styles={"font-size": "13px"}, min_height=40)
+                            sizing_mode="stretch_width", styles={"font-size": "13px", "overflow-y": "auto"},
+                            height=40)
         # the orbit list lives outside the plot and scrolls: the plot keeps its size whatever the number of orbits
         self.orbit_list = pn.widgets.Select(label="orbits (select one for its details and rod)", options={}, size=10,
                                             width=400, css_classes=["magrod-orbit-list"])
@@ -892,24 +895,23 @@ class Explorer(pn.viewable.Viewer):
                         f"finite-time Lyapunov exponent {ind.lyap:.3g}; conservation along it "
                         f"|dH| {ind.max_abs_dH:.1e}, Casimirs {ind.casimir_drift:.1e}")
         if not rod and o.status == "done":
-            rows.append("rod: drawn when no orbit is computing (or select the orbit)")
+            rows.append("rod: drawn when no orbit is computing (or select the orbit); the rod shown names its orbit")
         self.details.object = "<br>".join(rows)
         if rod:
             self._show_rod(o)
-        else:
-            self.rod_pane.visible = False
+        # else the rod shown stays (its title names its orbit): hiding and showing the pane relayouted the page,
+        # and every relayout repaints every point of the plot
 
     def _show_rod(self, o: Orbit):
         """Compute the rod of `o` on a worker thread (it integrates the frame: never on the page's event loop);
         poll() shows it when it arrives, if `o` is still the selected orbit."""
         if o.start is None or o.status != "done":  # not while the orbit computes: its first points come first
-            self.rod_pane.visible = False
-            return
+            return  # the rod shown (titled with its orbit) stays: a hidden pane relayouts the page
         if getattr(o, "rod_figure", None) is not None and o.rod_for is o.start:
             self.rod_pane.object, self.rod_pane.visible = o.rod_figure, True
             return
         start = o.start
-        self._worker.call(lambda: rod_figure(start, self.rod_length),
+        self._worker.call(lambda: rod_figure(start, self.rod_length, label=f"#{o.id}"),
                           lambda fig: self._queue.put(("rod", o, start, fig)))
 
     # ------------------------------------------------------------------------------------------------------
@@ -1029,7 +1031,7 @@ def _escape(s: str) -> str:
     return s.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
 
 
-def rod_figure(start, length: float):
+def rod_figure(start, length: float, label: str = ""):
     """A plotly figure of the rod from `start`: the centreline over [0, length] as a tube (transverse
     displacements magnified, factor in the title), coloured by arclength."""
     import plotly.graph_objects as go
@@ -1045,7 +1047,8 @@ def rod_figure(start, length: float):
                               intensity=np.repeat(s, k), colorscale="Viridis", showscale=True,
                               colorbar=dict(title="s", len=0.6), flatshading=False))
     M = rod["magnification"]
-    fig.update_layout(title=dict(text=f"rod centreline, s ∈ [0, {length:g}] (units B/m3), z along the field; "
+    fig.update_layout(title=dict(text=f"rod {label + ' ' if label else ''}centreline, s ∈ [0, {length:g}] (units B/m3), "
+                                      f"z along the field; "
                                       f"transverse displacements magnified ×{M:g}"
                                       f"{' (true scale)' if M == 1 else ''}<br>frame checks: |DᵀD − I| "
                                       f"{rod['orthonormality']:.0e}, |Dᵀz − e3| {rod['field_consistency']:.0e}",
