@@ -159,7 +159,7 @@ def module(chart: dict, body: dict) -> str:
 def derive_all(chart: dict, body: dict) -> list[Result]:
     ok = hamilton_check(chart["Hbar"], chart["rhs"])
     lift_ok, lift_details = lift_checks(chart["rhs"])
-    return [Result("chart_body_lift", "eq:canonical_moment, eq:canonical_force, eq:full_ham_nondim (issue 21)",
+    return [Result("chart_body_lift", "eq:canonical_moment, eq:canonical_force, eq:full_ham_nondim",
                    "The lift X(q, phi) intertwines the flows at the numeric scale: f_body(X(q)) = DX(q) (f_chart(q), "
                    "Omega(q)), Omega = (1 - pbar_psi cos theta)/sin^2 theta; and the body polynomials g, Gs, Gc, s2, rad, "
                    "e33 equal sin(theta) pbar_theta, sin(theta) rho sin(psi), sin(theta) rho cos(psi), sin^2(theta), "
@@ -167,7 +167,7 @@ def derive_all(chart: dict, body: dict) -> list[Result]:
                    HOLDS if lift_ok else DISAGREES,
                    "symbolic: trig normal form (mod sin^2 + cos^2 = 1, rho^2 = radicand) of sin(theta) (f_body(X) - DX "
                    "(f_chart, Omega)) and of each event minus its chart form is 0", lift_details),
-            Result("validated_fields", "eq:full_ham_nondim, eq:noncanonical_structure (issue 21)",
+            Result("validated_fields", "eq:full_ham_nondim, eq:noncanonical_structure",
                    "Ball-arithmetic chart and body fields for the computer-assisted proof: the chart field is "
                    "Hamilton's equations of Hbar, Jacobians by differentiation, the reversor R = diag(1, -1, -1, 1)",
                    HOLDS if ok else DISAGREES,

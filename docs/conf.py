@@ -1,4 +1,4 @@
-"""Sphinx configuration of the magrod documentation (issue 19).
+"""Sphinx configuration of the magrod documentation.
 
 Build (the command in README.md):  python -m sphinx -W --keep-going -b html docs docs/_build/html
 -W turns every warning into an error (tests/test_docs.py builds it so).  The notebooks in docs/notebooks are
@@ -29,14 +29,24 @@ extensions = [
     "sphinx.ext.mathjax",
     "sphinxarg.ext",
 ]
-exclude_patterns = ["_build", "_generated_cache", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store"]
+exclude_patterns = ["_build", "_generated_cache", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store", "_templates",
+                    # the source of the six theory/*.md pages (each includes its part): not a page of its own
+                    "nonintegrability.md"]
 html_theme = "pydata_sphinx_theme"
 html_title = f"magrod {release}"
-html_theme_options = {"navigation_with_keys": False, "show_toc_level": 2}
-html_static_path = []
+# a short top bar (the five parts of the root toctree, no "More" menu), the whole site in the left sidebar of every
+# page (_templates/site-nav.html), anchors scrolled clear of the sticky header (_static/magrod.css)
+html_theme_options = {"navigation_with_keys": False, "show_toc_level": 2, "header_links_before_dropdown": 5,
+                      "secondary_sidebar_items": ["page-toc"]}
+html_sidebars = {"**": ["site-nav"]}
+templates_path = ["_templates"]
+html_static_path = ["_static"]
+html_css_files = ["magrod.css"]
 
 # myst / myst-nb: notebooks executed at build time, rendered from their executed cells
-myst_enable_extensions = ["dollarmath", "colon_fence"]
+# $...$ and $$...$$ (dollarmath) and LaTeX environments (amsmath), typeset by MathJax (sphinx.ext.mathjax; the
+# script comes from MathJax's CDN when a page with mathematics is opened)
+myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence"]
 myst_heading_anchors = 3
 nb_execution_mode = os.environ.get("MAGROD_NB_EXECUTION", "force")
 nb_execution_timeout = 300
@@ -58,6 +68,24 @@ nitpicky = False
 smartquotes_action = "qe"
 
 
+def _summary_table() -> list[str]:
+    """A table at the top of the API page, as scipy's references open: every public name (linked to its entry)
+    with the first line of its docstring."""
+    import inspect
+
+    rows = []
+    for name in magrod.__all__:
+        doc = inspect.getdoc(getattr(magrod, name)) or ""
+        first = " ".join(doc.split("\n\n")[0].split()).replace("|", "/")
+        if len(first) > 160:
+            first = first[:160].rsplit(" ", 1)[0] + " ..."
+        kind = "class" if isinstance(getattr(magrod, name), type) else "function"
+        rows += [f"   * - `mr.{name} <#mr-{name.lower().replace('_', '-')}>`__", f"     - {kind}",
+                 f"     - {first or '(no summary)'}"]
+    return [".. list-table:: The public names", "   :header-rows: 1", "   :widths: 25 10 65", "",
+            "   * - name", "     - kind", "     - what it is", *rows, ""]
+
+
 def _write_api_page() -> None:
     """api.rst from magrod.__all__ (the pinned public names, tests/test_layout.py): one entry per name.
 
@@ -71,6 +99,7 @@ def _write_api_page() -> None:
     lines = ["API reference", "=============", "",
              "The public API is the flat namespace ``import magrod as mr``; these are the names in "
              "``magrod.__all__``, documented from their docstrings (numpydoc).", ""]
+    lines += _summary_table()
     for name in magrod.__all__:
         obj = getattr(magrod, name)
         kind = "autoclass" if isinstance(obj, type) else "autofunction"

@@ -425,6 +425,58 @@ def test_a_long_orbit_draws_without_freezing_the_page(server, browser):
     page.close()
 
 
+def _drawn(page, orbit_id) -> dict:
+    """What the page draws, read from Bokeh's models: the orbit's points with their branch, each branch's boundary
+    (the "no root" region's edge), and the marker and filter of each of the orbit's scatters."""
+    return page.evaluate("""(id) => {
+        const doc = Bokeh.documents[0];
+        const src = doc.get_model_by_name('orbit-src-' + id);
+        const fig = doc.get_model_by_name('section');
+        const out = {x: Array.from(src.data.x), y: Array.from(src.data.y), branch: Array.from(src.data.branch),
+                     bounds: {}, scatters: []};
+        for (const b of ['0', 'pi']) {
+            const f = doc.get_model_by_name('forbidden-' + b);
+            out.bounds[b] = {x: Array.from(f.data.x), up: Array.from(f.data.up)};
+        }
+        for (const r of fig.renderers) {
+            if (r.data_source === src)
+                out.scatters.push({marker: r.glyph.marker.value ?? r.glyph.marker,
+                                   group: r.view.filter.group, visible: r.visible});
+        }
+        return out;
+    }""", orbit_id)
+
+
+def test_fig5_points_lie_in_their_branchs_allowed_region(server, browser):
+    """The truth of the picture: on Fig 5(a) a click at (theta, pbar_theta) = (2.499, -0.003) gives a regular orbit
+    that crosses both branches of the section (psi = 0 and psi = pi).  Every drawn point must lie inside the energy
+    boundary of its own branch (the page's own data: the boundary it shades, the branch column of the points), and
+    each branch must have its own scatter (own marker) and its own boundary.  Seen to fail with the psi = pi
+    boundary computed at psi = 0 (the old picture: one boundary for both branches): 499 of the 898 psi = pi points
+    lay in the region shaded "no root"."""
+    from magrod.explorer import model
+
+    page = _open(browser, server.url)
+    page.locator(".magrod-panel select").select_option("5a")
+    _wait_text(page, ".magrod-status", lambda s: "Parameters applied" in s)
+    _click_inside(page, 2.499, -0.003)
+    _wait_text(page, ".magrod-status", lambda s: "#1:" in s and "growth exponent" in s, 120)
+    d = _drawn(page, 1)
+    x, y, br = np.asarray(d["x"]), np.asarray(d["y"]), np.asarray(d["branch"])
+    assert len(x) == 1000 and set(br) == {"0", "pi"}, (len(x), set(br))
+    for b in ("0", "pi"):
+        bound = {"theta": np.asarray(d["bounds"][b]["x"]), "pmax": np.asarray(d["bounds"][b]["up"])}
+        bad = model.no_root(x[br == b], y[br == b], bound)
+        assert not bad.any(), f"{int(bad.sum())} psi = {b} points drawn in psi = {b}'s no-root region"
+    assert sorted((s["group"], s["marker"]) for s in d["scatters"]) == [("0", "circle"), ("pi", "triangle")]
+    assert all(s["visible"] for s in d["scatters"])
+    # the two boundaries differ here (else the picture could not show the overlay)
+    assert np.max(np.abs(np.subtract(d["bounds"]["0"]["up"], d["bounds"]["pi"]["up"]))) > 0.1
+    ARTIFACTS.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(ARTIFACTS / "explore-fig5a-branches.png"), full_page=True)
+    page.close()
+
+
 def test_ctrl_c_stops_everything(server, browser):
     page = _open(browser, server.url)
     _set_iterates(page, 2_000_000)

@@ -52,12 +52,13 @@ def test_typed_start_bad_text_is_a_message(page):
 
 
 def test_no_legend_item_per_orbit(page):
-    """The plot's legend has one item (the energy boundary) however many orbits there are; the orbits are listed
-    in the scrolling list beside the plot.  Seen to fail before (one LegendItem per orbit slot)."""
+    """The plot's legend has one item per branch of the section (its marker and energy boundary) however many
+    orbits there are; the orbits are listed in the scrolling list beside the plot.  Seen to fail before (one
+    LegendItem per orbit slot)."""
     for th in (0.3, 0.6, 0.9, 1.2):
         page.launch(th, 0.0)
     assert page.wait(120)
-    assert len(page.legend.items) == 1
+    assert len(page.legend.items) == 2
     assert len(page.orbit_list.options) == len(page.orbits) >= 5
 
 
@@ -87,3 +88,25 @@ def test_marker_size_and_projection(page):
     page.set_projection("θ – p̄θ")
     assert page.legend.visible
     np.testing.assert_allclose(np.asarray(o.source.data["y"]), o.result.points[:, 2][::o.stride], rtol=0, atol=1e-14)
+
+
+def test_no_renderer_is_added_during_a_click(monkeypatch):
+    """Clicks beyond the renderers made with the page take renderers made between clicks (one batch), never a new
+    one in the click: adding a renderer to a live page walks the whole document (~0.3-1 s on the event loop),
+    which made every click after the 24th slower (the time per click crept up with the orbit count).  Seen to
+    fail before the batch refill (slow_slots == 6 after 30 orbits with 24 slots; here 4 slots and 10 orbits)."""
+    monkeypatch.setattr(app_mod, "N_SLOTS", 4)
+    monkeypatch.setattr(app_mod, "SLOT_REFILL_AT", 2)
+    from magrod.explorer import worker
+
+    monkeypatch.setattr(worker, "growth_indicator", lambda *args: None)  # not what this test is about (~1 s each)
+    a = mr.explore("4a", iterates=20)
+    try:
+        for k in range(10):
+            o = a.launch(0.3 + 0.2 * k, 0.0)
+            assert o is not None and a.wait(120) and o.status == "done", o and o.message
+        assert a.slow_slots == 0 and len(a._free_slots) >= 1
+        assert all(o.renderer.visible for o in a.orbits)
+        assert len({id(o.source) for o in a.orbits}) == 10
+    finally:
+        a.close()

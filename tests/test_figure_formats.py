@@ -115,13 +115,17 @@ def test_report_marks_the_claims_of_a_failed_figure(fig2):
     mel = [r for r in rows if r["label"] == "fig:Mel_ext"]
     assert mel and mel[0]["verdict"] != "failed" and mel[0]["figures"] == ["2"]
     text = report_markdown(rows, {}, {"2": "RuntimeError: boom", "6": "ValueError: x"}, True, 1.0)
-    line = next(ln for ln in text.splitlines() if ln.startswith("| fig:Mel_ext"))
-    assert "figure 2 FAILED: RuntimeError: boom" in line and line.rstrip().endswith("| failed |")
+    def details(label):  # the claim's row in the table (its verdict word) and its details (the full text)
+        k, row = next((k, ln) for k, ln in enumerate(text.splitlines()) if f"| {label} |" in ln and ln.startswith("| ["))
+        anchor = row.split("](#")[1].split(")")[0]
+        block = text.split(f'<a id="{anchor}"></a>')[1].split("<a id=")[0]
+        return row, block
+
+    row, block = details("fig:Mel_ext")
+    assert "figure 2 FAILED: RuntimeError: boom" in block and row.rstrip().endswith("| failed |")
     assert "- Figure 2: FAILED" in text
-    lines = text.splitlines()
-    fig6 = next(ln for ln in lines if ln.startswith("| fig:multimodal1 |"))
-    fig7 = next(ln for ln in lines if ln.startswith("| fig:multimodal2 |"))
-    table = next(ln for ln in lines if ln.startswith("| branch table"))  # reads figures 6, 7 and continuation
+    fig6, fig7 = details("fig:multimodal1")[1], details("fig:multimodal2")[1]
+    table = next(details(r["label"])[1] for r in rows if r["label"].startswith("branch table"))
     assert "figure 6 FAILED" in fig6 and "FAILED" not in fig7 and "figure 6 FAILED" in table
 
 

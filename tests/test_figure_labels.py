@@ -138,7 +138,8 @@ def test_no_offset_tick_labels(tmp_path):
 
 def test_chaos_map_axes_are_mathematical_and_its_contour_explained():
     """The map's axes read lambda-bar and gamma (never lam, gamma as code names), and the colour-bar label says
-    what the black line is.  Seen to fail before (labels 'lam', 'gamma'; no word on the contour)."""
+    what the black line is.  Seen to fail before (labels 'lam', 'gamma'; no word on the contour), and the key under
+    the map says it (the colour-bar label was four lines of prose)."""
     from matplotlib.figure import Figure
 
     spec = maps.MapSpec(maps.parse_axis("x", "lam:0.12:0.2:6"), maps.parse_axis("y", "gamma:2:4:6"),
@@ -150,7 +151,9 @@ def test_chaos_map_axes_are_mathematical_and_its_contour_explained():
     assert ax.get_xlabel() == r"$\bar\lambda$" and ax.get_ylabel() == r"$\gamma$"
     assert len(ax.collections) >= 2  # the mesh and the contour
     bar_label = fig.axes[1].get_ylabel().replace("\u00a0", " ").replace("\n", " ")
-    assert "black line on the map: growth exponent = 3" in bar_label, bar_label
+    assert bar_label == "growth exponent (chaotic > 3)", bar_label  # one short line (it was four lines of prose)
+    key = [t.get_text().replace("\u00a0", " ") for t in ax.get_legend().get_texts()]
+    assert "growth exponent = 3 (chaotic/regular boundary)" in key and "missing" in key, key
 
 
 def test_every_axis_label_of_the_figures_is_mathematical():
@@ -234,3 +237,75 @@ def test_every_contour_drawn_is_explained(tmp_path, monkeypatch):
             assert len(leg.get_texts()) >= len(colours), (ax.get_title(), [t.get_text() for t in leg.get_texts()])
             checked += 1
     assert checked >= 3
+
+
+@pytest.mark.parametrize("former", [False, True])
+def test_a_control_point_does_not_stretch_the_log_axis(former):
+    """The splitting figure's integrable controls (zero or at the rounding level) are drawn at a floor three decades
+    under the measurements, marked "<=": the axis spans the measurements, not 1e-40.  The former drawing
+    (max(|v|, 1e-40), former=True) is seen to fail the same check (the axis went down to 1e-40)."""
+    from matplotlib.figure import Figure
+
+    from magrod.figures.splitting import plot_control
+
+    eps = np.array([0.05, 0.1, 0.2, 0.4])
+    measured = 3e-3 * eps**4
+    ctl = np.array([0.0, 1e-30, 0.0, 2e-17])
+    ax = Figure().add_subplot()
+    ax.loglog(eps, measured, "o-")
+    if former:
+        ax.loglog(eps, np.maximum(np.abs(ctl), 1e-40), "x")
+    else:
+        floor = plot_control(ax, eps, ctl, measured, "control")
+        assert floor == pytest.approx(1e-3 * measured.min())
+        assert any("\\leq" in t for t in [h.get_label() for h in ax.get_lines()])
+    lo, hi = ax.get_ylim()
+    decades = np.log10(hi) - np.log10(lo)
+    assert (decades > 20) if former else (decades < 8), (lo, hi)
+
+
+def test_model_section_axes_read_as_mathematics_and_its_title_has_no_diagnostics():
+    """The landscape figure's section panels: axes $m_{2}$, $n_{2}$ (they read "m2", "n2"), and the title names the
+    rod, its |dH| and |dC| being in the sidecar.  Seen to fail before (labels "m2", "n2"; title "... |dH| <= ...")."""
+    from types import SimpleNamespace
+
+    from matplotlib.figure import Figure
+
+    from magrod.figures.models import math_name, plot_model_section
+
+    sec = SimpleNamespace(state_names=("m1", "m2", "m3", "n1", "n2"), points=np.zeros((2, 3, 5)),
+                          counts=np.array([3, 2]), model="anisotropic", energy_error=1e-14, casimir_error=2e-14)
+    ax = plot_model_section(sec, Figure().add_subplot(), x="m2", y="n2")
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("$m_{2}$", "$n_{2}$")
+    assert "dH" not in ax.get_title() and "e-14" not in ax.get_title() and "Poincaré" in ax.get_title()
+    assert math_name("eps") == r"$\varepsilon$" and math_name("ptheta") == r"$p_{\theta}$"
+
+
+def test_fig4_panel_titles_carry_no_diagnostics():
+    """Fig 4's panels are titled by the parameter that varies, in mathematics; max |Hbar - h| is in each panel's
+    sidecar, not in its title, and the suptitle says Poincaré.  Seen to fail before ("[max|$\\bar H$-h| = 3.6e-14]"
+    in every panel title, "Poincare")."""
+    import magrod as mr
+    from magrod.figures.poincare import panels_figure
+
+    keys = ["4a", "4b", "4c", "4d"]
+    results = {k: mr.poincare_section(k, iterates=20) for k in keys}
+    fig = panels_figure(results, keys, "4", 20)
+    titles = [ax.get_title() for ax in fig.axes]
+    assert titles == [r"(a) $\bar\lambda = 0.135$", r"(b) $\bar\lambda = 0.1575$", r"(c) $\bar\lambda = 0.175$",
+                      r"(d) $\bar\lambda = 0.186$"], titles
+    sup = fig._suptitle.get_text()
+    assert "Poincaré" in sup and "max" not in sup and "$h = 0.9$" in sup
+
+
+def test_lyapunov_plot_title_says_its_verdict_plainly():
+    """LyapunovResult.plot's title: the verdict, the growth exponent and the threshold, not the criterion's code
+    ("(chaotic: chaotic iff growth_exponent = ...)").  Seen to fail before."""
+    import magrod as mr
+    from matplotlib.figure import Figure
+
+    res = mr.lyapunov("4a", t_max=200)
+    title = res.plot(ax=Figure().add_subplot()).get_title()
+    verdict = "chaotic" if res.chaotic else "regular"
+    assert f": {verdict} (growth exponent {res.growth_exponent:.3g}, threshold {res.threshold:g}" in title, title
+    assert "iff" not in title and "growth_exponent" not in title

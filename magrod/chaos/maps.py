@@ -419,6 +419,11 @@ class Tile:
     def key(self) -> str:
         return f"{self.iy}_{self.ix}"
 
+    @property
+    def n_points(self) -> int:
+        """The grid points of the tile (what a progress bar counts: points, not tiles)."""
+        return (self.ys.stop - self.ys.start) * (self.xs.stop - self.xs.start)
+
 
 def tiles(spec: MapSpec) -> list[Tile]:
     """The grid cut into tile x tile blocks, row-major; the same on every machine and for any worker count."""
@@ -721,7 +726,7 @@ def compute_map(spec: MapSpec, *, progress=None, client=None) -> ChaosMap:
         for k, v in res.items():
             fields[k][tile.ys, tile.xs] = v
         if progress is not None:
-            progress(1)
+            progress(tile.n_points)
     problem = check_fields(fields)
     return ChaosMap(problem is None, problem or "ok", spec, fields, time.perf_counter() - t0)
 
@@ -837,7 +842,7 @@ def chaos_map(system=None, x=None, y=None, *, t_max=3000.0, tol=None, renorm_dt=
     client : dask.distributed.Client, optional
         Run the tiles on this cluster (the workers need magrod installed); None: in this process.
     progress : callable, optional
-        progress(n_tiles_done).
+        progress(n_points_done) as each tile finishes (a brute-force map; a refined map counts its tile parts).
     **values
         Values overriding the panel's (e.g. lam=0.15, h=0.9).
 
@@ -879,7 +884,7 @@ def chaos_map(system=None, x=None, y=None, *, t_max=3000.0, tol=None, renorm_dt=
     magrod.store.resumable; `magrod chaosmap --out DIR` is that).
 
     The default tolerance stays machine epsilon, by the work-precision study of the classification
-    (benchmarks/classification_precision.py, benchmarks/README.md "Issue 28"; numerical evidence, two machines, the
+    (benchmarks/classification_precision.py, benchmarks/README.md "Chaos maps at scale"; numerical evidence, two machines, the
     map lam x gamma = [0, 0.3] x [0, 3] at Figure 4's start rule):
 
     * 128 x 128, T = 1000, against the brute-force tol = eps map: the brute-force maps at 1e-12 and 1e-10 have the

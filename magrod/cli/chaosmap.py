@@ -219,8 +219,8 @@ def run(args) -> dict:
     from . import children_immune, pause_point
 
     pth = tiles.paths(out, name)
-    label, unit = ("chaosmap (refined)", "tile part") if spec.refine else ("chaosmap", "tile")
-    # the number of tiles to do is known once the store is opened: the bar counts up without a total
+    label, unit = ("chaosmap (refined)", "tile part") if spec.refine else ("chaosmap", "point")
+    # the number of points to do is known once the store is opened: the bar counts up without a total until then
     with bar(None, label, not args.quiet, unit=unit) as update, quiet_distributed():
         cm = stored_map(spec, out, stem=name, workers=workers, scheduler=address, force=args.force,
                         connect_timeout=connect_timeout, worker_timeout=worker_timeout, progress=update,

@@ -21,9 +21,29 @@ from .options import add_format, add_out, add_workers, formats_from, integer
 TASKS = list(FIGURES)
 
 
+# the measured wall time of `reproduce --quick` (benchmarks/reproduce_time.py writes it; present in a source
+# checkout): the help quotes it from there, so that it cannot go stale silently
+TIMING = Path(__file__).resolve().parents[2] / "benchmarks" / "reproduce_time.json"
+
+
+def quick_time_text(path=None) -> str:
+    """What the help says of the quick run's time: the benchmark's measured minimum with its machine, or, without
+    the benchmark's file (an installed package), where to measure it."""
+    import json
+
+    try:
+        t = json.loads(Path(path or TIMING).read_text())
+        wall, cores = float(t["min_wall_s"]), int(t["cores"])
+        load = max(float(r["load_before"][0]) for r in t["runs"] if r["wall_s"] == t["min_wall_s"])
+    except (OSError, ValueError, KeyError, TypeError, IndexError):
+        return "time: measure it with benchmarks/reproduce_time.py"
+    return f"measured {wall:.0f} s on {cores} cores at load {load:.1f} (benchmarks/reproduce_time.json)"
+
+
 def add_arguments(p):
     add_out(p, files=True, help="output directory for PNGs, data, sidecars and REPORT.md")
-    p.add_argument("--quick", action="store_true", help="reduced sizes (fewer Poincare iterates etc.), ~1 min")
+    p.add_argument("--quick", action="store_true",
+                   help=f"reduced sizes (fewer Poincaré iterates etc.); {quick_time_text()}")
     add_workers(p, default="2", help="worker processes (figures run in parallel)", old=("--jobs",))
     p.add_argument("--only", default=",".join(TASKS), help="comma-separated figure numbers to run")
     p.add_argument("--force", action="store_true", help="ignore finished-task stamps and recompute everything")
@@ -137,7 +157,7 @@ def run(args) -> dict:
     import multiprocessing
     import os
 
-    from ..figures.report import claims, report_markdown
+    from ..figures.report import claims, mark_failed, report_markdown, tally
     from ..core.io import atomic_write_json, atomic_write_text, ensure_writable_dir, remove_stale_temporaries, versions
     from ..core.progress import bar
     from . import children_immune, pause_point
@@ -208,18 +228,23 @@ def run(args) -> dict:
         lock.release()
     report_path = out / "REPORT.md"
     rows = claims(out, args.quick)
+    counts = tally(mark_failed(rows, failures))
     atomic_write_text(report_path, report_markdown(rows, done, failures, args.quick, time.perf_counter() - t0))
     res = {"ok": not failures, "out": str(out), "report": str(report_path), "quick": args.quick,
            "figures": {t: {"paths": d["paths"], "skipped": d["skipped"], "wall_s": d.get("wall_s")}
                        for t, d in sorted(done.items())},
-           "failures": failures, "claims": rows, "wall_s": time.perf_counter() - t0}
+           "failures": failures, "claims": rows, "tally": counts, "wall_s": time.perf_counter() - t0}
     if failures:
         res["error"] = "figure(s) failed: " + "; ".join(f"{t}: {m}" for t, m in sorted(failures.items()))
     return res
 
 
 def format_text(r: dict) -> str:
+    from ..figures.report import tally_text
+
     lines = [f"reproduce: {'ok' if r['ok'] else 'with failures'} in {r['wall_s']:.1f} s -> {r['report']}"]
+    if r.get("tally"):
+        lines.append(f"  {sum(r['tally'].values())} claims: {tally_text(r['tally'])}")
     for t, d in r["figures"].items():
         lines.append(f"  figure {t}: {len(d['paths'])} files" + (" (skipped: already done)" if d["skipped"] else ""))
     for t, msg in r["failures"].items():

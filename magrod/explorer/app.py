@@ -1,8 +1,8 @@
-"""The explorer page: a Panel app with a Bokeh section plot (issue 19).
+"""The explorer page: a Panel app with a Bokeh section plot.
 
 Layout: parameter widgets (m, mu, gamma, delta, lambdabar, h, iterates; each validated as `magrod poincare`
-validates it, the message shown under the widget) | the section sin(psi) = 0 in (theta, pbar_theta) with the
-energy-level boundary, orbits coloured by their growth exponent on the chaos map's scale, the colour bar stating
+validates it, every wrong field's message shown under it) | the section sin(psi) = 0 in (theta, pbar_theta): each
+branch (psi = 0, psi = pi) with its own energy-level boundary, no-root shading and marker, orbits coloured by their growth exponent on the chaos map's scale, the colour bar stating
 the threshold | the orbit list (delete, clear, undo, export) and, for the selected orbit, its conservation errors
 and the 3-D rod.
 
@@ -28,7 +28,8 @@ from pathlib import Path
 import numpy as np
 import panel as pn
 from bokeh.events import DoubleTap, Tap
-from bokeh.models import (ColorBar, ColumnDataSource, FixedTicker, Legend, LegendItem, LinearColorMapper, Range1d)
+from bokeh.models import (CDSView, ColorBar, ColumnDataSource, FixedTicker, GlyphRenderer, GroupFilter, Legend,
+                          LegendItem, LinearColorMapper, Range1d, Scatter)
 from bokeh.plotting import figure
 
 from ..core.errors import ParameterError
@@ -40,19 +41,32 @@ POLL_MS = 50
 CLOSE_GRACE_S = 0.05  # a session without a connection for this long is closed (Bokeh does not reconnect a
 # session's websocket: a reloaded page is a new session)
 PENDING_COLOUR = "#555555"
-N_SLOTS = 24  # orbit renderers made with the page (see _build_plot)
+N_SLOTS = 24  # orbit renderers made with the page (see _build_plot), and made again in one batch when few are left
+SLOT_REFILL_AT = 4  # free slots left when the next batch is made (by poll(), while no orbit computes)
 # Display-only decimation: an orbit shows at most this many of its points (every k-th, k fixed at launch from its
 # iterate count), so that drawing stays fluid at 10^5 iterates; exports and results keep every point.
 DISPLAY_CAP = 20_000
 # The page receives an orbit's new points at most this often (the chunks in between are joined): every message
 # re-renders the plot, and at 25 messages a second a tab without a GPU spent all its time drawing.
 STREAM_INTERVAL_S = 0.25
+# ... and less often the more points the plot holds: every message repaints every drawn point (canvas), so the
+# repaint cost grows with the orbit count; messages at most every (points drawn) / PAINT_POINTS_PER_S seconds keep
+# the page's share of time spent painting bounded (measured: a repaint of 30 orbits x 1000 points took 0.2-0.4 s
+# in headless chromium at load ~4, and the time per click grew with the orbit count, 3.5 -> 4.9 s median)
+PAINT_POINTS_PER_S = 20_000
 DOUBLE_CLICK_PX = 4  # a DoubleTap this close (screen pixels) to the previous tap is a double click, not a new click
 MARKER_SIZE = 3  # px, the page's marker-size control starts here
 # the projections of the section sin psi = 0 (the level fixes the third coordinate; theta-pbar_theta is where a
 # click or a typed start launches an orbit, and where the energy-level boundary is drawn)
 PROJECTIONS = {"θ – p̄θ": ("theta", "ptheta"), "θ – p̄ψ": ("theta", "ppsi"), "p̄θ – p̄ψ": ("ptheta", "ppsi")}
 AXIS_LABELS = {"theta": "θ", "ptheta": "p̄θ", "ppsi": "p̄ψ"}
+# each branch of the section (psi = 0, psi = pi) has its own marker, boundary line and "no root" shading: an orbit
+# crosses both, and a psi = pi point may lie where psi = 0 has no energy root (the two sections are overlaid)
+BRANCH_MARKER = {"0": "circle", "pi": "triangle"}
+BRANCH_STYLE = {"0": dict(line_color="black", line_dash="solid", fill_color="#c8c8c8", fill_alpha=0.75,
+                          hatch_pattern=None),
+                "pi": dict(line_color="#a6611a", line_dash="dashed", fill_color="#a6611a", fill_alpha=0.0,
+                           hatch_pattern="/")}
 PARAM_LABELS = {"m": "m", "mu": "μ", "gamma": "γ", "delta": "δ", "lam": "λ̄", "h": "h (level H̄ = h)",
                 "iterates": "iterates per orbit"}
 
@@ -66,8 +80,8 @@ class Orbit:
     ptheta0: float
     start: object = None  # worker.Start (None: no energy root at the current parameters)
     job: Job | None = None
-    source: ColumnDataSource | None = None
-    renderer: object = None
+    source: ColumnDataSource | None = None  # columns x, y and branch ("0" or "pi") of the drawn points
+    renderer: object = None  # _Glyphs: one scatter per branch over the one source
     iterates: int = 0  # the iterate count of its run (extended by extend())
     stride: int = 1  # display decimation: every stride-th point is drawn (DISPLAY_CAP)
     skip: int = 0  # points already shown before an extension's rerun (its first points are these, bit for bit)
@@ -85,10 +99,12 @@ class Orbit:
     rod_for: object = None  # the Start it was computed for
 
     def label(self, threshold: float) -> str:
+        """The orbit list's row: the start to 4 digits (the details show the exact doubles), so that the growth
+        exponent and the verdict fit the list's width."""
         g = getattr(self.indicator, "growth_exponent", None)
         verdict = "" if g is None else f", growth {g:.3g} → {'chaotic' if g > threshold else 'regular'}"
         state = "" if self.status == "done" else f" [{self.status}]"
-        return f"#{self.id}: θ₀={self.theta0!r}, p̄θ₀={self.ptheta0!r}, {self.n_points} pts{verdict}{state}"
+        return f"#{self.id}: θ₀={self.theta0:.4g}, p̄θ₀={self.ptheta0:.4g}, {self.n_points} pts{verdict}{state}"
 
 
 class Explorer(pn.viewable.Viewer):
@@ -148,10 +164,14 @@ class Explorer(pn.viewable.Viewer):
             self.inputs[name] = w
             self.errors[name] = _Text("", f"magrod-error-{name}", width=150,
                                       styles={"color": "#b00020", "font-size": "11px"}, margin=(0, 10, 0, 10))
-        self.panel_select = pn.widgets.Select(label="paper panel", options=list(PANELS), value=P.key, width=150)
+        self.panel_select = pn.widgets.Select(label="paper panel", options=list(PANELS), value=P.key, width=150,
+                                             css_classes=["magrod-panel"])
         self.panel_select.param.watch(self._deferred(self._on_panel), "value")
+        # a fixed height: a status line that wrapped to another line changed the page's layout, and a relayout
+        # repaints the plot's every point (measured: a repaint per status change)
         self.status = _Text("Click inside the boundary to launch an orbit.", "magrod-status",
-                            sizing_mode="stretch_width", styles={"font-size": "13px"}, min_height=40)
+                            sizing_mode="stretch_width", styles={"font-size": "13px", "overflow-y": "auto"},
+                            height=40)
         # the orbit list lives outside the plot and scrolls: the plot keeps its size whatever the number of orbits
         self.orbit_list = pn.widgets.Select(label="orbits (select one for its details and rod)", options={}, size=10,
                                             width=400, css_classes=["magrod-orbit-list"])
@@ -172,6 +192,12 @@ class Explorer(pn.viewable.Viewer):
         self.projection = pn.widgets.Select(label="projection", options=list(PROJECTIONS), value="θ – p̄θ",
                                             width=180, css_classes=["magrod-projection"])
         self.projection.param.watch(self._deferred(lambda e: self.set_projection(e.new)), "value")
+        self._branches_shown = set(model.BRANCH_PSI)  # shared with every orbit's _Glyphs
+        self.branch_toggle = pn.widgets.CheckButtonGroup(
+            name="section branches", options={f"{model.BRANCH_LABEL[k]} {'●' if k == '0' else '▲'}": k
+                                              for k in model.BRANCH_PSI},
+            value=list(model.BRANCH_PSI), width=180, css_classes=["magrod-branches"])
+        self.branch_toggle.param.watch(self._deferred(lambda e: self.show_branches(e.new)), "value")
         self.orbit_list.param.watch(self._deferred(self._on_select), "value")
         self.b_delete = pn.widgets.Button(label="Delete", width=80, css_classes=["magrod-delete"])
         self.b_clear = pn.widgets.Button(label="Clear", width=80, css_classes=["magrod-clear"])
@@ -201,32 +227,48 @@ class Explorer(pn.viewable.Viewer):
         f.title.text_font_size = "12px"
         f.axis.axis_label_text_font_size = "16px"
         f.axis.major_label_text_font_size = "12px"
-        self.forbidden = ColumnDataSource({"x": [], "top": [], "up": [], "lo": [], "bottom": []})
-        f.varea("x", "up", "top", source=self.forbidden, fill_color="#dddddd", fill_alpha=0.9)
-        f.varea("x", "bottom", "lo", source=self.forbidden, fill_color="#dddddd", fill_alpha=0.9)
-        b_up = f.line("x", "up", source=self.forbidden, color="black", line_width=1.5)
-        f.line("x", "lo", source=self.forbidden, color="black", line_width=1.5)
+        # per branch: the "no root" region (|p̄θ| beyond the boundary) shaded, and the boundary H̄ = h
+        self.forbidden, self._branch_shading, boundary_line = {}, {}, {}
+        for key in model.BRANCH_PSI:
+            st = BRANCH_STYLE[key]
+            src = ColumnDataSource({"x": [], "top": [], "up": [], "lo": [], "bottom": []}, name=f"forbidden-{key}")
+            hatch = {} if st["hatch_pattern"] is None else dict(hatch_pattern=st["hatch_pattern"],
+                                                                hatch_color=st["line_color"], hatch_alpha=0.55,
+                                                                hatch_scale=9.0)
+            areas = [f.varea("x", a, b, source=src, fill_color=st["fill_color"], fill_alpha=st["fill_alpha"],
+                             name=f"no-root-{key}", **hatch) for a, b in (("up", "top"), ("bottom", "lo"))]
+            lines = [f.line("x", c, source=src, color=st["line_color"], line_dash=st["line_dash"], line_width=1.5)
+                     for c in ("up", "lo")]
+            self.forbidden[key], self._branch_shading[key], boundary_line[key] = src, areas + lines, lines[0]
         self.start_marker = ColumnDataSource({"x": [], "y": []})
         f.scatter("x", "y", source=self.start_marker, marker="x", size=12, line_width=2, color="black")
         mapper = LinearColorMapper(palette=model.palette(self.threshold), low=0.0, high=1.0)
         ticks = model.colorbar_ticks(self.threshold)
         cb = ColorBar(color_mapper=mapper, ticker=FixedTicker(ticks=list(ticks)),
                       major_label_overrides={k: v for k, v in ticks.items()}, width=14, label_standoff=6,
-                      title=f"growth exponent (FLI(T)−FLI(T/2))/ln 2: chaotic > {self.threshold:g} "
-                            "(linear below, log above)", title_text_font_size="11px",
+                      # the definition (FLI(T) - FLI(T/2))/ln 2 and the scale are in the orbit's details
+                      title=f"growth exponent: chaotic > {self.threshold:g}", title_text_font_size="11px",
                       major_label_text_font_size="10px")
         f.add_layout(cb, "right")
         # one fixed legend item: the orbits are listed outside the plot (a legend item per orbit grew the legend
         # inside the plot's fixed height and squeezed the frame to a sliver after ~20 orbits)
-        self.legend = Legend(items=[LegendItem(label="H̄ = h boundary (grey: no energy root)", renderers=[b_up])],
-                             location="top_left", label_text_font_size="10px", background_fill_alpha=0.7,
-                             spacing=0, padding=4)
+        key_src = ColumnDataSource({"x": [], "y": []})  # legend keys only: the markers of the two branches
+        marks = {k: f.scatter("x", "y", source=key_src, marker=BRANCH_MARKER[k], size=7, color="#555555")
+                 for k in model.BRANCH_PSI}
+        items = []
+        for k in model.BRANCH_PSI:
+            shade = "grey" if k == "0" else "hatched"
+            items.append(LegendItem(label=f"{model.BRANCH_LABEL[k]} crossings; boundary H̄ = h, {shade}: no root",
+                                    renderers=[marks[k], boundary_line[k], self._branch_shading[k][0]]))
+        self.legend = Legend(items=items, location="top_left", label_text_font_size="10px",
+                             background_fill_alpha=0.7, spacing=0, padding=4, orientation="horizontal")
         f.add_layout(self.legend, "below")
-        self._boundary_renderers = [r for r in f.renderers]
         # Renderers made before the page exists: adding a renderer to a live document makes Bokeh walk every
         # model (~0.3 s, on the event loop, before the first points could be sent); a slot only changes data,
         # colour and visibility.  Orbits beyond N_SLOTS get new renderers (the slow path).
         self._free_slots = [self._new_slot(f, k) for k in range(N_SLOTS)]
+        self._n_slots = N_SLOTS
+        self.slow_slots = 0  # renderers added to the live page during a click (the slow path: should stay 0)
         f.on_event(Tap, self._on_tap)
         # Bokeh turns a second click within 300 ms of the first into a DoubleTap and sends no Tap: a quick second
         # click elsewhere was lost.  A DoubleTap away from the last tap is a click; on the same spot it is the
@@ -235,16 +277,27 @@ class Explorer(pn.viewable.Viewer):
         self.fig = f
         self.plot_pane = pn.pane.Bokeh(f, css_classes=["magrod-section"])
 
-    def _new_slot(self, f, k):
-        src = ColumnDataSource({"x": [], "y": []}, name=f"slot-src-{k}")
+    def _new_slot(self, f, k, attach: bool = True):
+        """An orbit's source (columns x, y, branch) and its _Glyphs: one scatter per branch, each showing the
+        source's rows of its branch (a CDSView), with the branch's marker.  attach=False: the renderers are not
+        added to the figure yet (a batch is added in one change: _refill_slots)."""
+        src = ColumnDataSource(_EMPTY_POINTS(), name=f"slot-src-{k}")
         size = self.marker_size.value if hasattr(self, "marker_size") else MARKER_SIZE
-        r = f.scatter("x", "y", source=src, size=size, line_width=0, color=PENDING_COLOUR, visible=False)
-        return src, r
+        rs = {b: GlyphRenderer(data_source=src, visible=False,
+                               glyph=Scatter(x="x", y="y", size=size + (1 if b == "pi" else 0), line_width=0,
+                                             marker=BRANCH_MARKER[b], fill_color=PENDING_COLOUR,
+                                             line_color=PENDING_COLOUR),
+                               view=CDSView(filter=GroupFilter(column_name="branch", group=b)))
+              for b in BRANCH_MARKER}
+        if attach:
+            f.renderers.extend(rs.values())
+        return src, _Glyphs(rs, self._branches_shown)
 
     def _take_slot(self, o: Orbit):
         if self._free_slots:
             o.source, o.renderer = self._free_slots.pop(0)
         else:
+            self.slow_slots += 1
             o.source, o.renderer = self._new_slot(self.fig, f"extra-{o.id}")
         o.source.name = f"orbit-src-{o.id}"
         o.renderer.visible = True
@@ -257,12 +310,28 @@ class Explorer(pn.viewable.Viewer):
                            self.orbit_list, pn.Row(self.b_delete, self.b_clear, self.b_undo),
                            pn.Row(self.extend_input, self.b_extend), pn.Row(self.download, self.b_export),
                            self.details.pane, width=440)
-        view = pn.Row(self.marker_size, self.projection)
+        view = pn.Row(self.marker_size, self.projection,
+                      pn.Column(pn.pane.HTML("section branches shown", styles={"font-size": "12px"}, margin=(0, 5)),
+                                self.branch_toggle, margin=0))
         return pn.Column(pn.pane.HTML("<b>magrod explore</b>: Poincaré section sin ψ = 0 of the conducting rod "
                                       "(Sinden &amp; van der Heijden, sec. 8). Click, or type a start, to launch "
                                       "an orbit from (θ, p̄θ); p̄ψ solves H̄ = h.", styles={"font-size": "14px"}),
                          self.status.pane, pn.Row(side, pn.Column(self.plot_pane, view), orbits), self.rod_pane,
                          sizing_mode="stretch_width")
+
+    def _refill_slots(self) -> None:
+        """Add N_SLOTS renderers in one batch when few are left, between clicks: a renderer added to a live
+        document makes Bokeh walk every model (~0.3-1 s on the event loop); made in a click, that delayed the
+        click's first points from the 25th orbit on (measured: tap handler 0.01-0.08 s for orbits 1-24, 0.5-1.1 s
+        after).  The batch is one change of the figure's renderers: one walk, one message."""
+        if len(self._free_slots) >= SLOT_REFILL_AT or any(o.status == "running" for o in self.orbits):
+            return
+        new = [self._new_slot(self.fig, k, attach=False)
+               for k in range(self._n_slots, self._n_slots + N_SLOTS)]
+        # one change of the figure's renderers (one message, one rebuild of the page's renderer views)
+        self.fig.renderers = [*self.fig.renderers, *[r for _, g in new for r in g.renderers.values()]]
+        self._free_slots.extend(new)
+        self._n_slots += N_SLOTS
 
     def _deferred(self, fn):
         """A Panel widget callback that edits the page's Bokeh models.  Served, Panel runs widget callbacks
@@ -291,14 +360,16 @@ class Explorer(pn.viewable.Viewer):
     # the energy level
     # ------------------------------------------------------------------------------------------------------
     def _set_boundary(self):
-        b = model.energy_boundary(self.params, self.h, psi=self.psi0)
-        pmax = b["pmax"]
-        top = max(1.15 * float(pmax.max()), 0.1)
+        """Each branch's boundary |p̄θ| = pmax(θ) at the current level and its "no root" region beyond it."""
+        bounds = model.section_boundaries(self.params, self.h)
+        top = max(1.15 * max(float(b["pmax"].max()) for b in bounds.values()), 0.1)
         self.fig.y_range.start, self.fig.y_range.end = -top, top
-        x = np.concatenate([[0.0], b["theta"], [np.pi]])
-        up = np.concatenate([[pmax[0]], pmax, [pmax[-1]]])
-        self.forbidden.data = {"x": x, "top": np.full_like(x, 10 * top), "up": up, "lo": -up,
-                               "bottom": np.full_like(x, -10 * top)}
+        for key, b in bounds.items():
+            pmax = b["pmax"]
+            x = np.concatenate([[0.0], b["theta"], [np.pi]])
+            up = np.concatenate([[pmax[0]], pmax, [pmax[-1]]])
+            self.forbidden[key].data = {"x": x, "top": np.full_like(x, 10 * top), "up": up, "lo": -up,
+                                        "bottom": np.full_like(x, -10 * top)}
         p = self.params
         self.fig.title.text = (f"m = {p.m:g}, μ = {p.mu:g}, γ = {p.gamma:g}, δ = {p.delta:g}, λ̄ = {p.lam:g}, "
                                f"h = {self.h:g};  section sin ψ = 0 (ψ₀ = {self.psi0:g}), crossings with d/ds sin ψ "
@@ -323,19 +394,27 @@ class Explorer(pn.viewable.Viewer):
         self._on_input(None)
 
     def _on_input(self, event):
+        """Apply the widgets' values, or show every wrong field's message under it and, under each other field
+        whose typed value differs from the one in use, that it is not applied yet (never a silently stale box)."""
         if getattr(self, "_suspend", False):
             return
         for e in self.errors.values():
             e.object = ""
-        try:
-            params, h, iterates = model.parse_inputs(self._values())
-            model.check_energy_level(params, h)
-        except ParameterError as exc:
-            target = exc.name if exc.name in self.errors else "h"
-            self.errors[target].object = f"⚠ {exc}"
-            self._say(f"Not applied: {exc}", error=True)
+        parsed, errors = model.input_errors(self._values())
+        if errors:
+            for name, msg in errors.items():
+                self.errors[name].object = f"⚠ {_escape(msg)}"
+            in_use = {**self.params.to_dict(), "h": self.h, "iterates": self.iterates}
+            for name, w in self.inputs.items():
+                if name not in errors and not _same_number(w.value, in_use[name]):
+                    self.errors[name].object = (f"not applied until {', '.join(errors)} "
+                                                f"{'is' if len(errors) == 1 else 'are'} fixed; in use: "
+                                                f"{in_use[name]:g}")
+            self._say("Not applied: " + "; ".join(errors.values()), error=True)
             return
+        params, h, iterates = parsed
         changed = (params, h) != (self.params, self.h)
+        new_iterates = iterates != self.iterates
         self.iterates = iterates
         if changed:
             self.params, self.h = params, h
@@ -343,18 +422,30 @@ class Explorer(pn.viewable.Viewer):
             self._say(f"Parameters applied; relaunching {len(self.orbits)} orbit(s) from their starts.")
             for o in self.orbits:
                 self._launch(o)
-        else:
+        elif new_iterates:
             self._say(f"iterates per orbit = {iterates} (new orbits)")
 
     def set_input(self, name: str, value) -> str:
-        """Type `value` into the widget `name` (as a user would); returns the message shown next to it."""
+        """Type `value` into the widget `name` (as a user would); returns the message shown next to it (as text:
+        the page's HTML escapes what the user typed)."""
+        import html
+
         self.inputs[name].value = str(value)
-        return self.errors[name].object
+        return html.unescape(self.errors[name].object)
 
     # ------------------------------------------------------------------------------------------------------
     # orbits
     # ------------------------------------------------------------------------------------------------------
     def _on_tap(self, event):
+        doc = self.fig.document
+        if doc is None:
+            return self._tap(event)
+        from panel.io.document import hold
+
+        with hold(doc, policy="combine"):  # the launch's changes (marker, slot, colour, status): one message
+            return self._tap(event)
+
+    def _tap(self, event):
         self.tap_wall.append(time.time())
         self._last_tap_px = (event.sx, event.sy)
         t = time.perf_counter()
@@ -419,14 +510,27 @@ class Explorer(pn.viewable.Viewer):
     def set_marker_size(self, size: int) -> None:
         """Marker size (px) of every orbit's points."""
         for src_r in [*self._free_slots, *[(o.source, o.renderer) for o in self.orbits if o.renderer is not None]]:
-            src_r[1].glyph.size = int(size)
+            src_r[1].set_size(int(size))
+
+    def show_branches(self, branches) -> None:
+        """Show the points, boundary and shading of these branches of the section only ("0": psi = 0, "pi":
+        psi = pi)."""
+        self._branches_shown.clear()
+        self._branches_shown.update(b for b in branches if b in model.BRANCH_PSI)
+        on_section_plane = PROJECTIONS[self.projection.value] == ("theta", "ptheta")
+        for key, rs in self._branch_shading.items():
+            for r in rs:
+                r.visible = on_section_plane and key in self._branches_shown
+        for _, g in [*self._free_slots, *[(o.source, o.renderer) for o in self.orbits if o.renderer is not None]]:
+            g.update()
 
     def set_projection(self, name: str) -> None:
         """Show the orbits in another projection of the section (PROJECTIONS); the energy-level boundary belongs
         to θ – p̄θ and is hidden in the others."""
         xk, yk = PROJECTIONS[name]
-        for r in self._boundary_renderers:
-            r.visible = (xk, yk) == ("theta", "ptheta")
+        for key, rs in self._branch_shading.items():
+            for r in rs:
+                r.visible = (xk, yk) == ("theta", "ptheta") and key in self._branches_shown
         self.legend.visible = (xk, yk) == ("theta", "ptheta")
         self.fig.xaxis.axis_label, self.fig.yaxis.axis_label = AXIS_LABELS[xk], AXIS_LABELS[yk]
         xs, ys = [], []
@@ -435,7 +539,8 @@ class Explorer(pn.viewable.Viewer):
                 continue
             x = np.concatenate(o.shown[xk]) if o.shown[xk] else np.empty(0)
             y = np.concatenate(o.shown[yk]) if o.shown[yk] else np.empty(0)
-            o.source.data = {"x": x, "y": y}
+            br = np.concatenate(o.shown["branch"]) if o.shown["branch"] else np.empty(0, dtype="<U2")
+            o.source.data = {"x": x, "y": y, "branch": br}
             o.pending = None  # included: o.shown holds every point decimated so far
             xs.append(x)
             ys.append(y)
@@ -477,7 +582,7 @@ class Explorer(pn.viewable.Viewer):
             if o in self.orbits:  # a relaunch at new parameters: keep the start, say why it has no points
                 o.start, o.status, o.message, o.n_points, o.result, o.indicator = None, "no root", msg, 0, None, None
                 if o.source is not None:
-                    o.source.data = {"x": [], "y": []}
+                    o.source.data = _EMPTY_POINTS()
                 self._style(o)
             else:
                 self._say(msg, error=True)
@@ -486,10 +591,10 @@ class Explorer(pn.viewable.Viewer):
             None, 0
         if o.renderer is None:
             self._take_slot(o)
-        o.source.data = {"x": [], "y": []}
+        o.source.data = _EMPTY_POINTS()
         o.iterates = o.iterates or self.iterates
         o.stride = max(1, -(-o.iterates // DISPLAY_CAP))
-        o.skip, o.shown, o.pending = 0, {k: [] for k in AXIS_LABELS}, None
+        o.skip, o.shown, o.pending = 0, {k: [] for k in (*AXIS_LABELS, "branch")}, None
         self._style(o)
         self._submit(o)
         self._say(f"#{o.id}: {start.describe()}; integrating {o.iterates} iterates in the background …")
@@ -506,7 +611,7 @@ class Explorer(pn.viewable.Viewer):
         where = f"(θ, p̄θ) = ({o.theta0:.4f}, {o.ptheta0:.4f})"
         if exc.name == "h":
             return (f"No orbit at {where}: H̄ = {self.h:g} has no real root p̄ψ there (the point lies outside the "
-                    f"energy-level boundary, in the grey region). {exc.message}")
+                    f"energy-level boundary of ψ = {self.psi0:g}, in its no-root region). {exc.message}")
         if exc.name == "mu":
             return f"No orbit at {where}: the radicand μ − 2λ̄p̄ψ of H̄ is negative for every p̄ψ. {exc.message}"
         return f"No orbit at {where}: {exc}"
@@ -515,8 +620,7 @@ class Explorer(pn.viewable.Viewer):
         g = getattr(o.indicator, "growth_exponent", None)
         colour = PENDING_COLOUR if g is None or not np.isfinite(g) else model.growth_colour(g, self.threshold)
         if o.renderer is not None:
-            o.renderer.glyph.fill_color = colour
-            o.renderer.glyph.line_color = colour
+            o.renderer.set_colour(colour)
 
     def _remove(self, o: Orbit):
         if o.job is not None:
@@ -589,7 +693,18 @@ class Explorer(pn.viewable.Viewer):
     # ------------------------------------------------------------------------------------------------------
     def poll(self) -> int:
         """Move the workers' output onto the page (the periodic callback; call it by hand without a server).
-        Returns the number of messages handled."""
+        Returns the number of messages handled.  Served, the poll's changes reach the page as one message (a
+        document hold): every message repaints every drawn point, and a poll makes several changes (points, colour,
+        list, status) that were painted one by one."""
+        doc = self.fig.document if self._served else None
+        if doc is None:
+            return self._poll()
+        from panel.io.document import hold  # nests safely with Panel's own holds (it releases only its own)
+
+        with hold(doc, policy="combine"):
+            return self._poll()
+
+    def _poll(self) -> int:
         self._watch_connection()
         n = 0
         relabel = streamed_first = False
@@ -657,6 +772,7 @@ class Explorer(pn.viewable.Viewer):
             # the page's most expensive picture (software WebGL on a machine without a GPU), and drawing one per
             # finished orbit during a burst of clicks delayed every later click's first points
             self._show_details(rod=not any(q.status == "running" for q in self.orbits))
+        self._refill_slots()
         return n
 
     def _stream(self, o: Orbit, c) -> None:
@@ -668,7 +784,8 @@ class Explorer(pn.viewable.Viewer):
         if not keep.any():
             return
         cols = {"theta": c.theta[keep], "ptheta": c.ptheta[keep],
-                "ppsi": c.ppsi[keep] if c.ppsi is not None else np.full(int(keep.sum()), np.nan)}
+                "ppsi": c.ppsi[keep] if c.ppsi is not None else np.full(int(keep.sum()), np.nan),
+                "branch": model.branch_of(c.psi[keep])}
         for name, v in cols.items():
             o.shown[name].append(v)
         o.pending = (o.pending or []) + [cols]
@@ -679,13 +796,20 @@ class Explorer(pn.viewable.Viewer):
         if not o.pending or o.source is None:
             return False
         now = time.perf_counter()
-        if not force and now - o.last_stream < STREAM_INTERVAL_S:
+        if not force and now - o.last_stream < self._stream_interval():
             return False
         xk, yk = PROJECTIONS[self.projection.value]
         o.source.stream({"x": np.concatenate([c[xk] for c in o.pending]),
-                         "y": np.concatenate([c[yk] for c in o.pending])})
+                         "y": np.concatenate([c[yk] for c in o.pending]),
+                         "branch": np.concatenate([c["branch"] for c in o.pending])})
         o.pending, o.last_stream = None, now
         return True
+
+    def _stream_interval(self) -> float:
+        """Seconds between two messages of one orbit: STREAM_INTERVAL_S, longer when the plot holds many points
+        (PAINT_POINTS_PER_S)."""
+        drawn = sum(len(o.source.data["x"]) for o in self.orbits if o.source is not None)
+        return max(STREAM_INTERVAL_S, drawn / PAINT_POINTS_PER_S)
 
     def wait(self, timeout: float = 60.0) -> bool:
         """Poll until no orbit is computing (for scripts and tests); True if all finished in time."""
@@ -771,24 +895,23 @@ class Explorer(pn.viewable.Viewer):
                         f"finite-time Lyapunov exponent {ind.lyap:.3g}; conservation along it "
                         f"|dH| {ind.max_abs_dH:.1e}, Casimirs {ind.casimir_drift:.1e}")
         if not rod and o.status == "done":
-            rows.append("rod: drawn when no orbit is computing (or select the orbit)")
+            rows.append("rod: drawn when no orbit is computing (or select the orbit); the rod shown names its orbit")
         self.details.object = "<br>".join(rows)
         if rod:
             self._show_rod(o)
-        else:
-            self.rod_pane.visible = False
+        # else the rod shown stays (its title names its orbit): hiding and showing the pane relayouted the page,
+        # and every relayout repaints every point of the plot
 
     def _show_rod(self, o: Orbit):
         """Compute the rod of `o` on a worker thread (it integrates the frame: never on the page's event loop);
         poll() shows it when it arrives, if `o` is still the selected orbit."""
         if o.start is None or o.status != "done":  # not while the orbit computes: its first points come first
-            self.rod_pane.visible = False
-            return
+            return  # the rod shown (titled with its orbit) stays: a hidden pane relayouts the page
         if getattr(o, "rod_figure", None) is not None and o.rod_for is o.start:
             self.rod_pane.object, self.rod_pane.visible = o.rod_figure, True
             return
         start = o.start
-        self._worker.call(lambda: rod_figure(start, self.rod_length),
+        self._worker.call(lambda: rod_figure(start, self.rod_length, label=f"#{o.id}"),
                           lambda fig: self._queue.put(("rod", o, start, fig)))
 
     # ------------------------------------------------------------------------------------------------------
@@ -837,6 +960,45 @@ class Explorer(pn.viewable.Viewer):
                 f"orbits={len(self.orbits)}, running={self.running})")
 
 
+def _EMPTY_POINTS() -> dict:
+    return {"x": [], "y": [], "branch": []}
+
+
+class _Glyphs:
+    """The scatters of one orbit, one per branch of the section, shown as one: visible when the orbit is and its
+    branch is among the branches shown (`shown`, the page's set); one size and one colour (its growth exponent)."""
+
+    def __init__(self, renderers: dict, shown: set):
+        self.renderers, self._shown, self._visible = renderers, shown, False
+
+    @property
+    def visible(self) -> bool:
+        return self._visible
+
+    @visible.setter
+    def visible(self, value: bool) -> None:
+        self._visible = bool(value)
+        self.update()
+
+    def update(self) -> None:
+        for b, r in self.renderers.items():
+            r.visible = self._visible and b in self._shown
+
+    @property
+    def glyph(self):
+        """The psi = 0 scatter's glyph (size, colour: those of the orbit)."""
+        return self.renderers["0"].glyph
+
+    def set_size(self, size: int) -> None:
+        for b, r in self.renderers.items():  # the triangle one px larger: same visual weight as the circle
+            r.glyph.size = size + (1 if b == "pi" else 0)
+
+    def set_colour(self, colour: str) -> None:
+        for r in self.renderers.values():
+            r.glyph.fill_color = colour
+            r.glyph.line_color = colour
+
+
 class _Text:
     """A text line of the page as a bare Bokeh Div: setting `.object` changes one string property.  (A Panel HTML
     pane re-renders its model, and Bokeh then re-walks the whole document: ~0.3-2 s on the event loop.)"""
@@ -858,11 +1020,18 @@ class _Text:
         self.div.text = text
 
 
+def _same_number(text, value) -> bool:
+    try:
+        return float(str(text).strip()) == float(value)
+    except ValueError:
+        return False
+
+
 def _escape(s: str) -> str:
     return s.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
 
 
-def rod_figure(start, length: float):
+def rod_figure(start, length: float, label: str = ""):
     """A plotly figure of the rod from `start`: the centreline over [0, length] as a tube (transverse
     displacements magnified, factor in the title), coloured by arclength."""
     import plotly.graph_objects as go
@@ -878,7 +1047,8 @@ def rod_figure(start, length: float):
                               intensity=np.repeat(s, k), colorscale="Viridis", showscale=True,
                               colorbar=dict(title="s", len=0.6), flatshading=False))
     M = rod["magnification"]
-    fig.update_layout(title=dict(text=f"rod centreline, s ∈ [0, {length:g}] (units B/m3), z along the field; "
+    fig.update_layout(title=dict(text=f"rod {label + ' ' if label else ''}centreline, s ∈ [0, {length:g}] (units B/m3), "
+                                      f"z along the field; "
                                       f"transverse displacements magnified ×{M:g}"
                                       f"{' (true scale)' if M == 1 else ''}<br>frame checks: |DᵀD − I| "
                                       f"{rod['orthonormality']:.0e}, |Dᵀz − e3| {rod['field_consistency']:.0e}",

@@ -55,41 +55,49 @@ def _is_panel_level(app) -> bool:
 
 
 def section_picture(app, path) -> Path:
-    """The section as the page shows it, drawn with matplotlib for print: boundary, forbidden region grey,
+    """The section as the page shows it, drawn with matplotlib for print: each branch's boundary and no-root region,
     every orbit in its growth-exponent colour, colour bar on the chaos map's scale with the threshold marked."""
     from ..figures.chaos import growth_ticks
     from ..figures.common import pyplot
 
     plt = pyplot()
-    b = model.energy_boundary(app.params, app.h, psi=app.psi0)
+    bounds = model.section_boundaries(app.params, app.h)
     norm, cmap = model.growth_scale(app.threshold)
     fig, ax = plt.subplots(figsize=(7.0, 5.4), layout="constrained")
-    top = max(1.15 * float(b["pmax"].max()), 0.1)
-    ax.fill_between(b["theta"], b["pmax"], top, color="0.88", lw=0)
-    ax.fill_between(b["theta"], -top, -b["pmax"], color="0.88", lw=0)
-    ax.plot(b["theta"], b["pmax"], "k-", lw=0.8, label=r"$\bar H = h$ boundary ($\psi = %g$)" % app.psi0)
-    ax.plot(b["theta"], -b["pmax"], "k-", lw=0.8)
+    top = max(1.15 * max(float(b["pmax"].max()) for b in bounds.values()), 0.1)
+    # each branch of the section with its own boundary and "no root" shading (the page's BRANCH_STYLE)
+    for key, b in bounds.items():
+        label = {"0": r"$\psi = 0$ ($\circ$)", "pi": r"$\psi = \pi$ ($\triangle$)"}[key]
+        shade = dict(color="0.8", alpha=0.75, lw=0) if key == "0" else dict(facecolor="none", hatch="///",
+                                                                            edgecolor="#a6611a", lw=0)
+        ax.fill_between(b["theta"], b["pmax"], top, **shade)
+        ax.fill_between(b["theta"], -top, -b["pmax"], **shade)
+        style = dict(color="k", ls="-") if key == "0" else dict(color="#a6611a", ls="--")
+        ax.plot(b["theta"], b["pmax"], lw=0.8, label=label + r": $\bar H = h$, no root beyond", **style)
+        ax.plot(b["theta"], -b["pmax"], lw=0.8, **style)
     for o in app.orbits:
         r = o.result
         if r is None or r.n_points == 0:
             continue
         g = getattr(o.indicator, "growth_exponent", np.nan)
         colour = cmap(float(norm(min(max(g, 0.0), model.GROWTH_VMAX)))) if np.isfinite(g) else "0.3"
-        ax.plot(r.points[:, 0], r.points[:, 2], ".", ms=1.2, color=colour, rasterized=True)
+        br = model.branch_of(r.points[:, 1])
+        for key, marker in (("0", "o"), ("pi", "^")):
+            m = br == key
+            ax.plot(r.points[m, 0], r.points[m, 2], marker, ms=1.2, mew=0, ls="none", color=colour, rasterized=True)
     from matplotlib.cm import ScalarMappable
 
     sm = ScalarMappable(norm=norm, cmap=cmap)
     cb = fig.colorbar(sm, ax=ax, ticks=growth_ticks(norm.vmax, app.threshold))
     cb.ax.axhline(app.threshold, color="k", lw=1.2)
-    cb.set_label(f"growth exponent (FLI(T) - FLI(T/2))/ln 2\nchaotic > {app.threshold:g} (log scale above)",
-                 fontsize=8)
+    cb.set_label(f"growth exponent (chaotic > {app.threshold:g})", fontsize=8)
     ax.set_xlim(0, np.pi)
     ax.set_ylim(-top, top)
     ax.set_xlabel(r"$\theta$")
     ax.set_ylabel(r"$\bar p_\theta$")
     p = app.params
-    ax.set_title(f"m={p.m:g}, $\\mu$={p.mu:g}, $\\gamma$={p.gamma:g}, $\\delta$={p.delta:g}, "
-                 f"$\\bar\\lambda$={p.lam:g}, h={app.h:g}: section sin$\\psi$ = 0, "
+    ax.set_title(f"$m = {p.m:g}$, $\\mu = {p.mu:g}$, $\\gamma = {p.gamma:g}$, $\\delta = {p.delta:g}$, "
+                 f"$\\bar\\lambda = {p.lam:g}$, $h = {app.h:g}$: section $\\sin\\psi = 0$, "
                  f"{sum(o.result is not None for o in app.orbits)} orbit(s)", fontsize=9)
     ax.legend(loc="upper right", fontsize=7)
     out = atomic_savefig(fig, path, dpi=150)

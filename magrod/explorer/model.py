@@ -8,6 +8,11 @@ minimum taken over the admissible pbar_psi (mu - 2 lam pbar_psi >= 0).  `energy_
 V_min(theta) on a grid (a coarse scan of pbar_psi, widened until the minimum is interior, then refined by
 zooming), so the drawn curve is pbar_theta = +- sqrt(2 (h - V_min)).  It is a drawing aid: whether a click has an
 energy root is decided by magrod.chaos.section.solve_p_psi, never by this curve.
+
+The section sin(psi) = 0 has two branches, psi = 0 and psi = pi (an orbit's crossings are recorded on both unless
+its options say otherwise), and V depends on psi: each branch has its own boundary (`section_boundaries`).  The
+page draws each branch's points with its own marker over its own boundary and "no root" shading, since a psi = pi
+point may lie where psi = 0 has no root.
 """
 from __future__ import annotations
 
@@ -74,6 +79,33 @@ def energy_boundary(params: RodParams, h: float, psi: float = 0.0, n: int = 361)
     return {"theta": theta, "pmax": pmax, "V_min": best_v, "p_psi_min": best_q, "allowed": best_v <= h}
 
 
+# the two branches of the section sin(psi) = 0: the key of each (SectionOptions.branch's spelling) and its psi
+BRANCH_PSI = {"0": 0.0, "pi": float(np.pi)}
+BRANCH_LABEL = {"0": "ψ = 0", "pi": "ψ = π"}
+
+
+def section_boundaries(params: RodParams, h: float, n: int = 361) -> dict:
+    """{branch: energy_boundary(params, h, psi)} for the branches "0" (psi = 0) and "pi" (psi = pi)."""
+    return {k: energy_boundary(params, h, psi=psi, n=n) for k, psi in BRANCH_PSI.items()}
+
+
+def branch_of(psi) -> np.ndarray:
+    """The branch key ("0" or "pi") of section points with angle psi: cos psi > 0 is psi = 0, as the section's
+    branch flag (PoincareResult.branch) decides it."""
+    return np.where(np.cos(np.asarray(psi, float)) > 0, "0", "pi")
+
+
+def no_root(theta, ptheta, boundary: dict) -> np.ndarray:
+    """True where (theta, pbar_theta) lies in the "no root" region of `boundary` (an energy_boundary), beyond
+    the drawing's own resolution: |pbar_theta| exceeds the largest pmax of the two grid intervals around theta
+    (the drawn curve is piecewise linear between grid points)."""
+    th, pmax = boundary["theta"], boundary["pmax"]
+    theta, ptheta = np.asarray(theta, float), np.asarray(ptheta, float)
+    i = np.clip(np.searchsorted(th, theta), 1, len(th) - 1)
+    local = np.max([pmax[np.clip(i + d, 0, len(th) - 1)] for d in (-2, -1, 0, 1)], axis=0)
+    return np.abs(ptheta) > local + 1e-12
+
+
 # ----------------------------------------------------------------------------------------------------------
 # colours: the growth exponent on the chaos map's scale (magrod.figures.chaos.growth_norm)
 # ----------------------------------------------------------------------------------------------------------
@@ -135,6 +167,31 @@ def parse_inputs(values: dict) -> tuple[RodParams, float, int]:
     params = RodParams(**{k: nums[k] for k in ("m", "mu", "gamma", "delta", "lam")})
     iterates = integer("iterates", str(values["iterates"]).strip(), maximum=ITERATES_MAX)
     return params, nums["h"], iterates
+
+
+def input_errors(values: dict) -> tuple[tuple | None, dict]:
+    """((RodParams, h, iterates), {}) if every field is valid, else (None, {field: message}) naming every field
+    that is wrong at once (parse_inputs stops at the first): each number is parsed on its own, the iterate count
+    on its own; RodParams' checks and the energy level (check_energy_level) are judged only once every number
+    parses, and name their field."""
+    errors, nums = {}, {}
+    for name in ("m", "mu", "gamma", "delta", "lam", "h"):
+        try:
+            nums[name] = require_finite(name, str(values[name]).strip(), MAX_MAGNITUDE)
+        except ParameterError as exc:
+            errors[name] = str(exc)
+    try:
+        iterates = integer("iterates", str(values["iterates"]).strip(), maximum=ITERATES_MAX)
+    except ParameterError as exc:
+        errors["iterates"] = str(exc)
+    if errors:
+        return None, errors
+    try:
+        params = RodParams(**{k: nums[k] for k in ("m", "mu", "gamma", "delta", "lam")})
+        check_energy_level(params, nums["h"])
+    except ParameterError as exc:
+        return None, {exc.name if exc.name in FIELDS else "h": str(exc)}
+    return (params, nums["h"], iterates), {}
 
 
 def check_energy_level(params: RodParams, h: float) -> dict:

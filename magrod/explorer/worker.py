@@ -49,6 +49,7 @@ class Chunk:
     n_total: int
     max_abs_dH: float
     ppsi: np.ndarray | None = None
+    psi: np.ndarray | None = None  # the branch of each point: psi = 0 or psi = pi (model.branch_of)
 
 
 def stream_section(start: Start, iterates: int, *, direction="positive", cancel: threading.Event | None = None,
@@ -64,7 +65,7 @@ def stream_section(start: Start, iterates: int, *, direction="positive", cancel:
             continue
         max_dH = max(max_dH, float(np.max(np.abs(c.dH))))
         p = c.points
-        emit(Chunk(p[:, 0].copy(), p[:, 2].copy(), c.n_total, max_dH, p[:, 3].copy()))
+        emit(Chunk(p[:, 0].copy(), p[:, 2].copy(), c.n_total, max_dH, p[:, 3].copy(), p[:, 1].copy()))
     return stream.result
 
 

@@ -13,8 +13,8 @@ import importlib
 FIGURES = {
     "2": ("magrod.figures.melnikov", "figure_2", "Mel'nikov function M(psi0)/sqrt(a-2b), derived and printed integrands"),
     "3": ("magrod.figures.homoclinic", "figure_3", "phase portraits and the homoclinic orbit (theta, pbar_theta, psi')"),
-    "4": ("magrod.figures.poincare", "figure_4", "Poincare sections, h = 0.9, lambdabar in {0.135, 0.1575, 0.175, 0.186}"),
-    "5": ("magrod.figures.poincare", "figure_5", "Poincare sections, h = 0.8, gamma in {0.15, 0.205, 0.208, 0.24}"),
+    "4": ("magrod.figures.poincare", "figure_4", "Poincaré sections, h = 0.9, lambdabar in {0.135, 0.1575, 0.175, 0.186}"),
+    "5": ("magrod.figures.poincare", "figure_5", "Poincaré sections, h = 0.8, gamma in {0.15, 0.205, 0.208, 0.24}"),
     "6": ("magrod.figures.multipulse", "figure_6", "two- and four-pulse homoclinic orbits and rod shapes (lambdabar = 0.001)"),
     "7": ("magrod.figures.multipulse", "figure_7", "two- and three-pulse homoclinic orbits and rod shapes (lambdabar = 0.5)"),
     # beyond the paper
@@ -28,7 +28,7 @@ FIGURES = {
     "proof": ("magrod.figures.proof", "build",
               "computer-assisted proof: transverse homoclinic orbits of the tilted saddle-focus, verified certificate"),
     "landscape": ("magrod.figures.models", "build",
-                  "the landscape of sec. 1 re-derived from the rod models (issue 26), the anisotropic B1:B2:C scan"),
+                  "the landscape of sec. 1 re-derived from the rod models, the anisotropic B1:B2:C scan"),
 }
 
 

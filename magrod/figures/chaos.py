@@ -110,24 +110,33 @@ def map_axes(ax, fields: dict, spec: MapSpec, *, indicator="growth", threshold=G
         cb = ax.figure.colorbar(im, ax=ax, ticks=growth_ticks(norm.vmax, threshold) if norm is not None else None)
         # the label runs along the bar: wrapped to the figure's height, so that it is never cut off
         chars = max(20, int(0.8 * ax.figure.get_figheight() * 72 / (0.55 * 8)))
+        nb = "\u00a0"  # no line break inside "chaotic > 3"
         if indicator == "growth":
             cb.ax.axhline(threshold, color="k", lw=1.2)
-            nb = "\u00a0"  # no line break inside "chaotic > 3"
-            text = (f"growth exponent (FLI(T) - FLI(T/2))/ln 2; chaotic{nb}>{nb}{threshold:g} (log scale above); "
-                    "grey: missing")
+            text = f"growth exponent (chaotic{nb}>{nb}{threshold:g})"
         else:
-            text = FIELD_LABELS[indicator] + "; grey: missing"
-        if inferred is not None and inferred.any():
-            text += f"; pale: inferred ({100 * inferred.mean():.0f} % of the points, never computed)"
-        if contour:
-            text += f"; {contour} line on the map: growth exponent{nb}={nb}{threshold:g}, the chaotic/regular boundary"
+            text = FIELD_LABELS[indicator]
         cb.set_label(textwrap.fill(text, chars), fontsize=8)
+        # what the marks on the map mean: a key under the map (the colour-bar label stays one short line)
+        from matplotlib.lines import Line2D
+        from matplotlib.patches import Patch
+
+        keys = [Patch(facecolor="0.8", edgecolor="0.5", lw=0.5, label="missing")]
+        if inferred is not None and inferred.any():
+            keys.append(Patch(facecolor=(1, 1, 1, 0.55), edgecolor="0.5", lw=0.5,
+                              label=f"pale: inferred ({100 * inferred.mean():.0f} % of the points)"))
+        if contour:
+            keys.append(Line2D([], [], color="k" if contour == "black" else "c", lw=0.8,
+                               label=f"growth exponent{nb}={nb}{threshold:g} (chaotic/regular boundary)"))
+        ax.legend(handles=keys, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=len(keys), fontsize=7,
+                  frameon=False, handlelength=1.5, columnspacing=1.0)
     for key, x, y in panel_marks(spec):
         ax.plot(x, y, "k*", ms=10, mec="w", label="_paper panel")
         ax.annotate(key, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=9)
     ax.set_xlabel(label(spec.x.name))
     ax.set_ylabel(label(spec.y.name))
-    fixed = ", ".join(f"{label(k)} = {v:g}" for k, v in sorted(spec.base.items())
+    # "name = value" never broken across lines (no-break spaces; textwrap breaks at ASCII whitespace only)
+    fixed = ", ".join(f"{label(k)}\u00a0=\u00a0{v:g}" for k, v in sorted(spec.base.items())
                       if k not in (spec.x.name, spec.y.name))
     # the fixed values wrapped to the width the axes get (~70% of the figure beside the colour bar), so that the
     # title is never cut off at the figure's edge (tests/test_figure_labels.py)
@@ -165,8 +174,8 @@ def plot_lyapunov(res, ax=None, **kw):
     ax.set_xlabel("t (scaled arclength)")
     ax.set_ylabel(r"$|\ln|w(t)|\,/\,t|$")
     where = f"panel {res.panel}" if res.panel else ", ".join(f"{k}={v:g}" for k, v in res.params.to_dict().items())
-    ax.set_title(f"{where}: lyap(T={res.t_max:g}) = {res.lyap:.3g}, growth exponent {res.growth_exponent:.3g}"
-                 f"\n({'chaotic' if res.chaotic else 'regular'}: {res.criterion()})", fontsize=8)
+    ax.set_title(f"{where}: {'chaotic' if res.chaotic else 'regular'} (growth exponent "
+                 f"{res.growth_exponent:.3g}, threshold {res.threshold:g}; $T = {res.t_max:g}$)", fontsize=8)
     return ax
 
 
@@ -177,7 +186,7 @@ def build(out_dir, *, quick=False, progress=False) -> list[str]:
     spec = MapSpec(parse_axis("x", f"{REPRODUCE_AXES[0]}:{n}"),
                    parse_axis("y", f"{REPRODUCE_AXES[1]}:{n}"), base=panel_base("4a"),
                    panel="4a", t_max=t_max)
-    with bar(len(map_tiles(spec)), "chaos map", progress, unit="tile") as update:
+    with bar(sum(t.n_points for t in map_tiles(spec)), "chaos map", progress, unit="point") as update:
         from .. import chaos_map
 
         res = chaos_map(spec, progress=update)

@@ -5,6 +5,26 @@ from __future__ import annotations
 import numpy as np
 
 
+_GREEK = {"theta", "psi", "phi", "gamma", "delta", "mu", "lambda", "epsilon", "rho", "kappa", "omega"}
+
+
+def math_name(name: str) -> str:
+    """A state or parameter name in mathematics: "m2" -> $m_{2}$, "e31" -> $e_{31}$, "theta" -> $\\theta$,
+    "ptheta" -> $p_{\\theta}$ (axis labels of a paper's figure, never code names)."""
+    import re
+
+    m = re.fullmatch(r"([A-Za-z]+?)(\d+)", name)
+    if m:
+        return f"${m.group(1)}_{{{m.group(2)}}}$"
+    if name in _GREEK:
+        return f"$\\{name}$"
+    if name in ("eps", "epsilon"):
+        return r"$\varepsilon$"
+    if name.startswith("p") and name[1:] in _GREEK:
+        return f"$p_{{\\{name[1:]}}}$"
+    return f"${name}$" if len(name) == 1 else name
+
+
 def plot_model_section(secs, ax=None, x=None, y=None, **kw):
     """The section of a model (a PoincareResult, or a list of them: one colour per orbit) projected on two state
     coordinates (default: the two after the section's own)."""
@@ -18,11 +38,10 @@ def plot_model_section(secs, ax=None, x=None, y=None, **kw):
     j = names.index(y) if y else 2
     for s in secs:
         ax.plot(s.points[:, i], s.points[:, j], ".", ms=1.5, **kw)
-    ax.set_xlabel(names[i])
-    ax.set_ylabel(names[j])
-    dH = max(s.max_abs_dH for s in secs)
-    dC = max(s.casimir_drift or 0.0 for s in secs)
-    ax.set_title(f"{secs[0].system.model}: section, |dH| <= {dH:.1e}, |dC|/size <= {dC:.1e}", fontsize=8)
+    ax.set_xlabel(math_name(names[i]))
+    ax.set_ylabel(math_name(names[j]))
+    # its conservation (|dH|, |dC|) is in the result's summary and the figure's sidecar, not in the picture
+    ax.set_title(f"{secs[0].system.model} rod: Poincaré section", fontsize=9)
     return ax
 
 
@@ -102,18 +121,18 @@ def plot_model_splitting(d, ax=None, **kw):
         order = 2 if sp["harmonic"] == 1 else 1
         ax.loglog(e, rel, "o-", color=f"C{k}", label=f"{sp['model']} [{sp['reference']}]", **kw)
         ax.loglog(e, rel[-1] * (e / e[-1]) ** order, ":", color=f"C{k}", label=f"slope {order}")
-    ax.set_xlabel("eps")
-    ax.set_ylabel("|c - c_Melnikov| / |c_Melnikov|")
+    ax.set_xlabel(r"$\varepsilon$")
+    ax.set_ylabel(r"$|c - c_{\mathrm{M}}|\,/\,|c_{\mathrm{M}}|$ (Mel'nikov: $c_{\mathrm{M}}$)")
     ax.set_title("homoclinic splitting vs Mel'nikov (numerical)", fontsize=8)
     ax.legend(fontsize=6)
     return ax
 
 
 def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
-    """The landscape figure (issue 26): (a) every line of sec. 1 and magrod's verdict, (b) a section of the
-    integrable Kirchhoff rod, (c) one of the anisotropic rod on the same kind of level, (d) the homoclinic
-    splitting of the anisotropic and curved rods against Mel'nikov; sidecar landscape.json
-    (every line's labelled evidence and the anisotropic scan)."""
+    """The landscape figure: (a) a section of the integrable Kirchhoff rod, (b) one of the anisotropic rod on the
+    same kind of level, (c) the homoclinic splitting of the anisotropic and curved rods against Mel'nikov; sidecar
+    landscape.json (every line of sec. 1 with its labelled evidence and verdict, the anisotropic scan, the
+    sections' conservation).  The table of the lines is REPORT.md's, not the figure's."""
     from .. import poincare_sections
     from ..core.io import atomic_savefig, atomic_write_json, ensure_writable_dir, versions
     from ..integrability import rod_landscape as landscape
@@ -125,14 +144,14 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     iters = 150 if quick else 600
     secs = [poincare_sections(m, starts=6, iterates=iters) for m in ("kirchhoff", "anisotropic")]
     splits = [ln["splitting"] for ln in land.to_dict()["lines"] if "splitting" in ln]
-    fig = plt.figure(figsize=(15 if splits else 12, 8.5))
-    gs = fig.add_gridspec(2, 3 if splits else 2, height_ratios=[1, 1.3])
-    plot_landscape(land, fig.add_subplot(gs[0, :]))
-    for k, s in enumerate(secs):
-        plot_model_section(s, fig.add_subplot(gs[1, k]), x="m2", y="n2")
-    if splits:  # (d) the homoclinic splitting of the anisotropic and curved rods against Mel'nikov
-        plot_model_splitting(splits, fig.add_subplot(gs[1, 2]))
-    fig.tight_layout()
+    # figures only: the landscape's table (every line of sec. 1 and its verdict) is in REPORT.md and landscape.json
+    fig, axs = plt.subplots(1, 3 if splits else 2, figsize=(13 if splits else 9, 4.2), layout="constrained")
+    for k, (s, ax) in enumerate(zip(secs, axs)):
+        plot_model_section(s, ax, x="m2", y="n2")
+        ax.set_title(f"({'ab'[k]}) " + ax.get_title(), fontsize=9)
+    if splits:  # (c) the homoclinic splitting of the anisotropic and curved rods against Mel'nikov
+        plot_model_splitting(splits, axs[2])
+        axs[2].set_title("(c) " + axs[2].get_title(), fontsize=9)
     d = land.to_dict()
     d["sections"] = [{"model": s[0].system.model, "counts": [r.n_points for r in s],
                       "energy_error": max(r.max_abs_dH for r in s),

@@ -79,22 +79,25 @@ def _figure(number: int, out_dir, quick: bool = False, progress: bool = False) -
     for row in written["rows"]:
         paths += row.get("paths", [])
     fig, ax = plt.subplots(figsize=(7, 3.2))
+    top = 0.0
     for N, style in zip(spec["show"], ("-", "--")):
         ps = search.search(N)
         if not ps.success:
             continue
         tau = ps.samples[0]["tau"]  # the scaled arclength of MultipulseOrbit.sample
         win = np.abs(tau) <= 1.0
+        # the residual of each orbit is in its sidecar (figure<n>_N<N>.json), not in the legend: a short legend fits
+        # inside the axes (a long one was moved outside, leaving a third of the width blank)
         ax.plot(tau[win], ps.samples[0]["theta"][win], style, color="k", lw=1.2,
-                label=f"{N}-pulse, $\\bar\\lambda^*$ = {_lam_text(ps)}, residual {ps.orbit.residual:.1e}")
+                label=f"{N}-pulse, $\\bar\\lambda^* = {_lam_text(ps)}$")
+        top = max(top, float(np.nanmax(ps.samples[0]["theta"][win])))
     p = spec["params"]
     ax.set_xlim(-1, 1)
-    ax.set_ylim(bottom=0)
+    ax.set_ylim(0, 1.45 * top if top > 0 else None)  # headroom for the legend above the pulses
     ax.set_xlabel(r"$(s - s_{sym})/L$")
     ax.set_ylabel(r"$\theta$")
-    ax.set_title(f"Fig. {number} ({spec['label']}): m={p.m}, $\\gamma$={p.gamma}, $\\delta$={p.delta}, "
-                 f"$\\mu = 2\\bar\\lambda$ "
-                 f"(paper $\\bar\\lambda$={p.lam})", fontsize=9)
+    ax.set_title(f"Fig. {number} ({spec['label']}): $m = {p.m}$, $\\gamma = {p.gamma}$, $\\delta = {p.delta}$, "
+                 f"$\\mu = 2\\bar\\lambda$ (paper: $\\bar\\lambda = {p.lam}$)", fontsize=9)
     ax.legend(fontsize=7, loc="upper right")
     fig.tight_layout()
     paths.append(str(atomic_savefig(fig, Path(out_dir) / f"figure{number}.png", dpi=150)))

@@ -14,11 +14,13 @@ from .common import atomic_savefig, pictures_of, pyplot
 
 
 def panel_title(key, res) -> str:
+    """The panel's parameters in mathematics; its diagnostics (iterates, max |Hbar - h|) are in its sidecar and in
+    the result's summary, not in the picture."""
     p = res.params
-    pars = (f"m={p.m:g}, $\\mu$={p.mu:g}, $\\gamma$={p.gamma:g}, $\\delta$={p.delta:g}, $\\bar\\lambda$={p.lam:g}, "
-            f"h={res.h:g}")
-    head = f"Fig. {key[0]}({key[1]})  " if key else ""
-    return f"{head}{pars}\n{res.n_points} iterates, max|$\\bar H$-h| = {res.max_abs_dH:.1e}"
+    pars = (f"$m = {p.m:g}$, $\\mu = {p.mu:g}$, $\\gamma = {p.gamma:g}$, $\\delta = {p.delta:g}$, "
+            f"$\\bar\\lambda = {p.lam:g}$, $h = {res.h:g}$")
+    head = f"Fig. {key[0]}({key[1]}): " if key else ""
+    return f"{head}{pars}"
 
 
 def marker_size(n: int) -> float:
@@ -103,7 +105,8 @@ def panels_figure(results: dict, keys, fig_no: str, n: int):
     for ax, k in zip(axes.flat, keys):
         var, val = PANELS[k]["vary"]
         sym = {"lam": r"$\bar\lambda$", "gamma": r"$\gamma$"}[var]
-        plot_points(ax, results[k], f"({k[1]}) {sym} = {val:g}   [max|$\\bar H$-h| = {results[k].max_abs_dH:.1e}]")
+        # the diagnostics (max |Hbar - h|, iterates) are in each panel's sidecar fig<key>.json, not in its title
+        plot_points(ax, results[k], f"({k[1]}) {sym[:-1]} = {val:g}$")
     pt = np.concatenate([results[k].points[:, 2] for k in keys])
     pt = pt[np.isfinite(pt)]
     if len(pt):
@@ -112,9 +115,9 @@ def panels_figure(results: dict, keys, fig_no: str, n: int):
     for ax in axes.flat:
         ax.label_outer()  # shared axes: tick labels once per row and column
     p = results[keys[0]].params
-    common = (f"m={p.m:g}, $\\mu$={p.mu:g}, $\\gamma$={p.gamma:g}, $\\delta$={p.delta:g}" if fig_no == "4"
-              else f"m={p.m:g}, $\\delta$={p.delta:g}, $\\bar\\lambda$={p.lam:g}, $\\mu$={p.mu:g}")
-    fig.suptitle(f"Fig. {fig_no}: Poincare sections sin$\\psi$ = 0 at h = {results[keys[0]].h:g} ({common}), "
+    common = (f"$m = {p.m:g}$, $\\mu = {p.mu:g}$, $\\gamma = {p.gamma:g}$, $\\delta = {p.delta:g}$" if fig_no == "4"
+              else f"$m = {p.m:g}$, $\\delta = {p.delta:g}$, $\\bar\\lambda = {p.lam:g}$, $\\mu = {p.mu:g}$")
+    fig.suptitle(f"Fig. {fig_no}: Poincaré sections $\\sin\\psi = 0$ at $h = {results[keys[0]].h:g}$ ({common}), "
                  f"{n} iterates each", fontsize=10)
     fig.tight_layout()
     return fig

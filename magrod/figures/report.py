@@ -72,7 +72,7 @@ def _poincare_claims(out: Path, fig: str, label: str, bound: float, t_paper: flo
     rows = []
     cars = [c for c in _sidecars(out, f"fig{fig}[a-d].json")]
     if not cars:
-        return _not_run(label, f"Poincare sections of Figure {fig}")
+        return _not_run(label, f"Poincaré sections of Figure {fig}")
     worst = max(c["max_abs_dH"] for c in cars)
     n = min(c["n_points"] for c in cars)
     tmax = max(c["final_time"] for c in cars)
@@ -314,18 +314,107 @@ def mark_failed(rows, failures: dict) -> list[dict]:
     return out
 
 
+# The handful of verdict words of REPORT.md (its tally and its claims table); each row's full verdict, with its
+# numbers, stays in the row's details.
+VERDICT_WORDS = {
+    "reproduced": "the paper's claim holds in magrod's computation",
+    "differs (erratum)": "magrod's result differs from the paper's; docs/errata.md explains the difference, with "
+                         "evidence",
+    "differs": "magrod's result differs from the paper's, with no erratum (yet)",
+    "beyond the paper": "a result the paper does not state: a new computation, a choice the paper leaves open, "
+                        "numerical or conditional evidence",
+    "proved": "established by a symbolic proof or a computer-assisted proof (rigorous enclosures); the details "
+              "say which",
+    "not checked": "not run in this mode, not checkable, or not established",
+    "failed": "the figure the claim rests on failed in this run, or its certificate or enclosure did not verify",
+}
+# how a row's verdict text begins -> its word (first match wins; the order matters: "differs — see
+# docs/errata.md" before "differs")
+_WORD_RULES = (
+    (("reproduced",), "reproduced"),
+    (("differs — see docs/errata.md", "differs - see docs/errata.md"), "differs (erratum)"),
+    (("differs",), "differs"),
+    (("failed", "certificate NOT verified", "NOT verified"), "failed"),
+    (("proved", "computer-verified"), "proved"),
+    (("not run", "not checkable", "not checked", "not established"), "not checked"),
+    (("new result", "computed", "codimension", "generic", "numerical", "derived", "simple zeros", "not stated",
+      "conditional", "heuristic"), "beyond the paper"),
+)
+SHORT_CELL = 110  # characters of the claims table's "claim" cell (the whole text is in the row's details)
+
+
+def verdict_word(verdict: str) -> str:
+    """The verdict word (a key of VERDICT_WORDS) of a row's verdict text; ValueError if none applies."""
+    v = str(verdict).strip()
+    for starts, word in _WORD_RULES:
+        if v.startswith(starts):
+            return word
+    raise ValueError(f"verdict {verdict!r} has no verdict word: add a rule to _WORD_RULES")
+
+
+def tally(rows) -> dict:
+    """{verdict word: number of rows} in VERDICT_WORDS' order (every word, zeros included), and "unclassified"
+    if some verdict has no word."""
+    out = dict.fromkeys(VERDICT_WORDS, 0)
+    for r in rows:
+        try:
+            w = verdict_word(r.get("verdict", ""))
+        except ValueError:
+            w = "unclassified"
+        out[w] = out.get(w, 0) + 1
+    return out
+
+
+def tally_text(counts: dict) -> str:
+    """One line: "61 reproduced, 13 differs (erratum), ..." (words with no claim left out)."""
+    return ", ".join(f"{n} {w}" for w, n in counts.items() if n)
+
+
+def _short(text: str, n: int = SHORT_CELL) -> str:
+    """At most n characters, cut at a word boundary (never inside a number) and marked with an ellipsis."""
+    t = " ".join(str(text).split())
+    if len(t) <= n:
+        return t
+    cut = t[:n].rsplit(" ", 1)[0].rstrip(" ,;:(—-")
+    return cut + " …"
+
+
+def _cell(text) -> str:
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
 def report_markdown(rows, done, failures, quick, wall) -> str:
 
     from ..integrability import format_report as check_text, load_report
 
+    rows = mark_failed(rows, failures)
+    counts = tally(rows)
     lines = ["# magrod reproduction report", "",
              f"Paper: Sinden & van der Heijden, *Spatial chaos of an extensible conducting rod in a uniform magnetic "
              f"field* (arXiv:0905.1309). Mode: {'quick' if quick else 'full'}. Wall time {wall:.1f} s.", "",
-             "## Claims", "", "| paper label | the paper says / what is checked | magrod computed | verdict |",
-             "|---|---|---|---|"]
-    for r in mark_failed(rows, failures):
-        cells = [str(r.get(k, "")).replace("|", "\\|").replace("\n", " ") for k in ("label", "paper", "computed", "verdict")]
-        lines.append("| " + " | ".join(cells) + " |")
+             "## Tally", "", f"{len(rows)} claims: {tally_text(counts)}.", "", "| verdict | claims | meaning |",
+             "|---|---:|---|"]
+    for w, n in counts.items():
+        lines.append(f"| {w} | {n} | {VERDICT_WORDS.get(w, 'a verdict without a word: see its details')} |")
+    lines += ["", "## Claims", "",
+              "Each claim in one line; its details (what the paper says, what magrod computed, the full verdict "
+              "with its numbers) follow the table.", "",
+              "| # | paper label | claim | verdict |", "|---:|---|---|---|"]
+    words = []
+    for k, r in enumerate(rows, 1):
+        try:
+            w = verdict_word(r.get("verdict", ""))
+        except ValueError:
+            w = "unclassified"
+        words.append(w)
+        lines.append(f"| [{k}](#claim-{k}) | {_cell(r.get('label', ''))} | {_cell(_short(r.get('paper', '')))} "
+                     f"| {w} |")
+    lines += ["", "## Details", ""]
+    for k, (r, w) in enumerate(zip(rows, words), 1):
+        lines += [f'<a id="claim-{k}"></a>', "", f"**{k}. {r.get('label', '')}** — {w}", "",
+                  f"- the paper says / what is checked: {' '.join(str(r.get('paper', '')).split())}",
+                  f"- magrod computed: {' '.join(str(r.get('computed', '')).split())}",
+                  f"- verdict: {' '.join(str(r.get('verdict', '')).split())}", ""]
     lines += ["", "## Figures", ""]
     for t in sorted(done):
         d = done[t]

@@ -33,6 +33,24 @@ def write(res, out_dir, stem: str = "splitting") -> list[str]:
     return paths
 
 
+def plot_control(ax, eps, values, measured, label):
+    """An integrable control's values on a log axis without stretching it: a value far below the measured ones
+    (zero, or at the rounding level) is drawn at a floor three decades under the smallest measured value, as a
+    downward triangle, and the label says "<= floor".  (Drawn at max(|v|, 1e-40), one control point pulled the
+    axis down to 1e-40 and squeezed the measurements into its top sixth.)  Returns the floor."""
+    v = np.abs(np.asarray(values, float))
+    m = np.abs(np.asarray(measured, float))
+    m = m[np.isfinite(m) & (m > 0)]
+    floor = 1e-3 * float(m.min()) if len(m) else 1e-16
+    low = ~(v > floor)
+    if (~low).any():
+        ax.loglog(np.asarray(eps)[~low], v[~low], "x", label=label)
+    if low.any():
+        ax.loglog(np.asarray(eps)[low], np.full(int(low.sum()), floor), "v", mfc="none",
+                  label=f"{label} $\\leq$ {floor:.0e}")
+    return floor
+
+
 def _loglog(ax, eps, y, fit, label, marker):
     e = np.asarray(eps)
     ax.loglog(e, np.abs(y), marker, label=label)
@@ -94,14 +112,14 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     ax.loglog(ee, np.abs(lead[0]["derived_psi"]) * ee**2, "k--", lw=0.8,
               label=rf"derived $|\psi_u| \approx {abs(lead[0]['derived_psi']):.6f}\,\varepsilon^2$")
     cr = ctl.crossings[ctl.precisions[-1]]
-    ax.loglog(ctl.eps, np.maximum(np.abs([c.psi for c in cr]), 1e-40), "x", label=r"control $\gamma=\delta=0$: $|\psi_u|$")
+    plot_control(ax, ctl.eps, [c.psi for c in cr], [c.d for c in ref], r"control $\gamma=\delta=0$: $|\psi_u|$")
     ax.set_title(f"(a) a = 2b = 2 (straight rod), {eq.precisions[-1]}", fontsize=8)
     ax.set_xlabel(r"$\varepsilon$")
     ax.legend(fontsize=7)
     ax = axs[1]
     _loglog(ax, ti.eps, np.array([c.sin_coeffs[0] for c in ti.curves]), ti.fit_s1, r"$|s_1|$, a=4, b=1", "o-")
-    ax.loglog(ti0.eps, np.maximum(np.abs([c.sin_coeffs[0] for c in ti0.curves]), 1e-40), "x",
-              label=r"control b = 0: $|s_1|$")
+    plot_control(ax, ti0.eps, [c.sin_coeffs[0] for c in ti0.curves], [c.sin_coeffs[0] for c in ti.curves],
+                 r"control $b = 0$: $|s_1|$")
     ax.loglog(ti0.eps, [c.fit_residual for c in ti0.curves], "k--", lw=0.6, label="control: Fourier fit residual")
     ax.set_title("(b) a > 2b (tilted saddle-focus)", fontsize=8)
     ax.set_xlabel(r"$\varepsilon$")
@@ -116,8 +134,8 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     ax.set_ylabel(r"$C(\psi) = D(\psi)/\varepsilon^3$")
     ax.set_title(r"(c) a = 4, b = 1: $D = \theta_u(\psi) - \theta_u(-\psi)$", fontsize=8)
     ax.legend(fontsize=6)
-    fig.suptitle(f"Separatrix splitting, m = {FIGURE['m']}, gamma = {FIGURE['gamma']}, delta = {FIGURE['delta']}",
-                 fontsize=9)
+    fig.suptitle(f"Separatrix splitting, $m = {FIGURE['m']}$, $\\gamma = {FIGURE['gamma']}$, "
+                 f"$\\delta = {FIGURE['delta']}$", fontsize=9)
     fig.tight_layout()
     paths.append(str(atomic_savefig(fig, out / "splitting.png", dpi=150)))
     plt.close(fig)

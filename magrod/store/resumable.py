@@ -57,8 +57,8 @@ def stored_map(spec: maps.MapSpec, out, *, stem: str = "chaosmap", workers: int 
     connect_timeout, worker_timeout : float
         Seconds to reach the scheduler, and to wait for a worker.
     progress : callable, optional
-        progress(n) as tiles (or, refined, tile parts) finish; if it has `set_total`, set_total(tiles to do) is
-        called first for a brute-force map (magrod.core.progress.bar's update has it).
+        progress(n) as tiles finish, n their grid points (refined: n = 1 per tile part); if it has `set_total`,
+        set_total(points to do) is called first for a brute-force map (magrod.core.progress.bar's update has it).
     on_round, on_submitted : callable, optional
         Called after each refinement round / once every brute-force task is submitted.
     start_guard : callable, optional
@@ -120,8 +120,8 @@ def stored_map(spec: maps.MapSpec, out, *, stem: str = "chaosmap", workers: int 
             n_tiles = len(maps.tiles(spec))
             todo = n_tiles - len(state.done)
             t0 = time.perf_counter()
-            if not spec.refine and getattr(progress, "set_total", None) is not None:
-                progress.set_total(todo)
+            if not spec.refine and getattr(progress, "set_total", None) is not None:  # points, not tiles
+                progress.set_total(sum(t.n_points for t in maps.tiles(spec) if t.key not in state.done))
             if todo and client is None:
                 with guard():
                     try:

@@ -849,8 +849,8 @@ def _collect(client, futs, spec, state: StoreState, res: dict, progress, worker_
                         state.done.add(key)
                     res["computed"].append(key)
                     res["task_wall_s"] += wall
-                    if progress is not None:
-                        progress(1)
+                    if progress is not None:  # points of a tile (a refinement's part counts 1)
+                        progress(maps.tile_of(spec, key).n_points if mark_done else 1)
     except BaseException:
         try:
             client.cancel(list(futs))
