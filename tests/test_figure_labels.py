@@ -267,15 +267,13 @@ def test_a_control_point_does_not_stretch_the_log_axis(former):
 def test_model_section_axes_read_as_mathematics_and_its_title_has_no_diagnostics():
     """The landscape figure's section panels: axes $m_{2}$, $n_{2}$ (they read "m2", "n2"), and the title names the
     rod, its |dH| and |dC| being in the sidecar.  Seen to fail before (labels "m2", "n2"; title "... |dH| <= ...")."""
-    from types import SimpleNamespace
-
     from matplotlib.figure import Figure
 
+    import magrod as mr
     from magrod.figures.models import math_name, plot_model_section
 
-    sec = SimpleNamespace(state_names=("m1", "m2", "m3", "n1", "n2"), points=np.zeros((2, 3, 5)),
-                          counts=np.array([3, 2]), model="anisotropic", energy_error=1e-14, casimir_error=2e-14)
-    ax = plot_model_section(sec, Figure().add_subplot(), x="m2", y="n2")
+    secs = mr.poincare_sections("anisotropic", starts=2, iterates=3)
+    ax = plot_model_section(secs, Figure().add_subplot(), x="m2", y="n2")
     assert (ax.get_xlabel(), ax.get_ylabel()) == ("$m_{2}$", "$n_{2}$")
     assert "dH" not in ax.get_title() and "e-14" not in ax.get_title() and "Poincaré" in ax.get_title()
     assert math_name("eps") == r"$\varepsilon$" and math_name("ptheta") == r"$p_{\theta}$"

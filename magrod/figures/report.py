@@ -277,8 +277,8 @@ def _landscape(out, quick):
                  "computed": f"{t['status']}: {t['theorem']} Exceptional set {{{', '.join(t['exceptional_set'])}}}: "
                              + "; ".join(f"r = {k}: {v}" for k, v in t["explanations"].items())
                              + f". Not proved: {t['not_proved']}",
-                 "verdict": "new result (beyond the paper): proved for the symmetric family B2 = C = r B1"
-                            if t["status"] == "proved" else "not proved"})
+                 "verdict": "proved (symbolic; beyond the paper): the symmetric family B2 = C = r B1 on m.n = 0"
+                            if t["status"] == "proved" else "not established: the symbolic steps did not all hold"})
     return rows
 # the figures (FIGURES keys) whose sidecars each claim extractor reads: a row of a failed figure says so
 FIGURES_OF = {"_fig2": ("2",), "_fig3": ("3",), "_fig4": ("4",), "_fig5": ("5",), "_fig6": ("6",), "_fig7": ("7",),
