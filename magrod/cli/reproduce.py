@@ -122,9 +122,10 @@ def _run_task(task: str, out: str, quick: bool, formats=("png",)) -> dict:
         ppath = _progress_path(Path(out), task)
 
         def progress(done, total, name, cached):
-            from ..core.io import atomic_write_text
+            from ..core.io import atomic_write_text, record_writes
 
-            atomic_write_text(ppath, f"{done}/{total} {name}{' (remembered)' if cached else ''}\n")
+            with record_writes():  # not an output of the figure
+                atomic_write_text(ppath, f"{done}/{total} {name}{' (remembered)' if cached else ''}\n")
     paths = build(task, Path(out), quick=quick, progress=progress, formats=formats)
     files = {Path(p).name: _sha256(Path(p)) for p in paths}
     return {"task": task, "paths": paths, "files": files, "wall_s": time.perf_counter() - t0}
@@ -186,7 +187,7 @@ def run(args) -> dict:
     # the longest figures first (see QUICK_CPU_S): the order of the work, never of the results
     cost = {**QUICK_CPU_S, **({t: 10_000 for t in FULL_FIRST} if not args.quick else {})}
     todo.sort(key=lambda t: -cost.get(t, 0))
-    if args.force:  # recompute everything: the proof figure's remembered verifications too
+    if args.force and "proof" in todo:  # recompute everything: the proof figure's remembered verifications too
         import shutil
 
         shutil.rmtree(out / ".state" / "verified", ignore_errors=True)
@@ -232,6 +233,8 @@ def run(args) -> dict:
         raise
     finally:
         ex.shutdown(wait=not interrupted, cancel_futures=True)
+        for t in todo:
+            _progress_path(out, t).unlink(missing_ok=True)
         if interrupted:  # a worker killed mid-write leaves its temporary: remove it (stamps of finished figures stay)
             remove_stale_temporaries(out, pids)
             remove_stale_temporaries(out / ".state", pids)

@@ -105,14 +105,15 @@ def _cached(cache_dir: Path, cert: dict, base: str):
 
 
 def _remember(cache_dir: Path, cert: dict, base: str, res) -> None:
-    from ..core.io import atomic_write_json
+    from ..core.io import atomic_write_json, record_writes
 
     if not res.ok:
         return
     cache_dir.mkdir(parents=True, exist_ok=True)
-    atomic_write_json(cache_dir / f"{_key(cert, base)}.json",
-                      {"format": CACHE_FORMAT, "certificate_sha256": certificate_digest(cert),
-                       "trust_base_sha256": base, "result": res.to_dict()})
+    with record_writes():  # a remembered verification is not an output of the figure that asked for it
+        atomic_write_json(cache_dir / f"{_key(cert, base)}.json",
+                          {"format": CACHE_FORMAT, "certificate_sha256": certificate_digest(cert),
+                           "trust_base_sha256": base, "result": res.to_dict()})
 
 
 def cost(cert: dict) -> float:

@@ -138,7 +138,7 @@ def verify(cert: dict, *, module=fields.gen, workers: int | None = None) -> Veri
     def claim(name, holds, how):
         checks.append({"name": name, "holds": bool(holds), "how": how})
         if not holds:
-            raise _Reject(f"{name}: {how}")
+            raise _Reject(f"{name} failed (the check requires: {how})")
 
     kind = cert.get("kind", HOMOCLINIC) if isinstance(cert, dict) else None
     if kind not in KINDS:
@@ -151,6 +151,8 @@ def verify(cert: dict, *, module=fields.gen, workers: int | None = None) -> Veri
         p, st = _inputs(cert)
         with ball.workprec(st["prec"], st["series_cap"]):
             targets = _verify(cert, p, st, module, claim)
+    except ball.InexactBall as err:  # a well-formed certificate whose precision is too low for its checks
+        return _imprecise(checks, t0, err)
     except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
         if isinstance(err, ParameterError):
             raise
@@ -160,6 +162,15 @@ def verify(cert: dict, *, module=fields.gen, workers: int | None = None) -> Veri
     slopes = {c["target"]: [ball.decimal(b) for b in ball.json_bounds(c["dtheta_dpsi"])] for c in cert["crossings"]}
     return VerifyResult(True, "certificate verified: every enclosure recomputed and every check holds", checks,
                         time.perf_counter() - t0, homoclinic_theorem(p.as_json(), targets, _lam_rad_text(p)), slopes)
+
+
+def _imprecise(checks, t0, err) -> VerifyResult:
+    """The rejection of a certificate whose working precision cannot hold a value its checks need exactly (exit 1:
+    it is a certificate, and it fails a check)."""
+    how = f"every value the checks need exactly is exact at the certificate's working precision (settings prec); {err}"
+    checks.append({"name": "working precision", "holds": False, "how": how})
+    return VerifyResult(False, f"certificate rejected: working precision failed (the check requires: {how})", checks,
+                        time.perf_counter() - t0)
 
 
 def _lam_rad_text(p) -> str:
@@ -198,8 +209,7 @@ def _inside(inner: arb, outer: arb) -> bool:
 
 def _recomputed(claim, name, value: arb, stored):
     claim(f"{name} recomputed", ball.subset(value, stored),
-          f"recomputed {value} {'is' if ball.subset(value, stored) else 'is not'} inside the certificate's ball "
-          f"[{stored['mid']} +- {stored['rad']}]")
+          f"the recomputed enclosure {value} lies inside the certificate's ball [{stored['mid']} +- {stored['rad']}]")
 
 
 def _stored_claims(cert, claim):
@@ -478,7 +488,7 @@ def _verify_fixed_point(cert, module, t0) -> VerifyResult:
     def claim(name, holds, how):
         checks.append({"name": name, "holds": bool(holds), "how": how})
         if not holds:
-            raise _Reject(f"{name}: {how}")
+            raise _Reject(f"{name} failed (the check requires: {how})")
 
     try:
         p = fields.ExactParams(**{k: _frac(cert["params"][k]) for k in fields.PARAMS})
@@ -488,6 +498,8 @@ def _verify_fixed_point(cert, module, t0) -> VerifyResult:
             raise CertificateError("settings out of range (prec 64..1024 bits, 4 <= order < series_cap <= 256)")
         with ball.workprec(prec, cap):
             vals = _fixed_point(cert, p, order, module, claim)
+    except ball.InexactBall as err:  # a well-formed certificate whose precision is too low for its checks
+        return _imprecise(checks, t0, err)
     except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
         if isinstance(err, ParameterError):
             raise
@@ -656,7 +668,7 @@ def _verify_horseshoe(cert, module, t0, workers=None) -> VerifyResult:
     def claim(name, holds, how):
         checks.append({"name": name, "holds": bool(holds), "how": how})
         if not holds:
-            raise _Reject(f"{name}: {how}")
+            raise _Reject(f"{name} failed (the check requires: {how})")
 
     try:
         p = fields.ExactParams(**{k: _frac(cert["params"][k]) for k in fields.PARAMS})
@@ -666,6 +678,8 @@ def _verify_horseshoe(cert, module, t0, workers=None) -> VerifyResult:
             raise CertificateError("settings out of range (prec 64..1024 bits, 4 <= order < series_cap <= 256)")
         with ball.workprec(prec, cap):
             vals = _horseshoe(cert, p, order, module, claim, workers)
+    except ball.InexactBall as err:  # a well-formed certificate whose precision is too low for its checks
+        return _imprecise(checks, t0, err)
     except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
         if isinstance(err, ParameterError):
             raise
@@ -943,7 +957,8 @@ def _hs_record(cert, i, boxes: list) -> dict:
     except _Stop:
         pass
     except Exception as e:  # noqa: BLE001 - handed to the parent, which raises it where the serial run would
-        err = [type(e).__name__, str(e)[:120], isinstance(e, _MALFORMED) and not isinstance(e, ParameterError)]
+        err = [type(e).__name__, str(e)[:120], isinstance(e, _MALFORMED) and not isinstance(e, (ParameterError,
+                                                                                                ball.InexactBall))]
     return {"i": i, "recs": recs, "err": err}
 
 
@@ -958,7 +973,8 @@ def _hs_worker_boxes(cert) -> tuple:
             brs = [d.get("branch", "0") for d in cert["sets"]]
             return [B for _ok, B in _hs_branch_boxes(cert, p.balls(), sets, brs, fields.gen)], None
     except Exception as e:  # noqa: BLE001 - handed to the parent, which raises it where the serial run would
-        return None, [type(e).__name__, str(e)[:120], isinstance(e, _MALFORMED) and not isinstance(e, ParameterError)]
+        return None, [type(e).__name__, str(e)[:120], isinstance(e, _MALFORMED) and not isinstance(e, (ParameterError,
+                                                                                                       ball.InexactBall))]
 
 
 def _hs_worker_main() -> None:
@@ -1008,6 +1024,8 @@ def _hs_sources_parallel(cert, k, workers, claim) -> None:
                 claim(name, holds, how)
             if r["err"] is not None:
                 kind, msg, malformed = r["err"]
+                if kind == "InexactBall":
+                    raise ball.InexactBall(msg)
                 if malformed:
                     raise CertificateError(f"malformed certificate ({kind}: {msg})")
                 raise RuntimeError(f"horseshoe verifier worker, N{i}: {kind}: {msg}")
