@@ -7,7 +7,13 @@ interrupted run resumes.  Ctrl-C (exit 130), SIGTERM (143) and SIGHUP (129) stop
 ignore the terminal's signals: stopping them is the parent's job), keep the stamps of finished figures, remove
 the temporaries of half-written files and print one line; workers die with their parent even on kill -9 (and
 the next run removes what they left); a second run into the same directory is refused while the first holds its
-lock."""
+lock.
+
+The proof figure verifies every shipped certificate (--quick: one of each kind but the horseshoe) with the
+complete verifier, independent certificates in processes on every core, and remembers each verified certificate
+in OUT/.state/verified/ under the SHA-256 of the certificate and of the verifier's trust base
+(magrod.proof.schedule): a second run does not verify it again, a changed certificate or verifier does, --force
+forgets.  While it verifies, the bar shows how many certificates are done."""
 from __future__ import annotations
 
 import json
@@ -32,7 +38,7 @@ def add_arguments(p):
     p.add_argument("--quick", action="store_true", help="reduced sizes (fewer Poincare iterates etc.), ~1 min")
     p.add_argument("--jobs", default="2", help="worker processes (figures run in parallel)")
     p.add_argument("--only", default=",".join(TASKS), help="comma-separated figure numbers to run")
-    p.add_argument("--force", action="store_true", help="ignore finished-task stamps and recompute everything")
+    p.add_argument("--force", action="store_true", help="ignore finished-task stamps and remembered verifications; recompute everything")
     add_format(p)
 
 

@@ -4,11 +4,17 @@ It re-runs every rigorous step from the certificate's stored inputs and accepts 
 enclosure lies inside the certificate's ball for it and (b) every claimed inequality holds for the certificate's
 balls.  Separate code from the prover: it imports neither magrod.proof.search nor the prover's saddle / manifold
 modules; the Krawczyk tests, the cone conditions, the lift of the boundary arc, the phase derivatives and the
-interval Newton step are implemented again here.  Shared with the prover are only the generated field
-(generated/validated.py, whose SHA-256 must match the certificate, through magrod.proof.fields), the ball helpers
-(magrod.proof.ball), the validated integrator (magrod.proof.taylor), which the verifier drives with the
-certificate's exact step sizes, and the theorem's wording (magrod.proof.theorem): docs/nonintegrability.md,
-"The verifier's trust base".
+interval Newton step are implemented again here.  Shared with the prover are only (the trust base; a test fences
+it, docs/nonintegrability.md, "The verifier's trust base"):
+  - the generated field (generated/validated.py, whose SHA-256 must match the certificate), through
+    magrod.proof.fields, which also builds from it the chart field with lambdabar as a fifth state variable
+    (lambdabar' = 0; fields.lam_state_field) for the certificates on a lambdabar interval;
+  - the ball helpers (magrod.proof.ball);
+  - the validated integrator (magrod.proof.taylor), which the verifier drives with the certificate's exact step
+    sizes;
+  - the validated first return to the section sin psi = 0 (magrod.proof.section_return), for the section
+    certificates (fixed point and horseshoe);
+  - the theorem's wording (magrod.proof.theorem), and core.errors for the error type.
 
 Completeness: a certificate is accepted only if what it contains establishes the theorem the verifier prints.  The
 targets must be recognised ("0" or "pi", nothing else), distinct, exactly the settings' targets, one crossing each;
@@ -17,8 +23,9 @@ certificate's "theorem" text must be the one generated here from the verified pa
 claims more, or other, than the checks is rejected).  The printed theorem is that generated text, never the
 certificate's.
 
-Failure modes: `CertificateError` (unreadable, wrong format, missing or malformed fields: bad input, exit 2) and
-a result with ok = False and a one-line reason (a check does not hold: exit 1).
+Failure modes: `CertificateError` (unreadable, wrong format, missing or malformed fields: not a certificate, exit 2)
+and a result with ok = False and a one-line reason naming the check that failed and what it requires (a
+certificate that fails a check, a working precision too low for its checks included: exit 1).
 """
 from __future__ import annotations
 
