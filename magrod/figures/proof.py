@@ -127,7 +127,7 @@ def _verify_all(names, out, progress) -> dict:
     """name -> (certificate, VerifyResult, sidecar entry) for the shipped certificates `names`, verified by the
     complete verifier through proof.schedule (processes, the cache under OUT/.state/verified)."""
     from ..core.progress import bar
-    from ..proof import schedule
+    from ..proof import verify_certificates
 
     certs = [(n, _shipped(n)) for n in names]
     with bar(len(certs), "verifying certificates", progress is True, unit="certificate") as update:
@@ -136,7 +136,7 @@ def _verify_all(names, out, progress) -> dict:
             if callable(progress) and progress is not True:
                 progress(done, total, name, cached)
 
-        results = schedule.verify_many(certs, cache_dir=out / ".state" / "verified", progress=report)
+        results = verify_certificates(certs, cache_dir=out / ".state" / "verified", progress=report)
     return {n: (c, v, _entry(n, c, v)) for (n, c), v in zip(certs, results)}
 
 
