@@ -412,3 +412,28 @@ def test_interval_needs_the_motion(interval_cert):
     c["theorem"] = c["theorem"].replace(f"[{lam - w}, {lam + w}]", f"[{lam - wide}, {lam + wide}]")
     reason = _rejected(c)
     assert "N12 => N13" in reason, reason
+
+
+@pytest.mark.parametrize("name", [CERT, "homoclinic_target.json"])
+def test_a_certificate_whose_precision_is_too_low_fails_a_check(name, tmp_path, capsys):
+    """A lowered working precision (64 bits: in range, too low for the stored exact values) is a certificate that
+    fails a check, exit 1 naming "working precision", not a malformed one (exit 2).  Seen to fail (exit 2,
+    "malformed certificate (ValueError: not an exact ball ...)") before the verifier told the two apart.  Decided
+    on reading the sets / the saddle (< 2 s each)."""
+    from helpers import assert_rejected
+
+    c = copy.deepcopy(_load(name))
+    c["settings"]["prec"] = 64
+    assert_rejected(c, tmp_path, capsys, "working precision")
+
+
+def test_a_failing_check_says_that_it_failed(cert, tmp_path, capsys):
+    """A raised entropy bound: the line names the check, says it failed and what it requires (it used to print the
+    requirement as if it held: "rho_lower = ... is below the largest root")."""
+    from helpers import verify_cli
+
+    c = copy.deepcopy(cert)
+    c["entropy"]["rho_lower"] = "19/10"
+    code, _, err = verify_cli(c, tmp_path, capsys)
+    assert code == 1 and len(err) == 1, (code, err)
+    assert "entropy bound failed (the check requires: rho_lower = 1.9 is below" in err[0], err

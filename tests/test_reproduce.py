@@ -62,6 +62,24 @@ def test_stale_stamp_is_recomputed(quick_run, capsys):
     assert r["figures"]["4"]["skipped"] is False
 
 
+def test_a_verified_certificate_is_not_verified_again(quick_run, capsys):
+    """The proof figure remembers each verified certificate (OUT/.state/verified, keyed by the hashes of certificate
+    and trust base): re-run with its stamp gone, it reads the three remembered verifications of --quick, writes
+    none, and its sidecar says the same.  Seen to fail with the cache directory not passed to verify_many."""
+    out, _ = quick_run
+    cache = out / ".state" / "verified"
+    before = {p.name: p.stat().st_mtime_ns for p in cache.iterdir()}
+    assert len(before) == 3
+    side = json.loads((out / "proof.json").read_text())
+    (out / ".state" / "figure_proof.json").unlink()
+    assert cli.main(["reproduce", "--quick", "--out", str(out), "--only", "proof", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["figures"]["proof"]["skipped"] is False
+    assert {p.name: p.stat().st_mtime_ns for p in cache.iterdir()} == before
+    again = json.loads((out / "proof.json").read_text())
+    for k in ("theorem", "ok", "verify_checks", "verify_wall_time_s", "fig4", "fig4_section"):
+        assert again[k] == side[k], k
+
+
 def test_atomic_write_leaves_no_partial_file(tmp_path, monkeypatch):
     target = tmp_path / "data.npz"
     io.atomic_savez(target, a=np.arange(3))

@@ -7,7 +7,13 @@ interrupted run resumes.  Ctrl-C (exit 130), SIGTERM (143) and SIGHUP (129) stop
 ignore the terminal's signals: stopping them is the parent's job), keep the stamps of finished figures, remove
 the temporaries of half-written files and print one line; workers die with their parent even on kill -9 (and
 the next run removes what they left); a second run into the same directory is refused while the first holds its
-lock."""
+lock.
+
+The proof figure verifies every shipped certificate (--quick: one of each kind but the horseshoe) with the
+complete verifier, independent certificates in processes on every core, and remembers each verified certificate
+in OUT/.state/verified/ under the SHA-256 of the certificate and of the verifier's trust base
+(magrod.proof.schedule): a second run does not verify it again, a changed certificate or verifier does, --force
+forgets.  While it verifies, the bar shows how many certificates are done."""
 from __future__ import annotations
 
 import json
@@ -19,6 +25,12 @@ from ..figures import FIGURES
 from .options import add_format, add_out, add_workers, formats_from, integer
 
 TASKS = list(FIGURES)
+# CPU seconds of each figure in --quick (measured one figure per process, this machine, 2026-12): the workers take the
+# longest first, so that no long figure starts last and runs alone (the order decides nothing in the results)
+QUICK_CPU_S = {"splitting": 25, "continuation": 19, "proof": 17, "5": 8, "3": 8, "6": 7, "4": 7, "7": 6,
+               "landscape": 5, "2": 4, "chaos": 4, "orbitdiagram": 4}
+# and in the full reproduction, where the proof figure verifies every shipped certificate
+FULL_FIRST = ("proof",)
 
 
 # the measured wall time of `reproduce --quick` (benchmarks/reproduce_time.py writes it; present in a source
@@ -46,7 +58,7 @@ def add_arguments(p):
                    help=f"reduced sizes (fewer Poincaré iterates etc.); {quick_time_text()}")
     add_workers(p, default="2", help="worker processes (figures run in parallel)", old=("--jobs",))
     p.add_argument("--only", default=",".join(TASKS), help="comma-separated figure numbers to run")
-    p.add_argument("--force", action="store_true", help="ignore finished-task stamps and recompute everything")
+    p.add_argument("--force", action="store_true", help="ignore finished-task stamps and remembered verifications; recompute everything")
     add_format(p)
 
 
@@ -119,13 +131,28 @@ def _worker_init(parent_pid: int) -> None:
     threading.Thread(target=watchdog, daemon=True).start()
 
 
+def _progress_path(out: Path, task: str) -> Path:
+    return out / ".state" / f"progress_{task}.txt"
+
+
 def _run_task(task: str, out: str, quick: bool, formats=("png",)) -> dict:
     """Worker: one figure.  Runs in a separate process; returns paths, their content hashes and wall time.  A
-    figure that fails removes the files it wrote (figures.build), so its stamp and its claims are both absent."""
+    figure that fails removes the files it wrote (figures.build), so its stamp and its claims are both absent.
+    The proof figure reports each verified certificate in OUT/.state/progress_proof.txt ("done/total name"),
+    which the parent shows beside its bar."""
     from ..figures import build
 
     t0 = time.perf_counter()
-    paths = build(task, Path(out), quick=quick, progress=False, formats=formats)
+    progress = False
+    if task == "proof":
+        ppath = _progress_path(Path(out), task)
+
+        def progress(done, total, name, cached):
+            from ..core.io import atomic_write_text, record_writes
+
+            with record_writes():  # not an output of the figure
+                atomic_write_text(ppath, f"{done}/{total} {name}{' (remembered)' if cached else ''}\n")
+    paths = build(task, Path(out), quick=quick, progress=progress, formats=formats)
     files = {Path(p).name: _sha256(Path(p)) for p in paths}
     return {"task": task, "paths": paths, "files": files, "wall_s": time.perf_counter() - t0}
 
@@ -174,6 +201,7 @@ def run(args) -> dict:
     lock = _lock(out)
     remove_stale_temporaries(out)  # what a killed run left behind (its writer is dead; we hold the lock)
     remove_stale_temporaries(out / ".state")
+    remove_stale_temporaries(out / ".state" / "verified")
     t0 = time.perf_counter()
     done, todo = {}, []
     for t in tasks:
@@ -182,6 +210,15 @@ def run(args) -> dict:
             done[t] = {**st, "skipped": True}
         else:
             todo.append(t)
+    # the longest figures first (see QUICK_CPU_S): the order of the work, never of the results
+    cost = {**QUICK_CPU_S, **({t: 10_000 for t in FULL_FIRST} if not args.quick else {})}
+    todo.sort(key=lambda t: -cost.get(t, 0))
+    if args.force and "proof" in todo:  # recompute everything: the proof figure's remembered verifications too
+        import shutil
+
+        shutil.rmtree(out / ".state" / "verified", ignore_errors=True)
+    for t in todo:
+        _progress_path(out, t).unlink(missing_ok=True)
     failures = {}
     # spawn, not fork: workers build their own LLVM/heyoka state (the on-disk JIT cache makes this cheap)
     # multiprocessing's resource tracker starts with the pool's first queue: it too must not die of the terminal's
@@ -198,7 +235,7 @@ def run(args) -> dict:
                 futs = {ex.submit(_run_task, t, str(out), args.quick, formats): t for t in todo}
             pids = set(getattr(ex, "_processes", {}) or {})
             pause_point("reproduce-running")
-            for fut in cf.as_completed(futs):
+            for fut in _completed(futs, out, update):
                 t = futs[fut]
                 try:
                     r = fut.result()
@@ -222,9 +259,12 @@ def run(args) -> dict:
         raise
     finally:
         ex.shutdown(wait=not interrupted, cancel_futures=True)
+        for t in todo:
+            _progress_path(out, t).unlink(missing_ok=True)
         if interrupted:  # a worker killed mid-write leaves its temporary: remove it (stamps of finished figures stay)
             remove_stale_temporaries(out, pids)
             remove_stale_temporaries(out / ".state", pids)
+            remove_stale_temporaries(out / ".state" / "verified", pids)
         lock.release()
     report_path = out / "REPORT.md"
     rows = claims(out, args.quick)
@@ -237,6 +277,27 @@ def run(args) -> dict:
     if failures:
         res["error"] = "figure(s) failed: " + "; ".join(f"{t}: {m}" for t, m in sorted(failures.items()))
     return res
+
+
+def _completed(futs, out: Path, update):
+    """The futures as they complete; meanwhile the progress a running figure reports (the proof figure: each
+    certificate verified) is shown beside the bar."""
+    import concurrent.futures as cf
+
+    pending, shown = set(futs), None
+    while pending:
+        finished, pending = cf.wait(pending, timeout=1.0, return_when=cf.FIRST_COMPLETED)
+        notes = []
+        for t in sorted({futs[f] for f in pending}):
+            try:
+                notes.append(f"{t}: {_progress_path(out, t).read_text().strip()}")
+            except OSError:
+                pass
+        note = "; ".join(notes)
+        if note != shown:
+            update.note(note)
+            shown = note
+        yield from finished
 
 
 def format_text(r: dict) -> str:

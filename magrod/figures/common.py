@@ -219,18 +219,28 @@ def clear_of_data(fig) -> bool:
             for loc in ("upper right", "upper left", "lower left", "lower right", "center right", "center left",
                         "upper center", "lower center"):
                 leg.set_loc(loc)
-                canvas.draw()
+                _settle(canvas)
                 if not _cost(ax, leg, renderer):
                     break
             else:
                 leg.set_loc("upper left")
                 leg.set_bbox_to_anchor((1.02, 1.0), transform=ax.transAxes)
                 outside = True
-                canvas.draw()
+                _settle(canvas)
         for t in list(ax.texts):
             if t.get_visible() and t.get_text().strip() and _cost(ax, t, renderer):
                 outside |= _move_text_clear(ax, t, canvas, renderer)
     return outside
+
+
+def _settle(canvas) -> None:
+    """What a trial placement needs before its boxes are measured: the figure's layout (its layout engine places
+    the axes around what lies outside them), not a rendering.  Text, annotation and legend boxes are computed from
+    their positions on demand (a legend's offset from its loc); covering() drew the figure once before."""
+    fig = canvas.figure
+    engine = fig.get_layout_engine()
+    if engine is not None:
+        engine.execute(fig)
 
 
 def _cost(ax, artist, renderer) -> int:
@@ -264,7 +274,7 @@ def _move_text_clear(ax, t, canvas, renderer) -> bool:
                        (0, 22), (0, -28), (24, 0), (-24, 0), (30, 30), (30, -36), (-30, 30), (-30, -36)):
             t.xyann = (dx, dy)
             t.set_ha("left" if dx >= 0 else "right")
-            canvas.draw()
+            _settle(canvas)
             n = _cost(ax, t, renderer)
             if best is None or n < best[0]:
                 best = (n, dx, dy)
@@ -290,7 +300,7 @@ def _move_text_clear(ax, t, canvas, renderer) -> bool:
             t.xyann = xy
         else:
             t.set_position(xy)
-        canvas.draw()
+        _settle(canvas)
         if not _cost(ax, t, renderer):
             return False
     t.set_ha("center")

@@ -50,10 +50,26 @@ FIG4_HORSESHOE = (("4a", "horseshoe_fig4a.json", "12"), ("4b", "horseshoe_fig4b.
 NOT_IN_REPRODUCE: tuple = ()
 
 
-def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
+def build(out_dir, *, quick: bool = False, progress=False) -> list[str]:
+    """Verify the shipped certificates (every one; --quick: the target, Fig 4(a)'s homoclinic orbit and its section
+    fixed point) and write their copies, proof.json and proof.png.
+
+    The certificates are verified together by proof.schedule.verify_many: independent certificates in processes
+    on every core, each remembered under OUT/.state/verified/ by the hashes of the certificate and of the
+    verifier's trust base (a second run does not verify again; a changed certificate or verifier does).  The
+    sidecar is assembled in this module's fixed order whatever ran the checks.  `progress`: True shows a bar
+    per certificate; a callable is called progress(done, total, name, cached) after each."""
     out = ensure_writable_dir(out_dir)
     t0 = time.perf_counter()
-    cert, v, _ = _verified(SHIPPED)
+    # --quick verifies one certificate of each kind but the horseshoe (the target, Fig 4(a)'s homoclinic orbit and
+    # its section saddle); the full reproduction verifies every shipped certificate
+    fig4, fig4_section = (FIG4[:1], FIG4_SECTION[:1]) if quick else (FIG4, FIG4_SECTION)
+    fig4_horseshoe = () if quick else FIG4_HORSESHOE
+    names = [SHIPPED] + ([] if quick else [TARGET_INTERVAL]) + [n for _, n in fig4] + \
+        [n for _, n, _ in (*fig4_section, *fig4_horseshoe)]
+    verified = _verify_all(names, out, progress)
+
+    cert, v, _ = verified[SHIPPED]
     side = {"params": cert["params"], "ok": v.ok, "reason": v.reason, "n_checks": len(v.checks), "quick": quick,
             "certificate": f"magrod/proof/certificates/{SHIPPED}", "re_proved": False, "versions": versions()}
     paths = [str(atomic_write_json(out / "proof_certificate.json", cert))]
@@ -65,18 +81,14 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
                     eigenvalue_u=cert["saddle"]["lam_u"])
     # Fig 4's rod (issue 27): the relative equilibrium's own level, not the figure's h = 0.9
     side["fig4"] = []
-    # --quick verifies one certificate of each kind but the horseshoe (the target, Fig 4(a)'s homoclinic orbit and its
-    # section saddle); the full reproduction verifies every shipped certificate (each horseshoe: 45-70 s)
-    fig4, fig4_section = (FIG4[:1], FIG4_SECTION[:1]) if quick else (FIG4, FIG4_SECTION)
-    fig4_horseshoe = () if quick else FIG4_HORSESHOE
     side["not_verified_in_quick"] = ([TARGET_INTERVAL] if quick else []) + [n for _, n in FIG4[len(fig4):]] + \
         [n for _, n, _ in (*FIG4_SECTION[len(fig4_section):], *FIG4_HORSESHOE[len(fig4_horseshoe):])]
     if not quick:
-        ti, v4, entry = _verified(TARGET_INTERVAL)
+        ti, v4, entry = verified[TARGET_INTERVAL]
         side["target_interval"] = {**entry, "lam_rad": ti["settings"]["lam_rad"], "slopes": v4.slopes}
         paths.append(str(atomic_write_json(out / "proof_certificate_interval.json", ti)))
     for key, name in fig4:
-        other, v4, entry = _verified(name)
+        other, v4, entry = verified[name]
         side["fig4"].append({"panel": key, **entry, "slopes": v4.slopes})
         paths.append(str(atomic_write_json(out / f"proof_certificate_fig{key}.json", other)))
     # the section certificates (statements 11-13): verified, one sidecar entry each, a copy beside the figure
@@ -84,7 +96,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
                                    ("fig4_horseshoe", "horseshoe", fig4_horseshoe)):
         side[group] = []
         for key, name, st in entries:
-            other, v4, entry = _verified(name)
+            other, v4, entry = verified[name]
             side[group].append({"panel": key, **entry, "level": other["level"], "statement": st,
                                 "lam_rad": str(other.get("settings", {}).get("lam_rad", "0")),
                                 **({"values": v4.values} if group == "fig4_section" else {})})
@@ -97,19 +109,45 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
     return paths
 
 
-def _verified(name: str) -> tuple:
-    """(certificate, VerifyResult, sidecar entry) of the shipped certificate `name`, verified by the complete
-    verifier: the entry holds what every REPORT row reads (parameters, verdict, checks, theorem, file, time)."""
+def _shipped(name: str) -> dict:
     import json
     from importlib import resources
 
+    return json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
+
+
+def _entry(name: str, cert: dict, v) -> dict:
+    """The sidecar entry every REPORT row reads (parameters, verdict, checks, theorem, file, time)."""
+    return {"params": cert["params"], "ok": v.ok, "reason": v.reason, "n_checks": len(v.checks),
+            "theorem": v.theorem, "certificate": f"magrod/proof/certificates/{name}",
+            "verify_wall_time_s": round(v.wall_time_s, 1)}
+
+
+def _verify_all(names, out, progress) -> dict:
+    """name -> (certificate, VerifyResult, sidecar entry) for the shipped certificates `names`, verified by the
+    complete verifier through proof.schedule (processes, the cache under OUT/.state/verified)."""
+    from ..core.progress import bar
+    from ..proof import verify_certificates
+
+    certs = [(n, _shipped(n)) for n in names]
+    with bar(len(certs), "verifying certificates", progress is True, unit="certificate") as update:
+        def report(done, total, name, cached):
+            update(1)
+            if callable(progress) and progress is not True:
+                progress(done, total, name, cached)
+
+        results = verify_certificates(certs, cache_dir=out / ".state" / "verified", progress=report)
+    return {n: (c, v, _entry(n, c, v)) for (n, c), v in zip(certs, results)}
+
+
+def _verified(name: str) -> tuple:
+    """(certificate, VerifyResult, sidecar entry) of the shipped certificate `name`, verified by the complete
+    verifier in this process (no cache)."""
     from ..proof import verify_certificate
 
-    cert = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
+    cert = _shipped(name)
     v = verify_certificate(cert)
-    return cert, v, {"params": cert["params"], "ok": v.ok, "reason": v.reason, "n_checks": len(v.checks),
-                     "theorem": v.theorem, "certificate": f"magrod/proof/certificates/{name}",
-                     "verify_wall_time_s": round(v.wall_time_s, 1)}
+    return cert, v, _entry(name, cert, v)
 
 
 def _figure(out, side, quick):

@@ -8,6 +8,7 @@ Layers (each tested on its own, tests/test_proof_*.py):
   manifold.py  the local unstable manifold by cone/slab conditions; its boundary circle with C^1 bounds
   search.py    the prover: floating-point search + the rigorous steps -> certificate
   verify.py    the independent checker of a certificate (imports neither search.py nor saddle.py/manifold.py)
+  schedule.py  verifies many certificates in processes and remembers verified ones (outside the trust base)
 
 The names below are the package's public tier (docs/architecture.md, the API reference; tests/test_wings.py allows these and nothing deeper
 for the command line and the figures), imported lazily.
@@ -40,6 +41,8 @@ _API = {
     # the independent checker, and the statements' verdicts
     "load_certificate": ("verify", "load"),
     "verify_certificate": ("verify", "verify"),
+    # many certificates: in processes on every core, each verified one remembered (scheduling, not the trust base)
+    "verify_certificates": ("schedule", "verify_many"),
     "statement_status": ("statements", "status"),
 }
 

@@ -32,6 +32,10 @@ def workprec(bits: int, cap: int = SERIES_CAP):
         ctx.prec, ctx.cap = old, old_cap
 
 
+class InexactBall(ValueError):
+    """A ball that should be an exact number is not: the working precision is too low for the value."""
+
+
 def fraction(x) -> Fraction:
     """Exact rational of an int / Fraction / decimal or 'p/q' string / exact arb (radius 0)."""
     if isinstance(x, Fraction):
@@ -42,7 +46,7 @@ def fraction(x) -> Fraction:
         return Fraction(x.strip())
     if isinstance(x, arb):
         if x.rad() != 0:
-            raise ValueError(f"not an exact ball: {x}")
+            raise InexactBall(f"not an exact ball: {x}")
         man, exp = x.mid().man_exp()
         man, exp = int(man), int(exp)
         return Fraction(man * 2**exp) if exp >= 0 else Fraction(man, 2 ** (-exp))

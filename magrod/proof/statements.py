@@ -139,7 +139,8 @@ STATEMENTS = (
        """For the 9-D body system at the leaves whose (m, μ, λ̄) are those of 5 (γ = δ = 1) or of 5a (γ = δ = 3),
        and on open neighbourhoods of them: no real-analytic
        function F in involution with H and with m3, defined near the set {H = H(q*), m3 = m3*} of the leaf, is
-       independent of H, m3 and the Casimirs on that set. Proof: {F, m3} = 0 makes F∘X independent of the angle φ
+       independent of H, m3 and the Casimirs on the component of that set which contains the homoclinic orbits
+       (the S¹-orbits over the homoclinic orbits of 5). Proof: {F, m3} = 0 makes F∘X independent of the angle φ
        (`s1_descent`, with `poisson_map`), so F descends to an integral of the chart system on the level of 5;
        Kozlov's conclusion (5) makes it locally constant on the component of the level that holds the homoclinic
        orbits, hence F is locally constant on the S¹-orbits over it. The
@@ -373,7 +374,8 @@ def render_summary() -> str:
             f"1/100), and at Fig 4's rod (5a: (17/10, 2/5, 3, 3) at the four panels' λ̄, non-perturbative), the "
             f"saddle's energy level of the reduced chart system carries horseshoes and no real-analytic "
             f"integral independent of H̄ (**{status('5')}**), and the 9-D rod has there no real-analytic integral "
-            f"in involution with m3 that is independent of H, m3 and the Casimirs on that level "
+            f"in involution with m3 that is independent of H, m3 and the Casimirs on the component of that level "
+            f"which contains the homoclinic orbits "
             f"(**{status('7')}**, statement 7); the first also for every λ̄ in 1/100 ± 10⁻¹³ (a certificate with λ̄ a "
             f"ball, statement 5), and both hold on an open neighbourhood of that point, of unquantified "
             f"size (cited persistence). Nonintegrability of the 9-D rod against every integral (not only those in "
@@ -394,7 +396,7 @@ def render_readme() -> str:
     return _wrap(f"- Nonintegrability: at one parameter point, (m, μ, γ, δ, λ̄) = (17/10, 1/25, 1, 1, 1/100), and "
             f"for every λ̄ in 1/100 ± 10⁻¹³ there, two transverse homoclinic orbits of the tilted saddle-focus are **{status('5')}** (`magrod prove`, a "
             f"certificate re-checked by a separate, complete verifier), hence horseshoes on that level and no "
-            f"real-analytic integral of the reduced system there, the same at Fig 4's rod (the four panels' λ̄) on the saddle-focus's "
+            f"real-analytic integral of the reduced system independent of H̄ there, the same at Fig 4's rod (the four panels' λ̄) on the saddle-focus's "
             f"own level (**{status('5a')}**; that level is not the one Fig 4 shows), and for the 9-D rod none in "
             f"involution with m3 "
             f"(**{status('7')}**); every other nonintegrability claim (every integral, not only those in involution with "

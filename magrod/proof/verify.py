@@ -4,11 +4,17 @@ It re-runs every rigorous step from the certificate's stored inputs and accepts 
 enclosure lies inside the certificate's ball for it and (b) every claimed inequality holds for the certificate's
 balls.  Separate code from the prover: it imports neither magrod.proof.search nor the prover's saddle / manifold
 modules; the Krawczyk tests, the cone conditions, the lift of the boundary arc, the phase derivatives and the
-interval Newton step are implemented again here.  Shared with the prover are only the generated field
-(generated/validated.py, whose SHA-256 must match the certificate, through magrod.proof.fields), the ball helpers
-(magrod.proof.ball), the validated integrator (magrod.proof.taylor), which the verifier drives with the
-certificate's exact step sizes, and the theorem's wording (magrod.proof.theorem): docs/nonintegrability.md,
-"The verifier's trust base".
+interval Newton step are implemented again here.  Shared with the prover are only (the trust base; a test fences
+it, docs/nonintegrability.md, "The verifier's trust base"):
+  - the generated field (generated/validated.py, whose SHA-256 must match the certificate), through
+    magrod.proof.fields, which also builds from it the chart field with lambdabar as a fifth state variable
+    (lambdabar' = 0; fields.lam_state_field) for the certificates on a lambdabar interval;
+  - the ball helpers (magrod.proof.ball);
+  - the validated integrator (magrod.proof.taylor), which the verifier drives with the certificate's exact step
+    sizes;
+  - the validated first return to the section sin psi = 0 (magrod.proof.section_return), for the section
+    certificates (fixed point and horseshoe);
+  - the theorem's wording (magrod.proof.theorem), and core.errors for the error type.
 
 Completeness: a certificate is accepted only if what it contains establishes the theorem the verifier prints.  The
 targets must be recognised ("0" or "pi", nothing else), distinct, exactly the settings' targets, one crossing each;
@@ -17,8 +23,9 @@ certificate's "theorem" text must be the one generated here from the verified pa
 claims more, or other, than the checks is rejected).  The printed theorem is that generated text, never the
 certificate's.
 
-Failure modes: `CertificateError` (unreadable, wrong format, missing or malformed fields: bad input, exit 2) and
-a result with ok = False and a one-line reason (a check does not hold: exit 1).
+Failure modes: `CertificateError` (unreadable, wrong format, missing or malformed fields: not a certificate, exit 2)
+and a result with ok = False and a one-line reason naming the check that failed and what it requires (a
+certificate that fails a check, a working precision too low for its checks included: exit 1).
 """
 from __future__ import annotations
 
@@ -138,7 +145,7 @@ def verify(cert: dict, *, module=fields.gen, workers: int | None = None) -> Veri
     def claim(name, holds, how):
         checks.append({"name": name, "holds": bool(holds), "how": how})
         if not holds:
-            raise _Reject(f"{name}: {how}")
+            raise _Reject(f"{name} failed (the check requires: {how})")
 
     kind = cert.get("kind", HOMOCLINIC) if isinstance(cert, dict) else None
     if kind not in KINDS:
@@ -151,6 +158,8 @@ def verify(cert: dict, *, module=fields.gen, workers: int | None = None) -> Veri
         p, st = _inputs(cert)
         with ball.workprec(st["prec"], st["series_cap"]):
             targets = _verify(cert, p, st, module, claim)
+    except ball.InexactBall as err:  # a well-formed certificate whose precision is too low for its checks
+        return _imprecise(checks, t0, err)
     except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
         if isinstance(err, ParameterError):
             raise
@@ -160,6 +169,15 @@ def verify(cert: dict, *, module=fields.gen, workers: int | None = None) -> Veri
     slopes = {c["target"]: [ball.decimal(b) for b in ball.json_bounds(c["dtheta_dpsi"])] for c in cert["crossings"]}
     return VerifyResult(True, "certificate verified: every enclosure recomputed and every check holds", checks,
                         time.perf_counter() - t0, homoclinic_theorem(p.as_json(), targets, _lam_rad_text(p)), slopes)
+
+
+def _imprecise(checks, t0, err) -> VerifyResult:
+    """The rejection of a certificate whose working precision cannot hold a value its checks need exactly (exit 1:
+    it is a certificate, and it fails a check)."""
+    how = f"every value the checks need exactly is exact at the certificate's working precision (settings prec); {err}"
+    checks.append({"name": "working precision", "holds": False, "how": how})
+    return VerifyResult(False, f"certificate rejected: working precision failed (the check requires: {how})", checks,
+                        time.perf_counter() - t0)
 
 
 def _lam_rad_text(p) -> str:
@@ -198,8 +216,7 @@ def _inside(inner: arb, outer: arb) -> bool:
 
 def _recomputed(claim, name, value: arb, stored):
     claim(f"{name} recomputed", ball.subset(value, stored),
-          f"recomputed {value} {'is' if ball.subset(value, stored) else 'is not'} inside the certificate's ball "
-          f"[{stored['mid']} +- {stored['rad']}]")
+          f"the recomputed enclosure {value} lies inside the certificate's ball [{stored['mid']} +- {stored['rad']}]")
 
 
 def _stored_claims(cert, claim):
@@ -478,7 +495,7 @@ def _verify_fixed_point(cert, module, t0) -> VerifyResult:
     def claim(name, holds, how):
         checks.append({"name": name, "holds": bool(holds), "how": how})
         if not holds:
-            raise _Reject(f"{name}: {how}")
+            raise _Reject(f"{name} failed (the check requires: {how})")
 
     try:
         p = fields.ExactParams(**{k: _frac(cert["params"][k]) for k in fields.PARAMS})
@@ -488,6 +505,8 @@ def _verify_fixed_point(cert, module, t0) -> VerifyResult:
             raise CertificateError("settings out of range (prec 64..1024 bits, 4 <= order < series_cap <= 256)")
         with ball.workprec(prec, cap):
             vals = _fixed_point(cert, p, order, module, claim)
+    except ball.InexactBall as err:  # a well-formed certificate whose precision is too low for its checks
+        return _imprecise(checks, t0, err)
     except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
         if isinstance(err, ParameterError):
             raise
@@ -656,7 +675,7 @@ def _verify_horseshoe(cert, module, t0, workers=None) -> VerifyResult:
     def claim(name, holds, how):
         checks.append({"name": name, "holds": bool(holds), "how": how})
         if not holds:
-            raise _Reject(f"{name}: {how}")
+            raise _Reject(f"{name} failed (the check requires: {how})")
 
     try:
         p = fields.ExactParams(**{k: _frac(cert["params"][k]) for k in fields.PARAMS})
@@ -666,6 +685,8 @@ def _verify_horseshoe(cert, module, t0, workers=None) -> VerifyResult:
             raise CertificateError("settings out of range (prec 64..1024 bits, 4 <= order < series_cap <= 256)")
         with ball.workprec(prec, cap):
             vals = _horseshoe(cert, p, order, module, claim, workers)
+    except ball.InexactBall as err:  # a well-formed certificate whose precision is too low for its checks
+        return _imprecise(checks, t0, err)
     except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
         if isinstance(err, ParameterError):
             raise
@@ -943,7 +964,8 @@ def _hs_record(cert, i, boxes: list) -> dict:
     except _Stop:
         pass
     except Exception as e:  # noqa: BLE001 - handed to the parent, which raises it where the serial run would
-        err = [type(e).__name__, str(e)[:120], isinstance(e, _MALFORMED) and not isinstance(e, ParameterError)]
+        err = [type(e).__name__, str(e)[:120], isinstance(e, _MALFORMED) and not isinstance(e, (ParameterError,
+                                                                                                ball.InexactBall))]
     return {"i": i, "recs": recs, "err": err}
 
 
@@ -958,7 +980,8 @@ def _hs_worker_boxes(cert) -> tuple:
             brs = [d.get("branch", "0") for d in cert["sets"]]
             return [B for _ok, B in _hs_branch_boxes(cert, p.balls(), sets, brs, fields.gen)], None
     except Exception as e:  # noqa: BLE001 - handed to the parent, which raises it where the serial run would
-        return None, [type(e).__name__, str(e)[:120], isinstance(e, _MALFORMED) and not isinstance(e, ParameterError)]
+        return None, [type(e).__name__, str(e)[:120], isinstance(e, _MALFORMED) and not isinstance(e, (ParameterError,
+                                                                                                       ball.InexactBall))]
 
 
 def _hs_worker_main() -> None:
@@ -1008,6 +1031,8 @@ def _hs_sources_parallel(cert, k, workers, claim) -> None:
                 claim(name, holds, how)
             if r["err"] is not None:
                 kind, msg, malformed = r["err"]
+                if kind == "InexactBall":
+                    raise ball.InexactBall(msg)
                 if malformed:
                     raise CertificateError(f"malformed certificate ({kind}: {msg})")
                 raise RuntimeError(f"horseshoe verifier worker, N{i}: {kind}: {msg}")
