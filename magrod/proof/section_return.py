@@ -152,22 +152,23 @@ def section_set(pars, theta: arb, ptheta: arb, ppsi: arb, C2=None) -> taylor.C1S
 
 
 def first_return(pars, fld, S: taylor.C1Set, t_a: Fraction, lead: Fraction, *, t1=Fraction(1, 64), order=20,
-                 tol=PROOF_STEP_TOL, steps=None, newton=4, module=gen):
+                 tol=PROOF_STEP_TOL, steps=None, newton=4, module=gen, integrator=taylor):
     """The validated flight of the chart set S (on Sigma+ at t = 0) through one full return of P: phase 1 on
     [0, t1] with d(sin psi)/dt > 0, phase 2 on [t1, t_a] with no positive crossing (return_guards), then the one
     crossing of sin psi = 0 in (t_a, t_a + 2 lead) (taylor.cross_section; the caller checks that it is positive).
-    steps: None (adaptive) or the exact (steps1, steps2) of a certificate.  Returns (crossing, (steps1, steps2)).
-    Raises taylor.EnclosureError / GuardError / CrossingError."""
+    steps: None (adaptive) or the exact (steps1, steps2) of a certificate.  integrator: the module whose propagate
+    and cross_section fly it (taylor, or taylor_model: the Taylor-model remainder).  Returns (crossing, (steps1,
+    steps2)).  Raises taylor.EnclosureError / GuardError / CrossingError."""
     g, dg, base = chart_section(pars, module)
     first, general = return_guards(pars, fld, module)
     tr1, tr2 = taylor.Trajectory(), taylor.Trajectory()
     if steps is None:
-        S = taylor.propagate(fld, S, t1, order=order, tol=tol, guard=first, record=tr1)
-        S = taylor.propagate(fld, S, t_a, order=order, tol=tol, guard=general, record=tr2)
+        S = integrator.propagate(fld, S, t1, order=order, tol=tol, guard=first, record=tr1)
+        S = integrator.propagate(fld, S, t_a, order=order, tol=tol, guard=general, record=tr2)
     else:
-        S = taylor.propagate(fld, S, steps=steps[0], order=order, guard=first, record=tr1)
-        S = taylor.propagate(fld, S, steps=steps[1], order=order, guard=general, record=tr2)
-    cr = taylor.cross_section(fld, S, g, dg, 2 * lead, order, newton=newton, guard=base)
+        S = integrator.propagate(fld, S, steps=steps[0], order=order, guard=first, record=tr1)
+        S = integrator.propagate(fld, S, steps=steps[1], order=order, guard=general, record=tr2)
+    cr = integrator.cross_section(fld, S, g, dg, 2 * lead, order, newton=newton, guard=base)
     return cr, (tr1.steps, tr2.steps)
 
 
@@ -222,7 +223,8 @@ def ham_lam_derivative(pars, x, module=gen) -> arb:
 
 def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction, lead: Fraction, *,
                  t1=Fraction(1, 64), order=20, tol=PROOF_STEP_TOL, tol_thin=None, steps=None, newton=12, box=True,
-                 thin=None, thin_c1=True, branch="0", moving: Moving | None = None, module=gen) -> dict:
+                 thin=None, thin_c1=True, branch="0", moving: Moving | None = None, module=gen,
+                 integrator=taylor) -> dict:
     """One return of P for the section piece X = c + A [-1, 1]^2 (c exact (theta, pbar_theta), A exact 2 x 2) on
     the level Hbar = h, pbar_psi the root in [pc - prad, pc + prad].
 
@@ -244,7 +246,8 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
     C r0 gains the column (v, grad pbar_psi . (v, 1), 1) and the row lambdabar; the centre flies at lam0, with pars
     and fld, as without it), and the result has "dPds": the derivative of s -> P_s(c + v (s - lam0)) over the box
     (the section derivative along that column), so that P_s(X(s)) lies in Pc + DP A [-1, 1]^2 + dPds (s - lam0)
-    for every s in lam.  Flight failures raise taylor's errors; the caller checks the signs."""
+    for every s in lam.  integrator: taylor (default) or taylor_model, for both flights (first_return).  Flight
+    failures raise taylor's errors; the caller checks the signs."""
     out = {}
     cq = [ball.q(v) for v in c]
     ps = branch_psi(branch)
@@ -312,7 +315,7 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
         tk = (tol_thin or tol) if kind == "thin" else tol
         pk, fk = (pars, fld) if kind == "thin" else (pars_b, fld_b)
         cr, used = first_return(pk, fk, S, t_a, lead, t1=t1, order=order, tol=tk, steps=st, newton=newton,
-                                module=module)
+                                module=module, integrator=integrator)
         steps_out[kind] = used
         Qk = [cq[0], ps, cq[1], Nc] if kind == "thin" else Q + xl
         tg = tangents(pk, Qk, module)
