@@ -94,6 +94,10 @@ def test_a_step_past_a_blow_up_is_not_validated():
         S1 = taylor_model.step(fld, S, Fraction(1, 4), 12)
         assert S1.hull()[0].contains(ball.q(Fraction(1, 4)).tan())
         assert S1.W()[0, 0].contains(1 + ball.q(Fraction(1, 4)).tan() ** 2)
+        # extra = 0: the whole tail is the Lagrange coefficient over [0, h] (order 4, h = 1/2: ~1e-3 of tan)
+        S2 = taylor_model.step(fld, S, Fraction(1, 2), 4, extra=0)
+        assert S2.hull()[0].contains(ball.q(Fraction(1, 2)).tan())
+        assert S2.W()[0, 0].contains(1 + ball.q(Fraction(1, 2)).tan() ** 2)
 
 
 def test_heyoka_quad_trajectory_lies_in_the_chart_enclosure():
@@ -152,3 +156,15 @@ def test_fig4b_centre_return_agrees_with_the_present_integrator():
         assert max(float(v.rad()) for v in new) < max(float(v.rad()) for v in old)
     print("\nP(x0) radii at tol 1e-25: taylor_model", [float(v.rad()) for v in new],
           "taylor", [float(v.rad()) for v in old])
+
+
+def test_thin_coarse_flight_contains_the_exact_flow():
+    """A point (no box to hide in) flown at a coarse tolerance (order 8, tol 1e-10): the truncation error is the
+    whole width, and the exact flow at t = 2 still lies inside; the enclosure is at most ~1e3 x the tolerance."""
+    fld = _closed_form_field()
+    with ball.workprec(PREC):
+        S = taylor.initial_set([ball.q(v) for v in X0], c1=False)
+        S = taylor_model.propagate(fld, S, 2, order=8, tol=1e-10)
+        xt, _ = _exact(X0, 2)
+        assert all(h.contains(v) for h, v in zip(S.hull(), xt)), (S.hull(), xt)
+        assert 0 < max(S.widths()) < 1e-7
