@@ -412,3 +412,16 @@ def test_interval_needs_the_motion(interval_cert):
     c["theorem"] = c["theorem"].replace(f"[{lam - w}, {lam + w}]", f"[{lam - wide}, {lam + wide}]")
     reason = _rejected(c)
     assert "N12 => N13" in reason, reason
+
+
+def test_thin_integrator_is_a_recorded_setting_and_an_unknown_one_is_malformed(cert):
+    """The centres' integrator is recorded only when it is not taylor.py (every shipped certificate's settings stay
+    as they were), and a certificate naming an integrator the verifier does not have is malformed (exit 2), not
+    re-flown with another (seen to fail: with the name unchecked, "bogus" verifies by taylor.py)."""
+    st = horseshoe.HorseshoeSettings(thin_integrator="taylor_model")
+    assert st.as_json()["thin_integrator"] == "taylor_model"
+    assert "thin_integrator" not in horseshoe.HorseshoeSettings().as_json()
+    c = copy.deepcopy(cert)
+    c["settings"]["thin_integrator"] = "bogus"
+    with pytest.raises(verify.CertificateError, match="thin_integrator"):
+        verify.verify(c, workers=1)

@@ -2,7 +2,7 @@
 statements 11 and 12 (periodic.py, horseshoe.py) and by the verifier (verify.py, kind section_horseshoe): the
 level's pbar_psi by interval Newton, the section's guards, the C^1 flight of a set to its next crossing, the
 section quantities there.  It is part of the verifier's trust base (docs/nonintegrability.md, "The verifier's trust
-base"), like taylor.py: it imports only ball, fields, taylor and the generated fields -- never a prover's search
+base"), like taylor.py: it imports only ball, fields, taylor, taylor_model and the generated fields -- never a prover's search
 (search.py, periodic.py's prove, horseshoe.py), so a verifier that uses it does not use the prover's decisions.
 Moved here from periodic.py (issue 27) unchanged."""
 from __future__ import annotations
@@ -14,7 +14,19 @@ from flint import arb, arb_mat, arb_series
 
 from ..core.tolerances import PROOF_STEP_TOL
 from ..generated import validated as gen
-from . import ball, fields, taylor
+from . import ball, fields, taylor, taylor_model
+
+#: the validated integrators a flight may use, by the name a certificate records (settings "thin_integrator"):
+#: "taylor" the a priori box's Lagrange remainder (every certificate without the field), "taylor_model" the
+#: Taylor-model remainder (taylor_model.py)
+INTEGRATORS = {"taylor": taylor, "taylor_model": taylor_model}
+
+
+def integrator(name: str):
+    """The integrator module of a certificate's name (INTEGRATORS); ValueError naming it otherwise."""
+    if name not in INTEGRATORS:
+        raise ValueError(f"thin_integrator must be one of {sorted(INTEGRATORS)}, got {name!r}")
+    return INTEGRATORS[name]
 
 TH, PS, PT, PP = fields.THETA, fields.PSI, fields.PTHETA, fields.PPSI
 
@@ -224,7 +236,7 @@ def ham_lam_derivative(pars, x, module=gen) -> arb:
 def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction, lead: Fraction, *,
                  t1=Fraction(1, 64), order=20, tol=PROOF_STEP_TOL, tol_thin=None, steps=None, newton=12, box=True,
                  thin=None, thin_c1=True, branch="0", moving: Moving | None = None, module=gen,
-                 integrator=taylor) -> dict:
+                 integrator=taylor, thin_integrator=None) -> dict:
     """One return of P for the section piece X = c + A [-1, 1]^2 (c exact (theta, pbar_theta), A exact 2 x 2) on
     the level Hbar = h, pbar_psi the root in [pc - prad, pc + prad].
 
@@ -246,8 +258,8 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
     C r0 gains the column (v, grad pbar_psi . (v, 1), 1) and the row lambdabar; the centre flies at lam0, with pars
     and fld, as without it), and the result has "dPds": the derivative of s -> P_s(c + v (s - lam0)) over the box
     (the section derivative along that column), so that P_s(X(s)) lies in Pc + DP A [-1, 1]^2 + dPds (s - lam0)
-    for every s in lam.  integrator: taylor (default) or taylor_model, for both flights (first_return).  Flight
-    failures raise taylor's errors; the caller checks the signs."""
+    for every s in lam.  integrator: taylor (default) or taylor_model, for both flights (first_return);
+    thin_integrator: the centre's, if other.  Flight failures raise taylor's errors; the caller checks the signs."""
     out = {}
     cq = [ball.q(v) for v in c]
     ps = branch_psi(branch)
@@ -315,7 +327,8 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
         tk = (tol_thin or tol) if kind == "thin" else tol
         pk, fk = (pars, fld) if kind == "thin" else (pars_b, fld_b)
         cr, used = first_return(pk, fk, S, t_a, lead, t1=t1, order=order, tol=tk, steps=st, newton=newton,
-                                module=module, integrator=integrator)
+                                module=module,
+                                integrator=(thin_integrator or integrator) if kind == "thin" else integrator)
         steps_out[kind] = used
         Qk = [cq[0], ps, cq[1], Nc] if kind == "thin" else Q + xl
         tg = tangents(pk, Qk, module)

@@ -268,9 +268,11 @@ def step(fld, S, h, order: int, guard=None, record=None, extra: int = 10):
 
 
 def propagate(fld, S, t_end=None, *, order: int = 20, tol: float = PROOF_STEP_TOL, h_max: float = 1.0, steps=None,
-              guard=None, record=None, extra: int = 10):
+              guard=None, record=None, extra: int = 10, rem_factor: float = 1e3):
     """taylor.propagate with the Taylor-model remainder: to the exact dyadic t_end with adaptive dyadic steps, or
-    by the given exact `steps`."""
+    by the given exact `steps`.  Adaptive steps are also halved while the validated remainder exceeds rem_factor *
+    tol (a valid but loose remainder, e.g. a step near a singularity of f o P_c in complex time: step control
+    only, the remainder is rigorous either way; the replay of given steps does not use it)."""
     c1 = S.Wbar is not None
     if steps is not None:
         for h in steps:
@@ -287,6 +289,8 @@ def propagate(fld, S, t_end=None, *, order: int = 20, tol: float = PROOF_STEP_TO
         for _ in range(30):
             try:
                 sd = step_data(fld, S, ball.q(h), order, c1, cx=cx, extra=extra)
+                if max(float(v.rad()) for v in sd.I) > rem_factor * tol:
+                    raise EnclosureError("remainder above rem_factor * tol")
                 taylor._check_guard(guard, sd, S.t)
                 break
             except (taylor.EnclosureError, taylor.GuardError):
