@@ -29,6 +29,9 @@ def main():
     ap.add_argument("--out", default=None)
     ap.add_argument("--cert", default=None)
     ap.add_argument("--tol-thin", type=float, default=1e-25)
+    ap.add_argument("--tol", type=float, default=1e-25, help="the sets' (box) flights' step tolerance")
+    ap.add_argument("--box", choices=("taylor", "taylor_model"), default="taylor", help="the sets' integrator")
+    ap.add_argument("--name", default="horseshoe_fig4a_taylor_model.json", help="where the new certificate goes")
     args = ap.parse_args()
     from magrod.proof import fields, horseshoe
 
@@ -38,7 +41,8 @@ def main():
         new = json.loads(open(args.cert).read())
     else:
         p = fields.ExactParams(**{k: Fraction(v) for k, v in old["params"].items()})
-        st = horseshoe.HorseshoeSettings(thin_integrator="taylor_model", tol_thin=args.tol_thin)
+        st = horseshoe.HorseshoeSettings(thin_integrator="taylor_model", tol_thin=args.tol_thin, tol=args.tol,
+                                         integrator=args.box)
         t0, c0 = time.perf_counter(), time.process_time()
         pr = horseshoe.prove(p, Fraction(old["level"]), Fraction(old["design"]["x0_theta"]), st)
         res["prove"] = {"ok": pr.ok, "reason": pr.reason, "wall_s": round(time.perf_counter() - t0, 1),
@@ -47,7 +51,7 @@ def main():
         if not pr.ok:
             raise SystemExit(1)
         new = pr.certificate
-        with open("horseshoe_fig4a_taylor_model.json", "w") as fh:
+        with open(args.name, "w") as fh:
             json.dump(new, fh, indent=1)
     steps = {name: sum(len(ph) for f in c["flights"] for r in f["pieces"] for ph in r["steps"][kind])
              for name, c in (("old", old), ("new", new)) for kind in ("thin",)}

@@ -415,13 +415,14 @@ def test_interval_needs_the_motion(interval_cert):
 
 
 def test_thin_integrator_is_a_recorded_setting_and_an_unknown_one_is_malformed(cert):
-    """The centres' integrator is recorded only when it is not taylor.py (every shipped certificate's settings stay
+    """The centres' (and the sets') integrator is recorded only when it is not taylor.py (every shipped certificate's settings stay
     as they were), and a certificate naming an integrator the verifier does not have is malformed (exit 2), not
     re-flown with another (seen to fail: with the name unchecked, "bogus" verifies by taylor.py)."""
     st = horseshoe.HorseshoeSettings(thin_integrator="taylor_model")
     assert st.as_json()["thin_integrator"] == "taylor_model"
     assert "thin_integrator" not in horseshoe.HorseshoeSettings().as_json()
-    c = copy.deepcopy(cert)
-    c["settings"]["thin_integrator"] = "bogus"
-    with pytest.raises(verify.CertificateError, match="thin_integrator"):
-        verify.verify(c, workers=1)
+    for key in ("thin_integrator", "integrator"):
+        c = copy.deepcopy(cert)
+        c["settings"][key] = "bogus"
+        with pytest.raises(verify.CertificateError, match="integrator"):
+            verify.verify(c, workers=1)

@@ -69,6 +69,8 @@ class HorseshoeSettings:
     #: the centres' integrator (section_return.INTEGRATORS): "taylor_model" encloses a return ~1e9 x tighter at the
     #: same tolerance (benchmarks/centre_flight_frontier.py), so its centres fly at a looser tol_thin
     thin_integrator: str = "taylor"
+    #: the sets' (box) integrator, likewise ("taylor_model": the C^1 remainder as a Taylor model too)
+    integrator: str = "taylor"
     m_back: int = 5
     qu: float = 3.0
     qs: float = 3.0
@@ -114,6 +116,7 @@ class HorseshoeSettings:
                 **({} if (self.branch, self.root) == ("0", -1) else {"branch": self.branch, "root": self.root}),
                 **({"stop_frac": self.stop_frac} if self.stop_frac else {}),
                 **({} if self.thin_integrator == "taylor" else {"thin_integrator": self.thin_integrator}),
+                **({} if self.integrator == "taylor" else {"integrator": self.integrator}),
                 **({} if self.period == 1 else {"period": self.period, "q_cycle": self.q_cycle})}
 
 
@@ -643,6 +646,7 @@ def _fliers(P: FloatMap, pars, h, fld, st: HorseshoeSettings, module, check):
         fl = periodic.piece_return(pars, h, fld, c, A, pc, st.p_rad, t_a, st.lead, t1=st.t1, order=st.order,
                                    tol=st.tol, tol_thin=tol_thin or st.tol_thin, steps=steps, newton=st.newton,
                                    box=box, thin=thin, branch=br, module=module,
+                                   integrator=section_return.integrator(st.integrator),
                                    thin_integrator=section_return.integrator(st.thin_integrator))
         fl["t_a"] = t_a
         return fl
@@ -1100,6 +1104,7 @@ def _widen(cert, w, module, check, say) -> dict:
             fl = periodic.piece_return(pars0, h, fld0, cX, AX, ppc, prad, t_a, Fraction(s["lead"]),
                                        t1=Fraction(s["t1"]), order=int(s["order"]), tol=float(s["tol"]),
                                        steps={"thin": thin_steps}, newton=int(s["newton"]), thin_c1=False,
+                                       integrator=section_return.integrator(s.get("integrator", "taylor")),
                                        thin_integrator=section_return.integrator(s.get("thin_integrator", "taylor")),
                                        branch=brs[i], moving=mv, module=module)
             check(f"N{i} piece {n} level", fl["level_ok"] and ball.subset(fl["ppsi_hull"], branch[i]),

@@ -16,7 +16,8 @@ from ..core.tolerances import PROOF_STEP_TOL
 from ..generated import validated as gen
 from . import ball, fields, taylor, taylor_model
 
-#: the validated integrators a flight may use, by the name a certificate records (settings "thin_integrator"):
+#: the validated integrators a flight may use, by the name a certificate records (settings "thin_integrator" for
+#: the centres, "integrator" for the sets):
 #: "taylor" the a priori box's Lagrange remainder (every certificate without the field), "taylor_model" the
 #: Taylor-model remainder (taylor_model.py)
 INTEGRATORS = {"taylor": taylor, "taylor_model": taylor_model}
@@ -25,7 +26,7 @@ INTEGRATORS = {"taylor": taylor, "taylor_model": taylor_model}
 def integrator(name: str):
     """The integrator module of a certificate's name (INTEGRATORS); ValueError naming it otherwise."""
     if name not in INTEGRATORS:
-        raise ValueError(f"thin_integrator must be one of {sorted(INTEGRATORS)}, got {name!r}")
+        raise ValueError(f"integrator (thin_integrator) must be one of {sorted(INTEGRATORS)}, got {name!r}")
     return INTEGRATORS[name]
 
 TH, PS, PT, PP = fields.THETA, fields.PSI, fields.PTHETA, fields.PPSI

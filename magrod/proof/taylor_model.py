@@ -171,7 +171,10 @@ def step_data(fld: taylor.Field, S: taylor.C1Set, h: arb, order: int, c1: bool =
         cx, _ = taylor.solution_series(fld, ball.column(S.xbar), p)
     try:
         cX, xsX = taylor.solution_series(fld, X, p)
-        JX = taylor.jacobian_coefficients(fld, xsX, p - 1)
+        # Df o P_c: to p - 1 for D_k; for C^1 steps to L at once (the variational tail's point coefficients)
+        J0 = taylor.jacobian_coefficients(fld, [arb_series(c, prec=L + 1) for c in cX] if c1 else xsX,
+                                          L if c1 else p - 1)
+        JX = J0[:p]
     except (ValueError, ZeroDivisionError) as err:
         raise EnclosureError(f"field not evaluable on the set: {err}") from None
     D = taylor.variational_coefficients(JX, taylor._identity(n), p)
@@ -211,17 +214,17 @@ def step_data(fld: taylor.Field, S: taylor.C1Set, h: arb, order: int, c1: bool =
     cY = [v / hp for v in I]
     IV = DY = YV = None
     if c1:
-        IV = _variational_remainder(fld, cX, D, sh, I, Y, DfY, h, p, L)
+        IV = _variational_remainder(fld, J0, D, sh, I, Y, DfY, h, p, L)
         DY = IV * (1 / hp)
         YV = taylor._identity(n)
     return TMStepData(h, p, cx, cX, D, Y, cY, YV, DY, I, IV)
 
 
-def _variational_remainder(fld, cX, D, sh, I, Y, DfY, h, p, L) -> arb_mat:
-    """I_V of the module docstring: V(t) - sum_k D_k t^k in I_V for t in [0, h]."""
+def _variational_remainder(fld, J0, D, sh, I, Y, DfY, h, p, L) -> arb_mat:
+    """I_V of the module docstring: V(t) - sum_k D_k t^k in I_V for t in [0, h] (J0: the coefficients 0 .. L of
+    Df o P_c at s = 0)."""
     n = fld.n
     try:
-        J0 = taylor.jacobian_coefficients(fld, [arb_series(c, prec=L + 1) for c in cX], L)
         Jsh = taylor.jacobian_coefficients(fld, [arb_series(c, prec=L + 1) for c in sh], L)
         dJ = fld.jacobian([arb_series([y, e], prec=2) for y, e in zip(Y, I)], fld.pars)
     except (ValueError, ZeroDivisionError) as err:

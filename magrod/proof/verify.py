@@ -857,6 +857,7 @@ def _hs_source(cert, i, order, module, claim, branch) -> None:
         try:
             f = section_return.piece_return(pars, h, fld, cX, AX, _frac(r["p_c"]), prad, t_a, lead, t1=t1,
                                             order=order, steps=steps, newton=newton, thin_c1=False, branch=brs[i],
+                                            integrator=section_return.integrator(s.get("integrator", "taylor")),
                                             thin_integrator=section_return.integrator(s.get("thin_integrator",
                                                                                             "taylor")),
                                             moving=mv, module=module)
