@@ -9,7 +9,14 @@ C^0, Newton series, 128 bits -- the flight HORSESHOE_CENTRE_TOL_FIG4B was tuned 
   2. the radius of the box coefficients x^[k](Y) per unit width of Y, by k and by the width (the dependency growth
      of Arb series arithmetic on a box; Newton's and Picard's series);
   3. order x tolerance: steps, CPU and the enclosure of P(x0) (which failed to validate a step);
-  4. a remainder-aware step control (reject a step whose remainder radius exceeds rem_tol): steps and enclosure.
+  4. a remainder-aware step control (reject a step whose remainder radius exceeds rem_tol): steps and enclosure;
+  5. the same flight by magrod/proof/taylor_model.py (the step's remainder a Taylor model in time, validated by a
+     Picard-Schauder test; no series on the a priori box): order x tolerance, and its remainder I against the last
+     Taylor term by the tail order L - p ("extra": the point coefficients of f o P_c up to L, the Lagrange
+     coefficient at L);
+  6. the C^1 flight of a Fig 4(a) horseshoe set (horseshoe_fig4a.json, set 0, width ~1e-10) by both integrators,
+     the centre C^0 (taylor at the certificate's tol_thin 1e-32, taylor_model at 1e-28) and the box C^1 at 1e-25:
+     CPU, steps, and the widths of P(c) and DP.
 
 Numerical measurements of a rigorous integrator's enclosure widths (each width is itself rigorous).  What they say:
 the enclosure of a centre after one return is set by the remainder's radius on Y (inflated ~1e11 x at the median
@@ -17,9 +24,15 @@ step), not by the true truncation error; higher order inflates faster than it ga
 steps), and shortening the inflated steps costs as many steps as a smaller tol.  Order 20 with tol 1e-28 .. 1e-32 is
 on the frontier; a cheaper centre flight needs a remainder that is not a box evaluation (Taylor models; Cauchy bounds
 from a first-order complex-time enclosure would need R < 1/|Df| ~ 0.044 at x0: far shorter steps), i.e. a new
-integrator and every horseshoe re-proved.
+integrator and every horseshoe re-proved.  Items 5 and 6 measure that integrator: its remainder is within ~1x of
+the last Taylor term at the median step (extra 10 .. 12; ~1e4 x at extra 5, ~4e8 x at extra 0, which is the box
+evaluation again, now of f o P_c over [0, h]), so the same enclosure of P(x0) takes ~0.43 x the steps (order 20 at
+1e-25 against today's 1e-32) at about the same cost per step: ~2.3x cheaper centre flights.  Its C^1 step costs
+~1.1x today's, and its DP is ~2x narrower at the same tolerance, so the sets' flights gain ~1.3x (tol 1e-22).  A
+horseshoe verification is ~60 % centres by CPU: ~1.75x overall, not 3x; what the rest would need is a cheaper step
+(the field's and its Jacobian's series evaluations are ~85 % of it), not a tighter remainder.
 
-    python benchmarks/centre_flight_frontier.py [--out benchmarks/centre_flight_frontier.json]   # ~70 s, 1 core
+    python benchmarks/centre_flight_frontier.py [--out benchmarks/centre_flight_frontier.json]   # ~2.5 min, 1 core
 """
 from __future__ import annotations
 
