@@ -44,6 +44,7 @@ from .core.lazy import namespace  # noqa: E402  (after the checkout's generated/
 # public name -> module that defines it (relative to magrod); imported on first attribute access
 _API = {
     # the model and its vocabulary
+    "System": "core.system",
     "RodParams": "core.params",
     "Precision": "core.precision",
     "ParameterError": "core.errors",

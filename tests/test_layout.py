@@ -19,7 +19,7 @@ ROOT = Path(magrod.__file__).resolve().parent
 NUMERICS = ("core", "orbits", "chaos", "separatrix", "integrability", "proof")  # the numerics wing (subpackages)
 
 PUBLIC = {
-    "RodParams", "Precision", "ParameterError", "panel",
+    "System", "RodParams", "Precision", "ParameterError", "panel",
     "poincare_section", "poincare_sections", "section_start", "section_points", "SectionStart", "SectionOptions",
     "section_portrait", "orbit_diagram", "lyapunov", "lyapunov_spectrum",
     "gali", "chaos_map",

@@ -27,3 +27,39 @@ def deprecated_attribute(new: str, old: str):
         return getattr(self, new)
 
     return property(getter, doc=f"Deprecated spelling of .{new} (kept for one release).")
+
+
+def renamed_keywords(**old_to_new):
+    """A decorator: keyword arguments spelt the old way (``params=``, ``m=``, ``panel=`` for the first argument, now
+    ``system``; ``fp_type=`` now ``precision=``) keep working for one release with one DeprecationWarning naming the
+    new spelling.  Both spellings at once is a TypeError, as Python gives for a repeated argument.
+
+    >>> @renamed_keywords(params="system")
+    ... def f(system=None):
+    ...     return system
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     f(params=3), str(w[0].message)
+    (3, 'f(params=...) is deprecated: the argument is now called system')
+    """
+    import functools
+
+    def wrap(fn):
+        @functools.wraps(fn)
+        def inner(*args, **kw):
+            import warnings
+
+            for old, new in old_to_new.items():
+                if old in kw:
+                    if new in kw:
+                        raise TypeError(f"{fn.__name__}() got both {old}= (deprecated) and {new}=")
+                    warnings.warn(f"{fn.__name__}({old}=...) is deprecated: the argument is now called {new}",
+                                  DeprecationWarning, stacklevel=2)
+                    kw[new] = kw.pop(old)
+            return fn(*args, **kw)
+
+        inner.__deprecated_keywords__ = dict(old_to_new)
+        return inner
+
+    return wrap
