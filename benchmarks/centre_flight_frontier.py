@@ -30,7 +30,7 @@ again, now of f o P_c over [0, h]), so the same enclosure of P(x0) (1e-20) takes
 1e-25, 152 steps, against today's 1e-32, 353) at about the same cost per step: ~2.2x cheaper centre flights.  Its
 C^1 step costs ~1.1-1.3x today's and its DP is ~2x narrower at the same tolerance, so the sets' flights gain only
 ~1.3x (tol 1e-22).  What a 3x verification would need beyond this is a cheaper step (the field's and its
-Jacobian's series evaluations are ~85 % of it), not a tighter remainder: reprove_fig4a_taylor_model.py measures a
+Jacobian's series evaluations are ~50 % of it by cProfile), not a tighter remainder: reprove_fig4a_taylor_model.py measures a
 whole certificate.
 
     python benchmarks/centre_flight_frontier.py [--out benchmarks/centre_flight_frontier.json]   # ~2.5 min, 1 core
