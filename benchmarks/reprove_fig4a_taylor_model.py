@@ -46,6 +46,7 @@ def main():
     ap.add_argument("--prove", choices=sorted(DESIGNS), default=None)
     ap.add_argument("--name", default=None, help="--prove: where the certificate goes")
     ap.add_argument("--out", default=None)
+    ap.add_argument("--reps", type=int, default=2)
     args = ap.parse_args()
     from magrod.proof import fields, horseshoe
 
@@ -67,7 +68,7 @@ def main():
            "settings": {k: {s: c["settings"].get(s, "taylor" if "integrator" in s else None)
                             for s in ("thin_integrator", "tol_thin", "integrator", "tol")} for k, c in certs.items()},
            "verify": [], "theorem": {}}
-    for rep in range(2):
+    for rep in range(args.reps):
         for k, c in certs.items():
             r, th = _verify(c)
             res["verify"].append({"cert": k, "rep": rep, **r})

@@ -59,7 +59,6 @@ taylor.py.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from fractions import Fraction
 from functools import lru_cache
 from math import comb
 
@@ -74,7 +73,7 @@ def _shift_matrix_cached(L: int, m: int, prec: int) -> arb_mat:
     """B (L x m): B[k, j] = binom(j, k) [0, 1] (j > k), 1 (j = k), 0 (j < k).  With coefficients scaled by h^j, row
     k of B times the scaled coefficients, divided by h^k, encloses the coefficient k of P(xi + sigma) for every xi in
     [0, h]: sum_j binom(j, k) c_j xi^(j-k), each xi^(j-k) in [0, h^(j-k)]."""
-    u01 = ball.interval(0, 1)
+    u01 = U01
     B = arb_mat(L, m)
     for k in range(L):
         for j in range(k, m):
@@ -108,9 +107,20 @@ def _coeffs(v, length):
     return taylor._coeffs(v, length)
 
 
-def _u(h, k):
-    """[0, h^k] as a ball."""
-    return ball.interval(0, 1) * ball.pow_int(h, k)
+#: [0, 1] (as a ball; Arb's radius is rounded up, so it may hold a little more, which is safe)
+U01 = ball.interval(0, 1)
+#: the seed of a remainder (2^-200: far below every tail, keeps a zero tail's remainder a proper interval)
+TINY = arb(0, arb(2) ** -200)
+
+
+def _tail_weights(h, p, L) -> list:
+    """w[k] = [0, h^(k+1)] / (k+1) for k = p .. L (index k - p)."""
+    hk = ball.pow_int(h, p + 1)
+    out = []
+    for k in range(p, L + 1):
+        out.append(U01 * hk * arb(fmpq(1, k + 1)))
+        hk = hk * h
+    return out
 
 
 def _finite(xs) -> bool:
@@ -130,14 +140,14 @@ class TMStepData(taylor.StepData):
     IV: arb_mat | None = None
 
 
-def _tail(G0: list, GL: list, h: arb, p: int, L: int) -> list:
+def _tail(G0: list, GL: list, w: list, p: int, L: int) -> list:
     """Tail of int_0^t (g - T_{p-1} g) over t in [0, h]: G0 the coefficients of g at 0 (k = p .. L-1 used), GL its
-    coefficient L over [0, h] (Lagrange)."""
+    coefficient L over [0, h] (Lagrange); w = _tail_weights(h, p, L)."""
     out = []
     for i in range(len(G0)):
-        acc = GL[i] * _u(h, L + 1) * arb(fmpq(1, L + 1))
+        acc = GL[i] * w[L - p]
         for k in range(p, L):
-            acc = acc + G0[i][k] * _u(h, k + 1) * arb(fmpq(1, k + 1))
+            acc = acc + G0[i][k] * w[k - p]
         out.append(acc)
     return out
 
@@ -145,13 +155,13 @@ def _tail(G0: list, GL: list, h: arb, p: int, L: int) -> list:
 def _weighted(h: arb, p: int) -> arb:
     """[0, h / (p + 2)]: int_0^t (s/h)^(p+1) ds = (t/h)^(p+1) t / (p + 2), t in [0, h] (module docstring: the
     remainder is carried with the weight (t/h)^(p+1))."""
-    return ball.interval(0, 1) * h * arb(fmpq(1, p + 2))
+    return U01 * h * arb(fmpq(1, p + 2))
 
 
-def _sym(x: arb, grow=Fraction(1)) -> arb:
-    """[-R, R], R = grow * max |x| (an interval symmetric about 0 holding x)."""
-    r = ball.fraction(x.abs_upper()) * grow
-    return ball.interval(-r, r)
+def _sym(x: arb, grow: arb) -> arb:
+    """[-R, R] with R >= grow * max |x| (an interval symmetric about 0 holding x when grow >= 1): Arb's upper bound
+    of |grow x|, a ball of midpoint 0 (Arb rounds a radius up)."""
+    return arb(0, (x * grow).abs_upper())
 
 
 def _inside(a, b) -> bool:
@@ -189,10 +199,11 @@ def step_data(fld: taylor.Field, S: taylor.C1Set, h: arb, order: int, c1: bool =
         raise EnclosureError(f"field not evaluable over the step: {err}") from None
     if not (_finite(GL) and all(_finite(g) for g in G0)):
         raise EnclosureError("field not finite over the step")
-    tail = _tail(G0, GL, h, p, L)
+    w = _tail_weights(h, p, L)
+    tail = _tail(G0, GL, w, p, L)
     rng = [s[0] for s in sh]  # P^X([0, h])
     hh = _weighted(h, p)
-    I = [_sym(t, Fraction(2)) + ball.interval(-1, 1) * arb(10) ** -60 for t in tail]
+    I = [_sym(t, arb(2)) + TINY for t in tail]
     ok = False
     for _ in range(6):
         Y = [a + b for a, b in zip(rng, I)]
@@ -206,7 +217,7 @@ def step_data(fld: taylor.Field, S: taylor.C1Set, h: arb, order: int, c1: bool =
         if _inside(K, I):
             ok = True
             break
-        I = [_sym(k.union(i), Fraction(3, 2)) for k, i in zip(K, I)]
+        I = [_sym(k.union(i), arb(1.5)) for k, i in zip(K, I)]
     if not ok:
         raise EnclosureError("Taylor-model remainder not validated")
     Y = [a + b for a, b in zip(rng, I)]  # every solution from X over [0, h]
@@ -241,18 +252,19 @@ def _variational_remainder(fld, J0, D, sh, I, Y, DfY, h, p, L) -> arb_mat:
             acc = acc + J[j] * V[k - j]
         return acc
 
-    tail = coeff(Jsh, Dsh, L) * (_u(h, L + 1) * arb(fmpq(1, L + 1)))
+    w = _tail_weights(h, p, L)
+    tail = coeff(Jsh, Dsh, L) * w[L - p]
     for k in range(p, L):
-        tail = tail + coeff(J0, D, k) * (_u(h, k + 1) * arb(fmpq(1, k + 1)))
-    Vr = taylor._horner_mat(D, ball.interval(0, 1) * h)  # V_poly([0, h])
+        tail = tail + coeff(J0, D, k) * w[k - p]
+    Vr = taylor._horner_mat(D, U01 * h)  # V_poly([0, h])
     hh = _weighted(h, p)
     base = tail + (dA * Vr) * hh
-    IV = arb_mat(n, n, [_sym(v, Fraction(2)) + ball.interval(-1, 1) * arb(10) ** -60 for v in ball.entries(base)])
+    IV = arb_mat(n, n, [_sym(v, arb(2)) + TINY for v in ball.entries(base)])
     for _ in range(6):
         K = base + (DfY * IV) * hh
         if _inside(ball.entries(K), ball.entries(IV)):
             return IV
-        IV = arb_mat(n, n, [_sym(k.union(i), Fraction(3, 2)) for k, i in zip(ball.entries(K), ball.entries(IV))])
+        IV = arb_mat(n, n, [_sym(k.union(i), arb(1.5)) for k, i in zip(ball.entries(K), ball.entries(IV))])
     raise EnclosureError("variational Taylor-model remainder not validated")
 
 
