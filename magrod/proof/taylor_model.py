@@ -48,8 +48,12 @@ T_p(h, xbar) + DT_p(h, X)(x0 - xbar); StepData's order-(p+1) slots carry I / h^(
 Y_V = Id), which reproduce I (I_V) at t = h.  Inside a step (the section crossing) the remainder I holds for every
 t in [0, h]: cross_section here uses it directly.
 
-Cost per step: the solution and Jacobian series on X (as taylor.py), two field evaluations on series (at 0 and
-shifted) and one Jacobian on Y for C^0; three Jacobian series more for C^1.  No series on the a priori box.
+Cost per step: the solution and Jacobian series on X (as taylor.py), two field evaluations on series of length
+L + 1 (at 0 and shifted) and one Jacobian on Y for C^0; for C^1 the Jacobian series at 0 to length L + 1 (instead of
+p), the shifted one and one of length 2 on Y + I eps.  No series on the a priori box.  Measured
+(benchmarks/centre_flight_frontier.py, README): a C^0 step costs about what taylor.py's does, a C^1 step ~1.2x, and
+the remainder is ~1x the last Taylor term instead of ~1e9-1e11x, so a flight needs ~0.4-0.7x the steps for the same
+enclosure.
 
 References: K. Makino, M. Berz, Verified integration of ODEs and flows using differential algebraic methods on
 high-order Taylor models, Reliable Computing 4 (1998) 361-369; K. Makino, M. Berz, Suppression of the wrapping
