@@ -189,3 +189,23 @@ def test_rod_c1_enclosures_meet_the_present_integrators():
         assert max(float(v.rad()) for v in Wn) <= 2 * max(float(v.rad()) for v in Wo)
     print(f"\nrod C^1 to t = 1/2, {len(rec.steps)} steps: DPhi radius taylor_model "
           f"{max(float(v.rad()) for v in Wn):.3e}, taylor {max(float(v.rad()) for v in Wo):.3e}")
+
+
+def test_taylor_model_and_section_return_import_no_prover():
+    """The trust base's fence (docs/nonintegrability.md, "The verifier's trust base"): taylor_model imports from
+    magrod only ball, taylor and the tolerances; section_return, which the verifier flies through, adds fields,
+    taylor_model and the generated fields, never a prover (seen to fail: with `from . import search` added to
+    taylor_model the first assertion fails)."""
+    import ast
+    from pathlib import Path
+
+    def relative_imports(mod):
+        got = set()
+        for node in ast.walk(ast.parse(Path(mod.__file__).read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level > 0:
+                got |= {f"{node.module}.{a.name}".strip(".") if node.module else a.name for a in node.names}
+        return got
+
+    assert relative_imports(taylor_model) == {"ball", "taylor", "core.tolerances.PROOF_STEP_TOL"}
+    allowed = {"ball", "fields", "taylor", "taylor_model", "generated.validated", "core.tolerances.PROOF_STEP_TOL"}
+    assert relative_imports(section_return) <= allowed, relative_imports(section_return)
