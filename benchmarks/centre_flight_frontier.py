@@ -27,13 +27,13 @@ from a first-order complex-time enclosure would need R < 1/|Df| ~ 0.044 at x0: f
 integrator and every horseshoe re-proved.  Items 5 and 6 measure that integrator: its remainder is ~1x the last
 Taylor term at the median step (extra 10 .. 12; ~2e4 x at extra 5, ~2e9 x at extra 0, which is the box evaluation
 again, now of f o P_c over [0, h]), so the same enclosure of P(x0) (1e-20) takes 0.43x the steps (order 20 at
-1e-25, 152 steps, against today's 1e-32, 353) at about the same cost per step: ~2.2x cheaper centre flights.  Its
-C^1 step costs ~1.1-1.3x today's and its DP is ~2x narrower at the same tolerance, so the sets' flights gain only
-~1.3x (tol 1e-22).  What a 3x verification would need beyond this is a cheaper step (the field's and its
-Jacobian's series evaluations are ~50 % of it by cProfile), not a tighter remainder: reprove_fig4a_taylor_model.py measures a
-whole certificate.
+1e-25, 152 steps, against today's 1e-32, 353) at about the same cost per step: ~2.2-2.4x cheaper centre flights.
+Its C^1 step costs ~1.1-1.3x today's and its DP is ~2x narrower at the same tolerance, so the sets' flights gain
+only ~1.2x (tol 1e-22).  What a 3x verification would need beyond this is a cheaper step (the field's and its
+Jacobian's series evaluations are ~50 % of it by cProfile), not a tighter remainder;
+reprove_fig4a_taylor_model.py measures a whole certificate (1.6-2.1x).
 
-    python benchmarks/centre_flight_frontier.py [--out benchmarks/centre_flight_frontier.json]   # ~2.5 min, 1 core
+    python benchmarks/centre_flight_frontier.py [--out benchmarks/centre_flight_frontier.json]   # ~2 min, 1 core
 """
 from __future__ import annotations
 
