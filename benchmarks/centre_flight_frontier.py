@@ -9,7 +9,14 @@ C^0, Newton series, 128 bits -- the flight HORSESHOE_CENTRE_TOL_FIG4B was tuned 
   2. the radius of the box coefficients x^[k](Y) per unit width of Y, by k and by the width (the dependency growth
      of Arb series arithmetic on a box; Newton's and Picard's series);
   3. order x tolerance: steps, CPU and the enclosure of P(x0) (which failed to validate a step);
-  4. a remainder-aware step control (reject a step whose remainder radius exceeds rem_tol): steps and enclosure.
+  4. a remainder-aware step control (reject a step whose remainder radius exceeds rem_tol): steps and enclosure;
+  5. the same flight by magrod/proof/taylor_model.py (the step's remainder a Taylor model in time, validated by a
+     Picard-Schauder test; no series on the a priori box): order x tolerance, and its remainder I against the last
+     Taylor term by the tail order L - p ("extra": the point coefficients of f o P_c up to L, the Lagrange
+     coefficient at L);
+  6. the C^1 flight of a Fig 4(a) horseshoe set (horseshoe_fig4a.json, set 0, width ~1e-10) by both integrators,
+     the centre C^0 (taylor at the certificate's tol_thin 1e-32, taylor_model at 1e-28) and the box C^1 at 1e-25:
+     CPU, steps, and the widths of P(c) and DP.
 
 Numerical measurements of a rigorous integrator's enclosure widths (each width is itself rigorous).  What they say:
 the enclosure of a centre after one return is set by the remainder's radius on Y (inflated ~1e11 x at the median
@@ -17,9 +24,16 @@ step), not by the true truncation error; higher order inflates faster than it ga
 steps), and shortening the inflated steps costs as many steps as a smaller tol.  Order 20 with tol 1e-28 .. 1e-32 is
 on the frontier; a cheaper centre flight needs a remainder that is not a box evaluation (Taylor models; Cauchy bounds
 from a first-order complex-time enclosure would need R < 1/|Df| ~ 0.044 at x0: far shorter steps), i.e. a new
-integrator and every horseshoe re-proved.
+integrator and every horseshoe re-proved.  Items 5 and 6 measure that integrator: its remainder is ~1x the last
+Taylor term at the median step (extra 10 .. 12; ~2e4 x at extra 5, ~2e9 x at extra 0, which is the box evaluation
+again, now of f o P_c over [0, h]), so the same enclosure of P(x0) (1e-20) takes 0.43x the steps (order 20 at
+1e-25, 152 steps, against today's 1e-32, 353) at about the same cost per step: ~2.2-2.4x cheaper centre flights.
+Its C^1 step costs ~1.1-1.3x today's and its DP is ~2x narrower at the same tolerance, so the sets' flights gain
+only ~1.2x (tol 1e-22).  What a 3x verification would need beyond this is a cheaper step (the field's and its
+Jacobian's series evaluations are ~50 % of it by cProfile), not a tighter remainder;
+reprove_fig4a_taylor_model.py measures a whole certificate (1.6-2.1x).
 
-    python benchmarks/centre_flight_frontier.py [--out benchmarks/centre_flight_frontier.json]   # ~70 s, 1 core
+    python benchmarks/centre_flight_frontier.py [--out benchmarks/centre_flight_frontier.json]   # ~2 min, 1 core
 """
 from __future__ import annotations
 
@@ -45,37 +59,93 @@ def _setup():
     return p, Fraction(c["level"]), th, pc, t_a
 
 
-def _fly(order, tol, hook=None):
+def _fly(order, tol, hook=None, method="taylor", extra=None):
     """One C^0 return of x0; hook(sd, h, order) may raise EnclosureError (rejects the step).  (steps, cpu, P(x0)
-    radii) or the failure.  The hook wraps taylor.step_data for the flight's duration (restored after): the library
-    has no per-step callback, and a benchmark must not add one to the verifier's trust base."""
-    from magrod.proof import ball, fields, section_return, taylor
+    radii) or the failure.  The hook wraps the integrator's step_data for the flight's duration (restored after): the
+    library has no per-step callback, and a benchmark must not add one to the verifier's trust base.  method:
+    "taylor" (the a priori box's Lagrange remainder) or "taylor_model" (the Taylor-model remainder; extra: its
+    tail order L - p, the module's default if None)."""
+    from magrod.proof import ball, fields, section_return, taylor, taylor_model
 
+    integ = {"taylor": taylor, "taylor_model": taylor_model}[method]
     p, h, th, pc, t_a = _setup()
-    orig = taylor.step_data
+    orig = integ.step_data
 
-    def wrapped(fld, S, hh, order_, c1=True, cx=None):
-        sd = orig(fld, S, hh, order_, c1, cx)
+    def wrapped(fld, S, hh, order_, c1=True, cx=None, **kw):
+        if extra is not None:
+            kw["extra"] = extra
+        sd = orig(fld, S, hh, order_, c1, cx, **kw)
         if hook is not None:
             hook(sd, hh, order_)
         return sd
 
-    taylor.step_data = wrapped
+    integ.step_data = wrapped
     t0 = time.process_time()
+    head = {"method": method, "order": order, "tol": tol} | ({} if extra is None else {"extra": extra})
     try:
         with ball.workprec(128):
             fld = fields.chart_field(p)
             fld.series = "newton"
             fl = section_return.piece_return(fld.pars, h, fld, [th, Fraction(0)], [[0, 0], [0, 0]], pc,
                                              Fraction(1, 10**8), t_a, Fraction(1, 256), order=order, tol=tol,
-                                             tol_thin=tol, box=False, thin_c1=False)
-        return {"order": order, "tol": tol, "ok": True, "steps": sum(len(s) for s in fl["steps"]["thin"]),
+                                             tol_thin=tol, box=False, thin_c1=False, integrator=integ)
+        return {**head, "ok": True, "steps": sum(len(s) for s in fl["steps"]["thin"]),
                 "cpu_s": round(time.process_time() - t0, 2), "Pc_rad": [float(v.rad()) for v in fl["Pc"]]}
     except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
-        return {"order": order, "tol": tol, "ok": False, "reason": str(err)[:120],
-                "cpu_s": round(time.process_time() - t0, 2)}
+        return {**head, "ok": False, "reason": str(err)[:120], "cpu_s": round(time.process_time() - t0, 2)}
     finally:
-        taylor.step_data = orig
+        integ.step_data = orig
+
+
+def tm_remainder(tol, extra=None):
+    """The Taylor-model remainder I per step against the last Taylor term |x^[p]| h^p at the point (~tol): the
+    inflation that the a priori box's Lagrange remainder shows at 1e9 .. 1e11 (inflation())."""
+    rows = []
+
+    def hook(sd, hh, order):
+        rows.append((max(float(v.rad()) for v in sd.I),
+                     max(abs(float(c[order].mid())) for c in sd.cx) * float(hh) ** order))
+
+    run = _fly(20, tol, hook, "taylor_model", extra)
+    a = np.array(rows)
+    ratio = a[:, 0] / np.maximum(a[:, 1], 1e-300)
+    return {**run, "I_rad_over_last_term": {"median": float(np.median(ratio)), "max": float(ratio.max())},
+            "sum_I_rad": float(a[:, 0].sum()), "sum_last_term": float(a[:, 1].sum())}
+
+
+def box_flights(method, set_index=0):
+    """The C^1 flight of a Fig 4(a) horseshoe set (horseshoe_fig4a.json, set `set_index`, width ~1e-10) through one
+    return at tol 1e-25, as the verifier flies it (the centre C^0 at tol_thin, the box C^1): CPU of each and the
+    widths of P(c) and of DP."""
+    from magrod.proof import ball, fields, section_return, taylor, taylor_model
+
+    integ = {"taylor": taylor, "taylor_model": taylor_model}[method]
+    c = json.loads(resources.files("magrod.proof").joinpath("certificates", "horseshoe_fig4a.json").read_text())
+    p = fields.ExactParams(**{k: Fraction(v) for k, v in c["params"].items()})
+    st = c["settings"]
+    S = c["sets"][set_index]
+    piece = c["flights"][set_index]["pieces"][0]
+    cX = [Fraction(v) for v in S["c"]]
+    AX = [[Fraction(v) for v in row] for row in S["A"]]
+    out = {"method": method, "set": set_index}
+    with ball.workprec(int(st["prec"]), int(st["series_cap"])):
+        fld = fields.chart_field(p)
+        fld.series = "newton"
+        for kind, tt in (("thin", float(st["tol_thin"]) if method == "taylor" else 1e-28), ("box", float(st["tol"]))):
+            t0 = time.process_time()
+            f = section_return.piece_return(fld.pars, Fraction(c["level"]), fld, cX, AX, Fraction(piece["p_c"]),
+                                            Fraction(st["p_rad"]), Fraction(piece["t_a"]), Fraction(st["lead"]),
+                                            t1=Fraction(st["t1"]), order=int(st["order"]), tol=tt, tol_thin=tt,
+                                            newton=int(st["newton"]), box=kind == "box", thin_c1=False,
+                                            integrator=integ, thin=None if kind == "thin" else out["_thin"])
+            if kind == "thin":
+                out["_thin"] = f
+            out[kind] = {"tol": tt, "cpu_s": round(time.process_time() - t0, 2),
+                         "steps": sum(len(x) for x in f["steps"][kind])}
+        out["thin"]["Pc_rad"] = [float(v.rad()) for v in f["Pc"]]
+        out["box"]["DP_rad"] = [float(v.rad()) for row in f["DP"] for v in row]
+        del out["_thin"]
+    return out
 
 
 def inflation(tol):
@@ -144,7 +214,12 @@ def main():
            "inflation": [inflation(1e-25), inflation(1e-32)],
            "coefficient_growth": coefficient_growth(),
            "order_tol": [_fly(o, t) for o in (20, 22, 24, 26, 32) for t in (1e-25, 1e-28, 1e-32)],
-           "remainder_control": [remainder_control(1e-25, r) for r in (1e-24, 1e-30)]}
+           "remainder_control": [remainder_control(1e-25, r) for r in (1e-24, 1e-30)],
+           "taylor_model": {
+               "order_tol": [_fly(o, t, method="taylor_model") for o in (20, 24) for t in (1e-22, 1e-25, 1e-28, 1e-32)],
+               "extra": [tm_remainder(1e-25, e) for e in (0, 2, 5, 8, 10, 12)],
+               "remainder": [tm_remainder(1e-28)]},
+           "box_flights_fig4a": [box_flights(m) for m in ("taylor", "taylor_model")]}
     res["wall_s"] = round(time.perf_counter() - t0, 1)
     text = json.dumps(res, indent=1)
     if args.out:
@@ -154,6 +229,10 @@ def main():
         print(r)
     for r in res["inflation"] + res["remainder_control"]:
         print({k: v for k, v in r.items()})
+    for r in res["taylor_model"]["order_tol"] + res["taylor_model"]["extra"] + res["taylor_model"]["remainder"]:
+        print(r)
+    for r in res["box_flights_fig4a"]:
+        print(r)
 
 
 if __name__ == "__main__":

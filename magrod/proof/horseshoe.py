@@ -45,7 +45,7 @@ from ..core.errors import ParameterError
 from ..core.tolerances import (FIXED_POINT_SEARCH_TOL, HORSESHOE_CENTRE_TOL, HORSESHOE_CENTRE_TOL_FIG4B,
                                PROOF_STEP_TOL)
 from ..generated import validated as gen
-from . import ball, fields, periodic
+from . import ball, fields, periodic, section_return
 from .search import ProofFailure, ProofResult, run_checked, stored
 from .theorem import section_horseshoe_theorem
 
@@ -66,6 +66,11 @@ class HorseshoeSettings:
     tol: float = PROOF_STEP_TOL
     #: the step tolerance of the centres' flights (their enclosures must resolve the sets: periodic.piece_return)
     tol_thin: float = HORSESHOE_CENTRE_TOL
+    #: the centres' integrator (section_return.INTEGRATORS): "taylor_model" encloses a return ~1e9 x tighter at the
+    #: same tolerance (benchmarks/centre_flight_frontier.py), so its centres fly at a looser tol_thin
+    thin_integrator: str = "taylor"
+    #: the sets' (box) integrator, likewise ("taylor_model": the C^1 remainder as a Taylor model too)
+    integrator: str = "taylor"
     m_back: int = 5
     qu: float = 3.0
     qs: float = 3.0
@@ -110,6 +115,8 @@ class HorseshoeSettings:
                 "l0_frac": self.l0_frac, "l1_frac": self.l1_frac, "w_cap": self.w_cap, "series_cap": ball.SERIES_CAP,
                 **({} if (self.branch, self.root) == ("0", -1) else {"branch": self.branch, "root": self.root}),
                 **({"stop_frac": self.stop_frac} if self.stop_frac else {}),
+                **({} if self.thin_integrator == "taylor" else {"thin_integrator": self.thin_integrator}),
+                **({} if self.integrator == "taylor" else {"integrator": self.integrator}),
                 **({} if self.period == 1 else {"period": self.period, "q_cycle": self.q_cycle})}
 
 
@@ -638,7 +645,9 @@ def _fliers(P: FloatMap, pars, h, fld, st: HorseshoeSettings, module, check):
         t_a = t_approach(T, st.lead)
         fl = periodic.piece_return(pars, h, fld, c, A, pc, st.p_rad, t_a, st.lead, t1=st.t1, order=st.order,
                                    tol=st.tol, tol_thin=tol_thin or st.tol_thin, steps=steps, newton=st.newton,
-                                   box=box, thin=thin, branch=br, module=module)
+                                   box=box, thin=thin, branch=br, module=module,
+                                   integrator=section_return.integrator(st.integrator),
+                                   thin_integrator=section_return.integrator(st.thin_integrator))
         fl["t_a"] = t_a
         return fl
 
@@ -1095,6 +1104,8 @@ def _widen(cert, w, module, check, say) -> dict:
             fl = periodic.piece_return(pars0, h, fld0, cX, AX, ppc, prad, t_a, Fraction(s["lead"]),
                                        t1=Fraction(s["t1"]), order=int(s["order"]), tol=float(s["tol"]),
                                        steps={"thin": thin_steps}, newton=int(s["newton"]), thin_c1=False,
+                                       integrator=section_return.integrator(s.get("integrator", "taylor")),
+                                       thin_integrator=section_return.integrator(s.get("thin_integrator", "taylor")),
                                        branch=brs[i], moving=mv, module=module)
             check(f"N{i} piece {n} level", fl["level_ok"] and ball.subset(fl["ppsi_hull"], branch[i]),
                   "pbar_psi unique in its Newton box over the moving piece, inside the set's branch box")

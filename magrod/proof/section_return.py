@@ -2,7 +2,7 @@
 statements 11 and 12 (periodic.py, horseshoe.py) and by the verifier (verify.py, kind section_horseshoe): the
 level's pbar_psi by interval Newton, the section's guards, the C^1 flight of a set to its next crossing, the
 section quantities there.  It is part of the verifier's trust base (docs/nonintegrability.md, "The verifier's trust
-base"), like taylor.py: it imports only ball, fields, taylor and the generated fields -- never a prover's search
+base"), like taylor.py: it imports only ball, fields, taylor, taylor_model and the generated fields -- never a prover's search
 (search.py, periodic.py's prove, horseshoe.py), so a verifier that uses it does not use the prover's decisions.
 Moved here from periodic.py (issue 27) unchanged."""
 from __future__ import annotations
@@ -14,7 +14,20 @@ from flint import arb, arb_mat, arb_series
 
 from ..core.tolerances import PROOF_STEP_TOL
 from ..generated import validated as gen
-from . import ball, fields, taylor
+from . import ball, fields, taylor, taylor_model
+
+#: the validated integrators a flight may use, by the name a certificate records (settings "thin_integrator" for
+#: the centres, "integrator" for the sets):
+#: "taylor" the a priori box's Lagrange remainder (every certificate without the field), "taylor_model" the
+#: Taylor-model remainder (taylor_model.py)
+INTEGRATORS = {"taylor": taylor, "taylor_model": taylor_model}
+
+
+def integrator(name: str):
+    """The integrator module of a certificate's name (INTEGRATORS); ValueError naming it otherwise."""
+    if name not in INTEGRATORS:
+        raise ValueError(f"integrator (thin_integrator) must be one of {sorted(INTEGRATORS)}, got {name!r}")
+    return INTEGRATORS[name]
 
 TH, PS, PT, PP = fields.THETA, fields.PSI, fields.PTHETA, fields.PPSI
 
@@ -152,22 +165,23 @@ def section_set(pars, theta: arb, ptheta: arb, ppsi: arb, C2=None) -> taylor.C1S
 
 
 def first_return(pars, fld, S: taylor.C1Set, t_a: Fraction, lead: Fraction, *, t1=Fraction(1, 64), order=20,
-                 tol=PROOF_STEP_TOL, steps=None, newton=4, module=gen):
+                 tol=PROOF_STEP_TOL, steps=None, newton=4, module=gen, integrator=taylor):
     """The validated flight of the chart set S (on Sigma+ at t = 0) through one full return of P: phase 1 on
     [0, t1] with d(sin psi)/dt > 0, phase 2 on [t1, t_a] with no positive crossing (return_guards), then the one
     crossing of sin psi = 0 in (t_a, t_a + 2 lead) (taylor.cross_section; the caller checks that it is positive).
-    steps: None (adaptive) or the exact (steps1, steps2) of a certificate.  Returns (crossing, (steps1, steps2)).
-    Raises taylor.EnclosureError / GuardError / CrossingError."""
+    steps: None (adaptive) or the exact (steps1, steps2) of a certificate.  integrator: the module whose propagate
+    and cross_section fly it (taylor, or taylor_model: the Taylor-model remainder).  Returns (crossing, (steps1,
+    steps2)).  Raises taylor.EnclosureError / GuardError / CrossingError."""
     g, dg, base = chart_section(pars, module)
     first, general = return_guards(pars, fld, module)
     tr1, tr2 = taylor.Trajectory(), taylor.Trajectory()
     if steps is None:
-        S = taylor.propagate(fld, S, t1, order=order, tol=tol, guard=first, record=tr1)
-        S = taylor.propagate(fld, S, t_a, order=order, tol=tol, guard=general, record=tr2)
+        S = integrator.propagate(fld, S, t1, order=order, tol=tol, guard=first, record=tr1)
+        S = integrator.propagate(fld, S, t_a, order=order, tol=tol, guard=general, record=tr2)
     else:
-        S = taylor.propagate(fld, S, steps=steps[0], order=order, guard=first, record=tr1)
-        S = taylor.propagate(fld, S, steps=steps[1], order=order, guard=general, record=tr2)
-    cr = taylor.cross_section(fld, S, g, dg, 2 * lead, order, newton=newton, guard=base)
+        S = integrator.propagate(fld, S, steps=steps[0], order=order, guard=first, record=tr1)
+        S = integrator.propagate(fld, S, steps=steps[1], order=order, guard=general, record=tr2)
+    cr = integrator.cross_section(fld, S, g, dg, 2 * lead, order, newton=newton, guard=base)
     return cr, (tr1.steps, tr2.steps)
 
 
@@ -222,7 +236,8 @@ def ham_lam_derivative(pars, x, module=gen) -> arb:
 
 def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction, lead: Fraction, *,
                  t1=Fraction(1, 64), order=20, tol=PROOF_STEP_TOL, tol_thin=None, steps=None, newton=12, box=True,
-                 thin=None, thin_c1=True, branch="0", moving: Moving | None = None, module=gen) -> dict:
+                 thin=None, thin_c1=True, branch="0", moving: Moving | None = None, module=gen,
+                 integrator=taylor, thin_integrator=None) -> dict:
     """One return of P for the section piece X = c + A [-1, 1]^2 (c exact (theta, pbar_theta), A exact 2 x 2) on
     the level Hbar = h, pbar_psi the root in [pc - prad, pc + prad].
 
@@ -244,7 +259,8 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
     C r0 gains the column (v, grad pbar_psi . (v, 1), 1) and the row lambdabar; the centre flies at lam0, with pars
     and fld, as without it), and the result has "dPds": the derivative of s -> P_s(c + v (s - lam0)) over the box
     (the section derivative along that column), so that P_s(X(s)) lies in Pc + DP A [-1, 1]^2 + dPds (s - lam0)
-    for every s in lam.  Flight failures raise taylor's errors; the caller checks the signs."""
+    for every s in lam.  integrator: taylor (default) or taylor_model, for both flights (first_return);
+    thin_integrator: the centre's, if other.  Flight failures raise taylor's errors; the caller checks the signs."""
     out = {}
     cq = [ball.q(v) for v in c]
     ps = branch_psi(branch)
@@ -312,7 +328,8 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
         tk = (tol_thin or tol) if kind == "thin" else tol
         pk, fk = (pars, fld) if kind == "thin" else (pars_b, fld_b)
         cr, used = first_return(pk, fk, S, t_a, lead, t1=t1, order=order, tol=tk, steps=st, newton=newton,
-                                module=module)
+                                module=module,
+                                integrator=(thin_integrator or integrator) if kind == "thin" else integrator)
         steps_out[kind] = used
         Qk = [cq[0], ps, cq[1], Nc] if kind == "thin" else Q + xl
         tg = tangents(pk, Qk, module)

@@ -878,6 +878,9 @@ def _hs_source(cert, i, order, module, claim, branch) -> None:
         try:
             f = section_return.piece_return(pars, h, fld, cX, AX, _frac(r["p_c"]), prad, t_a, lead, t1=t1,
                                             order=order, steps=steps, newton=newton, thin_c1=False, branch=brs[i],
+                                            integrator=section_return.integrator(s.get("integrator", "taylor")),
+                                            thin_integrator=section_return.integrator(s.get("thin_integrator",
+                                                                                            "taylor")),
                                             moving=mv, module=module)
         except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
             claim(f"N{i} piece {n} flight", False, str(err)[:200])
