@@ -28,33 +28,47 @@ def morales_ramis_summary(model, values: dict | None = None, energy=MR_LEVEL) ->
     decided = None
     for pl in planes:
         row = {"normal": [str(model.state[i]) for i in pl[0]], "tangent": [str(model.state[i]) for i in pl[1]],
-               "pendulum_casimir": str(pl[2])}
-        res = MR.nve(model, vals, pl, energy) if len(pl[0]) == 3 else None
-        if res is None:
-            row["nve"] = ("not reduced: the normal part is not 3-dimensional with a linearised Casimir, or the "
-                          "coefficients are not rational in a tangent coordinate")
+               "pendulum_casimir": str(pl[2]), "frozen": [str(v) for v in pl[4]]}
+        res = MR.nve_reason(model, vals, pl, energy)
+        if isinstance(res, str):
+            row["nve"] = "not reduced: " + res
             rows.append(row)
             continue
         p, q, d = res
+        row.update({"nve": {"p": str(sp.factor(p)), "q": str(sp.factor(q)), **d}, "energy": str(energy)})
+        irrational = MR.irrational_singular_points(p, q)
+        if irrational:
+            row["galois"] = {"not_run": ("the singular points of the NVE are roots of " + ", ".join(irrational) +
+                                         " (irreducible over Q): Kovacic's algorithm here needs them in closed form "
+                                         "and is impractically slow with them (a level with rational singular "
+                                         "points is not searched for)")}
+            rows.append(row)
+            continue
         g = MR.galois_of(p, q)
-        row.update({"nve": {"p": str(sp.factor(p)), "q": str(sp.factor(q)), **d}, "energy": str(energy),
-                    "galois": g.as_dict()})
+        row["galois"] = g.as_dict()
         rows.append(row)
         if not g.abelian_identity_component:
             decided = row
             break
     if not planes:
-        verdict = {"label": "no conclusion", "verdict": "no invariant coordinate plane with a pendulum flow found"}
+        verdict = {"label": "no conclusion", "verdict": "no invariant coordinate subspace with a one-degree-of-freedom "
+                   "flow on a non-degenerate symplectic leaf found (no particular solution for Morales-Ramis)"}
     elif decided is not None:
         verdict = {"label": painleve.PROVED, "verdict": "not integrable on the pendulum's symplectic leaf",
                    "statement": (f"Morales-Ramis: along the pendulum {decided['normal']} = 0 at energy {energy}, the "
                                  f"normal variational equation has G0 not abelian ({decided['galois']['group']}, "
                                  "Kovacic's algorithm, exact): no meromorphic first integral independent of H on the "
                                  "symplectic leaf of the pendulum, near it")}
-    elif any("galois" in r for r in rows):
+    elif rows and all("case" in r.get("galois", {}) for r in rows):
         verdict = {"label": "no conclusion", "verdict": "G0 abelian along every pendulum tried (no obstruction)"}
+    elif any("galois" in r for r in rows):
+        verdict = {"label": "no conclusion", "verdict": "normal variational equations derived; Galois group not "
+                   "decided (" + "; ".join(sorted({r["galois"].get("not_run", "G0 abelian") for r in rows if "galois" in r}))
+                   + ")"}
     else:
-        verdict = {"label": "no conclusion", "verdict": "pendulums found but no normal variational equation reduced"}
+        verdict = {"label": "no conclusion", "verdict": "particular solutions found but no normal variational equation "
+                   "reduced to a second-order equation with rational coefficients (" +
+                   "; ".join(sorted({r["nve"] for r in rows})) + ")"}
     return {"pendulums": rows, **verdict}
 
 

@@ -42,9 +42,37 @@ def _casimirs(model, vals):
     return [sp.expand(c.subs(vals)) for c in casimirs(model)]
 
 
+def _psd_sum_of_squares(c, X):
+    """True if c is a nonzero sum of positive multiples of squares of coordinates (|e3|^2, |n|^2): its level 0 is
+    a degenerate leaf (e3 = 0, n = 0), not one of the physical problem."""
+    try:
+        P = sp.Poly(c, *X)
+    except sp.PolynomialError:
+        return False
+    if P.is_zero:
+        return False
+    for mono, k in P.terms():
+        if sorted(mono, reverse=True)[:2] != [2, 0] or sum(mono) != 2 or k.is_positive is not True:
+            return False
+    return True
+
+
+def _generic_rank(rows, X):
+    """Rank of a matrix of polynomials at a seeded rational point (a lower bound of the generic rank, equal to it
+    outside a proper algebraic set; deterministic)."""
+    if not rows:
+        return 0
+    pt = {v: sp.Rational(3 + 2 * i, 7 + i) for i, v in enumerate(X)}
+    return sp.Matrix([[sp.sympify(e).subs(pt) for e in row] for row in rows]).rank()
+
+
 def invariant_planes(model, vals: dict) -> list:
-    """[(normal indices N, tangent indices T, pendulum Casimir, NVE Casimirs)] for every invariant coordinate
-    3-space of the field on which exactly one Casimir is non-constant (and the field is not identically zero)."""
+    """Every invariant coordinate subspace V = {x_N = 0} of the field (any dimension) on which the restricted flow
+    has one degree of freedom on a symplectic leaf: dim V minus the generic rank of the restricted Casimirs is 2
+    (a curve on each energy level) and the restricted field is not zero.  V on a degenerate leaf (a sum of squares
+    Casimir vanishing identically on V, e.g. e3 = 0) is skipped.  Each entry: (normal indices N, tangent indices T,
+    the live restricted Casimirs (a product of them for the 6-D models is the pendulum's), the normal gradients of
+    the Casimirs whose gradient has no tangential part on V, the frozen tangent coordinates)."""
     from .models.pipeline import equations
 
     X = model.state
@@ -52,118 +80,263 @@ def invariant_planes(model, vals: dict) -> list:
     cas = _casimirs(model, vals)
     n = len(X)
     out = []
-    for T in itertools.combinations(range(n), 3):
-        N = [i for i in range(n) if i not in T]
-        sub = {X[i]: 0 for i in N}
-        if any(sp.expand(f[i].subs(sub)) != 0 for i in N):
-            continue
-        if all(sp.expand(f[i].subs(sub)) == 0 for i in T):
-            continue
-        restricted = [sp.expand(c.subs(sub)) for c in cas]
-        live = [c for c in restricted if c.free_symbols]
-        if len(live) != 1:
-            continue
-        lin = []
-        for c in cas:
-            g = [sp.expand(sp.diff(c, X[i]).subs(sub)) for i in range(n)]
-            if all(g[i] == 0 for i in T) and any(g[i] != 0 for i in N):
-                lin.append([g[i] for i in N])
-        out.append((N, list(T), live[0], lin))
+    for k in range(2, n):
+        for T in itertools.combinations(range(n), k):
+            N = [i for i in range(n) if i not in T]
+            sub = {X[i]: 0 for i in N}
+            if any(sp.expand(f[i].subs(sub)) != 0 for i in N):
+                continue
+            if all(sp.expand(f[i].subs(sub)) == 0 for i in T):
+                continue
+            restricted = [sp.expand(c.subs(sub)) for c in cas]
+            if any(c == 0 and _psd_sum_of_squares(cc, X) for c, cc in zip(restricted, cas)):
+                continue
+            live = [c for c in restricted if c.free_symbols]
+            XT = [X[i] for i in T]
+            if len(T) - _generic_rank([[sp.diff(c, v) for v in XT] for c in live], XT) != 2:
+                continue
+            lin = []
+            for c in cas:
+                g = [sp.expand(sp.diff(c, X[i]).subs(sub)) for i in range(n)]
+                if all(g[i] == 0 for i in T) and any(g[i] != 0 for i in N):
+                    lin.append([g[i] for i in N])
+            frozen = [X[i] for i in T if sp.expand(f[i].subs(sub)) == 0]
+            out.append((N, list(T), live[0] if len(live) == 1 else live, lin, frozen))
     return out
 
 
+def _known_integrals(model, vals):
+    """{name: I} of the model's candidate integrals that Poisson-commute with H at `vals` (checked), Casimirs not
+    included."""
+    from .models.pipeline import bracket
+
+    H = model.H
+    out = {}
+    for k, (e, _) in model.candidates.items():
+        I = sp.expand(sp.sympify(e, strict=True))
+        if sp.expand(bracket(model, I, H).subs(vals)) == 0:
+            out[k] = sp.expand(I.subs(vals))
+    return out
+
+
+def normal_block(model, vals: dict, plane):
+    """The normal variational equation along the 1-DOF flow on `plane`, cut down to its last quotient:
+    xi' = A xi on the normal coordinates; the linearised Casimirs and known integrals whose gradient has no tangential
+    part are first integrals of it (their level 0: variations inside the leaf and the integral's level set) and
+    eliminate one coordinate each; the Hamiltonian vector field X_I = J grad I of a known integral I whose tangential
+    part vanishes is a solution (the flows of H and I commute), and the quotient by it is taken (the Galois group of
+    a quotient system is a quotient of the group, so a non-abelian G0 there proves a non-abelian G0 of the NVE).
+    Returns (M (d x d, rational in the tangent coordinates), the names of the remaining normal coordinates, the
+    substitutions {frozen coordinate: value}, a description) or (None, reason)."""
+    from .models.pipeline import equations
+
+    X = model.state
+    N, T, _live, _lins, frozen = plane
+    f = [sp.expand(e.subs(vals)) for e in equations(model)]
+    sub = {X[i]: 0 for i in N}
+    fix = {v: sp.Integer(1) for v in frozen}  # a frozen coordinate on its unit level (e.g. e31 = 1)
+    J = sp.Matrix(f).jacobian(X)
+    A = J.extract(N, N).subs(sub).subs(fix)
+    cas = _casimirs(model, vals)
+    ints = _known_integrals(model, vals)
+    desc = {"constraints": [], "quotient_by": []}
+    names = [X[i] for i in N]
+    ft = {X[i]: sp.expand(f[i].subs(sub).subs(fix)) for i in T if X[i] not in fix}
+
+    def dt(e):
+        num, den = sp.fraction(sp.together(e))
+        d = lambda u: sp.expand(sum(sp.diff(u, v) * ft[v] for v in ft))  # noqa: E731
+        return sp.cancel((d(num) * den - num * d(den)) / den**2)
+    st = {"keep": list(range(len(N))), "L": sp.eye(len(N)), "M": A}
+
+    def constrain(name, g):
+        """Restrict to g . xi = 0 (a first integral of the NVE): eliminate one kept coordinate."""
+        keep, L = st["keep"], st["L"]
+        gk = [sp.expand(sum(g[a] * L[a, b] for a in range(len(N)))) for b in range(len(keep))]
+        if all(sp.simplify(e) == 0 for e in gk):
+            return False
+        piv = sorted((b for b in range(len(keep)) if gk[b] != 0),
+                     key=lambda b: (not gk[b].is_number, sp.count_ops(gk[b])))[0]
+        cols = [b for b in range(len(keep)) if b != piv]
+        E = sp.zeros(len(keep), len(keep) - 1)
+        for j, b in enumerate(cols):  # xi_keep[piv] = -sum_{b != piv} gk_b xi_keep[b] / gk_piv
+            E[b, j] = 1
+            E[piv, j] = sp.cancel(-gk[b] / gk[piv])
+        st["L"] = (L * E).applyfunc(sp.cancel)
+        desc["constraints"].append(f"{name} (eliminates d{names[keep[piv]]}): "
+                                   + " + ".join(f"({g[a]}) d{names[a]}" for a in range(len(N)) if g[a] != 0))
+        st["keep"] = [keep[b] for b in cols]
+        st["M"] = (A * st["L"]).extract(st["keep"], list(range(len(cols)))).applyfunc(sp.cancel)
+        return True
+
+    def quotient(name, v):
+        """Quotient by a known solution v of the NVE: eta = P xi with P = 1 - v e_k^T / v_k solves
+        eta' = (P' + P M) eta and eta_k = 0."""
+        keep, M = st["keep"], st["M"]
+        vk = sp.Matrix([v[a] for a in keep])
+        cand = sorted((b for b in range(len(keep)) if sp.simplify(vk[b]) != 0),
+                      key=lambda b: (not vk[b].is_number, sp.count_ops(vk[b])))
+        if not cand:
+            return
+        k = cand[0]
+        P = sp.eye(len(keep)) - vk * sp.Matrix([[1 if b == k else 0 for b in range(len(keep))]]) / vk[k]
+        Mq = (P.applyfunc(dt) + P * M).applyfunc(sp.cancel)
+        rest = [b for b in range(len(keep)) if b != k]
+        st["M"] = Mq.extract(rest, rest)
+        st["keep"] = [keep[b] for b in rest]
+        st["quotiented"] = True
+        desc["quotient_by"].append(f"X_{name} = (" + ", ".join(str(v[a]) for a in range(len(N))) + f"), "
+                                   f"eliminates d{names[keep[k]]}")
+
+    def grad_normal(c):
+        g = [sp.expand(sp.diff(c, X[i]).subs(sub).subs(fix)) for i in range(len(X))]
+        return [g[i] for i in N] if all(g[i] == 0 for i in T) and any(g[i] != 0 for i in N) else None
+    # the linearised Casimirs (variations inside the leaf), then per known integral I: its level (dI = 0) and the
+    # quotient by X_I (the symplectic reduction by the symmetry I generates), while more than 2 dimensions remain
+    for i, c in enumerate(cas):
+        g = grad_normal(c)
+        if g is not None and len(st["keep"]) > 2:
+            constrain(f"Casimir {i + 1}", g)
+    for name, I in ints.items():
+        if len(st["keep"]) <= 2 or st.get("quotiented"):
+            break  # (a constraint after a quotient would need the quotient's coordinates: not attempted)
+        g = grad_normal(I)
+        if g is None or not constrain(name, g) or len(st["keep"]) <= 2:
+            continue
+        v = (model.J.subs(vals) * sp.Matrix([sp.diff(I, x_) for x_ in X])).subs(sub).subs(fix)
+        if all(sp.expand(v[i]) == 0 for i in T):
+            quotient(name, [sp.expand(v[i]) for i in N])
+    keep, M = st["keep"], st["M"]
+    return M, [names[a] for a in keep], fix, desc
+
+
+def _relations(eqs, zt, others, linear=True):
+    """{v: ("=", poly in zt) or ("^2", poly in zt)} for the other tangent coordinates from the level equations
+    eqs (= 0), solved one at a time: an equation that (after the values known so far) contains one unknown
+    coordinate v, linearly (v = ...) or only as v^2 (v^2 = ...).  None if some coordinate is not reached."""
+    rels = {}
+    eqs = list(eqs)
+    progress = True
+    while progress and len(rels) < len(others):
+        progress = False
+        for e in eqs:
+            e2 = _apply(e, rels)
+            if e2 is None:
+                continue
+            unk = e2.free_symbols & (set(others) - set(rels))
+            if len(unk) != 1 or (e2.free_symbols & set(others)) - unk:
+                continue
+            v = unk.pop()
+            P = sp.Poly(e2, v)
+            if P.degree() == 1 and linear:
+                rels[v] = ("=", sp.expand(-P.coeff_monomial(1) / P.coeff_monomial(v)))
+            elif P.degree() == 2 and P.coeff_monomial(v) == 0:
+                rels[v] = ("^2", sp.expand(-P.coeff_monomial(1) / P.coeff_monomial(v**2)))
+            else:
+                continue
+            progress = True
+    return rels if len(rels) == len(others) else None
+
+
+def _apply(e, rels):
+    """e with the known coordinates replaced: v -> poly (linear relations), v^2 -> poly (square relations; None if
+    an odd power of such a v remains)."""
+    e = sp.expand(e.subs({v: r for v, (k, r) in rels.items() if k == "="}))
+    sq = [v for v, (k, _) in rels.items() if k == "^2" and v in e.free_symbols]
+    if not sq:
+        return e
+    P = sp.Poly(e, *sq)
+    tot = sp.Integer(0)
+    for mono, c in P.terms():
+        if any(a % 2 for a in mono):
+            return None
+        term = c
+        for v, a in zip(sq, mono):
+            term *= rels[v][1] ** (a // 2)
+        tot += term
+    return sp.expand(tot)
+
+
 def _rationalise(expr, rels: dict, zt):
-    """expr (rational in the tangent coordinates) as a rational function of z, using {coordinate: its square as a
-    polynomial in z}; zt is the coordinate that becomes z.  None if an odd power survives."""
-    num, den = sp.fraction(sp.together(sp.expand(expr)))
-    others = list(rels)
-
-    def reduce(p):
-        P = sp.Poly(sp.expand(p), *others)
-        tot = sp.Integer(0)
-        odd = set()
-        for mono, c in P.terms():
-            term = c
-            key = []
-            for v, a in zip(others, mono):
-                term *= rels[v] ** (a // 2)
-                if a % 2:
-                    key.append(v)
-            odd.add(tuple(key))
-            tot += term * sp.Mul(*key)
-        return sp.expand(tot), odd
-
-    # make the denominator even in every other coordinate by multiplying through
-    for v in others:
-        dn, odd = reduce(den)
-        if any(v in k for k in odd):
-            num, den = sp.expand(num * v), sp.expand(den * v)
-    nn, oddn = reduce(num)
-    dd, oddd = reduce(den)
-    if oddn != {()} and nn != 0 or oddd != {()}:
+    """expr (rational in the tangent coordinates) as a rational function of z, using the relations of
+    `_relations` ({coordinate: ("=", poly) or ("^2", poly)} in zt); zt becomes z.  None if an odd power of a
+    square-known coordinate survives."""
+    lin = {v: r for v, (k, r) in rels.items() if k == "="}
+    num, den = sp.fraction(sp.together(sp.expand(expr).subs(lin)))
+    num, den = sp.expand(num), sp.expand(den)
+    sq = {v: r for v, (k, r) in rels.items() if k == "^2"}
+    for v in sq:  # make the denominator even in v: multiply by its conjugate E - v O (den = E + v O)
+        if v not in den.free_symbols:
+            continue
+        P = sp.Poly(den, v)
+        E = sum((c * v**m[0] for m, c in P.terms() if m[0] % 2 == 0), sp.Integer(0))
+        O = sp.expand(den - E)
+        if O != 0:
+            num, den = sp.expand(num * (E - O)), sp.expand(E**2 - O**2)
+    nn = _apply(num, {v: ("^2", r) for v, r in sq.items()})
+    dd = _apply(den, {v: ("^2", r) for v, r in sq.items()})
+    if nn is None or dd is None or dd == 0:
         return None
     return sp.cancel(sp.together(nn.subs(zt, z) / dd.subs(zt, z)))
 
 
 def nve(model, vals: dict, plane, energy=h, level=1):
     """The NVE along the pendulum of `plane` as (p, q, description): y'' + p y' + q y = 0 in z, rational, at
-    energy `energy` and pendulum Casimir value `level`; None if no choice of (eliminated variable, unknown,
-    independent variable) gives rational coefficients."""
+    energy `energy` and level `level` of the live Casimirs; None if the normal block does not reduce to 2 x 2 or no
+    choice of (unknown, independent variable) gives rational coefficients (`nve_reason` says which)."""
+    res = nve_reason(model, vals, plane, energy, level)
+    return None if isinstance(res, str) else res
+
+
+def nve_reason(model, vals: dict, plane, energy=h, level=1):
+    """`nve`, or the reason (a sentence) why none was found."""
+    X = model.state
+    N, T, _live, _lins, frozen = plane
+    M, names, fix, desc = normal_block(model, vals, plane)
+    if M.shape != (2, 2):
+        return (f"the normal variational equation is {M.shape[0]}-dimensional after the linearised Casimirs and "
+                "integrals and the symmetry quotients: not a second-order equation")
     from .models.pipeline import equations
 
-    X = model.state
-    N, T, cas, lins = plane
-    if not lins:
-        return None
     f = [sp.expand(e.subs(vals)) for e in equations(model)]
     sub = {X[i]: 0 for i in N}
-    ft = {X[i]: sp.expand(f[i].subs(sub)) for i in T}  # the restricted flow
+    ft = {X[i]: sp.expand(f[i].subs(sub).subs(fix)) for i in T if X[i] not in fix}
 
     def dt(e):
         return sp.expand(sum(sp.diff(e, v) * ft[v] for v in ft))
-    J = sp.Matrix(f).jacobian(X)
-    A = J.extract(N, N).subs(sub)
-    g = lins[0]
-    Hr = sp.expand(model.H.subs(vals).subs(sub))
-    for e_idx in range(3):  # the normal variable eliminated by the linearised Casimir (level 0)
-        if g[e_idx] == 0:
+    Hr = sp.expand(model.H.subs(vals).subs(sub).subs(fix))
+    live = [c for c in (sp.expand(c.subs(sub).subs(fix)) for c in _casimirs(model, vals)) if c.free_symbols]
+    # square relations only first (a Riemann P-equation in n3 at the separatrix of a top's pendulum), then linear
+    for u, linear in itertools.product(range(2), (False, True)):  # the unknown y = the u-th remaining coordinate
+        o = 1 - u
+        a11, a12, a21, a22 = M[o, o], M[o, u], M[u, o], M[u, u]
+        if sp.simplify(a21) == 0:
             continue
-        keep = [k for k in range(3) if k != e_idx]
-        # xi_e = -(sum_{k != e} g_k xi_k) / g_e
-        M = sp.zeros(2, 2)
-        for a, ka in enumerate(keep):
-            for b, kb in enumerate(keep):
-                M[a, b] = sp.together(A[ka, kb] - A[ka, e_idx] * g[kb] / g[e_idx])
-        for u in range(2):  # the unknown y = xi_keep[u]
-            o = 1 - u
-            a11, a12, a21, a22 = M[o, o], M[o, u], M[u, o], M[u, u]
-            if sp.simplify(a21) == 0:
+        # y' = a21 w + a22 y, w' = a11 w + a12 y  =>  y'' - P y' + Q y = 0
+        da21 = _dtr(a21, dt)
+        Pt = a11 + a22 + da21 / a21
+        Qt = a11 * a22 - a12 * a21 - _dtr(a22, dt) + a22 * da21 / a21
+        for zt in ft:
+            zdot = ft[zt]
+            if zdot == 0:
                 continue
-            # y' = a21 w + a22 y, w' = a11 w + a12 y  =>  y'' - P y' + Q y = 0
-            da21 = sp.together(dt(sp.numer(sp.together(a21))) / sp.denom(sp.together(a21))
-                               - sp.numer(sp.together(a21)) * dt(sp.denom(sp.together(a21)))
-                               / sp.denom(sp.together(a21))**2)
-            Pt = a11 + a22 + da21 / a21
-            Qt = a11 * a22 - a12 * a21 - _dtr(a22, dt) + a22 * da21 / a21
-            for zi in T:
-                zt = X[zi]
-                zdot = ft[zt]
-                if zdot == 0:
-                    continue
-                zdd = dt(zdot)
-                # d/dt = zdot d/dz: y_zz + (zdd - Pt zdot)/zdot^2 y_z + Qt/zdot^2 y = 0
-                others = [X[i] for i in T if i != zi]
-                rels = _square_relations(Hr, cas, zt, others, energy, level)
-                if rels is None:
-                    continue
-                p = _rationalise((zdd - Pt * zdot) / zdot**2, rels, zt)
-                q = _rationalise(Qt / zdot**2, rels, zt)
-                if p is None or q is None:
-                    continue
-                return p, q, {"eliminated": str(X[N[e_idx]]), "unknown": str(X[N[keep[u]]]), "z": str(zt),
-                              "normal": [str(X[i]) for i in N], "tangent": [str(X[i]) for i in T],
-                              "linearised_casimir": [str(v) for v in g]}
-    return None
+            zdd = dt(zdot)
+            others = [v for v in ft if v != zt]
+            rels = _relations([Hr - energy] + [c - level for c in live], zt, others, linear)
+            if rels is None:
+                continue
+            p = _rationalise((zdd - Pt * zdot) / zdot**2, rels, zt)
+            q = _rationalise(Qt / zdot**2, rels, zt)
+            if p is None or q is None:
+                continue
+            return p, q, {**desc, "unknown": str(names[u]), "z": str(zt), "normal": [str(X[i]) for i in N],
+                          "tangent": [str(X[i]) for i in T], "frozen": {str(k): str(v) for k, v in fix.items()},
+                          "relations": {str(k): f"{k}{'' if kind == '=' else '^2'} = {r}"
+                                        for k, (kind, r) in rels.items()}}
+    return ("the normal variational equation is 2 x 2, but on the energy and Casimir levels no tangent coordinate "
+            "determines the others linearly or through their squares (the solution lies on a curve not rationally "
+            "parametrised by one coordinate, or odd powers of a coordinate known only through its square remain): "
+            "no rational second-order equation")
 
 
 def _dtr(e, dt):
@@ -171,23 +344,11 @@ def _dtr(e, dt):
     return sp.together((dt(num) * den - num * dt(den)) / den**2)
 
 
-def _square_relations(Hr, cas, zt, others, energy, level):
-    """{v: v^2 as a polynomial in zt} for the other tangent coordinates, from H = energy and the pendulum Casimir =
-    level: each relation used must contain exactly one other coordinate v, and only as v^2."""
-    rels = {}
-    eqs = [sp.expand(Hr - energy), sp.expand(cas - level)]
-    for v in others:
-        for e in eqs:
-            if (e.free_symbols & set(others)) != {v}:
-                continue
-            P = sp.Poly(e, v)
-            if P.degree() != 2 or P.coeff_monomial(v) != 0:
-                continue
-            rels[v] = sp.expand(-P.coeff_monomial(1) / P.coeff_monomial(v**2))
-            break
-        else:
-            return None
-    return rels
+def irrational_singular_points(p, q) -> list:
+    """The irreducible factors of degree > 1 over Q of the denominators of p and q (as strings): singular points
+    that are not rational."""
+    dens = sp.denom(sp.together(p)) * sp.denom(sp.together(q))
+    return [str(f.as_expr()) for f, _ in sp.factor_list(sp.Poly(dens, z))[1] if f.degree() > 1]
 
 
 def singular_points(p, q):
