@@ -12,7 +12,11 @@ shared 2-core machine inflates wall times):
     solution of their integrality conditions for k, k' <= 6, with the full analysis at each rational case;
   * morales_ramis: one Kovacic run on a Heun-type NVE (r = 1/4, energy 0: the step that removes r = 1/4);
   * theorem: the whole symmetric-rod theorem, every step;
-  * registry: what `python -m derive` spends on generated/decided/registry.json.
+  * registry: what `python -m derive` spends on generated/decided/registry.json;
+  * magnetic (only with --magnetic, minutes): the 9-D magnetic rod's planar solution normal to the field, its NVE
+    cut down to 2 x 2 (Casimir e3.n, integral m3, quotient by X_m3) at the level h = -1/4, C1 = 1/16, where the
+    singular points are 0, -1 and the roots of z^2 - z + 2 and 6 z^2 + 1; Kovacic's verdict there (a control: the
+    rod is integrable, G0 must be abelian) and its cost with quadratic-irrational poles.
 No number here is asserted by a test."""
 from __future__ import annotations
 
@@ -37,6 +41,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "decided_costs.json")
     ap.add_argument("--skip-registry", action="store_true", help="skip the (slow) registry timing")
+    ap.add_argument("--magnetic", action="store_true", help="also run Kovacic on the magnetic rod's planar NVE (minutes)")
     a = ap.parse_args(argv)
     import sympy as sp
 
@@ -75,6 +80,16 @@ def main(argv=None) -> int:
     if not a.skip_registry:
         _, w, c = timed(decided.registry_results)
         res["registry"] = {"wall_s": w, "cpu_s": c}
+    if a.magnetic:
+        mg = models.get("magnetic")
+        _, _, mv = painleve.model_field(mg)
+        c1 = sp.Symbol("c1")
+        pm, qm, _ = MR.nve(mg, mv, MR.invariant_planes(mg, mv)[0], MR.h, c1)
+        lev = {MR.h: sp.Rational(-1, 4), c1: sp.Rational(1, 16)}
+        out, w, c = timed(lambda: MR.galois_of(sp.cancel(pm.subs(lev)), sp.cancel(qm.subs(lev))))
+        res["magnetic_planar_kovacic"] = {"wall_s": w, "cpu_s": c, "group": out.group,
+                                          "abelian": out.abelian_identity_component,
+                                          "singular_points": str(sp.factor(sp.denom(sp.together(pm.subs(lev)))))}
     res["load_average_end"] = os.getloadavg()[0]
     a.out.write_text(json.dumps(res, indent=1) + "\n")
     print(json.dumps(res, indent=1))

@@ -333,7 +333,8 @@ def nve_reason(model, vals: dict, plane, energy=h, level=1):
                           "tangent": [str(X[i]) for i in T], "frozen": {str(k): str(v) for k, v in fix.items()},
                           "relations": {str(k): f"{k}{'' if kind == '=' else '^2'} = {r}"
                                         for k, (kind, r) in rels.items()}}
-    return ("the normal variational equation is 2 x 2, but on the energy and Casimir levels no tangent coordinate "
+    return (f"the normal variational equation reduces to d({', '.join(str(v) for v in names)})/dt = M ({', '.join(str(v) for v in names)}) with "
+            f"M = {[[str(sp.factor(M[i, j])) for j in range(2)] for i in range(2)]} along the solution, but on the energy and Casimir levels no tangent coordinate "
             "determines the others linearly or through their squares (the solution lies on a curve not rationally "
             "parametrised by one coordinate, or odd powers of a coordinate known only through its square remain): "
             "no rational second-order equation")
@@ -578,18 +579,32 @@ def symmetric_rod_theorem() -> dict:
     step("survivors", kov and gc and iso, "r = 1: B1 = B2 = C, m3 is an integral (Lagrange's case B1 = B2); r = 2: Kovalevskaya's integral K = ((m3/2)^2 - (m2/2)^2 - n3)^2 + (m2 m3/2 - n2)^2, {K, H} = 0; "
          "r = 4: G = m1 (m2^2 + m3^2) - 4 m3 n1 with {G, H} = (m.n) m2 (Goryachev-Chaplygin: an integral on m.n = 0, "
          "the leaf of both pendulums)")
+    # 7. the scope: the pendulums' leaf.  m.n vanishes identically on both pendulum planes, and the search over
+    # every invariant coordinate subspace (r symbolic) finds no one-degree-of-freedom flow on which m.n is live.
+    mn = m1 * n1 + m2 * n2 + m3 * n3
+    on_leaf = all(sp.expand(mn.subs({X[i]: 0 for i in pl[0]})) == 0 for pl, *_ in nves)
+    planes = invariant_planes(model, vals)
+    generic = [pl for pl in planes if sp.expand(mn.subs({X[i]: 0 for i in pl[0]})) != 0]
+    step("leaf", on_leaf and not generic and len(planes) == 2,
+         "m.n = 0 identically on both pendulum planes; among all invariant coordinate subspaces (r symbolic) none "
+         "carries a one-degree-of-freedom flow on a leaf m.n = l != 0: no particular solution of this kind on a "
+         "generic leaf, so the Heun-type NVE there is not reached")
     proved = all(st["ok"] for st in steps)
     for g in data:
         g.pop("_rd")
         g.pop("_pq")
     return {
         "theorem": ("For every r > 0 with r not in {1, 2, 4}, the anisotropic rod with B2 = C = r B1 (and its mirror "
-                    "B1 = C = r B2), restricted to a symplectic leaf m.n = 0, |n| = gamma > 0, has no meromorphic "
-                    "first integral independent of H in a neighbourhood of the pendulum solutions (Morales-Ramis: the "
-                    "identity component of the Galois group of the normal variational equation along one of the two "
-                    "pendulums is not abelian). In particular the rod is not Liouville integrable with meromorphic "
-                    "integrals that stay independent on that leaf. At r = 1 (isotropic), 2 (Kovalevskaya) and 4 "
-                    "(Goryachev-Chaplygin, integrable on m.n = 0) the rod is integrable on the leaf."),
+                    "B1 = C = r B2), restricted to a symplectic leaf L = {m.n = 0, |n| = gamma > 0}, has no "
+                    "meromorphic first integral functionally independent of H|L in a connected neighbourhood of the "
+                    "pendulum solutions in L (Morales-Ramis: the identity component of the Galois group of the "
+                    "normal variational equation along one of the two pendulums is not abelian). For the full "
+                    "Poisson system on e(3)* this means: if F is a meromorphic first integral near a pendulum and "
+                    "F|L is defined, then F|L is functionally dependent on H|L there; so the rod is not Liouville "
+                    "integrable with meromorphic integrals (H, F and the Casimirs) that stay independent on L. An "
+                    "integral independent on the generic leaves m.n = l != 0 whose restriction to L depends on H is "
+                    "not excluded: the pendulums lie on m.n = 0 only. At r = 1 (isotropic), 2 (Kovalevskaya) and 4 "
+                    "(Goryachev-Chaplygin, integrable on m.n = 0) the rod is integrable on L."),
         "status": "proved" if proved else "not proved (a step failed)",
         "exceptional_set": [str(v) for v in EXCEPTIONAL],
         "explanations": {"1": "isotropic (B1 = B2 = C): Lagrange's case", "2": "Kovalevskaya (B2 = C = 2 B1)",
@@ -600,6 +615,8 @@ def symmetric_rod_theorem() -> dict:
                        "non-equilibrium particular solution": "the pendulums (restricted field not zero)",
                        "change of variable z = n3": "finite branched covering: G0 unchanged (Morales-Ruiz 1999)",
                        "reduction to normal form": "exp(int p) algebraic (p has rational residues): G0 unchanged"},
-        "not_proved": ("non-integrability on the generic leaves m.n != 0 (the pendulums lie on m.n = 0 only); "
-                       "integrals that are not meromorphic near the pendulums"),
+        "not_proved": ("non-integrability on the generic leaves m.n != 0 (the pendulums lie on m.n = 0 only, and no "
+                       "invariant coordinate subspace gives a particular solution on m.n = l != 0); an integral "
+                       "independent on those leaves but dependent on H on m.n = 0; integrals that are not "
+                       "meromorphic near the pendulums"),
         "pendulums": data, "steps": steps}

@@ -255,6 +255,9 @@ def test_stored_results_reach_the_report_and_the_landscape():
     t = decided.theorem()
     assert t["status"] == "proved" and t["exceptional_set"] == ["1", "2", "4"]
     assert all(s["ok"] for s in t["steps"])
+    # the scope on the full Poisson system is stated, and checked: no particular solution on a leaf m.n != 0
+    assert "F|L is functionally dependent on H|L" in t["theorem"] and "generic leaves" in t["not_proved"]
+    assert [s["step"] for s in t["steps"]][-1] == "leaf"
     st = decided.stored()["models"]
     assert st["anisotropic"]["strongest"]["label"] == "proved"
     assert st["kirchhoff"]["morales_ramis"]["label"] == "no conclusion"  # control: abelian along both pendulums

@@ -82,8 +82,10 @@ def rows(res: dict | None, *, skipped_reason: str = "") -> list:
     if mr is not None:
         out.append({"key": "morales_ramis", "label": "Morales-Ramis", "status": mr["label"],
                     "title": "Morales-Ramis along the pendulum solutions: " + mr["verdict"],
-                    "method": "exact: invariant coordinate planes; NVE reduced to y'' + p y' + q y = 0 with p, q "
-                              "rational in z; Kovacic's algorithm (cases 1-3 and the abelian test of G0)",
+                    "method": "exact: invariant coordinate subspaces with a one-degree-of-freedom flow on a "
+                              "non-degenerate leaf; the NVE cut down by the linearised Casimirs and integrals and the "
+                              "quotient by the symmetry field, reduced to y'' + p y' + q y = 0 with p, q rational in "
+                              "z; Kovacic's algorithm (cases 1-3 and the abelian test of G0)",
                     "details": {"pendulums": [{k: v for k, v in p.items() if k != "nve"} | (
                         {"nve": p["nve"]} if isinstance(p.get("nve"), str) else {}) for p in mr["pendulums"]],
                         **({"statement": mr["statement"]} if "statement" in mr else {})}})
@@ -105,10 +107,16 @@ def format_rows(rs: list) -> list:
             lines += [f"    balance: {b}" for b in r["details"].get("balances", [])]
         if r["key"] == "morales_ramis":
             for p in r["details"]["pendulums"]:
-                g = p.get("galois")
-                lines.append(f"    pendulum {', '.join(p['normal'])} = 0: " +
-                             (f"G = {g['group']}, G0 {'abelian' if g['abelian_identity_component'] else 'NOT abelian'}"
-                              f" (Kovacic case {g['case']}, energy {p['energy']})" if g else p.get("nve", "")))
+                g = p.get("galois") or {}
+                if "case" in g:
+                    what = (f"G = {g['group']}, G0 {'abelian' if g['abelian_identity_component'] else 'NOT abelian'}"
+                            f" (Kovacic case {g['case']}, energy {p['energy']})")
+                elif "not_run" in g:
+                    what = "NVE derived; Kovacic not run: " + g["not_run"]
+                else:
+                    what = p.get("nve", "")
+                frozen = f" ({', '.join(p['frozen'])} = 1)" if p.get("frozen") else ""
+                lines.append(f"    particular solution {', '.join(p['normal'])} = 0{frozen}: {what}")
         lines.append("")
     return lines
 
