@@ -33,8 +33,15 @@ def summary(rederive: bool = False, everything: bool = False) -> dict:
     res = rep["results"]
     chosen = res if everything else [r for r in res if r["key"] in SECTIONS]
     disagreements = [r["key"] for r in res if r["status"] == "disagrees"]
-    return {"ok": True, "source": rep["source"], "results": chosen,
-            "statuses": {r["key"]: r["status"] for r in res}, "disagreements_with_paper": disagreements}
+    # the paper's rod is the registry's default model: its exact integrability analyses (Kovalevskaya exponents,
+    # Yoshida, Morales-Ramis, stored in generated/decided/registry.json) belong to its report too
+    from ..core.models import DEFAULT
+    from .decided import rows as decided_rows, stored
+
+    dec = decided_rows(stored()["models"][DEFAULT])
+    return {"ok": True, "source": rep["source"], "results": chosen + dec,
+            "statuses": {**{r["key"]: r["status"] for r in res}, **{r["key"]: r["status"] for r in dec}},
+            "disagreements_with_paper": disagreements}
 
 
 def custom_involution(text: str) -> dict:
