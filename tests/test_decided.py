@@ -337,3 +337,17 @@ def test_stored_rows_say_why_morales_ramis_does_not_decide():
     assert all(r["nve"].startswith("not reduced") and r["frozen"] == [f] for r, f in zip(me["pendulums"], ["e31", "e32"]))
     mag = st["magnetic"]["morales_ramis"]
     assert all("not_run" in r["galois"] for r in mag["pendulums"])  # singular points: roots of z^4 + 2z - 4
+
+
+def test_paper_report_carries_the_default_models_decided_rows():
+    """`magrod check` without --model is the paper's rod, the registry's default: its report carries the same
+    decided rows as `--model magnetic-extensible`."""
+    from magrod.integrability import decided
+    from magrod.integrability.report import format_text, summary
+
+    out = summary()
+    keys = [r["key"] for r in out["results"]]
+    assert {"kovalevskaya_exponents", "yoshida", "morales_ramis"} <= set(keys)
+    mine = [r for r in out["results"] if r["key"] == "morales_ramis"][0]
+    assert mine == decided.rows(decided.stored()["models"]["magnetic-extensible"])[-1]
+    assert "particular solution m2, m3, n1, e32, e33 = 0 (e31 = 1)" in format_text(out)
