@@ -322,7 +322,14 @@ def nve_reason(model, vals: dict, plane, energy=h, level=1):
                 continue
             zdd = dt(zdot)
             others = [v for v in ft if v != zt]
-            rels = _relations([Hr - energy] + [c - level for c in live], zt, others, linear)
+            eqs = [Hr - energy] + [c - level for c in live]
+            rels = _relations(eqs, zt, others, linear)
+            if rels is None and linear and len(eqs) > 1:  # combinations of the levels (a lex Groebner basis)
+                try:
+                    gb = list(sp.groebner(eqs, *others, zt, order="lex"))
+                except (sp.PolificationFailed, sp.GeneratorsError, sp.DomainError):
+                    gb = []
+                rels = _relations(eqs + gb, zt, others, linear) if gb else None
             if rels is None:
                 continue
             p = _rationalise((zdd - Pt * zdot) / zdot**2, rels, zt)

@@ -313,6 +313,11 @@ def test_paper_rod_planar_solution_and_its_reduced_nve():
     assert [str(v) for v in names] == ["m2", "e33"] and M[0, 0] == 0 and M[1, 1] == 0 and M[1, 0] == 1
     assert sp.expand(M[0, 1] - want) == 0
     assert sp.expand(M[0, 1] - (1 - gm2 * n3) * n3 + m1**2) != 0  # a mutated coefficient is told apart
+    # at gamma = 0 (K = J) n3 is a polynomial in m1 on the levels (a combination of H and C1, from a Groebner
+    # basis) and the NVE becomes rational in z = m1, with n2^2 a quartic
+    _, _, v0 = painleve.model_field(m, {"gamma": 0})
+    res = MR.nve_reason(m, v0, MR.invariant_planes(m, v0)[0], MR.h, sp.Symbol("c1"))
+    assert not isinstance(res, str) and res[2]["z"] == "m1" and res[2]["relations"]["n3"].startswith("n3 = ")
 
 
 def test_curved_rod_has_a_pendulum_only_without_pretwist():
