@@ -287,7 +287,7 @@ def atomic_savefig(fig, path, **kw) -> Path:
 # The one orbit-file schema (every orbit file magrod writes, `write_orbit`; `magrod rod --from` reads them all):
 # arrays of the sampled symmetric orbit, t in [0, 2T] (n,), body states x (n, N), chart coordinates, Hbar, the
 # scaled arclength tau of the plotted window, and what reproduces it: launch point x0, time T to the symmetric
-# point, launch distance ("eps" in files before issue 25; not read back), angle, parameters pars (PARAMS order) and the reversor at the symmetric point.
+# point, launch distance ("eps" in older files; not read back), angle, parameters pars (PARAMS order) and the reversor at the symmetric point.
 ORBIT_ARRAYS = ("t", "x", "theta", "psi", "ptheta", "ppsi", "H", "tau", "x0", "T", "launch_distance", "pars", "reversor",
                 "angle")
 ORBIT_KEYS = ("x0", "T", "pars", "t", "tau", "x")  # what load_orbit_file requires (and validates)

@@ -10,7 +10,7 @@ a second process load instead of compile (~20 ms instead of ~1 s).
 
 Builders (keyword-only options; `precision` is a core.precision.Precision or its name, `bits` the significand
 width of Precision.MP runs (default MP_BITS) and nothing else.  The old spelling fp_type=/prec= (a number type and
-hy.real's bit count) is still accepted by every builder for one release and is deprecated: issue 25, one
+hy.real's bit count) is still accepted by every builder for one release and is deprecated (one
 vocabulary):
   taylor(sys, state, pars, ...)              any system: the one place hy.taylor_adaptive is called
   build(constructor, ...)                    every heyoka constructor goes through it (damaged JIT cache entries)
@@ -236,7 +236,7 @@ def event_expression(formulation: str, name: str):
 def arithmetic(precision=Precision.DOUBLE, bits=None, *, fp_type=None, prec=None) -> tuple:
     """(Precision, bits) of a builder call: `precision` (a Precision, its name, or for one release a number type
     float/np.longdouble/hy.real128/hy.real) with `bits` for Precision.MP (default MP_BITS; None otherwise).
-    fp_type=/prec= are the deprecated spelling of the same (issue 25)."""
+    fp_type=/prec= are the deprecated spelling of the same."""
     if fp_type is not None:
         precision, bits = fp_type, prec if bits is None else bits
     if not isinstance(precision, (Precision, str)):
@@ -347,7 +347,7 @@ def batch_width() -> int:
 
 
 def recommended_batch_size() -> int:
-    """The batch width in use (`batch_width`); kept under its old name for the callers of issue 18."""
+    """The batch width in use (`batch_width`); kept under its old name for its older callers."""
     return batch_width()
 
 

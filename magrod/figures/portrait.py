@@ -1,4 +1,4 @@
-"""Pictures of many orbits (issue 18): section portraits coloured by a chaos indicator, and orbit diagrams.
+"""Pictures of many orbits: section portraits coloured by a chaos indicator, and orbit diagrams.
 
 plot_portrait(res, ax=None)          SectionPortrait.plot: every orbit's section points, coloured by its indicator
 plot_orbit_diagram(res, ax=None)     OrbitDiagram.plot: the section coordinate against the parameter, marks

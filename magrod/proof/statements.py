@@ -58,7 +58,7 @@ STATEMENTS = (
     _s("2", "S is non-zero",
        """The second-order integral S is non-zero (negative) at the six (m, γ, δ) of the table and on every box
        decided by `benchmarks/enclosure_boxes.py` and (second-order form) `benchmarks/enclosure_corner.py`: 99.84 %
-       of the issue's box m ∈ [1, 2.2] × γ ∈ [1/4, 3] × δ ∈ [1/4, 3], all but part of the corner next to m_c
+       of the box m ∈ [1, 2.2] × γ ∈ [1/4, 3] × δ ∈ [1/4, 3], all but part of the corner next to m_c
        (inside m ∈ [2.141, 2.2], γ ∈ [1/4, 0.363]), where it is verified at isolated grid points only
        (`enclose_S`, `box_theorem`); at γ = δ = 0 the ball contains 0 (S = 0 exactly there). S is
        the value of a formula; that it is the leading coefficient of the splitting is statement 3
