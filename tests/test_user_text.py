@@ -1,10 +1,11 @@
 """User-facing text says what a thing is, never which internal work item it came from: no "issue N" in the README,
-the docs (pages, notebooks, the docs configuration's page text), the command line's help (every subcommand), the
-text REPORT.md is made of (the string constants of figures/report.py that are not docstrings), the docstrings of
-the public names (the API reference), nor any docstring or comment of any module of magrod, magrod.derive and
-magrod.generated (help() shows the docstrings; comments rot the same way).  A reader has no issue tracker to look
-them up in.  Cheap: no docs build.  Seen to fail before the rewording (39 hits in README and docs, 3 in the face's
-docstrings; the module walk: ~110 hits in the docstrings and comments of magrod/ and derive/)."""
+the docs (pages, notebooks, the docs configuration's page text), the benchmarks' README and scripts, the command
+line's help (every subcommand), the text REPORT.md is made of (the string constants of figures/report.py that are
+not docstrings), the docstrings of the public names (the API reference), nor any docstring or comment of any module
+of magrod, magrod.derive and magrod.generated (help() shows the docstrings; comments rot the same way).  A reader
+has no issue tracker to look them up in.  Cheap: no docs build.  Seen to fail before the rewording (39 hits in
+README and docs, 3 in the face's docstrings; the module walk: ~110 hits in the docstrings and comments of magrod/
+and derive/; the benchmarks: ~60)."""
 from __future__ import annotations
 
 import argparse
@@ -25,7 +26,7 @@ def _hits(text: str) -> list[str]:
 
 def test_readme_and_docs():
     files = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md")), *sorted((ROOT / "docs").rglob("*.ipynb")),
-             ROOT / "docs" / "conf.py"]
+             ROOT / "docs" / "conf.py", ROOT / "benchmarks" / "README.md", *sorted((ROOT / "benchmarks").glob("*.py"))]
     bad = {str(p.relative_to(ROOT)): _hits(p.read_text()) for p in files if "_build" not in p.parts}
     assert not {k: v for k, v in bad.items() if v}
 
