@@ -53,7 +53,7 @@ def test_api_reference_covers_the_public_names(site):
     assert "Parameters" in html and "Examples" in html and "Raises" in html
 
 
-# what reST looks like when a page shows it instead of rendering it (issue 29: autodoc output inside a MyST page)
+# what reST looks like when a page shows it instead of rendering it (autodoc output inside a MyST page)
 RAW_REST = (".. py:", ":Parameters:", ":Returns:", "!! processed by numpydoc", ":module:", ".. autofunction",
             ".. autoclass")
 

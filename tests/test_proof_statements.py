@@ -1,4 +1,4 @@
-"""Every claim exactly as strong as its proof (issue 27): the verdict is data (magrod/proof/statements.py), its
+"""Every claim exactly as strong as its proof: the verdict is data (magrod/proof/statements.py), its
 labels are computed from the chains, the docs and README blocks are rendered from it, and no "proved" or
 "computer-verified" label is attached in README, docs or REPORT to a statement whose chain has a weak step."""
 from __future__ import annotations
@@ -37,7 +37,7 @@ def _texts() -> dict:
 
 def test_statuses_follow_from_the_chains():
     got = {s.number: S.status(s.number) for s in S.STATEMENTS}
-    # what the chains say (issue 27): 3 rests on hypothesis H3, 4 and 7b on 3, 8 on theorems outside their
+    # what the chains say: 3 rests on hypothesis H3, 4 and 7b on 3, 8 on theorems outside their
     # hypotheses, 10 on floating point; 7 on 5 plus the symbolic descent
     assert got == {"1": "proved", "2": "computer-verified", "3": "conditional", "4": "conditional",
                    "5": "computer-verified", "5a": "computer-verified", "6": "proved", "7": "computer-verified", "7b": "conditional",
@@ -74,7 +74,7 @@ def test_no_strong_label_on_a_weak_statement_in_readme_docs_or_report():
 
 
 @pytest.mark.parametrize("sentence, flagged", [
-    # the old Summary of docs/nonintegrability.md and the old enclosure verdict row (issue 27)
+    # the old Summary of docs/nonintegrability.md and the old enclosure verdict row
     ("**Summary.** Nonintegrability of the extensible magnetic rod is **computer-verified** at one parameter point "
      "(5, with 6 and the openness giving an open set of parameters and leaves), and near the perturbative regime "
      "it follows from a **computer-verified** non-zero coefficient (2) **conditional** on the formal expansion (3).",
