@@ -26,7 +26,7 @@ from dataclasses import dataclass, field as dc_field
 
 import numpy as np
 
-from ..core.errors import ParameterError
+from ..core.errors import MissingStructure, ParameterError
 from ..core.results import Result
 from ..core.tolerances import EPS
 from . import model_field
@@ -67,7 +67,7 @@ def launch(eq: Equilibrium, alpha: float, delta: float = LAUNCH) -> np.ndarray:
 
 def _require_saddle(eq: Equilibrium, step: str):
     if not eq.success or eq.kind not in ("saddle-focus", "saddle", "saddle-centre"):
-        raise ParameterError("model", f"{step} needs a saddle, and the equilibrium of the model "
+        raise MissingStructure(eq.system.model, "a saddle", f"{step} needs a saddle, and the equilibrium of the model "
                                       f"{eq.system.model!r} found is a {eq.kind} ({eq.message})")
 
 
@@ -331,7 +331,7 @@ def continue_homoclinic(system, orbit: SymmetricOrbit, parameter: str, *, steps:
 
     k = _index(system, parameter)
     if abs(orbit.equilibrium.unstable_eigenvalue.imag) == 0:
-        raise ParameterError("model", f"continuing symmetric homoclinic orbits needs a saddle-focus (the launch "
+        raise MissingStructure(system.model, "a saddle-focus", f"continuing symmetric homoclinic orbits needs a saddle-focus (the launch "
                                       f"angle an unknown), and the model {system.model!r}'s saddle has a real "
                                       "unstable eigenvalue")
     F = homoclinic_problem(system, orbit, parameter)
@@ -339,7 +339,7 @@ def continue_homoclinic(system, orbit: SymmetricOrbit, parameter: str, *, steps:
     _, J0 = F(u0)
     U, sv, _ = np.linalg.svd(J0)
     if sv.size < 2 or sv[1] <= 1e-8 * sv[0]:
-        raise ParameterError("model", f"the Fix(R) conditions of the model {system.model!r} have rank < 2 at the "
+        raise MissingStructure(system.model, "Fix(R) conditions of rank 2", f"the Fix(R) conditions of the model {system.model!r} have rank < 2 at the "
                                       "start: the branch is not a curve in (alpha, T, parameter)")
     U0 = U[:, :2]
 
@@ -418,7 +418,7 @@ def multipulse(system, max_pulses: int = 3, *, samples=None, delta: float = LAUN
     eq = straight_rod(system)
     _require_saddle(eq, "multipulse orbits")
     if abs(eq.unstable_eigenvalue.imag) == 0:
-        raise ParameterError("model", f"the multipulse search needs a complex unstable eigenvalue (the unstable "
+        raise MissingStructure(system.model, "a saddle-focus", f"the multipulse search needs a saddle-focus, a complex unstable eigenvalue (the unstable "
                                       f"manifold a disc, the launch angle the unknown), and the model "
                                       f"{system.model!r}'s straight rod has a real one")
     R = _reversor(system, fixing=eq.x)
