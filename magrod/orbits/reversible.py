@@ -206,6 +206,49 @@ def symmetric_homoclinic(system, *, equilibrium: Equilibrium | None = None, reve
     return _orbit(system, eq, R, alpha, T, delta, tol)
 
 
+def orbit_from_file(system, data: dict) -> SymmetricOrbit:
+    """The symmetric orbit an orbit file records (magrod.core.io.load_model_orbit_file: the model, its parameters,
+    alpha, T, the launch distance and the reversor), re-shot for `system`: the equilibrium, the reversor and the
+    orbit are computed again, and the launch point must reproduce the file's to rounding.
+
+    Raises
+    ------
+    ParameterError
+        "model" if the file is another model's; the parameter's name if the file was computed at another value of
+        it; "from" if its state or reversor is not the model's, or the orbit no longer reproduces (an edited model
+        file).
+    """
+    from .equilibria import reversors, straight_rod
+
+    if data["model"] != system.model:
+        raise ParameterError("model", f"the orbit file is of the model {data['model']!r}, not {system.model!r}")
+    file_params = dict(zip(data["param_names"], (float(v) for v in data["pars"])))
+    if tuple(data["param_names"]) != tuple(system.names):
+        raise ParameterError("from", f"the orbit file's parameters ({', '.join(data['param_names'])}) are not those of "
+                                     f"the model {system.model!r} ({', '.join(system.names)})")
+    for k, v in system.params.items():
+        if file_params[k] != v:
+            raise ParameterError(k, f"the orbit file was computed at {k} = {file_params[k]!r}, not {v!r}")
+    mf = model_field.field(system)
+    if tuple(data["state"]) != mf.state:
+        raise ParameterError("from", f"the orbit file's state ({', '.join(data['state'])}) is not the model's "
+                                     f"({', '.join(mf.state)})")
+    eq = straight_rod(system)
+    _require_saddle(eq, "the orbit file's orbit")
+    match = [r for r in reversors(system) if np.allclose(r.matrix, data["reversor"], rtol=0, atol=1e-12)]
+    if not match:
+        raise ParameterError("from", f"the orbit file's reversor is not one of the model {system.model!r}'s")
+    o = _orbit(system, eq, match[0], data["alpha"], data["T"], data["launch_distance"], RESIDUAL_TOL)
+    o.pulses = int(data["pulses"])
+    x0 = np.asarray(data["x0"], float)
+    gap = float(np.max(np.abs(o.x0 - x0)))
+    if gap > 1e-12 * (1.0 + float(np.max(np.abs(x0)))):
+        raise ParameterError("from", f"the orbit file's launch point is not reproduced by the model {system.model!r} "
+                                     f"(|dx0| = {gap:.2g}): the model changed since the file was written")
+    o.extra["from_file"] = {"launch_point_gap": gap}
+    return o
+
+
 def _orbit(system, eq, R, alpha, T, delta, tol) -> SymmetricOrbit:
     mf = model_field.field(system)
     pars = system.array()
