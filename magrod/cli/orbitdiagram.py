@@ -33,9 +33,9 @@ def add_arguments(p):
     p.add_argument("--iterates", default="500", help="section points per value (after --transient)")
     p.add_argument("--transient", default="0", help="section points dropped first")
     p.add_argument("--coordinate", default=None,
-                   help=f"plotted against the parameter: {', '.join(COORDINATES)} (the paper's rod, default theta), or a "
-                        "state component of --model (default its second)")
-    p.add_argument("--root", default=None, choices=("smallest", "largest"), help=ROOT_HELP + " (default smallest)")
+                   help=f"plotted against the parameter: {', '.join(COORDINATES)} (the paper's rod: theta if not given), "
+                        "or a state component of --model (default its second)")
+    p.add_argument("--root", default=None, choices=("smallest", "largest"), help=ROOT_HELP)
     p.add_argument("--direction", default="positive", choices=("any", "negative", "positive"),
                    help="sign of d/dt sin(psi) at recorded crossings")
     add_workers(p, help="threads (default: all cores)", old=("--threads",))

@@ -31,10 +31,11 @@ def run(args) -> dict:
 
     if not is_paper_model(args.model):
         from ..core.errors import ParameterError
+        from ..core.io import load_orbit_file
 
-        raise ParameterError("model", f"{str(args.source)!r} is not an orbit file of the model "
-                                      f"{str(args.model)[:80]!r} (it records no model: an orbit file of the paper's "
-                                      "rod, or no orbit file)")
+        load_orbit_file(args.source)  # a missing or broken file: ParameterError("from"), as for the paper's rod
+        raise ParameterError("model", f"{str(args.source)!r} is an orbit file of the paper's rod, not of the model "
+                                      f"{str(args.model)[:80]!r}")
     if args.model_params:
         from ..core.errors import ParameterError
 

@@ -29,7 +29,7 @@ def add_arguments(p):
     p.add_argument("--a", default=None, help=f"mu = a eps^2 (a >= 2b) (default {d['a']})")
     p.add_argument("--b", default=None, help=f"lambdabar = b eps^2 (b >= 0) (default {d['b']})")
     p.add_argument("--eps", default=None, help=f"comma-separated eps > 0 (default {d['eps']}; another model: the "
-                                               "library's default scan)")
+                                               "library's scan)")
     p.add_argument("--precision", default=None, choices=tuple(CHECK),
                    help=f"working precision of the reference values (checked in the next lower one) (default "
                         f"{d['precision']})")
