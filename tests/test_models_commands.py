@@ -121,6 +121,14 @@ def test_homoclinic_and_rod_of_another_model(aniso, tmp_path, capsys):
         rc, e, lines = _run(["rod", "--from", str(npz), "--out", str(tmp_path / "bad"), *extra], capsys)
         assert rc == 2 and e["parameter"] == param and len(lines) == 1, e
         assert not (tmp_path / "bad").exists()
+    # the orbit is re-shot from the file's unknowns, not trusted: a launch point the model does not reproduce (an
+    # edited model file, a tampered orbit file) is refused
+    with np.load(npz) as z:
+        arrays = dict(z)
+    arrays["x0"] = arrays["x0"] + 1e-9
+    np.savez(tmp_path / "tampered.npz", **arrays)
+    rc, e, _ = _run(["rod", "--from", str(tmp_path / "tampered.npz"), "--out", str(tmp_path / "bad")], capsys)
+    assert rc == 2 and e["parameter"] == "from" and "not reproduced" in e["error"], e
 
 
 def test_multipulse_of_another_model(tmp_path, capsys):
@@ -157,15 +165,17 @@ def test_continue_of_another_model(aniso, tmp_path, capsys):
     assert rc == 0 and e["kind"] == "equilibrium branch" and e["last"] == dict(zip(ref.names, map(float, ref.u[-1])))
 
 
-def test_orbitdiagram_of_another_model(aniso, capsys):
-    """`orbitdiagram --model --parameter B2`: mr.orbit_diagram's points and conservation budget; a start of the
-    paper's chart is refused by name."""
+def test_orbitdiagram_of_another_model(aniso, tmp_path, capsys):
+    """`orbitdiagram --model --parameter B2`: mr.orbit_diagram's points (in the .npz it writes) and conservation
+    budget; a start of the paper's chart is refused by name."""
     import magrod as mr
 
-    rc, d, _ = _run(["orbitdiagram", *ANISO, "--parameter", "B2", "--values", "1,1.1", "--iterates", "20"], capsys)
+    rc, d, _ = _run(["orbitdiagram", *ANISO, "--parameter", "B2", "--values", "1,1.1", "--iterates", "20", "--out",
+                     str(tmp_path)], capsys)
     od = mr.orbit_diagram(aniso, "B2", [1.0, 1.1], iterates=20)
     assert rc == 0 and d["ok"] and d["points"] == od.points.shape[0] == 40 and d["coordinate"] == "m2", d
     assert d["accuracy"] == od.accuracy and d["accuracy"]["passed"] and d["max_abs_dH"] == od.worst_dH
+    assert np.array_equal(np.load(d["output"]["npz"])["points"], od.points)
     rc, e, _ = _run(["orbitdiagram", *ANISO, "--parameter", "B2", "--values", "1,1.1", "--theta0", "1"], capsys)
     assert rc == 2 and e["parameter"] == "theta0"
 

@@ -79,12 +79,9 @@ def _model_run(args, points: int, out) -> dict:
     elif args.model is not None:
         raise ParameterError("model", f"the orbit file {str(args.source)!r} is of the model {d['model']!r}, not the "
                                       "paper's rod")
-    asked = model_params(args)
-    for k, v in asked.items():
-        if k in recorded and recorded[k] != v:
-            raise ParameterError(k, f"the orbit file {str(args.source)!r} was computed at {k} = {recorded[k]!r}, "
-                                    f"not {v!r}")
-    system, _ = as_system(d["model"], **{**recorded, **asked})  # an unknown name in --model-params: named
+    # --model-params over the recorded values: an unknown name is refused by as_system, a value other than the
+    # file's by orbit_from_file (naming the parameter)
+    system, _ = as_system(d["model"], **{**recorded, **model_params(args)})
     orbit = orbit_from_file(system, d)
     rod = mr.rod_shape(system, orbit, n=points)
     stem = Path(args.source).stem
