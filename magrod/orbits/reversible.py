@@ -28,7 +28,7 @@ import numpy as np
 
 from ..core.errors import MissingStructure, ParameterError
 from ..core.results import Result
-from ..core.tolerances import EPS
+from ..core.tolerances import EPS, ORBIT_FILE_TOL
 from . import model_field
 from .equilibria import Equilibrium, leaf_basis, relative_equilibrium, spectrum
 from .equilibria import reversor as _reversor
@@ -235,14 +235,14 @@ def orbit_from_file(system, data: dict) -> SymmetricOrbit:
                                      f"({', '.join(mf.state)})")
     eq = straight_rod(system)
     _require_saddle(eq, "the orbit file's orbit")
-    match = [r for r in reversors(system) if np.allclose(r.matrix, data["reversor"], rtol=0, atol=1e-12)]
+    match = [r for r in reversors(system) if np.allclose(r.matrix, data["reversor"], rtol=0, atol=ORBIT_FILE_TOL)]
     if not match:
         raise ParameterError("from", f"the orbit file's reversor is not one of the model {system.model!r}'s")
     o = _orbit(system, eq, match[0], data["alpha"], data["T"], data["launch_distance"], RESIDUAL_TOL)
     o.pulses = int(data["pulses"])
     x0 = np.asarray(data["x0"], float)
     gap = float(np.max(np.abs(o.x0 - x0)))
-    if gap > 1e-12 * (1.0 + float(np.max(np.abs(x0)))):
+    if gap > ORBIT_FILE_TOL * (1.0 + float(np.max(np.abs(x0)))):
         raise ParameterError("from", f"the orbit file's launch point is not reproduced by the model {system.model!r} "
                                      f"(|dx0| = {gap:.2g}): the model changed since the file was written")
     o.extra["from_file"] = {"launch_point_gap": gap}
