@@ -107,7 +107,8 @@ DEFAULT_MODEL = "magnetic-extensible"  # = magrod.core.models.DEFAULT (not impor
 PAPER_ONLY = {
     "figure": ("the paper's figures", "they are figures of the paper's rod"),
     "reproduce": ("the paper's claims", "it reproduces the paper (the other models: magrod landscape)"),
-    "prove": ("validated fields (generated/validated.py)", "they are generated for the paper's rod only"),
+    "prove": ("validated fields (generated/validated.py)",
+              "the interval enclosures and certificate schema are generated for the paper's rod in this release"),
 }
 
 
