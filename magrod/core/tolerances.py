@@ -119,3 +119,8 @@ BOX_CENTRE_ABS_TOL = 1e-12
 # 1e-15 keeps the bisected theta* (and the half-way crossing time) within ~1e-13 of the true ones over the ~3-unit
 # half-orbit, far inside the 1e-10 .. 4e-6 theta-boxes the proof then decides on; a search choice, never a decision.
 FIXED_POINT_SEARCH_TOL = 1e-15
+# An orbit file of another model (magrod.orbits.reversible.orbit_from_file) is re-shot, not trusted: the saddle, its
+# phase-fixed unstable eigenvector and the reversor are recomputed in the same arithmetic, so the launch point and
+# the reversor's matrix reproduce the file's to rounding (measured: 0 for the anisotropic rod); 1e3 eps relative to
+# the state's size separates rounding from a changed model (an edited model file moves them by far more).
+ORBIT_FILE_TOL = 1e3 * EPS

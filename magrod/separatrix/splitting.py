@@ -52,7 +52,7 @@ import heyoka as hy
 import numpy as np
 
 from ..core import systems
-from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
+from ..core.errors import MAX_MAGNITUDE, MissingStructure, ParameterError, require_finite
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result
@@ -873,7 +873,8 @@ def _model_splitting(system, eps, progress=None):
         why = NO_SPLITTING.get(name, "it is not a perturbation, by a named small parameter, of an integrable rod "
                                      "whose saddle has a homoclinic manifold in closed form (the anisotropic rod "
                                      "B2 = B1 (1 + eps) and the curved rod k1 = eps are)")
-        raise ParameterError("model", f"the splitting of the separatrix needs a saddle and a small parameter, and "
+        raise MissingStructure(system.model, "a small parameter",
+                               f"the splitting of the separatrix needs a saddle and a small parameter, and "
                                       f"the model {system.model!r} has none: {why}")
     t0 = time.perf_counter()
     eps = EPS_DEFAULT if eps is EPS_SCAN else eps
