@@ -127,17 +127,43 @@ def test_the_mutated_field_control_fails_to_prove():
 
 
 def test_the_monodromy_formula():
-    """DP = R A^-1 R A (reversibility) has trace 2 (ad + bc)/(ad - bc) and determinant 1, for any invertible A."""
+    """DP = R A^-1 R A (reversibility) has trace 2 (ad + bc)/(ad - bc) and determinant 1, for any invertible A; for
+    det A = 1 (the half-map of Hamilton's flow between psi = 0 and psi = pi) its trace is also 2 + 4bc = 4ad - 2,
+    and trace_DP intersects the three (seen to fail: with a random A of det != 1 the enclosures are disjoint)."""
     from flint import arb
+
+    from magrod.proof import ball
 
     rng = np.random.default_rng(3)
     R = np.diag([1.0, -1.0])
     for _ in range(5):
-        A = rng.normal(size=(2, 2))
+        a = float(2.0 ** rng.integers(-2, 3) * rng.choice([-1, 1]))
+        b, c = rng.normal(size=2)
+        with ball.workprec(256):  # exact: d = (1 + bc)/a with a a power of two, so det A = 1 exactly
+            ab = [arb(a), arb(b), arb(c), (1 + arb(b) * arb(c)) / a]
+            tr = periodic.trace_DP(*ab)
+        A = np.array([[a, b], [c, float(ab[3].mid())]])
         M = R @ np.linalg.inv(A) @ R @ A
-        tr = periodic.trace_DP(*(arb(float(v)) for v in A.flatten()))
         assert abs(float(tr.mid()) - np.trace(M)) < 1e-9 * (1 + abs(np.trace(M)))
         assert abs(np.linalg.det(M) - 1) < 1e-9
+    with pytest.raises(ValueError, match="disjoint"):
+        periodic.trace_DP(*(arb(v) for v in (2.0, 0.5, 0.25, 1.0)))  # det 15/8: not a half-map of the flow
+
+
+@pytest.mark.parametrize("name", ["fixed_point_fig4a.json", "fixed_point_fig4b.json", "fixed_point_fig4d.json",
+                                  "fixed_point_fig5a.json", "fixed_point_fig4a_interval.json"])
+def test_the_half_map_is_area_preserving(name):
+    """det A = ad - bc = 1, which tr = 2 + 4bc rests on (Hamilton's flow preserves dtheta ^ dpbar_theta between the
+    sections psi = 0 and psi = pi): the certificates' own box enclosures of a, b, c, d, computed without using it,
+    give ad - bc within 1e-6 of 1 at the points and contain 1 on the interval boxes."""
+    from flint import arb
+
+    from magrod.proof import ball
+
+    c = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
+    e = {k: ball.from_json(v) for k, v in c["flights"]["box"]["enclosures"].items()}
+    det = e["dth_theta"] * e["dpt_ptheta"] - e["dpt_theta"] * e["dth_ptheta"]
+    assert (det - 1).contains(arb(0)) or abs(float(det.mid()) - 1) < 1e-6, det
 
 
 CERTS = Path(__file__).resolve().parents[1] / "magrod" / "proof" / "certificates"
@@ -236,9 +262,9 @@ def test_an_interval_widened_beyond_its_balls_slack_is_rejected(name, tmp_path, 
     that another python-flint build's last-bit rounding still verifies).  A widening by one ulp of the radius
     (float64: 1 + 2^-52; Arb's radius: 1 + 2^-30) verifies, and rightly: the verifier recomputes every enclosure
     on the widened interval and each still lies in its stored ball, so the wider theorem is what it checked
-    (benchmarks/README.md, "Section fixed points on a lambdabar box").  Seen to fail: with the lam_rad of the
-    settings ignored by the verifier (the recomputation on the original interval), the tampered certificate
-    verified."""
+    (benchmarks/README.md, "Section fixed points on a lambdabar box").  Seen to fail: with the level's recomputation
+    check removed from verify._fixed_point the tampering is still rejected, one check later (thin ptheta
+    recomputed, after the flight)."""
     c = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
     assert_rejected(_widened(c, Fraction(1, 2**10)), tmp_path, capsys, "level (centre) recomputed")
 
