@@ -94,6 +94,29 @@ def interval_settings(lam_rad, base: "FixedPointSettings | None" = None) -> "Fix
     return replace(st, lam_rad=w, r=r, p_rad=max(st.p_rad, 16 * (r + w)))
 
 
+def interval_settings_for(p: fields.ExactParams, h: Fraction, theta_guess: float, lam_rad, *, root: int = -1,
+                          branch: str = "0", base: "FixedPointSettings | None" = None) -> "FixedPointSettings":
+    """interval_settings with the theta-box sized by theta*'s measured motion: v = dtheta*/dlambdabar by central
+    differences of the float search at lambdabar +- lam_rad, and r = max(4 |v| lam_rad, 2 lam_rad) (the interval
+    Newton image is ~3.3 |v| lam_rad wide at Fig 4(a): 17.2 lam_rad against |v| = 5.2;
+    benchmarks/fixed_point_interval_limits.py), p_rad = 16 (r + lam_rad).  What `magrod prove --fixed-point
+    --lam-rad W` uses; a float design choice only (the proof checks the box)."""
+    from dataclasses import replace
+
+    st = base or FixedPointSettings()
+    w = ball.fraction(lam_rad)
+    if w <= 0:
+        return replace(st, lam_rad=Fraction(0))
+    ths = []
+    for s in (-1, 1):
+        q = fields.ExactParams(p.m, p.mu, p.gamma, p.delta, p.lam + s * w)
+        ths.append(float_fixed_point(q, h, theta_guess, root, branch=branch)[0])
+    v = abs(ths[1] - ths[0]) / (2 * float(w))
+    r = max(4 * ball.fraction(v) * w, 2 * w, st.r)
+    r = Fraction(math.ceil(r / w * 8), 8) * w  # a short rational: K w with K a multiple of 1/8
+    return replace(st, lam_rad=w, r=r, p_rad=max(st.p_rad, 16 * (r + w)))
+
+
 def _q(x) -> str:
     f = ball.fraction(x)
     return f"{f.numerator}/{f.denominator}"

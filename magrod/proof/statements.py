@@ -217,7 +217,8 @@ STATEMENTS = (
        verifier; `magrod prove --fixed-point 0.383 --level 0.9 --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam
        0.135`). At (a) also for every λ̄ in [134999/1000000, 135001/1000000] = 0.135 ± 10⁻⁶, λ̄ carried as a state
        variable through every enclosure (fixed_point_fig4a_interval.json, θ-box 20·10⁻⁶,
-       `benchmarks/fixed_point_interval_limits.py`): θ* ∈ [0.3830289, 0.3830635], tr DP(x0) ∈ [3.3293, 8.5150]
+       `benchmarks/fixed_point_interval_limits.py`; `--lam-rad 1/1000000` proves the same, its θ-box sized by θ*'s
+       float motion): θ* ∈ [0.3830289, 0.3830635], tr DP(x0) ∈ [3.3293, 8.5150]
        (tr = 2 + 4bc, since the half-map A between ψ = 0 and ψ = π has det A = 1: Hamilton's flow preserves
        dθ∧dp̄θ between the two sections); 1.2·10⁻⁶ is the widest box that closes, 1.4·10⁻⁶ fails at |tr| > 2. By 21
        adjacent such boxes, for every λ̄ in [134979/1000000, 135021/1000000] = 0.135 ± 2.1·10⁻⁵
@@ -300,7 +301,7 @@ STATEMENTS = (
        magrod/proof/certificates/fixed_point_fig5{a,b,c,d}.json, `magrod prove --fixed-point 3.012 --level 0.8
        --m 1.7 --mu 4 --gamma 0.15 --delta 0.25 --lam 2 --branch pi --root 0`); at (a) also for every λ̄ in [199999/100000,
        200001/100000] = 2 ± 10⁻⁵ (μ = 4 fixed; fixed_point_fig5a_interval.json, θ-box 2·10⁻⁵,
-       `benchmarks/fixed_point_interval_limits.py`: tr DP(x0) ∈ [−7.8846, −3.1758]; 2·10⁻⁵ fails at the Fix(R)
+       `benchmarks/fixed_point_interval_limits.py`, or `--lam-rad 1/100000`: tr DP(x0) ∈ [−7.8846, −3.1758]; 2·10⁻⁵ fails at the Fix(R)
        Newton step); (ii) at each of the four γ P has positive
        topological entropy: a compact forward-invariant set Λ with h_top(P|Λ) ≥ log ρ, log ρ > 0.0839 (a),
        > 0.0882 (b), > 0.0985 (c), > 0.0985 (d), ρ the largest root of x^L = x^(L−1) + 1, L = 30, 28, 24, 24 —
