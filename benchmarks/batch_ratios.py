@@ -1,10 +1,10 @@
-"""Benchmark (not a test): issue 18's panel, ensemble and diagram targets as ratios that hold on any machine
-(issue 28, item 5): batched lanes against the scalar path and against JiTCODE, each in one run.
+"""Benchmark (not a test): the batch targets (panels, ensemble, diagram) as ratios that hold on any machine:
+batched lanes against the scalar path and against JiTCODE, each in one run.
 
     python benchmarks/batch_ratios.py --json benchmarks/batch_ratios_w4.json
     MAGROD_BATCH_WIDTH=8 python benchmarks/batch_ratios.py --json benchmarks/batch_ratios_w8.json
 
-Jobs (issue 18's, benchmarks/batch_sections.py, and the one engine's):
+Jobs (those of benchmarks/batch_sections.py, and the one engine's):
   scaling   the 8 panels against 1 panel with two workers, in processes (the default) and in threads: the cost of 8
             panels in units of one, and the same points either way
   engine    the paper's rod through the one engine from body states (the path of every model) against its chart
@@ -59,21 +59,12 @@ def uptime() -> str:
 
 
 def cpu() -> float:
-    """CPU seconds of this process and of the batch's worker processes (magrod.chaos.batch: two or more workers run
-    in spawned processes, whose CPU time.process_time does not see; read from /proc where there is one)."""
-    from magrod.chaos import batch
+    """CPU seconds of this process and of its finished child processes (magrod.chaos.batch: two or more workers run
+    in spawned processes, one pool per call, joined before the call returns; time.process_time does not see them)."""
+    import resource
 
-    total = time.process_time()
-    if batch._POOL:
-        tick = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
-        for pid in list(getattr(batch._POOL[0], "_processes", {}) or {}):
-            try:
-                with open(f"/proc/{pid}/stat") as fh:
-                    f = fh.read().rsplit(")", 1)[1].split()
-                total += (int(f[11]) + int(f[12])) / tick
-            except (OSError, ValueError, IndexError):
-                pass
-    return total
+    kids = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return time.process_time() + kids.ru_utime + kids.ru_stime
 
 
 def timed(f):
