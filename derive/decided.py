@@ -35,13 +35,18 @@ def morales_ramis_summary(model, values: dict | None = None, energy=MR_LEVEL) ->
             rows.append(row)
             continue
         p, q, d = res
-        row.update({"nve": {"p": str(sp.factor(p)), "q": str(sp.factor(q)), **d}, "energy": str(energy)})
+        used = energy
         irrational = MR.irrational_singular_points(p, q)
-        if irrational:
+        if irrational:  # another energy whose singular points are all rational (any level of the pendulum will do)
+            alt = _rational_level(model, vals, pl)
+            if alt is not None:
+                used, p, q = alt
+        row.update({"nve": {"p": str(sp.factor(p)), "q": str(sp.factor(q)), **d}, "energy": str(used)})
+        if MR.irrational_singular_points(p, q):
             row["galois"] = {"not_run": ("the singular points of the NVE are roots of " + ", ".join(irrational) +
-                                         " (irreducible over Q): Kovacic's algorithm here needs them in closed form "
-                                         "and is impractically slow with them (a level with rational singular "
-                                         "points is not searched for)")}
+                                         " (irreducible over Q), and at no energy k/8, |k| <= "
+                                         f"{LEVEL_SEARCH}, are they all rational: Kovacic's algorithm here needs "
+                                         "them in closed form and is impractically slow with them")}
             rows.append(row)
             continue
         g = MR.galois_of(p, q)
@@ -70,6 +75,29 @@ def morales_ramis_summary(model, values: dict | None = None, energy=MR_LEVEL) ->
                    "reduced to a second-order equation with rational coefficients (" +
                    "; ".join(sorted({r["nve"] for r in rows})) + ")"}
     return {"pendulums": rows, **verdict}
+
+
+LEVEL_SEARCH = 40  # energies k/8, |k| <= 40, tried (in the order 0, 1, -1, 2, ...) for rational singular points
+
+
+def _rational_level(model, vals, plane):
+    """(energy, p, q) at the first energy k/8 (k = 0, 1, -1, 2, -2, ..., |k| <= LEVEL_SEARCH) at which every
+    singular point of the pendulum's NVE is rational, or None."""
+    res = MR.nve(model, vals, plane, MR.h)
+    if res is None:
+        return None
+    p, q, _ = res
+    for k in sorted(range(-LEVEL_SEARCH, LEVEL_SEARCH + 1), key=lambda k: (abs(k), -k)):
+        e = sp.Rational(k, 8)
+        try:
+            pe, qe = sp.cancel(p.subs(MR.h, e)), sp.cancel(q.subs(MR.h, e))
+        except ZeroDivisionError:
+            continue
+        if pe.has(sp.zoo, sp.nan) or qe.has(sp.zoo, sp.nan):
+            continue
+        if not MR.irrational_singular_points(pe, qe):
+            return e, pe, qe
+    return None
 
 
 def model_decided(model, values: dict | None = None, *, morales_ramis: bool = True) -> dict:

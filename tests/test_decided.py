@@ -340,6 +340,8 @@ def test_stored_rows_say_why_morales_ramis_does_not_decide():
     me = st["magnetic-extensible"]["morales_ramis"]
     assert me["label"] == "no conclusion" and len(me["pendulums"]) == 2
     assert all(r["nve"].startswith("not reduced") and r["frozen"] == [f] for r, f in zip(me["pendulums"], ["e31", "e32"]))
+    ext = st["extensible"]["morales_ramis"]  # control: integrable (Stump00); moved to a level with rational poles
+    assert ext["verdict"].startswith("G0 abelian") and all(r["energy"] != "0" for r in ext["pendulums"])
     mag = st["magnetic"]["morales_ramis"]
     assert all("not_run" in r["galois"] for r in mag["pendulums"])  # singular points: roots of z^4 + 2z - 4
 
