@@ -311,7 +311,8 @@ def class_sections(cls, doc_text: str) -> str | None:
     if dataclasses.is_dataclass(cls):
         fields = [f for f in dataclasses.fields(cls) if not f.name.startswith("_")]
         comments = _field_comments(cls)
-        prose = _prose_descriptions(doc_text, [f.name for f in fields])
+        prose = _prose_descriptions("\n".join([*doc["Summary"], *doc["Extended Summary"]]),
+                                    [f.name for f in fields])
         hints = {}
         for k in reversed(cls.__mro__):
             hints.update(getattr(k, "__annotations__", {}))

@@ -416,6 +416,21 @@ class SectionStart:
     one chosen (`p_psi0 = roots[root_index]`).  Built by `section_start`; consumed by the scalar path, the SIMD
     lanes (magrod/chaos/batch.py) and the explorer's stream (`section_points`).  `panel` labels the result.
 
+    Parameters
+    ----------
+    params : RodParams
+        The paper's rod's non-dimensional parameters.
+    h : float
+        The energy level Hbar = h of the orbit.
+    theta0, ptheta0, psi0 : float
+        The start on the chart: theta0 in (0, pi), pbar_theta0, psi0 (0 or pi on the section).
+    roots : ndarray of shape (k,)
+        Every real root pbar_psi of Hbar(theta0, psi0, pbar_theta0, pbar_psi) = h, increasing.
+    root_index : int
+        Which root is the start's pbar_psi0 (the paper's rule: the smallest, index 0).
+    panel : str, optional
+        The paper's panel key the start is, if any ("4a", or "4a, lam=0.15" with a parameter changed).
+
     Examples
     --------
     >>> import magrod as mr
@@ -619,6 +634,36 @@ class SectionOptions:
     naming the option).  t_max None is the max-time guard 100 x iterates; tol None the precision's machine
     epsilon; pole_switch / radicand_switch the (enter, leave) thresholds of the body-frame patches of the
     formulation "reduced"; stretch_dt samples the axial stretch along the run.
+
+    Parameters
+    ----------
+    iterates : int
+        Number of recorded section crossings (at most LIMITS["iterates"]).  Default 10 000.
+    t_max : float, optional
+        The max-time guard; None: 100 x iterates.
+    direction : {"positive", "negative", "any"}
+        Sign of d/dt sin(psi) at recorded crossings.  Default "positive".
+    branch : {"any", "0", "pi"}
+        psi = 0 crossings, psi = pi crossings, or both.  Default "any".
+    formulation : {"body", "reduced"}
+        The singularity-free 9-D body-frame system (default) or the paper's 4-D chart with body-frame patches.
+    precision : Precision or str
+        "double" (default) or "long double" (body formulation only).
+    tol : float, optional
+        Taylor tolerance; None: the precision's machine epsilon.
+    pole_switch : (float, float)
+        (enter, leave) thresholds in sin(theta) of the reduced formulation's body-frame patch at the poles,
+        0 < enter < leave < 1.  Default (0.05, 0.1).
+    radicand_switch : (float, float)
+        (enter, leave) thresholds of the radicand mu - 2 lam pbar_psi of its second patch, 0 < enter < leave.
+        Default (1e-3, 2e-3).
+    stretch_dt : float, optional
+        Sample the axial stretch v3 every stretch_dt along the run (the result's ``stretch``).
+
+    Raises
+    ------
+    ParameterError
+        Naming the option that is out of range.
 
     Examples
     --------
