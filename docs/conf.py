@@ -76,9 +76,10 @@ numpydoc_xref_param_type = True
 # Python and NumPy inventories (no intersphinx here: nothing is fetched at build time) are turned off
 numpydoc_xref_aliases = {**{k: k for k in __import__("numpydoc.xref").xref.DEFAULT_LINKS}, **xref_aliases()}
 numpydoc_xref_ignore = "all"
-# `name` in a docstring is a cross-reference where it names something documented (`poincare_sections`), and code
-# otherwise (reST only: the MyST pages have their own syntax)
-default_role = "py:obj"
+# `name` in a docstring is code, as the docstrings mean it (reST only: the MyST pages have their own syntax).  Not
+# py:obj: `plot()` or `accuracy` in prose would be an ambiguous reference to 28 result types' members (an error
+# under -W), or a link to the wrong one
+default_role = "literal"
 autodoc_typehints = "none"
 autodoc_member_order = "bysource"
 suppress_warnings = ["myst.header", "mystnb.unknown_mime_type"]

@@ -36,6 +36,7 @@ TOPICS = {
     "Orbits": ["saddle", "homoclinic_orbit", "multipulse_orbits", "continue_branch", "rod_shape"],
     "Splitting": ["splitting"],
     "Integrability": ["integrability_report"],
+    "Proofs": [],  # the proofs' settings classes (OPTION_CLASSES); `magrod prove` runs them
     "Explorer": ["explore"],
 }
 # beside the face, the option classes a topic's functions take (second tier, docs/architecture.md)
@@ -152,10 +153,10 @@ def write_api_page(docs: Path) -> None:
              ".. currentmodule:: magrod", ""]
 
     def table(entries, template):
-        return [".. autosummary::", "   :toctree: api", f"   :template: {template}", "   :nosignatures:", "",
+        return [".. autosummary::", "   :toctree: api", f"   :template: autosummary/{template}", "   :nosignatures:", "",
                 *[f"   {e}" for e in entries], ""]
 
-    for topic in [*topics, *[t for t in OPTION_CLASSES if t not in topics]]:
+    for topic in topics:
         names = topics.get(topic, [])
         extra = OPTION_CLASSES.get(topic, [])
         if not names and not extra:
@@ -271,31 +272,28 @@ def _first_line(doc: str) -> str:
     return _clean(para)
 
 
+def _own_members(cls) -> dict:
+    """{public name: attribute} defined by magrod classes in cls's MRO, the nearest definition winning (read from
+    each class's namespace: an Enum's dir() hides its methods and properties)."""
+    out = {}
+    for k in reversed(cls.__mro__):
+        if k.__module__.startswith("magrod"):
+            out.update({n: a for n, a in vars(k).items() if not n.startswith("_")})
+        else:
+            for n in vars(k):
+                out.pop(n, None)
+    return out
+
+
 def _public_methods(cls) -> list[str]:
     """Public methods defined by magrod classes in cls's MRO (not by object, Enum, str or a framework)."""
-    out = []
-    for name in sorted(dir(cls)):
-        if name.startswith("_"):
-            continue
-        owner = next((k for k in cls.__mro__ if name in vars(k)), None)
-        if owner is None or not owner.__module__.startswith("magrod"):
-            continue
-        attr = vars(owner)[name]
-        if isinstance(attr, (staticmethod, classmethod)) or inspect.isfunction(attr):
-            out.append(name)
-    return out
+    return sorted(n for n, a in _own_members(cls).items()
+                  if isinstance(a, (staticmethod, classmethod)) or inspect.isfunction(a))
 
 
 def _properties(cls) -> list[str]:
-    out = []
-    for name in dir(cls):
-        if name.startswith("_"):
-            continue
-        owner = next((k for k in cls.__mro__ if name in vars(k)), None)
-        if owner is not None and owner.__module__.startswith("magrod") and isinstance(vars(owner)[name], property):
-            if "deprecated" not in (vars(owner)[name].__doc__ or "").lower()[:40]:
-                out.append(name)
-    return out
+    return sorted(n for n, a in _own_members(cls).items()
+                  if isinstance(a, property) and "deprecated" not in (a.__doc__ or "").lower()[:40])
 
 
 def class_sections(cls, doc_text: str) -> str | None:

@@ -299,7 +299,7 @@ class PoincareResult(Result):
 
     @property
     def fp_type(self) -> str:
-        """Deprecated (issue 25; goes away in the next release): the numpy name of the precision's number type
+        """Deprecated (goes away in the next release): the numpy name of the precision's number type
         ("float64", "longdouble"); use `precision`."""
         import warnings
 

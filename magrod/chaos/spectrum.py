@@ -216,6 +216,7 @@ class GaliResult(Result):
 
 
 def _to_dict(self) -> dict:
+    """Every field as JSON-able data (as Result.to_dict), the System studied as its own dict."""
     d = Result.to_dict(self)
     d["system"] = None if self.system is None else self.system.to_dict()
     if isinstance(self.params, dict):

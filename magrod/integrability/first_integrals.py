@@ -296,7 +296,8 @@ def search(subs: str | None = MAIN, degree: int = 4, *, seed: int = DEFAULT_SEED
 
 @dataclass(repr=False)
 class FirstIntegralSearch(Result):
-    """The main regime plus the controls of issue 20; `statement` says exactly what was proved."""
+    """The main regime plus its controls (lambda = 0, inextensible, anisotropic, extensible magnetic rod: each must
+    come out as known); `statement` says exactly what was proved."""
 
     success: bool
     message: str
@@ -320,7 +321,7 @@ class FirstIntegralSearch(Result):
 
 def first_integral_search(degree: int = 4, subs: str | None = None, *, seed: int = DEFAULT_SEED,
                           controls: bool = True, model=None):
-    """The exact search for polynomial first integrals with the controls of issue 20.
+    """The exact search for polynomial first integrals, with controls whose answers are known.
 
     Parameters
     ----------

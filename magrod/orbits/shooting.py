@@ -674,7 +674,7 @@ class PulseSearch(Result):
     value, its uncertainty ...; `row()`); brackets: sign changes found by the scan; attempts: what each bracket
     gave when none was kept; iterations, residual: of the last failed Newton (nan if none ran).
 
-    Dict access (search["result"], search["orbit"], search["residual"], ...) is the pre-issue-25 return of
+    Dict access (search["result"], search["orbit"], search["residual"], ...) is the older dict return of
     find_orbits, kept for one release with a DeprecationWarning: use the attributes, `row()` or `to_dict()`."""
 
     success: bool
