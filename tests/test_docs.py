@@ -110,8 +110,8 @@ def _result_types() -> dict:
 
 def test_every_public_name_and_result_type_has_a_page(site):
     """One page per name of magrod.__all__ (api/magrod.<name>.html, documenting magrod.<name>) and one per result
-    type (api/<module>.<Class>.html), each a real Sphinx entry with no reST shown as text.  Seen to fail with the
-    one-page reference (no api/ pages) and with a result type dropped from the summary (its page missing)."""
+    type (api/<module>.<Class>.html), each a real Sphinx entry with no reST shown as text.  Seen to fail on the
+    one-page reference (no api/ pages) and with PoincareResult dropped from the summary (its page missing)."""
     pages = [dotted for _, dotted in _face_pages()] + list(_result_types())
     assert len(pages) >= len(magrod.__all__) + 25
     missing = [d for d in pages if not _page(site, d).exists()]
@@ -124,8 +124,8 @@ def test_every_public_name_and_result_type_has_a_page(site):
 
 def test_function_pages_have_parameters_and_returns(site):
     """Every public function's page renders numpydoc's Parameters and Returns (and Raises where the docstring has
-    it) as definition lists of names, not literal blocks.  Seen to fail with a Returns section removed from a
-    docstring."""
+    it) as definition lists of names, not literal blocks.  Seen to fail with the Returns section removed from
+    gali's docstring."""
     for name, dotted in _face_pages():
         obj = getattr(magrod, name)
         doc = NumpyDocString(inspect.getdoc(obj) or "")
@@ -151,8 +151,8 @@ def _listed(dd) -> set:
 def test_result_type_pages_list_attributes_and_methods(site):
     """A result type's page lists every field and property under Attributes (name, type, what it is) and its
     methods -- to_dict, to_xarray, plot, save included -- under Methods, each linked to its entry on the page.
-    Seen to fail before the member tables (no Attributes section on 24 of the result pages) and with a field
-    left out of the table."""
+    Seen to fail without docs/_ext/magrod_api.py's member tables (LyapunovResult: no Attributes) and with one
+    field (casimir_drift) left out of the table."""
     import dataclasses
 
     from magrod.core.results import Result
@@ -181,8 +181,9 @@ OPTION_CLASSES = ("System", "RodParams", "SectionOptions", "SectionStart", "Prec
 
 def test_parameter_and_option_classes_have_parameter_tables(site):
     """The parameter and option classes of the face (and MapSpec beside them) say what they take and hold in
-    Parameters/Attributes tables, every field described.  Seen to fail before (RodParams, SectionOptions,
-    SectionStart and Precision had prose and Examples only)."""
+    Parameters/Attributes tables, every field described.  Seen to fail with RodParams' docstring as it was (prose
+    and Examples only: its table from the fields alone has no descriptions) and without the member tables
+    (MapSpec: none)."""
     import dataclasses
 
     from magrod.chaos.maps import MapSpec
@@ -204,7 +205,7 @@ def test_parameter_and_option_classes_have_parameter_tables(site):
 def test_a_function_returns_links_to_its_result_type(site):
     """The type in a function's Returns section is a link to the page of the result type (numpydoc's typed
     references): mr.poincare_section -> PoincareResult, mr.saddle -> StraightRod, PeriodicSaddle, Equilibrium.
-    Seen to fail before (the type was plain text) and with the alias of a result type removed."""
+    Seen to fail with numpydoc's typed references off (the type plain text: ChaosMap of chaos_map unlinked)."""
     types = {c.__name__: d for d, c in _result_types().items()}
     types.update({n: f"magrod.{n}" for n in magrod.__all__ if isinstance(getattr(magrod, n), type)})
     checked = 0
@@ -426,7 +427,7 @@ def test_api_page_opens_with_summary_tables_by_topic(site):
     page of 24 entries, 38 000 px, no page per name) and with a name dropped from the topics."""
     soup = bs4.BeautifulSoup((site / "api.html").read_text(), "html.parser")
     heads = [h.get_text(strip=True).rstrip("#") for h in soup.select("article section > h2")]
-    assert heads == list(TOPICS), heads
+    assert heads == [*TOPICS, "The second tier"], heads
     rows = soup.select("article table.autosummary tr")
     linked = {}
     for r in rows:

@@ -176,10 +176,30 @@ def write_api_page(docs: Path) -> None:
     # not (theirs come from Panel)
     lines += table([_rel(k) for k, c in types.items() if issubclass(c, Result)], "result.rst")
     lines += table([_rel(k) for k, c in types.items() if not issubclass(c, Result)], "class.rst")
+    lines += _second_tier()
     text = "\n".join(lines)
     path = docs / "api.rst"
     if not path.exists() or path.read_text() != text:
         path.write_text(text)
+
+
+def _second_tier() -> list[str]:
+    """The numerics packages' public names besides the face (docs/architecture.md): listed, not documented page by
+    page (what the command line, the figures and the explorer use)."""
+    lines = ["The second tier", "---------------", "",
+             "Besides the face, each numerics package has a small public namespace: what the command line, the "
+             "figures and the explorer use (format helpers, the scans behind a figure, the prover and the "
+             "verifier, constants of a picture).  ``from magrod.chaos import MAPPABLE`` is public; "
+             "``magrod.chaos.section`` and the names it does not list are internals.", ""]
+    for pkg in ("chaos", "orbits", "separatrix", "integrability", "proof"):
+        mod = importlib.import_module(f"magrod.{pkg}")
+        lines += [f"``magrod.{pkg}``", ""]
+        for name in mod.__all__:
+            target = mod._API[name]
+            where, attr = (target, name) if isinstance(target, str) else target
+            lines.append(f"* ``{name}`` (``magrod.{pkg}.{where}.{attr}``)")
+        lines.append("")
+    return lines
 
 
 # ---- the member tables -------------------------------------------------------------------------------------------

@@ -69,7 +69,7 @@ class Panel:
 
 
 def panel(key) -> Panel:
-    """A Poincare panel of the paper: "4a" .. "4d" (fig:poincare1), "5a" .. "5d" (fig:poincare2).
+    """A Poincare panel of the paper, by its key: "4a" to "4d" (fig:poincare1), "5a" to "5d" (fig:poincare2).
 
     Parameters
     ----------
