@@ -3,6 +3,7 @@ build), the API reference covers magrod.__all__ and the CLI reference every subc
 This is the README's docs command; it takes ~1-2 min on 2 cores (the four notebooks dominate)."""
 from __future__ import annotations
 
+import functools
 import inspect
 import os
 import re
@@ -59,12 +60,17 @@ def _page(site, dotted: str) -> Path:
     return site / "api" / f"{dotted}.html"
 
 
+@functools.lru_cache(maxsize=None)
+def _soup(path: Path):
+    """An API page parsed once for the several tests that read it (never modified by them)."""
+    return bs4.BeautifulSoup(path.read_text(), "html.parser")
+
+
 def _entry(site, dotted: str):
     """The <dl class="py ..."> of a documented object on its own page (its <dt> carries the dotted id)."""
     page = _page(site, dotted)
     assert page.exists(), f"no page for {dotted}"
-    soup = bs4.BeautifulSoup(page.read_text(), "html.parser")
-    dt = soup.find("dt", id=dotted)
+    dt = _soup(page).find("dt", id=dotted)
     assert dt is not None, f"no entry {dotted} on its page"
     return dt.parent
 
@@ -119,7 +125,8 @@ def test_every_public_name_and_result_type_has_a_page(site):
     for dotted in pages:
         dl = _entry(site, dotted)
         assert "py" in dl["class"] and ({"function", "class", "exception"} & set(dl["class"])), dotted
-        assert not _raw_rest_in(_page(site, dotted).read_text()), dotted
+        text = _soup(_page(site, dotted)).get_text()
+        assert not [m for m in RAW_REST if m in text], dotted
 
 
 def test_function_pages_have_parameters_and_returns(site):
@@ -166,7 +173,7 @@ def test_result_type_pages_list_attributes_and_methods(site):
             want = {f.name for f in dataclasses.fields(cls) if not f.name.startswith("_")}
             assert want <= shown, (dotted, sorted(want - shown))
         if issubclass(cls, Result):
-            page = bs4.BeautifulSoup(_page(site, dotted).read_text(), "html.parser")
+            page = _soup(_page(site, dotted))
             methods = page.find("p", class_="rubric", string="Methods")
             assert methods is not None, dotted
             table = methods.find_next("table")
@@ -232,7 +239,7 @@ def test_the_reference_names_no_internal_work_items(site):
     issue = re.compile(r"\b[Ii]ssues?[ -]?#?\d+")
     bad = {}
     for page in [site / "api.html", *sorted((site / "api").glob("*.html"))]:
-        text = bs4.BeautifulSoup(page.read_text(), "html.parser").select_one("article").get_text(" ")
+        text = _soup(page).select_one("article").get_text(" ")
         hits = [" ".join(text[max(0, m.start() - 40):m.end() + 10].split()) for m in issue.finditer(text)]
         if hits:
             bad[page.name] = hits
