@@ -222,6 +222,7 @@ def test_a_function_returns_links_to_its_result_type(site):
             continue
         returns = _fields(_entry(site, dotted))["Returns"]
         links = {a.get_text(strip=True): a.get("href", "") for a in returns.select("a")}
+        assert links, (name, "Returns links to no type")
         for p in NumpyDocString(inspect.getdoc(obj) or "")["Returns"]:
             for word in re.findall(r"\b[A-Z]\w+", p.type):
                 if word in types:
