@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import ast
 import dataclasses
+import functools
 import importlib
 import inspect
 import io
@@ -84,6 +85,7 @@ def _walk_classes() -> dict[str, type]:
     return found
 
 
+@functools.lru_cache(maxsize=None)
 def _returned_names(obj) -> list[str]:
     """The class names a face function's numpydoc Returns section gives as types."""
     from numpydoc.docscrape import NumpyDocString
@@ -277,6 +279,35 @@ COMMON_FIELDS = {
 }
 
 
+def _first_sentence(text: str) -> str:
+    """Up to the first ". " or "; " outside brackets (without it)."""
+    depth = 0
+    for i, ch in enumerate(text):
+        depth += ch in "([{"
+        depth -= ch in ")]}"
+        if depth == 0 and ch in ".;" and (i + 1 == len(text) or text[i + 1] == " "):
+            return text[:i]
+    return text.rstrip(".;")
+
+
+def _returning_parameters(cls) -> dict[str, str]:
+    """{parameter: "The `h` of poincare_section: <its first sentence>."} from the Parameters of the face's
+    functions whose Returns name cls: a result's field that echoes an input (h, iterates, tol) says so."""
+    from numpydoc.docscrape import NumpyDocString
+
+    out = {}
+    for n in _face_names():
+        obj = getattr(magrod, n)
+        if isinstance(obj, type) or cls.__name__ not in _returned_names(obj):
+            continue
+        for p in NumpyDocString(inspect.getdoc(obj) or "")["Parameters"]:
+            first = _first_sentence(_clean(" ".join(p.desc)))
+            for name in (x.strip() for x in p.name.split(",")):
+                if first and name not in out:
+                    out[name] = f"The ``{name}`` of `{n}`: {first}."
+    return out
+
+
 def _type_text(annotation) -> str:
     if isinstance(annotation, str):
         text = annotation
@@ -329,6 +360,7 @@ def class_sections(cls, doc_text: str) -> str | None:
     if dataclasses.is_dataclass(cls):
         fields = [f for f in dataclasses.fields(cls) if not f.name.startswith("_")]
         comments = _field_comments(cls)
+        echoed = _returning_parameters(cls)
         prose = _prose_descriptions("\n".join([*doc["Summary"], *doc["Extended Summary"]]),
                                     [f.name for f in fields])
         hints = {}
@@ -338,7 +370,8 @@ def class_sections(cls, doc_text: str) -> str | None:
         for f in fields:
             if f.name in listed:
                 continue
-            desc = comments.get(f.name) or prose.get(f.name) or COMMON_FIELDS.get(f.name, "")
+            desc = (comments.get(f.name) or prose.get(f.name) or COMMON_FIELDS.get(f.name)
+                    or echoed.get(f.name, ""))
             if f.default is not dataclasses.MISSING and not isinstance(f.default, (dict, list)):
                 default = f.default.value if hasattr(f.default, "value") else f.default
                 desc = f"{desc}  Default {default!r}." if desc else f"Default {default!r}."

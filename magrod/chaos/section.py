@@ -267,11 +267,11 @@ class PoincareResult(Result):
     ptheta0: float
     psi0: float
     p_psi0: float
-    roots: np.ndarray
-    root_index: int
+    roots: np.ndarray  # every real root pbar_psi of Hbar = h at the start, increasing
+    root_index: int  # which root is the start's pbar_psi0 (p_psi0 = roots[root_index])
     formulation: str
     direction: str
-    branch_filter: str
+    branch_filter: str  # the branch option: which crossings are recorded ("any", "0", "pi")
     tol: float
     iterates: int
     t_max: float
@@ -283,13 +283,13 @@ class PoincareResult(Result):
     dH: np.ndarray
     body_points: np.ndarray
     section_residual: np.ndarray
-    max_abs_dH: float
-    casimir_drift: float | None
-    final_time: float
-    n_frame_switches: int
+    max_abs_dH: float  # max |Hbar - h| over the recorded points (the conservation check)
+    casimir_drift: float | None  # max drift of the Casimirs along the body-frame run (None: no body-frame points)
+    final_time: float  # the arclength where the run stopped
+    n_frame_switches: int  # switches between the 4-D chart and the body frame (formulation "reduced")
     wall_s: float
     precision: Precision = Precision.DOUBLE  # the arithmetic of the integration (issue 25: Precision all the way down)
-    extra: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict)  # a model's run: its start x0 and the energy scale of dH
     stretch: dict | None = None  # the axial stretch sampled along the run (stretch_dt); summary only, not arrays()
     retried_without_jit_cache: bool = False  # verify=True repeated the run with freshly compiled code
     panel: str | None = None
