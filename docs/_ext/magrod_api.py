@@ -251,12 +251,13 @@ def _field_comments(cls) -> dict[str, str]:
 
 
 def _prose_descriptions(doc: str, names) -> dict[str, str]:
-    """{field: text} where the class docstring's prose describes a field as ``name: text;`` (the house style of
-    the result classes' docstrings): the text up to the next ``;`` outside brackets, or the paragraph's end."""
+    """{field: text} where the class docstring's prose describes a field as ``name: text;`` or
+    ``name (shape): text;`` (the house style of the result classes' docstrings): the text up to the next ``;``
+    outside brackets, the sentence's end or the paragraph's end."""
     out = {}
     flat = " ".join(doc.split())
     for name in names:
-        m = re.search(rf"(?<![\w.`]){re.escape(name)}`?: ", flat)
+        m = re.search(rf"(?<![\w.`]){re.escape(name)}`?(\s\([^()]*\))?: ", flat)
         if not m:
             continue
         depth, end = 0, len(flat)
@@ -267,7 +268,12 @@ def _prose_descriptions(doc: str, names) -> dict[str, str]:
             if depth < 0 or (depth == 0 and ch == ";"):
                 end = i
                 break
+            if depth == 0 and ch == "." and re.match(r"\s+[A-Z`]", flat[i + 1:i + 4]):  # the sentence ends
+                end = i
+                break
         text = _clean(flat[m.end():end]).rstrip(".")
+        if m.group(1):  # "times (K,): ..." -- the shape first
+            text = f"{m.group(1).strip()} {text}"
         if text:
             out[name] = text
     return out
@@ -282,6 +288,9 @@ COMMON_FIELDS = {
     "wall_s": "Wall-clock time of the computation, in seconds.",
     "precision": "The floating-point precision of the integration.",
     "panel": "The paper's panel key the run started from, if any.",
+    "max_abs_dH": "Max |Hbar - h| along the computation: how well the energy was conserved.",
+    "casimir_drift": "The largest drift of the Casimirs along the computation (body frame).",
+    "h": "The energy level Hbar = h.",
 }
 
 

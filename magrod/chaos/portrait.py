@@ -108,10 +108,12 @@ class SectionPortrait(Result):
 
     @property
     def n_orbits(self) -> int:
+        """N, the number of orbits."""
         return len(self.orbits)
 
     @property
     def chaotic(self):
+        """(N,) values > threshold (the growth exponent's verdict); None for another indicator."""
         if self.indicator != "growth_exponent":
             return None
         with np.errstate(invalid="ignore"):
@@ -119,12 +121,14 @@ class SectionPortrait(Result):
 
     @property
     def fraction_chaotic(self):
+        """The fraction of the orbits with an indicator value that are chaotic (None without a verdict)."""
         c = self.chaotic
         ok = np.isfinite(self.values)
         return float(c[ok].mean()) if c is not None and ok.any() else None
 
     @property
     def max_abs_dH(self) -> float:
+        """The largest max |Hbar - h| over the orbits."""
         return float(max((r.max_abs_dH for r in self.orbits), default=0.0))
 
     @property
@@ -353,15 +357,18 @@ class OrbitDiagram(Result):
 
     @property
     def n_values(self) -> int:
+        """M, the number of parameter values."""
         return int(self.values.size)
 
     @property
     def worst_dH(self) -> float:
+        """The largest max |Hbar - h| over the values' orbits."""
         d = self.max_abs_dH[np.isfinite(self.max_abs_dH)]
         return float(np.max(d)) if d.size else 0.0
 
     @property
     def accuracy(self) -> dict:
+        """{"max_abs_dH": worst_dH, "passed": every orbit passed its own accuracy checks}."""
         return {"max_abs_dH": self.worst_dH,
                 "passed": all(r.accuracy_checks()["passed"] for r in self.orbits if r is not None)}
 

@@ -150,16 +150,20 @@ class LyapunovSpectrum(Result):
 
     @property
     def pairing(self) -> np.ndarray:
+        """(n//2,) lambda_i + lambda_{n+1-i}: 0 for a Hamiltonian flow (the spectrum's own check)."""
         e = self.exponents
         n = e.size
         return np.array([e[i] + e[n - 1 - i] for i in range(n // 2)])
 
     @property
     def max_exponent(self) -> float:
+        """lambda_1, the maximal exponent."""
         return float(self.exponents[0])
 
     @property
     def accuracy(self) -> dict:
+        """The largest |pairing|, the sum of the exponents (the mean divergence: 0 for a Hamiltonian flow), the
+        conservation against DRIFT_LIMIT and whether it passed."""
         ok = bool(self.control != "body" or (self.max_abs_dH <= DRIFT_LIMIT and self.casimir_drift <= DRIFT_LIMIT))
         return {"max_pairing": float(np.max(np.abs(self.pairing))) if self.pairing.size else 0.0,
                 "sum": float(np.sum(self.exponents)), "max_abs_dH": self.max_abs_dH,
@@ -190,6 +194,7 @@ class GaliResult(Result):
 
     @property
     def final(self) -> dict:
+        """{"GALI_k": its value at the end of the run}."""
         return {f"GALI_{k}": float(self.gali[-1, i]) for i, k in enumerate(self.orders)}
 
     def decay(self, floor: float = 1e-14) -> dict:
@@ -210,6 +215,7 @@ class GaliResult(Result):
 
     @property
     def accuracy(self) -> dict:
+        """The conservation (max |Hbar - h|, Casimir drift) against DRIFT_LIMIT and whether it passed."""
         ok = bool(self.control != "body" or (self.max_abs_dH <= DRIFT_LIMIT and self.casimir_drift <= DRIFT_LIMIT))
         return {"max_abs_dH": self.max_abs_dH, "casimir_drift": self.casimir_drift, "limit": DRIFT_LIMIT,
                 "passed": ok}
