@@ -346,6 +346,7 @@ class PoincareResult(Result):
 
     @property
     def n_points(self) -> int:
+        """N, the number of recorded section points."""
         return int(self.points.shape[0])
 
     def accuracy_checks(self, energy_tol=None, casimir_tol=None) -> dict:
