@@ -140,8 +140,8 @@ class MapSpec:
     root: which root pbar_psi of Hbar = h starts the orbit ("smallest", the poincare default, or "largest").
     tol 0 = machine epsilon.  tile: tile edge in grid points (one Dask task and one zarr chunk per tile)."""
 
-    x: Axis
-    y: Axis
+    x: Axis  # the horizontal axis: a parameter or start value, its range and number of points
+    y: Axis  # the vertical axis, likewise
     base: dict = field(default_factory=dict)
     panel: str | None = DEFAULT_PANEL
     root: str = "smallest"

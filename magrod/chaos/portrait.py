@@ -95,9 +95,9 @@ class SectionPortrait(Result):
     params: RodParams
     h: float
     starts: np.ndarray
-    orbits: list
+    orbits: list  # one PoincareResult per start, in the order of the starts
     indicator: str | None
-    values: np.ndarray
+    values: np.ndarray  # (N,) the chaos indicator of each start (NaN without one)
     t_indicator: float | None
     wall_s: float
     panel: str | None = None
@@ -333,18 +333,18 @@ class OrbitDiagram(Result):
     message: str
     parameter: str
     values: np.ndarray
-    value_index: np.ndarray
-    points: np.ndarray
-    n_points: np.ndarray
-    max_abs_dH: np.ndarray
-    final_time: np.ndarray
+    value_index: np.ndarray  # (K,) the index into values of each point
+    points: np.ndarray  # (K, 4) the section points (theta, psi, pbar_theta, pbar_psi) of every value
+    n_points: np.ndarray  # (M,) points recorded per value
+    max_abs_dH: np.ndarray  # (M,) max |Hbar - h| per value's orbit
+    final_time: np.ndarray  # (M,) the arclength where each value's run stopped
     orbit_success: np.ndarray  # False also where the value has no energy root (no_root)
     h: float
     theta0: float
     ptheta0: float
     psi0: float
     iterates: int
-    transient: int
+    transient: int  # section points dropped at the start of each orbit
     coordinate: str
     wall_s: float
     marks: dict = field(default_factory=dict)

@@ -140,7 +140,7 @@ class LyapunovSpectrum(Result):
     t_max: float
     renorm_dt: float
     exponents: np.ndarray
-    times: np.ndarray
+    times: np.ndarray  # (K,) the renormalisation times
     history: np.ndarray
     max_abs_dH: float
     casimir_drift: float
@@ -183,9 +183,9 @@ class GaliResult(Result):
     x0: np.ndarray
     t_max: float
     renorm_dt: float
-    orders: tuple
-    times: np.ndarray
-    gali: np.ndarray
+    orders: tuple  # the orders k of the columns of gali: (2, 3, 4)
+    times: np.ndarray  # (K,) the renormalisation times
+    gali: np.ndarray  # (K, 3) GALI_k at those times, one column per order
     max_abs_dH: float
     casimir_drift: float
     system: object = None  # the System studied (None for a control system)
