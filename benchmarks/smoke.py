@@ -43,7 +43,7 @@ SMOKE = {
 # one) whose smallest meaningful run takes minutes; they belong to the computer-assisted proofs' own reorganisation
 _DESIGN = "a proof design: one prover or design-search run per setting, minutes each; no tiny span yet"
 NOT_SMOKED = {
-    "enclosure_corner": "the second-order box theorem on the issue-20 corner: ~0.8 s per box, a budget of 3600 boxes",
+    "enclosure_corner": "the second-order box theorem on the undecided corner: ~0.8 s per box, a budget of 3600 boxes",
     "fig4_lambda_interval": _DESIGN + " (a fixed-point proof per lambdabar box)",
     "homoclinic_interval": _DESIGN + " (a homoclinic proof per width, ~2 min)",
     "fig4_candidates": _DESIGN + " (the float homoclinic-point search of Fig 4)",
