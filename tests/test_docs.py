@@ -155,7 +155,8 @@ def _listed(dd) -> set:
             for n in dt.find(["strong", "a"]).get_text("", strip=True).split(",")}
 
 
-FULLY_DESCRIBED = ("PoincareResult", "LyapunovResult", "ChaosMap")
+FULLY_DESCRIBED = ("PoincareResult", "LyapunovResult", "ChaosMap", "OrbitDiagram", "SectionPortrait", "LyapunovSpectrum",
+                   "GaliResult", "Splitting", "IntegrabilityReport")
 
 
 def test_result_type_pages_list_attributes_and_methods(site):
