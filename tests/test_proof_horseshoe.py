@@ -233,8 +233,9 @@ def test_tamper_disjointness(any_cert):
 
 
 def test_mutated_field_rejected(any_cert):
-    """A mutated generated field (control): the digest check rejects the certificate."""
-    assert "field digest" in _rejected(any_cert, module=fields.mutated_module(0))
+    """A mutated generated field (control): rejected by the identity it breaks (one sign flipped in chart_rhs:
+    f is no longer J grad Hbar), checked on its source before its digest."""
+    assert "Hamiltonian form f = J grad Hbar failed" in _rejected(any_cert, module=fields.mutated_module(0))
 
 
 def test_parallel_workers_replay_the_serial_checks(cert):

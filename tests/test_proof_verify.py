@@ -124,7 +124,8 @@ def test_verify_api_returns_the_generated_theorem(cert):
 
 def test_the_trust_base_is_what_the_docs_say():
     """docs/nonintegrability.md, "The verifier's trust base": verify.py imports from magrod only ball, fields,
-    taylor, theorem, section_return (the shared first return to the section) and core.errors; never the provers
+    taylor, theorem, section_return (the shared first return to the section), identities (the field's structure, checked
+    at run time) and core.errors; never the provers
     (search, saddle, manifold, periodic, horseshoe)."""
     import ast
     from pathlib import Path
@@ -137,7 +138,7 @@ def test_the_trust_base_is_what_the_docs_say():
             got |= {f"{mod}.{a.name}".strip(".") for a in node.names} if not mod else {mod}
         elif isinstance(node, ast.Import):
             got |= {a.name for a in node.names if a.name.startswith("magrod")}
-    assert got == {"ball", "fields", "taylor", "theorem", "section_return", "core.errors"}, got
+    assert got == {"ball", "fields", "identities", "taylor", "theorem", "section_return", "core.errors"}, got
 
 
 def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path, monkeypatch):

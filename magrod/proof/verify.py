@@ -40,7 +40,7 @@ import numpy as np
 from flint import acb, acb_mat, arb, arb_mat
 
 from ..core.errors import ParameterError
-from . import ball, fields, taylor
+from . import ball, fields, identities, taylor
 from .theorem import TARGETS, homoclinic_theorem, section_fixed_point_theorem, section_horseshoe_theorem
 
 FORMAT = "magrod-proof-certificate/1"
@@ -269,6 +269,7 @@ def _check_statement(cert, p, st, claim) -> list:
 def _verify(cert, p, st, module, claim):
     targets = _check_statement(cert, p, st, claim)
     _stored_claims(cert, claim)
+    _check_structure(module, claim)
     claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
           "the certificate's vector field is the installed derive-generated one (SHA-256 of generated/validated.py)")
     lam_hi = p.lam + getattr(p, "lam_rad", 0)
@@ -283,6 +284,15 @@ def _verify(cert, p, st, module, claim):
     for c in cert["crossings"]:
         _check_crossing(c, p, fb, xhat, V, rho_eff, L, r, order, module, claim)
     return targets
+
+
+def _check_structure(module, claim) -> None:
+    """The structure every kind's chain uses, checked at run time on the field the certificate names (its source,
+    whose SHA-256 the next check compares): reversibility under R, the Hamiltonian form (det DP = 1), the
+    variational field, each an exact rational-function identity (magrod.proof.identities).  Before the digest, so
+    that a field without the structure is rejected by the identity it lacks."""
+    for name, holds, how in identities.check(fields.source(module), fields.PARAMS):
+        claim(name, holds, how)
 
 
 # --------------------------------------------------------------------------------------------------------------
@@ -560,6 +570,7 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
           and _inside(ball.from_json(cert["newton"]), ball.interval(thc - r, thc + r))
           and ball.bounds(abs(tr_s))[0] > 2,
           "negative crossing, F' excludes 0, Newton inside Theta, |tr DP| > 2")
+    _check_structure(module, claim)
     claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
           "the certificate's vector field is the installed derive-generated one (SHA-256 of generated/validated.py)")
     claim("parameters", p.m > 0 and min(p.gamma, p.delta, p.mu) >= 0, "m > 0; gamma, delta, mu >= 0")
@@ -1048,6 +1059,7 @@ def _hs_sources_parallel(cert, k, workers, claim) -> None:
 
 
 def _horseshoe(cert, p, order, module, claim, workers=None) -> dict:
+    _check_structure(module, claim)
     claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
           "the certificate's field is the installed derive-generated one")
     claim("2 pi-periodic in psi", _psi_periodic(module),
