@@ -14,6 +14,9 @@ it, docs/nonintegrability.md, "The verifier's trust base"):
     sizes;
   - the validated first return to the section sin psi = 0 (magrod.proof.section_return), for the section
     certificates (fixed point and horseshoe);
+  - the field's structure (magrod.proof.identities): reversibility under R, the Hamiltonian form (det DP = 1) and
+    chart_jacobian = Df, checked at run time as exact rational-function identities on the field's source before its
+    digest, in every kind (_check_structure);
   - the theorem's wording (magrod.proof.theorem), and core.errors for the error type.
 
 Completeness: a certificate is accepted only if what it contains establishes the theorem the verifier prints.  The
@@ -71,7 +74,7 @@ class VerifyResult:
 
     def as_dict(self) -> dict:
         """Deprecated spelling of to_dict() (kept for one release; written here, not imported, to keep the
-        verifier's trust base to ball, fields, taylor, theorem and core.errors)."""
+        verifier's trust base to the modules the docstring lists)."""
         import warnings
 
         warnings.warn("VerifyResult.as_dict() is deprecated: use to_dict()", DeprecationWarning, stacklevel=2)
