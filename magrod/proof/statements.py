@@ -108,7 +108,8 @@ STATEMENTS = (
         Step("the same on the λ̄ interval, λ̄ a ball in every enclosure", "computer-verified",
              "magrod prove --lam-rad; magrod prove --verify"),
         Step("the chart field is Hamilton's, R is a reversor, the lift intertwines the flows", "proved",
-             "report keys validated_fields, reversor_reduced, chart_body_lift"),
+             "f = J grad Hbar and f(R x) = -R f(x) checked by the verifier at run time on the certificate's field, as exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced, "
+             "chart_body_lift"),
         Step("horseshoes (Devaney 1976) and no analytic second integral on the level (Kozlov 1996)", "proved",
              "cited theorems, every hypothesis checked by the certificate")],
        phrases=(r"one parameter point", r"17/10, 1/25")),
@@ -127,7 +128,8 @@ STATEMENTS = (
        [Step("saddle, eigenpairs, local manifold, flight, crossings, transversality", "computer-verified",
              "magrod prove; magrod prove --verify (complete verifier)"),
         Step("the chart field is Hamilton's, R is a reversor, the lift intertwines the flows", "proved",
-             "report keys validated_fields, reversor_reduced, chart_body_lift"),
+             "f = J grad Hbar and f(R x) = -R f(x) checked by the verifier at run time on the certificate's field, as exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced, "
+             "chart_body_lift"),
         Step("horseshoes (Devaney 1976) and no analytic second integral on the level (Kozlov 1996)", "proved",
              "cited theorems, every hypothesis checked by the certificate")],
        phrases=(r"2/5, 3, 3", r"Fig 4\(a\)'s rod", r"Fig 4's rod")),
@@ -226,8 +228,8 @@ STATEMENTS = (
        λ̄ around each value, of unquantified size.""",
        [Step("level, two-phase flight (no positive crossing before the half-way point), Fix(R) Newton, |tr DP| > 2",
              "computer-verified", "magrod prove --fixed-point; magrod prove --verify (complete verifier)"),
-        Step("the chart field is Hamilton's, R is a reversor", "proved", "report keys validated_fields, "
-             "reversor_reduced"),
+        Step("the chart field is Hamilton's, R is a reversor", "proved", "f = J grad Hbar (det DP = 1) and "
+             "f(R x) = -R f(x) checked by the verifier at run time on the certificate's field, as exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced"),
         Step("an orbit through two points of Fix(R) is periodic, crossings at ±t have one direction, DQ2 = R DQ⁻¹ R "
              "(reversibility; Devaney 1976)", "proved", "the argument of magrod/proof/periodic.py, hypotheses "
              "checked by the certificate")],
@@ -274,7 +276,8 @@ STATEMENTS = (
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
              "section_horseshoe)"),
         Step("the chart field is Hamilton's, 2π-periodic in ψ, and R is a reversor", "proved",
-             "report keys validated_fields, reversor_reduced; the verifier's source check of ψ"),
+             "f = J grad Hbar and f(R x) = -R f(x) checked by the verifier at run time on the certificate's field, as exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced; the "
+             "verifier's source check of ψ"),
         Step("a closed chain of coverings and back-coverings has an orbit for every sequence of loops "
              "(Zgliczyński & Gidea 2004, the covering-chain theorem); N ⇒ M gives R(M)^T ⇐ R(N)^T; the coding of "
              "the visits to N0 is a semiconjugacy onto the block shift", "proved",
@@ -317,7 +320,8 @@ STATEMENTS = (
              "entropy bound", "computer-verified", "magrod prove --horseshoe --branch pi; magrod prove --verify "
              "(kind section_horseshoe)"),
         Step("the chart field is Hamilton's, 2π-periodic in ψ, and R is a reversor", "proved",
-             "report keys validated_fields, reversor_reduced; the verifier's source check of ψ"),
+             "f = J grad Hbar and f(R x) = -R f(x) checked by the verifier at run time on the certificate's field, as exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced; the "
+             "verifier's source check of ψ"),
         Step("the covering-chain theorem, the reversed-chain lemma, the block-shift entropy (statement 12's "
              "argument, unchanged: it never uses the branch of N0)", "proved",
              "cited theorem, hypotheses checked by the certificate; docs/nonintegrability.md")],
