@@ -51,7 +51,7 @@ def test_the_fig4a_certificate_verifies_and_prints_the_generated_theorem(cert, t
     assert main(["prove", "--verify", str(p), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["ok"] and out["theorem"] == theorem.section_fixed_point_theorem(cert["params"], "9/10")
-    # the float benchmark's saddle (benchmarks/fig4_candidates.json, panel 0.135: theta 0.3830461903149033,
+    # the float benchmark's saddle (research/fig4_candidates.json, panel 0.135: theta 0.3830461903149033,
     # |eigenvalues of DP^2| 33.0405 = mu_u^2, return time of P^2 11.4109 = 2 T) lies in the verified balls
     vals = {k: [float(Fraction(v)) for v in b] for k, b in out["values"].items()}
     assert vals["theta*"][0] - 1e-12 <= 0.3830461903149033 <= vals["theta*"][1] + 1e-12
@@ -231,7 +231,7 @@ def _tiles():
 
 
 def test_the_interval_tiles_cover_their_union_exactly():
-    """benchmarks/fig4_lambda_interval.py's 11 certificates: adjacent lambdabar boxes [c - w, c + w] whose union is
+    """research/fig4_lambda_interval.py's 11 certificates: adjacent lambdabar boxes [c - w, c + w] whose union is
     [674989/5000000, 675011/5000000] with no gap (exact rationals), each stating the theorem for its box."""
     boxes = []
     for c in _tiles():

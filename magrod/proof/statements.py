@@ -97,7 +97,7 @@ STATEMENTS = (
        by a second certificate whose every enclosure carries λ̄ as the ball of that interval
        (homoclinic_target_interval.json, `magrod prove --lam-rad 1/10000000000000`: prove 27 s, verify 7 s;
        dθ_u/dψ ∈ [−0.003823, −0.001095] at ψ = 0 and [0.000381, 0.002213] at ψ = π). 1.5·10⁻¹³ still proves,
-       2·10⁻¹³ does not (`benchmarks/homoclinic_interval.py`): λ̄ as a parameter ball is wrapped into every step's
+       2·10⁻¹³ does not (`research/homoclinic_interval.py`): λ̄ as a parameter ball is wrapped into every step's
        remainder, and the interval Newton step in the phase grows ~1.9·10⁸ × the half-width (4.6·10⁻⁵ at 2·10⁻¹³,
        against the widest arc 3.2·10⁻⁵, whose dθ_u/dψ ball is already ±0.0014 about −0.0025). Beyond that
        interval: hyperbolic equilibria and transverse intersections persist, so all of this holds on an open
@@ -219,7 +219,7 @@ STATEMENTS = (
        variable through every enclosure (fixed_point_fig4a_interval.json, `--lam-rad 1/5000000`): θ* ∈ [0.38304326,
        0.38304913], tr DP(x0) ∈ [4.1598, 9.0911]; the widest single box that closes (3e−7: the enclosure of DP is
        no longer finite). By 11 adjacent such boxes, for every λ̄ in [674989/5000000, 675011/5000000] = 0.135 ±
-       2.2e−6 (magrod/proof/certificates/fig4a_interval/, `benchmarks/fig4_lambda_interval.py`: 191 s prove + 162 s
+       2.2e−6 (magrod/proof/certificates/fig4a_interval/, `research/fig4_lambda_interval.py`: 191 s prove + 162 s
        verify, each certificate re-checked by the complete verifier in that run and by a slow test; `magrod
        reproduce` verifies only the single box). Panel (c): the float search found no hyperbolic fixed point of P to prove
        (its horseshoe in statement 12 is built on a periodic orbit of period 6 instead). This is a hyperbolic

@@ -26,6 +26,10 @@ certificate's "theorem" text must be the one generated here from the verified pa
 claims more, or other, than the checks is rejected).  The printed theorem is that generated text, never the
 certificate's.
 
+Provenance: a certificate may carry "provenance", an object of strings naming the command or script and the settings
+that produced it (`magrod prove` writes it; the shipped certificates' were reconstructed when it was introduced).  No
+check reads it and the theorem does not depend on it; only its form is checked (not an object of strings: exit 2).
+
 Failure modes: `CertificateError` (unreadable, wrong format, missing or malformed fields: not a certificate, exit 2)
 and a result with ok = False and a one-line reason naming the check that failed and what it requires (a
 certificate that fails a check, a working precision too low for its checks included: exit 1).
@@ -153,6 +157,9 @@ def verify(cert: dict, *, module=fields.gen, workers: int | None = None) -> Veri
     kind = cert.get("kind", HOMOCLINIC) if isinstance(cert, dict) else None
     if kind not in KINDS:
         raise CertificateError(f"unknown certificate kind {str(kind)[:40]!r} (recognised: {', '.join(KINDS)})")
+    prov = cert.get("provenance")
+    if prov is not None and not (isinstance(prov, dict) and all(isinstance(v, str) for v in prov.values())):
+        raise CertificateError("provenance must be an object of strings (what produced the certificate)")
     if kind == SECTION_FIXED_POINT:
         return _verify_fixed_point(cert, module, t0)
     if kind == SECTION_HORSESHOE:

@@ -3,7 +3,7 @@
 state variable (fields.lam_state_field) and re-checked by the complete verifier; their union is
 [27/200 - (2n + 1) w, 27/200 + (2n + 1) w].  Writes each certificate to DIR and a summary (widths, costs).
 
-    python benchmarks/fig4_lambda_interval.py DIR [--w=1/5000000] [--n=5]
+    python research/fig4_lambda_interval.py DIR [--w=1/5000000] [--n=5]
 """
 from __future__ import annotations
 
@@ -34,7 +34,9 @@ def main():
                "prove_s": round(res.wall_time_s, 1)}
         if res.ok:
             path = DIR / f"fixed_point_fig4a_lam_{i:+d}.json"
-            path.write_text(json.dumps(res.certificate, indent=1))
+            prov = {"command": f"python research/fig4_lambda_interval.py DIR --w={W} --n={NB}", "box": f"{i:+d}",
+                    "recorded": "by research/fig4_lambda_interval.py"}
+            path.write_text(json.dumps({**res.certificate, "provenance": prov}, indent=1))
             v = verify.verify(json.loads(path.read_text()))
             row.update(verified=v.ok, verify_s=round(v.wall_time_s, 1), values=v.values, certificate=str(path))
         rows.append(row)
