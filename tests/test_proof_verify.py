@@ -46,6 +46,8 @@ def test_the_valid_certificate_verifies_and_prints_the_generated_theorem(cert, t
     want = theorem.homoclinic_theorem(cert["params"], ["0", "pi"])
     assert f"theorem: {want}" in out and "two distinct transverse symmetric homoclinic orbits" in want
     assert "psi = 0: dtheta_u/dpsi in [-" in out and "psi = pi: dtheta_u/dpsi in [" in out
+    # what produced it, as `magrod prove` records it (the output directory is not part of it)
+    assert cert["provenance"]["command"] == "magrod prove " + " ".join(ARGS) + " --targets 0,pi"
 
 
 def test_deleted_crossings_are_rejected(cert, tmp_path, capsys):
