@@ -3,8 +3,8 @@ h = 9/10 (magrod/proof/periodic.py), its certificate kind "section_fixed_point" 
 it (verify.py).  The shipped certificates verify; every tampering is rejected, most of them before any flight is
 replayed (< 1 s); the shifted-box and mutated-field controls fail; the docs quote the certificates' intervals.
 
-Each rejection test was seen to fail once with the check it names removed from verify._fixed_point (the tampered
-certificate then verified or failed elsewhere)."""
+Each rejection test was seen to fail once with the check it names removed from the verifier's _fixed_point
+(magrod/proof/kernel/fixed_point.py; the tampered certificate then verified or failed elsewhere)."""
 from __future__ import annotations
 
 import copy

@@ -447,7 +447,7 @@ def t_approach(T: float, lead: Fraction) -> Fraction:
 
 
 # --------------------------------------------------------------------------------------------------------------
-# the covering conditions on a piece's image (the verifier has its own copy: verify.py)
+# the covering conditions on a piece's image (the verifier has its own copy: kernel/horseshoe.py)
 # --------------------------------------------------------------------------------------------------------------
 def image_in(M, fl, AX):
     """y = A_M^-1 (P(c_X) - c_M) + A_M^-1 [DP(X)] A_X v, v in [-1, 1]^2: (off, G) as balls (off 2, G 2 x 2)."""
