@@ -173,22 +173,16 @@ def run(orbits, *, direction="positive", tol=None, workers=None, key=systems.PAP
 # 1.5-2.1x for 2 processes (benchmarks/batch_ratios.py).  Each process runs the same lane loop on a contiguous
 # share of the orbits; a lane's steps do not depend on its neighbours, so the points are those of one thread.
 # --------------------------------------------------------------------------------------------------------------
-_POOL: list = []  # [ProcessPoolExecutor, n]: kept for the process (spawned workers load heyoka's JIT cache once)
-
-
+# One pool per call, shut down (its processes joined) before the call returns: a pool kept for the process would be
+# a process-wide side effect of a library call, and a kept pool inside a worker of another pool (a figure of
+# `magrod reproduce` running its panels on two workers) hung that worker's exit, and with it the outer pool's
+# shutdown.  The spawn costs ~1 s per call (heyoka's disk cache spares the JIT compilation).
 def _pool(n: int):
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
 
-    if _POOL and _POOL[1] == n:
-        return _POOL[0]
-    if _POOL:
-        _POOL[0].shutdown(wait=False, cancel_futures=True)
-        _POOL.clear()
     # spawn, never fork: a forked child of a process running heyoka's (LLVM's) threads may deadlock
-    ex = ProcessPoolExecutor(max_workers=n, mp_context=mp.get_context("spawn"))
-    _POOL[:] = [ex, n]
-    return ex
+    return ProcessPoolExecutor(max_workers=n, mp_context=mp.get_context("spawn"))
 
 
 def _processes_ok() -> bool:
@@ -238,14 +232,14 @@ def _run_processes(orbits, n: int, b: int, kw) -> None:
         cuts = [min(N, round(i * -(-N // b) / n) * b) for i in range(n + 1)]
         cuts[-1] = N
     parts = [(lo, hi) for lo, hi in zip(cuts[:-1], cuts[1:]) if hi > lo]
-    ex = _pool(n)
-    futs = [(lo, hi, ex.submit(_process_task, type(orbits[lo]), [o.start for o in orbits[lo:hi]],
-                                        orbits[lo].options, kw))
-            for lo, hi in parts]
-    for lo, hi, f in futs:
-        for o, res in zip(orbits[lo:hi], f.result()):
-            o.result = res
-            o.n = res.n_points
-            if o.progress is not None and res.n_points > o.reported:
-                o.progress(res.n_points - o.reported)
-                o.reported = res.n_points
+    with _pool(n) as ex:
+        futs = [(lo, hi, ex.submit(_process_task, type(orbits[lo]), [o.start for o in orbits[lo:hi]],
+                                   orbits[lo].options, kw))
+                for lo, hi in parts]
+        for lo, hi, f in futs:
+            for o, res in zip(orbits[lo:hi], f.result()):
+                o.result = res
+                o.n = res.n_points
+                if o.progress is not None and res.n_points > o.reported:
+                    o.progress(res.n_points - o.reported)
+                    o.reported = res.n_points
