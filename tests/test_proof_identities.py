@@ -101,3 +101,12 @@ def test_the_identity_check_imports_nothing_of_magrod():
     mods = {n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)} | \
         {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
     assert mods == {"__future__", "hashlib", "fractions", "flint"}, mods
+
+
+def test_a_constant_component_is_evaluated_not_refused():
+    # theta' = 0: a constant component has derivative 0 (seen to fail when a non-dual value was refused as
+    # "not evaluable"); R-reversible still, but no longer Hamilton's equations of Hbar, nor chart_jacobian's field
+    got = _check(_module("    return [\n        ptheta,\n", "    return [\n        _Q(0, 1),\n"))
+    assert got[identities.REVERSIBLE][0] and got[identities.LEVEL_SYMMETRIC][0]
+    assert not got[identities.HAMILTONIAN][0] and "['theta']" in got[identities.HAMILTONIAN][1]
+    assert not got[identities.VARIATIONAL][0] and "[0, 2]" in got[identities.VARIATIONAL][1]

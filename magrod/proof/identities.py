@@ -126,8 +126,8 @@ def _identities(source: str, params: tuple) -> dict:
         fR = ns["chart_rhs"](point(reflect=True), pars)
         H = ns["chart_hamiltonian"](point(), pars)[0]
         HR = ns["chart_hamiltonian"](point(reflect=True), pars)[0]
-        dH = [_part(ns["chart_hamiltonian"](point(j), pars)[0]) for j in range(4)]
-        cols = [[_part(c) for c in ns["chart_rhs"](point(j), pars)] for j in range(4)]
+        dH = [_part(ns["chart_hamiltonian"](point(j), pars)[0], F) for j in range(4)]
+        cols = [[_part(c, F) for c in ns["chart_rhs"](point(j), pars)] for j in range(4)]
         Jm = ns["chart_jacobian"](point(), pars)
         Jg = [dH[2], dH[3], -dH[0], -dH[1]]
         return {
@@ -140,10 +140,9 @@ def _identities(source: str, params: tuple) -> dict:
         raise _NotExact(f"{type(err).__name__}: {str(err)[:120]}") from None
 
 
-def _part(x):
-    if not isinstance(x, _Dual):
-        raise TypeError("a derivative was requested of a value that does not depend on the state")
-    return x.b
+def _part(x, F):
+    """The eps part: the derivative (0 for a value that does not depend on the state, e.g. a constant component)."""
+    return x.b if isinstance(x, _Dual) else F.const(0)
 
 
 def _namespace(source: str, F) -> dict:
