@@ -82,3 +82,25 @@ def test_the_verifier_ignores_provenance_but_not_its_form():
     c["provenance"] = ["not", "an", "object"]
     with pytest.raises(verify.CertificateError, match="provenance"):
         verify.verify(c)
+
+
+def test_the_reconstruction_script_wrote_the_shipped_provenance_and_changes_nothing_else(tmp_path):
+    import sys
+
+    sys.path.insert(0, str(ROOT / "research"))
+    try:
+        import provenance as P
+    finally:
+        sys.path.remove(str(ROOT / "research"))
+    for name in SHIPPED:
+        c = _load(name)
+        prov = c.pop("provenance")
+        if prov["recorded"] == P.RECORDED:
+            assert P.provenance(name, c) == prov, name
+    c = _load("horseshoe_fig5b.json")
+    del c["provenance"]
+    path = tmp_path / "horseshoe_fig5b.json"
+    path.write_text(json.dumps(c, indent=1))
+    assert P.add(path) and not P.add(path)
+    again = json.loads(path.read_text())
+    assert again.pop("provenance") == P.provenance(path.name, c) and again == c
