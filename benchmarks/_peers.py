@@ -3,7 +3,7 @@
 JiTCODE's compile_C runs setuptools in the current directory, and setuptools then reads the pyproject.toml it
 finds there.  Run from the repository root, that is magrod's own, whose `license = "MIT"` (PEP 639) the
 setuptools in a venv may reject ("`project.license` must be valid exactly by one definition"), and the peer
-benchmark crashed (issue 24).  Compiling inside an empty temporary directory makes the peer independent of
+benchmark crashed.  Compiling inside an empty temporary directory makes the peer independent of
 where the benchmark is run from; the compiled module stays loaded after the directory is gone.
 """
 from __future__ import annotations

@@ -1,10 +1,10 @@
-"""Benchmark (not a test): issue 18's panel, ensemble and diagram targets as ratios that hold on any machine
-(issue 28, item 5): batched lanes against the scalar path and against JiTCODE, each in one run.
+"""Benchmark (not a test): the batch targets (panels, ensemble, diagram) as ratios that hold on any machine:
+batched lanes against the scalar path and against JiTCODE, each in one run.
 
     python benchmarks/batch_ratios.py --json benchmarks/batch_ratios_w4.json
     MAGROD_BATCH_WIDTH=8 python benchmarks/batch_ratios.py --json benchmarks/batch_ratios_w8.json
 
-Jobs (issue 18's, benchmarks/batch_sections.py, and the one engine's):
+Jobs (those of benchmarks/batch_sections.py, and the one engine's):
   scaling   the 8 panels against 1 panel with two workers, in processes (the default) and in threads: the cost of 8
             panels in units of one, and the same points either way
   engine    the paper's rod through the one engine from body states (the path of every model) against its chart

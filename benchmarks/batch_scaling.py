@@ -1,9 +1,9 @@
-"""Benchmark (not a test): why two threads of batched lanes gain less than 2x (issue 28, item 5).
+"""Benchmark (not a test): why two threads of batched lanes gain less than 2x.
 
     python benchmarks/batch_scaling.py --json benchmarks/batch_scaling.json
     MAGROD_BATCH_WIDTH=8 python benchmarks/batch_scaling.py --json benchmarks/batch_scaling_w8.json
 
-The job is issue 18's ensemble: 64 orbits x 1000 section iterates on the Fig 4(a) level (the first 64 accessible
+The job is the batch benchmark's ensemble: 64 orbits x 1000 section iterates on the Fig 4(a) level (the first 64 accessible
 points of a 10 x 10 grid of starts), run by magrod/chaos/batch.py on 1 and on 2 threads, alternated, --repeat
 times.  The machine is shared, so wall time alone says little; every run also records, per worker thread
 (by wrapping batch._worker, batch.batch_section_integrator and the finish callback; batch.py is not changed):

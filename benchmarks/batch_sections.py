@@ -1,10 +1,10 @@
-"""Benchmark (not a test): batched Poincare sections, section portraits and orbit diagrams (issue 18).
+"""Benchmark (not a test): batched Poincare sections, section portraits and orbit diagrams.
 
     python benchmarks/batch_sections.py                 # every target, best of 3
     python benchmarks/batch_sections.py --only panels   # panels | ensemble | diagram | agreement
     python benchmarks/batch_sections.py --repeat 1 --json out.json
 
-Targets of issue 18 (wall time on this machine, warm JIT cache, heyoka's batch width hy.recommended_simd_size()):
+Targets (wall time on this machine, warm JIT cache, heyoka's batch width hy.recommended_simd_size()):
   panels     the 8 panels of Figs 4-5, 10 000 iterates each, 2 threads: batched lanes vs the scalar run_panels
              (what `magrod reproduce` runs), with max |Hbar - h| over all lanes
   ensemble   64 orbits x 1000 iterates on the Fig 4(a) level (starts of grid_starts on an 8 x 8 grid... the first 64

@@ -1,4 +1,4 @@
-"""Why the horseshoe verifications cost what they cost (issue 27, reproduce's +60 s): the accuracy-cost frontier of
+"""Why the horseshoe verifications cost what they cost (reproduce's +60 s): the accuracy-cost frontier of
 the validated integrator's centre ("thin") flights, which are ~70 % of the steps of every shipped horseshoe.
 
 The flight: one return of the section map from Fig 4(b)'s saddle x0 (fixed_point_fig4b.json; return time 5.13),

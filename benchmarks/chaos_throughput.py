@@ -1,4 +1,4 @@
-"""Benchmark (not a test): chaos-map throughput (issue 18) -- where the time of a map goes, how it grows with the
+"""Benchmark (not a test): chaos-map throughput -- where the time of a map goes, how it grows with the
 grid, with T and with the number of Dask workers, and the 128 x 128 map at T = 1000 against a run of the previous
 code (same classification of every point?).
 

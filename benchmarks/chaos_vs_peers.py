@@ -1,4 +1,4 @@
-"""Chaos indicators (issue 11): magrod vs peers, batch vs scalar, 1 vs 2 Dask workers, a 128 x 128 map.
+"""Chaos indicators: magrod vs peers, batch vs scalar, 1 vs 2 Dask workers, a 128 x 128 map.
 
     python benchmarks/chaos_vs_peers.py                  # everything except the 128 x 128 map
     python benchmarks/chaos_vs_peers.py --only map128    # the 128 x 128 map, t_max = 1000, 2 workers

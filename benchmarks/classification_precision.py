@@ -1,4 +1,4 @@
-"""Benchmark (not a test): work-precision of a chaos map's *classification* (issue 28, item 2).
+"""Benchmark (not a test): work-precision of a chaos map's *classification*.
 
     python benchmarks/classification_precision.py --n 128 --out benchmarks/classification_precision.json
     python benchmarks/classification_precision.py --plot benchmarks/classification_precision.json

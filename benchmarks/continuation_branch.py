@@ -1,4 +1,4 @@
-"""Benchmark (issue 13): wall time of a 200-point pseudo-arclength branch of the Fig 6 two-pulse orbit on
+"""Benchmark: wall time of a 200-point pseudo-arclength branch of the Fig 6 two-pulse orbit on
 mu = 2 lam, continued in m (long double variational shooting, eps = 1e-9).  Prints points, wall time, max
 residual and folds.  Not a test."""
 import time

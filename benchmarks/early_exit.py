@@ -1,4 +1,4 @@
-"""Benchmark (not a test): what the early exit of a chaos map saves, in one run (issue 28, item 2).
+"""Benchmark (not a test): what the early exit of a chaos map saves, in one run.
 
     python benchmarks/early_exit.py --json benchmarks/early_exit.json
 

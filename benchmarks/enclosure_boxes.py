@@ -1,4 +1,4 @@
-"""Benchmark (issue 20): the parameter-box theorem for S on the issue's box m in [1, 2.2], gamma in [0.25, 3],
+"""Benchmark: the parameter-box theorem for S on the box m in [1, 2.2], gamma in [0.25, 3],
 delta in [0.25, 3] (inside the saddle range: m_c = 2 sqrt(1.25) = 2.236 at gamma = 0.25), and the cost of one
 enclosure.  Prints the decided/undecided boxes, the statement proved, the wall time; writes the result as JSON
 (argument 1, default enclosure_boxes.json).  Not a test: tests/test_enclosure.py checks small boxes.

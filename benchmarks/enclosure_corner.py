@@ -1,5 +1,5 @@
-"""Benchmark (issue 27, item 5): the corner of the issue-20 box left undecided by the mean value form of
-box_theorem (benchmarks/enclosure_boxes.json: 3515 boxes in m in [1287/640, 11/5] x gamma in [1/4, 61/128], all
+"""Benchmark: the corner of the parameter box of benchmarks/enclosure_boxes.py left undecided by the mean value
+form of box_theorem (benchmarks/enclosure_boxes.json: 3515 boxes in m in [1287/640, 11/5] x gamma in [1/4, 61/128], all
 delta in [1/4, 3], next to m_c = 2 sqrt(1 + gamma)), run again with the second-order form (box_theorem(order=2)).
 Covers the bounding rectangle of those boxes, then reports which share of the old undecided set is now decided.
 Writes the result as JSON (argument 1, default enclosure_corner.json).  Not a test: tests/test_enclosure.py checks
@@ -43,7 +43,7 @@ g_rng = (min(b[1][0] for b in old_boxes), max(b[1][1] for b in old_boxes))
 d_rng = (min(b[2][0] for b in old_boxes), max(b[2][1] for b in old_boxes))
 if quick:
     m_rng, g_rng = (Fraction("2.011"), Fraction("2.05")), (Fraction("0.44"), g_rng[1])
-print("corner (bounding rectangle of the issue-20 undecided boxes):", m_rng, g_rng, d_rng)
+print("corner (bounding rectangle of the undecided boxes):", m_rng, g_rng, d_rng)
 
 CELLS = 4  # the bounding rectangle in 4 x 4 cells, each its own box_theorem run, recorded as it finishes
 # Minimum box width, absolute: 1e-3 of the corner's span in each direction (1.9e-4 in m, 2.3e-4 in gamma).  At

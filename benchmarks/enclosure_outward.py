@@ -1,6 +1,6 @@
-"""Issue 27: rewrite benchmarks/enclosure_boxes.json (the issue-20 run) with outward-rounded exact end points.
+"""Rewrite benchmarks/enclosure_boxes.json (the first run of enclosure_boxes.py) with outward-rounded exact end points.
 
-The issue-20 run stored S as Arb's string (4691 of the 4694 decided boxes read "[+/- x]", as if the ball contained
+That run stored S as Arb's string (4691 of the 4694 decided boxes read "[+/- x]", as if the ball contained
 0) and S_lo / S_hi as floats of Arb's end points, which are not bounds.  A float of an exact end point is within one
 ulp of it under any faithful rounding, so the float widened by two ulps outward *is* a bound; rounded outward to 12
 significant digits it is stored as an exact decimal string, and S becomes "[S_lo, S_hi]".  The decided signs come
@@ -55,7 +55,7 @@ for kind in ("decided", "undecided"):
                                       or (b["sign"] > 0 and Fraction(b["S_lo"]) > 0)):
             flipped += 1
 d.setdefault("notes", []).append(
-    "issue 27: S_lo, S_hi are exact decimal strings, the run's floats widened by two ulps outward and rounded outward "
+    "S_lo, S_hi are exact decimal strings, the run's floats widened by two ulps outward and rounded outward "
     "to 12 significant digits; S = [S_lo, S_hi] (was Arb's string, e.g. '[+/- 2.02]' for a ball in [-2.01, -0.23])")
 json.dump(d, open(path, "w"), indent=1)
 print(f"{path}: {len(d['decided'])} decided, {len(d['undecided'])} undecided converted; decided boxes whose widened "

@@ -1,4 +1,4 @@
-"""Benchmark (issue 20): wall time of the exact first-integral search with its four controls,
+"""Benchmark: wall time of the exact first-integral search with its four controls,
 `first_integral_search(D)` for D = 4, 5, 6 (the CLI `magrod check --integrals --degree D` adds ~1 s of start-up and
 SymPy for --subs parsing).  Prints per degree the wall time, the main regime's dimensions and whether the controls hold.
 Not a test (tests/test_first_integrals.py checks the contract at D = 4)."""

@@ -1,4 +1,4 @@
-"""Costs of the rod family (issue 26), measured in one run on this machine:
+"""Costs of the rod family, measured in one run on this machine:
 
   regenerate   the symbolic pipeline + code generation of one model (`python -m derive --model NAME`)
   search       the exact degree-4 first-integral search per model (target <= 30 s for a 6-D model), with a peer:

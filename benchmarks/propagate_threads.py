@@ -1,4 +1,4 @@
-"""Benchmark (not a test): the bare propagate loop of the section lanes on 1 and 2 threads (issue 28, item 5).
+"""Benchmark (not a test): the bare propagate loop of the section lanes on 1 and 2 threads.
 
     python benchmarks/propagate_threads.py ev       # section event: short calls (one crossing of any lane each)
     python benchmarks/propagate_threads.py noev     # no event: long calls (50 time units each)

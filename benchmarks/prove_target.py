@@ -1,5 +1,5 @@
 """Time the computer-assisted proof at the target (m, gamma, delta, mu, lam) = (1.7, 1, 1, 0.04, 0.01) and its
-verification (issue 21: <= 10 min on 2 cores), report the integrator's enclosure widths against time on the test
+verification (target: <= 10 min on 2 cores), report the integrator's enclosure widths against time on the test
 problems, and compare with codac's CtcLohner (if `pip install codac` is available) on the harmonic oscillator.
 
     python benchmarks/prove_target.py                 # everything (~3 min)

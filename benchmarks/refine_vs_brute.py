@@ -1,4 +1,4 @@
-"""Benchmark (not a test): adaptive (refined) chaos maps against the brute-force map, in one run (issue 28, item 3).
+"""Benchmark (not a test): adaptive (refined) chaos maps against the brute-force map, in one run.
 
     python benchmarks/refine_vs_brute.py --n 256 --t-max 1000 --levels 3 4 --out benchmarks/refine_vs_brute.json
     python benchmarks/refine_vs_brute.py --n 1024 --levels 4 --no-brute --out benchmarks/refine_1024.json

@@ -40,7 +40,7 @@ SMOKE = {
 
 # script -> why it has no smoke run here (the proofs' design and search scripts are in research/, research/README.md)
 NOT_SMOKED = {
-    "enclosure_corner": "the second-order box theorem on the issue-20 corner: ~0.8 s per box, a budget of 3600 boxes",
+    "enclosure_corner": "the second-order box theorem on the undecided corner: ~0.8 s per box, a budget of 3600 boxes",
     "centre_flight_frontier": "order x tolerance sweep of the validated centre flights, ~70 s; no tiny span yet",
     "reprove_fig4a_taylor_model": "re-proves Fig 4(a)'s horseshoe per integrator (~2 min of CPU each) and times its "
                                   "verification beside the shipped one's; no tiny span yet",

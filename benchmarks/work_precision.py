@@ -1,4 +1,4 @@
-"""Benchmark (not a test): work-precision diagrams of magrod against its peers, in one run on one machine (issue 18).
+"""Benchmark (not a test): work-precision diagrams of magrod against its peers, in one run on one machine.
 
     python benchmarks/work_precision.py                         # everything (scipy's sweep takes ~10 min)
     python benchmarks/work_precision.py --only sections --repeat 3 --json wp.json --png wp.png

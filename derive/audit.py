@@ -1,5 +1,5 @@
-"""Audit of the authors' Fortran (djps/homoclinic-orbits) against the derived equations, term by term (issue 20,
-item 5).  The transcription is a comparison target in derive/paper.py (djps_fortran_rhs); here its right-hand side is
+"""Audit of the authors' Fortran (djps/homoclinic-orbits) against the derived equations, term by term.
+The transcription is a comparison target in derive/paper.py (djps_fortran_rhs); here its right-hand side is
 compared with x' = J(lambda) grad H of derive/poisson.py under the parameter map (their names -> ours):
 
     force x1..x3 = m^2 n (their force is scaled by m^2: n3 = 1 on the straight rod), moment x4..x6 = m,

@@ -11,9 +11,9 @@ import sympy as sp
 
 from . import numeric_scale as ns
 from . import homoclinic, melnikov, poisson, reduction, splitting, symmetry
-from . import floquet  # issue 13
-from . import validated  # issue 21
-from . import audit, first_integrals, generic_splitting  # issue 20
+from . import floquet  # the saddle-type sets for mu != 2 lambdabar
+from . import validated  # the validated integrator's ball fields
+from . import audit, first_integrals, generic_splitting  # the rigorous and exact checks
 from .codegen import HeyokaPrinter, function_source, module_source
 from .model import X, phi, psi, theta
 from .paper import delta, gamma, lambar, m, mu, pps, pth
@@ -248,11 +248,11 @@ def all_results(pre: dict | None = None):
     results += part(homoclinic)
     results += part(melnikov)
     results += part(symmetry)
-    results += part(floquet)  # issue 13
-    results += part(splitting)  # issue 12
-    results += part(first_integrals)  # issue 20
-    results += part(generic_splitting)  # issue 20
-    results += part(audit)  # issue 20: the authors' Fortran
+    results += part(floquet)
+    results += part(splitting)
+    results += part(first_integrals)
+    results += part(generic_splitting)
+    results += part(audit)  # the authors' Fortran
     return results, {}
 
 
@@ -319,18 +319,18 @@ def build(out_dir: Path, verbose=True, workers: int = 2) -> dict:
     files["body.py"] = src
     for k in ("integrals.py", "model_report.json", "model_report.md"):
         files[k] = pm[k]
-    files["validated.py"] = validated.module(red, bod)  # issue 21
+    files["validated.py"] = validated.module(red, bod)
     files["homoclinic.py"] = homoclinic.module()
     files["melnikov.py"] = melnikov.module()
     files["symmetry.py"] = symmetry.module()
-    files["floquet.py"] = floquet.module()  # issue 13
-    files["splitting.py"] = splitting.module()  # issue 12
-    files["first_integrals.py"] = first_integrals.module()  # issue 20: exact first-integral search data
+    files["floquet.py"] = floquet.module()
+    files["splitting.py"] = splitting.module()
+    files["first_integrals.py"] = first_integrals.module()  # exact first-integral search data
     # the rest of the other results are derived here while the second process works
     pre = {}
     if later is None:
-        files["splitting_ball.py"] = splitting.ball_module()  # issue 20: S in ball arithmetic
-        files["generic_splitting.py"] = generic_splitting.ball_module()  # issue 20: the a > 2b coefficient
+        files["splitting_ball.py"] = splitting.ball_module()  # S in ball arithmetic
+        files["generic_splitting.py"] = generic_splitting.ball_module()  # the a > 2b coefficient
     else:
         pre = {"melnikov": melnikov.derive_all(), "generic_splitting": generic_splitting.derive_all(),
                "poisson": poisson.derive_all(), "reduction": reduction.derive_all()}
@@ -346,7 +346,7 @@ def build(out_dir: Path, verbose=True, workers: int = 2) -> dict:
     files["names.py"] = names_module(pm["names"])
     files["scalars.py"] = scalars_module()
     results, _ = all_results(pre)
-    results += validated.derive_all(red, bod)  # issue 21
+    results += validated.derive_all(red, bod)
     files["report.json"] = json.dumps({"results": [r.as_dict() for r in results]}, indent=1, sort_keys=True,
                                       default=str) + "\n"
     files["report.md"] = report_markdown(results)
@@ -364,7 +364,7 @@ def build(out_dir: Path, verbose=True, workers: int = 2) -> dict:
 
 
 # --------------------------------------------------------------------------------------------------------------
-# the model family (issue 26): generated/models/<ident>/ per registered model
+# the model family: generated/models/<ident>/ per registered model
 # --------------------------------------------------------------------------------------------------------------
 def models_files(names=None, verbose=False) -> dict:
     """{relative path under generated/: text} for the registered models (all, or `names`), plus

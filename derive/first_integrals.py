@@ -1,4 +1,4 @@
-"""Data for the exact search for polynomial first integrals (issue 20, item 4; magrod/integrability/
+"""Data for the exact search for polynomial first integrals (magrod/integrability/
 first_integrals.py, `magrod check --integrals`).
 
 The search solves {F, H} = grad F . J(x; lambda) grad H = 0 for polynomials F in the 9 body variables

@@ -1,4 +1,4 @@
-"""The saddle-type sets for mu != 2 lambdabar and their linear stability (issue 13; paper sec. 3 and 8).
+"""The saddle-type sets for mu != 2 lambdabar and their linear stability (paper sec. 3 and 8).
 
 * Rotation generator.  xi = d/da G_a at a = 0, with G_a = diag(rot3(a), rot3(a), rot3(a)) the rotations about
   the body 3-axis (derive/symmetry.py).  A relative equilibrium x(t) = G_{omega t} x0 solves f(x0) = omega xi x0;

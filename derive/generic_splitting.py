@@ -1,5 +1,5 @@
 """The splitting for a > 2b (mu > 2 lambdabar: the tilted saddle-focus) and one leading-order picture of W^u on
-Sigma for all a >= 2b, derived (issue 20, item 2; docs/nonintegrability.md).
+Sigma for all a >= 2b, derived (docs/nonintegrability.md).
 
 Result.  With nu = mu - 2 lambdabar (= (a - 2b) eps^2 along eq:condition_unperturbed_1) and S the integral of
 derive/splitting.py (report entry splitting_leading_term):
@@ -252,5 +252,5 @@ def ball_module() -> str:
                             "W_y(tau/kappa)/kappa: Int_R W_y dt = -2 m^2 S (report entry generic_exact_derivative); "
                             "real arguments only (no analyticity guard)."),
     ]
-    return module_source("Ball code for the a > 2b splitting coefficient (issue 20).", "generic_splitting.py", parts,
+    return module_source("Ball code for the a > 2b splitting coefficient.", "generic_splitting.py", parts,
                          lib="arb")

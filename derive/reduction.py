@@ -172,7 +172,7 @@ def i2_canonical():
 
 
 def s1_descent() -> Result:
-    """The S^1-descent of integrals in involution with m3 (issue 27; docs/nonintegrability.md, statement 7).
+    """The S^1-descent of integrals in involution with m3 (docs/nonintegrability.md, statement 7).
 
     Shown here, symbolically: (a) m3 pulled back by X is p_phi; (b) the phi-flow of the chart is the flow of m3,
     dX/dphi = J(X) grad m3 (all 9 components, trig normal form with rho^2 reduced); (c) the isotropic H pulled back

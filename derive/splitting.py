@@ -1,5 +1,5 @@
 """The leading term of the splitting of the separatrix of the straight rod at mu = 2 lambdabar (a = 2b in
-eq:condition_unperturbed_1), derived (issue 12, item 3; docs/nonintegrability.md).
+eq:condition_unperturbed_1), derived (docs/nonintegrability.md).
 
 Idea.  On mu = 2 lambdabar the radicand of eq:full_ham_nondim is mu - 2 lambdabar pbar_psi = 2 lambdabar (1 - pbar_psi),
 so 1 - pbar_psi is an action whose angle is psi, and the transverse force rho = sqrt(2 lambdabar (1 - pbar_psi)) is
@@ -214,12 +214,12 @@ def module() -> str:
         "leading_integrand", ["theta", "ptheta", "Psi", "m", "gamma", "delta"], integrand_grouped(), pr,
         "N with psi_u = lambdabar Int_0^inf N dt / tan(theta_t/2) + O(lambdabar^2) at mu = 2 lambdabar, along the "
         "lambdabar = 0 homoclinic orbit (Psi' = 1/(1 + cos theta), Psi(0) = 0 at the turning point).")]
-    return module_source("Leading term of the separatrix splitting at mu = 2 lambdabar (issue 12).", "splitting.py",
+    return module_source("Leading term of the separatrix splitting at mu = 2 lambdabar.", "splitting.py",
                          parts)
 
 
 # ==============================================================================================================
-# Issue 20: S rigorously.  The phase in closed form, the integrand in a form without cancellation, ball code.
+# S rigorously.  The phase in closed form, the integrand in a form without cancellation, ball code.
 # ==============================================================================================================
 # Along the regular closed form (derive/homoclinic.py, regular_closed_form) put
 #     s = sin(theta0/2) = A sech(kappa t)/sqrt(D),  c = cos(theta0/2) = sqrt(1 - s^2),  TH = tanh(kappa t),
@@ -373,7 +373,7 @@ def s_form_checks(n=60, seed=20):
     mono = sp.simplify(d4 + A2 * (1 - om) / (1 - om * TT) ** 2) == 0
     Tt = sp.symbols("T_t", positive=True)
     d5 = sp.simplify((sp.diff(2 / kp * sp.atan(sp.exp(-kp * Tt)), Tt) + 1 / sp.cosh(kp * Tt)).rewrite(sp.exp))
-    # numeric: against the integrand of issue 12 on the regular closed form
+    # numeric: against the leading-term integrand on the regular closed form
     up, omk, kap = homoclinic.regular_constants()
     th0, pt0 = homoclinic.regular_closed_form(t_, up, omk, kap)[:2]
     Psi_q = sp.Symbol("Psi_q")
@@ -476,5 +476,5 @@ def ball_module(nr=None, ni=None, gradient=True) -> str:
                             "tan(theta_t/2) at the turning point (psi_u = lambdabar S/tan(theta_t/2))."),
     ]
     return module_source("Ball-arithmetic (python-flint arb/acb) code for the splitting integral S at mu = 2 "
-                         "lambdabar (issue 20).", "splitting.py", parts,
+                         "lambdabar.", "splitting.py", parts,
                          {"BRANCH_KINDS": tuple(k for k, _ in branches)}, lib="arb")

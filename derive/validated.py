@@ -1,4 +1,4 @@
-"""Ball-arithmetic vector fields for the validated (computer-assisted) integrator of magrod.proof (issue 21).
+"""Ball-arithmetic vector fields for the validated (computer-assisted) integrator of magrod.proof.
 
 What is generated (generated/validated.py, python-flint source printed by codegen.BallPrinter):
   * the reduced chart field f(x) of Hbar, x = (theta, psi, pbar_theta, pbar_psi)  (Hamilton's equations, the same

@@ -1,4 +1,4 @@
-"""Issue 27, item 3 (Fig 4, proved): the floating-point search that a horseshoe proof on h = 0.9 starts from, and a
+"""Fig 4 (proved): the floating-point search that a horseshoe proof on h = 0.9 starts from, and a
 measurement of the validated integrator on the section map.  Numerical (float64) except where stated; not a proof.
 
 For each Fig 4 lambdabar (m = 1.7, mu = 0.4, gamma = delta = 3, Hbar = 0.9, the section sin psi = 0 crossed with

@@ -1,4 +1,4 @@
-"""Issue 27, Fig 4(a) on h = 9/10: how far the validated flight gets towards a transverse homoclinic point of the
+"""Fig 4(a) on h = 9/10: how far the validated flight gets towards a transverse homoclinic point of the
 section map's saddle x0 (statement 11).  Measurements, not a proof.
 
 1. DP over a box N = x0 + T([-rho, rho]^2) (T = [e_u, e_s], the float eigenvectors of DP(x0) from the certificate's

@@ -1,4 +1,4 @@
-"""Issue 27 item 3, Fig 4(a) on h = 9/10: the float design of a covering-relation horseshoe (Zgliczynski & Gidea
+"""Fig 4(a) on h = 9/10: the float design of a covering-relation horseshoe (Zgliczynski & Gidea
 2004) along the homoclinic orbit of the saddle x0 of the section map P (statement 11).  Numerical (float64 heyoka,
 reduced chart, tol 1e-15); it chooses the sets that magrod/proof/horseshoe.py then proves, and reports the float
 margins of the covering conditions per link.  Not a proof.

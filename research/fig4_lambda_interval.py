@@ -1,4 +1,4 @@
-"""Issue 27 / statement 11 over a lambdabar interval at Fig 4(a) (h = 9/10): adjacent lambdabar boxes
+"""Statement 11 over a lambdabar interval at Fig 4(a) (h = 9/10): adjacent lambdabar boxes
 [c_i - w, c_i + w], c_i = 27/200 + 2 i w (i = -n .. n), each proved by `periodic.prove` with lambdabar carried as a
 state variable (fields.lam_state_field) and re-checked by the complete verifier; their union is
 [27/200 - (2n + 1) w, 27/200 + (2n + 1) w].  Writes each certificate to DIR and a summary (widths, costs).

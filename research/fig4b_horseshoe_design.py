@@ -1,4 +1,4 @@
-"""Issue 27 item 3, Fig 4(b) on h = 9/10: the float design of the covering-relation horseshoe of
+"""Fig 4(b) on h = 9/10: the float design of the covering-relation horseshoe of
 magrod/proof/horseshoe.py, with 4-D states (the excursion visits the psi = pi branch of Sigma+ at returns 12-14, which
 the 2-D design of research/fig4_horseshoe_design.py cannot follow).  Numerical (float64 heyoka, reduced chart, tol
 1e-15); it chooses the geometry that the prover then proves, and reports per link the linear margins of the covering

@@ -1,4 +1,4 @@
-"""Issue 27 item 3 at Fig 4(c) (lambdabar = 7/40, h = 9/10): the float search and the float design of a
+"""Fig 4(c) (lambdabar = 7/40, h = 9/10): the float search and the float design of a
 covering-relation horseshoe around a symmetric PERIODIC orbit of the section map (P has no hyperbolic fixed point
 there).  Numerical (float64 heyoka, reduced chart, tol 1e-15): it chooses the geometry a prover would prove.  Not a
 proof.

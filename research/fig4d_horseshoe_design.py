@@ -1,4 +1,4 @@
-"""Issue 27 item 3 at Fig 4(d) (lambdabar = 93/500, h = 9/10, the panel the paper's indicator calls regular): the
+"""Fig 4(d) (lambdabar = 93/500, h = 9/10, the panel the paper's indicator calls regular): the
 float search for the homoclinic point of the section saddle x0 of statement 11 (fixed_point_fig4d.json, psi = 0,
 |mu_u(DP)| = 1.615, return time 3.19) and the float design of the covering-relation horseshoe along it
 (magrod/proof/horseshoe.py, design "fig4d").  Numerical (float64 heyoka, reduced chart, tol 1e-15); it chooses the

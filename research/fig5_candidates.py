@@ -1,4 +1,4 @@
-"""Issue 27, item 4 (the paper's conjecture, sec. 9): the floating-point search that a horseshoe proof on Fig 5's
+"""The paper's conjecture (sec. 9): the floating-point search that a horseshoe proof on Fig 5's
 own level starts from.  Numerical (float64 heyoka, reduced chart, tol 1e-15); it only chooses where the provers
 look.  Not a proof.
 

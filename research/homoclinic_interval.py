@@ -1,7 +1,7 @@
 """How wide a lambdabar interval the homoclinic proof of statement 5 carries (lambdabar a parameter ball in every
 enclosure: magrod.proof.search.interval_params / interval_proof_settings; `magrod prove --lam-rad W`).
 
-For each half-width W at the issue-21 target (m, mu, gamma, delta, lambdabar) = (17/10, 1/25, 1, 1, 1/100): prove
+For each half-width W at the target (m, mu, gamma, delta, lambdabar) = (17/10, 1/25, 1, 1, 1/100): prove
 (both targets psi = 0, pi), and record the outcome, the first check that fails, the phase arc the prover settled on,
 the interval Newton radius in the phase and the dtheta_u/dpsi balls; then verify the certificate that proves.  The
 numbers behind statement 5's interval sentence (docs/nonintegrability.md) and behind the shipped

@@ -1,4 +1,4 @@
-"""Where a horseshoe certificate's covering margin (a') goes (issue 27: Fig 5(b)'s thin N8 => N9 margin).
+"""Where a horseshoe certificate's covering margin (a') goes (Fig 5(b)'s thin N8 => N9 margin).
 
 For every link N_i => N_j and piece X of N_i, the image in N_j's coordinates is enclosed by the mean-value form
 (horseshoe.image_in)

@@ -123,7 +123,13 @@ BATTERY = [
     (["saddle", "--model", "nosuch"], "model", 2),
     (["explore", "--model", "nosuch"], "model", 2),
     (["explore", "--model", "kirchhoff", "--panel", "4a"], "panel", 2),
-    (["continue", "--model", "kirchhoff"], "model", 2),
+    (["figure", "2", "--model", "kirchhoff"], "model", 2),  # the paper's own figures
+    (["continue", "--model", "kirchhoff"], "free", 2),  # another model: its continuation parameter is required
+    (["continue", "--model", "kirchhoff", "--free", "B", "--mu2lam"], "mu2lam", 2),
+    (["splitting", "--model", "kirchhoff"], "model", 2),  # no small parameter: named
+    (["homoclinic", "--model", "kirchhoff", "--m", "1.7"], "m", 2),
+    (["orbitdiagram", "--model", "kirchhoff", "--parameter", "lam", "--values", "1,2"], "parameter", 2),
+    (["rod", "--from", "x.npz", "--model", "kirchhoff"], "from", 2),
     # --- homoclinic
     (["homoclinic", "--m", "3", "--gamma", "1"], "m", 2),
     (["homoclinic", "--m", "1.7", "--gamma", "-1"], "gamma", 2),

@@ -53,7 +53,7 @@ def test_api_reference_covers_the_public_names(site):
     assert "Parameters" in html and "Examples" in html and "Raises" in html
 
 
-# what reST looks like when a page shows it instead of rendering it (issue 29: autodoc output inside a MyST page)
+# what reST looks like when a page shows it instead of rendering it (autodoc output inside a MyST page)
 RAW_REST = (".. py:", ":Parameters:", ":Returns:", "!! processed by numpydoc", ":module:", ".. autofunction",
             ".. autoclass")
 
@@ -258,15 +258,19 @@ def test_mathematics_is_rendered_as_mathematics(site):
     """The manifolds' names and exponentials are typeset ($W^u$ through myst's dollar math and MathJax), not shown
     as ASCII: the splitting page has math elements, and no prose of the theory pages outside code says W^u or W^s.
     Seen to fail before the conversion (112 ASCII occurrences, no math element).  The statements' own text
-    (theory/theorems, rendered from magrod/proof/statements.py) is left to its source."""
+    (theory/theorems, rendered from magrod/proof/statements.py) too: its math elements are MathJax's, and no
+    TeX escape leaked into its prose."""
     soup = bs4.BeautifulSoup((site / "theory" / "splitting.html").read_text(), "html.parser")
     assert len(soup.select("span.math")) >= 10
-    for name in ("splitting", "proof", "fig4-level", "fig5-level", "remains"):
+    for name in ("splitting", "theorems", "proof", "fig4-level", "fig5-level", "remains"):
         soup = bs4.BeautifulSoup((site / "theory" / f"{name}.html").read_text(), "html.parser")
         art = soup.select_one("article")
+        if name == "theorems":
+            assert len(art.select("span.math")) >= 100
         for code in art.select("code, pre, span.math, div.math"):
             code.decompose()
         assert not re.search(r"\bW\^[us]\b", art.get_text()), name
+        assert not re.search(r"\\(bar|lambda|mu|theta|psi|in|neq|Rightarrow)\b", art.get_text()), name
 
 
 def test_api_page_opens_with_a_summary_table(site):

@@ -1,4 +1,4 @@
-"""The registry of rod models (issue 26): one module per model, entered once (state, W or H, J, parameters with
+"""The registry of rod models: one module per model, entered once (state, W or H, J, parameters with
 meaning and range, source); derive/models/pipeline.py derives everything else and writes generated/models/<name>/.
 
 The paper's rod (`magnetic-extensible`) is the default; its own pipeline (derive/model.py -> generated/) is

@@ -1,4 +1,4 @@
-"""Why the heavy rod is not in the registry (issue 26; [Gottlieb99]: gravity destroys integrability).
+"""Why the heavy rod is not in the registry ([Gottlieb99]: gravity destroys integrability).
 
 The heavy rod's body-frame equations (isotropic, inextensible; e3 = the body components of the vertical, rho g
 the weight per length):

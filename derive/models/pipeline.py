@@ -1,4 +1,4 @@
-"""The symbolic pipeline for any registered or user model (issue 26): from the model's state, W or H and J
+"""The symbolic pipeline for any registered or user model: from the model's state, W or H and J
 (derive/models/spec.py) to its derivation report and its generated modules under generated/models/<name>/.
 
 Derived, never typed in:

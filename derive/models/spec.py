@@ -1,5 +1,5 @@
 """What a rod model is, for the pipeline: the data entered once per model, and the checks that make a model file
-acceptable (issue 26).
+acceptable.
 
 A model is a Python module (one per model in derive/models/, or the user's own file, see docs/models.md) that
 defines, with SymPy:

@@ -1,5 +1,5 @@
 """Many Poincare sections at once: the lanes of heyoka's SIMD batch integrator, refilled as orbits finish, on all
-cores (issue 18).  Numerics only; `magrod.chaos.section.poincare_section` is the public face (it builds the
+cores.  Numerics only; `magrod.chaos.section.poincare_section` is the public face (it builds the
 orbits, section._Orbit: the crossing handling and the assembly every section loop shares; this module runs them
 in lanes).
 

@@ -31,7 +31,7 @@ INDICATOR_FIELDS = (
 # ... and what a map adds per grid point
 MAP_EXTRA_FIELDS = (Field("p_psi0", "1", "start pbar_psi (root of Hbar = h)"),)
 
-# ... and what a map with early exit adds per grid point (issue 28; magrod.chaos.indicators.tangent_indicators)
+# ... and what a map with early exit adds per grid point (magrod.chaos.indicators.tangent_indicators)
 EXIT_FIELDS = (Field("exit_time", "1/length (scaled arclength of eq:nondim_1)",
                      "time the orbit's integration stopped: T, or the first sample time t_e >= T/2 at which "
                      "(FLI(t_e) - FLI(T/2))/ln 2 exceeded the exit level (then lyap = L(t_e)/t_e, fli and the "

@@ -1,5 +1,5 @@
 """Chaos indicators from the tangent (variational) equations, and chaos maps over parameter planes and sections
-(issue 11).  Numerics only: result objects out, no plotting, no files.
+Numerics only: result objects out, no plotting, no files.
 
 Public API
 ----------
@@ -54,7 +54,7 @@ from ..core.tolerances import DRIFT_LIMIT
 from .fields import KEYS
 
 GROWTH_THRESHOLD = 3.0
-# Early exit (issue 28): an orbit stops at the first sample time t_k >= T/2 at which its growth exponent so far,
+# Early exit: an orbit stops at the first sample time t_k >= T/2 at which its growth exponent so far,
 # (max_{t_j <= t_k} L(t_j) - FLI(T/2))/ln 2, exceeds the classification threshold by EXIT_MARGIN.  The margin is
 # not what makes the class safe (the running maximum never decreases, so the full-T growth exponent is at least the
 # value at the exit: chaotic stays chaotic for any threshold up to the exit level); it makes the exited orbit's
@@ -89,7 +89,7 @@ class Indicators:
     renorm_dt: float
     # with history=True: ln |w(t_k)| (N, K) at the renormalisation times t_k = k renorm_dt, k = 1..K
     log_growth: np.ndarray | None = None
-    # with exit_above (early exit, issue 28): the time each orbit stopped, t_max or an earlier sample time (NaN
+    # with exit_above (early exit): the time each orbit stopped, t_max or an earlier sample time (NaN
     # where status != OK); see tangent_indicators
     exit_time: np.ndarray | None = None
 

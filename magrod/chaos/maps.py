@@ -1,4 +1,4 @@
-"""Chaos maps: indicators over a parameter plane or a section, tile by tile (issue 11).
+"""Chaos maps: indicators over a parameter plane or a section, tile by tile.
 
 A map is a `MapSpec` (two `Axis` objects, the base values of every other parameter and start value, tolerances);
 it is cut into tiles (one Dask task and one zarr chunk each, magrod/store/tiles.py); `compute_tile` is a pure
@@ -53,7 +53,7 @@ DEFAULT_TILE = 16
 
 
 MAX_AXIS_POINTS = 4096  # 4096^2 orbits at ~5 ms each is a day on 2 cores: the largest map worth refusing later
-# Bounds that make a map finish (issue 17).  Cost per orbit: COST_PER_TIME per unit of T (the tangent system in
+# Bounds that make a map finish.  Cost per orbit: COST_PER_TIME per unit of T (the tangent system in
 # SIMD batches, benchmarks/README.md: 5.6 us at T = 2000, batch mode) plus COST_PER_START for the energy root
 # (magrod.chaos.indicators: ~1.3 ms).  A map whose estimated wall time on its workers exceeds MAX_WALL_HOURS is
 # refused with the estimate; so is a renormalisation interval below T / MAX_RENORMALISATIONS (each one is a
@@ -201,7 +201,7 @@ class MapSpec:
     def to_dict(self) -> dict:
         d = asdict(self)
         d["base"] = {k: float(v) for k, v in sorted(self.base.items())}
-        if not self.refine:  # a brute-force map's dict (and so its store identity) is what it was before issue 28
+        if not self.refine:  # a brute-force map's dict (and so its store identity) is what it was before refinement existed
             for k in REFINE_KEYS:
                 d.pop(k)
         if not self.early_exit:  # likewise without early exit
@@ -734,7 +734,7 @@ def compute_map(spec: MapSpec, *, progress=None, client=None) -> ChaosMap:
 def check_fields(fields) -> str | None:
     """Why a map's fields are not a result (None if they are): no point computed, or points marked ok without
     finite indicators (what the workers wrote is inconsistent).  The one validity check of every map, in memory or
-    from a store (until issue 25 the second half lived in the command line only)."""
+    from a store."""
     status = np.asarray(fields["status"])
     ok = status == OK
     if not ok.any():
@@ -986,7 +986,7 @@ def variable_attrs(name: str) -> dict:
     attrs = {"units": UNITS[name], "long_name": LONG[name]}
     if name == "status":
         attrs.update({"flag_values": list(REASONS), "flag_meanings": " ".join(REASONS.values())})
-    if name == "inferred":  # a refined map's (issue 28)
+    if name == "inferred":  # a refined map's
         attrs.update({"flag_values": [0, 1], "flag_meanings": "computed inferred"})
     return attrs
 

@@ -1,4 +1,4 @@
-"""Many orbits at once (issue 18): a section portrait of one energy level, and an orbit diagram (section points
+"""Many orbits at once: a section portrait of one energy level, and an orbit diagram (section points
 against a parameter).  Numerics only: result objects out; drawing in magrod/figures/portrait.py.
 
 section_portrait(params, h, starts=..., iterates=1000, indicator="growth_exponent") -> SectionPortrait
@@ -558,7 +558,7 @@ def orbit_diagram(system=None, parameter=None, values=None, *, base=_UNSET, h=No
                                (name, float(x))))
         else:
             raise ParameterError("parameter", f"params_fn must return a RodParams or a Panel, got {type(p).__name__}")
-    # a value whose start is not on the level (no energy root) is marked, not raised (issue 25): the package's own
+    # a value whose start is not on the level (no energy root) is marked, not raised: the package's own
     # figure draws those values as a grey band, and a scan through them is what a researcher asks for
     def has_no_root(P) -> bool:
         try:

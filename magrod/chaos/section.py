@@ -51,7 +51,7 @@ Cost (float64, tol = eps, one core): ~0.2 ms per iterate in the body frame, ~0.5
 the 8 paper panels (80 000 iterates) take ~8-12 s wall on 2 cores with a warm JIT cache (benchmarks/).  The first
 process compiles each integrator (~1 s), later processes load it from heyoka's on-disk cache.  Many starts run in
 the SIMD lanes of heyoka's batch integrator (magrod/chaos/batch.py): the 8 panels 2.7-3.0x faster than with
-`run_panels` in the same run (benchmarks/README.md, issue 18).
+`run_panels` in the same run (benchmarks/README.md).
 """
 from __future__ import annotations
 
@@ -288,7 +288,7 @@ class PoincareResult(Result):
     final_time: float
     n_frame_switches: int
     wall_s: float
-    precision: Precision = Precision.DOUBLE  # the arithmetic of the integration (issue 25: Precision all the way down)
+    precision: Precision = Precision.DOUBLE  # the arithmetic of the integration (one Precision, all the way down)
     extra: dict = field(default_factory=dict)
     stretch: dict | None = None  # the axial stretch sampled along the run (stretch_dt); summary only, not arrays()
     retried_without_jit_cache: bool = False  # verify=True repeated the run with freshly compiled code
@@ -299,7 +299,7 @@ class PoincareResult(Result):
 
     @property
     def fp_type(self) -> str:
-        """Deprecated (issue 25; goes away in the next release): the numpy name of the precision's number type
+        """Deprecated (goes away in the next release): the numpy name of the precision's number type
         ("float64", "longdouble"); use `precision`."""
         import warnings
 
@@ -407,7 +407,7 @@ def resolve_start(params, h=None, theta0=None, ptheta0=None, psi0=None, p_psi0=N
 
 
 # ----------------------------------------------------------------------------------------------------------
-# a start and the options of a run: the values every section loop consumes (issue 25: one section loop)
+# a start and the options of a run: the values the one section loop consumes
 # ----------------------------------------------------------------------------------------------------------
 @dataclass(frozen=True, eq=False)
 class SectionStart:
@@ -869,7 +869,7 @@ def poincare_section(system=None, h=None, theta0=None, ptheta0=None, psi0=None, 
     if _is_many(params, theta0, ptheta0, psi0, starts):
         import warnings
 
-        # one return type per function (issue 25): many orbits are poincare_sections' (a list, always)
+        # one return type per function: many orbits are poincare_sections' (a list, always)
         warnings.warn("poincare_section with many orbits (a list of systems, arrays of starts or `starts`) returns "
                       "a list: call magrod.poincare_sections instead (this form of poincare_section goes away in "
                       "the next release)", DeprecationWarning, stacklevel=2)

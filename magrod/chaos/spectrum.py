@@ -1,4 +1,4 @@
-"""The Lyapunov spectrum and the GALI indices of one orbit (issue 28, item 4): `lyapunov_spectrum`, `gali`.
+"""The Lyapunov spectrum and the GALI indices of one orbit: `lyapunov_spectrum`, `gali`.
 
 Both integrate the full first-order variational system x' = f(x), Phi' = Df(x) Phi of the singularity-free body
 frame (9-D, generated/body.py; built by magrod.core.systems.variational_integrator, sensitivities w.r.t. the state

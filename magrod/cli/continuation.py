@@ -3,12 +3,15 @@
 Two kinds of branches:
   generic   (mu > 2 lam) orbits to the periodic saddle, unknowns (T, launch angle, --free), --pulses N
   --mu2lam  codimension-one orbits of the straight rod on mu = 2 lam: a curve in the (lam, --second) plane
-Writes branch.npz + branch.json (+ bifurcation diagram PNG) into --out."""
+Any other model (--model NAME|FILE.py [--model-params ...]): its symmetric N-pulse homoclinic orbit to the straight
+twisted rod (N = 1: `mr.homoclinic_orbit`; N > 1: the first of `mr.multipulse_orbits`), or with --equilibria its
+straight rod (`mr.saddle`), continued in --free (any of the model's parameters), with folds.
+Writes <stem>.npz + <stem>.json (+ bifurcation diagram PNG) into --out."""
 from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..generated.names import PARAMS
-from .options import LIMITS, add_out, integer, number, out_dir, params_from
+from .options import LIMITS, add_model, add_out, integer, is_paper_model, number, out_dir, params_from
 
 START = dict(m=1.7, mu=0.0021, gamma=1.0, delta=1.0, lam=0.001)  # near Fig 6, generic side mu > 2 lam
 
@@ -16,11 +19,17 @@ START = dict(m=1.7, mu=0.0021, gamma=1.0, delta=1.0, lam=0.001)  # near Fig 6, g
 def add_arguments(p):
     for k in PARAMS:
         p.add_argument(f"--{k}", default=None, help=f"{k} at the start of the branch (default {START[k]})")
-    p.add_argument("--pulses", default="1", help="number of pulses N >= 1")
-    p.add_argument("--free", default="mu", choices=PARAMS, help="continuation parameter (generic case)")
+    p.add_argument("--pulses", default=None, help="number of pulses N >= 1 (default 1)")
+    p.add_argument("--free", default=None,
+                   help=f"continuation parameter: the paper's rod's generic case {', '.join(PARAMS)} (default mu); "
+                        "another model: any of its parameters (required)")
     p.add_argument("--mu2lam", action="store_true", help="continue codimension-one orbits on mu = 2 lam in (lam, --second)")
-    p.add_argument("--second", default="m", choices=tuple(k for k in PARAMS if k not in ("mu", "lam")),
-                   help="second parameter on mu = 2 lam")
+    p.add_argument("--second", default=None, choices=tuple(k for k in PARAMS if k not in ("mu", "lam")),
+                   help="second parameter on mu = 2 lam (default m)")
+    p.add_argument("--equilibria", action="store_true",
+                   help="another model: continue its straight twisted rod (an equilibrium on its leaf) instead of "
+                        "its homoclinic orbit")
+    add_model(p, help="the rod model: a registered name (`magrod models`) or a model file (default: the paper's rod)")
     p.add_argument("--steps", default="40", help="continuation steps")
     p.add_argument("--ds", default="0.1", help="initial scaled arclength step, in (0, 1]")
     p.add_argument("--direction", type=int, default=1, choices=(-1, 1), help="initial direction in the parameter")
@@ -57,11 +66,24 @@ def run(args) -> dict:
     from ..core.params import RodParams
     from ..core.progress import bar
 
-    N = integer("pulses", args.pulses, maximum=LIMITS["max_pulses"])
     steps = integer("steps", args.steps, maximum=10_000)
     ds = number("ds", args.ds)
     if not (0 < ds <= 1):
         raise ParameterError("ds", f"must be in (0, 1], got {ds}")
+    if not is_paper_model(args.model):
+        return _model_run(args, steps, ds)
+    if args.model_params:
+        raise ParameterError("model_params", "needs --model (the paper's rod takes --m --mu --gamma --delta --lam)")
+    if args.equilibria:
+        raise ParameterError("equilibria", "continues another model's straight rod; the paper's rod's straight rod "
+                                           "(mu = 2 lam) is continued with its orbits: --mu2lam")
+    N = integer("pulses", "1" if args.pulses is None else args.pulses, maximum=LIMITS["max_pulses"])
+    args.free = "mu" if args.free is None else args.free
+    if args.free not in PARAMS:
+        raise ParameterError("free", f"must be one of {', '.join(PARAMS)}, got {args.free!r}")
+    if args.second is not None and not args.mu2lam:
+        raise ParameterError("second", "is the second parameter on mu = 2 lam: give --mu2lam too")
+    args.second = "m" if args.second is None else args.second
     vals = params_from(args, START)
     if args.mu2lam:
         if args.mu is not None:
@@ -109,9 +131,85 @@ def run(args) -> dict:
     return meta
 
 
+def _model_run(args, steps: int, ds: float) -> dict:
+    """Another model: its symmetric N-pulse orbit (or, --equilibria, its straight rod) continued in --free by
+    mr.continue_branch, the branch's evidence, and its files."""
+    import time
+
+    import numpy as np
+
+    import magrod as mr
+
+    from ..figures.continuation import write_branch
+    from ..orbits import fold_summary
+    from .modelrun import refuse
+    from .options import system_from
+
+    system, _ = system_from(args)
+    refuse(args, PARAMS, system.model, "is a parameter of the paper's rod (the model's: --model-params)")
+    refuse(args, ("mu2lam", "second", "allow_boundary"), system.model, "belongs to the paper's rod's branches")
+    if args.free is None:
+        raise ParameterError("free", f"missing: the continuation parameter, one of the parameters of the model "
+                                     f"{system.model!r}: {', '.join(system.names)}")
+    if args.free not in system.names:
+        raise ParameterError("free", f"must be a parameter of the model {system.model!r} ({', '.join(system.names)}), "
+                                     f"got {args.free!r}")
+    if args.equilibria and args.pulses is not None:
+        raise ParameterError("pulses", "counts the pulses of a homoclinic orbit: --equilibria continues the straight "
+                                       "rod")
+    N = integer("pulses", "1" if args.pulses is None else args.pulses, maximum=LIMITS["max_pulses"])
+    bounds = None
+    if args.range is not None:
+        lo, hi = (number("range", v) for v in args.range)
+        if not lo < hi:
+            raise ParameterError("range", f"need LO < HI, got {lo} {hi}")
+        bounds = (lo, hi)
+    out = out_dir("out", args.out)
+    t0 = time.perf_counter()
+    if args.equilibria:
+        start = mr.saddle(system)
+    elif N == 1:
+        start = mr.homoclinic_orbit(system)
+    else:
+        found = [o for o in mr.multipulse_orbits(system, N) if o.pulses == N]
+        if not found:
+            return {"ok": False, "model": system.model, "params": system.params,
+                    "error": f"no symmetric {N}-pulse homoclinic orbit of the model {system.model!r} at "
+                             f"{system.params} to start the branch from"}
+        start = found[0]
+    if not start.success:
+        return {"ok": False, "model": system.model, "params": system.params,
+                "error": f"the branch's start did not converge: {start.message}"}
+    br = mr.continue_branch(system, start, parameter=args.free, steps=steps, ds=ds, direction=args.direction,
+                            bounds=bounds)
+    stem = f"branch_equilibria_{args.free}" if args.equilibria else f"branch_N{N}_{args.free}"
+    meta = {"ok": bool(br.success), "kind": br.kind, "model": system.model, "start_params": system.params,
+            "params": system.params, "pulses": None if args.equilibria else N, "parameter": args.free,
+            "names": list(br.names), "points": int(br.points), "success": bool(br.success), "message": br.message,
+            "folds": fold_summary(br), "max_residual": br.max_residual, "accuracy": br.accuracy,
+            "start_accuracy": start.accuracy, "wall_time_s": time.perf_counter() - t0,
+            "algorithm": "pseudo-arclength (Keller), Newton; the equilibrium recomputed on the start's leaf",
+            "first": dict(zip(br.names, map(float, br.u[0]))), "last": dict(zip(br.names, map(float, br.u[-1])))}
+    if not br.success:
+        meta["error"] = br.message
+    meta["max_residual"] = float(np.max(br.residuals))
+    meta["paths"] = write_branch(br, meta, out, stem)
+    return meta
+
+
 def format_text(d: dict) -> str:
-    if not d.get("ok", True):
+    if not d.get("ok", True) and "points" not in d:
         return f"continue: {d['error']}"
+    if d.get("model"):
+        from .modelrun import header
+
+        what = "straight rod" if d["pulses"] is None else f"{d['pulses']}-pulse symmetric homoclinic orbit"
+        lines = [f"continuation of the {what} of {header(d)} in {d['parameter']}: {d['points']} points, max "
+                 f"residual {d['max_residual']:.1e}, {d['wall_time_s']:.1f} s; {d['message']}",
+                 f"  first {d['first']}", f"  last  {d['last']}"]
+        lines += [f"  fold: {f}" for f in d["folds"]]
+        lines.append(f"  files: {d['paths']}")
+        return "\n".join(lines)
     lines = [f"continuation ({d['kind']}, N = {d['pulses']}) in {d['parameter']}: {d['points']} points, "
              f"max residual {d['max_residual']:.1e}, {d['wall_time_s']:.1f} s; {d['message']}",
              f"  first {d['first']}", f"  last  {d['last']}"]

@@ -16,8 +16,8 @@ def add_arguments(p):
     add_params(p, help_suffix=" (overrides the panel's)")
     add_precision(p)
     add_model(p, help="the rod model: a registered name (`magrod models`) or a model file, whose saddle (the "
-                      "straight twisted rod or the relative equilibrium next to it) is found once the library "
-                      "takes every model (default: the paper's rod)")
+                      "straight twisted rod or the relative equilibrium next to it) is found (default: the paper's "
+                      "rod)")
 
 
 def run(args) -> dict:

@@ -17,7 +17,7 @@ _START = ("h", "theta0", "ptheta0", "psi0")
 def add_arguments(p):
     add_panel(p, help="the paper panel whose orbit is used (default 4a)")
     add_model(p, help="the rod model: a registered name (`magrod models`) or a model file, whose orbit from its "
-                      "reference state is used once the library takes every model (default: the paper's rod)")
+                      "reference state is used (default: the paper's rod)")
     add_params(p, help_suffix=" (overrides the panel's)")
     add_start(p.add_argument_group("start (overrides the panel's)"), _START, suffix=" (overrides the panel's)")
     p.add_argument("--root", default="smallest", choices=["smallest", "largest"], help=ROOT_HELP)

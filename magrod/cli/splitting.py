@@ -4,26 +4,40 @@ measured at the first turning point of the unstable manifold (magrod/splitting.p
 a = 2b: the saddle is the straight rod (an equilibrium); D = psi_u and d = rho sin psi_u.  a > 2b: the saddle is
 the tilted straight rod (a saddle-focus of the reduced chart); D(psi) = theta_u(psi) - theta_u(-psi) ~ 2 s1 sin psi.
 The result is computed in --precision (a magrod Precision: double, "long double", quad, mp) and checked in the next
-lower precision."""
+lower precision.
+
+Any other model with a saddle and a small parameter (--model NAME|FILE.py [--model-params ...]: the anisotropic rod,
+B2 = B1 (1 + eps), and the curved rod, k1 = eps): the splitting of its straight rod's homoclinic manifold measured
+against its Mel'nikov function, per --eps (`mr.splitting`).  A model without a small parameter is named with what it
+lacks (exit 2)."""
 from __future__ import annotations
 
-from .options import integer, number, out_dir
+from .options import add_model, integer, is_paper_model, number, out_dir
+
+DEFAULTS = {"m": "1.7", "gamma": "1", "delta": "1", "a": "2", "b": "1", "eps": "0.3,0.1,0.03,0.01,0.003,0.001",
+            "precision": "quad", "phases": "64"}  # the paper's rod's scan (eq:condition_unperturbed_1)
 
 # the check precision of each working precision: the next lower one
 CHECK = {"mp": "quad", "quad": "long double", "long double": "double", "double": None}
 
 
 def add_arguments(p):
-    p.add_argument("--m", default="1.7", help="m = m3/sqrt(B C2), 0 < m < m_c = 2 sqrt(1 + gamma)")
-    p.add_argument("--gamma", default="1", help="extensibility gamma >= 0")
-    p.add_argument("--delta", default="1", help="shear compliance delta >= 0")
-    p.add_argument("--a", default="2", help="mu = a eps^2 (a >= 2b)")
-    p.add_argument("--b", default="1", help="lambdabar = b eps^2 (b >= 0)")
-    p.add_argument("--eps", default="0.3,0.1,0.03,0.01,0.003,0.001", help="comma-separated eps > 0")
-    p.add_argument("--precision", default="quad", choices=tuple(CHECK),
-                   help="working precision of the reference values (checked in the next lower one)")
-    p.add_argument("--phases", default="64", help="launch phases on the unstable eigenplane (a > 2b only)")
+    d = DEFAULTS
+    p.add_argument("--m", default=None, help=f"m = m3/sqrt(B C2), 0 < m < m_c = 2 sqrt(1 + gamma) (default {d['m']})")
+    p.add_argument("--gamma", default=None, help=f"extensibility gamma >= 0 (default {d['gamma']})")
+    p.add_argument("--delta", default=None, help=f"shear compliance delta >= 0 (default {d['delta']})")
+    p.add_argument("--a", default=None, help=f"mu = a eps^2 (a >= 2b) (default {d['a']})")
+    p.add_argument("--b", default=None, help=f"lambdabar = b eps^2 (b >= 0) (default {d['b']})")
+    p.add_argument("--eps", default=None, help=f"comma-separated eps > 0 (default {d['eps']}; another model: the "
+                                               "library's scan)")
+    p.add_argument("--precision", default=None, choices=tuple(CHECK),
+                   help=f"working precision of the reference values (checked in the next lower one) (default "
+                        f"{d['precision']})")
+    p.add_argument("--phases", default=None, help=f"launch phases on the unstable eigenplane (a > 2b only) (default "
+                                                  f"{d['phases']})")
     p.add_argument("--out", default=None, help="write splitting.json/.npz/.png into this directory")
+    add_model(p, help="the rod model: a registered name (`magrod models`) or a model file, with a saddle and a small "
+                      "parameter (default: the paper's rod)")
 
 
 def _eps_list(s):
@@ -37,6 +51,15 @@ def run(args) -> dict:
     from ..separatrix import scan_summary
     from ..core.progress import bar
 
+    if not is_paper_model(args.model):
+        return _model_run(args)
+    if args.model_params:
+        from ..core.errors import ParameterError
+
+        raise ParameterError("model_params", "needs --model (the paper's rod takes --m --gamma --delta --a --b)")
+    for k, v in DEFAULTS.items():
+        if getattr(args, k) is None:
+            setattr(args, k, v)
     vals = {k: number(k, getattr(args, k)) for k in ("m", "gamma", "delta", "a", "b")}
     eps = _eps_list(args.eps)
     n = integer("phases", args.phases, minimum=8, maximum=4096)
@@ -59,6 +82,34 @@ def run(args) -> dict:
     return out
 
 
+def _model_run(args) -> dict:
+    """Another model: mr.splitting(system, eps=...) (its Mel'nikov measurement), with its accuracy; --out DIR:
+    splitting.json + splitting.npz (Result.save)."""
+    import magrod as mr
+
+    from .modelrun import refuse
+    from .options import system_from
+
+    system, _ = system_from(args)
+    refuse(args, ("m", "gamma", "delta", "a", "b", "precision", "phases"), system.model,
+           "belongs to the paper's rod's scaling mu = a eps^2, lambdabar = b eps^2")
+    eps = None if args.eps is None else _eps_list(args.eps)
+    dest = out_dir("out", args.out) if args.out is not None else None
+    spl = mr.splitting(system) if eps is None else mr.splitting(system, eps=eps)
+    acc = spl.accuracy
+    # the small parameter replaces one of the model's parameters (B2 = B1 (1 + eps), k1 = eps): `perturbation`
+    out = {"ok": bool(spl.success and acc.get("passed", True)), "case": "Mel'nikov measurement", "model": system.model,
+           "params": system.params, "perturbation": getattr(spl.scan, "perturbation", None), **spl.to_dict(),
+           "accuracy": acc}
+    if not out["ok"]:
+        out["error"] = spl.message
+    elif dest is not None:
+        from ..core.io import ensure_writable_dir
+
+        out["paths"] = spl.save(ensure_writable_dir(dest, "out") / "splitting")
+    return out
+
+
 def _fit_line(name, f):
     if not f:
         return f"  {name}: no fit"
@@ -68,6 +119,19 @@ def _fit_line(name, f):
 
 
 def format_text(r: dict) -> str:
+    if r.get("model"):
+        from .modelrun import checks, header
+
+        lead = r.get("leading") or {}
+        lines = [f"splitting of the separatrix of {header(r)} under {r['perturbation']} (Mel'nikov measurement)",
+                 f"  {'eps':>9s} {'c / eps':>22s}"]
+        lines += [f"  {e:9.3g} {m:+22.14e}" for e, m in zip(r["eps"], r["measure"])]
+        if lead:
+            lines.append(f"  Mel'nikov coefficient per unit eps {lead['melnikov_unit']:+.12g}, measured "
+                         f"{lead['measured_unit']:+.12g} ({lead['digits']:.3g} digits)")
+        lines.append(f"  checks: {checks(r['accuracy'])}")
+        lines += [f"  wrote {p}" for p in r.get("paths", [])]
+        return "\n".join(lines)
     lines = [f"{r['case']}: m = {r['m']:g}, gamma = {r['gamma']:g}, delta = {r['delta']:g}, a = {r['a']:g}, "
              f"b = {r['b']:g}; precisions {', '.join(r['precisions'])}"]
     if "rows" in r:

@@ -1,10 +1,10 @@
-"""Deprecated spellings kept for one release (issue 25).  Imports nothing from magrod: any module may use it."""
+"""Deprecated spellings kept for one release.  Imports nothing from magrod: any module may use it."""
 from __future__ import annotations
 
 
 def deprecated_alias(new: str, old: str):
     """A method `old` that warns (DeprecationWarning) and calls `new`: a renamed method keeps its old name for one
-    release (issue 25: one serialisation verb, to_dict(), where as_dict() and summary() were spelt too)."""
+    release (one serialisation verb, to_dict(), where as_dict() and summary() were spelt too)."""
     def alias(self, *args, **kw):
         import warnings
 
@@ -18,7 +18,7 @@ def deprecated_alias(new: str, old: str):
 
 def deprecated_attribute(new: str, old: str):
     """A read-only property `old` that warns (DeprecationWarning) and returns attribute `new`: a renamed field keeps
-    its old name for one release (issue 25: the launch distance was `eps`, the name of the perturbation parameter
+    its old name for one release (the launch distance was `eps`, the name of the perturbation parameter
     and of machine epsilon too)."""
     def getter(self):
         import warnings

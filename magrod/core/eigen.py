@@ -3,7 +3,7 @@
 LAPACK (numpy's and scipy's `eig`) returns eigenvalues in an order of its own and each eigenvector up to an
 arbitrary unit factor: it scales a complex eigenvector so that its *largest* component is real, and when two
 components are equal in modulus -- as the S^1 symmetry makes |e31| = |e32| at the straight rod -- the last bit
-of rounding, which differs between CPUs and BLAS kernels, decides which (issue 24: on an AVX-512 machine the
+of rounding, which differs between CPUs and BLAS kernels, decides which (on an AVX-512 machine the
 periodic saddle's start guess became the wrong real part and Gauss-Newton failed).  Nothing in magrod may
 depend on that choice, so every eigenvector magrod uses is put through one of these rules first:
 

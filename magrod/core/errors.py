@@ -24,6 +24,30 @@ class ParameterError(ValueError):
         return (ParameterError, (self.name, self.message))
 
 
+class MissingStructure(ParameterError):
+    """A step needs a structure of the model (a reversor, a saddle, a small parameter, the body moments and forces
+    m and n ...) that the model lacks.  `name` is "model" (the offending input), `structure` names what is missing,
+    `model` the model; the message says both.
+
+    Examples
+    --------
+    >>> import magrod as mr
+    >>> try:
+    ...     mr.splitting("kirchhoff")
+    ... except mr.ParameterError as exc:
+    ...     print(exc.name, "|", exc.structure)
+    model | a small parameter
+    """
+
+    def __init__(self, model: str, structure: str, message: str):
+        self.model = model
+        self.structure = structure
+        super().__init__("model", message)
+
+    def __reduce__(self):
+        return (MissingStructure, (self.model, self.structure, self.message))
+
+
 class EnvironmentFault(RuntimeError):
     """The machine, not the input, stopped the run (disk full, unwritable path, locked output, JIT cache).
     `name` is the parameter whose path is involved (e.g. "out"), or None."""

@@ -287,7 +287,7 @@ def atomic_savefig(fig, path, **kw) -> Path:
 # The one orbit-file schema (every orbit file magrod writes, `write_orbit`; `magrod rod --from` reads them all):
 # arrays of the sampled symmetric orbit, t in [0, 2T] (n,), body states x (n, N), chart coordinates, Hbar, the
 # scaled arclength tau of the plotted window, and what reproduces it: launch point x0, time T to the symmetric
-# point, launch distance ("eps" in files before issue 25; not read back), angle, parameters pars (PARAMS order) and the reversor at the symmetric point.
+# point, launch distance ("eps" in older files; not read back), angle, parameters pars (PARAMS order) and the reversor at the symmetric point.
 ORBIT_ARRAYS = ("t", "x", "theta", "psi", "ptheta", "ppsi", "H", "tau", "x0", "T", "launch_distance", "pars", "reversor",
                 "angle")
 ORBIT_KEYS = ("x0", "T", "pars", "t", "tau", "x")  # what load_orbit_file requires (and validates)
@@ -348,6 +348,88 @@ def load_orbit_file(path) -> dict:
     except ParameterError as exc:
         raise ParameterError("from", f"{bad} (its parameters: {exc})") from None
     return out
+
+
+# An orbit file of any other model (a symmetric homoclinic or N-pulse orbit, magrod.orbits.reversible.SymmetricOrbit,
+# written by `magrod homoclinic --model` and `magrod multipulse --model`): the model and its parameters are recorded,
+# so that `magrod rod --from` studies the orbit of the model it was computed for, and the orbit's own unknowns
+# (alpha, T, launch distance, reversor), so that it is re-shot (not trusted) when read.
+MODEL_ORBIT_KEYS = ("model", "param_names", "pars", "state", "x0", "T", "alpha", "launch_distance", "equilibrium",
+                    "reversor", "pulses", "t", "x")
+
+
+def write_model_orbit(out_dir, stem: str, orbit, *, meta: dict | None = None, samples: int = 2001) -> list[str]:
+    """A converged symmetric orbit of any model other than the paper's rod as <stem>.npz (MODEL_ORBIT_KEYS, the
+    model's name or file path and its parameters among them) and <stem>.json (meta, the model, its parameters, the
+    orbit's accuracy, versions), atomically.  Returns the two paths."""
+    system = orbit.system
+    smp = orbit.sample(samples)
+    arrays = {"model": np.array(str(system.model)), "param_names": np.array(list(system.names)),
+              "pars": system.array(), "state": np.array(list(orbit.reversor.names)), "x0": np.asarray(orbit.x0, float),
+              "T": np.float64(orbit.T), "alpha": np.float64(orbit.alpha),
+              "launch_distance": np.float64(orbit.launch_distance), "equilibrium": np.asarray(orbit.equilibrium.x, float),
+              "reversor": np.asarray(orbit.reversor.matrix, float), "pulses": np.int64(orbit.pulses),
+              "t": smp["t"], "x": smp["x"]}
+    out = Path(out_dir)
+    npz = atomic_savez(out / f"{stem}.npz", **arrays)
+    side = {**(meta or {}), "model": system.model, "params": system.params, "pulses": int(orbit.pulses),
+            "alpha": float(orbit.alpha), "T": float(orbit.T), "launch_distance": float(orbit.launch_distance),
+            "reversor": repr(orbit.reversor), "accuracy": orbit.accuracy, "message": orbit.message,
+            "versions": versions(), "arrays": sorted(arrays)}
+    js = atomic_write_json(out / f"{stem}.json", side)
+    return [str(npz), str(js)]
+
+
+def is_model_orbit_file(path) -> bool:
+    """True if `path` is an .npz that records a model (an orbit file of `write_model_orbit`); False for anything
+    else (the paper's orbit files, other files, a missing file: `load_orbit_file` then says what is wrong)."""
+    import zipfile
+
+    try:
+        with np.load(Path(path), allow_pickle=False) as d:
+            return "model" in d.files
+    except (ValueError, OSError, EOFError, zipfile.BadZipFile, AttributeError):
+        return False
+
+
+def load_model_orbit_file(path) -> dict:
+    """The arrays of a model's orbit file (`write_model_orbit`), validated: ParameterError naming `from` if the file
+    is not such a file or holds inconsistent or non-finite data.  "model", "param_names" and "state" come back as
+    str and tuples of str, the scalars as Python numbers.  Never unpickles."""
+    import zipfile
+
+    path = Path(path)
+    if not path.is_file():
+        raise ParameterError("from", f"no such file: {str(path)!r}")
+    bad = f"{str(path)!r} is not a magrod orbit file of a model (magrod homoclinic/multipulse --model)"
+    try:
+        with np.load(path, allow_pickle=False) as d:
+            out = {k: np.asarray(d[k]) for k in MODEL_ORBIT_KEYS}
+    except (KeyError, ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
+        raise ParameterError("from", f"{bad} ({type(exc).__name__}: {' '.join(str(exc).split())[:120]})") from None
+    text = ("model", "param_names", "state")
+    if not all(out[k].dtype.kind == "U" for k in text) or out["model"].shape != ():
+        raise ParameterError("from", f"{bad} (no model recorded)")
+    n = out["state"].size
+    shapes_ok = (out["param_names"].ndim == 1 and out["pars"].shape == out["param_names"].shape
+                 and out["state"].ndim == 1 and out["x0"].shape == (n,) and out["equilibrium"].shape == (n,)
+                 and out["reversor"].shape == (n, n) and out["t"].ndim == 1 and out["t"].size >= 3
+                 and out["x"].shape == (out["t"].size, n)
+                 and all(out[k].shape == () for k in ("T", "alpha", "launch_distance", "pulses")))
+    if not shapes_ok:
+        raise ParameterError("from", f"{bad} (arrays of the wrong shape)")
+    numeric = [k for k in MODEL_ORBIT_KEYS if k not in text]
+    if not all(out[k].dtype.kind in "fi" and np.all(np.isfinite(out[k])) for k in numeric):
+        raise ParameterError("from", f"{bad} (non-numeric or non-finite values)")
+    if not (out["T"] > 0 and out["launch_distance"] > 0 and out["pulses"] >= 1):
+        raise ParameterError("from", f"{bad} (T, launch distance and pulses must be positive)")
+    res = {k: out[k] for k in numeric}
+    res.update(model=str(out["model"]), param_names=tuple(str(v) for v in out["param_names"]),
+               state=tuple(str(v) for v in out["state"]))
+    for k in ("T", "alpha", "launch_distance"):
+        res[k] = float(out[k])
+    res["pulses"] = int(out["pulses"])
+    return res
 
 
 def _jsonable(o):

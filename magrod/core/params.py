@@ -44,7 +44,7 @@ class RodParams:
     def __post_init__(self):
         for f in PARAMS:
             v = getattr(self, f)
-            if isinstance(v, (str, bytes)):  # a number where a number belongs: "1.7" is the caller's bug (issue 25)
+            if isinstance(v, (str, bytes)):  # a number where a number belongs: "1.7" is the caller's bug
                 raise ParameterError(f, f"must be a number, got the string {str(v)[:40]!r}")
             object.__setattr__(self, f, require_finite(f, v, MAX_MAGNITUDE))
         if self.m <= 0:

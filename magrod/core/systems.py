@@ -10,7 +10,7 @@ a second process load instead of compile (~20 ms instead of ~1 s).
 
 Builders (keyword-only options; `precision` is a core.precision.Precision or its name, `bits` the significand
 width of Precision.MP runs (default MP_BITS) and nothing else.  The old spelling fp_type=/prec= (a number type and
-hy.real's bit count) is still accepted by every builder for one release and is deprecated: issue 25, one
+hy.real's bit count) is still accepted by every builder for one release and is deprecated (one
 vocabulary):
   taylor(sys, state, pars, ...)              any system: the one place hy.taylor_adaptive is called
   build(constructor, ...)                    every heyoka constructor goes through it (damaged JIT cache entries)
@@ -236,7 +236,7 @@ def event_expression(formulation: str, name: str):
 def arithmetic(precision=Precision.DOUBLE, bits=None, *, fp_type=None, prec=None) -> tuple:
     """(Precision, bits) of a builder call: `precision` (a Precision, its name, or for one release a number type
     float/np.longdouble/hy.real128/hy.real) with `bits` for Precision.MP (default MP_BITS; None otherwise).
-    fp_type=/prec= are the deprecated spelling of the same (issue 25)."""
+    fp_type=/prec= are the deprecated spelling of the same."""
     if fp_type is not None:
         precision, bits = fp_type, prec if bits is None else bits
     if not isinstance(precision, (Precision, str)):
@@ -347,7 +347,7 @@ def batch_width() -> int:
 
 
 def recommended_batch_size() -> int:
-    """The batch width in use (`batch_width`); kept under its old name for the callers of issue 18."""
+    """The batch width in use (`batch_width`); kept under its old name for its older callers."""
     return batch_width()
 
 
@@ -431,19 +431,27 @@ def variational_blocks(ta) -> tuple:
 
 def rod_frame_system():
     """The body system plus the director frame D' = D hat(u) and the centreline r' = D v (21 equations), with
-    the strains u = dH/dm, v = dH/dn of the constitutive law (magrod.orbits.rod)."""
-    x = variables("body")
-    p = pars()
-    H = body.hamiltonian(*x, *p)
-    u = [hy.diff(H, x[i]) for i in range(3)]
-    v = [hy.diff(H, x[3 + i]) for i in range(3)]
+    the strains u = dH/dm, v = dH/dn of the constitutive law (magrod.orbits.rod): `frame_system` of the paper's
+    rod, whose body state starts (m1, m2, m3, n1, n2, n3)."""
+    return frame_system(variables("body"), pars(), body.hamiltonian, system("body"), tuple(range(6)))
+
+
+def frame_system(x, p, hamiltonian, sys_, strains: tuple) -> list:
+    """A model's body system `sys_` ([(variable, rhs)] in the variables x, parameters p) plus the director frame
+    D' = D hat(u) and the centreline r' = D v: len(x) + 12 equations, the strains u = dH/dm, v = dH/dn by hy.diff
+    of the generated `hamiltonian`; `strains` the indices of (m1, m2, m3, n1, n2, n3) in the state."""
+    H = hamiltonian(*x, *p)
+    u = [hy.diff(H, x[i]) for i in strains[:3]]
+    v = [hy.diff(H, x[i]) for i in strains[3:]]
     D = hy.make_vars(*[f"D{i}{j}" for i in range(3) for j in range(3)])
     r = hy.make_vars("r1", "r2", "r3")
     hat = [[None, -u[2], u[1]], [u[2], None, -u[0]], [-u[1], u[0], None]]
-    sys_ = list(system("body"))
+    sys_ = list(sys_)
+    # D = [d1 d2 d3] (columns: the directors in space components): d_i' = u x d_i is D' = D hat(u)
     for i in range(3):
         for j in range(3):
             sys_.append((D[3 * i + j], hy.sum([D[3 * i + k] * hat[k][j] for k in range(3) if hat[k][j] is not None])))
+    # r' = sum_i v_i d_i = D v
     for i in range(3):
         sys_.append((r[i], hy.sum([D[3 * i + k] * v[k] for k in range(3)])))
     return sys_
@@ -978,3 +986,17 @@ def model_variational(system, tol=None):
     `reset_variational`."""
     model_body(system)
     return _model_variational(model_key(system), tol)
+
+
+@per_thread
+def _model_frame(key, strains):
+    mb = body_of(key)
+    sys_ = frame_system(mb.variables, mb.pars, mb.module.hamiltonian, mb.system(), strains)
+    return taylor(sys_, [0.0] * len(sys_), [1.0] * len(mb.params))
+
+
+def model_frame_integrator(system, strains: tuple):
+    """A per-thread integrator of the System's model's body state, its director frame and centreline
+    (`frame_system`; `strains` the indices of m1, m2, m3, n1, n2, n3 in the state), tol = machine epsilon."""
+    model_body(system)
+    return _model_frame(model_key(system), tuple(int(i) for i in strains))

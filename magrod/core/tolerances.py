@@ -53,7 +53,7 @@ FLOOR_CAP = 1e-6
 # launch distance (relative to theta0 for the tilted saddle) per precision: its square below the rounding unit
 SPLITTING_LAUNCH = {Precision.DOUBLE: 1e-8, Precision.LONG_DOUBLE: 1e-10, Precision.QUAD: 1e-17, Precision.MP: 1e-30}
 
-# --- root finding and bisection (issue 25: every tolerance here, none as a literal elsewhere) -------------------
+# --- root finding and bisection (every tolerance here, none as a literal elsewhere) ------------------------------
 # pbar_psi0 roots of Hbar = h are O(1): Brent to 1e-15 absolute, then the best of the neighbouring doubles is kept
 ROOT_XTOL = 1e-15
 # bisection of sin psi over the free parameter stops at a few ulp of relative width (inside the noise band it just
@@ -80,22 +80,22 @@ FOLD_BRANCH_TOL = 2e-12
 # the real128 reference runs of the Mel'nikov and splitting quadratures: heyoka's tolerance near real128's epsilon
 # (1.9e-34) with room for its step-size control; a string because real128 tolerances are passed exactly
 REAL128_QUADRATURE_TOL = "1e-32"
-# derived vs measured a > 2b splitting coefficient: the issue's relative bound (magrod.separatrix.generic)
+# derived vs measured a > 2b splitting coefficient: the relative bound asked of it (magrod.separatrix.generic)
 GENERIC_AGREEMENT = 1e-4
 
-# The starts of a model's section (magrod/chaos/model_chaos.py, issue 26) are put on the level of H and the Casimirs
+# The starts of a model's section (magrod/chaos/model_chaos.py) are put on the level of H and the Casimirs
 # by Gauss-Newton steps until |g(x) - g0| <= MODEL_LEVEL_TOL: a few ulp of the O(1) values, far inside the
 # conservation gates ENERGY_TOL and CASIMIR_TOL the sections are then held to.
 MODEL_LEVEL_TOL = 64 * EPS
 
-# --- computer-assisted proofs and rigorous enclosures (issues 20, 21, 27) ------------------------------------------
+# --- computer-assisted proofs and rigorous enclosures ---------------------------------------------------------------
 # The validated Taylor integrator (magrod.proof.taylor) picks each step so that the centre trajectory's last two
 # Taylor terms are ~PROOF_STEP_TOL (Jorba-Zou): the Lagrange remainder then adds ~1e-25 per step, ~1e-22 over the
 # ~10^3 steps of a flight, far below the 1e-12 .. 1e-5 radii of every box a proof flies (so it never decides a
 # check), and above the 128-bit rounding (~1e-38 relative), so the steps are not wasted on rounding noise.  A step
 # control, not an accuracy claim: every enclosure is rigorous whatever its value.
 PROOF_STEP_TOL = 1e-25
-# the horseshoe's centre flights (issue 27, statement 12): at PROOF_STEP_TOL their enclosures after one return are
+# the horseshoe's centre flights (statement 12): at PROOF_STEP_TOL their enclosures after one return are
 # 1e-14..2e-13, too wide to resolve the sets N13, N14 (N12 => N13 failed with y_s in +-11.8); at 1e-32 they are
 # ~5e-20 (2.3x the steps).  The pieces' flights stay at PROOF_STEP_TOL.
 HORSESHOE_CENTRE_TOL = 1e-32
@@ -105,7 +105,7 @@ HORSESHOE_CENTRE_TOL = 1e-32
 # the centre's offset alone y_s in +-0.300.  1e-28 resolves the sets at 0.6x the steps of 1e-32.
 HORSESHOE_CENTRE_TOL_FIG4B = 1e-28
 # magrod.separatrix.enclosure.enclose_S: the improper integral is cut at T where its rigorous tail bound is
-# <= ENCLOSURE_TAIL_TOL; 1e-20 is far below |S| (>= 9e-5 on the issue's box) and the 1e-10 asked of the six table
+# <= ENCLOSURE_TAIL_TOL; 1e-20 is far below |S| (>= 9e-5 on the box of statement 2) and the 1e-10 asked of the six table
 # points, and costs only a few units of tau_T (the tail decays like e^(-kappa T)).
 ENCLOSURE_TAIL_TOL = 1e-20
 # box_theorem decides the sign of S on a box: the tail only has to be small against |S| there (>= 9e-5), so 1e-8
@@ -119,3 +119,8 @@ BOX_CENTRE_ABS_TOL = 1e-12
 # 1e-15 keeps the bisected theta* (and the half-way crossing time) within ~1e-13 of the true ones over the ~3-unit
 # half-orbit, far inside the 1e-10 .. 4e-6 theta-boxes the proof then decides on; a search choice, never a decision.
 FIXED_POINT_SEARCH_TOL = 1e-15
+# An orbit file of another model (magrod.orbits.reversible.orbit_from_file) is re-shot, not trusted: the saddle, its
+# phase-fixed unstable eigenvector and the reversor are recomputed in the same arithmetic, so the launch point and
+# the reversor's matrix reproduce the file's to rounding (measured: 0 for the anisotropic rod); 1e3 eps relative to
+# the state's size separates rounding from a changed model (an edited model file moves them by far more).
+ORBIT_FILE_TOL = 1e3 * EPS

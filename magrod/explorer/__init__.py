@@ -1,4 +1,4 @@
-"""The interactive section explorer (issue 19): `magrod explore` on the command line, `magrod.explore` in Python.
+"""The interactive section explorer: `magrod explore` on the command line, `magrod.explore` in Python.
 
 app.py     the page (Panel widgets, Bokeh section plot, orbit list, rod view); one Explorer per browser session
 worker.py  the background computations: section iterates streamed as they come, cancellable; chaos indicator

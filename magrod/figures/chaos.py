@@ -92,7 +92,7 @@ def map_axes(ax, fields: dict, spec: MapSpec, *, indicator="growth", threshold=G
                        norm=norm)
     inferred = np.asarray(fields["inferred"]) != 0 if "inferred" in fields else None
     if inferred is not None and inferred.any():
-        # a refined map (issue 28): the points never computed under a white veil, so that what was integrated and
+        # a refined map: the points never computed under a white veil, so that what was integrated and
         # what was inferred from its cell can be told apart (the class is the same; the shade is paler)
         from matplotlib.colors import ListedColormap
 

@@ -24,17 +24,21 @@ from .common import atomic_savefig, label, pyplot
 
 
 def plot_branch(branch, path, title: str = ""):
-    """Bifurcation diagram of one Branch: T (and the second unknown) against the parameter, folds marked."""
+    """Bifurcation diagram of one Branch: its first two unknowns (T and the second unknown of an orbit's branch; the
+    first two state components that vary along a branch of equilibria) against the parameter (the last component
+    of u), folds marked."""
     plt = pyplot()
     u = branch.u
-    names = branch.names or ("u0", "u1", "par")
+    names = branch.names or (*(f"u{i}" for i in range(u.shape[1] - 1)), "par")
+    shown = [j for j in range(u.shape[1] - 1) if np.ptp(u[:, j]) > 0][:2] if u.shape[1] > 3 else [0, 1]
+    shown = (shown + [j for j in range(u.shape[1] - 1) if j not in shown])[:2]
     fig, axs = plt.subplots(1, 2, figsize=(9, 3.4))
-    for ax, j in zip(axs, (0, 1)):
-        ax.plot(u[:, 2], u[:, j], ".-", lw=1, ms=3, color="k")
+    for ax, j in zip(axs, shown):
+        ax.plot(u[:, -1], u[:, j], ".-", lw=1, ms=3, color="k")
         for f in branch.folds:
             if f["u"] is not None:
-                ax.plot(f["u"][2], f["u"][j], "o", mfc="none", color="r", label="fold")
-        ax.set_xlabel(label(names[2]))
+                ax.plot(f["u"][-1], f["u"][j], "o", mfc="none", color="r", label="fold")
+        ax.set_xlabel(label(names[-1]))
         ax.set_ylabel(label(names[j]))
     axs[0].set_title(title, fontsize=7)
     fig.tight_layout()

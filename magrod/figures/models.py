@@ -1,4 +1,4 @@
-"""Pictures of the rod family (issue 26): a model's section, its Lyapunov history, its first-integral search, and
+"""Pictures of the rod family: a model's section, its Lyapunov history, its first-integral search, and
 the landscape of sec. 1 (magrod/integrability/landscape.py) with its figure builder."""
 from __future__ import annotations
 

@@ -37,7 +37,7 @@ PLOTTERS: dict[str, str] = {
     "GenericTerm": "splitting:plot_generic_term",
     "GenericComparison": "splitting:plot_generic_comparison",
     "CirclePrediction": "splitting:plot_circle",
-    # the rod family (magrod/figures/models.py, issue 26)
+    # the rod family (magrod/figures/models.py)
     "ModelSection": "models:plot_model_section",
     "ModelLyapunov": "models:plot_model_lyapunov",
     "ModelSearch": "models:plot_model_search",

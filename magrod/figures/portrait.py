@@ -1,4 +1,4 @@
-"""Pictures of many orbits (issue 18): section portraits coloured by a chaos indicator, and orbit diagrams.
+"""Pictures of many orbits: section portraits coloured by a chaos indicator, and orbit diagrams.
 
 plot_portrait(res, ax=None)          SectionPortrait.plot: every orbit's section points, coloured by its indicator
 plot_orbit_diagram(res, ax=None)     OrbitDiagram.plot: the section coordinate against the parameter, marks
@@ -86,6 +86,12 @@ def draw_orbit_diagram(ax, res, title=None, colors=None):
         ax.annotate(label, (val, 1.0), xycoords=("data", "axes fraction"), xytext=(2, -10),
                     textcoords="offset points", color="tab:red", fontsize=8)
     ax.set_xlabel(LABELS.get(res.parameter, res.parameter))
+    if getattr(res, "system", None) is not None and not res.system.is_paper:  # another model: its own section
+        ax.set_ylabel(LABELS.get(res.coordinate, res.coordinate) + " on the model's section")
+        ax.set_title(title or (f"orbit diagram of the model {res.system.model}: {res.n_values} values x "
+                               f"{res.iterates} iterates from its reference state\nmax|H-h| = {res.worst_dH:.1e}"),
+                     fontsize=8)
+        return
     ax.set_ylabel(LABELS[res.coordinate] + " at sin$\\psi$ = 0")
     ax.set_title(title or (f"orbit diagram: {res.n_values} values x {res.iterates} iterates, h = {res.h:g}, start "
                            f"$\\theta_0$ = {res.theta0:g}, $\\bar p_{{\\theta 0}}$ = {res.ptheta0:g}\n"

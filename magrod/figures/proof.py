@@ -1,8 +1,8 @@
-"""The computer-assisted proof at the target (issue 21): verify the shipped certificate
+"""The computer-assisted proof at the target: verify the shipped certificate
 (magrod/proof/certificates/homoclinic_target.json, written by `magrod prove` at the target) with the complete
 verifier, write proof_certificate.json (a copy), proof.json (the sidecar REPORT.md's claim row reads) and proof.png:
 the float trace of W^u on Sigma (theta_u against psi, with its mirror image W^s) and the verified tangent slopes at
-psi = 0 and psi = pi.  `magrod reproduce` verifies, it does not re-prove (issue 27); `magrod prove` re-proves.
+psi = 0 and psi = pi.  `magrod reproduce` verifies, it does not re-prove; `magrod prove` re-proves.
 quick: the same verification (a few seconds), a coarser float trace."""
 from __future__ import annotations
 
@@ -44,7 +44,7 @@ FIG4_HORSESHOE = (("4a", "horseshoe_fig4a.json", "12"), ("4b", "horseshoe_fig4b.
                   ("5a", "horseshoe_fig5a.json", "13"), ("5b", "horseshoe_fig5b.json", "13"),
                   ("5c", "horseshoe_fig5c.json", "13"), ("5d", "horseshoe_fig5d.json", "13"),
                   ("5a_interval", "horseshoe_fig5a_interval.json", "13"))  # every lambdabar in 2 +- 2e-11
-# shipped certificates no reproduction verifies (each gets a REPORT row saying so); none since issue 27's speed-up.
+# shipped certificates no reproduction verifies (each gets a REPORT row saying so); none since the verifier's speed-up.
 # (The 11 boxes of magrod/proof/certificates/fig4a_interval/ are one benchmark's tiling, verified by a slow test;
 # reproduce verifies the single box fixed_point_fig4a_interval.json.)
 NOT_IN_REPRODUCE: tuple = ()
@@ -79,7 +79,7 @@ def build(out_dir, *, quick: bool = False, progress=False) -> list[str]:
                     crossings=[{"target": c["target"], "dtheta_dpsi": c["dtheta_dpsi"], "phi_star": c["newton"]}
                                for c in cert["crossings"]],
                     eigenvalue_u=cert["saddle"]["lam_u"])
-    # Fig 4's rod (issue 27): the relative equilibrium's own level, not the figure's h = 0.9
+    # Fig 4's rod: the relative equilibrium's own level, not the figure's h = 0.9
     side["fig4"] = []
     side["not_verified_in_quick"] = ([TARGET_INTERVAL] if quick else []) + [n for _, n in FIG4[len(fig4):]] + \
         [n for _, n, _ in (*FIG4_SECTION[len(fig4_section):], *FIG4_HORSESHOE[len(fig4_horseshoe):])]

@@ -191,7 +191,7 @@ def _fig7(out, quick):
 
 @_claim
 def _chaos(out, quick):
-    """Issue 11: the Figure 4 orbits classified by the tangent growth exponent (magrod.chaos.indicators)."""
+    """The Figure 4 orbits classified by the tangent growth exponent (magrod.chaos.indicators)."""
     d = _sidecar(out, "chaos.json")
     if d is None:
         return _not_run("fig:poincare1 (chaos indicator)", "Figure 4(a) chaotic, 4(d) regular")
@@ -213,7 +213,7 @@ def _chaos(out, quick):
 
 @_claim
 def _orbit_diagram(out, quick):
-    """Issue 18: the orbit diagram lambdabar 0.12..0.2 at Figure 4's start (magrod.figures.portrait)."""
+    """The orbit diagram lambdabar 0.12..0.2 at Figure 4's start (magrod.figures.portrait)."""
     d = _sidecar(out, "orbitdiagram.json")
     label = "fig:poincare1 (orbit diagram)"
     if d is None:
@@ -234,7 +234,7 @@ def _orbit_diagram(out, quick):
 
 @_claim
 def _landscape(out, quick):
-    """Issue 26: each line of sec. 1 re-derived from the rod models (magrod.integrability.landscape)."""
+    """Each line of sec. 1 re-derived from the rod models (magrod.integrability.landscape)."""
     d = _sidecar(out, "landscape.json")
     if d is None:
         return _not_run("sec:intro (landscape)", "the integrability landscape of sec. 1")
@@ -463,7 +463,7 @@ def _continuation(out, quick):
 
 @_claim
 def _branch_table(out, quick):
-    """Issue 13: the branch table -- lam* per N (Figs 6, 7; two eps x two precisions, magrod.orbits.multipulse.uncertainty)
+    """The branch table -- lam* per N (Figs 6, 7; two eps x two precisions, magrod.orbits.multipulse.uncertainty)
     and the folds of the continued branches (continuation sidecars)."""
     rows = []
     for fig in (6, 7):
@@ -594,7 +594,7 @@ def _slopes_text(f) -> str:
 
 
 def _proof_fig4a(d) -> list:
-    """Issue 27: the same theorem at Fig 4's rod, on the saddle-focus's own level (not the figure's h = 0.9)."""
+    """The same theorem at Fig 4's rod, on the saddle-focus's own level (not the figure's h = 0.9)."""
     from ..generated.names import PARAMS
 
     rows = []
@@ -621,7 +621,7 @@ def _figure_of(panel: str) -> tuple:
 
 
 def _proof_fig4_section(d) -> list:
-    """Issue 27: a symmetric hyperbolic fixed point of the section map on a figure's own level: Fig 4's h = 9/10
+    """A symmetric hyperbolic fixed point of the section map on a figure's own level: Fig 4's h = 9/10
     (statement 11) and Fig 5's h = 4/5 (statement 13): a saddle of the section the figure shows, not chaos by
     itself (the horseshoes are the next rows)."""
     from ..generated.names import PARAMS
@@ -646,7 +646,7 @@ def _proof_fig4_section(d) -> list:
 
 
 def _proof_fig4_horseshoe(d) -> list:
-    """Issue 27: the horseshoes of the section map on Fig 4's own level h = 9/10 (statement 12) and Fig 5's h = 4/5
+    """The horseshoes of the section map on Fig 4's own level h = 9/10 (statement 12) and Fig 5's h = 4/5
     (statement 13), each shipped certificate re-checked by the complete verifier (full reproduction only)."""
     from ..generated.names import PARAMS
 
@@ -711,7 +711,7 @@ def _leading_rows(out) -> list:
 
 
 def _enclosure_rows(out) -> list:
-    """Issue 20: S enclosed in ball arithmetic (magrod.separatrix.enclosure)."""
+    """S enclosed in ball arithmetic (magrod.separatrix.enclosure)."""
     p = out / "splitting_enclosure.json"
     if not p.exists():
         return []
@@ -732,7 +732,7 @@ def _enclosure_rows(out) -> list:
 
 
 def _generic_rows(out) -> list:
-    """Issue 20: the derived a > 2b coefficient against the measurement (magrod.separatrix.generic)."""
+    """The derived a > 2b coefficient against the measurement (magrod.separatrix.generic)."""
     p = out / "splitting_generic.json"
     if not p.exists():
         return []

@@ -37,7 +37,8 @@ def magnification(r: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
     return float(factor), u, perp
 
 
-def plot_rod(rod: dict, out_dir, stem: str, title: str = "") -> list[str]:
+def plot_rod(rod: dict, out_dir, stem: str, title: str = "",
+             scale: str = "lengths in units of B/m3 (B = C = m3 = 1), z along the field") -> list[str]:
     """Rod picture (PNG) and centreline CSV (s, x, y, z).  Panels: the true-scale 3-D view (equal axes over the
     whole length: a localised rod looks nearly straight), the same centreline with the transverse displacements
     from the end-to-end chord magnified by a stated factor (`magnification`; drawn as a thick tube coloured by
@@ -94,8 +95,7 @@ def plot_rod(rod: dict, out_dir, stem: str, title: str = "") -> list[str]:
     a3.set_title("looking along the chord (true scale, zoomed)", fontsize=9)
     a3.set_xlabel("transverse 1")
     a3.set_ylabel("transverse 2")
-    fig.suptitle(title + f"\nlengths in units of B/m3 (B = C = m3 = 1), z along the field; right and bottom-left "
-                         f"panels: transverse scale x{M:g}", fontsize=9)
+    fig.suptitle(title + f"\n{scale}; right and bottom-left panels: transverse scale x{M:g}", fontsize=9)
     fig.tight_layout()
     png = atomic_savefig(fig, Path(out_dir) / f"{stem}_rod.png", dpi=120)
     plt.close(fig)

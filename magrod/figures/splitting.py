@@ -143,7 +143,7 @@ def build(out_dir, *, quick: bool = False, progress: bool = False) -> list[str]:
 
 
 def _enclosure_and_generic(out, quick: bool) -> list[str]:
-    """Sidecars of issue 20: S in ball arithmetic at the six a = 2b cases and the integrable control
+    """Sidecars of the rigorous splitting: S in ball arithmetic at the six a = 2b cases and the integrable control
     (splitting_enclosure.json), and the derived a > 2b coefficient against the measurement (splitting_generic.json)."""
     from ..separatrix import GENERIC_CASES, box_theorem, circle_prediction, compare_generic, enclose_S
 

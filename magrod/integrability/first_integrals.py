@@ -1,5 +1,5 @@
-"""An exact search for polynomial first integrals of the rod's 9-D body system (issue 20, item 4;
-`magrod check --integrals --degree D [--subs ...]`).
+"""An exact search for polynomial first integrals of the rod's 9-D body system
+(`magrod check --integrals --degree D [--subs ...]`).
 
 Question.  Which polynomials F of degree <= D in the body variables x = (m, n, e3) satisfy {F, H} = 0, i.e.
 grad F . J(x; lambda) grad H = 0 (eq:noncanonical_structure, eq:magnetic_ham)?  The condition is linear in F's
@@ -53,7 +53,7 @@ from .exact import (DEFAULT_SEED, MAX_DEGREE, PRIME, PRIMES, _add, _chi, _column
 
 NVAR = len(BODY_STATE)
 
-# the regimes of the controls (issue 20): name -> (substitution, what must be found)
+# the regimes of the controls: name -> (substitution, what must be found)
 MAIN = "B2=B1,c_J=c_H"  # the paper's rod: isotropic (B1 = B2), equal shear compliances, extensible (c_K free)
 CONTROLS = {
     "lambda = 0": ("B2=B1,c_J=c_H,lambda=0", "finds n.m (I2 at lambda = 0: the torque about the load axis)"),
@@ -296,7 +296,7 @@ def search(subs: str | None = MAIN, degree: int = 4, *, seed: int = DEFAULT_SEED
 
 @dataclass(repr=False)
 class FirstIntegralSearch(Result):
-    """The main regime plus the controls of issue 20; `statement` says exactly what was proved."""
+    """The main regime plus the integrable controls; `statement` says exactly what was proved."""
 
     success: bool
     message: str
@@ -320,7 +320,7 @@ class FirstIntegralSearch(Result):
 
 def first_integral_search(degree: int = 4, subs: str | None = None, *, seed: int = DEFAULT_SEED,
                           controls: bool = True, model=None):
-    """The exact search for polynomial first integrals with the controls of issue 20.
+    """The exact search for polynomial first integrals with its integrable controls.
 
     Parameters
     ----------

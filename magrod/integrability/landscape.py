@@ -1,4 +1,4 @@
-"""The landscape of the paper's sec. 1, re-derived from the models (issue 26; `magrod landscape`).
+"""The landscape of the paper's sec. 1, re-derived from the models (`magrod landscape`).
 
 Each line of sec. 1 is a claim with a citation.  For each, magrod's evidence from the model's own W and J:
   integrable     -- proved: the Casimirs found (k of them on the n-D state) and (n - k)/2 integrals in involution
@@ -15,7 +15,7 @@ Each line of sec. 1 is a claim with a citation.  For each, magrod's evidence fro
 The heavy rod [Gottlieb99] is not a model of the registry (derive/models/heavy.py): its line says why and that
 magrod does not test the claim.  Where the evidence disagrees with, or qualifies, the cited claim, the line says so.
 
-The anisotropic scan (item 6 of issue 26): B1 : B2 : C over a rational grid, each entry in GRID, at degree 4 on
+The anisotropic scan: B1 : B2 : C over a rational grid, each entry in GRID, at degree 4 on
 generic Casimir levels and on m.n = 0 (C2 = 0); every ratio with an integral beyond H and the Casimirs is listed
 with the integral, its exact re-check ({F, H} = 0, or = (m.n) G on the level, from J and H directly) and the
 explanation (the Kirchhoff kinetic analogue: the rod is a heavy top with moments (B1, B2, C) and the centre of mass
@@ -330,7 +330,7 @@ def landscape(degree: int = 4, *, quick: bool = False, scan: bool = True, t_max:
     Parameters
     ----------
     degree : int
-        Degree D of the exact searches (1 ... 12; the issue's scan: 4).
+        Degree D of the exact searches (1 ... 12; the anisotropic scan's: 4).
     quick : bool, keyword-only
         A smaller grid (QUICK_GRID) and t_max = 500 (seconds instead of a minute).
     scan : bool, keyword-only

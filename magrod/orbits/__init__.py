@@ -32,6 +32,7 @@ _API = {
     "symmetric_homoclinic": "reversible",
     "continue_equilibrium": "reversible",
     "continue_homoclinic": "reversible",
+    "orbit_from_file": "reversible",
     # the rod in space
     "rod_from_orbit": ("rod", "from_orbit"),
     "reconstruct_rod": ("rod", "reconstruct"),

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field as dc_field
 import numpy as np
 
 from ..core import eigen
-from ..core.errors import ParameterError
+from ..core.errors import MissingStructure, ParameterError
 from ..core.results import Result
 from ..core.tolerances import EPS, HYPERBOLIC_TOL
 from .model_field import field
@@ -180,7 +180,8 @@ def straight_rod_start(system, M: float = 1.0, T: float = 1.0) -> np.ndarray:
     x = np.zeros(mf.dim)
     missing = [k for k in ("m3", "n3") if k not in mf.state]
     if missing:
-        raise ParameterError("model", f"the straight twisted rod needs the body components m3, n3, and the model "
+        raise MissingStructure(system.model, "the body components m3, n3",
+                               f"the straight twisted rod needs the body components m3, n3, and the model "
                                       f"{system.model!r} has none named {', '.join(missing)}")
     x[mf.index("m3")], x[mf.index("n3")] = M, T
     if "e33" in mf.state:
@@ -373,7 +374,7 @@ def reversor(system, fixing=None) -> Reversor:
         found = [r for r in found if np.max(np.abs(r.apply(x) - x)) <= 1e3 * EPS * scale]
     if not found:
         where = " fixing the equilibrium" if every else ""
-        raise ParameterError("model", f"symmetric (reversible) orbits need a reversor, and the model "
+        raise MissingStructure(system.model, "a reversor", f"symmetric (reversible) orbits need a reversor, and the model "
                                       f"{system.model!r} has none{where}: no reflection of body components R with "
                                       "R f(x) = -f(R x) preserving H and the Casimirs (checked: every diagonal sign "
                                       "matrix, and every reflection of the body frame through a plane containing "

@@ -26,9 +26,9 @@ from dataclasses import dataclass, field as dc_field
 
 import numpy as np
 
-from ..core.errors import ParameterError
+from ..core.errors import MissingStructure, ParameterError
 from ..core.results import Result
-from ..core.tolerances import EPS
+from ..core.tolerances import EPS, ORBIT_FILE_TOL
 from . import model_field
 from .equilibria import Equilibrium, leaf_basis, relative_equilibrium, spectrum
 from .equilibria import reversor as _reversor
@@ -67,7 +67,7 @@ def launch(eq: Equilibrium, alpha: float, delta: float = LAUNCH) -> np.ndarray:
 
 def _require_saddle(eq: Equilibrium, step: str):
     if not eq.success or eq.kind not in ("saddle-focus", "saddle", "saddle-centre"):
-        raise ParameterError("model", f"{step} needs a saddle, and the equilibrium of the model "
+        raise MissingStructure(eq.system.model, "a saddle", f"{step} needs a saddle, and the equilibrium of the model "
                                       f"{eq.system.model!r} found is a {eq.kind} ({eq.message})")
 
 
@@ -206,6 +206,49 @@ def symmetric_homoclinic(system, *, equilibrium: Equilibrium | None = None, reve
     return _orbit(system, eq, R, alpha, T, delta, tol)
 
 
+def orbit_from_file(system, data: dict) -> SymmetricOrbit:
+    """The symmetric orbit an orbit file records (magrod.core.io.load_model_orbit_file: the model, its parameters,
+    alpha, T, the launch distance and the reversor), re-shot for `system`: the equilibrium, the reversor and the
+    orbit are computed again, and the launch point must reproduce the file's to rounding.
+
+    Raises
+    ------
+    ParameterError
+        "model" if the file is another model's; the parameter's name if the file was computed at another value of
+        it; "from" if its state or reversor is not the model's, or the orbit no longer reproduces (an edited model
+        file).
+    """
+    from .equilibria import reversors, straight_rod
+
+    if data["model"] != system.model:
+        raise ParameterError("model", f"the orbit file is of the model {data['model']!r}, not {system.model!r}")
+    file_params = dict(zip(data["param_names"], (float(v) for v in data["pars"])))
+    if tuple(data["param_names"]) != tuple(system.names):
+        raise ParameterError("from", f"the orbit file's parameters ({', '.join(data['param_names'])}) are not those of "
+                                     f"the model {system.model!r} ({', '.join(system.names)})")
+    for k, v in system.params.items():
+        if file_params[k] != v:
+            raise ParameterError(k, f"the orbit file was computed at {k} = {file_params[k]!r}, not {v!r}")
+    mf = model_field.field(system)
+    if tuple(data["state"]) != mf.state:
+        raise ParameterError("from", f"the orbit file's state ({', '.join(data['state'])}) is not the model's "
+                                     f"({', '.join(mf.state)})")
+    eq = straight_rod(system)
+    _require_saddle(eq, "the orbit file's orbit")
+    match = [r for r in reversors(system) if np.allclose(r.matrix, data["reversor"], rtol=0, atol=ORBIT_FILE_TOL)]
+    if not match:
+        raise ParameterError("from", f"the orbit file's reversor is not one of the model {system.model!r}'s")
+    o = _orbit(system, eq, match[0], data["alpha"], data["T"], data["launch_distance"], RESIDUAL_TOL)
+    o.pulses = int(data["pulses"])
+    x0 = np.asarray(data["x0"], float)
+    gap = float(np.max(np.abs(o.x0 - x0)))
+    if gap > ORBIT_FILE_TOL * (1.0 + float(np.max(np.abs(x0)))):
+        raise ParameterError("from", f"the orbit file's launch point is not reproduced by the model {system.model!r} "
+                                     f"(|dx0| = {gap:.2g}): the model changed since the file was written")
+    o.extra["from_file"] = {"launch_point_gap": gap}
+    return o
+
+
 def _orbit(system, eq, R, alpha, T, delta, tol) -> SymmetricOrbit:
     mf = model_field.field(system)
     pars = system.array()
@@ -331,7 +374,7 @@ def continue_homoclinic(system, orbit: SymmetricOrbit, parameter: str, *, steps:
 
     k = _index(system, parameter)
     if abs(orbit.equilibrium.unstable_eigenvalue.imag) == 0:
-        raise ParameterError("model", f"continuing symmetric homoclinic orbits needs a saddle-focus (the launch "
+        raise MissingStructure(system.model, "a saddle-focus", f"continuing symmetric homoclinic orbits needs a saddle-focus (the launch "
                                       f"angle an unknown), and the model {system.model!r}'s saddle has a real "
                                       "unstable eigenvalue")
     F = homoclinic_problem(system, orbit, parameter)
@@ -339,7 +382,7 @@ def continue_homoclinic(system, orbit: SymmetricOrbit, parameter: str, *, steps:
     _, J0 = F(u0)
     U, sv, _ = np.linalg.svd(J0)
     if sv.size < 2 or sv[1] <= 1e-8 * sv[0]:
-        raise ParameterError("model", f"the Fix(R) conditions of the model {system.model!r} have rank < 2 at the "
+        raise MissingStructure(system.model, "Fix(R) conditions of rank 2", f"the Fix(R) conditions of the model {system.model!r} have rank < 2 at the "
                                       "start: the branch is not a curve in (alpha, T, parameter)")
     U0 = U[:, :2]
 
@@ -418,7 +461,7 @@ def multipulse(system, max_pulses: int = 3, *, samples=None, delta: float = LAUN
     eq = straight_rod(system)
     _require_saddle(eq, "multipulse orbits")
     if abs(eq.unstable_eigenvalue.imag) == 0:
-        raise ParameterError("model", f"the multipulse search needs a complex unstable eigenvalue (the unstable "
+        raise MissingStructure(system.model, "a saddle-focus", f"the multipulse search needs a saddle-focus, a complex unstable eigenvalue (the unstable "
                                       f"manifold a disc, the launch angle the unknown), and the model "
                                       f"{system.model!r}'s straight rod has a real one")
     R = _reversor(system, fixing=eq.x)

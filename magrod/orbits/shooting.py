@@ -47,7 +47,7 @@ import numpy as np
 from ..core import systems
 from ..core.deprecation import deprecated_attribute
 from ..core.deprecation import renamed_keywords
-from ..core.errors import ParameterError
+from ..core.errors import MissingStructure, ParameterError
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result, jsonable
@@ -147,7 +147,7 @@ def saddle(system=None, *, precision=None, M: float = 1.0, T: float = 1.0):
                                           f"precision (their evidence: the residual max|f(x)|), got {str(prec)!r}")
     eq = straight_rod(system, M=M, T=T)
     if not eq.success or eq.kind not in ("saddle-focus", "saddle", "saddle-centre"):
-        raise ParameterError("model", f"a saddle is needed, and the model {system.model!r} has none at the straight "
+        raise MissingStructure(system.model, "a saddle", f"a saddle is needed, and the model {system.model!r} has none at the straight "
                                       f"rod (M, T) = ({M:g}, {T:g}): its equilibrium there is a {eq.kind} "
                                       f"({eq.message})")
     return eq

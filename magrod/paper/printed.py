@@ -118,8 +118,8 @@ def panel_kwargs(key: str) -> dict:
 
 def with_overrides(system, overrides: dict):
     """The system (a RodParams, a Panel, a panel key, or a list of them) with model parameters replaced by keyword
-    overrides: `poincare_section("4a", lam=0.15)` is Fig 4(a)'s start on the rod with lambdabar = 0.15 (issue 25:
-    one calling convention, as `chaos_map(..., lam=...)`).  A panel keeps its start and gets the key
+    overrides: `poincare_section("4a", lam=0.15)` is Fig 4(a)'s start on the rod with lambdabar = 0.15 (one
+    calling convention, as `chaos_map(..., lam=...)`).  A panel keeps its start and gets the key
     "4a, lam=0.15", so a result never claims to be the paper's panel when it is not.  ParameterError names an
     override that is not a model parameter."""
     from dataclasses import replace

@@ -1,4 +1,4 @@
-"""Computer-assisted proof of transverse homoclinic orbits of the magnetic rod (issue 21).
+"""Computer-assisted proof of transverse homoclinic orbits of the magnetic rod.
 
 Layers (each tested on its own, tests/test_proof_*.py):
   ball.py      exact rationals <-> Arb balls <-> the certificate's decimal strings; the working precision

@@ -145,7 +145,7 @@ def mutated_module(term: int = 0, function: str = "chart_rhs"):
 
 
 # --------------------------------------------------------------------------------------------------------------
-# lambdabar as a state variable (issue 27: a statement for every lambdabar of an interval)
+# lambdabar as a state variable (a statement for every lambdabar of an interval)
 # --------------------------------------------------------------------------------------------------------------
 class _Dual:
     """a + b eps (eps^2 = 0) over balls or power series: forward-mode derivative of the generated field in one

@@ -1,4 +1,4 @@
-"""The prover of a horseshoe of the section map on Fig 4's level (issue 27, item 3): covering relations
+"""The prover of a horseshoe of the section map on Fig 4's level: covering relations
 (Zgliczynski & Gidea 2004) along the homoclinic orbit of the saddle x0 of statement 11, one return per flight.
 
 What is proved (docs/nonintegrability.md, statement 12): at exact (m, mu, gamma, delta, lambdabar) and level h, the
@@ -968,7 +968,7 @@ def entropy_root_lower(L: int, digits: int = 12) -> Fraction:
 
 
 # --------------------------------------------------------------------------------------------------------------
-# a lambdabar interval (issue 27, item 3): the point certificate's sets, moving with lambdabar
+# a lambdabar interval: the point certificate's sets, moving with lambdabar
 # --------------------------------------------------------------------------------------------------------------
 def lambda_motion(p: fields.ExactParams, h, settings: dict, sets: list, DPs: list, dl: float = 1e-6) -> list:
     """The sets' motion v_j = d c_j / d lambdabar (float design; the verifier checks whatever it is): x0 moves along

@@ -1,4 +1,4 @@
-"""The prover for a symmetric hyperbolic fixed point of the section map on a given level (issue 27, item 3, the
+"""The prover for a symmetric hyperbolic fixed point of the section map on a given level (the
 first half of the route "a hyperbolic periodic orbit of the section map plus a transverse homoclinic point").
 
 What is proved (docs/nonintegrability.md, statement 11): at exact rational (m, mu, gamma, delta, lambdabar) and an

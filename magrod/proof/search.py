@@ -185,7 +185,7 @@ def _real_basis(v) -> list:
 class _FloatFlow:
     """Chart trajectories in float64 (heyoka) from the boundary circle to the first crossing of pbar_theta = 0
     with theta > theta0 + 0.3 (the turning point after the excursion; theta0 = the saddle's theta, 0.14 at the
-    issue-21 target but 0.3-0.4 at the Fig 4 parameters, where theta > 0.3 alone picks a crossing next to the
+    target but 0.3-0.4 at the Fig 4 parameters, where theta > 0.3 alone picks a crossing next to the
     saddle)."""
 
     def __init__(self, p, xhat, V, r):

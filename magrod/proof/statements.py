@@ -1,4 +1,4 @@
-"""The verdict on nonintegrability as data: numbered statements, each with the chain of steps it rests on.
+r"""The verdict on nonintegrability as data: numbered statements, each with the chain of steps it rests on.
 
 A statement's status is *computed* from its chain, never typed: the weakest step decides (a step that cites another
 statement inherits that statement's status).  docs/nonintegrability.md ("Verdict") and README.md ("What the
@@ -14,6 +14,10 @@ Statuses, strongest first (DESIGN.md, "Rigour"):
   numerical          floating point with its error evidence
   heuristic          an analogy with theorems whose hypotheses are not met
 Rewrite the blocks after an edit: `python -m magrod.proof.statements --write`.
+
+The data is written in Unicode (H̄, λ̄, W^u, 10⁻¹³), as a terminal shows it; the blocks rendered into README.md and
+docs/ carry its mathematics as myst dollar math ($\bar H$, $\bar\lambda$, $W^u$, $10^{-13}$), typeset by MathJax
+(`markdown`), and the label check reads them back (`plain`).
 """
 from __future__ import annotations
 
@@ -58,7 +62,7 @@ STATEMENTS = (
     _s("2", "S is non-zero",
        """The second-order integral S is non-zero (negative) at the six (m, γ, δ) of the table and on every box
        decided by `benchmarks/enclosure_boxes.py` and (second-order form) `benchmarks/enclosure_corner.py`: 99.84 %
-       of the issue's box m ∈ [1, 2.2] × γ ∈ [1/4, 3] × δ ∈ [1/4, 3], all but part of the corner next to m_c
+       of the box m ∈ [1, 2.2] × γ ∈ [1/4, 3] × δ ∈ [1/4, 3], all but part of the corner next to m_c
        (inside m ∈ [2.141, 2.2], γ ∈ [1/4, 0.363]), where it is verified at isolated grid points only
        (`enclose_S`, `box_theorem`); at γ = δ = 0 the ball contains 0 (S = 0 exactly there). S is
        the value of a formula; that it is the leading coefficient of the splitting is statement 3
@@ -108,7 +112,8 @@ STATEMENTS = (
         Step("the same on the λ̄ interval, λ̄ a ball in every enclosure", "computer-verified",
              "magrod prove --lam-rad; magrod prove --verify"),
         Step("the chart field is Hamilton's, R is a reversor, the lift intertwines the flows", "proved",
-             "f = J grad Hbar and f(R x) = -R f(x) checked by the verifier at run time on the certificate's field, as exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced, "
+             "f = J∇H̄ and f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as "
+             "exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced, "
              "chart_body_lift"),
         Step("horseshoes (Devaney 1976) and no analytic second integral on the level (Kozlov 1996)", "proved",
              "cited theorems, every hypothesis checked by the certificate")],
@@ -128,7 +133,8 @@ STATEMENTS = (
        [Step("saddle, eigenpairs, local manifold, flight, crossings, transversality", "computer-verified",
              "magrod prove; magrod prove --verify (complete verifier)"),
         Step("the chart field is Hamilton's, R is a reversor, the lift intertwines the flows", "proved",
-             "f = J grad Hbar and f(R x) = -R f(x) checked by the verifier at run time on the certificate's field, as exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced, "
+             "f = J∇H̄ and f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as "
+             "exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced, "
              "chart_body_lift"),
         Step("horseshoes (Devaney 1976) and no analytic second integral on the level (Kozlov 1996)", "proved",
              "cited theorems, every hypothesis checked by the certificate")],
@@ -228,8 +234,9 @@ STATEMENTS = (
        λ̄ around each value, of unquantified size.""",
        [Step("level, two-phase flight (no positive crossing before the half-way point), Fix(R) Newton, |tr DP| > 2",
              "computer-verified", "magrod prove --fixed-point; magrod prove --verify (complete verifier)"),
-        Step("the chart field is Hamilton's, R is a reversor", "proved", "f = J grad Hbar (det DP = 1) and "
-             "f(R x) = -R f(x) checked by the verifier at run time on the certificate's field, as exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced"),
+        Step("the chart field is Hamilton's, R is a reversor", "proved", "f = J∇H̄ (det DP = 1) and "
+             "f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as exact "
+             "identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced"),
         Step("an orbit through two points of Fix(R) is periodic, crossings at ±t have one direction, DQ2 = R DQ⁻¹ R "
              "(reversibility; Devaney 1976)", "proved", "the argument of magrod/proof/periodic.py, hypotheses "
              "checked by the certificate")],
@@ -276,7 +283,8 @@ STATEMENTS = (
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
              "section_horseshoe)"),
         Step("the chart field is Hamilton's, 2π-periodic in ψ, and R is a reversor", "proved",
-             "f = J grad Hbar and f(R x) = -R f(x) checked by the verifier at run time on the certificate's field, as exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced; the "
+             "f = J∇H̄ and f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as "
+             "exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced; the "
              "verifier's source check of ψ"),
         Step("a closed chain of coverings and back-coverings has an orbit for every sequence of loops "
              "(Zgliczyński & Gidea 2004, the covering-chain theorem); N ⇒ M gives R(M)^T ⇐ R(N)^T; the coding of "
@@ -320,7 +328,8 @@ STATEMENTS = (
              "entropy bound", "computer-verified", "magrod prove --horseshoe --branch pi; magrod prove --verify "
              "(kind section_horseshoe)"),
         Step("the chart field is Hamilton's, 2π-periodic in ψ, and R is a reversor", "proved",
-             "f = J grad Hbar and f(R x) = -R f(x) checked by the verifier at run time on the certificate's field, as exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced; the "
+             "f = J∇H̄ and f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as "
+             "exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced; the "
              "verifier's source check of ψ"),
         Step("the covering-chain theorem, the reversed-chain lemma, the block-shift entropy (statement 12's "
              "argument, unchanged: it never uses the branch of N0)", "proved",
@@ -346,21 +355,150 @@ def status(number: str, _seen=()) -> str:
     return worst
 
 
+# --------------------------------------------------------------------------------------------------------------
+# Markdown: the statements' data is written in Unicode (H̄, λ̄, W^u), which a terminal shows as it stands; the blocks
+# rendered into README.md and docs/ (myst's dollar math, MathJax) carry it as mathematics ($\bar H$, $W^u$).
+# --------------------------------------------------------------------------------------------------------------
+GREEK = {"α": r"\alpha", "β": r"\beta", "γ": r"\gamma", "δ": r"\delta", "ε": r"\varepsilon", "θ": r"\theta",
+         "κ": r"\kappa", "λ": r"\lambda", "μ": r"\mu", "ν": r"\nu", "ξ": r"\xi", "π": r"\pi", "ρ": r"\rho",
+         "σ": r"\sigma", "τ": r"\tau", "φ": r"\varphi", "ψ": r"\psi", "ω": r"\omega", "Δ": r"\Delta",
+         "Λ": r"\Lambda", "Σ": r"\Sigma"}
+OPS = {"≠": r"\neq", "∈": r"\in", "≤": r"\le", "≥": r"\ge", "≪": r"\ll", "≲": r"\lesssim", "≈": r"\approx",
+       "±": r"\pm", "×": r"\times", "·": r"\cdot", "−": "-", "→": r"\to", "⇒": r"\Rightarrow", "⇐": r"\Leftarrow",
+       "∘": r"\circ", "∋": r"\ni", "√": r"\sqrt", "′": "'", "…": r"\dots", "∗": "*"}
+_SUP = dict(zip("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-"))
+_SUPS = "[" + "".join(_SUP) + "]+"
+# formulas a symbol-by-symbol reading gets wrong (functions, subscripts written as ASCII, groups of exponents)
+FORMULAS = {
+    "K2 ∋ J²/(2 sin²θ)": r"K_2 \ni J^2/(2\sin^2\theta)",
+    "ψ_u = λ̄S/tan(θt/2) + O(λ̄²)": r"\psi_u = \bar\lambda S/\tan(\theta_t/2) + O(\bar\lambda^2)",
+    "s1/ε³ → b√(a − 2b) S/(V′(θt)(1 + cos θt))": r"s_1/\varepsilon^3 \to b\sqrt{a - 2b}\, S/(V'(\theta_t)(1 + \cos\theta_t))",
+    "s1 is b√(a − 2b) S/(V′(1 + cos)) ε³ + O(ε⁴)": r"$s_1$ is $b\sqrt{a - 2b}\, S/(V'(1 + \cos))\, \varepsilon^3 + O(\varepsilon^4)$",
+    "D′(0) = 2 s1 + O(ε⁴) ≠ 0": r"D'(0) = 2 s_1 + O(\varepsilon^4) \neq 0",
+    "D′(π) ≠ 0": r"D'(\pi) \neq 0",
+    "dθ_u/dψ": r"d\theta_u/d\psi", "h_top(P|Λ)": r"h_{\mathrm{top}}(P|_\Lambda)", "h_top": r"h_{\mathrm{top}}",
+    "x^L = x^(L−1) + 1": r"x^L = x^{L-1} + 1", "W^u": "W^u", "W^s": "W^s", "P^n": "P^n",
+    "R(M)^T ⇐ R(N)^T": r"R(M)^T \Leftarrow R(N)^T", "N ⇒ M": r"N \Rightarrow M",
+    "|μ_u(DP⁶)|": r"|\mu_u(DP^6)|", "N_j(λ̄) = c_j + v_j (λ̄ − 27/200) + A_j [−1, 1]²":
+        r"N_j(\bar\lambda) = c_j + v_j (\bar\lambda - 27/200) + A_j [-1, 1]^2", "v_j": "v_j",
+    "H̄(q*)": r"\bar H(q^*)", "{H = H(q*), m3 = m3*}": r"\{H = H(q^*),\ m_3 = m_3^*\}", "F∘X": r"F\circ X", "{F, m3}": r"\{F, m_3\}", "ρ sin ψ_u = λ̄²S": r"\rho\sin\psi_u = \bar\lambda^2 S",
+    "ν ≥ λ̄⁴S²": r"\nu \ge \bar\lambda^4 S^2", "λ̄²S": r"\bar\lambda^2 S", "λ̄S": r"\bar\lambda S",
+    "(θ, p̄θ)": r"(\theta, \bar p_\theta)", "m_c": "m_c", "c_J = c_H, c_K": "c_J = c_H, c_K",
+    "DQ2 = R DQ⁻¹ R": r"DQ_2 = R\, DQ^{-1} R", "Σ+": r"\Sigma^+", "C¹": "C^1", "S¹": "S^1", "n·m": r"n\cdot m",
+    "μ_u": r"\mu_u", "ψ_u": r"\psi_u", "d sin ψ/dt > 0": r"d\sin\psi/dt > 0", "sin ψ = 0": r"\sin\psi = 0",
+    "S ≠ 0": r"S \neq 0", "|λ̄ − 27/200|": r"|\bar\lambda - 27/200|",
+    "{sin ψ = 0, d sin ψ/dt > 0}": r"\{\sin\psi = 0,\ d\sin\psi/dt > 0\}", "T ∈": r"T \in", "tr DP(x0)": r"\operatorname{tr} DP(x_0)", "DP(x0)": r"DP(x_0)", "DP²": "DP^2", "x0": "x_0", "log ρ": r"\log\rho",
+}
+_GREEK = "".join(GREEK)
+_ATOM = re.compile(r"(?:\d+(?:\.\d+)?·)?10" + _SUPS                         # powers of ten: 2·10⁻¹¹
+                   + r"|\d*(?:[A-Za-z]̄|[" + _GREEK + r"]̄?)(?:_\w|\d(?![\d.])|t\b|\*|′)?(?:" + _SUPS + ")?"  # 2λ̄, θ0
+                   + r"|\b(?:N(?:\d+|k|j)|[mCedBsKnI]\d)\b"                 # h-sets N0 … Nk, indexed names m3, C1
+                   + r"|\(m(?:, (?:[" + _GREEK + r"]̄?|[a-z]\d?))+\)"              # tuples (m, μ, γ, δ), (m, n, e3)
+                   + r"|\bO\([" + _GREEK + "̄" + "".join(_SUP) + r"\d]+\)"           # orders O(ε), O(λ̄²), O(1)
+                   + r"|\b[mT](?= ∈)|\ba [=>≥] 2b\b"                                # m ∈ [1, 2.2]; a > 2b
+                   + r"|\b[A-Za-z]" + _SUPS + r"|\b\d" + _SUPS                # x²⁸, the block 0⁵
+                   + r"|[≠∈≤≥≪≲≈⇒⇐→…]")                                      # relations (math only when joined)
+_RELATIONS = "≠∈≤≥≪≲≈⇒⇐→…"
+# what may stand between two pieces of mathematics and join them into one: operators and digits, or one ", "
+_JOIN = re.compile(r"[ \d=<>+/≠∈≤≥≪≲≈±×·−→⇒⇐∘…]*|, ")
+# a relation or an operator with a number, an interval or a tuple after a piece of mathematics belongs to it
+# (θ = 0, λ̄ = 27/200, T ∈ [5.2, 5.3], = (17/10, 2/5, 3, 3)); after a relation, the number alone does (γ ≪ 1)
+_NUMBER = r"(?:[−-]?\d+(?:[./]\d+)*(?:e[−-]\d+)?(?![\d./]|\w)|\[[−-]?[\d./]+, [−-]?[\d./]+\]|\([\d/.]+(?:, [\d/.]+)+\))"
+_OPERAND = re.compile(r"\s*[=≠<>≤≥≪∈+−]\s*" + _NUMBER)
+_BARE = re.compile(r"\s*" + _NUMBER)
+# a list "μ, γ, δ" is one piece of mathematics, "λ̄ = 2, γ ≪ 1" two
+_RELATION = re.compile(r"\\neq|\\in\b|\\le|\\ge|\\ll|\\approx|\\to|\\Rightarrow|\\lesssim|[=<>]")
+_ENDS_IN_RELATION = re.compile(r"(\\neq|\\in|\\le|\\ge|\\ll|\\approx|=|<|>)$")
+
+
+def _latex(s: str) -> str:
+    """A Unicode formula as LaTeX: Greek letters, bars, indices, superscripts, operators."""
+    out = re.sub(r"(?<=\d)e([−-]\d+)\b", r"\\cdot 10^{\1}", s)  # 1.4e−5
+    out = re.sub(r"(\w)̄", lambda m: rf"\bar {m.group(1)}", out)
+    out = re.sub(_SUPS, lambda m: "^{" + "".join(_SUP[c] for c in m.group(0)) + "}", out)
+    out = re.sub(r"(?<=[" + _GREEK + r"])(\d|t\b)", r"_\1", out)  # θ0, θt
+    out = re.sub(r"\b([mCedBsKnI])(\d)\b", r"\1_\2", out)  # m3, C1
+    out = re.sub(r"\bN(\d+|k|j)\b", r"N_{\1}", out)  # the h-sets
+    out = re.sub(r"(?<=[" + _GREEK + r"])\*", "^*", out)
+    out = "".join(GREEK.get(c, OPS.get(c, c)) + (" " if c in GREEK or OPS.get(c, "").startswith("\\") else "")
+                  for c in out)
+    out = re.sub(r"\\bar (\\\w+) ", r"\\bar\1 ", out)
+    return re.sub(r" +(?=[\^_',)])", "", out).strip()
+
+
+def markdown(text: str) -> str:
+    """`text` (the statements' Unicode) with its mathematics as myst dollar math: the formulas of FORMULAS, Greek
+    letters, barred and indexed symbols, powers of ten, and the relations and numbers that join them.  Code spans
+    are left alone."""
+    pieces = []  # [is_math, text]
+    pat = re.compile("|".join(re.escape(f) for f in sorted(FORMULAS, key=len, reverse=True)) + "|" + _ATOM.pattern)
+    for k, part in enumerate(re.split(r"(`[^`]*`)", text)):
+        if k % 2:
+            pieces.append([False, part])
+            continue
+        pos = 0
+        for m in pat.finditer(part):
+            pieces.append([False, part[pos:m.start()]])
+            f = FORMULAS.get(m.group(0))
+            pieces.append([False, f] if f is not None and f.startswith("$") else
+                          [True, f if f is not None else _latex(m.group(0))])
+            pos = m.end()
+        pieces.append([False, part[pos:]])
+    merged = []
+    for is_math, s in pieces:
+        if (is_math and len(merged) >= 2 and merged[-2][0] and not merged[-1][0] and _JOIN.fullmatch(merged[-1][1])
+                and (merged[-1][1] != ", " or not (_RELATION.search(merged[-2][1]) or _RELATION.search(s)))):
+            sep = _latex(merged.pop()[1])
+            merged[-1][1] += (", " if sep == "," else f" {sep} " if sep else " ") + s
+        elif is_math and merged and merged[-1][0]:
+            merged[-1][1] += s
+        else:
+            merged.append([is_math, s])
+    out = []
+    for i, (is_math, s) in enumerate(merged):
+        if is_math and i + 1 < len(merged) and not merged[i + 1][0]:
+            m = _OPERAND.match(merged[i + 1][1]) or (_ENDS_IN_RELATION.search(s) and _BARE.match(merged[i + 1][1]))
+            if m:
+                s += " " + _latex(m.group(0))
+                merged[i + 1][1] = merged[i + 1][1][m.end():]
+        if is_math and s.strip() in {_latex(c) for c in _RELATIONS}:
+            s, is_math = next(c for c in _RELATIONS if _latex(c) == s.strip()), False  # a lone relation: text
+        out.append("$" + re.sub(" +", " ", s.strip()) + "$" if is_math else s)
+    return "".join(out)
+
+
+def plain(text: str) -> str:
+    r"""The inverse of `markdown` for reading prose: dollar math back to Unicode ($\bar\lambda$ -> λ̄, $m_3$ -> m3),
+    so that a statement's phrases ("ε small", "in involution with m3") are found in rendered blocks too."""
+    inv = {v: k for k, v in {**OPS, **GREEK}.items() if v.startswith("\\")}
+    inv.update({f"\\{f}": f"{f} " for f in ("sin", "cos", "tan", "log")})
+
+    def math(m):
+        s = re.sub(r"\\bar\s*(\\[A-Za-z]+|\w)", lambda b: inv.get(b.group(1), b.group(1)) + "̄", m.group(1))
+        s = re.sub(r"\\[A-Za-z]+", lambda c: inv.get(c.group(0), ""), s)
+        return re.sub(r"[{}^_]|\\(?=\W)", "", s).replace("  ", " ")
+
+    return re.sub(r"\$([^$]+)\$", math, text)
+
+
 def render_verdict() -> str:
     """The numbered list of docs/nonintegrability.md, section "Verdict" (labels computed from the chains)."""
     out = []
     for st in STATEMENTS:
         chain = "; ".join(f"{s.what} — " + (f"statement {s.ref} ({status(s.ref)})" if s.ref else
                                            f"{s.status}" + (f", {s.how}" if s.how else "")) for s in st.chain)
-        out.append(_wrap(f"{st.number}. **{status(st.number)}** ({st.title}). {st.text}"))
-        out.append(_wrap(f"   *Chain:* {chain}."))
+        out.append(_wrap(markdown(f"{st.number}. **{status(st.number)}** ({st.title}). {st.text}")))
+        out.append(_wrap(markdown(f"   *Chain:* {chain}.")))
     return "\n".join(out)
 
 
 def _wrap(text: str) -> str:
+    """Markdown lines of at most 116 characters, never broken inside a piece of mathematics."""
     import textwrap
 
-    return textwrap.fill(text, 116, subsequent_indent="   ", break_long_words=False, break_on_hyphens=False)
+    text = re.sub(r"\$[^$]+\$", lambda m: m.group(0).replace(" ", "\x00"), text)
+    out = textwrap.fill(text, 116, subsequent_indent="   ", break_long_words=False, break_on_hyphens=False)
+    return out.replace("\x00", " ")
 
 
 def _by_status():
@@ -374,7 +512,7 @@ def render_summary() -> str:
     """The Summary paragraph of docs/nonintegrability.md."""
     g = _by_status()
     lists = "; ".join(f"{k}: {', '.join(g[k])}" for k in RANK if k in g)
-    return _wrap(f"**Summary** ({lists}). At the parameter point of 5, (m, μ, γ, δ, λ̄) = (17/10, 1/25, 1, 1, "
+    return _wrap(markdown(f"**Summary** ({lists}). At the parameter point of 5, (m, μ, γ, δ, λ̄) = (17/10, 1/25, 1, 1, "
             f"1/100), and at Fig 4's rod (5a: (17/10, 2/5, 3, 3) at the four panels' λ̄, non-perturbative), the "
             f"saddle's energy level of the reduced chart system carries horseshoes and no real-analytic "
             f"integral independent of H̄ (**{status('5')}**), and the 9-D rod has there no real-analytic integral "
@@ -392,12 +530,12 @@ def render_summary() -> str:
             f"(10). In sec. 9's regime (λ̄ = 2, γ ≪ 1), on Fig 5's own level h = 4/5 (μ = 2λ̄ = 4, δ = 1/4): a "
             f"saddle of the section map at the four panels' γ and a horseshoe at each (**{status('13')}**, "
             f"13; at γ = 3/20 for every λ̄ in 2 ± 2·10⁻¹¹). The paper's own "
-            f"argument (sec. 7) does not prove it (1).")
+            f"argument (sec. 7) does not prove it (1)."))
 
 
 def render_readme() -> str:
     """The README bullet on nonintegrability."""
-    return _wrap(f"- Nonintegrability: at one parameter point, (m, μ, γ, δ, λ̄) = (17/10, 1/25, 1, 1, 1/100), and "
+    return _wrap(markdown(f"- Nonintegrability: at one parameter point, (m, μ, γ, δ, λ̄) = (17/10, 1/25, 1, 1, 1/100), and "
             f"for every λ̄ in 1/100 ± 10⁻¹³ there, two transverse homoclinic orbits of the tilted saddle-focus are **{status('5')}** (`magrod prove`, a "
             f"certificate re-checked by a separate, complete verifier), hence horseshoes on that level and no "
             f"real-analytic integral of the reduced system independent of H̄ there, the same at Fig 4's rod (the four panels' λ̄) on the saddle-focus's "
@@ -411,7 +549,7 @@ def render_readme() -> str:
             f"(sec. 9's regime: λ̄ = 2, γ ≪ 1) a saddle of the section map at the four panels and a horseshoe at "
             f"each are **{status('13')}** (statement 13), and the chaos of Figs 4–5 "
             f"elsewhere is **{status('10')}** evidence "
-            f"(`docs/nonintegrability.md`, \"Verdict\").").replace("\n   ", "\n  ")
+            f"(`docs/nonintegrability.md`, \"Verdict\").")).replace("\n   ", "\n  ")
 
 
 BLOCKS = {  # file (relative to the repository) -> {block name: renderer}
@@ -453,7 +591,7 @@ _NEG = re.compile(r"\b(not|no|never|nor|without)\b[^.;]{0,40}$", re.I)
 
 def clauses(text: str) -> list:
     """Sentences and semicolon/dash-separated clauses of prose (markdown paragraphs joined, code stripped)."""
-    text = re.sub(r"`[^`]*`", " ", text)
+    text = plain(re.sub(r"`[^`]*`", " ", text))
     text = re.sub(r"\s+", " ", text)
     return [c.strip() for c in re.split(r"(?<=[.;!?])\s+|\s+—\s+|\s+\|\s+|,\s+(?:and|but)\s+", text) if c.strip()]
 

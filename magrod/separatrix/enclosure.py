@@ -1,5 +1,5 @@
 """The splitting integral S of the straight rod at mu = 2 lambdabar, enclosed rigorously in ball arithmetic
-(issue 20; docs/nonintegrability.md, statement 2).
+(docs/nonintegrability.md, statement 2).
 
 What S is.  At mu = 2 lambdabar (a = 2b of eq:condition_unperturbed_1) the unstable manifold of the straight rod
 meets Sigma = {pbar_theta = 0} at the chart angle psi_u = lambdabar S/tan(theta_t/2) + O(lambdabar^2), with
@@ -36,7 +36,7 @@ A box is decided when the resulting ball excludes 0; otherwise it is bisected (t
 most width) down to `min_width`, and what is left is reported as undecided.  Where S changes sign along delta at
 the centre of an undecided box, the zero delta*(m0, gamma0) is located (affine: one ball division) and reported.
 
-The second-order form (`box_theorem(order=2)`, issue 27).  Next to m_c, |S| ~ 1e-4 is a small remainder of an
+The second-order form (`box_theorem(order=2)`).  Next to m_c, |S| ~ 1e-4 is a small remainder of an
 oscillating integrand while Int |dN/dp| ~ 70, so the mean value form needs half-widths ~1e-6.  Instead, on each
 rectangle and delta end: I(p0 + h) = I(p0) + grad I(p0).h + (1/2) h^T Hess I(p0 + xi h) h (I cut at a tau_T fixed
 for the rectangle), with I(p0) and grad I(p0) point values by acb.integral of the integrand and of the generated
@@ -155,7 +155,7 @@ def _exact(x: arb) -> Fraction:
 
 def outward(x: arb, digits: int = 12) -> tuple[str, str]:
     """(lo, hi) exact decimal strings with lo <= every point of the ball x <= hi, rounded outward to `digits`
-    significant digits (issue 27: a float of the mid-point of x.lower() is round-to-nearest, not a bound)."""
+    significant digits (a float of the mid-point of x.lower() is round-to-nearest, not a bound)."""
     if not x.is_finite():
         return "-inf", "inf"
     lo, hi = _exact(x.lower()), _exact(x.upper())  # Arb rounds these outward at the working precision
@@ -488,7 +488,7 @@ def _enclose_rect(mod, mb, gb, dv: fmpq, tail_tol: float, counter) -> tuple[arb,
 
 
 # --------------------------------------------------------------------------------------------------------------
-# the second-order (Taylor) form of a rectangle (issue 27, the corner next to m_c)
+# the second-order (Taylor) form of a rectangle (for the corner next to m_c)
 # --------------------------------------------------------------------------------------------------------------
 def _tight_ball(lo: fmpq, hi: fmpq) -> arb:
     """A ball containing [lo, hi] with mid-point (lo + hi)/2 and radius (hi - lo)/2 rounded up (_ball's arb union is

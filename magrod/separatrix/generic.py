@@ -1,4 +1,4 @@
-"""The splitting for a > 2b, derived (issue 20, item 2): the leading coefficient s1/eps^3 of D(psi) = 2 s1 sin(psi)
+"""The splitting for a > 2b, derived: the leading coefficient s1/eps^3 of D(psi) = 2 s1 sin(psi)
 and one leading-order picture of W^u on Sigma for all a >= 2b, compared with the measured splitting.
 
 Derivation (derive/generic_splitting.py; report entries generic_*):
@@ -38,7 +38,7 @@ from ..generated import splitting_ball as _sball
 from ..core.tolerances import GENERIC_AGREEMENT
 from .enclosure import DEFAULT_PREC, enclose_S, exact
 
-# The comparison set of issue 20 (>= 8 parameter sets): the printed point, a/b close to 2, delta = 0, gamma = 0, and
+# The comparison set (>= 8 parameter sets): the printed point, a/b close to 2, delta = 0, gamma = 0, and
 # other (m, gamma, delta, a, b).  eps: geometric ladders on which the guard of tilted_curve passes in both precisions
 # (for a/b = 2.05 the launch phases cluster on Sigma below eps ~ 4e-3).
 DEFAULT_EPS = (0.02, 0.014, 0.01, 0.007, 0.005)
@@ -52,7 +52,7 @@ CASES = (
     (2.2, 2.0, 0.5, 2.0, 0.5),
     (1.0, 0.0, 1.0, 6.0, 2.0),
 )
-TOLERANCE = GENERIC_AGREEMENT  # relative: the issue's bound for derived vs measured
+TOLERANCE = GENERIC_AGREEMENT  # relative: the bound asked of derived vs measured
 
 
 def precisions_for(case) -> tuple:
@@ -307,7 +307,7 @@ def circle_prediction(m, gamma, delta, lam) -> CirclePrediction:
 
     Notes
     -----
-    Leading order in lambdabar and nu (formal); measured values: docs/errata.md (issue 13) and
+    Leading order in lambdabar and nu (formal); measured values: docs/errata.md and
     tests/test_generic_splitting.py.
     """
     lam = float(exact("lam", lam))

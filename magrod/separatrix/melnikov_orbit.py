@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.errors import ParameterError
+from ..core.errors import MissingStructure, ParameterError
 from ..core.results import Result
 
 HARMONICS = 6
@@ -90,7 +90,8 @@ def melnikov_along_orbit(system, parameter: str, value0: float, *, integral: str
 
     system, _ = as_system(system)
     if system.is_paper:
-        raise ParameterError("model", "the paper's rod's first-order Mel'nikov function vanishes identically "
+        raise MissingStructure(system.model, "a non-vanishing first-order Mel'nikov function",
+                               "the paper's rod's first-order Mel'nikov function vanishes identically "
                                       "(docs/errata.md): mr.splitting measures its splitting directly")
     if parameter not in system.names:
         raise ParameterError("parameter", f"must be a parameter of the model {system.model!r} "
@@ -98,7 +99,8 @@ def melnikov_along_orbit(system, parameter: str, value0: float, *, integral: str
     code = system.code
     cands = tuple(code.names.CANDIDATES)
     if not cands:
-        raise ParameterError("model", f"the Mel'nikov function needs a first integral of the integrable member, and "
+        raise MissingStructure(system.model, "a candidate first integral",
+                               f"the Mel'nikov function needs a first integral of the integrable member, and "
                                       f"the model {system.model!r} declares no candidate integral")
     name = cands[0] if integral is None else integral
     if name not in cands:
@@ -117,16 +119,19 @@ def melnikov_along_orbit(system, parameter: str, value0: float, *, integral: str
     X = rng.uniform(-1, 1, size=(mf.dim, 8))
     drift = np.abs(np.sum(np.asarray(gradI(X, s0.array())) * np.asarray(mf.rhs(X, s0.array())), axis=0))
     if np.max(drift) > 1e-12:
-        raise ParameterError("model", f"{name} is not an integral of the model {system.model!r} at {parameter} = "
+        raise MissingStructure(system.model, "an integrable member",
+                               f"{name} is not an integral of the model {system.model!r} at {parameter} = "
                                       f"{value0:g} (|dI/dt| = {np.max(drift):.2g}): no integrable member there")
     survive = [r for r in reversors(s0) if any(np.array_equal(r.matrix, q.matrix) for q in reversors(system))]
     if not survive:
-        raise ParameterError("model", f"no reversor of the model {system.model!r} at {parameter} = {value0:g} "
+        raise MissingStructure(system.model, "a reversor",
+                               f"no reversor of the model {system.model!r} at {parameter} = {value0:g} "
                                       "survives the perturbation: the symmetric orbit the Mel'nikov function starts "
                                       "from is not defined")
     orb = symmetric_homoclinic(s0, reversor=survive[0])
     if not orb.success:
-        raise ParameterError("model", f"the integrable member of {system.model!r} has no symmetric homoclinic orbit "
+        raise MissingStructure(system.model, "a symmetric homoclinic orbit",
+                               f"the integrable member of {system.model!r} has no symmetric homoclinic orbit "
                                       f"({orb.message})")
     smp = orb.sample(n)
     t, Xo = smp["t"], smp["x"]

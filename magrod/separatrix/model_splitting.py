@@ -1,5 +1,5 @@
 """Splitting of the homoclinic manifold of the straight twisted rod, for the rod models that perturb the isotropic
-Kirchhoff rod (issue 26, item 5): the anisotropic rod [Mielke88] and the intrinsically curved rod
+Kirchhoff rod: the anisotropic rod [Mielke88] and the intrinsically curved rod
 [Champneys97a; Leung04].
 
 The integrable member.  The isotropic rod (B1 = B2 = B, torsion C, pre-twist k3, H = |m_perp|^2/(2B) + m3^2/(2C)

@@ -52,7 +52,7 @@ import heyoka as hy
 import numpy as np
 
 from ..core import systems
-from ..core.errors import MAX_MAGNITUDE, ParameterError, require_finite
+from ..core.errors import MAX_MAGNITUDE, MissingStructure, ParameterError, require_finite
 from ..core.params import RodParams
 from ..core.precision import Precision
 from ..core.results import Result
@@ -146,7 +146,7 @@ def launch_point(sd, launch_distance: float, phase: float = 0.0, precision=None)
 
 
 def working_saddle(params: RodParams, precision=Precision.DOUBLE):
-    """Deprecated (issue 25): the separatrix uses the orbits' saddles; call `splitting_saddle` or
+    """Deprecated: the separatrix uses the orbits' saddles; call `splitting_saddle` or
     magrod.orbits.shooting.saddle(params, precision=...)."""
     warnings.warn("magrod.separatrix.splitting.working_saddle is deprecated: use magrod.orbits.shooting.saddle("
                   "params, precision=...) (the same objects: StraightRod, PeriodicSaddle)", DeprecationWarning,
@@ -159,7 +159,7 @@ _DEPRECATED = {"EquilibriumSaddle": ("magrod.orbits.equilibrium", "StraightRod")
 
 
 def __getattr__(name):
-    """The old saddle classes of the splitting, now the orbits' ones (issue 25), with a DeprecationWarning."""
+    """The old saddle classes of the splitting, now the orbits' ones, with a DeprecationWarning."""
     if name in _DEPRECATED:
         import importlib
 
@@ -395,7 +395,7 @@ class TiltedCurve:
         return d
 
 
-# Guard of tilted_curve (issue 20): near a = 2b the launch phases on the saddle-focus's (very elongated, in the chart)
+# Guard of tilted_curve: near a = 2b the launch phases on the saddle-focus's (very elongated, in the chart)
 # unstable eigenplane map to clustered psi on Sigma, and the K-harmonic fit becomes unconstrained in the gaps
 # (measured: (a, b) = (2.05, 1), eps = 1.25e-3, long double: gap 1.19 rad, residual 1e-9 > |s1| = 4e-10, and s1/eps^3
 # off by 30%).  A curve is refused unless (i) no gap between consecutive psi samples exceeds pi/K (half a period of
@@ -715,7 +715,7 @@ def check_eps(eps, precision) -> list:
     each resolvable in the working `precision`: the splitting d scales like eps^4 at a = 2b (d/eps^4 -> b^2 S/m^2,
     docs/nonintegrability.md; psi_u ~ eps^2) and no faster in the tilted case, so an eps whose eps^4 is below the
     precision's machine epsilon measures nothing but rounding (e.g. eps = 1e-300, where b eps^2 underflows).
-    ParameterError("eps") otherwise.  (Until issue 25 these checks lived in the command line only.)"""
+    ParameterError("eps") otherwise."""
     vals = [require_finite("eps", e) for e in (eps if not np.isscalar(eps) else [eps])]
     if not vals:
         raise ParameterError("eps", "need a non-empty list of eps > 0")
@@ -873,7 +873,8 @@ def _model_splitting(system, eps, progress=None):
         why = NO_SPLITTING.get(name, "it is not a perturbation, by a named small parameter, of an integrable rod "
                                      "whose saddle has a homoclinic manifold in closed form (the anisotropic rod "
                                      "B2 = B1 (1 + eps) and the curved rod k1 = eps are)")
-        raise ParameterError("model", f"the splitting of the separatrix needs a saddle and a small parameter, and "
+        raise MissingStructure(system.model, "a small parameter",
+                               f"the splitting of the separatrix needs a saddle and a small parameter, and "
                                       f"the model {system.model!r} has none: {why}")
     t0 = time.perf_counter()
     eps = EPS_DEFAULT if eps is EPS_SCAN else eps

@@ -1,4 +1,4 @@
-"""The store wing: chaos maps on disk and on a Dask cluster (issue 25 moved it out of the mathematics).
+"""The store wing: chaos maps on disk and on a Dask cluster, kept apart from the mathematics.
 
   tiles.py      the resumable zarr store of a map: layout, identity, content hashes, markers, the tiles and
                 refinement rounds run on Dask and verified as they arrive

@@ -228,7 +228,7 @@ def connect(address: str, *, timeout: float = 5.0, worker_timeout: float = 60.0,
 
 
 # ------------------------------------------------------------------------------------------------------------
-# the machine's limits, checked before a LocalCluster is started (until issue 25 these lived in the CLI)
+# the machine's limits, checked before a LocalCluster is started (here, not in the CLI: a library caller gets them too)
 # ------------------------------------------------------------------------------------------------------------
 WORKER_MB = 300  # RSS of a LocalCluster worker after a tile (heyoka + LLVM + dask): 253 MB measured, rounded up
 WORKER_VM_MB = 1800  # virtual memory of a LocalCluster worker: VmPeak 904 MB measured after a tile, x 2 margin

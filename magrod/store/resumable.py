@@ -1,6 +1,6 @@
 """A chaos map into a resumable zarr store on Dask: `stored_map(spec, out)` and the public `chaos_map(...,
-store=DIR)` (issue 25: until then a stored, resumable map existed only in the command line, which held this policy
-itself).
+store=DIR)`: the policy of a stored, resumable map lives here, so that the command line and a library caller
+share it.
 
 The policy, once, for the library and for `magrod chaosmap`:
   - everything is checked before anything is made: the store path (no symbolic link), the cost against the workers,

@@ -53,7 +53,7 @@ from ..core.errors import EnvironmentFault, ParameterError
 from ..core.io import atomic_write_json
 from .cluster import check_cluster, close_quietly, connect, start_local_cluster, stop_local_cluster, worker_env
 
-STORE_FORMAT = 2  # 1: markers without hashes (before issue 17)
+STORE_FORMAT = 2  # 1: markers without hashes
 FIELDS = tuple(maps.MAP_FIELDS) + ("status",)  # the order of the content hash
 _REFINED = FIELDS + maps.REFINE_FIELDS  # the arrays of a refined store
 # every array a store may hold (what starting over may remove), in the order of the content hash
@@ -61,7 +61,7 @@ ALL_FIELDS = _REFINED + maps.EARLY_EXIT_FIELDS
 
 
 def names_of(spec: maps.MapSpec) -> tuple:
-    """The arrays of this map's store, in the order of the content hash: FIELDS, for a refined map (issue 28)
+    """The arrays of this map's store, in the order of the content hash: FIELDS, for a refined map
     "inferred" and "level" after them, for a map with early exit "exit_time" (a brute-force store without early
     exit is what it was before)."""
     return FIELDS + (maps.REFINE_FIELDS if spec.refine else ()) + (maps.EARLY_EXIT_FIELDS if spec.early_exit else ())
@@ -146,7 +146,7 @@ def _skeleton_hashes(root: Path) -> dict:
 _CHUNK = re.compile(r"^\d+$")
 _PARTIAL = re.compile(r"^\d+\.[0-9a-f]{32}\.partial$")  # zarr's LocalStore temporary of a chunk write
 _MARKER = re.compile(r"^\d+_\d+\.json$")
-_ROUND_MARKER = re.compile(r"^r\d+_\d+_\d+\.json$")  # a refinement round's part of one tile (issue 28)
+_ROUND_MARKER = re.compile(r"^r\d+_\d+_\d+\.json$")  # a refinement round's part of one tile
 
 
 def _refuse_symlink(p: Path) -> None:
@@ -267,10 +267,10 @@ def _write_skeleton(spec: maps.MapSpec, ident: str, target: Path) -> None:
     dims = (spec.y.name, spec.x.name)
     data = {k: (dims, da.full(spec.shape, np.nan, chunks=chunks), variable_attrs(k)) for k in maps.MAP_FIELDS}
     data["status"] = (dims, da.full(spec.shape, chaos.FAILED, dtype=np.int8, chunks=chunks), variable_attrs("status"))
-    if spec.refine:  # issue 28: which points were computed, and in which round
+    if spec.refine:  # which points were computed, and in which round
         data["inferred"] = (dims, da.full(spec.shape, 0, dtype=np.int8, chunks=chunks), variable_attrs("inferred"))
         data["level"] = (dims, da.full(spec.shape, -1, dtype=np.int8, chunks=chunks), variable_attrs("level"))
-    for k in maps.EARLY_EXIT_FIELDS if spec.early_exit else ():  # issue 28: the time an orbit stopped
+    for k in maps.EARLY_EXIT_FIELDS if spec.early_exit else ():  # the time an orbit stopped
         data[k] = (dims, da.full(spec.shape, np.nan, chunks=chunks), variable_attrs(k))
     coords = {spec.x.name: (spec.x.name, spec.x.values(), coord_attrs(spec.x.name)),
               spec.y.name: (spec.y.name, spec.y.values(), coord_attrs(spec.y.name))}
@@ -401,7 +401,7 @@ def _write_record(spec, ident, tiles_dir: Path, skeleton: dict, tiles: dict | No
 def _record_is_consistent(rec: dict) -> bool:
     """The integrity record agrees with itself: its spec, format and code hash to its identity (`identity`).  A
     record whose spec was edited by hand (t_max 200 -> 300) but whose identity was not would otherwise be taken
-    for this map's, and its tiles reused as if computed with the edited spec (issue 24)."""
+    for this map's, and its tiles reused as if computed with the edited spec."""
     try:
         doc = {"spec": rec["spec"], "format": rec["format"], "code": rec["code"]}
         return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest() == rec.get("identity")
@@ -411,8 +411,8 @@ def _record_is_consistent(rec: dict) -> bool:
 
 def _refuse_directories_at_files(spec, store: Path, skel: dict) -> None:
     """A directory where the store keeps a file (a metadata file of the skeleton, a chunk c/I/J) is not magrod's
-    to remove: refuse with one line naming it (before issue 24 zarr's write failed on it, naming its own
-    temporary, after a warning line)."""
+    to remove: refuse with one line naming it (zarr's write would fail on it, naming its own temporary,
+    after a warning line)."""
     if not store.is_dir():
         return
     for rel in skel:
@@ -566,7 +566,7 @@ def tile_task(spec_dict: dict, tile_key: str, store: str, tiles_dir: str, ident:
 
 
 # ------------------------------------------------------------------------------------------------------------
-# a refined map (issue 28): rounds of points, each round one task per tile
+# a refined map: rounds of points, each round one task per tile
 # ------------------------------------------------------------------------------------------------------------
 def _round_marker(tiles_dir: Path, rnd: int, key: str) -> Path:
     return Path(tiles_dir) / f"r{rnd}_{key}.json"

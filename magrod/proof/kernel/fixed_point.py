@@ -65,7 +65,7 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
     r, prad, t1, lead = (frac(s[k]) for k in ("r", "p_rad", "t1", "lead"))
     thc, pc, t_a, hc = (frac(pt[k]) for k in ("theta_c", "p_c", "t_a", "h_cross"))
     # what the certificate must contain, and which theorem (cheap, first)
-    lam_rad = frac(s.get("lam_rad", "0"))  # absent: a certificate at the point (issue 27's first ones)
+    lam_rad = frac(s.get("lam_rad", "0"))  # absent: a certificate at the point (the first section certificates)
     branch = pt.get("branch", "0")  # absent: psi = 0 (the Fig 4 certificates)
     if branch not in ("0", "pi"):
         raise ValueError("the point's branch is '0' or 'pi'")

@@ -53,7 +53,7 @@ def _inputs(cert):
     every recomputed enclosure holds for every lambdabar of it) and the numerical settings."""
     p = fields.ExactParams(**{k: frac(cert["params"][k]) for k in fields.PARAMS})
     s = cert["settings"]
-    w = frac(s.get("lam_rad", "0"))  # absent: a certificate at the point (issue 21's)
+    w = frac(s.get("lam_rad", "0"))  # absent: a certificate at the point (the first homoclinic certificates)
     if w < 0:
         raise CertificateError("settings: lam_rad must be >= 0")
     if w:

@@ -21,7 +21,7 @@ from ...core.errors import ParameterError
 from .. import ball, fields, identities
 
 FORMAT = "magrod-proof-certificate/1"
-#: the statement kinds a certificate may carry ("kind"; absent means the homoclinic kind of issue 21)
+#: the statement kinds a certificate may carry ("kind"; absent means the homoclinic kind, the first one)
 HOMOCLINIC, SECTION_FIXED_POINT, SECTION_HORSESHOE = "homoclinic", "section_fixed_point", "section_horseshoe"
 KINDS = (HOMOCLINIC, SECTION_FIXED_POINT, SECTION_HORSESHOE)
 
