@@ -77,6 +77,19 @@ def test_a_wider_interval_than_the_enclosures_carry_is_rejected(shipped, tmp_pat
         assert_rejected(bad, tmp_path, capsys, check)
 
 
+def test_an_interval_widened_beyond_its_balls_slack_is_rejected(shipped, tmp_path, capsys):
+    """lam_rad x (1 + 2^-10), the smallest widening the stored balls (search.stored: the prover's enclosures widened
+    by 2^-10 of their radius) do not absorb, with its theorem text: rejected before any flight.  A widening by one
+    ulp of the radius verifies, rightly (every enclosure recomputed on the widened interval still lies in its ball:
+    research/README.md, "Interval theorems").  Seen to fail: with the eigenvalue's recomputation check skipped in
+    the verifier's _check_eigen (kernel/homoclinic.py) the tampering is rejected one check later (lambda_u (im) recomputed)."""
+    w = W * (1 + Fraction(1, 2**10))
+    bad = copy.deepcopy(shipped)
+    bad["settings"]["lam_rad"] = f"{w.numerator}/{w.denominator}"
+    bad["theorem"] = theorem.homoclinic_theorem(bad["params"], ["0", "pi"], bad["settings"]["lam_rad"])
+    assert_rejected(bad, tmp_path, capsys, "lambda_u (re) recomputed")
+
+
 def test_the_point_certificate_relabelled_as_an_interval_is_rejected(tmp_path, capsys):
     """The point's certificate with lam_rad and the interval's theorem added: its enclosures are the point's, and the
     verifier, recomputing with lambdabar as the interval's ball, finds the point's saddle box (radius 1e-25) no

@@ -262,12 +262,13 @@ def _lam_rad(args) -> Fraction:
 
 
 def _fixed_point(args) -> dict:
-    from ..proof import FixedPointSettings, interval_settings, prove_fixed_point
+    from ..proof import FixedPointSettings, interval_settings_for, prove_fixed_point
 
     p, h, theta, dest, module = _section_inputs(args, "fixed-point")
     w = _lam_rad(args)
-    st = interval_settings(w) if w else FixedPointSettings()
-    res = prove_fixed_point(p, h, theta, st, root=_root(args), branch=getattr(args, "branch", "0"), module=module,
+    branch = getattr(args, "branch", "0")
+    st = interval_settings_for(p, h, theta, w, root=_root(args), branch=branch) if w else FixedPointSettings()
+    res = prove_fixed_point(p, h, theta, st, root=_root(args), branch=branch, module=module,
                             progress=None if args.quiet else _stage)
     return _section_result(res, p, h, dest, lambda c: {"fixed_point": {k: c[k] for k in ("newton", "trace", "mu_u")}},
                            args)

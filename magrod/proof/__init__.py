@@ -11,6 +11,7 @@ Layers (each tested on its own, tests/test_proof_*.py):
   verify.py    the independent checker of a certificate (imports neither search.py nor saddle.py/manifold.py): its
                entry, and kernel/ (schema.py, one module per kind: homoclinic.py, fixed_point.py, horseshoe.py; pool.py)
   schedule.py  verifies many certificates in processes and remembers verified ones (outside the trust base)
+  tiling.py    the lambdabar interval a chain of interval certificates covers, exactly (a gap is an error)
 
 The names below are the package's public tier (docs/architecture.md, the API reference; tests/test_wings.py allows these and nothing deeper
 for the command line and the figures), imported lazily.
@@ -32,6 +33,7 @@ _API = {
     # the prover of the section map's fixed point (statement 11)
     "FixedPointSettings": ("periodic", "FixedPointSettings"),
     "interval_settings": ("periodic", "interval_settings"),
+    "interval_settings_for": ("periodic", "interval_settings_for"),
     "validate_fixed_point": ("periodic", "validate"),
     "prove_fixed_point": ("periodic", "prove"),
     # the prover of the section map's horseshoe by covering relations (statement 12)

@@ -196,3 +196,16 @@ def to_floats(M: arb_mat):
 
 def max_rad(xs) -> float:
     return max(float(x.rad()) for x in xs)
+
+
+def meet_bounds(xs) -> tuple:
+    """[lo, hi] of the intersection of the finite balls xs, exact (Fractions): each ball encloses one quantity (by
+    different formulas), so the quantity lies in all of them.  Non-finite balls are skipped; (-inf, inf) if none is
+    finite; ValueError if the intersection is empty (two enclosures of one quantity cannot be disjoint)."""
+    bs = [bounds(x) for x in xs if x.is_finite()]
+    if not bs:
+        return -math.inf, math.inf
+    lo, hi = max(b[0] for b in bs), min(b[1] for b in bs)
+    if lo > hi:
+        raise ValueError("disjoint enclosures of one quantity")
+    return lo, hi

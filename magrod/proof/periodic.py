@@ -24,7 +24,11 @@ Method (every decision rigorous; the float search only chooses where to look):
                 Fix(R) at the crossing
   5. saddle     A = DQ(x0) (section coordinates (theta, pbar_theta) at both ends) over Q; reversibility gives
                 DP(x0) = R A^-1 R A, R = diag(1, -1), so det DP(x0) = 1 and tr DP(x0) = 2 (ad + bc)/(ad - bc);
-                |tr| > 2 on the enclosure: a saddle
+                and det A = 1 (Hamilton's flow preserves dtheta ^ dpbar_theta + dpsi ^ dpbar_psi; the transition
+                between the sections psi = 0 and psi = pi, read on the level's tangents t_theta, t_ptheta, whose
+                psi-components vanish and whose form is 1, preserves it: the flow direction adds nothing, since
+                omega(f, v) = dHbar(v) = 0 on the level), so also tr DP(x0) = 2 + 4 bc = 4 ad - 2 (the narrowest
+                enclosure over a wide box: trace_DP); |tr| > 2 on the enclosure: a saddle
 Why this is a fixed point of P: x0 and x1 = Phi_tau(x0) lie on Fix(R), so the orbit is periodic with period
 T = 2 tau (Devaney 1976); s(t) = sin psi(t) is odd in t along it (s(-t) = -s(t)), so its crossings at t and -t
 have the same direction; there is none positive in (0, tau] (steps 2-3), hence none in (0, T), and t = T is
@@ -87,6 +91,29 @@ def interval_settings(lam_rad, base: "FixedPointSettings | None" = None) -> "Fix
     st = base or FixedPointSettings()
     w = ball.fraction(lam_rad)
     r = max(st.r, 8 * w)
+    return replace(st, lam_rad=w, r=r, p_rad=max(st.p_rad, 16 * (r + w)))
+
+
+def interval_settings_for(p: fields.ExactParams, h: Fraction, theta_guess: float, lam_rad, *, root: int = -1,
+                          branch: str = "0", base: "FixedPointSettings | None" = None) -> "FixedPointSettings":
+    """interval_settings with the theta-box sized by theta*'s measured motion: v = dtheta*/dlambdabar by central
+    differences of the float search at lambdabar +- lam_rad, and r = max(4 |v| lam_rad, 2 lam_rad) (the interval
+    Newton image is ~3.3 |v| lam_rad wide at Fig 4(a): 17.2 lam_rad against |v| = 5.2;
+    research/fixed_point_interval_limits.py), p_rad = 16 (r + lam_rad).  What `magrod prove --fixed-point
+    --lam-rad W` uses; a float design choice only (the proof checks the box)."""
+    from dataclasses import replace
+
+    st = base or FixedPointSettings()
+    w = ball.fraction(lam_rad)
+    if w <= 0:
+        return replace(st, lam_rad=Fraction(0))
+    ths = []
+    for s in (-1, 1):
+        q = fields.ExactParams(p.m, p.mu, p.gamma, p.delta, p.lam + s * w)
+        ths.append(float_fixed_point(q, h, theta_guess, root, branch=branch)[0])
+    v = abs(ths[1] - ths[0]) / (2 * float(w))
+    r = max(4 * ball.fraction(v) * w, 2 * w, st.r)
+    r = Fraction(math.ceil(r / w * 8), 8) * w  # a short rational: K w with K a multiple of 1/8
     return replace(st, lam_rad=w, r=r, p_rad=max(st.p_rad, 16 * (r + w)))
 
 
@@ -176,8 +203,14 @@ def float_fixed_point(p: fields.ExactParams, h: Fraction, theta_guess: float, ro
 
 
 def trace_DP(a, b, c, d):
-    """tr DP(x0) = tr(R A^-1 R A) = 2 (ad + bc) / (ad - bc) for A = [[a, b], [c, d]], R = diag(1, -1)."""
-    return 2 * (a * d + b * c) / (a * d - b * c)
+    """tr DP(x0) = tr(R A^-1 R A) = 2 (ad + bc) / (ad - bc) for A = [[a, b], [c, d]], R = diag(1, -1); and, since
+    det A = ad - bc = 1 (step 5 of the module docstring: the transition from psi = 0 to psi = pi preserves
+    dtheta ^ dpbar_theta), also 2 + 4 bc and 4 ad - 2.  Each of the three encloses tr DP at every point of the box the
+    entries were enclosed on; the returned ball is their intersection (2 + 4 bc is the narrowest: ~6x at Fig 4(a),
+    since the quotient's numerator and denominator vary together)."""
+    general = 2 * (a * d + b * c) / (a * d - b * c)
+    lo, hi = ball.meet_bounds([general, 2 + 4 * b * c, 4 * a * d - 2])
+    return general if not math.isfinite(lo) else ball.interval(lo, hi)
 
 
 def fly(fld, S, steps1, steps2, h_cross, order, guards, cross_guard, g, dg):
@@ -309,8 +342,21 @@ def _prove(p, h, theta_guess, root, st, module, check, progress, branch="0") -> 
 
 
 def _mu_u(tr: arb) -> arb:
-    """The eigenvalue of modulus > 1: mu + 1/mu = tr, mu = (tr + sign(tr) sqrt(tr^2 - 4)) / 2."""
+    """The eigenvalue of modulus > 1: mu + 1/mu = tr, mu = (tr + sign(tr) sqrt(tr^2 - 4)) / 2, on the ball tr; and,
+    since mu is increasing in tr on |tr| > 2, the hull of its values at tr's two end points (the ball formula's
+    tr * tr loses the lower bound once tr's radius is comparable to its distance from 2: tr in [2.1, 12.1] gives
+    a radicand ball containing negatives).  The intersection of the two."""
     s = (tr * tr - 4).sqrt()
-    return (tr + s) / 2 if ball.positive(tr) else (tr - s) / 2
+    pos = ball.positive(tr)
+    ball_form = (tr + s) / 2 if pos else (tr - s) / 2
+    lo, hi = ball.bounds(tr)
+    if not (math.isfinite(lo) and (lo > 2 or hi < -2)):
+        return ball_form
+    ends = []
+    for t in (ball.q(lo), ball.q(hi)):
+        r = (t * t - 4).sqrt()
+        ends.append((t + r) / 2 if pos else (t - r) / 2)
+    mlo, mhi = ball.meet_bounds([ball_form, ends[0].union(ends[1])])
+    return ball.interval(mlo, mhi)
 
 

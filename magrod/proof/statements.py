@@ -103,7 +103,9 @@ STATEMENTS = (
        dθ_u/dψ ∈ [−0.003823, −0.001095] at ψ = 0 and [0.000381, 0.002213] at ψ = π). 1.5·10⁻¹³ still proves,
        2·10⁻¹³ does not (`research/homoclinic_interval.py`): λ̄ as a parameter ball is wrapped into every step's
        remainder, and the interval Newton step in the phase grows ~1.9·10⁸ × the half-width (4.6·10⁻⁵ at 2·10⁻¹³,
-       against the widest arc 3.2·10⁻⁵, whose dθ_u/dψ ball is already ±0.0014 about −0.0025). Beyond that
+       against the widest arc 3.2·10⁻⁵, whose dθ_u/dψ ball is already ±0.0014 about −0.0025); of that, 2.2·10⁶ ×
+       is the phase's true motion on a boundary circle about the fixed saddle x*(1/100), 7.9 × on one about the
+       moving saddle (`research/homoclinic_phase_motion.py`), so 10⁻¹⁰ needs the moving circle. Beyond that
        interval: hyperbolic equilibria and transverse intersections persist, so all of this holds on an open
        neighbourhood of the parameters, of unquantified size (cited persistence, hypotheses: the checked
        hyperbolicity and transversality, analytic dependence on the parameters).""",
@@ -221,13 +223,17 @@ STATEMENTS = (
        5.92214] (a), [3.4896, 3.5376] (b), [2.23400, 2.23406] (d), so μ_u ∈ [5.74801, 5.74817], [3.1745, 3.2278],
        [1.61469, 1.61477] (magrod/proof/certificates/fixed_point_fig4{a,b,d}.json, re-checked by the complete
        verifier; `magrod prove --fixed-point 0.383 --level 0.9 --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam
-       0.135`). At (a) also for every λ̄ in [674999/5000000, 675001/5000000] = 0.135 ± 2e−7, λ̄ carried as a state
-       variable through every enclosure (fixed_point_fig4a_interval.json, `--lam-rad 1/5000000`): θ* ∈ [0.38304326,
-       0.38304913], tr DP(x0) ∈ [4.1598, 9.0911]; the widest single box that closes (3e−7: the enclosure of DP is
-       no longer finite). By 11 adjacent such boxes, for every λ̄ in [674989/5000000, 675011/5000000] = 0.135 ±
-       2.2e−6 (magrod/proof/certificates/fig4a_interval/, `research/fig4_lambda_interval.py`: 191 s prove + 162 s
-       verify, each certificate re-checked by the complete verifier in that run and by a slow test; `magrod
-       reproduce` verifies only the single box). Panel (c): the float search found no hyperbolic fixed point of P to prove
+       0.135`). At (a) also for every λ̄ in [134999/1000000, 135001/1000000] = 0.135 ± 10⁻⁶, λ̄ carried as a state
+       variable through every enclosure (fixed_point_fig4a_interval.json, θ-box 20·10⁻⁶,
+       `research/fixed_point_interval_limits.py`; `--lam-rad 1/1000000` proves the same, its θ-box sized by θ*'s
+       float motion): θ* ∈ [0.3830289, 0.3830635], tr DP(x0) ∈ [3.3293, 8.5150]
+       (tr = 2 + 4bc, since the half-map A between ψ = 0 and ψ = π has det A = 1: Hamilton's flow preserves
+       dθ∧dp̄θ between the two sections); 1.2·10⁻⁶ is the widest box that closes, 1.4·10⁻⁶ fails at |tr| > 2. By 21
+       adjacent such boxes, for every λ̄ in [134979/1000000, 135021/1000000] = 0.135 ± 2.1·10⁻⁵
+       (magrod/proof/certificates/fig4a_interval/, `research/fig4_lambda_interval.py`: 3–14 s prove + 2–13 s
+       verify per box at load 2–4, each certificate re-checked by the complete verifier in that run and by a slow
+       test, their union checked exactly by `tiling.chain_interval`; `magrod reproduce` verifies only the single
+       box). Panel (c): the float search found no hyperbolic fixed point of P to prove
        (its horseshoe in statement 12 is built on a periodic orbit of period 6 instead). This is a hyperbolic
        periodic orbit, not chaos by itself: the horseshoe on that level at panels (a) and (b) is statement 12,
        built on this saddle's homoclinic orbit. A hyperbolic fixed point persists, so the same holds on an open interval of
@@ -239,7 +245,10 @@ STATEMENTS = (
              "identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced"),
         Step("an orbit through two points of Fix(R) is periodic, crossings at ±t have one direction, DQ2 = R DQ⁻¹ R "
              "(reversibility; Devaney 1976)", "proved", "the argument of magrod/proof/periodic.py, hypotheses "
-             "checked by the certificate")],
+             "checked by the certificate"),
+        Step("the half-map A between ψ = 0 and ψ = π has det A = 1, so tr DP(x0) = 2 + 4bc (Hamilton's flow "
+             "preserves dθ∧dp̄θ + dψ∧dp̄ψ; on the level's tangents with dψ = 0 the flow direction adds nothing)",
+             "proved", "the argument of magrod/proof/periodic.py (step 5), from report key validated_fields")],
        phrases=(r"fixed point of (the section map )?P", r"section map's (symmetric )?saddle", r"h = 9/10")),
     _s("12", "a horseshoe of the section map on Fig 4's own level h = 9/10, panels (a), (b) and (c)",
        """At (m, μ, γ, δ) = (17/10, 2/5, 3, 3) and λ̄ = 27/200 (panel (a)) and 63/400 (panel (b)), on Fig 4's own
@@ -301,9 +310,10 @@ STATEMENTS = (
        5.2866769] (d), and DP(x0) is a flip saddle: tr DP(x0) ∈ [−5.53060, −5.53043] (a), [−6.83098, −6.83073]
        (b), [−6.90221, −6.90195] (c), [−7.65867, −7.65833] (d) (certificates
        magrod/proof/certificates/fixed_point_fig5{a,b,c,d}.json, `magrod prove --fixed-point 3.012 --level 0.8
-       --m 1.7 --mu 4 --gamma 0.15 --delta 0.25 --lam 2 --branch pi --root 0`); at (a) also for every λ̄ in [9999999/5000000,
-       10000001/5000000] = 2 ± 2·10⁻⁷ (μ = 4 fixed; fixed_point_fig5a_interval.json, `--lam-rad 2/10000000`: tr DP(x0)
-       ∈ [−7.1081, −4.4180]; 4·10⁻⁷ no longer closes); (ii) at each of the four γ P has positive
+       --m 1.7 --mu 4 --gamma 0.15 --delta 0.25 --lam 2 --branch pi --root 0`); at (a) also for every λ̄ in [199999/100000,
+       200001/100000] = 2 ± 10⁻⁵ (μ = 4 fixed; fixed_point_fig5a_interval.json, θ-box 2·10⁻⁵,
+       `research/fixed_point_interval_limits.py`, or `--lam-rad 1/100000`: tr DP(x0) ∈ [−7.8846, −3.1758]; 2·10⁻⁵ fails at the Fix(R)
+       Newton step); (ii) at each of the four γ P has positive
        topological entropy: a compact forward-invariant set Λ with h_top(P|Λ) ≥ log ρ, log ρ > 0.0839 (a),
        > 0.0882 (b), > 0.0985 (c), > 0.0985 (d), ρ the largest root of x^L = x^(L−1) + 1, L = 30, 28, 24, 24 —
        h-sets N0 … Nk, k = 15, 14, 12, 12 (half-sizes 6.3·10⁻¹² … 4.9·10⁻⁹), N0 at the saddle of (i) and N1 … Nk
@@ -523,13 +533,14 @@ def render_summary() -> str:
             f"size (cited persistence). Nonintegrability of the 9-D rod against every integral (not only those in "
             f"involution with m3), and near the perturbative regime, is **{status('7b')}** (7b; 4 rests on the "
             f"formal expansion 3). On Fig 4's own level h = 9/10 the section map has a hyperbolic fixed point (a "
-            f"saddle) at panels (a), (b), (d) (**{status('11')}**, 11), and at panels (a), (b) and (c) a horseshoe: "
+            f"saddle) at panels (a), (b), (d) (**{status('11')}**, 11; at (a) for every λ̄ in 0.135 ± 2.1·10⁻⁵, by 21 "
+            f"boxes of 2·10⁻⁶), and at panels (a), (b) and (c) a horseshoe: "
             f"positive topological entropy of the section map (**{status('12')}**, 12, covering relations along the "
             f"saddle's homoclinic orbit, at (c) around a period-6 orbit of P; at (a) for every λ̄ in 0.135 ± "
             f"2·10⁻¹¹); at panel (d) chaos there is **{status('10')}** evidence only "
             f"(10). In sec. 9's regime (λ̄ = 2, γ ≪ 1), on Fig 5's own level h = 4/5 (μ = 2λ̄ = 4, δ = 1/4): a "
             f"saddle of the section map at the four panels' γ and a horseshoe at each (**{status('13')}**, "
-            f"13; at γ = 3/20 for every λ̄ in 2 ± 2·10⁻¹¹). The paper's own "
+            f"13; at γ = 3/20 the saddle for every λ̄ in 2 ± 10⁻⁵, the horseshoe in 2 ± 2·10⁻¹¹). The paper's own "
             f"argument (sec. 7) does not prove it (1)."))
 
 
@@ -543,7 +554,8 @@ def render_readme() -> str:
             f"involution with m3 "
             f"(**{status('7')}**); every other nonintegrability claim (every integral, not only those in involution with "
             f"m3; the perturbative regime) is **{status('7b')}**; on Fig 4's own level h = 9/10 a saddle of the section "
-            f"map at three of the four panels is **{status('11')}**, a horseshoe of the section map (positive "
+            f"map at three of the four panels is **{status('11')}** (at (a) for every λ̄ in 0.135 ± 2.1·10⁻⁵), a "
+            f"horseshoe of the section map (positive "
             f"topological entropy) at panels (a), (b) and (c) is **{status('12')}** (statement 12; at (a) for every λ̄ in "
             f"0.135 ± 2·10⁻¹¹), on Fig 5's own level h = 4/5 "
             f"(sec. 9's regime: λ̄ = 2, γ ≪ 1) a saddle of the section map at the four panels and a horseshoe at "

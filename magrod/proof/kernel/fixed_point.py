@@ -12,7 +12,8 @@ from flint import arb
 from ...core.errors import ParameterError
 from .. import ball, fields, taylor
 from ..theorem import section_fixed_point_theorem
-from .schema import CertificateError, Reject, VerifyResult, check_structure, frac, imprecise, inside, recomputed
+from .schema import (CertificateError, Reject, VerifyResult, check_structure, frac, imprecise, inside, recomputed,
+                     recomputed_meet)
 
 
 def verify(cert, module, t0) -> VerifyResult:
@@ -173,14 +174,21 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
     recomputed(claim, "Fix(R) Newton", N, cert["newton"])
     claim("unique theta*", ball.excludes_zero(sb["dth_ptheta"]) and inside(ball.from_json(cert["newton"]), Theta),
           "the interval Newton image lies inside Theta: exactly one theta* in Theta, its orbit meets Fix(R)")
-    # 5. hyperbolicity: DP(x0) = R A^-1 R A, tr = 2 (ad + bc) / (ad - bc)
+    # 5. hyperbolicity: DP(x0) = R A^-1 R A, tr = 2 (ad + bc) / (ad - bc); det A = 1 (Hamilton's flow: the transition
+    # psi = 0 -> pi preserves dtheta ^ dpbar_theta on the level's tangents), so also tr = 2 + 4 bc = 4 ad - 2: the
+    # recomputed enclosure is the intersection of the three, decided exactly
     a, b, c, d = bx["dth_theta"], bx["dpt_theta"], bx["dth_ptheta"], bx["dpt_ptheta"]
-    tr = 2 * (a * d + b * c) / (a * d - b * c)
-    recomputed(claim, "tr DP(x0)", tr, cert["trace"])
+    recomputed_meet(claim, "tr DP(x0)", [2 * (a * d + b * c) / (a * d - b * c), 2 + 4 * b * c, 4 * a * d - 2],
+                    cert["trace"])
     claim("hyperbolic", ball.bounds(abs(tr_s))[0] > 2, f"|tr DP(x0)| > 2 on the certificate's ball {tr_s}: a saddle")
     sq = (tr_s * tr_s - 4).sqrt()
-    mu = (tr_s + sq) / 2 if ball.positive(tr_s) else (tr_s - sq) / 2
-    recomputed(claim, "mu_u", mu, cert["mu_u"])
+    sgn = 1 if ball.positive(tr_s) else -1
+    mus = [(tr_s + sgn * sq) / 2]
+    lo, hi = ball.bounds(tr_s)
+    if lo > 2 or hi < -2:  # mu_u is increasing in tr on |tr| > 2: its values at the two end points bound it
+        ends = [(t + sgn * (t * t - 4).sqrt()) / 2 for t in (ball.q(lo), ball.q(hi))]
+        mus.append(ends[0].union(ends[1]))
+    recomputed_meet(claim, "mu_u", mus, cert["mu_u"])
     T = ball.q(2 * t_a) + 2 * ball.from_json(fl["box"]["enclosures"]["tau"])
     return {k: [ball.decimal(v) for v in ball.json_bounds(x)]
             for k, x in (("theta*", cert["newton"]), ("tr DP(x0)", cert["trace"]), ("mu_u", cert["mu_u"]),

@@ -10,6 +10,7 @@ produced the certificate) is read by no check; only its form is (`check_form`).
 from __future__ import annotations
 
 import json
+import math
 import time
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -114,6 +115,18 @@ def inside(inner: arb, outer: arb) -> bool:
 def recomputed(claim, name, value: arb, stored):
     claim(f"{name} recomputed", ball.subset(value, stored),
           f"the recomputed enclosure {value} lies inside the certificate's ball [{stored['mid']} +- {stored['rad']}]")
+
+
+def recomputed_meet(claim, name, values, stored):
+    """recomputed for a quantity enclosed by several formulas: their intersection (exact bounds) lies in the ball."""
+    try:
+        lo, hi = ball.meet_bounds(values)
+    except ValueError:  # disjoint enclosures of one quantity: never for a sound field and integrator
+        lo, hi = math.inf, -math.inf
+    slo, shi = ball.json_bounds(stored)
+    claim(f"{name} recomputed", slo <= lo <= hi <= shi,
+          f"the recomputed enclosure [{float(lo):.12g}, {float(hi):.12g}] lies inside the certificate's ball "
+          f"[{stored['mid']} +- {stored['rad']}]")
 
 
 def check_structure(module, claim) -> None:
