@@ -265,7 +265,7 @@ def fix_residual(x) -> np.ndarray:
 def crossing_integrator(precision: Precision):
     """The body-frame integrator stopping at sin(theta) pbar_theta = 0 (generated event ptheta_sin, either
     direction) in `precision`, one per thread: every crossing loop of magrod uses it.  Multiprecision (hy.real)
-    is compiled in compact mode: the unrolled hy.real code took > 4 GB and minutes of LLVM time (issue 17)."""
+    is compiled in compact mode: the unrolled hy.real code took > 4 GB and minutes of LLVM time."""
     return systems.integrator("body", events=["ptheta_sin"], precision=precision,
                               compact_mode=precision is Precision.MP)
 
@@ -651,7 +651,7 @@ class MultipulseOrbit(Result):
                   "uncertainty": jsonable(self.uncertainty), "pulses_counted": self.pulses_counted})
         return d
 
-    eps = deprecated_attribute("launch_distance", "eps")  # renamed in issue 25 (one name per quantity)
+    eps = deprecated_attribute("launch_distance", "eps")  # renamed: one name per quantity
 
     def as_dict(self) -> dict:
         """Deprecated spelling of to_dict(arrays=False) (kept for one release)."""
@@ -674,7 +674,7 @@ class PulseSearch(Result):
     value, its uncertainty ...; `row()`); brackets: sign changes found by the scan; attempts: what each bracket
     gave when none was kept; iterations, residual: of the last failed Newton (nan if none ran).
 
-    Dict access (search["result"], search["orbit"], search["residual"], ...) is the older dict return of
+    Dict access (search["result"], search["orbit"], search["residual"], ...) is the older (dict) return of
     find_orbits, kept for one release with a DeprecationWarning: use the attributes, `row()` or `to_dict()`."""
 
     success: bool
@@ -737,7 +737,7 @@ class PulseSearch(Result):
     def _warn(self):
         import warnings
 
-        warnings.warn("find_orbits' entries are PulseSearch results (issue 25): dict access is deprecated and goes "
+        warnings.warn("find_orbits' entries are PulseSearch results: dict access is deprecated and goes "
                       "in the next release; use the attributes (orbit, samples, summary), row() or to_dict()",
                       DeprecationWarning, stacklevel=3)
 

@@ -1,5 +1,5 @@
 """The horseshoe verifier's sets, checked in child processes: scheduling only.  Each set's checks
-(horseshoe._hs_source) are recorded in a fresh interpreter and replayed through the parent's `claim` in the serial
+(horseshoe_sets._hs_source) are recorded in a fresh interpreter and replayed through the parent's `claim` in the serial
 order, so the checks, the first rejection and its reason are the serial verifier's whatever ran them.
 """
 from __future__ import annotations
@@ -9,7 +9,7 @@ from pathlib import Path
 
 from ...core.errors import ParameterError
 from .. import ball, fields
-from .horseshoe import _hs_branch_boxes, _hs_set, _hs_source
+from .horseshoe_sets import _hs_branch_boxes, _hs_set, _hs_source
 from .schema import CertificateError, frac
 
 
