@@ -33,27 +33,19 @@ SMOKE = {
     "first_integrals": [],
     "models": [],
     "continuation_branch": [],
-    "horseshoe_margins": [],
     "enclosure_outward": [],
     "prove_target": [],
     "enclosure_boxes": [],
 }
 
-# script -> why it has no smoke run here: the proof designs, each a prover run (or a float design search feeding
-# one) whose smallest meaningful run takes minutes; they belong to the computer-assisted proofs' own reorganisation
-_DESIGN = "a proof design: one prover or design-search run per setting, minutes each; no tiny span yet"
+# script -> why it has no smoke run here (the proofs' design and search scripts are in research/, research/README.md)
 NOT_SMOKED = {
     "enclosure_corner": "the second-order box theorem on the undecided corner: ~0.8 s per box, a budget of 3600 boxes",
-    "fig4_lambda_interval": _DESIGN + " (a fixed-point proof per lambdabar box)",
-    "homoclinic_interval": _DESIGN + " (a homoclinic proof per width, ~2 min)",
-    "fig4_candidates": _DESIGN + " (the float homoclinic-point search of Fig 4)",
-    "fig5_candidates": _DESIGN + " (the float homoclinic-point search of Fig 5)",
-    "fig4_homoclinic_budget": _DESIGN + " (a C^1 validated flight of one return)",
-    "fig4_horseshoe_design": _DESIGN,
-    "fig4b_horseshoe_design": _DESIGN,
-    "fig4c_horseshoe_design": _DESIGN,
-    "fig4d_horseshoe_design": _DESIGN,
-    "centre_flight_frontier": _DESIGN + " (order x tolerance sweep of the validated centre flights, ~70 s)",
+    "centre_flight_frontier": "order x tolerance sweep of the validated centre flights, ~70 s; no tiny span yet",
+    "reprove_fig4a_taylor_model": "re-proves Fig 4(a)'s horseshoe per integrator (~2 min of CPU each) and times its "
+                                  "verification beside the shipped one's; no tiny span yet",
+    "decided_costs": "times the exact integrability analyses (derive/) at their full size, minutes; no tiny span yet",
+    "reproduce_time": "times `magrod reproduce --quick` (1-2 min per run), which the suite's reproduce fixture runs",
 }
 
 TIMEOUT_S = 600

@@ -236,3 +236,16 @@ def cse_function_source(name: str, args: list[str], exprs, printer: HeyokaPrinte
         lines.extend(f"        {b}," for b in body)
         lines.append("    ]")
     return "\n".join(lines) + "\n"
+
+
+class FractionPrinter(BallPrinter):
+    """BallPrinter whose `_Q(p, q)` is fractions.Fraction: the generated arithmetic is exact over Q (the model
+    data here are rational functions of the constants: no sqrt, no pi, no transcendental function)."""
+
+    def pow_int(self, src: str, k: int) -> str:
+        return src if k == 1 else f"({src} ** {k})"  # exact Fractions: ** is exact
+
+    def p(self, e):
+        if e is sp.pi or (isinstance(e, sp.Function)) or (e.is_Pow and not e.exp.is_Integer):
+            raise TypeError(f"not a rational function: {e}")
+        return super().p(e)

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .codegen import BallPrinter
 from .model import B1, B2, C, X, cH, cJ, cK, lam, structure_matrix
 from .poisson import first_integrals, hamiltonian_compliance
 from .results import DISAGREES, HOLDS, Result
@@ -22,19 +21,6 @@ from .results import DISAGREES, HOLDS, Result
 PARAMS = (B1, B2, C, cH, cJ, cK, lam)
 PARAM_NAMES = ("B1", "B2", "C", "c_H", "c_J", "c_K", "lam")
 NAMES = dict(zip(PARAMS, PARAM_NAMES))
-
-
-class FractionPrinter(BallPrinter):
-    """BallPrinter whose `_Q(p, q)` is fractions.Fraction: the generated arithmetic is exact over Q (the model
-    data here are rational functions of the constants: no sqrt, no pi, no transcendental function)."""
-
-    def pow_int(self, src: str, k: int) -> str:
-        return src if k == 1 else f"({src} ** {k})"  # exact Fractions: ** is exact
-
-    def p(self, e):
-        if e is sp.pi or (isinstance(e, sp.Function)) or (e.is_Pow and not e.exp.is_Integer):
-            raise TypeError(f"not a rational function: {e}")
-        return super().p(e)
 
 
 def _poly(expr):

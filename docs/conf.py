@@ -3,8 +3,9 @@
 Build (the command in README.md):  python -m sphinx -W --keep-going -b html docs docs/_build/html
 -W turns every warning into an error (tests/test_docs.py builds it so).  The notebooks in docs/notebooks are
 executed during the build by myst-nb and rendered from their executed cells; a cell that raises fails the build.
-The API reference (api.rst) is written here from magrod.__all__ at build time, the CLI reference (cli.md) by
-sphinx-argparse from magrod.cli.build_parser(): neither is typed by hand.
+The API reference (api.rst and a page per name under api/) is written at build time from magrod.__all__ and the
+result types found in the packages (docs/_ext/magrod_api.py), the CLI reference (cli.md) by sphinx-argparse from
+magrod.cli.build_parser(): neither is typed by hand.
 """
 from __future__ import annotations
 
@@ -14,8 +15,10 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))  # a source checkout documents itself (magrod/__init__.py maps derive/generated)
+sys.path.insert(0, str(HERE / "_ext"))  # local extensions (magrod_api: the API reference)
 
 import magrod  # noqa: E402
+from magrod_api import write_api_page, xref_aliases  # noqa: E402  (docs/_ext/magrod_api.py)
 
 project = "magrod"
 author = "the magrod developers"
@@ -25,11 +28,14 @@ release = version = magrod.__version__
 extensions = [
     "myst_nb",
     "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
     "numpydoc",
+    "magrod_api",
     "sphinx.ext.mathjax",
     "sphinxarg.ext",
 ]
-exclude_patterns = ["_build", "_generated_cache", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store", "_templates",
+exclude_patterns = ["_build", "_generated_cache", "_ext", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store",
+                    "_templates",
                     # the source of the six theory/*.md pages (each includes its part): not a page of its own
                     "nonintegrability.md"]
 html_theme = "pydata_sphinx_theme"
@@ -55,10 +61,25 @@ nb_execution_show_tb = True
 nb_merge_streams = True
 nb_execution_in_temp = True  # notebooks write their files into a temporary directory, never into docs/
 
-# numpydoc renders the Parameters/Returns/Raises/Examples/Notes sections of the public docstrings
+# The API reference (docs/_ext/magrod_api.py): api.rst holds summary tables by topic (autosummary), each name has
+# a page of its own under api/ (stubs from _templates/autosummary/, regenerated on every build, not checked in).
+# numpydoc renders the Parameters/Returns/Raises/Examples/Notes sections of the docstrings; magrod_api fills in
+# the member sections of the classes (Parameters or Attributes from dataclass fields, properties, Methods), so
+# numpydoc's own member listing stays off; the types of Parameters/Returns link to the classes' pages.
+autosummary_generate = True
+autosummary_generate_overwrite = True
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 numpydoc_validation_checks = set()
+numpydoc_xref_param_type = True
+# only the documented classes become links: "float", "optional" stay text, and numpydoc's default links into the
+# Python and NumPy inventories (no intersphinx here: nothing is fetched at build time) are turned off
+numpydoc_xref_aliases = {**{k: k for k in __import__("numpydoc.xref").xref.DEFAULT_LINKS}, **xref_aliases()}
+numpydoc_xref_ignore = "all"
+# `name` in a docstring is code, as the docstrings mean it (reST only: the MyST pages have their own syntax).  Not
+# py:obj: `plot()` or `accuracy` in prose would be an ambiguous reference to 28 result types' members (an error
+# under -W), or a link to the wrong one
+default_role = "literal"
 autodoc_typehints = "none"
 autodoc_member_order = "bysource"
 suppress_warnings = ["myst.header", "mystnb.unknown_mime_type"]
@@ -67,66 +88,4 @@ nitpicky = False
 # not accept when pasted: keep quotes and ellipses, never dashes ("q" quotes, "e" ellipses; no "D"/"d").
 smartquotes_action = "qe"
 
-
-def _summary_table() -> list[str]:
-    """A table at the top of the API page, as scipy's references open: every public name (linked to its entry)
-    with the first line of its docstring."""
-    import inspect
-
-    rows = []
-    for name in magrod.__all__:
-        doc = inspect.getdoc(getattr(magrod, name)) or ""
-        first = " ".join(doc.split("\n\n")[0].split()).replace("|", "/")
-        if len(first) > 160:
-            first = first[:160].rsplit(" ", 1)[0] + " ..."
-        kind = "class" if isinstance(getattr(magrod, name), type) else "function"
-        rows += [f"   * - `mr.{name} <#mr-{name.lower().replace('_', '-')}>`__", f"     - {kind}",
-                 f"     - {first or '(no summary)'}"]
-    return [".. list-table:: The public names", "   :header-rows: 1", "   :widths: 25 10 65", "",
-            "   * - name", "     - kind", "     - what it is", *rows, ""]
-
-
-def _write_api_page() -> None:
-    """api.rst from magrod.__all__ (the pinned public names, tests/test_layout.py): one entry per name.
-
-    The page is reStructuredText, not MyST: autodoc emits reST lines and parses them with the parser of the page
-    that holds the directive.  Inside a MyST page that parser is MyST, which does not know reST directive
-    syntax, so ``.. py:function::`` and numpydoc's ``:Parameters:`` fields came out as literal text (zero
-    ``dl.py`` entries).  In an .rst page they become real signatures and definition lists."""
-    stale = HERE / "api.md"  # written by earlier versions of this file; two sources for one page break -W
-    if stale.exists() and stale.read_text().startswith("# API reference"):
-        stale.unlink()
-    lines = ["API reference", "=============", "",
-             "The public API is the flat namespace ``import magrod as mr``; these are the names in "
-             "``magrod.__all__``, documented from their docstrings (numpydoc).", ""]
-    lines += _summary_table()
-    for name in magrod.__all__:
-        obj = getattr(magrod, name)
-        kind = "autoclass" if isinstance(obj, type) else "autofunction"
-        title = f"``mr.{name}``"
-        lines += [title, "-" * len(title), "", f".. {kind}:: {obj.__module__}.{obj.__qualname__}", ""]
-    # the second tier (docs/architecture.md): the numerics packages' public names that the commands, figures and
-    # explorer use besides the face; listed, not autodoc'ed (their docstrings are one-paragraph, not numpydoc)
-    import importlib
-
-    lines += ["The second tier", "===============", "",
-              "Besides the face, each numerics package has a small public namespace: what the command line, the "
-              "figures and the explorer use (format helpers, the scans behind a figure, the prover and the "
-              "verifier, constants of a picture).  ``from magrod.chaos import MAPPABLE`` is public; "
-              "``magrod.chaos.section`` and the names it does not list are internals.", ""]
-    for pkg in ("chaos", "orbits", "separatrix", "integrability", "proof"):
-        mod = importlib.import_module(f"magrod.{pkg}")
-        title = f"``magrod.{pkg}``"
-        lines += [title, "-" * len(title), ""]
-        for name in mod.__all__:
-            target = mod._API[name]
-            where, attr = (target, name) if isinstance(target, str) else target
-            lines.append(f"* ``{name}`` (``magrod.{pkg}.{where}.{attr}``)")
-        lines.append("")
-    text = "\n".join(lines)
-    path = HERE / "api.rst"
-    if not path.exists() or path.read_text() != text:
-        path.write_text(text)
-
-
-_write_api_page()
+write_api_page(HERE)

@@ -3,6 +3,7 @@ build), the API reference covers magrod.__all__ and the CLI reference every subc
 This is the README's docs command; it takes ~1-2 min on 2 cores (the four notebooks dominate)."""
 from __future__ import annotations
 
+import functools
 import inspect
 import os
 import re
@@ -45,17 +46,9 @@ def site(tmp_path_factory):
     return out
 
 
-def test_api_reference_covers_the_public_names(site):
-    html = (site / "api.html").read_text()
-    for name in magrod.__all__:
-        assert f'id="mr-{name.lower().replace("_", "-")}"' in html, name
-    # numpydoc rendered the sections of a function docstring
-    assert "Parameters" in html and "Examples" in html and "Raises" in html
-
-
 # what reST looks like when a page shows it instead of rendering it (autodoc output inside a MyST page)
 RAW_REST = (".. py:", ":Parameters:", ":Returns:", "!! processed by numpydoc", ":module:", ".. autofunction",
-            ".. autoclass")
+            ".. autoclass", ".. autosummary")
 
 
 def _raw_rest_in(html_text: str) -> list[str]:
@@ -63,29 +56,90 @@ def _raw_rest_in(html_text: str) -> list[str]:
     return [m for m in RAW_REST if m in text]
 
 
-def test_api_reference_renders_entries_not_raw_rest(site):
-    """Every name of magrod.__all__ is a real Sphinx entry (<dl class="py function|class"> whose <dt> carries the
-    object's dotted id), its numpydoc Parameters and Returns are definition lists, and no reST markup shows as
-    text.  Seen to fail on the api.md page this replaced: 0 dl.py entries and all seven markers present."""
-    html = (site / "api.html").read_text()
-    assert not _raw_rest_in(html), _raw_rest_in(html)
-    soup = bs4.BeautifulSoup(html, "html.parser")
-    entries = {dt.get("id"): dt.parent for dl in soup.select("dl.py") for dt in dl.find_all("dt", recursive=False)
-               if dt.get("id")}
-    for name in magrod.__all__:
+def _page(site, dotted: str) -> Path:
+    return site / "api" / f"{dotted}.html"
+
+
+@functools.lru_cache(maxsize=None)
+def _soup(path: Path):
+    """An API page parsed once for the several tests that read it (never modified by them)."""
+    return bs4.BeautifulSoup(path.read_text(), "html.parser")
+
+
+def _entry(site, dotted: str):
+    """The <dl class="py ..."> of a documented object on its own page (its <dt> carries the dotted id)."""
+    page = _page(site, dotted)
+    assert page.exists(), f"no page for {dotted}"
+    dt = _soup(page).find("dt", id=dotted)
+    assert dt is not None, f"no entry {dotted} on its page"
+    return dt.parent
+
+
+def _fields(dl) -> dict:
+    """{section: <dd>} of numpydoc's field list directly under an entry (Parameters, Returns, Attributes, ...)."""
+    return {dt.get_text(strip=True).rstrip(":"): dt.find_next_sibling("dd")
+            for fl in dl.find("dd", recursive=False).find_all("dl", class_="field-list", recursive=False)
+            for dt in fl.find_all("dt", recursive=False)}
+
+
+def _face_pages():
+    """(public name, the dotted name its page documents): every name of magrod.__all__ as magrod.<name>."""
+    return [(n, f"magrod.{n}") for n in magrod.__all__]
+
+
+def _result_types() -> dict:
+    """{dotted name: class} of every result type, found here independently of the docs' own list: each subclass of
+    magrod.core.results.Result defined in a numerics package, and each class a face function's Returns names."""
+    import importlib
+    import pkgutil
+
+    from magrod.core.results import Result
+
+    classes = {}
+    for pkg in ("core", "chaos", "orbits", "separatrix", "integrability", "proof", "paper", "store", "explorer"):
+        base = importlib.import_module(f"magrod.{pkg}")
+        for info in pkgutil.walk_packages(base.__path__, f"{base.__name__}."):
+            mod = importlib.import_module(info.name)
+            classes.update({f"{info.name}.{c.__qualname__}": c for c in vars(mod).values()
+                            if inspect.isclass(c) and c.__module__ == info.name})
+    out = {k: c for k, c in classes.items() if issubclass(c, Result) and c is not Result}
+    face = {getattr(magrod, n) for n in magrod.__all__}
+    for n in magrod.__all__:
+        obj = getattr(magrod, n)
+        if isinstance(obj, type):
+            continue
+        for p in NumpyDocString(inspect.getdoc(obj) or "")["Returns"]:
+            for word in re.findall(r"\b[A-Z]\w+", p.type):
+                out.update({k: c for k, c in classes.items() if c.__name__ == word and c not in face})
+    return out
+
+
+def test_every_public_name_and_result_type_has_a_page(site):
+    """One page per name of magrod.__all__ (api/magrod.<name>.html, documenting magrod.<name>) and one per result
+    type (api/<module>.<Class>.html), each a real Sphinx entry with no reST shown as text.  Seen to fail on the
+    one-page reference (no api/ pages) and with PoincareResult dropped from the summary (its page missing)."""
+    pages = [dotted for _, dotted in _face_pages()] + list(_result_types())
+    assert len(pages) >= len(magrod.__all__) + 25
+    missing = [d for d in pages if not _page(site, d).exists()]
+    assert not missing, missing
+    for dotted in pages:
+        dl = _entry(site, dotted)
+        assert "py" in dl["class"] and ({"function", "class", "exception"} & set(dl["class"])), dotted
+        text = _soup(_page(site, dotted)).get_text()
+        assert not [m for m in RAW_REST if m in text], dotted
+
+
+def test_function_pages_have_parameters_and_returns(site):
+    """Every public function's page renders numpydoc's Parameters and Returns (and Raises where the docstring has
+    it) as definition lists of names, not literal blocks.  Seen to fail with the Returns section removed from
+    gali's docstring."""
+    for name, dotted in _face_pages():
         obj = getattr(magrod, name)
-        ident = f"{obj.__module__}.{obj.__qualname__}"
-        assert ident in entries, f"no dl.py entry for mr.{name} ({ident})"
-        dl = entries[ident]
-        assert "py" in dl["class"] and ({"function", "class"} & set(dl["class"])), (name, dl["class"])
-        fields = {dt.get_text(strip=True).rstrip(":"): dt.find_next_sibling("dd")
-                  for fl in dl.select("dd > dl.field-list") for dt in fl.find_all("dt", recursive=False)}
-        # the sections the docstring has (functions: at least Parameters and Returns) each render as a field whose
-        # body is a definition list of names (<dt><strong>name</strong> : type), not a literal block
         doc = NumpyDocString(inspect.getdoc(obj) or "")
         want = {s for s in ("Parameters", "Returns", "Raises") if doc[s]}
         if not isinstance(obj, type):
             assert {"Parameters", "Returns"} <= want, (name, want)
+        fields = _fields(_entry(site, dotted))
         for section in sorted(want):
             assert section in fields, (name, section, sorted(fields))
             body = fields[section].find("dl")
@@ -93,6 +147,113 @@ def test_api_reference_renders_entries_not_raw_rest(site):
             assert not fields[section].find("pre"), (name, section)
         if "Parameters" in want:
             assert fields["Parameters"].find("dl").find("dt").find("strong"), name
+
+
+def _listed(dd) -> set:
+    """The names of a Parameters/Attributes list ("theta0, ptheta0, psi0 : float" names three)."""
+    return {n.strip() for dt in dd.find("dl").find_all("dt", recursive=False)
+            for n in dt.find(["strong", "a"]).get_text("", strip=True).split(",")}
+
+
+FULLY_DESCRIBED = ("PoincareResult", "LyapunovResult", "ChaosMap", "OrbitDiagram", "SectionPortrait", "LyapunovSpectrum",
+                   "GaliResult", "Splitting", "IntegrabilityReport")
+
+
+def test_result_type_pages_list_attributes_and_methods(site):
+    """A result type's page lists every field and property under Attributes (name, type, what it is) and its
+    methods -- to_dict, to_xarray, plot, save included -- under Methods, each linked to its entry on the page.
+    The results a first session meets (FULLY_DESCRIBED) describe every entry.  Seen to fail without
+    docs/_ext/magrod_api.py's member tables (LyapunovResult: no Attributes), with one field (casimir_drift) left
+    out of the table, and on ChaosMap before its fields' comments (spec: no description)."""
+    import dataclasses
+
+    from magrod.core.results import Result
+
+    for dotted, cls in _result_types().items():
+        dl = _entry(site, dotted)
+        fields = _fields(dl)
+        if dataclasses.is_dataclass(cls):
+            assert "Attributes" in fields or "Parameters" in fields, (dotted, sorted(fields))
+            shown = set().union(*(_listed(fields[s]) for s in ("Attributes", "Parameters") if s in fields))
+            want = {f.name for f in dataclasses.fields(cls) if not f.name.startswith("_")}
+            assert want <= shown, (dotted, sorted(want - shown))
+        if cls.__name__ in FULLY_DESCRIBED:  # the results a first session meets: every entry says what it is
+            for s in ("Attributes", "Parameters"):
+                for dd in (fields[s].find("dl").find_all("dd", recursive=False) if s in fields else []):
+                    assert len(dd.get_text(strip=True)) > 5, (dotted, dd.find_previous_sibling("dt").get_text())
+        if issubclass(cls, Result):
+            page = _soup(_page(site, dotted))
+            methods = page.find("p", class_="rubric", string="Methods")
+            assert methods is not None, dotted
+            table = methods.find_next("table")
+            links = {a.get_text(strip=True): a["href"] for a in table.select("a")}
+            for m in ("to_dict", "to_xarray", "plot", "save"):
+                assert m in links and links[m].endswith(f"#{dotted}.{m}"), (dotted, m, links)
+            assert page.find(id=f"{dotted}.to_xarray") is not None, dotted
+
+
+OPTION_CLASSES = ("System", "RodParams", "SectionOptions", "SectionStart", "Precision", "ParameterError")
+
+
+def test_parameter_and_option_classes_have_parameter_tables(site):
+    """The parameter and option classes of the face (and MapSpec beside them) say what they take and hold in
+    Parameters/Attributes tables, every field described.  Seen to fail with RodParams' docstring as it was (prose
+    and Examples only: its table from the fields alone has no descriptions) and without the member tables
+    (MapSpec: none)."""
+    import dataclasses
+
+    from magrod.chaos.maps import MapSpec
+
+    for name, dotted, cls in [*((n, f"magrod.{n}", getattr(magrod, n)) for n in OPTION_CLASSES),
+                              ("MapSpec", "magrod.chaos.maps.MapSpec", MapSpec)]:
+        fields = _fields(_entry(site, dotted))
+        tables = [fields[s] for s in ("Parameters", "Attributes") if s in fields]
+        assert tables, (name, sorted(fields))
+        if dataclasses.is_dataclass(cls):
+            shown = set().union(*(_listed(t) for t in tables))
+            assert {f.name for f in dataclasses.fields(cls)} <= shown, name
+        if name in OPTION_CLASSES:  # written by hand: every entry says what it is
+            for t in tables:
+                for dd in t.find("dl").find_all("dd", recursive=False):
+                    assert len(dd.get_text(strip=True)) > 5, (name, dd)
+
+
+def test_a_function_returns_links_to_its_result_type(site):
+    """The type in a function's Returns section is a link to the page of the result type (numpydoc's typed
+    references): mr.poincare_section -> PoincareResult, mr.saddle -> StraightRod, PeriodicSaddle, Equilibrium.
+    Seen to fail with numpydoc's typed references off (the type plain text: ChaosMap of chaos_map unlinked)."""
+    types = {c.__name__: d for d, c in _result_types().items()}
+    types.update({n: f"magrod.{n}" for n in magrod.__all__ if isinstance(getattr(magrod, n), type)})
+    checked = 0
+    for name, dotted in _face_pages():
+        obj = getattr(magrod, name)
+        if isinstance(obj, type):
+            continue
+        returns = _fields(_entry(site, dotted))["Returns"]
+        links = {a.get_text(strip=True): a.get("href", "") for a in returns.select("a")}
+        assert links, (name, "Returns links to no type")
+        for p in NumpyDocString(inspect.getdoc(obj) or "")["Returns"]:
+            for word in re.findall(r"\b[A-Z]\w+", p.type):
+                if word in types:
+                    assert word in links, (name, word, links)
+                    target = links[word].split("#")
+                    assert target[1] == types[word] and (_page(site, dotted).parent / target[0]).exists(), \
+                        (name, word, links[word])
+                    checked += 1
+    assert checked >= 20, checked
+
+
+def test_the_reference_names_no_internal_work_items(site):
+    """The reference pages say what a thing is: no "issue N" (a reader has no tracker).  Seen to fail on the first
+    build of the result pages (4 hits, from result docstrings and field comments)."""
+    issue = re.compile(r"\b[Ii]ssues?[ -]?#?\d+")
+    bad = {}
+    for page in [site / "api.html", *sorted((site / "api").glob("*.html"))]:
+        text = _soup(page).select_one("article").get_text(" ")
+        hits = [" ".join(text[max(0, m.start() - 40):m.end() + 10].split()) for m in issue.finditer(text)]
+        if hits:
+            bad[page.name] = hits
+    assert not bad, bad
 
 
 EN_DASH_OPTION = re.compile(r"(?<![\w)\]])[\u2013\u2014][a-z]")  # "–json": smart quotes ate a "--"
@@ -136,13 +297,15 @@ def test_screenshot_of_the_api_page(site):
             page = b.new_page(viewport={"width": 1300, "height": 1600})
             page.route("http*://**", lambda route: route.abort())  # loopback only: no fonts or scripts from outside
             page.goto((site / "api.html").as_uri())
-            page.locator("dl.py.function").first.wait_for()
-            n_entries = page.locator("dl.py").count()
-            page.locator("dl.py.function").first.scroll_into_view_if_needed()
+            page.locator("table.autosummary").first.wait_for()
+            n_rows = page.locator("table.autosummary tr").count()
             page.screenshot(path=str(png))
+            page.goto(_page(site, "magrod.poincare_section").as_uri())
+            page.locator("dl.py.function").first.wait_for()
+            page.screenshot(path=str(out / "api-poincare_section.png"))
         finally:
             b.close()
-    assert n_entries >= len(magrod.__all__), n_entries
+    assert n_rows >= len(magrod.__all__), n_rows
     assert png.stat().st_size > 10_000
 
 
@@ -167,22 +330,24 @@ def test_short_top_bar_and_a_sidebar_on_every_page(site):
 
 
 def test_an_anchor_is_not_hidden_by_the_header(site):
-    """Following a link to an API entry leaves its signature clearly below the sticky header (in chromium, from the
-    built file).  Seen to fail before _static/magrod.css (the signature's top at 79.8 px, under an 80 px header's
-    edge)."""
+    """Following a link to an API entry (a method deep in a result type's page) leaves its signature clearly below
+    the sticky header (in chromium, from the built file).  Seen to fail before _static/magrod.css (the signature's
+    top at 79.8 px, under an 80 px header's edge)."""
     chromium = shutil.which("chromium") or "/usr/bin/chromium"
     if not Path(chromium).exists():
         pytest.skip("needs Debian's chromium")
     sync_api = pytest.importorskip("playwright.sync_api")
-    fn = magrod.poincare_section
-    anchor = f"{fn.__module__}.{fn.__qualname__}"  # the signature's id
+    from magrod.chaos.section import PoincareResult
+
+    owner = f"{PoincareResult.__module__}.PoincareResult"
+    anchor = f"{owner}.to_xarray"  # the signature's id
     with sync_api.sync_playwright() as p:
         b = p.chromium.launch(executable_path=chromium, headless=True,
                               args=["--no-sandbox", "--disable-gpu", "--disable-background-networking"])
         try:
             page = b.new_page(viewport={"width": 1400, "height": 900})
             page.route("http*://**", lambda route: route.abort())
-            page.goto((site / "api.html").as_uri() + f"#{anchor}")
+            page.goto(_page(site, owner).as_uri() + f"#{anchor}")
             page.locator(f"[id='{anchor}']").first.wait_for()
             page.wait_for_timeout(300)  # the browser's scroll to the fragment
             header = page.evaluate("() => document.querySelector('header.bd-header').getBoundingClientRect().bottom")
@@ -273,15 +438,27 @@ def test_mathematics_is_rendered_as_mathematics(site):
         assert not re.search(r"\\(bar|lambda|mu|theta|psi|in|neq|Rightarrow)\b", art.get_text()), name
 
 
-def test_api_page_opens_with_a_summary_table(site):
-    """The API page opens with a table of every public name (linked to its entry) and its one-line summary, as
-    scipy's references do.  Seen to fail before (no table: 24 entries one under the other, 38 000 px)."""
+TOPICS = ("Systems and parameters", "Sections and chaos", "Orbits", "Splitting", "Integrability", "Proofs",
+          "Explorer", "Result types")
+
+
+def test_api_page_opens_with_summary_tables_by_topic(site):
+    """The API page is summary tables by topic (as scipy's references), each row a name linked to its page and the
+    first line of its docstring; every public name and every result type is in one.  Seen to fail before (one
+    page of 24 entries, 38 000 px, no page per name) and with a name dropped from the topics."""
     soup = bs4.BeautifulSoup((site / "api.html").read_text(), "html.parser")
-    table = soup.select_one("article table")
-    assert table is not None
-    rows = table.select("tbody tr")
-    ids = {x["id"] for x in soup.select("[id]")}
-    names = [r.select_one("a").get_text(strip=True) for r in rows]
-    assert names == [f"mr.{n}" for n in magrod.__all__]
-    assert all(r.select_one("a")["href"].lstrip("#") in ids for r in rows)
-    assert all(len(r.select("td")[2].get_text(strip=True)) > 10 for r in rows)
+    heads = [h.get_text(strip=True).rstrip("#") for h in soup.select("article section > h2")]
+    assert "Other names" not in heads, "a public name has no topic: add it to TOPICS in docs/_ext/magrod_api.py"
+    assert heads == [*TOPICS, "The second tier"], heads
+    rows = soup.select("article table.autosummary tr")
+    linked = {}
+    for r in rows:
+        a = r.select_one("a")
+        assert a is not None and len(r.select("td")[1].get_text(strip=True)) > 10, r
+        page, _, anchor = a["href"].partition("#")
+        assert (site / page).exists(), page
+        linked[anchor] = page
+    for _, dotted in _face_pages():
+        assert dotted in linked, dotted
+    for dotted in _result_types():
+        assert dotted in linked, dotted

@@ -73,7 +73,7 @@ def test_newton_damps_and_stops_on_a_rejected_step():
 
 def test_the_one_newton_serves_every_shooting_problem(monkeypatch):
     """The straight rod's shooting (free parameter, noise floor), the periodic saddle's (T, angle) and the
-    continuation corrector all run shooting.newton; before issue 25 they had their own loops."""
+    continuation corrector (orbits/arclength.py) all run shooting.newton; they once had their own loops."""
     calls = []
     real = shooting.newton
 
@@ -81,7 +81,9 @@ def test_the_one_newton_serves_every_shooting_problem(monkeypatch):
         calls.append(kw)
         return real(evaluate, z0, **kw)
 
-    for mod in (shooting, multipulse, periodic_multipulse, continuation):
+    from magrod.orbits import arclength
+
+    for mod in (shooting, multipulse, periodic_multipulse, continuation, arclength):
         if hasattr(mod, "newton"):
             monkeypatch.setattr(mod, "newton", counting)
     r = multipulse.shoot(FIG6_N2, 2)

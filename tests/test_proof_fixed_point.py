@@ -3,8 +3,8 @@ h = 9/10 (magrod/proof/periodic.py), its certificate kind "section_fixed_point" 
 it (verify.py).  The shipped certificates verify; every tampering is rejected, most of them before any flight is
 replayed (< 1 s); the shifted-box and mutated-field controls fail; the docs quote the certificates' intervals.
 
-Each rejection test was seen to fail once with the check it names removed from verify._fixed_point (the tampered
-certificate then verified or failed elsewhere)."""
+Each rejection test was seen to fail once with the check it names removed from the verifier's _fixed_point
+(magrod/proof/kernel/fixed_point.py; the tampered certificate then verified or failed elsewhere)."""
 from __future__ import annotations
 
 import copy
@@ -51,7 +51,7 @@ def test_the_fig4a_certificate_verifies_and_prints_the_generated_theorem(cert, t
     assert main(["prove", "--verify", str(p), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["ok"] and out["theorem"] == theorem.section_fixed_point_theorem(cert["params"], "9/10")
-    # the float benchmark's saddle (benchmarks/fig4_candidates.json, panel 0.135: theta 0.3830461903149033,
+    # the float benchmark's saddle (research/fig4_candidates.json, panel 0.135: theta 0.3830461903149033,
     # |eigenvalues of DP^2| 33.0405 = mu_u^2, return time of P^2 11.4109 = 2 T) lies in the verified balls
     vals = {k: [float(Fraction(v)) for v in b] for k, b in out["values"].items()}
     assert vals["theta*"][0] - 1e-12 <= 0.3830461903149033 <= vals["theta*"][1] + 1e-12
@@ -262,8 +262,8 @@ def test_an_interval_widened_beyond_its_balls_slack_is_rejected(name, tmp_path, 
     that another python-flint build's last-bit rounding still verifies).  A widening by one ulp of the radius
     (float64: 1 + 2^-52; Arb's radius: 1 + 2^-30) verifies, and rightly: the verifier recomputes every enclosure
     on the widened interval and each still lies in its stored ball, so the wider theorem is what it checked
-    (benchmarks/README.md, "Section fixed points on a lambdabar box").  Seen to fail: with the level's recomputation
-    check removed from verify._fixed_point the tampering is still rejected, one check later (thin ptheta
+    (research/README.md, "Section fixed points on a lambdabar box").  Seen to fail: with the level's recomputation
+    check removed from the verifier's _fixed_point (kernel/fixed_point.py) the tampering is still rejected, one check later (thin ptheta
     recomputed, after the flight)."""
     c = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
     assert_rejected(_widened(c, Fraction(1, 2**10)), tmp_path, capsys, "level (centre) recomputed")
@@ -278,7 +278,7 @@ def test_the_interval_certificate_verifies():
 def test_interval_settings_size_the_theta_box_by_the_measured_motion():
     """`magrod prove --fixed-point --lam-rad W` sizes the theta-box from theta*'s float motion (4 |dtheta*/dlambdabar|
     W): at Fig 4(a), W = 1e-6, r = 21 W, which holds the interval Newton image of the shipped box (radius 17.2 W,
-    benchmarks/fixed_point_interval_limits.json) and is what the shipped certificate used within 5 %; interval_settings'
+    research/fixed_point_interval_limits.json) and is what the shipped certificate used within 5 %; interval_settings'
     fixed r = 8 W does not hold it (the image then leaves Theta: the reason the CLI could not reproduce the box)."""
     p, h = periodic.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
     w = Fraction(1, 10**6)
@@ -304,7 +304,7 @@ def _tiles():
 
 
 def test_the_interval_tiles_cover_their_union_exactly():
-    """benchmarks/fig4_lambda_interval.py's 21 certificates: adjacent lambdabar boxes [c - w, c + w] whose union is
+    """research/fig4_lambda_interval.py's 21 certificates: adjacent lambdabar boxes [c - w, c + w] whose union is
     [134979/1000000, 135021/1000000] = 27/200 +- 2.1e-5 with no gap (tiling.chain_interval, exact rationals), each
     stating the theorem for its box."""
     tiles = _tiles()

@@ -81,8 +81,8 @@ def test_an_interval_widened_beyond_its_balls_slack_is_rejected(shipped, tmp_pat
     """lam_rad x (1 + 2^-10), the smallest widening the stored balls (search.stored: the prover's enclosures widened
     by 2^-10 of their radius) do not absorb, with its theorem text: rejected before any flight.  A widening by one
     ulp of the radius verifies, rightly (every enclosure recomputed on the widened interval still lies in its ball:
-    benchmarks/README.md, "Interval theorems").  Seen to fail: with the eigenvalue's recomputation check skipped in
-    verify._check_eigen the tampering is rejected one check later (lambda_u (im) recomputed)."""
+    research/README.md, "Interval theorems").  Seen to fail: with the eigenvalue's recomputation check skipped in
+    the verifier's _check_eigen (kernel/homoclinic.py) the tampering is rejected one check later (lambda_u (im) recomputed)."""
     w = W * (1 + Fraction(1, 2**10))
     bad = copy.deepcopy(shipped)
     bad["settings"]["lam_rad"] = f"{w.numerator}/{w.denominator}"

@@ -16,6 +16,7 @@ from importlib import resources
 import pytest
 
 from magrod.proof import fields, horseshoe, verify
+from magrod.proof.kernel import horseshoe as hs_kernel
 from helpers import shift_set_along_entry
 
 CERT = "horseshoe_fig4a.json"
@@ -49,17 +50,17 @@ def _rejected(c, *, module=fields.gen):
 def test_cover_check_exact():
     """A product grid covers the square; a missing or an overlapping piece does not (seen to fail: both)."""
     g = horseshoe.grid_pieces(2, 2)
-    assert verify._hs_cover(g)
-    assert not verify._hs_cover(g[:-1])
-    assert not verify._hs_cover(g[:-1] + [(Fraction(0), Fraction(0), Fraction(1, 2), Fraction(1, 2))])
+    assert hs_kernel._hs_cover(g)
+    assert not hs_kernel._hs_cover(g[:-1])
+    assert not hs_kernel._hs_cover(g[:-1] + [(Fraction(0), Fraction(0), Fraction(1, 2), Fraction(1, 2))])
 
 
 def test_separating_axis():
-    sq = verify._hs_vertices([Fraction(0), Fraction(0)], [[Fraction(1), Fraction(0)], [Fraction(0), Fraction(1)]])
-    far = verify._hs_vertices([Fraction(3), Fraction(0)], [[Fraction(1), Fraction(0)], [Fraction(0), Fraction(1)]])
-    touch = verify._hs_vertices([Fraction(2), Fraction(0)], [[Fraction(1), Fraction(0)], [Fraction(0), Fraction(1)]])
-    assert verify._hs_separated(sq, far)
-    assert not verify._hs_separated(sq, touch)  # closed sets sharing an edge are not disjoint
+    sq = hs_kernel._hs_vertices([Fraction(0), Fraction(0)], [[Fraction(1), Fraction(0)], [Fraction(0), Fraction(1)]])
+    far = hs_kernel._hs_vertices([Fraction(3), Fraction(0)], [[Fraction(1), Fraction(0)], [Fraction(0), Fraction(1)]])
+    touch = hs_kernel._hs_vertices([Fraction(2), Fraction(0)], [[Fraction(1), Fraction(0)], [Fraction(0), Fraction(1)]])
+    assert hs_kernel._hs_separated(sq, far)
+    assert not hs_kernel._hs_separated(sq, touch)  # closed sets sharing an edge are not disjoint
 
 
 def test_entropy_root():
@@ -101,19 +102,19 @@ def test_cycle_graph():
     period 1 is the fixed-point chain; a period leaving fewer than two sets after the cycle is malformed."""
     n = 81
     c = {"settings": {"period": 6}}
-    per, want = verify._hs_graph(c, n)
+    per, want = hs_kernel._hs_graph(c, n)
     assert per == 6 and want == [list(lk) for lk in horseshoe.cycle_links(6, n)]
     assert want[:7] == [[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 0], [5, 6]] and want[-1] == [79, 80]
     assert len(want) == n  # p - 1 cycle links, the closing one, N(p-1) => Np, and n - 1 - p chain links
-    assert verify._hs_graph({"settings": {}}, 5) == (1, [[0, 0], [0, 1], [1, 2], [2, 3], [3, 4]])
+    assert hs_kernel._hs_graph({"settings": {}}, 5) == (1, [[0, 0], [0, 1], [1, 2], [2, 3], [3, 4]])
     for bad in (0, 1 - 2, 79):
         with pytest.raises(ValueError):
-            verify._hs_graph({"settings": {"period": bad}}, n)
+            hs_kernel._hs_graph({"settings": {"period": bad}}, n)
 
 
 def test_psi_periodic_check():
     """The generated chart field uses psi only through sin and cos; a source with a bare psi fails the check."""
-    assert verify._psi_periodic(fields.gen)
+    assert hs_kernel._psi_periodic(fields.gen)
 
     class Fake:
         pass
@@ -127,7 +128,7 @@ def test_psi_periodic_check():
     orig = fields.inspect.getsource
     fields.inspect.getsource = lambda m: src if m is mod else orig(m)
     try:
-        assert not verify._psi_periodic(mod)
+        assert not hs_kernel._psi_periodic(mod)
     finally:
         fields.inspect.getsource = orig
     del Fake
@@ -233,12 +234,13 @@ def test_tamper_disjointness(any_cert):
 
 
 def test_mutated_field_rejected(any_cert):
-    """A mutated generated field (control): the digest check rejects the certificate."""
-    assert "field digest" in _rejected(any_cert, module=fields.mutated_module(0))
+    """A mutated generated field (control): rejected by the identity it breaks (one sign flipped in chart_rhs:
+    f is no longer J grad Hbar), checked on its source before its digest."""
+    assert "Hamiltonian form f = J grad Hbar failed" in _rejected(any_cert, module=fields.mutated_module(0))
 
 
 def test_parallel_workers_replay_the_serial_checks(cert):
-    """The sets' checks in child processes (workers=2, verify._hs_sources_parallel) are replayed in the serial order:
+    """The sets' checks in child processes (workers=2, hs_kernel._hs_sources_parallel) are replayed in the serial order:
     a certificate whose N0 steps do not sum to t_a is rejected at the same check with the same check list as in
     one process, and a missing field of N0's piece is the same malformed-certificate error (both before any flight,
     so fast; the full equality of the 212 checks is test_certificate_verifies)."""
@@ -383,7 +385,7 @@ def test_interval_tamper_wider_theorem(interval_cert):
 def test_swept_disjointness(fn):
     """Two unit squares 1/2 apart: disjoint while the second moves by s dv, |s| <= w, with |dv| w < 1/2, not when it
     can reach the first (prover's and verifier's copies; exact rationals)."""
-    f = horseshoe.disjoint_moving if fn == "prover" else verify._hs_separated_moving
+    f = horseshoe.disjoint_moving if fn == "prover" else hs_kernel._hs_separated_moving
     sq = [(Fraction(x), Fraction(y)) for x, y in ((1, 1), (1, -1), (-1, -1), (-1, 1))]
     other = [(x + Fraction(5, 2), y) for x, y in sq]
     assert f(sq, other, (0, 0), Fraction(1))

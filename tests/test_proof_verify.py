@@ -46,6 +46,8 @@ def test_the_valid_certificate_verifies_and_prints_the_generated_theorem(cert, t
     want = theorem.homoclinic_theorem(cert["params"], ["0", "pi"])
     assert f"theorem: {want}" in out and "two distinct transverse symmetric homoclinic orbits" in want
     assert "psi = 0: dtheta_u/dpsi in [-" in out and "psi = pi: dtheta_u/dpsi in [" in out
+    # what produced it, as `magrod prove` records it (the output directory is not part of it)
+    assert cert["provenance"]["command"] == "magrod prove " + " ".join(ARGS) + " --targets 0,pi"
 
 
 def test_deleted_crossings_are_rejected(cert, tmp_path, capsys):
@@ -123,21 +125,34 @@ def test_verify_api_returns_the_generated_theorem(cert):
 
 
 def test_the_trust_base_is_what_the_docs_say():
-    """docs/nonintegrability.md, "The verifier's trust base": verify.py imports from magrod only ball, fields,
-    taylor, theorem, section_return (the shared first return to the section) and core.errors; never the provers
-    (search, saddle, manifold, periodic, horseshoe)."""
+    """docs/nonintegrability.md, "The verifier's trust base": the checker (verify.py and the kernel package
+    magrod/proof/kernel/: the schema and one module per kind) imports from magrod only ball, fields, taylor, theorem,
+    section_return (the shared first return to the section), identities (the field's structure, checked at run time)
+    and core.errors; never the provers (search, saddle, manifold, periodic, horseshoe) nor the scheduling (schedule).
+    Seen to fail: with `from .. import periodic` added to kernel/fixed_point.py the assertion names it."""
     import ast
     from pathlib import Path
 
-    src = Path(verify.__file__).read_text()
+    from magrod.proof import kernel
+
+    files = [Path(verify.__file__)] + sorted(Path(kernel.__file__).parent.glob("*.py"))
     got = set()
-    for node in ast.walk(ast.parse(src)):
-        if isinstance(node, ast.ImportFrom) and node.level > 0:
-            mod = node.module or ""
-            got |= {f"{mod}.{a.name}".strip(".") for a in node.names} if not mod else {mod}
-        elif isinstance(node, ast.Import):
-            got |= {a.name for a in node.names if a.name.startswith("magrod")}
-    assert got == {"ball", "fields", "taylor", "theorem", "section_return", "core.errors"}, got
+    for f in files:
+        pkg = ["magrod", "proof"] + (["kernel"] if f.parent.name == "kernel" else [])
+        for node in ast.walk(ast.parse(f.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level > 0:
+                base = pkg[:len(pkg) - node.level + 1]
+                mod = ".".join(base + ([node.module] if node.module else []))
+                got |= {f"{mod}.{a.name}" for a in node.names} if not node.module else {mod}
+            elif isinstance(node, ast.Import):
+                got |= {a.name for a in node.names if a.name.startswith("magrod")}
+    outside = {m for m in got if not m.startswith("magrod.proof.kernel")}
+    assert outside == {f"magrod.proof.{m}" for m in ("ball", "fields", "identities", "taylor", "theorem",
+                                                     "section_return")} | {"magrod.core.errors"}, outside
+    inside = {m for m in got if m.startswith("magrod.proof.kernel")}
+    assert inside <= {"magrod.proof.kernel"} | {f"magrod.proof.kernel.{m}" for m in ("schema", "homoclinic",
+                                                                                      "fixed_point", "horseshoe",
+                                                                                      "horseshoe_sets", "pool")}, inside
 
 
 def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path, monkeypatch):

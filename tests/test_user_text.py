@@ -63,15 +63,7 @@ def test_public_docstrings():
 
 # Modules whose files other work is editing in parallel; the lead empties this after merging that work.  Every other
 # module of magrod (magrod.derive and magrod.generated included) is held to no "issue N" in its docstrings and source.
-PARALLEL = "being edited in parallel"
-NOT_YET = {
-    "magrod.cli": PARALLEL, "magrod.cli.*": PARALLEL,
-    "magrod.orbits": PARALLEL, "magrod.orbits.*": PARALLEL,
-    "magrod.proof.verify": PARALLEL, "magrod.proof.schedule": PARALLEL, "magrod.proof.taylor_model": PARALLEL,
-    "magrod.proof.section_return": PARALLEL,
-    "magrod.derive.painleve": PARALLEL, "magrod.derive.kovacic": PARALLEL, "magrod.derive.morales_ramis": PARALLEL,
-    "magrod.derive.decided": PARALLEL, "magrod.integrability.decided": PARALLEL,
-}
+NOT_YET: dict = {}  # modules skipped while being edited in parallel (empty: every module is checked)
 # generated/validated.py must stay byte-identical (the shipped proof certificates pin its SHA-256), so its header,
 # and the one string of derive/validated.py that writes it, keep the text they were certified with.
 PINNED = {"magrod.generated.validated": 1, "magrod.derive.validated": 1}  # module -> hits allowed in its source

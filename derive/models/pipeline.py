@@ -19,7 +19,7 @@ import json
 import sympy as sp
 
 from ..codegen import HeyokaPrinter, function_source, module_source
-from ..first_integrals import FractionPrinter
+from ..codegen import FractionPrinter
 from ..results import DISAGREES, HOLDS, Result, fmt
 from .spec import Model, jacobi_failures
 

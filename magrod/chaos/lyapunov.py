@@ -40,19 +40,19 @@ class LyapunovResult(Result):
     ptheta0: float
     psi0: float
     p_psi0: float
-    t_max: float
-    renorm_dt: float
-    lyap: float
-    fli: float
-    fli_half: float
-    growth_exponent: float
-    chaotic: bool
-    threshold: float
-    times: np.ndarray
-    log_growth: np.ndarray
-    max_abs_dH: float
-    casimir_drift: float
-    min_stretch: float
+    t_max: float  # the scaled arclength T of the run
+    renorm_dt: float  # the tangent vector is renormalised every renorm_dt
+    lyap: float  # L(T)/T: the finite-time maximal Lyapunov exponent, per unit scaled arclength
+    fli: float  # max L(t_k) over [0, T]: the fast Lyapunov indicator
+    fli_half: float  # the same over [0, T/2]
+    growth_exponent: float  # (fli - fli_half)/ln 2: about 1 on a regular orbit (linear growth), large on a chaotic one
+    chaotic: bool  # growth_exponent > threshold
+    threshold: float  # the growth exponent above which an orbit is called chaotic
+    times: np.ndarray  # (K,) the renormalisation times t_k
+    log_growth: np.ndarray  # (K,) L(t_k) = ln |w(t_k)|, the tangent vector's log growth
+    max_abs_dH: float  # max |Hbar - h| along the orbit
+    casimir_drift: float  # max drift of the Casimirs along the orbit
+    min_stretch: float  # the smallest axial stretch v3 along the orbit
     system: object = None  # the System studied (core.system.System)
 
     _repr_fields = ("panel", "lyap", "growth_exponent", "chaotic", "t_max", "max_abs_dH", "casimir_drift")

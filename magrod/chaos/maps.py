@@ -140,8 +140,8 @@ class MapSpec:
     root: which root pbar_psi of Hbar = h starts the orbit ("smallest", the poincare default, or "largest").
     tol 0 = machine epsilon.  tile: tile edge in grid points (one Dask task and one zarr chunk per tile)."""
 
-    x: Axis
-    y: Axis
+    x: Axis  # the horizontal axis: a parameter or start value, its range and number of points
+    y: Axis  # the vertical axis, likewise
     base: dict = field(default_factory=dict)
     panel: str | None = DEFAULT_PANEL
     root: str = "smallest"
@@ -581,16 +581,17 @@ class ChaosMap(Result):
 
     success: bool
     message: str
-    spec: MapSpec
-    fields: dict
+    spec: MapSpec  # what was mapped: the axes, the base system, the level and the indicators' settings
+    fields: dict  # {name: (ny, nx) array}: the indicators (lyap, fli, growth_exponent, ...), the conservation, status
     wall_s: float
-    store: str | None = None
+    store: str | None = None  # the store directory of a resumable map (None: computed in memory)
     run: dict | None = None  # a stored map (magrod.store.resumable): what this call computed, skipped, repaired
 
     _repr_fields = ("shape", "fraction_chaotic", "wall_s", "store")
 
     @property
     def shape(self) -> tuple:
+        """(ny, nx), the map's grid."""
         return self.spec.shape
 
     @property
@@ -611,6 +612,7 @@ class ChaosMap(Result):
 
     @property
     def fraction_chaotic(self):
+        """The fraction of the computed points that are chaotic (growth exponent above GROWTH_THRESHOLD)."""
         return self.summary()["fraction_chaotic"]
 
     @property

@@ -95,9 +95,9 @@ class SectionPortrait(Result):
     params: RodParams
     h: float
     starts: np.ndarray
-    orbits: list
+    orbits: list  # one PoincareResult per start, in the order of the starts
     indicator: str | None
-    values: np.ndarray
+    values: np.ndarray  # (N,) the chaos indicator of each start (NaN without one)
     t_indicator: float | None
     wall_s: float
     panel: str | None = None
@@ -108,10 +108,12 @@ class SectionPortrait(Result):
 
     @property
     def n_orbits(self) -> int:
+        """N, the number of orbits."""
         return len(self.orbits)
 
     @property
     def chaotic(self):
+        """(N,) values > threshold (the growth exponent's verdict); None for another indicator."""
         if self.indicator != "growth_exponent":
             return None
         with np.errstate(invalid="ignore"):
@@ -119,12 +121,14 @@ class SectionPortrait(Result):
 
     @property
     def fraction_chaotic(self):
+        """The fraction of the orbits with an indicator value that are chaotic (None without a verdict)."""
         c = self.chaotic
         ok = np.isfinite(self.values)
         return float(c[ok].mean()) if c is not None and ok.any() else None
 
     @property
     def max_abs_dH(self) -> float:
+        """The largest max |Hbar - h| over the orbits."""
         return float(max((r.max_abs_dH for r in self.orbits), default=0.0))
 
     @property
@@ -329,18 +333,18 @@ class OrbitDiagram(Result):
     message: str
     parameter: str
     values: np.ndarray
-    value_index: np.ndarray
-    points: np.ndarray
-    n_points: np.ndarray
-    max_abs_dH: np.ndarray
-    final_time: np.ndarray
+    value_index: np.ndarray  # (K,) the index into values of each point
+    points: np.ndarray  # (K, 4) the section points (theta, psi, pbar_theta, pbar_psi) of every value
+    n_points: np.ndarray  # (M,) points recorded per value
+    max_abs_dH: np.ndarray  # (M,) max |Hbar - h| per value's orbit
+    final_time: np.ndarray  # (M,) the arclength where each value's run stopped
     orbit_success: np.ndarray  # False also where the value has no energy root (no_root)
     h: float
     theta0: float
     ptheta0: float
     psi0: float
     iterates: int
-    transient: int
+    transient: int  # section points dropped at the start of each orbit
     coordinate: str
     wall_s: float
     marks: dict = field(default_factory=dict)
@@ -353,15 +357,18 @@ class OrbitDiagram(Result):
 
     @property
     def n_values(self) -> int:
+        """M, the number of parameter values."""
         return int(self.values.size)
 
     @property
     def worst_dH(self) -> float:
+        """The largest max |Hbar - h| over the values' orbits."""
         d = self.max_abs_dH[np.isfinite(self.max_abs_dH)]
         return float(np.max(d)) if d.size else 0.0
 
     @property
     def accuracy(self) -> dict:
+        """{"max_abs_dH": worst_dH, "passed": every orbit passed its own accuracy checks}."""
         return {"max_abs_dH": self.worst_dH,
                 "passed": all(r.accuracy_checks()["passed"] for r in self.orbits if r is not None)}
 

@@ -267,11 +267,11 @@ class PoincareResult(Result):
     ptheta0: float
     psi0: float
     p_psi0: float
-    roots: np.ndarray
-    root_index: int
+    roots: np.ndarray  # every real root pbar_psi of Hbar = h at the start, increasing
+    root_index: int  # which root is the start's pbar_psi0 (p_psi0 = roots[root_index])
     formulation: str
     direction: str
-    branch_filter: str
+    branch_filter: str  # the branch option: which crossings are recorded ("any", "0", "pi")
     tol: float
     iterates: int
     t_max: float
@@ -283,13 +283,13 @@ class PoincareResult(Result):
     dH: np.ndarray
     body_points: np.ndarray
     section_residual: np.ndarray
-    max_abs_dH: float
-    casimir_drift: float | None
-    final_time: float
-    n_frame_switches: int
+    max_abs_dH: float  # max |Hbar - h| over the recorded points (the conservation check)
+    casimir_drift: float | None  # max drift of the Casimirs along the body-frame run (None: no body-frame points)
+    final_time: float  # the arclength where the run stopped
+    n_frame_switches: int  # switches between the 4-D chart and the body frame (formulation "reduced")
     wall_s: float
     precision: Precision = Precision.DOUBLE  # the arithmetic of the integration (one Precision, all the way down)
-    extra: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict)  # a model's run: its start x0 and the energy scale of dH
     stretch: dict | None = None  # the axial stretch sampled along the run (stretch_dt); summary only, not arrays()
     retried_without_jit_cache: bool = False  # verify=True repeated the run with freshly compiled code
     panel: str | None = None
@@ -346,6 +346,7 @@ class PoincareResult(Result):
 
     @property
     def n_points(self) -> int:
+        """N, the number of recorded section points."""
         return int(self.points.shape[0])
 
     def accuracy_checks(self, energy_tol=None, casimir_tol=None) -> dict:
@@ -415,6 +416,21 @@ class SectionStart:
     (theta0, pbar_theta0, psi0) and every real root pbar_psi of Hbar(theta0, psi0, pbar_theta0, .) = h with the
     one chosen (`p_psi0 = roots[root_index]`).  Built by `section_start`; consumed by the scalar path, the SIMD
     lanes (magrod/chaos/batch.py) and the explorer's stream (`section_points`).  `panel` labels the result.
+
+    Parameters
+    ----------
+    params : RodParams
+        The paper's rod's non-dimensional parameters.
+    h : float
+        The energy level Hbar = h of the orbit.
+    theta0, ptheta0, psi0 : float
+        The start on the chart: theta0 in (0, pi), pbar_theta0, psi0 (0 or pi on the section).
+    roots : ndarray of shape (k,)
+        Every real root pbar_psi of Hbar(theta0, psi0, pbar_theta0, pbar_psi) = h, increasing.
+    root_index : int
+        Which root is the start's pbar_psi0 (the paper's rule: the smallest, index 0).
+    panel : str, optional
+        The paper's panel key the start is, if any ("4a", or "4a, lam=0.15" with a parameter changed).
 
     Examples
     --------
@@ -619,6 +635,36 @@ class SectionOptions:
     naming the option).  t_max None is the max-time guard 100 x iterates; tol None the precision's machine
     epsilon; pole_switch / radicand_switch the (enter, leave) thresholds of the body-frame patches of the
     formulation "reduced"; stretch_dt samples the axial stretch along the run.
+
+    Parameters
+    ----------
+    iterates : int
+        Number of recorded section crossings (at most LIMITS["iterates"]).  Default 10 000.
+    t_max : float, optional
+        The max-time guard; None: 100 x iterates.
+    direction : {"positive", "negative", "any"}
+        Sign of d/dt sin(psi) at recorded crossings.  Default "positive".
+    branch : {"any", "0", "pi"}
+        psi = 0 crossings, psi = pi crossings, or both.  Default "any".
+    formulation : {"body", "reduced"}
+        The singularity-free 9-D body-frame system (default) or the paper's 4-D chart with body-frame patches.
+    precision : Precision or str
+        "double" (default) or "long double" (body formulation only).
+    tol : float, optional
+        Taylor tolerance; None: the precision's machine epsilon.
+    pole_switch : (float, float)
+        (enter, leave) thresholds in sin(theta) of the reduced formulation's body-frame patch at the poles,
+        0 < enter < leave < 1.  Default (0.05, 0.1).
+    radicand_switch : (float, float)
+        (enter, leave) thresholds of the radicand mu - 2 lam pbar_psi of its second patch, 0 < enter < leave.
+        Default (1e-3, 2e-3).
+    stretch_dt : float, optional
+        Sample the axial stretch v3 every stretch_dt along the run (the result's ``stretch``).
+
+    Raises
+    ------
+    ParameterError
+        Naming the option that is out of range.
 
     Examples
     --------

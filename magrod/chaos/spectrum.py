@@ -140,7 +140,7 @@ class LyapunovSpectrum(Result):
     t_max: float
     renorm_dt: float
     exponents: np.ndarray
-    times: np.ndarray
+    times: np.ndarray  # (K,) the renormalisation times
     history: np.ndarray
     max_abs_dH: float
     casimir_drift: float
@@ -150,16 +150,20 @@ class LyapunovSpectrum(Result):
 
     @property
     def pairing(self) -> np.ndarray:
+        """(n//2,) lambda_i + lambda_{n+1-i}: 0 for a Hamiltonian flow (the spectrum's own check)."""
         e = self.exponents
         n = e.size
         return np.array([e[i] + e[n - 1 - i] for i in range(n // 2)])
 
     @property
     def max_exponent(self) -> float:
+        """lambda_1, the maximal exponent."""
         return float(self.exponents[0])
 
     @property
     def accuracy(self) -> dict:
+        """The largest |pairing|, the sum of the exponents (the mean divergence: 0 for a Hamiltonian flow), the
+        conservation against DRIFT_LIMIT and whether it passed."""
         ok = bool(self.control != "body" or (self.max_abs_dH <= DRIFT_LIMIT and self.casimir_drift <= DRIFT_LIMIT))
         return {"max_pairing": float(np.max(np.abs(self.pairing))) if self.pairing.size else 0.0,
                 "sum": float(np.sum(self.exponents)), "max_abs_dH": self.max_abs_dH,
@@ -179,9 +183,9 @@ class GaliResult(Result):
     x0: np.ndarray
     t_max: float
     renorm_dt: float
-    orders: tuple
-    times: np.ndarray
-    gali: np.ndarray
+    orders: tuple  # the orders k of the columns of gali: (2, 3, 4)
+    times: np.ndarray  # (K,) the renormalisation times
+    gali: np.ndarray  # (K, 3) GALI_k at those times, one column per order
     max_abs_dH: float
     casimir_drift: float
     system: object = None  # the System studied (None for a control system)
@@ -190,6 +194,7 @@ class GaliResult(Result):
 
     @property
     def final(self) -> dict:
+        """{"GALI_k": its value at the end of the run}."""
         return {f"GALI_{k}": float(self.gali[-1, i]) for i, k in enumerate(self.orders)}
 
     def decay(self, floor: float = 1e-14) -> dict:
@@ -210,12 +215,14 @@ class GaliResult(Result):
 
     @property
     def accuracy(self) -> dict:
+        """The conservation (max |Hbar - h|, Casimir drift) against DRIFT_LIMIT and whether it passed."""
         ok = bool(self.control != "body" or (self.max_abs_dH <= DRIFT_LIMIT and self.casimir_drift <= DRIFT_LIMIT))
         return {"max_abs_dH": self.max_abs_dH, "casimir_drift": self.casimir_drift, "limit": DRIFT_LIMIT,
                 "passed": ok}
 
 
 def _to_dict(self) -> dict:
+    """Every field as JSON-able data (as Result.to_dict), the System studied as its own dict."""
     d = Result.to_dict(self)
     d["system"] = None if self.system is None else self.system.to_dict()
     if isinstance(self.params, dict):

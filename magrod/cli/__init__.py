@@ -259,7 +259,7 @@ def console_main() -> None:
 
     Once main() has returned, the signals are *ignored* (SIG_IGN), not recorded: at shutdown CPython resets every
     signal with a Python handler to SIG_DFL (_PySignal_Fini), and a Ctrl-C in the milliseconds after the result
-    was printed then killed the process (exit -2, no line; issue 24).  A signal handled as SIG_IGN stays ignored."""
+    was printed then killed the process (exit -2, no line).  A signal handled as SIG_IGN stays ignored."""
     for s in SIGNALS:
         signal.signal(s, _after_exit)
     _STATE["early"] = True  # a signal between here and main()'s handlers is kept, and ends the run at once
@@ -352,7 +352,7 @@ class signals_deferred:
 
 # Commands that never load heyoka (`magrod check` must stay light); every other command imports it up front with
 # the signals deferred: heyoka's extension module imports SymPy inside a C++ try/catch, which swallows the
-# KeyboardInterrupt of a Ctrl-C that lands during that import, and the run then went on to its end (issue 24).
+# KeyboardInterrupt of a Ctrl-C that lands during that import, and the run then went on to its end.
 LIGHT_COMMANDS = {"check"}
 
 
@@ -364,7 +364,7 @@ class children_immune(signals_deferred):
     handle: the parent stops its workers.  A signal that arrives meanwhile stays pending and is delivered to the
     parent's handler on exit.
 
-    The dispositions are left alone.  Until issue 24 they were set to SIG_IGN here as well; a signal delivered to
+    The dispositions are left alone.  Once they were set to SIG_IGN here as well; a signal delivered to
     one of the library threads that did not block it (zarr's, asyncio's) was then discarded, and a Ctrl-C 2-3 s
     after `magrod chaosmap` started (the LocalCluster's start-up) was lost."""
 

@@ -152,7 +152,7 @@ def _model_text(out: dict) -> str:
                                             for k, v in d["first_integral"].items())
                                   or "none declared (the model file's CANDIDATES)"))
         elif r["key"] in ("kovalevskaya_exponents", "morales_ramis"):
-            from ..integrability.decided import detail_lines
+            from ..integrability import decided_detail_lines as detail_lines
 
             lines += detail_lines(r)
         lines.append("")

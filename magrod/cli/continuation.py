@@ -113,7 +113,7 @@ def run(args) -> dict:
         if not found:
             return {"ok": False, "error": f"no symmetric {N}-pulse homoclinic orbit to the periodic saddle at {base.to_dict()}"}
         r = found[0]
-    # the branch itself is the library's continue_branch (issue 25: the command no longer rebuilds it)
+    # the branch itself is the library's continue_branch (the command does not rebuild it)
     with bar(steps, "continue", not args.quiet) as update:
         br = continue_branch(r.params, r, parameter=name, steps=steps, ds=ds, direction=args.direction,
                              bounds=(lo, hi) if args.range else None, progress=update)

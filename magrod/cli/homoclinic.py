@@ -52,7 +52,7 @@ def run(args) -> dict:
         v.pop("arrays")
         out["verify"] = v
         out["max_deviation_theta"] = v["max_dev_theta"]
-        # the acceptance: closed form and integration agree to <= 1e-12 in theta until theta_stop
+        # the acceptance bound: closed form and integration agree to <= 1e-12 in theta until theta_stop
         out["ok"] = bool(v["max_dev_theta"] <= 1e-12)
     return out
 

@@ -50,7 +50,7 @@ def run(args) -> dict:
 def _scan(args, degree) -> dict:
     from ..core.errors import ParameterError
     from ..core.models import resolve
-    from ..integrability.landscape import stiffness_scan
+    from ..integrability import stiffness_scan
     from . import options
     from .models import parse_assignments
 

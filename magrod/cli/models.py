@@ -1,4 +1,4 @@
-"""`magrod models`: the registered rod models (issue 26) with their parameters (meaning, admissible range,
+"""`magrod models`: the registered rod models with their parameters (meaning, admissible range,
 default), state, Casimirs found, candidates and whether the Euler-angle chart applies; `--model ./my_rod.py`
 checks and lists a model file instead (it is compiled into the cache, never into the package).  Imports neither
 heyoka nor matplotlib.

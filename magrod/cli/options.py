@@ -70,7 +70,7 @@ def formats_from(args) -> tuple:
     return parse_formats(getattr(args, "format", "png"))
 
 
-# ---- one vocabulary: one option name per concept in every command (issue 29) ---------------------------------
+# ---- one vocabulary: one option name per concept in every command -------------------------------------------
 # the level and the start of an orbit, wherever a command takes them
 START_HELP = {"h": "the level Hbar = h of the orbit",
               "theta0": "start theta0 in (0, pi), exact: the decimal you type is the double used",

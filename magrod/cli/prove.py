@@ -105,7 +105,7 @@ def run(args) -> dict:
     from ..core import io
 
     io.ensure_writable_dir(dest, "out")
-    path = io.atomic_write_json(dest / "certificate.json", res.certificate)
+    path = io.atomic_write_json(dest / "certificate.json", {**res.certificate, "provenance": _provenance(args)})
     out["certificate"] = str(path)
     out["crossings"] = [{"target": c["target"], "dtheta_dpsi": c["dtheta_dpsi"], "phi_star": c["newton"]}
                         for c in res.certificate["crossings"]]
@@ -141,8 +141,9 @@ def _section_inputs(args, flag: str):
     return p, h, theta, dest, module
 
 
-def _section_result(res, p, h, dest, extra) -> dict:
-    """The JSON result of a section-map proof; the certificate is written only when the proof holds."""
+def _section_result(res, p, h, dest, extra, args) -> dict:
+    """The JSON result of a section-map proof; the certificate (with its provenance) is written only when the proof
+    holds."""
     out = {"ok": res.ok, "params": p.as_json(), "level": f"{h.numerator}/{h.denominator}",
            "wall_time_s": round(res.wall_time_s, 3), "checks": res.checks, "reason": res.reason}
     if not res.ok:
@@ -151,7 +152,8 @@ def _section_result(res, p, h, dest, extra) -> dict:
     from ..core import io
 
     io.ensure_writable_dir(dest, "out")
-    out["certificate"] = str(io.atomic_write_json(dest / "certificate.json", res.certificate))
+    out["certificate"] = str(io.atomic_write_json(dest / "certificate.json",
+                                                  {**res.certificate, "provenance": _provenance(args)}))
     out.update(extra(res.certificate))
     return out
 
@@ -202,7 +204,7 @@ def _horseshoe(args) -> dict:
         from ..proof import widen_horseshoe
 
         res = widen_horseshoe(res.certificate, w, module=module, progress=say)
-    return _section_result(res, p, h, dest, lambda c: {"entropy": c["entropy"]})
+    return _section_result(res, p, h, dest, lambda c: {"entropy": c["entropy"]}, args)
 
 
 def _widen(args) -> dict:
@@ -220,7 +222,33 @@ def _widen(args) -> dict:
     dest = out_dir("out", args.out)
     p, h = validate_fixed_point(*(cert["params"][k] for k in ("m", "mu", "gamma", "delta", "lam")), cert["level"])
     res = widen_horseshoe(cert, w, progress=None if args.quiet else _stage)
-    return _section_result(res, p, h, dest, lambda c: {"entropy": c["entropy"]})
+    return _section_result(res, p, h, dest, lambda c: {"entropy": c["entropy"]}, args)
+
+
+#: the options that decide a certificate's content, in the order `provenance` spells them (the output directory,
+#: --quiet / --json and the controls do not)
+_PROVENANCE_OPTIONS = ("fixed_point", "horseshoe", "widen", "level", "m", "mu", "gamma", "delta", "lam", "targets",
+                       "design", "branch", "root", "m_back", "n_exc", "s_star", "passes", "lam_rad")
+
+
+def _provenance(args) -> dict:
+    """What produced a certificate (its "provenance" field; the verifier checks none of it): the command, each
+    option that decides the content spelt out (a certificate's file only by its name: no machine paths)."""
+    import shlex
+    from pathlib import PurePath
+
+    mode = next((k for k in ("fixed_point", "horseshoe", "widen") if getattr(args, k, None) is not None), None)
+    words = ["magrod", "prove"]
+    for k in _PROVENANCE_OPTIONS:
+        v = getattr(args, k, None)
+        if v is None or (k == "targets" and mode) or (k in ("design", "m_back", "n_exc", "s_star", "passes")
+                                                     and mode != "horseshoe") or \
+                (k in ("branch", "root") and mode not in ("fixed_point", "horseshoe")) or \
+                (k == "lam_rad" and str(v) in ("0", "0/1")) or \
+                (mode == "widen" and k in ("m", "mu", "gamma", "delta", "lam", "level")):
+            continue
+        words += [f"--{k.replace('_', '-')}", PurePath(str(v)).name if k == "widen" else str(v)]
+    return {"command": shlex.join(words), "recorded": "by magrod prove"}
 
 
 def _lam_rad(args) -> Fraction:
@@ -242,7 +270,8 @@ def _fixed_point(args) -> dict:
     st = interval_settings_for(p, h, theta, w, root=_root(args), branch=branch) if w else FixedPointSettings()
     res = prove_fixed_point(p, h, theta, st, root=_root(args), branch=branch, module=module,
                             progress=None if args.quiet else _stage)
-    return _section_result(res, p, h, dest, lambda c: {"fixed_point": {k: c[k] for k in ("newton", "trace", "mu_u")}})
+    return _section_result(res, p, h, dest, lambda c: {"fixed_point": {k: c[k] for k in ("newton", "trace", "mu_u")}},
+                           args)
 
 
 def _stage(msg):

@@ -5,6 +5,20 @@ class ParameterError(ValueError):
     """An input that is out of range, non-finite or inconsistent.  `name` is the offending parameter, `message`
     the violated condition; the CLI prints them as its one error line (exit 2).
 
+    Parameters
+    ----------
+    name : str
+        The offending parameter, as the caller spelled it (a keyword, a field, a command-line option's name).
+    message : str
+        The violated condition, with the value given.
+
+    Attributes
+    ----------
+    name : str
+        As given.
+    message : str
+        As given; ``str(exc)`` is ``"name: message"``.
+
     Examples
     --------
     >>> import magrod as mr

@@ -23,6 +23,25 @@ class RodParams:
     which the integrators check.  Numerical range: ``|value|`` <= MAX_MAGNITUDE = 1e6 and m >= M_MIN = 1e-3 (the
     vector field has terms in m^-4: beyond these a float64 run is meaningless).
 
+    Parameters
+    ----------
+    m : float
+        m = m3/sqrt(B C2): the axial twisting moment m3 scaled by the bending stiffness B and the Casimir C2;
+        m > 0 (and m >= M_MIN).
+    mu : float
+        mu = (2 C1 - C2^2)/C2^2, from the Casimirs C1 and C2 (eq:magnetic_casimirs1, eq:magnetic_casimirs2).
+    gamma : float
+        gamma = C2 (1/K - 1/J), K the axial and J the transverse shear stiffness; gamma + delta >= 0.
+    delta : float
+        delta = C2/J; delta >= 0.
+    lam : float
+        lambdabar = lambda m3 / C2^2, with lambda = I B the current times the magnetic field (lam = 0: no field).
+
+    Raises
+    ------
+    ParameterError
+        Naming the field that is not a finite number or violates its range.
+
     Examples
     --------
     >>> import magrod as mr

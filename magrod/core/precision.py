@@ -17,6 +17,20 @@ MP_BITS = 192  # significand bits of hy.real runs (multiprecision verification r
 class Precision(str, Enum):
     """Floating-point precision of an integration.
 
+    A str-valued enumeration: a member equals its value, so ``"quad"`` may be passed wherever a Precision is
+    taken (`parse` is the one converter, with a ParameterError naming the option otherwise).
+
+    Attributes
+    ----------
+    DOUBLE : "double"
+        IEEE binary64 (53 significand bits): the default of every run.
+    LONG_DOUBLE : "long double"
+        x87 extended precision (64 bits, ``np.longdouble``): verification runs, about 10 x slower.
+    QUAD : "quad"
+        IEEE binary128 (113 bits, ``hy.real128``).
+    MP : "mp"
+        Multiprecision (``hy.real``, MP_BITS = 192 bits unless stated).
+
     Examples
     --------
     >>> from magrod import Precision

@@ -124,3 +124,11 @@ FIXED_POINT_SEARCH_TOL = 1e-15
 # the reversor's matrix reproduce the file's to rounding (measured: 0 for the anisotropic rod); 1e3 eps relative to
 # the state's size separates rounding from a changed model (an edited model file moves them by far more).
 ORBIT_FILE_TOL = 1e3 * EPS
+
+# --- symmetric homoclinic orbits of any model (magrod/orbits/reversible.py) ------------------------------------------
+# Newton on the Fix(R) condition has converged when max |x_flipped(T)| <= this: the floor is ~ eps / delta (rounding
+# amplified along W^u from the launch distance delta = 1e-6), ~1e-10, with a margin of 10.
+SYMMETRIC_ORBIT_TOL = 1e-9
+# Two reversors found by the scan of body-frame reflections are the same one when their matrices agree to this: the
+# scan bisects the reflection angle to ~1e-12, so distinct reversors (entries differing by O(1)) are never merged.
+REVERSOR_MATCH_TOL = 1e-9

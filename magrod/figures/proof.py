@@ -26,7 +26,7 @@ FIG4 = (("4a", "homoclinic_fig4a.json"), ("4b", "homoclinic_fig4b.json"), ("4c",
         ("4d", "homoclinic_fig4d.json"))
 # The figures' own levels: symmetric hyperbolic fixed points of the section map sin psi = 0, as (panel, file,
 # statement): Fig 4 on h = 0.9 (statement 11; panel (c) has none from the float search,
-# benchmarks/fig4_candidates.json) and Fig 5 on h = 0.8 (statement 13, the psi = pi branch)
+# research/fig4_candidates.json) and Fig 5 on h = 0.8 (statement 13, the psi = pi branch)
 FIG4_SECTION = (("4a", "fixed_point_fig4a.json", "11"), ("4b", "fixed_point_fig4b.json", "11"),
                 ("4d", "fixed_point_fig4d.json", "11"),
                 ("4a_interval", "fixed_point_fig4a_interval.json", "11"),  # every lambdabar in 27/200 +- 1e-6

@@ -269,7 +269,7 @@ def _landscape(out, quick):
                              f"degree {d['degree']}, generic level and m.n = 0: integrals beyond H and the Casimirs at "
                              f"{lagrange} Lagrange (B1 = B2) rows and at {special or 'no other row'}; each re-checked exactly",
                  "verdict": "new result (beyond the paper): holds except at the Kirchhoff-analogue top cases"})
-    from ..integrability.decided import theorem
+    from ..integrability import decided_theorem as theorem
 
     t = theorem()
     rows.append({"label": "sec:intro [Mielke88] (Morales-Ramis)",

@@ -21,6 +21,10 @@ _API = {
     # the landscape of sec. 1
     "rod_landscape": ("landscape", "landscape"),
     "format_landscape": ("landscape", "format_text"),
+    "stiffness_scan": "landscape",
+    # the decided results: Kovalevskaya exponents, Morales-Ramis, the symmetric-rod theorem
+    "decided_theorem": ("decided", "theorem"),
+    "decided_detail_lines": ("decided", "detail_lines"),
 }
 
 __getattr__, __dir__, __all__ = namespace(__name__, _API)

@@ -116,11 +116,11 @@ class IntegrabilityReport(Result):
 
     success: bool
     message: str
-    source: str
-    rows: list
-    statuses: dict
-    disagreements_with_paper: list
-    substitution: str | None = None
+    source: str  # where the results came from: generated/report.json, re-derived now, or computed now
+    rows: list  # one dict per result: key, label, status, title, method, details
+    statuses: dict  # {key: status}
+    disagreements_with_paper: list  # the keys whose result disagrees with the printed paper
+    substitution: str | None = None  # the parameter substitution the results were computed for, if any
     model: str | None = None  # a model of the family (model_report): no comparison with the printed paper
 
     _repr_fields = ("source", "substitution", "disagreements_with_paper")

@@ -36,7 +36,7 @@ import numpy as np
 from ..core import eigen
 from ..core.errors import MissingStructure, ParameterError
 from ..core.results import Result
-from ..core.tolerances import EPS, HYPERBOLIC_TOL
+from ..core.tolerances import EPS, HYPERBOLIC_TOL, REVERSOR_MATCH_TOL
 from .model_field import field
 
 MAX_ITER = 60
@@ -353,7 +353,7 @@ def find_reversors(system) -> list:
         ang = 0.5 * (lo + hi) % np.pi
         Rm = _frame_reflection(mf.state, ang)
         d = reversor_defect(system, Rm, X)
-        if d <= REVERSOR_TOL and not any(np.allclose(Rm, r.matrix, atol=1e-9) for r in out):
+        if d <= REVERSOR_TOL and not any(np.allclose(Rm, r.matrix, atol=REVERSOR_MATCH_TOL) for r in out):
             out.append(Reversor(Rm, mf.state, d, f"reflection of the body frame through the plane of d3 at "
                                                  f"{math.degrees(ang):.6g} deg from d1"))
     return out

@@ -18,7 +18,6 @@ generic): magrod.orbits.periodic_multipulse.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -26,12 +25,11 @@ from ..core.deprecation import renamed_keywords
 from ..core.errors import ParameterError, require_positive_int
 from ..core.params import RodParams
 from ..core.precision import Precision
-from ..core.results import Result, jsonable
 from ..core.tolerances import BISECTION_RTOL, LAUNCH_DISTANCE, LAUNCH_DISTANCES, SHOOTING_TOL, STALL_ITERATIONS
 from ..generated.names import PARAMS
 from . import shooting
 from .equilibrium import StraightRod, on_level, straight_rod
-from .shooting import (MultipulseOrbit, PulseSearch, count_pulses, fix_functions, residual_and_jacobian,
+from .shooting import (MultipulseOrbit, MultipulseSearch, PulseSearch, count_pulses, fix_functions, residual_and_jacobian,
                        shooting_precision, unstable_branch)
 
 MAX_DIGITS = 15  # significant digits a float64 value is printed with (`significant`)
@@ -385,72 +383,6 @@ def find_orbits(params: RodParams, *, free: str = "lam", max_pulses: int = 6, sp
 
 
 # --- the public search -------------------------------------------------------------------------------------------
-@dataclass(repr=False)
-class MultipulseSearch(Result):
-    """The symmetric multipulse homoclinic orbits found at (or, for the straight rod, near) `params`: `orbits`
-    (MultipulseOrbit, ordered by pulses; indexable: search[0]), `searches` (one PulseSearch per N = 1..max_pulses,
-    with the straight rod's sampled orbits and summary rows), `failures` (the PulseSearch of each N without an
-    orbit), the saddle, and the search settings (free, span, samples: None where they do not apply)."""
-
-    success: bool
-    message: str
-    params: RodParams
-    saddle: object
-    orbits: list
-    failures: list = field(default_factory=list)
-    max_pulses: int = 0
-    free: str | None = None
-    wall_time_s: float = 0.0
-    searches: list = field(default_factory=list)
-    span: float | None = None
-    samples: int | None = None
-    with_uncertainty: bool = False
-    system: object = None  # what was studied
-
-    _repr_fields = ("kind", "params", "pulses", "failures")
-
-    @property
-    def kind(self) -> str:
-        return self.saddle.kind
-
-    @property
-    def pulses(self) -> list:
-        """The pulse numbers of the orbits found."""
-        return [o.pulses for o in self.orbits]
-
-    def __len__(self) -> int:
-        return len(self.orbits)
-
-    @property
-    def accuracy(self) -> dict:
-        """The accuracy achieved: the largest residual and noise floor over the orbits found (each orbit's own
-        `accuracy` has the rest)."""
-        return {"max_residual": max((o.residual for o in self.orbits), default=math.nan),
-                "max_noise_floor": max((o.noise_floor for o in self.orbits), default=0.0)}
-
-    def __getitem__(self, i) -> MultipulseOrbit:
-        return self.orbits[i]
-
-    def __iter__(self):
-        return iter(self.orbits)
-
-    def search(self, pulses: int) -> PulseSearch:
-        """The PulseSearch of `pulses` pulses."""
-        for ps in self.searches:
-            if ps.pulses_target == pulses:
-                return ps
-        raise ParameterError("pulses", f"not searched: N = 1..{self.max_pulses}, got {pulses!r}")
-
-    def to_dict(self) -> dict:
-        return {"success": self.success, "status": self.status, "message": self.message, "kind": self.kind,
-                "params": self.params.to_dict(), "saddle_H": self.saddle.H, "max_pulses": self.max_pulses,
-                "free": self.free, "span": self.span, "samples": self.samples,
-                "with_uncertainty": self.with_uncertainty, "orbits": [o.to_dict() for o in self.orbits],
-                "searches": [ps.to_dict() for ps in self.searches],
-                "failures": [f.to_dict() for f in self.failures], "accuracy": jsonable(self.accuracy),
-                "wall_time_s": self.wall_time_s}
-
-
 def _count(name: str, value, minimum: int = 1) -> int:
     """A count in [minimum, LIMITS[name]] (core.limits: the command line's limits, in its words)."""
     from ..core.limits import LIMITS

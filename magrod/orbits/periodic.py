@@ -93,7 +93,7 @@ def _straight_rod_centre(params: RodParams):
     The straight rod is fixed by the rotations G_a, and its Jacobian commutes with their generator xi, so the
     eigenvector of the simple eigenvalue +i w is an eigenvector of xi as well: multiplying it by e^{i a} is the
     rotation G_{+-a}.  LAPACK returns it with an arbitrary such factor (its largest component real; here |e31|
-    = |e32| by the symmetry, so rounding picks one, issue 24).  Making the e31 component real and positive
+    = |e32| by the symmetry, so rounding picks one: BLAS kernels differ).  Making the e31 component real and positive
     (core.eigen.fix_phase) picks the representative whose real part has e32 = 0: the slice Gauss-Newton
     imposes.  The real part of any other phase is a rotated guess, up to a useless one (e31 = 0) at a = pi/2."""
     pars = params.array()

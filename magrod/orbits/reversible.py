@@ -28,14 +28,14 @@ import numpy as np
 
 from ..core.errors import MissingStructure, ParameterError
 from ..core.results import Result
-from ..core.tolerances import EPS, ORBIT_FILE_TOL
+from ..core.tolerances import EPS, ORBIT_FILE_TOL, SYMMETRIC_ORBIT_TOL
 from . import model_field
 from .equilibria import Equilibrium, leaf_basis, relative_equilibrium, spectrum
 from .equilibria import reversor as _reversor
 
 LAUNCH = 1e-6  # launch distance: launch error ~ delta^2 = 1e-12, rounding amplified along W^u ~ eps / delta ~ 1e-10
 N_ALPHA = 48  # launch-circle samples of the start scan
-RESIDUAL_TOL = 1e-9  # Newton converged: max |x_flipped(T)| (the floor is ~ eps / delta)
+RESIDUAL_TOL = SYMMETRIC_ORBIT_TOL  # Newton converged: max |x_flipped(T)| (core/tolerances.py)
 FD_STEP = 1e-6
 
 
@@ -346,7 +346,7 @@ def homoclinic_problem(system, orbit: SymmetricOrbit, parameter: str):
 def continue_equilibrium(system, eq: Equilibrium, parameter: str, *, steps: int = 20, ds: float = 0.05,
                          direction: int = 1, bounds=None, tol: float | None = None):
     """A branch of equilibria (on the start's leaf) in `parameter`, with folds (Branch: u = (x, p))."""
-    from .continuation import pseudo_arclength
+    from .arclength import pseudo_arclength
 
     k = _index(system, parameter)
     n = eq.x.size
@@ -370,7 +370,7 @@ def continue_homoclinic(system, orbit: SymmetricOrbit, parameter: str, *, steps:
     projection U0^T r onto the two leading left singular vectors of their Jacobian at the start (for k = 2 an
     orthogonal change of basis), and every point's full residual max|P x(T)| is recomputed and reported in
     `residuals` (the evidence that the projection lost nothing)."""
-    from .continuation import pseudo_arclength
+    from .arclength import pseudo_arclength
 
     k = _index(system, parameter)
     if abs(orbit.equilibrium.unstable_eigenvalue.imag) == 0:
@@ -455,7 +455,7 @@ def multipulse(system, max_pulses: int = 3, *, samples=None, delta: float = LAUN
     import time
 
     from .equilibria import straight_rod
-    from .multipulse import MultipulseSearch
+    from .shooting import MultipulseSearch
 
     t0 = time.perf_counter()
     eq = straight_rod(system)

@@ -265,7 +265,7 @@ def fix_residual(x) -> np.ndarray:
 def crossing_integrator(precision: Precision):
     """The body-frame integrator stopping at sin(theta) pbar_theta = 0 (generated event ptheta_sin, either
     direction) in `precision`, one per thread: every crossing loop of magrod uses it.  Multiprecision (hy.real)
-    is compiled in compact mode: the unrolled hy.real code took > 4 GB and minutes of LLVM time (issue 17)."""
+    is compiled in compact mode: the unrolled hy.real code took > 4 GB and minutes of LLVM time."""
     return systems.integrator("body", events=["ptheta_sin"], precision=precision,
                               compact_mode=precision is Precision.MP)
 
@@ -651,7 +651,7 @@ class MultipulseOrbit(Result):
                   "uncertainty": jsonable(self.uncertainty), "pulses_counted": self.pulses_counted})
         return d
 
-    eps = deprecated_attribute("launch_distance", "eps")  # renamed in issue 25 (one name per quantity)
+    eps = deprecated_attribute("launch_distance", "eps")  # renamed: one name per quantity
 
     def as_dict(self) -> dict:
         """Deprecated spelling of to_dict(arrays=False) (kept for one release)."""
@@ -674,7 +674,7 @@ class PulseSearch(Result):
     value, its uncertainty ...; `row()`); brackets: sign changes found by the scan; attempts: what each bracket
     gave when none was kept; iterations, residual: of the last failed Newton (nan if none ran).
 
-    Dict access (search["result"], search["orbit"], search["residual"], ...) is the pre-issue-25 return of
+    Dict access (search["result"], search["orbit"], search["residual"], ...) is the older (dict) return of
     find_orbits, kept for one release with a DeprecationWarning: use the attributes, `row()` or `to_dict()`."""
 
     success: bool
@@ -737,7 +737,7 @@ class PulseSearch(Result):
     def _warn(self):
         import warnings
 
-        warnings.warn("find_orbits' entries are PulseSearch results (issue 25): dict access is deprecated and goes "
+        warnings.warn("find_orbits' entries are PulseSearch results: dict access is deprecated and goes "
                       "in the next release; use the attributes (orbit, samples, summary), row() or to_dict()",
                       DeprecationWarning, stacklevel=3)
 
@@ -769,3 +769,69 @@ def shooting_precision(crossing: int, precision=None) -> Precision:
     if precision is None:
         return Precision.DOUBLE if crossing == 1 else Precision.LONG_DOUBLE
     return Precision.parse(precision)
+
+
+@dataclass(repr=False)
+class MultipulseSearch(Result):
+    """The symmetric multipulse homoclinic orbits found at (or, for the straight rod, near) `params`: `orbits`
+    (MultipulseOrbit, ordered by pulses; indexable: search[0]), `searches` (one PulseSearch per N = 1..max_pulses,
+    with the straight rod's sampled orbits and summary rows), `failures` (the PulseSearch of each N without an
+    orbit), the saddle, and the search settings (free, span, samples: None where they do not apply)."""
+
+    success: bool
+    message: str
+    params: RodParams
+    saddle: object
+    orbits: list
+    failures: list = field(default_factory=list)
+    max_pulses: int = 0
+    free: str | None = None
+    wall_time_s: float = 0.0
+    searches: list = field(default_factory=list)
+    span: float | None = None
+    samples: int | None = None
+    with_uncertainty: bool = False
+    system: object = None  # what was studied
+
+    _repr_fields = ("kind", "params", "pulses", "failures")
+
+    @property
+    def kind(self) -> str:
+        return self.saddle.kind
+
+    @property
+    def pulses(self) -> list:
+        """The pulse numbers of the orbits found."""
+        return [o.pulses for o in self.orbits]
+
+    def __len__(self) -> int:
+        return len(self.orbits)
+
+    @property
+    def accuracy(self) -> dict:
+        """The accuracy achieved: the largest residual and noise floor over the orbits found (each orbit's own
+        `accuracy` has the rest)."""
+        return {"max_residual": max((o.residual for o in self.orbits), default=math.nan),
+                "max_noise_floor": max((o.noise_floor for o in self.orbits), default=0.0)}
+
+    def __getitem__(self, i) -> MultipulseOrbit:
+        return self.orbits[i]
+
+    def __iter__(self):
+        return iter(self.orbits)
+
+    def search(self, pulses: int) -> PulseSearch:
+        """The PulseSearch of `pulses` pulses."""
+        for ps in self.searches:
+            if ps.pulses_target == pulses:
+                return ps
+        raise ParameterError("pulses", f"not searched: N = 1..{self.max_pulses}, got {pulses!r}")
+
+    def to_dict(self) -> dict:
+        return {"success": self.success, "status": self.status, "message": self.message, "kind": self.kind,
+                "params": self.params.to_dict(), "saddle_H": self.saddle.H, "max_pulses": self.max_pulses,
+                "free": self.free, "span": self.span, "samples": self.samples,
+                "with_uncertainty": self.with_uncertainty, "orbits": [o.to_dict() for o in self.orbits],
+                "searches": [ps.to_dict() for ps in self.searches],
+                "failures": [f.to_dict() for f in self.failures], "accuracy": jsonable(self.accuracy),
+                "wall_time_s": self.wall_time_s}

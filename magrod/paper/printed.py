@@ -54,14 +54,14 @@ class Panel:
     """A Poincare panel of the paper: its rod, energy level and start on the chart (theta0, pbar_theta0, psi0),
     the figure label and which parameter the figure varies across its panels."""
 
-    key: str
-    label: str
+    key: str  # "4a" .. "5d"
+    label: str  # the paper's figure label with the panel letter ("fig:poincare1a")
     params: RodParams
     h: float
-    theta0: float
-    ptheta0: float
-    psi0: float
-    vary: tuple
+    theta0: float  # the start on the chart
+    ptheta0: float  # pbar_theta0 of the start
+    psi0: float  # psi0 of the start
+    vary: tuple  # (parameter, value): what the figure varies across its panels, lam (Fig 4) or gamma (Fig 5)
 
     def start(self) -> dict:
         """{h, theta0, ptheta0, psi0}."""
@@ -69,7 +69,7 @@ class Panel:
 
 
 def panel(key) -> Panel:
-    """A Poincare panel of the paper: "4a" .. "4d" (fig:poincare1), "5a" .. "5d" (fig:poincare2).
+    """A Poincare panel of the paper, by its key: "4a" to "4d" (fig:poincare1), "5a" to "5d" (fig:poincare2).
 
     Parameters
     ----------

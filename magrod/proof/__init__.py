@@ -4,10 +4,12 @@ Layers (each tested on its own, tests/test_proof_*.py):
   ball.py      exact rationals <-> Arb balls <-> the certificate's decimal strings; the working precision
   taylor.py    the validated C^1 Taylor integrator (Picard on arb_series, high-order enclosure, doubleton Lohner/QR)
   fields.py    the rod's ball-arithmetic fields (generated/validated.py, from derive/validated.py)
+  identities.py  the field's reversibility, Hamiltonian form and Jacobian as exact identities (checked by the verifier)
   saddle.py    Krawczyk enclosures of the tilted saddle and its eigenpairs
   manifold.py  the local unstable manifold by cone/slab conditions; its boundary circle with C^1 bounds
   search.py    the prover: floating-point search + the rigorous steps -> certificate
-  verify.py    the independent checker of a certificate (imports neither search.py nor saddle.py/manifold.py)
+  verify.py    the independent checker of a certificate (imports neither search.py nor saddle.py/manifold.py): its
+               entry, and kernel/ (schema.py, one module per kind: homoclinic.py, fixed_point.py, horseshoe.py; pool.py)
   schedule.py  verifies many certificates in processes and remembers verified ones (outside the trust base)
   tiling.py    the lambdabar interval a chain of interval certificates covers, exactly (a gap is an error)
 

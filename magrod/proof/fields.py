@@ -110,10 +110,14 @@ def hamiltonian(p: ExactParams, x, module=gen):
     return module.chart_hamiltonian(list(x), p.balls())[0]
 
 
+def source(module=gen) -> str:
+    """The text of the generated field module (the installed generated/validated.py, or a control's SOURCE)."""
+    return inspect.getsource(gen) if module is gen else module.SOURCE
+
+
 def source_digest(module=gen) -> str:
     """SHA-256 of the vector-field source the proof ran on."""
-    src = inspect.getsource(gen) if module is gen else module.SOURCE
-    return hashlib.sha256(src.encode()).hexdigest()
+    return hashlib.sha256(source(module).encode()).hexdigest()
 
 
 def mutated_module(term: int = 0, function: str = "chart_rhs"):

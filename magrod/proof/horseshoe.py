@@ -121,7 +121,7 @@ class HorseshoeSettings:
 
 
 def fig4b_settings() -> HorseshoeSettings:
-    """The design of the Fig 4(b) certificate (benchmarks/fig4b_horseshoe_design.py; docs/nonintegrability.md).
+    """The design of the Fig 4(b) certificate (research/fig4b_horseshoe_design.py; docs/nonintegrability.md).
     mu_u = 3.20 there, so Fig 4(a)'s margins 3 per link cannot close: the entry widths that `sizes` pulls back
     from N18 grow only by 1 / (qs sigma) = 1.07 per link near x0 (sigma = 1 / mu_u), reaching N1 at 1.0e-4 d,
     against the entry thickness l0 / mu_u = 0.10 d of P(N0) ((a') float margin -1013), and mu_u l0 < d + l1
@@ -141,7 +141,7 @@ def fig4b_settings() -> HorseshoeSettings:
 
 def fig4d_settings() -> HorseshoeSettings:
     """The closest design to a Fig 4(d) proof (lambdabar = 93/500, the panel the chaos indicator calls regular;
-    benchmarks/fig4d_horseshoe_design.py, .json).  NOT a proving design, hence not in DESIGNS: its prover run fails
+    research/fig4d_horseshoe_design.py, .json).  NOT a proving design, hence not in DESIGNS: its prover run fails
     at N31 => N32 and already takes 651 s on an idle 2-core machine (over the 10-minute budget).  The saddle is weak
     (mu_u = 1.615, sigma = 1 / mu_u = 0.619) but its homoclinic orbit is benign: W^u (side +e_u) meets Fix(R) at the
     35th return from s* = 1.157e-7 (theta = 1.8186, the psi = pi branch at the last five centres), the exit-entry
@@ -171,7 +171,7 @@ def fig4d_settings() -> HorseshoeSettings:
 
 
 def fig4c_settings() -> HorseshoeSettings:
-    """The design of Fig 4(c) (lambdabar = 7/40; benchmarks/fig4c_horseshoe_design.py, .json): P has no
+    """The design of Fig 4(c) (lambdabar = 7/40; research/fig4c_horseshoe_design.py, .json): P has no
     hyperbolic fixed point there, so N0 sits on the symmetric period-6 orbit through theta* = 1.98883 (psi = pi,
     the level's smaller root; x_3 = 2.79951 is its other point on Fix(R)), mu_u(DP^6) = 5.685, per-return stretches
     of e_u 1.20, 1.40, 1.38, 0.92, 2.75, 0.97.  The cycle N0 => N1 => ... => N5 => N0 with margins q_cycle = 1.2 per
@@ -447,7 +447,7 @@ def t_approach(T: float, lead: Fraction) -> Fraction:
 
 
 # --------------------------------------------------------------------------------------------------------------
-# the covering conditions on a piece's image (the verifier has its own copy: verify.py)
+# the covering conditions on a piece's image (the verifier has its own copy: kernel/horseshoe.py)
 # --------------------------------------------------------------------------------------------------------------
 def image_in(M, fl, AX):
     """y = A_M^-1 (P(c_X) - c_M) + A_M^-1 [DP(X)] A_X v, v in [-1, 1]^2: (off, G) as balls (off 2, G 2 x 2)."""
@@ -780,7 +780,7 @@ def _bisect_zero(fn, a: float, b: float, fail: str) -> float:
 
 def _prove_cycle(p, h, x0_theta, st, module, check, say) -> dict:
     """The horseshoe around a symmetric period-p orbit of P (st.period = p > 1; module docstring of
-    benchmarks/fig4c_horseshoe_design.py for the design).  Sets (certificate order): N0 (symmetric, at x0), the
+    research/fig4c_horseshoe_design.py for the design).  Sets (certificate order): N0 (symmetric, at x0), the
     cycle sets N1 .. N(p-1) at x_1 .. x_(p-1), the excursion sets N(p) .. N(n-1) (C_1 .. C_k, C_1 on W^u(x0) at
     distance d, C_(j+1) = P(C_j), C_k symmetric).  Links: N_i => N_(i+1) (i < p - 1), N(p-1) => N0,
     N(p-1) => N(p), N_j => N_(j+1) (p <= j < n - 1).  Loops through N0: the cycle (length p) and, closed by the

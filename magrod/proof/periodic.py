@@ -99,7 +99,7 @@ def interval_settings_for(p: fields.ExactParams, h: Fraction, theta_guess: float
     """interval_settings with the theta-box sized by theta*'s measured motion: v = dtheta*/dlambdabar by central
     differences of the float search at lambdabar +- lam_rad, and r = max(4 |v| lam_rad, 2 lam_rad) (the interval
     Newton image is ~3.3 |v| lam_rad wide at Fig 4(a): 17.2 lam_rad against |v| = 5.2;
-    benchmarks/fixed_point_interval_limits.py), p_rad = 16 (r + lam_rad).  What `magrod prove --fixed-point
+    research/fixed_point_interval_limits.py), p_rad = 16 (r + lam_rad).  What `magrod prove --fixed-point
     --lam-rad W` uses; a float design choice only (the proof checks the box)."""
     from dataclasses import replace
 

@@ -4,7 +4,7 @@ level's pbar_psi by interval Newton, the section's guards, the C^1 flight of a s
 section quantities there.  It is part of the verifier's trust base (docs/nonintegrability.md, "The verifier's trust
 base"), like taylor.py: it imports only ball, fields, taylor, taylor_model and the generated fields -- never a prover's search
 (search.py, periodic.py's prove, horseshoe.py), so a verifier that uses it does not use the prover's decisions.
-Moved here from periodic.py (issue 27) unchanged."""
+Moved here from periodic.py unchanged."""
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -101,11 +101,11 @@ STATEMENTS = (
        by a second certificate whose every enclosure carries λ̄ as the ball of that interval
        (homoclinic_target_interval.json, `magrod prove --lam-rad 1/10000000000000`: prove 27 s, verify 7 s;
        dθ_u/dψ ∈ [−0.003823, −0.001095] at ψ = 0 and [0.000381, 0.002213] at ψ = π). 1.5·10⁻¹³ still proves,
-       2·10⁻¹³ does not (`benchmarks/homoclinic_interval.py`): λ̄ as a parameter ball is wrapped into every step's
+       2·10⁻¹³ does not (`research/homoclinic_interval.py`): λ̄ as a parameter ball is wrapped into every step's
        remainder, and the interval Newton step in the phase grows ~1.9·10⁸ × the half-width (4.6·10⁻⁵ at 2·10⁻¹³,
        against the widest arc 3.2·10⁻⁵, whose dθ_u/dψ ball is already ±0.0014 about −0.0025); of that, 2.2·10⁶ ×
        is the phase's true motion on a boundary circle about the fixed saddle x*(1/100), 7.9 × on one about the
-       moving saddle (`benchmarks/homoclinic_phase_motion.py`), so 10⁻¹⁰ needs the moving circle. Beyond that
+       moving saddle (`research/homoclinic_phase_motion.py`), so 10⁻¹⁰ needs the moving circle. Beyond that
        interval: hyperbolic equilibria and transverse intersections persist, so all of this holds on an open
        neighbourhood of the parameters, of unquantified size (cited persistence, hypotheses: the checked
        hyperbolicity and transversality, analytic dependence on the parameters).""",
@@ -114,7 +114,9 @@ STATEMENTS = (
         Step("the same on the λ̄ interval, λ̄ a ball in every enclosure", "computer-verified",
              "magrod prove --lam-rad; magrod prove --verify"),
         Step("the chart field is Hamilton's, R is a reversor, the lift intertwines the flows", "proved",
-             "report keys validated_fields, reversor_reduced, chart_body_lift"),
+             "f = J∇H̄ and f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as "
+             "exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced, "
+             "chart_body_lift"),
         Step("horseshoes (Devaney 1976) and no analytic second integral on the level (Kozlov 1996)", "proved",
              "cited theorems, every hypothesis checked by the certificate")],
        phrases=(r"one parameter point", r"17/10, 1/25")),
@@ -133,7 +135,9 @@ STATEMENTS = (
        [Step("saddle, eigenpairs, local manifold, flight, crossings, transversality", "computer-verified",
              "magrod prove; magrod prove --verify (complete verifier)"),
         Step("the chart field is Hamilton's, R is a reversor, the lift intertwines the flows", "proved",
-             "report keys validated_fields, reversor_reduced, chart_body_lift"),
+             "f = J∇H̄ and f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as "
+             "exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced, "
+             "chart_body_lift"),
         Step("horseshoes (Devaney 1976) and no analytic second integral on the level (Kozlov 1996)", "proved",
              "cited theorems, every hypothesis checked by the certificate")],
        phrases=(r"2/5, 3, 3", r"Fig 4\(a\)'s rod", r"Fig 4's rod")),
@@ -221,12 +225,12 @@ STATEMENTS = (
        verifier; `magrod prove --fixed-point 0.383 --level 0.9 --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam
        0.135`). At (a) also for every λ̄ in [134999/1000000, 135001/1000000] = 0.135 ± 10⁻⁶, λ̄ carried as a state
        variable through every enclosure (fixed_point_fig4a_interval.json, θ-box 20·10⁻⁶,
-       `benchmarks/fixed_point_interval_limits.py`; `--lam-rad 1/1000000` proves the same, its θ-box sized by θ*'s
+       `research/fixed_point_interval_limits.py`; `--lam-rad 1/1000000` proves the same, its θ-box sized by θ*'s
        float motion): θ* ∈ [0.3830289, 0.3830635], tr DP(x0) ∈ [3.3293, 8.5150]
        (tr = 2 + 4bc, since the half-map A between ψ = 0 and ψ = π has det A = 1: Hamilton's flow preserves
        dθ∧dp̄θ between the two sections); 1.2·10⁻⁶ is the widest box that closes, 1.4·10⁻⁶ fails at |tr| > 2. By 21
        adjacent such boxes, for every λ̄ in [134979/1000000, 135021/1000000] = 0.135 ± 2.1·10⁻⁵
-       (magrod/proof/certificates/fig4a_interval/, `benchmarks/fig4_lambda_interval.py`: 3–14 s prove + 2–13 s
+       (magrod/proof/certificates/fig4a_interval/, `research/fig4_lambda_interval.py`: 3–14 s prove + 2–13 s
        verify per box at load 2–4, each certificate re-checked by the complete verifier in that run and by a slow
        test, their union checked exactly by `tiling.chain_interval`; `magrod reproduce` verifies only the single
        box). Panel (c): the float search found no hyperbolic fixed point of P to prove
@@ -236,8 +240,9 @@ STATEMENTS = (
        λ̄ around each value, of unquantified size.""",
        [Step("level, two-phase flight (no positive crossing before the half-way point), Fix(R) Newton, |tr DP| > 2",
              "computer-verified", "magrod prove --fixed-point; magrod prove --verify (complete verifier)"),
-        Step("the chart field is Hamilton's, R is a reversor", "proved", "report keys validated_fields, "
-             "reversor_reduced"),
+        Step("the chart field is Hamilton's, R is a reversor", "proved", "f = J∇H̄ (det DP = 1) and "
+             "f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as exact "
+             "identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced"),
         Step("an orbit through two points of Fix(R) is periodic, crossings at ±t have one direction, DQ2 = R DQ⁻¹ R "
              "(reversibility; Devaney 1976)", "proved", "the argument of magrod/proof/periodic.py, hypotheses "
              "checked by the certificate"),
@@ -287,7 +292,9 @@ STATEMENTS = (
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
              "section_horseshoe)"),
         Step("the chart field is Hamilton's, 2π-periodic in ψ, and R is a reversor", "proved",
-             "report keys validated_fields, reversor_reduced; the verifier's source check of ψ"),
+             "f = J∇H̄ and f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as "
+             "exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced; the "
+             "verifier's source check of ψ"),
         Step("a closed chain of coverings and back-coverings has an orbit for every sequence of loops "
              "(Zgliczyński & Gidea 2004, the covering-chain theorem); N ⇒ M gives R(M)^T ⇐ R(N)^T; the coding of "
              "the visits to N0 is a semiconjugacy onto the block shift", "proved",
@@ -305,7 +312,7 @@ STATEMENTS = (
        magrod/proof/certificates/fixed_point_fig5{a,b,c,d}.json, `magrod prove --fixed-point 3.012 --level 0.8
        --m 1.7 --mu 4 --gamma 0.15 --delta 0.25 --lam 2 --branch pi --root 0`); at (a) also for every λ̄ in [199999/100000,
        200001/100000] = 2 ± 10⁻⁵ (μ = 4 fixed; fixed_point_fig5a_interval.json, θ-box 2·10⁻⁵,
-       `benchmarks/fixed_point_interval_limits.py`, or `--lam-rad 1/100000`: tr DP(x0) ∈ [−7.8846, −3.1758]; 2·10⁻⁵ fails at the Fix(R)
+       `research/fixed_point_interval_limits.py`, or `--lam-rad 1/100000`: tr DP(x0) ∈ [−7.8846, −3.1758]; 2·10⁻⁵ fails at the Fix(R)
        Newton step); (ii) at each of the four γ P has positive
        topological entropy: a compact forward-invariant set Λ with h_top(P|Λ) ≥ log ρ, log ρ > 0.0839 (a),
        > 0.0882 (b), > 0.0985 (c), > 0.0985 (d), ρ the largest root of x^L = x^(L−1) + 1, L = 30, 28, 24, 24 —
@@ -331,7 +338,9 @@ STATEMENTS = (
              "entropy bound", "computer-verified", "magrod prove --horseshoe --branch pi; magrod prove --verify "
              "(kind section_horseshoe)"),
         Step("the chart field is Hamilton's, 2π-periodic in ψ, and R is a reversor", "proved",
-             "report keys validated_fields, reversor_reduced; the verifier's source check of ψ"),
+             "f = J∇H̄ and f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as "
+             "exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced; the "
+             "verifier's source check of ψ"),
         Step("the covering-chain theorem, the reversed-chain lemma, the block-shift entropy (statement 12's "
              "argument, unchanged: it never uses the branch of N0)", "proved",
              "cited theorem, hypotheses checked by the certificate; docs/nonintegrability.md")],

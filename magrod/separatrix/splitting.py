@@ -663,16 +663,16 @@ class Splitting(Result):
 
     success: bool
     message: str
-    kind: str
-    m: float
-    gamma: float
-    delta: float
+    kind: str  # "equilibrium" (a = 2b), "tilted" (a > 2b) or "melnikov" (another model)
+    m: float  # the paper's rod's m, gamma, delta (NaN for another model)
+    gamma: float  # likewise
+    delta: float  # likewise
     a: float
     b: float
     eps: np.ndarray
     precisions: list
-    measure: np.ndarray
-    d: np.ndarray
+    measure: np.ndarray  # per eps: psi_u ("equilibrium"), s1 ("tilted") or c / eps ("melnikov")
+    d: np.ndarray  # per eps: the splitting (rho sin psi_u, max |D|, or c)
     agreement: float
     fit: dict | None
     leading: dict | None
@@ -684,14 +684,17 @@ class Splitting(Result):
 
     @property
     def fit_exponent(self):
+        """p of the power law measure ~ C eps^p (None without a fit)."""
         return None if self.fit is None else self.fit["p"]
 
     @property
     def leading_digits(self):
+        """The digits the measured leading coefficient shares with the derived one (None without one)."""
         return None if self.leading is None else self.leading["digits"]
 
     @property
     def accuracy(self) -> dict:
+        """The agreement of the measure between the precisions (kind "melnikov": the scan's accuracy)."""
         if self.kind == "melnikov":
             return self.scan.accuracy
         return {"agreement_between_precisions": self.agreement, "precisions": self.precisions}

@@ -10,7 +10,7 @@ exit half-length of X to the entry half-width of N_j.  This script reads the PRO
 (flights[].pieces[].enclosures: P(c_X), [DP(X)]); the verifier recomputes its own, of the same size.  Float
 output, a diagnosis, not part of any proof.
 
-    python benchmarks/horseshoe_margins.py [CERT.json] [out.json]
+    python research/horseshoe_margins.py [CERT.json] [out.json]
 
 Stored run (horseshoe_margins.json, Fig 5(b), < 1 s; the sums reproduce the certificate's own link_margins to
 <= 7e-4, conservatively): (a') = 0.016 at N8 => N9 is 1 - 0.333 (|G_ss|, the design's 1/qs) - 0.012 (its radius)

@@ -7,8 +7,8 @@ the interval Newton radius in the phase and the dtheta_u/dpsi balls; then verify
 numbers behind statement 5's interval sentence (docs/nonintegrability.md) and behind the shipped
 magrod/proof/certificates/homoclinic_target_interval.json (W = 1e-13).
 
-    python benchmarks/homoclinic_interval.py            # W = 1e-14 .. 1e-12 (~2 min on 2 cores)
-    python benchmarks/homoclinic_interval.py --out benchmarks/homoclinic_interval.json
+    python research/homoclinic_interval.py            # W = 1e-14 .. 1e-12 (~2 min on 2 cores)
+    python research/homoclinic_interval.py --out research/homoclinic_interval.json
 """
 from __future__ import annotations
 

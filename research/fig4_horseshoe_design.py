@@ -21,7 +21,7 @@ y = A_M^-1 (x - c_M): (a) max |y_s| over image points with |y_u| <= 1 (must be <
 min y_u over the edge that must go right, max over the one that must go left (must be > 1, < -1), and the linear
 part G = A_M^-1 DP(c_N) A_N.
 
-    python benchmarks/fig4_horseshoe_design.py [out.json] [--m=2]
+    python research/fig4_horseshoe_design.py [out.json] [--m=2]
 """
 from __future__ import annotations
 

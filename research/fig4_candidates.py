@@ -14,7 +14,7 @@ d(sin psi)/dt > 0, the paper's):
      Gs = sin(theta) rho sin(psi) = 0: the enclosure's width there against r |DP| (the wrapping / overestimation
      factor), the Taylor steps, the wall time.
 
-    python benchmarks/fig4_candidates.py [out.json] [--quick] [--lams=0.1575,0.175] [--saddles-only]
+    python research/fig4_candidates.py [out.json] [--quick] [--lams=0.1575,0.175] [--saddles-only]
 (--saddles-only: steps 1 and 3 of the list above only, no homoclinic search and no validated flight;
 --no-flight: no validated flight)
 """
@@ -44,7 +44,7 @@ TH, PS, PT, PP = (systems.state_index("reduced", k) for k in ("theta", "psi", "p
 
 class SectionMap:
     """The float section map at Fig 4's parameters and lambdabar (or at `params` on the level h: Fig 5's script
-    benchmarks/fig5_candidates.py uses the same search)."""
+    research/fig5_candidates.py uses the same search)."""
 
     def __init__(self, lam=None, *, params=None, h=H):
         self.params = params if params is not None else RodParams(m=1.7, mu=0.4, gamma=3.0, delta=3.0,
@@ -257,7 +257,7 @@ def monodromy(smap, f):
 def bisect_on_fix_r(track, lo, hi, flo, j):
     """The s in [lo, hi] where the j-th record of track(s) (pbar_theta, branch, theta, t) has pbar_theta = 0 (60
     bisections from the sign flo at lo), that record, and the tangent (dtheta/ds, dpbar_theta/ds) there by central
-    differences of relative step 1e-6.  Shared with benchmarks/fig5_candidates.py."""
+    differences of relative step 1e-6.  Shared with research/fig5_candidates.py."""
     for _ in range(60):
         mid = 0.5 * (lo + hi)
         f = track(mid)[j][0]

@@ -7,7 +7,7 @@ section map's saddle x0 (statement 11).  Measurements, not a proof.
    Q(u, s) = u^2 - s^2/L^2, holds for every M in the enclosure (the smallest of a ladder of L).
 2. The thickness budget of the homoclinic arc: a W^u point at distance u from x0 is known to within L u in s.
 
-    python benchmarks/fig4_homoclinic_budget.py [out.json]
+    python research/fig4_homoclinic_budget.py [out.json]
 """
 from __future__ import annotations
 

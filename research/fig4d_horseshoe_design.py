@@ -4,15 +4,15 @@ float search for the homoclinic point of the section saddle x0 of statement 11 (
 (magrod/proof/horseshoe.py, design "fig4d").  Numerical (float64 heyoka, reduced chart, tol 1e-15); it chooses the
 geometry that the prover then proves.  Not a proof.
 
-  1. W^u(x0) meets Fix(R): benchmarks/fig4_candidates.homoclinic_point (fundamental domain s in [1e-7, 1e-7 mu_u]
+  1. W^u(x0) meets Fix(R): research/fig4_candidates.homoclinic_point (fundamental domain s in [1e-7, 1e-7 mu_u]
      on the side +e_u, up to 45 returns, 4-D states; DP(x0) by central differences of one return, eps 1e-7): the
      first sign change of pbar_theta on one branch, bisected; its return n, end point, flight time and the tangent
      of W^u there (W^u-W^s angle = 2 atan |dtheta / dpbar_theta|: W^s = R(W^u)).
-  2. The design's linear / hull / sampled margins per link (benchmarks/fig4b_horseshoe_design.py's machinery with
+  2. The design's linear / hull / sampled margins per link (research/fig4b_horseshoe_design.py's machinery with
      panel "d" and the prover's design "fig4d"; each flag of that script overrides one field: --m, --qu, --qs,
      --l0, --l1, --wcap).
 
-    python benchmarks/fig4d_horseshoe_design.py [out.json] [--m=0] [--qu=1.5] [--qs=1.3] [--l0=0.8] [--l1=0.1]
+    python research/fig4d_horseshoe_design.py [out.json] [--m=0] [--qu=1.5] [--qs=1.3] [--l0=0.8] [--l1=0.1]
         [--wcap=7]
 
 Stored run (fig4d_horseshoe_design.json, 2 cores, ~20 s): W^u on Fix(R) at return 35 from s = 1.1573e-7, theta =

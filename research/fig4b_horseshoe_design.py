@@ -1,6 +1,6 @@
 """Fig 4(b) on h = 9/10: the float design of the covering-relation horseshoe of
 magrod/proof/horseshoe.py, with 4-D states (the excursion visits the psi = pi branch of Sigma+ at returns 12-14, which
-the 2-D design of benchmarks/fig4_horseshoe_design.py cannot follow).  Numerical (float64 heyoka, reduced chart, tol
+the 2-D design of research/fig4_horseshoe_design.py cannot follow).  Numerical (float64 heyoka, reduced chart, tol
 1e-15); it chooses the geometry that the prover then proves, and reports per link the linear margins of the covering
 conditions at the proof's own scale.  Not a proof.
 
@@ -17,7 +17,7 @@ back), the sizes by horseshoe.sizes with the given margins.  For each link N => 
   sampled  the float images of N's boundary (9 points per edge) and a 5 x 5 grid: (a') 1 - max |y_s| over image
            points with |y_u| <= 1, (b) min |y_u| - 1 over the exit edges' images (float error ~1e-15 / w_M).
 
-    python benchmarks/fig4b_horseshoe_design.py [out.json] [--design=fig4b] [--m=4] [--qu=1.5] [--qs=1.5] [--l0=0.5]
+    python research/fig4b_horseshoe_design.py [out.json] [--design=fig4b] [--m=4] [--qu=1.5] [--qs=1.5] [--l0=0.5]
         [--l1=0.15] [--wcap=3] [--panel=b]
 
 --design picks the prover's named design (magrod/proof/horseshoe.DESIGNS: fig4b, the default, or fig4a, Fig 4(a)'s
@@ -48,7 +48,7 @@ TH, PS, PT, PP = fields.THETA, fields.PSI, fields.PTHETA, fields.PPSI
 PANELS = {  # (certificate of statement 11, s*, n_exc): the W^u point whose n_exc-th image lies on Fix(R)
     "a": ("fixed_point_fig4a.json", 2.431508147212876e-06, 8),
     "b": ("fixed_point_fig4b.json", -9.871e-7, 14),
-    # benchmarks/fig4d_horseshoe_design.py: W^u (side +e_u) on Fix(R) at the 35th return from s = 1.157e-7
+    # research/fig4d_horseshoe_design.py: W^u (side +e_u) on Fix(R) at the 35th return from s = 1.157e-7
     # (fig4_candidates search; horseshoe.fig4d_settings: 36 sets, the closest design to a proof)
     "d": ("fixed_point_fig4d.json", 1.1573e-07, 35),
 }
@@ -120,7 +120,7 @@ def design(M: Map4, x0_4, eu, mu, s, m, n_exc):
 
 
 def main(panel="b", design_name="fig4b"):
-    """The run of the module docstring; benchmarks/fig4d_horseshoe_design.py calls it with panel "d", design
+    """The run of the module docstring; research/fig4d_horseshoe_design.py calls it with panel "d", design
     "fig4d" as its defaults (flags override both)."""
     t0 = time.perf_counter()
     panel = opt("panel", panel, str)

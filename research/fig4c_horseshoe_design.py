@@ -14,13 +14,13 @@ proof.
      mu_u / q^(p-1) in both directions; the excursion chain C_1 = x0 + t e_u (t = s* mu_u^-m), C_(j+1) = P(C_j),
      t shifted by float Newton so that C_k lies on Fix(R), sizes by horseshoe.sizes (qu, qs, L = l1_frac d, cap
      w_cap L); links N0 => N^1 => ... => N^(p-1) => N0 and N^(p-1) => C_1 => ... => C_k.  Margins per link as in
-     benchmarks/fig4b_horseshoe_design.py: linear, hull (DP at the four corners and the centre) and sampled.
+     research/fig4b_horseshoe_design.py: linear, hull (DP at the four corners and the centre) and sampled.
      On the links C_j => C_(j+1) the target is centred at the float image P(C_j) itself: at the proof's scale
      (d ~ 1e-10, entry widths down to ~1e-4 d at the excursion's squeeze) the float chain cannot resolve the sets
      (its offsets A_M^-1 (P(C_j) - C_(j+1)), recomputed from a re-lifted 2-D point, are float noise of up to
      |y| ~ 3.5, recorded as float_offset); the prover's 128-bit chain puts C_(j+1) at P(C_j) to ~1e-19.
 
-    python benchmarks/fig4c_horseshoe_design.py [out.json] [--m=2] [--q=1.2] [--qu=1.2] [--qs=1.15] [--l0=0.6]
+    python research/fig4c_horseshoe_design.py [out.json] [--m=2] [--q=1.2] [--qu=1.2] [--qs=1.15] [--l0=0.6]
         [--l1=0.15] [--wcap=3]
 
 Stored run (fig4c_horseshoe_design.json, 2 cores, ~9 s): period 6, theta* = 1.98882930090, mu_u(DP^6) = 5.68499

@@ -3,10 +3,10 @@
 state variable (fields.lam_state_field) and re-checked by the complete verifier; their union is
 [27/200 - (2n + 1) w, 27/200 + (2n + 1) w].  Writes each certificate to DIR and a summary (widths, costs).
 
-    python benchmarks/fig4_lambda_interval.py DIR [--w=1/1000000] [--n=10]
+    python research/fig4_lambda_interval.py DIR [--w=1/1000000] [--n=10]
 
 The shipped tiling (magrod/proof/certificates/fig4a_interval/) is --w=1/1000000 --n=10: 21 boxes, every lambdabar in
-27/200 +- 2.1e-5.  The widest box that closes is w = 1.2e-6 (benchmarks/fixed_point_interval_limits.py: the
+27/200 +- 2.1e-5.  The widest box that closes is w = 1.2e-6 (research/fixed_point_interval_limits.py: the
 hyperbolicity check, tr DP(x0) = 2 + 4bc, fails first); the boxes were w = 2e-7 before tr used det A = 1.
 """
 from __future__ import annotations
@@ -38,7 +38,9 @@ def main():
                "prove_s": round(res.wall_time_s, 1)}
         if res.ok:
             path = DIR / f"fixed_point_fig4a_lam_{i:+d}.json"
-            path.write_text(json.dumps(res.certificate, indent=1))
+            prov = {"command": f"python research/fig4_lambda_interval.py DIR --w={W} --n={NB}", "box": f"{i:+d}",
+                    "recorded": "by research/fig4_lambda_interval.py"}
+            path.write_text(json.dumps({**res.certificate, "provenance": prov}, indent=1))
             v = verify.verify(json.loads(path.read_text()))
             row.update(verified=v.ok, verify_s=round(v.wall_time_s, 1), values=v.values, certificate=str(path))
         rows.append(row)

@@ -2,7 +2,7 @@
 
 The shipped box (fixed_point_fig4a_interval.json, W = 1e-6) flies Theta x {0} x {0} x N x Lambda: the theta-box
 r = 20 W, independent of lambdabar, and the level's pbar_psi box N, independent of theta.  The half-map A is enclosed
-over all of it, and its entries' radii (b, c) are what limit the box (benchmarks/README.md, "Interval theorems").
+over all of it, and its entries' radii (b, c) are what limit the box (research/README.md, "Interval theorems").
 Here the same flight (the certificate's exact steps, the same validated integrator) starts instead from the
 parallelepiped that follows the family of fixed points: theta = theta_c + v (lambdabar - lambdabar_c) + s, s in
 [-K' W, K' W], pbar_psi = p_c + (dpbar_psi/dtheta)(theta - theta_c) + (dpbar_psi/dlambdabar)(lambdabar - lambdabar_c)
@@ -10,7 +10,7 @@ parallelepiped that follows the family of fixed points: theta = theta_c + v (lam
 It prints the enclosures of b = dpbar_theta/dtheta, c = dtheta/dpbar_theta and 2 + 4bc at the crossing against the
 shipped box's.  Not a certificate: the level's residual and the Newton in s are not validated here.
 
-    python benchmarks/fixed_point_sheared_box.py [K'=2] [v=-5.2336]
+    python research/fixed_point_sheared_box.py [K'=2] [v=-5.2336]
 """
 from __future__ import annotations
 

@@ -22,7 +22,7 @@ For each gamma:
      W^s, so P^j(x0 + s* e_u) on Fix(R) is a symmetric homoclinic point (transverse iff W^u's tangent there is not
      along Fix(R): the angle is reported); the range of theta along the excursion.
 
-    python benchmarks/fig5_candidates.py [out.json] [--gammas=0.15,0.24]
+    python research/fig5_candidates.py [out.json] [--gammas=0.15,0.24]
 """
 from __future__ import annotations
 
@@ -40,7 +40,7 @@ from magrod.core import printed, systems
 from magrod.proof import fields, periodic
 from magrod.proof.horseshoe import FloatMap, unit
 
-from fig4_candidates import bisect_on_fix_r  # benchmarks/ is the script's directory (sys.path[0])
+from fig4_candidates import bisect_on_fix_r  # research/ is the script's directory (sys.path[0])
 
 OUT = next((a for a in sys.argv[1:] if not a.startswith("--")), "fig5_candidates.json")
 GAMMAS = [f"{printed.panel(k).params.gamma:g}" for k in ("5a", "5b", "5c", "5d")]

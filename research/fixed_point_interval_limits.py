@@ -10,7 +10,7 @@ proves.  Numerical measurements of rigorous widths; the widths behind the shippe
 fixed_point_fig4a_interval.json (W = 1e-6) and fixed_point_fig5a_interval.json (W = 1e-5), which `--write DIR`
 writes.
 
-    python benchmarks/fixed_point_interval_limits.py [--out benchmarks/fixed_point_interval_limits.json] [--write DIR]
+    python research/fixed_point_interval_limits.py [--out research/fixed_point_interval_limits.json] [--write DIR]
 """
 from __future__ import annotations
 

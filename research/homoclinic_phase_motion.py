@@ -9,11 +9,11 @@ in float64 (heyoka, the prover's own float search search._FloatFlow; central dif
   fixed circle    the circle about x*(1/100) (what the certificate does: its saddle box holds x*(lambdabar));
   moving circle   the circle about x*(lambdabar) (the saddle re-found at each lambdabar; V, r unchanged).
 
-Against it: the rigorous Newton radius of benchmarks/homoclinic_interval.json (1.9e8 W) and the widest phase arc that
+Against it: the rigorous Newton radius of research/homoclinic_interval.json (1.9e8 W) and the widest phase arc that
 still proves (3.2e-5, where the arc's dtheta_u/dpsi ball is already +-0.0014 about -0.0025).  Numerical
 (floating-point) measurements of a derivative; two step sizes d as the convergence evidence.
 
-    python benchmarks/homoclinic_phase_motion.py [--out benchmarks/homoclinic_phase_motion.json]
+    python research/homoclinic_phase_motion.py [--out research/homoclinic_phase_motion.json]
 """
 from __future__ import annotations
 

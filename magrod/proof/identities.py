@@ -1,0 +1,309 @@
+"""The structure the proofs use, checked on the generated chart field as exact identities (part of the verifier's
+trust base).
+
+Each verified theorem uses two structural facts of the reduced chart field f of Hbar (eq:full_ham_nondim) in
+x = (theta, psi, pbar_theta, pbar_psi):
+
+- **reversibility** under R = diag(1, -1, -1, 1): f(R x) = -R f(x), and Hbar(R x) = Hbar(x).  The homoclinic
+  theorem takes W^s(q*) = R(W^u(q*)); the section fixed point's orbit is R-symmetric and DP(x0) = R A^-1 R A;
+  the horseshoe's chain N0 => ... => Nk closes through back-coverings R(Nk) <= ... <= R(N0) on the same level;
+- **Hamiltonian form** f = J grad Hbar with the canonical J (pairs (theta, pbar_theta) and (psi, pbar_psi)): the
+  return map to {sin psi = 0} on Hbar = h preserves dtheta ^ dpbar_theta, so det DP = 1 (statement 11's
+  hyperbolicity from |tr DP| > 2 alone) and the level's pbar_psi is solved from Hbar itself;
+
+and the variational equations that give every C^1 enclosure use the generated chart_jacobian, which must be Df.
+
+They are checked here, at run time, on the source whose SHA-256 the certificate records (`fields.source`), not
+read from the derivation's report: every function of the generated module is evaluated in the field of rational
+functions Q(t_theta, t_psi, pbar_theta, r, m, mu, gamma, delta, lambdabar) with python-flint's exact multivariate
+polynomials (`fmpq_mpoly`, numerator and denominator reduced by their gcd), where
+
+    sin = 2 t / (1 + t^2),  cos = (1 - t^2) / (1 + t^2)  (theta and psi enter only through sin and cos),
+    pbar_psi = (mu - r^2) / (2 lambdabar), so that the field's one radical sqrt(mu - 2 lambdabar pbar_psi) = r,
+
+and derivatives by forward mode (dual numbers a + b eps over that field; the rules of + - * /, sin, cos, sqrt).
+An identity holds when each component's difference is the zero rational function: a proof for every parameter
+value, every state of the chart's domain (sin theta != 0, mu - 2 lambdabar pbar_psi > 0; lambdabar = 0 and
+angle = pi by continuity), not a check at sample points.  SymPy is not used: the numerics never import it, and the
+exact polynomial arithmetic of FLINT is small and already the verifier's arithmetic library.
+
+Anything the exact evaluation cannot represent (another radical, an angle used other than through sin and cos, a
+division by zero) makes every identity fail with that reason: the check says what it could not cover.
+
+Cost: ~0.1 s for the four identities; the result is remembered per source digest in the process (it depends on
+the field's source only, not on the certificate).
+"""
+from __future__ import annotations
+
+import hashlib
+from fractions import Fraction
+
+import flint
+
+#: the reversor the verifier's checks use (Fix(R) = {psi = pbar_theta = 0}), in the chart state's order
+REVERSOR = (1, -1, -1, 1)
+CHART_STATE = ("theta", "psi", "ptheta", "ppsi")
+#: the variables of the rational-function field: the half-angle tangents, pbar_theta, the radical, the parameters
+_STATE_VARS = ("t_theta", "t_psi", "ptheta", "r")
+
+#: the identities' names, as the verifier's checks are named
+REVERSIBLE = "reversibility f(R x) = -R f(x)"
+LEVEL_SYMMETRIC = "reversibility Hbar(R x) = Hbar(x)"
+HAMILTONIAN = "Hamiltonian form f = J grad Hbar"
+VARIATIONAL = "variational field chart_jacobian = Df"
+NAMES = (REVERSIBLE, LEVEL_SYMMETRIC, HAMILTONIAN, VARIATIONAL)
+
+_REMEMBERED: dict = {}
+
+
+class _NotExact(Exception):
+    """The field cannot be evaluated in the exact rational-function field (named reason)."""
+
+
+def check(source: str, params: tuple) -> list:
+    """The four identities on the generated module's `source` (its text, as digested), with parameter names
+    `params` (the module's PARAMS, which must include mu and lam): [(name, holds, how)], in NAMES' order."""
+    key = hashlib.sha256(f"{params}\n{source}".encode()).hexdigest()
+    if key not in _REMEMBERED:
+        _REMEMBERED[key] = _check(source, tuple(params))
+    return list(_REMEMBERED[key])
+
+
+def _check(source: str, params: tuple) -> list:
+    how = {
+        REVERSIBLE: f"chart_rhs(R x) + R chart_rhs(x) is the zero rational function, R = diag{REVERSOR} "
+                    "(W^s = R(W^u); Fix(R)-symmetric orbits; the horseshoe's back-coverings)",
+        LEVEL_SYMMETRIC: "chart_hamiltonian(R x) - chart_hamiltonian(x) is the zero rational function (R maps the "
+                         "level Hbar = h to itself)",
+        HAMILTONIAN: "chart_rhs - J grad chart_hamiltonian is the zero rational function, J canonical on (theta, "
+                     "psi; pbar_theta, pbar_psi) (the section map is area-preserving: det DP = 1)",
+        VARIATIONAL: "every entry of chart_jacobian - D chart_rhs (forward mode) is the zero rational function (the "
+                     "C^1 enclosures solve V' = Df V with chart_jacobian)",
+    }
+    exact = "exact identity in Q(t_theta, t_psi, pbar_theta, r, parameters), sin = 2t/(1+t^2), cos = " \
+            "(1-t^2)/(1+t^2), pbar_psi = (mu - r^2)/(2 lambdabar)"
+    try:
+        got = _identities(source, params)
+    except _NotExact as err:
+        return [(n, False, f"{how[n]}; the generated field is not evaluable exactly: {err}") for n in NAMES]
+    out = []
+    for n in NAMES:
+        bad = got[n]
+        out.append((n, not bad, f"{how[n]}; {exact}" + (f"; nonzero in component(s) {bad}" if bad else "")))
+    return out
+
+
+def _identities(source: str, params: tuple) -> dict:
+    """{name: [the components where the difference is not zero]}."""
+    if not {"mu", "lam"} <= set(params):
+        raise _NotExact(f"the parameters {params} lack mu or lam (the radical's parametrisation)")
+    F = _Field(_STATE_VARS + params)
+    v = dict(zip(F.names, F.gens))
+    pars = [v[k] for k in params]
+    R2 = v["r"] * v["r"]
+    F.radicand, F.root = R2, v["r"]
+    ppsi = (v["mu"] - R2) / (2 * v["lam"])
+    ns = _namespace(source, F)
+    zero, one = F.const(0), F.const(1)
+    try:
+        for name in ("chart_rhs", "chart_jacobian", "chart_hamiltonian", "CHART_STATE"):
+            if name not in ns:
+                raise _NotExact(f"the module has no {name}")
+        if REVERSOR[3] != 1:
+            raise _NotExact("a reversor that changes pbar_psi (the radical's parametrisation keeps it)")
+        if tuple(ns["CHART_STATE"]) != CHART_STATE:
+            raise _NotExact(f"the chart state is {ns['CHART_STATE']}, not {CHART_STATE}")
+
+        def point(j=None, reflect=False):
+            """x (R x if reflect) with tangent e_j (no tangent for j None)."""
+            d = [None] * 4 if j is None else [one if i == j else zero for i in range(4)]
+            sg = REVERSOR if reflect else (1, 1, 1, 1)
+            th, ps = _Angle(v["t_theta"], sg[0], d[0]), _Angle(v["t_psi"], sg[1], d[1])
+            pt = sg[2] * v["ptheta"]
+            return [th, ps] + [x if dx is None else _Dual(x, dx) for x, dx in ((pt, d[2]), (ppsi, d[3]))]
+
+        f = ns["chart_rhs"](point(), pars)
+        fR = ns["chart_rhs"](point(reflect=True), pars)
+        H = ns["chart_hamiltonian"](point(), pars)[0]
+        HR = ns["chart_hamiltonian"](point(reflect=True), pars)[0]
+        dH = [_part(ns["chart_hamiltonian"](point(j), pars)[0], F) for j in range(4)]
+        cols = [[_part(c, F) for c in ns["chart_rhs"](point(j), pars)] for j in range(4)]
+        Jm = ns["chart_jacobian"](point(), pars)
+        Jg = [dH[2], dH[3], -dH[0], -dH[1]]
+        return {
+            REVERSIBLE: [CHART_STATE[i] for i in range(4) if not F.zero(fR[i] + REVERSOR[i] * f[i])],
+            LEVEL_SYMMETRIC: [] if F.zero(HR - H) else ["Hbar"],
+            HAMILTONIAN: [CHART_STATE[i] for i in range(4) if not F.zero(f[i] - Jg[i])],
+            VARIATIONAL: [f"[{i}, {j}]" for i in range(4) for j in range(4) if not F.zero(Jm[4 * i + j] - cols[j][i])],
+        }
+    except (TypeError, ZeroDivisionError, AttributeError, ValueError, IndexError) as err:
+        raise _NotExact(f"{type(err).__name__}: {str(err)[:120]}") from None
+
+
+def _part(x, F):
+    """The eps part: the derivative (0 for a value that does not depend on the state, e.g. a constant component)."""
+    return x.b if isinstance(x, _Dual) else F.const(0)
+
+
+def _namespace(source: str, F) -> dict:
+    """The generated module executed afresh (its own source, the one digested), with its exact constants _Q(p, q)
+    as elements of F instead of Arb balls."""
+    ns: dict = {"__name__": "magrod.generated.validated_exact"}
+    exec(compile(source, "<generated/validated.py, exact>", "exec"), ns)  # noqa: S102 - the package's own source
+    ns["_Q"] = lambda p, q: F.const(Fraction(p, q))
+    return ns
+
+
+class _Field:
+    """Q(names) with elements _RF (numerator, denominator: fmpq_mpoly, reduced by their gcd, monic denominator)."""
+
+    def __init__(self, names):
+        self.names = tuple(names)
+        self.ctx = flint.fmpq_mpoly_ctx.get(self.names, "lex")
+        self.gens = [_RF(self, g) for g in self.ctx.gens()]
+        self.radicand = self.root = None
+
+    def poly(self, c: Fraction):
+        return self.ctx.from_dict({(0,) * len(self.names): flint.fmpq(c.numerator, c.denominator)})
+
+    def const(self, c) -> "_RF":
+        return _RF(self, self.poly(Fraction(c)))
+
+    def zero(self, x) -> bool:
+        if isinstance(x, _Dual):
+            raise TypeError("a value with a tangent where a plain value was expected")
+        return _RF.of(self, x).n.is_zero()
+
+
+class _RF:
+    __slots__ = ("F", "n", "d")
+
+    def __init__(self, F, n, d=None):
+        if d is None:
+            d = F.poly(Fraction(1))
+        if d.is_zero():
+            raise ZeroDivisionError("a denominator is the zero rational function")
+        g = n.gcd(d)
+        if not g.is_one():
+            n, d = n / g, d / g
+        lc = d.leading_coefficient()
+        if lc != 1:
+            n, d = n / lc, d / lc
+        self.F, self.n, self.d = F, n, d
+
+    @staticmethod
+    def of(F, o):
+        if isinstance(o, _RF):
+            return o
+        if isinstance(o, (int, Fraction)) and not isinstance(o, bool):
+            return F.const(o)
+        raise TypeError(f"{type(o).__name__} in exact arithmetic (only rational constants)")
+
+    def __add__(self, o):
+        if isinstance(o, (_Dual, _Angle)):
+            return NotImplemented
+        o = _RF.of(self.F, o)
+        if self.d == o.d:
+            return _RF(self.F, self.n + o.n, self.d)
+        return _RF(self.F, self.n * o.d + o.n * self.d, self.d * o.d)
+
+    __radd__ = __add__
+
+    def __neg__(self):
+        return _RF(self.F, -self.n, self.d)
+
+    def __sub__(self, o):
+        if isinstance(o, (_Dual, _Angle)):
+            return NotImplemented
+        return self + (-_RF.of(self.F, o))
+
+    def __rsub__(self, o):
+        return _RF.of(self.F, o) - self
+
+    def __mul__(self, o):
+        if isinstance(o, (_Dual, _Angle)):
+            return NotImplemented
+        o = _RF.of(self.F, o)
+        return _RF(self.F, self.n * o.n, self.d * o.d)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o):
+        if isinstance(o, (_Dual, _Angle)):
+            return NotImplemented
+        o = _RF.of(self.F, o)
+        if o.n.is_zero():
+            raise ZeroDivisionError("division by the zero rational function")
+        return _RF(self.F, self.n * o.d, self.d * o.n)
+
+    def __rtruediv__(self, o):
+        return _RF.of(self.F, o) / self
+
+    def sqrt(self):
+        # the chart field's one radical: sqrt(mu - 2 lambdabar pbar_psi) = r (r > 0 on the chart's domain)
+        if self.F.radicand is not None and (self - self.F.radicand).n.is_zero():
+            return self.F.root
+        raise TypeError("a square root of other than mu - 2 lambdabar pbar_psi")
+
+
+class _Dual:
+    """a + b eps (eps^2 = 0) over _RF: the exact derivative rules."""
+
+    __slots__ = ("a", "b")
+
+    def __init__(self, a, b):
+        self.a, self.b = a, b
+
+    @staticmethod
+    def _d(o, like):
+        return o if isinstance(o, _Dual) else _Dual(_RF.of(like.a.F, o), like.a.F.const(0))
+
+    def __add__(self, o):
+        o = self._d(o, self)
+        return _Dual(self.a + o.a, self.b + o.b)
+
+    __radd__ = __add__
+
+    def __sub__(self, o):
+        o = self._d(o, self)
+        return _Dual(self.a - o.a, self.b - o.b)
+
+    def __rsub__(self, o):
+        return self._d(o, self) - self
+
+    def __neg__(self):
+        return _Dual(-self.a, -self.b)
+
+    def __mul__(self, o):
+        o = self._d(o, self)
+        return _Dual(self.a * o.a, self.a * o.b + self.b * o.a)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o):
+        o = self._d(o, self)
+        return _Dual(self.a / o.a, (self.b * o.a - self.a * o.b) / (o.a * o.a))
+
+    def __rtruediv__(self, o):
+        return self._d(o, self) / self
+
+    def sqrt(self):
+        s = self.a.sqrt()
+        return _Dual(s, self.b / (2 * s))
+
+
+class _Angle:
+    """An angle known only through sin and cos (half-angle tangent t; sign -1: the reflected angle); with a tangent
+    dt its sin and cos are duals.  Any other use (arithmetic on the angle) is a TypeError: not covered."""
+
+    __slots__ = ("s", "c", "dt")
+
+    def __init__(self, t, sign, dt=None):
+        q = 1 + t * t
+        self.s, self.c, self.dt = sign * (2 * t) / q, (1 - t * t) / q, dt
+
+    def sin(self):
+        return self.s if self.dt is None else _Dual(self.s, self.c * self.dt)
+
+    def cos(self):
+        return self.c if self.dt is None else _Dual(self.c, -self.s * self.dt)
