@@ -9,37 +9,22 @@ import time
 
 from flint import arb
 
-from ...core.errors import ParameterError
 from .. import ball, fields, taylor
 from ..theorem import section_fixed_point_theorem
-from .schema import (CertificateError, Reject, VerifyResult, check_structure, frac, imprecise, inside, recomputed,
-                     recomputed_meet)
+from .schema import (VerifyResult, check_structure, checked, frac, inside, recomputed, recomputed_meet,
+                     section_settings)
 
 
 def verify(cert, module, t0) -> VerifyResult:
-    checks: list = []
-
-    def claim(name, holds, how):
-        checks.append({"name": name, "holds": bool(holds), "how": how})
-        if not holds:
-            raise Reject(f"{name} failed (the check requires: {how})")
-
-    try:
-        p = fields.ExactParams(**{k: frac(cert["params"][k]) for k in fields.PARAMS})
-        s = cert["settings"]
-        prec, cap, order = int(s["prec"]), int(s["series_cap"]), int(s["order"])
-        if not (64 <= prec <= 1024 and 4 <= order < cap <= 256):
-            raise CertificateError("settings out of range (prec 64..1024 bits, 4 <= order < series_cap <= 256)")
+    def body(claim):
+        p, prec, cap, order = section_settings(cert)
         with ball.workprec(prec, cap):
-            vals = _fixed_point(cert, p, order, module, claim)
-    except ball.InexactBall as err:  # a well-formed certificate whose precision is too low for its checks
-        return imprecise(checks, t0, err)
-    except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
-        if isinstance(err, ParameterError):
-            raise
-        raise CertificateError(f"malformed certificate ({type(err).__name__}: {str(err)[:120]})") from None
-    except Reject as err:
-        return VerifyResult(False, f"certificate rejected: {err}", checks, time.perf_counter() - t0)
+            return p, _fixed_point(cert, p, order, module, claim)
+
+    checks, out, failed = checked(t0, body)
+    if failed:
+        return failed
+    p, vals = out
     return VerifyResult(True, "certificate verified: every enclosure recomputed and every check holds", checks,
                         time.perf_counter() - t0,
                         section_fixed_point_theorem(p.as_json(), cert["level"], cert["settings"].get("lam_rad", "0"),

@@ -11,33 +11,21 @@ from fractions import Fraction
 import numpy as np
 from flint import acb, acb_mat, arb, arb_mat
 
-from ...core.errors import ParameterError
 from .. import ball, fields, taylor
 from ..theorem import TARGETS, homoclinic_theorem
-from .schema import CertificateError, Reject, VerifyResult, check_structure, frac, imprecise, inside, recomputed
-
+from .schema import CertificateError, VerifyResult, check_structure, checked, frac, inside, recomputed
 
 def verify(cert, module, t0) -> VerifyResult:
     """The homoclinic certificate `cert` re-checked against the field `module` (started at perf_counter t0)."""
-    checks: list = []
-
-    def claim(name, holds, how):
-        checks.append({"name": name, "holds": bool(holds), "how": how})
-        if not holds:
-            raise Reject(f"{name} failed (the check requires: {how})")
-
-    try:
+    def body(claim):
         p, st = _inputs(cert)
         with ball.workprec(st["prec"], st["series_cap"]):
-            targets = _verify(cert, p, st, module, claim)
-    except ball.InexactBall as err:  # a well-formed certificate whose precision is too low for its checks
-        return imprecise(checks, t0, err)
-    except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
-        if isinstance(err, ParameterError):
-            raise
-        raise CertificateError(f"malformed certificate ({type(err).__name__}: {str(err)[:120]})") from None
-    except Reject as err:
-        return VerifyResult(False, f"certificate rejected: {err}", checks, time.perf_counter() - t0)
+            return p, _verify(cert, p, st, module, claim)
+
+    checks, out, failed = checked(t0, body)
+    if failed:
+        return failed
+    p, targets = out
     slopes = {c["target"]: [ball.decimal(b) for b in ball.json_bounds(c["dtheta_dpsi"])] for c in cert["crossings"]}
     return VerifyResult(True, "certificate verified: every enclosure recomputed and every check holds", checks,
                         time.perf_counter() - t0, homoclinic_theorem(p.as_json(), targets, _lam_rad_text(p)), slopes)

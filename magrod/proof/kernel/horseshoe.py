@@ -10,40 +10,24 @@ from __future__ import annotations
 
 import time
 
-from ...core.errors import ParameterError
 from .. import ball, fields
 from ..theorem import section_horseshoe_theorem
 # the set and branch-box checks (also run by the child processes of pool.py); the geometric helpers are named here
 # too, as the tests address them through this module
 from .horseshoe_sets import (_hs_branch_boxes, _hs_cover, _hs_graph, _hs_inv, _hs_lam,  # noqa: F401
                              _hs_separated, _hs_separated_moving, _hs_set, _hs_source, _hs_vertices)
-from .schema import CertificateError, Reject, VerifyResult, check_structure, frac, imprecise
-
+from .schema import VerifyResult, check_structure, checked, frac, section_settings
 
 def verify(cert, module, t0, workers=None) -> VerifyResult:
-    checks: list = []
-
-    def claim(name, holds, how):
-        checks.append({"name": name, "holds": bool(holds), "how": how})
-        if not holds:
-            raise Reject(f"{name} failed (the check requires: {how})")
-
-    try:
-        p = fields.ExactParams(**{k: frac(cert["params"][k]) for k in fields.PARAMS})
-        s = cert["settings"]
-        prec, cap, order = int(s["prec"]), int(s["series_cap"]), int(s["order"])
-        if not (64 <= prec <= 1024 and 4 <= order < cap <= 256):
-            raise CertificateError("settings out of range (prec 64..1024 bits, 4 <= order < series_cap <= 256)")
+    def body(claim):
+        p, prec, cap, order = section_settings(cert)
         with ball.workprec(prec, cap):
-            vals = _horseshoe(cert, p, order, module, claim, workers)
-    except ball.InexactBall as err:  # a well-formed certificate whose precision is too low for its checks
-        return imprecise(checks, t0, err)
-    except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
-        if isinstance(err, ParameterError):
-            raise
-        raise CertificateError(f"malformed certificate ({type(err).__name__}: {str(err)[:120]})") from None
-    except Reject as err:
-        return VerifyResult(False, f"certificate rejected: {err}", checks, time.perf_counter() - t0)
+            return p, _horseshoe(cert, p, order, module, claim, workers)
+
+    checks, out, failed = checked(t0, body)
+    if failed:
+        return failed
+    p, vals = out
     return VerifyResult(True, "certificate verified: every link re-flown and every check holds", checks,
                         time.perf_counter() - t0,
                         section_horseshoe_theorem(p.as_json(), cert["level"], vals["k"], vals["L"], vals["rho"],

@@ -100,6 +100,40 @@ def imprecise(checks, t0, err) -> VerifyResult:
                         time.perf_counter() - t0)
 
 
+def checked(t0, body):
+    """The frame every kind's checks run in: `body(claim)` runs them, `claim(name, holds, how)` records each and stops
+    at the first that fails.  Returns (checks, body's value, None), or (checks, None, the failed VerifyResult) for a
+    failed check or a working precision too low for one; a malformed certificate raises CertificateError naming
+    what is wrong (exit 2)."""
+    checks: list = []
+
+    def claim(name, holds, how):
+        checks.append({"name": name, "holds": bool(holds), "how": how})
+        if not holds:
+            raise Reject(f"{name} failed (the check requires: {how})")
+
+    try:
+        return checks, body(claim), None
+    except ball.InexactBall as err:  # a well-formed certificate whose precision is too low for its checks
+        return checks, None, imprecise(checks, t0, err)
+    except (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, AttributeError) as err:
+        if isinstance(err, ParameterError):
+            raise
+        raise CertificateError(f"malformed certificate ({type(err).__name__}: {str(err)[:120]})") from None
+    except Reject as err:
+        return checks, None, VerifyResult(False, f"certificate rejected: {err}", checks, time.perf_counter() - t0)
+
+
+def section_settings(cert):
+    """(exact parameters, prec, series_cap, order) of a section certificate (fixed point, horseshoe), in range."""
+    p = fields.ExactParams(**{k: frac(cert["params"][k]) for k in fields.PARAMS})
+    s = cert["settings"]
+    prec, cap, order = int(s["prec"]), int(s["series_cap"]), int(s["order"])
+    if not (64 <= prec <= 1024 and 4 <= order < cap <= 256):
+        raise CertificateError("settings out of range (prec 64..1024 bits, 4 <= order < series_cap <= 256)")
+    return p, prec, cap, order
+
+
 def frac(s) -> Fraction:
     if not isinstance(s, str):
         raise TypeError(f"expected an exact rational string, got {s!r}")
