@@ -132,29 +132,14 @@ def _search_text(out: dict) -> list:
 
 
 def _model_text(out: dict) -> str:
+    from ..integrability import report_row_details as row_details
+
     lines = [f"magrod derivation report: model {out['model']} ({out['title']}; source: {out['source']})",
              f"    read from {out['report']}", ""]
     for r in out["results"]:
         lines.append(f"[{r['status']}] {r['title']}")
         lines.append(f"    shown by: {r['method']}")
-        d = r["details"]
-        if r["key"] == "involution":
-            nz = {k: v for k, v in d["table"].items() if v != "0"}
-            lines.append("    " + ("all brackets vanish" if not nz else "non-zero: " + "; ".join(
-                f"{k} = {v}" for k, v in nz.items())))
-        elif r["key"] == "casimirs":
-            lines.append("    found: " + "; ".join(f"{k} = {v}" for k, v in d["basis_found"].items()))
-        elif r["key"] == "integrals_found":
-            lines.append(f"    dim ker {d['dim_kernel']} vs known algebra {d['dim_known_algebra']}; beyond: "
-                         + ("; ".join(d["beyond_the_algebra"]) or "none"))
-        elif r["key"] == "candidates":
-            lines.append("    " + ("; ".join(f"{k}: {'integral' if v else 'NOT an integral'} ({d['references'][k]})"
-                                            for k, v in d["first_integral"].items())
-                                  or "none declared (the model file's CANDIDATES)"))
-        elif r["key"] in ("kovalevskaya_exponents", "morales_ramis"):
-            from ..integrability import decided_detail_lines as detail_lines
-
-            lines += detail_lines(r)
+        lines += row_details(r)
         lines.append("")
     return "\n".join(lines + _search_text(out["search"]))
 

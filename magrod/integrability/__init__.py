@@ -12,6 +12,7 @@ _API = {
     "format_report": ("report", "format_text"),
     "custom_involution": "report",
     "model_report": "report",
+    "report_row_details": ("report", "row_details"),
     # the exact/modular search for polynomial first integrals
     "first_integral_search": "first_integrals",
     "format_integrals": ("first_integrals", "format_text"),
@@ -24,7 +25,6 @@ _API = {
     "stiffness_scan": "landscape",
     # the decided results: Kovalevskaya exponents, Morales-Ramis, the symmetric-rod theorem
     "decided_theorem": ("decided", "theorem"),
-    "decided_detail_lines": ("decided", "detail_lines"),
 }
 
 __getattr__, __dir__, __all__ = namespace(__name__, _API)

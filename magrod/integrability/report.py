@@ -66,6 +66,41 @@ def custom_involution(text: str) -> dict:
             "disagreements_with_paper": [], "substitution": text}
 
 
+def row_details(r: dict) -> list:
+    """The indented detail lines of one report row (brackets, Casimirs, integrals found, candidates, the decided
+    rows): the one rendering of `magrod check`, for the paper's rod and for any model."""
+    d, lines = r["details"], []
+    if r["key"] == "casimirs" and "basis_found (lambda = 0)" in d:
+        lines.append("    basis found (lambda generic): " + "; ".join(d["basis_found"]))
+        lines.append("    basis found (lambda = 0):     " + "; ".join(d["basis_found (lambda = 0)"]))
+    elif r["key"].startswith("involution") and "tables" in d:
+        for reg, table in d["tables"].items():
+            nz = {k: v for k, v in table.items() if v != "0"}
+            lines.append(f"    {reg}: " + ("all brackets vanish" if not nz else
+                                             "non-zero: " + "; ".join(f"{k} = {v}" for k, v in nz.items())))
+    elif r["key"] == "involution" and "table" in d:
+        nz = {k: v for k, v in d["table"].items() if v != "0"}
+        lines.append("    " + ("all brackets vanish" if not nz else "non-zero: " + "; ".join(
+            f"{k} = {v}" for k, v in nz.items())))
+    elif r["key"] == "casimirs" and "basis_found" in d and isinstance(d["basis_found"], dict):
+        lines.append("    found: " + "; ".join(f"{k} = {v}" for k, v in d["basis_found"].items()))
+    elif r["key"] == "integrals_found":
+        lines.append(f"    dim ker {d['dim_kernel']} vs known algebra {d['dim_known_algebra']}; beyond: "
+                     + ("; ".join(d["beyond_the_algebra"]) or "none"))
+    elif r["key"] == "candidates":
+        lines.append("    " + ("; ".join(f"{k}: {'integral' if v else 'NOT an integral'} ({d['references'][k]})"
+                                         for k, v in d["first_integral"].items())
+                              or "none declared (the model file's CANDIDATES)"))
+    elif r["key"] in ("kovalevskaya_exponents", "morales_ramis"):
+        from .decided import detail_lines
+
+        lines += detail_lines(r)
+    elif r["key"] == "I2bar_conservation":
+        for case, v in d["cases"].items():
+            lines.append(f"    {{I2bar, Hbar}} at {case}: {'0 (conserved)' if v == '0' else 'non-zero'}")
+    return lines
+
+
 def format_text(out: dict) -> str:
     """Plain-text rendering of summary() / custom_involution() (used by `magrod check` and REPORT.md)."""
     lines = [f"magrod integrability report{' of the model ' + out['model'] if out.get('model') else ''} "
@@ -73,34 +108,7 @@ def format_text(out: dict) -> str:
     for r in out["results"]:
         lines.append(f"[{r['status']}] {r['label']}: {r['title']}")
         lines.append(f"    shown by: {r['method']}")
-        d = r["details"]
-        if r["key"] == "casimirs" and "basis_found (lambda = 0)" in d:
-            lines.append("    basis found (lambda generic): " + "; ".join(d["basis_found"]))
-            lines.append("    basis found (lambda = 0):     " + "; ".join(d["basis_found (lambda = 0)"]))
-        elif r["key"].startswith("involution") and "tables" in d:
-            for reg, table in d["tables"].items():
-                nz = {k: v for k, v in table.items() if v != "0"}
-                lines.append(f"    {reg}: " + ("all brackets vanish" if not nz else
-                                                 "non-zero: " + "; ".join(f"{k} = {v}" for k, v in nz.items())))
-        elif r["key"] == "involution" and "table" in d:
-            nz = {k: v for k, v in d["table"].items() if v != "0"}
-            lines.append("    " + ("all brackets vanish" if not nz else "non-zero: " + "; ".join(
-                f"{k} = {v}" for k, v in nz.items())))
-        elif r["key"] == "casimirs" and "basis_found" in d and isinstance(d["basis_found"], dict):
-            lines.append("    found: " + "; ".join(f"{k} = {v}" for k, v in d["basis_found"].items()))
-        elif r["key"] == "integrals_found":
-            lines.append(f"    dim ker {d['dim_kernel']} vs known algebra {d['dim_known_algebra']}; beyond: "
-                         + ("; ".join(d["beyond_the_algebra"]) or "none"))
-        elif r["key"] == "candidates":
-            lines.append("    " + ("; ".join(f"{k}: {'integral' if v else 'NOT an integral'} ({d['references'][k]})"
-                                             for k, v in d["first_integral"].items()) or "none declared"))
-        elif r["key"] in ("kovalevskaya_exponents", "morales_ramis"):
-            from .decided import detail_lines
-
-            lines += detail_lines(r)
-        elif r["key"] == "I2bar_conservation":
-            for case, v in d["cases"].items():
-                lines.append(f"    {{I2bar, Hbar}} at {case}: {'0 (conserved)' if v == '0' else 'non-zero'}")
+        lines += row_details(r)
         lines.append("")
     if not out.get("model"):  # a model of the family is not the printed paper's rod: no such line
         lines.append("disagreements with the printed paper (see docs/errata.md): "
