@@ -588,24 +588,9 @@ def orbit_diagram(system=None, parameter=None, values=None, *, base=_UNSET, h=No
                 i = int(np.flatnonzero(~no_root)[int(m.group(1))])
                 raise ParameterError("values", f"value {i} = {v[i]:g}: {exc.message[m.end():]}") from None
             raise
-    it = iter(got)
-    orbits = [None if nr else next(it) for nr in no_root]
-    idx, pts = [np.zeros(0, np.int32)], [np.zeros((0, 4))]
-    for i, r in enumerate(orbits):
-        if r is None:
-            continue
-        keep = r.points[transient:]
-        idx.append(np.full(keep.shape[0], i, dtype=np.int32))
-        pts.append(keep)
-    ok = np.array([r is not None and r.success for r in orbits])
-    failed = [i for i, r in enumerate(orbits) if r is not None and not r.success]
-    parts = []
-    if failed:
-        parts.append(f"{len(failed)} of {len(orbits)} orbits failed (first: value {v[failed[0]]:g}: "
-                     f"{orbits[failed[0]].message})")
-    if no_root.any():
-        parts.append(f"{int(no_root.sum())} of {no_root.size} values have no energy root at the start (marked "
-                     f"no_root; first {v[int(np.argmax(no_root))]:g})")
+    orbits, idx, pts, ok, failed, parts = _gathered(got, no_root, v, transient, 4,
+                                                    "have no energy root at the start (marked no_root; first "
+                                                    f"{v[int(np.argmax(no_root))]:g})")
     if no_root.all():
         parts.append("nothing computed")
     msg = "; ".join(parts) or "ok"
@@ -618,6 +603,29 @@ def orbit_diagram(system=None, parameter=None, values=None, *, base=_UNSET, h=No
                         float(P0.theta0), float(P0.ptheta0), float(P0.psi0), iterates, transient, coordinate,
                         time.perf_counter() - t0, dict(marks or {}), orbits, base_key, no_root,
                         as_system(base_params)[0])
+
+
+def _gathered(run, no_root, v, transient, dim, no_root_text):
+    """The orbits of a diagram in value order (None where a value has no start), the kept points with their value
+    index, the success mask, the failed values and the message parts: the one bookkeeping of every model's diagram."""
+    it = iter(run)
+    orbits = [None if nr else next(it) for nr in no_root]
+    idx, pts = [np.zeros(0, np.int32)], [np.zeros((0, dim))]
+    for i, r in enumerate(orbits):
+        if r is not None:
+            keep = r.points[transient:]
+            idx.append(np.full(keep.shape[0], i, dtype=np.int32))
+            pts.append(keep)
+    ok = np.array([r is not None and r.success for r in orbits])
+    failed = [i for i, r in enumerate(orbits) if r is not None and not r.success]
+    parts = []
+    if failed:
+        parts.append(f"{len(failed)} of {len(orbits)} orbits failed (first: value {v[failed[0]]:g}: "
+                     f"{orbits[failed[0]].message})")
+    if no_root.any():
+        sep = "" if no_root_text.startswith(":") else " "
+        parts.append(f"{int(no_root.sum())} of {no_root.size} values{sep}{no_root_text}")
+    return orbits, idx, pts, ok, failed, parts
 
 
 def _model_diagram(system, parameter, v, x0, t0, *, iterates, transient, coordinate, direction, t_max, marks,
@@ -659,23 +667,8 @@ def _model_diagram(system, parameter, v, x0, t0, *, iterates, transient, coordin
     for r in orbits_run:
         if r.success and not r.accuracy_checks()["passed"]:
             _refuse(r)
-    it = iter(orbits_run)
-    orbits = [None if nr else next(it) for nr in no_root]
-    idx, pts = [np.zeros(0, np.int32)], [np.zeros((0, mb.dim))]
-    for i, r in enumerate(orbits):
-        if r is not None:
-            keep = r.points[transient:]
-            idx.append(np.full(keep.shape[0], i, dtype=np.int32))
-            pts.append(keep)
-    ok = np.array([r is not None and r.success for r in orbits])
-    failed = [i for i, r in enumerate(orbits) if r is not None and not r.success]
-    parts = []
-    if failed:
-        parts.append(f"{len(failed)} of {len(orbits)} orbits failed (first: value {v[failed[0]]:g}: "
-                     f"{orbits[failed[0]].message})")
-    if no_root.any():
-        parts.append(f"{int(no_root.sum())} of {no_root.size} values: the start cannot be put on its level (marked "
-                     f"no_root)")
+    orbits, idx, pts, ok, failed, parts = _gathered(orbits_run, no_root, v, transient, mb.dim,
+                                                    ": the start cannot be put on its level (marked no_root)")
     nan = float("nan")
     return OrbitDiagram(not failed and not no_root.all(), "; ".join(parts) or "ok", parameter, v,
                         np.concatenate(idx), np.concatenate(pts),
