@@ -64,6 +64,18 @@ def parse_values(text: str) -> list:
     return [number("values", s) for s in items]
 
 
+def _run_options(args, values) -> tuple:
+    """(iterates, transient, workers, stem, output directory) of a diagram of any model, each checked by name."""
+    iterates = integer("iterates", args.iterates)
+    transient = integer("transient", args.transient, minimum=0, maximum=LIMITS["iterates"])
+    if len(values) * (iterates + transient) > 10 * LIMITS["iterates"]:
+        raise ParameterError("values", f"{len(values)} values x {iterates + transient} iterates: at most "
+                                       f"{10 * LIMITS['iterates']} section points in one command")
+    workers = None if args.workers is None else integer("workers", args.workers, maximum=256)
+    return iterates, transient, workers, stem("stem", args.stem), (out_dir("out", args.out) if args.out is not None
+                                                                   else None)
+
+
 def run(args) -> dict:
     from ..core.printed import PANELS
 
@@ -80,14 +92,7 @@ def run(args) -> dict:
     base = system.rod
     start = {k: (number(k, getattr(args, k)) if getattr(args, k) is not None else getattr(P, k))
              for k in ("h", "theta0", "ptheta0", "psi0")}
-    iterates = integer("iterates", args.iterates)
-    transient = integer("transient", args.transient, minimum=0, maximum=LIMITS["iterates"])
-    if len(values) * (iterates + transient) > 10 * LIMITS["iterates"]:
-        raise ParameterError("values", f"{len(values)} values x {iterates + transient} iterates: at most "
-                                       f"{10 * LIMITS['iterates']} section points in one command")
-    workers = None if args.workers is None else integer("workers", args.workers, maximum=256)
-    name = stem("stem", args.stem)
-    out = out_dir("out", args.out) if args.out is not None else None
+    iterates, transient, workers, name, out = _run_options(args, values)
     # the paper's panels of the same figure that vary this parameter (and share everything else)
     marks = {}
     for k, d in PANELS.items():
@@ -133,14 +138,7 @@ def _model_run(args) -> dict:
         raise ParameterError("parameter", f"must be a parameter of the model {system.model!r} "
                                           f"({', '.join(system.names)}), got {args.parameter!r}")
     values = parse_values(args.values)
-    iterates = integer("iterates", args.iterates)
-    transient = integer("transient", args.transient, minimum=0, maximum=LIMITS["iterates"])
-    if len(values) * (iterates + transient) > 10 * LIMITS["iterates"]:
-        raise ParameterError("values", f"{len(values)} values x {iterates + transient} iterates: at most "
-                                       f"{10 * LIMITS['iterates']} section points in one command")
-    workers = None if args.workers is None else integer("workers", args.workers, maximum=256)
-    name = stem("stem", args.stem)
-    out = out_dir("out", args.out) if args.out is not None else None
+    iterates, transient, workers, name, out = _run_options(args, values)
     with bar(len(values) * (iterates + transient), "orbit diagram", not args.quiet) as update:
         res = mr.orbit_diagram(system, args.parameter, values, iterates=iterates, transient=transient,
                                coordinate=args.coordinate, direction=args.direction, workers=workers,
