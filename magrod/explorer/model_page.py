@@ -75,6 +75,9 @@ class ModelExplorer(pn.viewable.Viewer):
         self._closed = False
         self._done = threading.Event()
         self._doc = None
+        # the hand-off between the computing thread and the page: the section is drawn either before a live page
+        # exists (in the computing thread, while no session can show the models) or on the page's own thread
+        self._lock = threading.Lock()
         self._registry = registry
         if registry is not None:
             registry.add(self)
@@ -112,13 +115,13 @@ class ModelExplorer(pn.viewable.Viewer):
             self.error = f"{type(exc).__name__}: {exc}"
         self.latencies.append(time.perf_counter() - self._t0)
         try:
-            doc = self._doc
-            if self._closed:
-                pass
-            elif doc is not None and getattr(doc, "session_context", None) is not None:
+            with self._lock:  # __panel__ cannot attach a page while this decides where to draw
+                doc = self._doc
+                live = doc is not None and getattr(doc, "session_context", None) is not None
+                if not self._closed and not live:
+                    self._first_draw()  # no live page yet: drawn before any session shows the models
+            if live and not self._closed:
                 doc.add_next_tick_callback(self._first_draw)  # Bokeh models change on the document's own thread
-            else:
-                self._first_draw()  # no server: drawn before wait() returns
         finally:
             self.warmed.set()
             self._done.set()
@@ -162,7 +165,8 @@ class ModelExplorer(pn.viewable.Viewer):
         return self._done.wait(timeout)
 
     def __panel__(self):
-        self._doc = pn.state.curdoc
+        with self._lock:  # after a draw in the computing thread, or before its hand-off (then on this page's thread)
+            self._doc = pn.state.curdoc
         if self._doc is not None and getattr(self._doc, "session_context", None) is not None:
             pn.state.on_session_destroyed(lambda ctx: self.close())
         return self._layout
