@@ -25,9 +25,9 @@ import time
 import numpy as np
 
 from magrod.chaos.portrait import grid_starts, orbit_diagram
-from magrod.chaos.section import poincare_section, run_panels
+from magrod.chaos.section import poincare_section
 from magrod.core import systems
-from magrod.core.printed import PANELS
+from magrod.paper import PANELS, run_panels
 import _smoke  # noqa: E402  (benchmarks/: on sys.path as the script's directory)
 
 KEYS = list(PANELS)
