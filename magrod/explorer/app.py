@@ -824,6 +824,7 @@ class Explorer(pn.viewable.Viewer):
 
     @property
     def running(self) -> int:
+        """Orbits submitted and not finished (queued, computing their section or their indicator)."""
         return self._worker.running
 
     def _watch_connection(self):

@@ -106,6 +106,7 @@ class ModelExplorer(pn.viewable.Viewer):
 
     @property
     def running(self) -> int:
+        """1 while the section is being computed, then 0."""
         return int(not self._done.is_set())
 
     def _compute(self):

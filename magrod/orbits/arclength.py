@@ -24,28 +24,30 @@ class Branch(Result):
     orbits (`continue_branch`) also the kind of saddle, the continuation parameter, pulses and the start orbit's
     parameters.  `.plot()` draws T against the parameter, folds marked."""
 
-    u: np.ndarray
-    tangents: np.ndarray
-    residuals: np.ndarray
-    iterations: np.ndarray
+    u: np.ndarray  # the branch points, shape (npts, n+1)
+    tangents: np.ndarray  # unit tangents in scaled variables, shape (npts, n+1)
+    residuals: np.ndarray  # max|F| at each point, shape (npts,)
+    iterations: np.ndarray  # Newton iterations of each point, shape (npts,)
     folds: list = field(default_factory=list)
     success: bool = True
     message: str = ""
-    names: tuple = ()
-    kind: str = ""
+    names: tuple = ()  # names of the components of u
+    kind: str = ""  # the kind of saddle the orbits are homoclinic to (orbit branches; empty for a bare problem)
     parameter: str = ""
-    pulses: int = 0
-    start: RodParams | None = None
+    pulses: int = 0  # pulses of the continued orbit (0 for a bare problem)
+    start: RodParams | None = None  # the start orbit's parameters (orbit branches)
     system: object = None  # what was studied (the System at the start)
 
     _repr_fields = ("names", "points", "fold_values", "max_residual")
 
     @property
     def points(self) -> int:
+        """The number of branch points."""
         return int(len(self.u))
 
     @property
     def max_residual(self) -> float:
+        """The largest residual max|F| over the branch."""
         return float(np.max(self.residuals)) if len(self.residuals) else math.nan
 
     @property

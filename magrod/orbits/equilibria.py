@@ -53,21 +53,22 @@ class Equilibrium(Result):
     success: bool
     message: str
     system: object
-    x: np.ndarray
-    level: np.ndarray
-    eigenvalues: np.ndarray
-    kind: str
-    unstable_eigenvalue: complex
-    unstable_vector: np.ndarray
-    residual: float
-    level_residual: float
-    iterations: int = 0
-    extra: dict = dc_field(default_factory=dict)
+    x: np.ndarray  # the equilibrium state, shape (n,)
+    level: np.ndarray  # (H, C1, ...) at x: the energy and the Casimirs
+    eigenvalues: np.ndarray  # the spectrum on the symplectic leaf, shape (n - k,), sorted (core.eigen.order)
+    kind: str  # "saddle-focus", "saddle", "saddle-centre", "centre" or "degenerate"
+    unstable_eigenvalue: complex  # the leading unstable eigenvalue
+    unstable_vector: np.ndarray  # its eigenvector in the state space (unit norm, phase fixed: core.eigen.fix_phase)
+    residual: float  # the Newton residual max|f(x)|
+    level_residual: float  # max|C(x) - C0|: the Casimirs at x against the leaf asked for
+    iterations: int = 0  # Newton iterations taken
+    extra: dict = dc_field(default_factory=dict)  # method-specific details (a plain dict)
 
     _repr_fields = ("system", "kind", "unstable_eigenvalue", "residual")
 
     @property
     def H(self) -> float:
+        """The energy H at x (the level's first entry)."""
         return float(self.level[0])
 
     @property

@@ -92,12 +92,12 @@ class StraightRod(Result):
     is a symmetry direction); the one straight-rod saddle of magrod, the separatrix's included."""
 
     params: RodParams
-    x: np.ndarray
-    jacobian: np.ndarray
-    eigenvalues: np.ndarray
-    unstable_eigenvalue: complex
-    unstable_vector: np.ndarray
-    H: float
+    x: np.ndarray  # the straight rod state, shape (9,)
+    jacobian: np.ndarray  # the Jacobian of the body field there, shape (9, 9)
+    eigenvalues: np.ndarray  # its eigenvalues, shape (9,)
+    unstable_eigenvalue: complex  # a + i b, a > 0, b >= 0
+    unstable_vector: np.ndarray  # its complex eigenvector (unit norm, phase fixed: the e31 entry real > 0)
+    H: float  # the level H = H_body - offset (the chart's Hbar)
     success: bool = True
     message: str = "straight rod: a hyperbolic equilibrium on the chart's level (mu = 2 lam)"
     precision: Precision = Precision.DOUBLE

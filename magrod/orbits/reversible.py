@@ -142,19 +142,19 @@ class SymmetricOrbit(Result):
     success: bool
     message: str
     system: object
-    equilibrium: Equilibrium
-    reversor: object
-    alpha: float
-    T: float
-    launch_distance: float
-    x0: np.ndarray
-    x_mid: np.ndarray
-    residual: float
-    level_drift: float
-    launch_level_gap: float
-    extra: dict = dc_field(default_factory=dict)
+    equilibrium: Equilibrium  # the saddle (an Equilibrium) the orbit is homoclinic to
+    reversor: object  # the reversor R whose fixed set Fix(R) the orbit crosses at its midpoint
+    alpha: float  # the launch angle on the circle of radius launch_distance in the unstable plane
+    T: float  # the half-time: x(T) lies on Fix(R)
+    launch_distance: float  # distance of the launch point from the saddle
+    x0: np.ndarray  # the launch point, shape (n,)
+    x_mid: np.ndarray  # the midpoint x(T), on Fix(R)
+    residual: float  # max|x_flipped(T)|: the distance of x(T) from Fix(R)
+    level_drift: float  # drift of H and the Casimirs along the half orbit, relative to their terms
+    launch_level_gap: float  # level difference between the launch point and the saddle (O(delta^2))
+    extra: dict = dc_field(default_factory=dict)  # method-specific details (a plain dict)
     pulses: int = 1  # excursions from the saddle along the whole orbit
-    noise_floor: float = 0.0
+    noise_floor: float = 0.0  # the residual reachable in floating point at this launch distance
 
     _repr_fields = ("system", "pulses", "alpha", "T", "residual", "level_drift")
     kind = "equilibrium"

@@ -171,17 +171,17 @@ class RodShape(Result):
 
     success: bool
     message: str
-    s: np.ndarray
-    r: np.ndarray
-    D: np.ndarray
-    x: np.ndarray
-    orthonormality: float
-    det: float
-    field_consistency: float
-    deviation_from_symmetric_orbit: float
-    deviation_first_half: float
-    pars: np.ndarray
-    T: float
+    s: np.ndarray  # arclength, shape (n,)
+    r: np.ndarray  # centreline, shape (n, 3), z along the field, r[0] = 0
+    D: np.ndarray  # director frames, shape (n, 3, 3): columns d1, d2, d3 in space components
+    x: np.ndarray  # body states along the rod, shape (n, N)
+    orthonormality: float  # max|D^T D - I| over the rod
+    det: float  # max|det D - 1| over the rod
+    field_consistency: float  # max|D^T z - e3_body|: the frame against the body state
+    deviation_from_symmetric_orbit: float  # max over the window of |x - the stored symmetric orbit|
+    deviation_first_half: float  # the same over the first half of the window
+    pars: np.ndarray  # the parameter values of the model
+    T: float  # the orbit's half-time
     system: object = None
 
     _repr_fields = ("length", "end_to_end", "orthonormality", "field_consistency", "deviation_first_half")

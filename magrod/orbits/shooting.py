@@ -586,22 +586,23 @@ class MultipulseOrbit(Result):
     success: bool
     message: str
     params: RodParams
-    saddle: object
+    saddle: object  # the saddle the orbit is homoclinic to (StraightRod or PeriodicSaddle)
     pulses: int
     T: float
-    x0: np.ndarray
-    residual: float
-    iterations: int
-    launch_distance: float
+    x0: np.ndarray  # the launch point
+    residual: float  # max|residual| of the symmetry condition at the last Newton step
+    iterations: int  # Newton iterations taken
+    launch_distance: float  # distance of the launch point from the saddle
     precision: Precision
     angle: float = 0.0
     free: str | None = None
-    history: list = field(default_factory=list)
-    noise_floor: float = 0.0
+    history: list = field(default_factory=list)  # one dict per Newton iteration: iteration, T, free_value, residual
+    noise_floor: float = 0.0  # the measured rounding floor of the residual (0 where not measured)
     resolution: float = math.nan
-    xT: np.ndarray | None = None
+    xT: np.ndarray | None = None  # the state at the symmetric point x(T)
     energy_error: float = math.nan
-    pulses_counted: int | None = None
+    pulses_counted: int | None = None  # pulses counted along the sampled orbit (None until counted)
+    #: the free parameter's spread over launch distances and precisions (with_uncertainty only)
     uncertainty: dict | None = None
 
     _repr_fields = ("pulses", "kind", "T", "angle", "free_value", "residual", "launch_distance", "precision")
@@ -613,6 +614,7 @@ class MultipulseOrbit(Result):
 
     @property
     def saddle_H(self) -> float:
+        """The saddle's level H (Hbar on the chart)."""
         return self.saddle.H
 
     @property

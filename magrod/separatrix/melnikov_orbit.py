@@ -39,21 +39,22 @@ class MelnikovFunction(Result):
     success: bool
     message: str
     system: object
-    parameter: str
-    value0: float
-    integral: str
-    phi: np.ndarray
-    M: np.ndarray
-    coefficients: np.ndarray
-    harmonic: int
-    amplitude: float
-    fit_residual: float
-    orbit_accuracy: dict
+    parameter: str  # the model parameter that perturbs the integrable member
+    value0: float  # its value at the integrable member
+    integral: str  # the candidate first integral of the member whose change along the orbit measures the splitting
+    phi: np.ndarray  # the phases phi0 of the grid
+    M: np.ndarray  # M(phi0) on the grid, per unit change of the parameter
+    coefficients: np.ndarray  # Fourier coefficients of M: c0, a1, b1, a2, b2, ... (cos, sin of h phi0)
+    harmonic: int  # the leading harmonic h (largest amplitude)
+    amplitude: float  # its amplitude hypot(a_h, b_h)
+    fit_residual: float  # max|Fourier fit - M| on the grid
+    orbit_accuracy: dict  # the homoclinic orbit's own accuracy checks
 
     _repr_fields = ("system", "parameter", "harmonic", "amplitude")
 
     @property
     def accuracy(self) -> dict:
+        """The Fourier fit's residual and the homoclinic orbit's accuracy checks."""
         return {"fit_residual": self.fit_residual, **self.orbit_accuracy}
 
 
