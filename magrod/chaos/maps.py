@@ -145,15 +145,15 @@ class MapSpec:
     base: dict = field(default_factory=dict)
     panel: str | None = DEFAULT_PANEL
     root: str = "smallest"
-    t_max: float = 3000.0
-    tol: float = 0.0
-    renorm_dt: float = DEFAULT_RENORM_DT
+    t_max: float = 3000.0  # integration time of each orbit (the growth exponent's horizon)
+    tol: float = 0.0  # Taylor tolerance; 0 = machine epsilon
+    renorm_dt: float = DEFAULT_RENORM_DT  # interval between renormalisations of the tangent vector
     tile: int = DEFAULT_TILE
-    batch_size: int = 0
-    refine: int = 0
-    refine_bound: float | None = None
-    refine_threshold: float = GROWTH_THRESHOLD
-    early_exit: bool = False
+    batch_size: int = 0  # orbits per SIMD batch; 0 = the machine's batch width (results do not depend on it)
+    refine: int = 0  # 0: brute force (every point); L > 0: adaptive refinement with L levels (chaos/refine.py)
+    refine_bound: float | None = None  # with refine: also split cells whose growth exponents span more than this
+    refine_threshold: float = GROWTH_THRESHOLD  # with refine: the growth exponent separating regular and chaotic
+    early_exit: bool = False  # stop an orbit once it is classified chaotic (its exponent then a lower bound)
     model: str | None = None  # None: the paper's rod; else a registered model or a model file (its parameters)
 
     def __post_init__(self):
@@ -194,6 +194,7 @@ class MapSpec:
 
     @property
     def shape(self) -> tuple:
+        """The map's grid shape (y points, x points)."""
         return (self.y.n, self.x.n)
 
     as_dict = deprecated_alias("to_dict", "as_dict")

@@ -232,22 +232,22 @@ class PeriodicSaddle(Result):
     magrod: the separatrix's a > 2b splitting launches from its chart view (frame="chart")."""
 
     params: RodParams
-    x: np.ndarray
-    omega: float
-    T: float
-    monodromy: np.ndarray
-    multipliers: np.ndarray
-    exponents: np.ndarray
-    unstable_multiplier: complex
-    unstable_vector: np.ndarray
-    chart: np.ndarray
-    H: float
-    re_residual: float
-    closure: float
-    exp_check: float
-    symplectic_defect: float
-    reciprocal_defect: float
-    hyperbolic: bool
+    x: np.ndarray  # point of the periodic orbit with e32 = 0 (phi = 0), shape (9,)
+    omega: float  # rotation rate: x(t) = G_{omega t} x
+    T: float  # period 2 pi/|omega|
+    monodromy: np.ndarray  # d x(T)/d x(0), shape (9, 9)
+    multipliers: np.ndarray  # eigenvalues of the monodromy, shape (9,)
+    exponents: np.ndarray  # eigenvalues of the co-rotating Jacobian Df(x) - omega xi, shape (9,)
+    unstable_multiplier: complex  # Lambda, |Lambda| > 1, Im >= 0
+    unstable_vector: np.ndarray  # its unit eigenvector, phase fixed
+    chart: np.ndarray  # (theta, psi, phi, pbar_theta, pbar_psi) of x
+    H: float  # H_body - offset: the chart's Hbar
+    re_residual: float  # Gauss-Newton residual of the relative-equilibrium equations
+    closure: float  # |x(T) - x|
+    exp_check: float  # |M - expm(T A)|/|M|: the monodromy against the co-rotating exponential
+    symplectic_defect: float  # |M J M^T - J|/(|M|^2 |J|)
+    reciprocal_defect: float  # max |Lambda_i Lambda_j - 1| over the quartet's reciprocal partners
+    hyperbolic: bool  # max Re of the exponents > HYPERBOLIC_TOL: multipliers off the unit circle
     success: bool = True
     message: str = "periodic saddle: the helical relative equilibrium (mu > 2 lam)"
     precision: Precision = Precision.DOUBLE
@@ -282,10 +282,12 @@ class PeriodicSaddle(Result):
 
     @property
     def chart_eigenvalue(self) -> complex:
+        """The unstable eigenvalue of the same relative equilibrium as an equilibrium of the reduced chart."""
         return self.chart_view.eigenvalue
 
     @property
     def chart_vector(self) -> np.ndarray:
+        """Its eigenvector in the reduced chart."""
         return self.chart_view.vector
 
     def launch_point(self, launch_distance: float, angle: float = 0.0, precision=None, *, offset: str = "working",

@@ -681,19 +681,20 @@ class PulseSearch(Result):
 
     success: bool
     message: str
-    pulses_target: int
+    pulses_target: int  # N: the number of pulses searched for
     orbits: list = field(default_factory=list)
     samples: list = field(default_factory=list)
     summary: dict = field(default_factory=dict)
     brackets: int | None = None
     attempts: list | None = None
-    iterations: int | None = None
+    iterations: int | None = None  # Newton iterations of the last failed attempt (None if none ran)
     residual: float = math.nan
 
     _repr_fields = ("pulses_target", "n_orbits", "residual")
 
     @property
     def n_orbits(self) -> int:
+        """The number of orbits kept."""
         return len(self.orbits)
 
     @property
@@ -703,6 +704,7 @@ class PulseSearch(Result):
 
     @property
     def uncertainty(self):
+        """The free parameter's uncertainty of the orbit kept (the summary's; None unless searched with it)."""
         return self.summary.get("uncertainty")
 
     @property
@@ -783,13 +785,13 @@ class MultipulseSearch(Result):
     success: bool
     message: str
     params: RodParams
-    saddle: object
-    orbits: list
-    failures: list = field(default_factory=list)
+    saddle: object  # the saddle the orbits are homoclinic to (StraightRod, PeriodicSaddle or Equilibrium)
+    orbits: list  # the orbits found (MultipulseOrbit; SymmetricOrbit for other models), ordered by pulses
+    failures: list = field(default_factory=list)  # the PulseSearch of each N without an orbit
     max_pulses: int = 0
     free: str | None = None
-    wall_time_s: float = 0.0
-    searches: list = field(default_factory=list)
+    wall_time_s: float = 0.0  # wall time of the search
+    searches: list = field(default_factory=list)  # one PulseSearch per N = 1..max_pulses
     span: float | None = None
     samples: int | None = None
     with_uncertainty: bool = False
@@ -799,6 +801,7 @@ class MultipulseSearch(Result):
 
     @property
     def kind(self) -> str:
+        """The saddle's kind."""
         return self.saddle.kind
 
     @property
