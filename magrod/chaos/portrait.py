@@ -101,7 +101,7 @@ class SectionPortrait(Result):
     t_indicator: float | None
     wall_s: float
     panel: str | None = None
-    threshold: float = GROWTH_THRESHOLD
+    threshold: float = GROWTH_THRESHOLD  # growth exponent above which an orbit counts as chaotic
     system: object = None  # the System studied
 
     _repr_fields = ("n_orbits", "h", "indicator", "fraction_chaotic", "max_abs_dH", "wall_s")
@@ -349,7 +349,7 @@ class OrbitDiagram(Result):
     wall_s: float
     marks: dict = field(default_factory=dict)
     orbits: list = field(default_factory=list)  # one PoincareResult per value; None where no_root
-    base: str | None = None
+    base: str | None = None  # the paper's panel whose start the diagram uses (None for another model)
     no_root: np.ndarray | None = None  # (M,) bool: the start is not on the level at this value (nothing computed)
     system: object = None  # the System whose parameter is varied (its base values)
 

@@ -130,12 +130,13 @@ class HomoclinicOrbit(Result):
 
     m: float
     gamma: float
-    u_plus: float
-    u_minus: float
-    k: float
+    u_plus: float  # cos theta at the turning point: the root u+ of the orbit's energy equation in u = cos theta
+    u_minus: float  # its other root u- (-inf at gamma = 0)
+    k: float  # the closed form's constant: cos theta(t) has (1 - k) tanh^2(kappa t) in its denominator (1 at gamma = 0)
     kappa: float  # = sqrt(-V''(0)), the saddle's eigenvalue (checked in tests)
     h: float  # homoclinic level V(0) = (1 + gamma/2)/m^2
     m_c: float  # 2 sqrt(1 + gamma), eq:buckling_load_2
+    #: one_minus_k (1 - k without cancellation for small gamma) and, once run, verify()'s result
     extra: dict = field(default_factory=dict, compare=False)
     success: bool = True
     message: str = "closed form (derive/homoclinic.py); verify() compares an independent integration"
@@ -158,10 +159,12 @@ class HomoclinicOrbit(Result):
 
     @property
     def kirchhoff(self) -> bool:
+        """True at gamma = 0 (the inextensible Kirchhoff rod's orbit)."""
         return self.gamma == 0.0
 
     @property
     def theta_max(self) -> float:
+        """The turning point's angle, 2 asin(sqrt((1 - u_plus)/2))."""
         return float(2.0 * np.arcsin(np.sqrt((1.0 - self.u_plus) / 2.0)))
 
     @property

@@ -63,9 +63,9 @@ class FixedPointSettings:
     of the pbar_psi box of the level's interval Newton; t1: end of the first phase (d sin psi/dt > 0); lead: the
     flight stops this long before the float crossing time, and the crossing step has length 2 lead."""
 
-    prec: int = 128
-    order: int = 20
-    tol: float = PROOF_STEP_TOL
+    prec: int = 128  # working precision in bits
+    order: int = 20  # Taylor order of the validated steps
+    tol: float = PROOF_STEP_TOL  # step-size control of the validated integrator
     r: Fraction = Fraction(1, 10**10)
     p_rad: Fraction = Fraction(1, 10**8)
     t1: Fraction = Fraction(1, 64)

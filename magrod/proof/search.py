@@ -58,7 +58,7 @@ class ProofSettings:
     saddle_radius: Fraction = Fraction(1, 10**25)
     eig_rad: Fraction = Fraction(1, 10**12)
     lead: Fraction = Fraction(1, 256)
-    targets: tuple = ("0", "pi")
+    targets: tuple = ("0", "pi")  # the targets proved: the crossings psi = 0 and/or psi = pi
     #: > 0: the proof for every lambdabar in [lam - lam_rad, lam + lam_rad] at once, lambdabar a ball in every
     #: enclosure (fields.IntervalParams); the saddle and eigenpair boxes must then hold the motion of q* and of its
     #: eigen-data over the interval (interval_proof_settings)

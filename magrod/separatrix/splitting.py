@@ -677,7 +677,7 @@ class Splitting(Result):
     fit: dict | None
     leading: dict | None
     wall_s: float
-    scan: object = field(default=None, repr=False)
+    scan: object = field(default=None, repr=False)  # the underlying SplittingScan (every precision's rows)
     system: object = None  # what was studied (the paper's rod at its m, gamma, delta)
 
     _repr_fields = ("kind", "eps", "measure", "agreement", "fit_exponent", "leading_digits")
