@@ -158,7 +158,7 @@ def _listed(dd) -> set:
 FULLY_DESCRIBED = ("PoincareResult", "LyapunovResult", "ChaosMap", "OrbitDiagram", "SectionPortrait", "LyapunovSpectrum",
                    "GaliResult", "Splitting", "IntegrabilityReport", "Equilibrium", "SymmetricOrbit", "RodShape",
                    "StraightRod", "Branch", "MelnikovFunction", "MultipulseOrbit", "MultipulseSearch",
-                   "PulseSearch", "PeriodicSaddle", "HomoclinicOrbit")
+                   "PulseSearch", "PeriodicSaddle", "HomoclinicOrbit", "MelnikovScan")
 
 
 def test_result_type_pages_list_attributes_and_methods(site):

@@ -314,11 +314,11 @@ class MelnikovScan(Result):
 
     success: bool
     message: str
-    model: str
-    reference: str
-    perturbation: str
-    harmonic: int
-    rows: list
+    model: str  # the model's name
+    reference: str  # the literature whose claim the scan checks (e.g. Mielke88)
+    perturbation: str  # what eps changes, e.g. "B2 = B1 (1 + eps)"
+    harmonic: int  # the Mel'nikov function's harmonic in the phase phi0 (sin 2 phi0: 2; sin phi0: 1)
+    rows: list  # one dict per eps: the measured coefficients A and B, the Mel'nikov prediction, their difference
     melnikov_unit: float  # Mel'nikov coefficient per unit eps at eps = 0 (closed form)
     quadrature_error: float  # |closed form - quadrature| / |closed form| at the smallest eps
     scaling_order: float  # log2 of the ratio of successive relative differences / log2 of the eps ratio
@@ -326,9 +326,9 @@ class MelnikovScan(Result):
     phase_change: float  # relative change of A under a random eigenvector phase
     control: float  # max |Delta| at eps = 0 (the integrable member)
     precision_change: float = float("nan")  # relative change of A at the smallest eps in long double (precision_check)
-    status_label: str = "numerical (floating point with error evidence)"
-    wall_time_s: float = 0.0
-    notes: list = field(default_factory=list)
+    status_label: str = "numerical (floating point with error evidence)"  # the claim's status
+    wall_time_s: float = 0.0  # wall time of the scan
+    notes: list = field(default_factory=list)  # the scan's checks, one line each: pass or FAIL
 
     _repr_fields = ("model", "melnikov_unit", "scaling_order", "control")
 
