@@ -314,21 +314,27 @@ def write_orbit(out_dir, stem: str, orbit, *, samples: dict | None = None, meta:
     return [str(npz), str(js)]
 
 
+def _orbit_arrays(path: Path, keys, bad: str) -> dict:
+    """{key: array} of an orbit .npz (never unpickled); ParameterError naming `from` if the file is missing or is
+    not one (`bad` says what it should have been)."""
+    import zipfile
+
+    if not path.is_file():
+        raise ParameterError("from", f"no such file: {str(path)!r}")
+    try:
+        with np.load(path, allow_pickle=False) as d:
+            return {k: np.asarray(d[k]) for k in keys}
+    except (KeyError, ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
+        raise ParameterError("from", f"{bad} ({type(exc).__name__}: {' '.join(str(exc).split())[:120]})") from None
+
+
 def load_orbit_file(path) -> dict:
     """The arrays of an orbit .npz written by magrod (`write_orbit`: `magrod multipulse` for either saddle, the
     figures), validated: ParameterError naming `from` if the file is missing, empty, truncated, not such a file,
     or holds non-finite or inconsistent data.  Never unpickles (allow_pickle=False)."""
-    import zipfile
-
     path = Path(path)
-    if not path.is_file():
-        raise ParameterError("from", f"no such file: {str(path)!r}")
     bad = f"{str(path)!r} is not a magrod orbit file (magrod multipulse)"
-    try:
-        with np.load(path, allow_pickle=False) as d:
-            out = {k: np.asarray(d[k]) for k in ORBIT_KEYS}
-    except (KeyError, ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
-        raise ParameterError("from", f"{bad} ({type(exc).__name__}: {' '.join(str(exc).split())[:120]})") from None
+    out = _orbit_arrays(path, ORBIT_KEYS, bad)
     from ..generated.names import BODY_STATE, PARAMS
 
     n = len(BODY_STATE)
@@ -396,17 +402,9 @@ def load_model_orbit_file(path) -> dict:
     """The arrays of a model's orbit file (`write_model_orbit`), validated: ParameterError naming `from` if the file
     is not such a file or holds inconsistent or non-finite data.  "model", "param_names" and "state" come back as
     str and tuples of str, the scalars as Python numbers.  Never unpickles."""
-    import zipfile
-
     path = Path(path)
-    if not path.is_file():
-        raise ParameterError("from", f"no such file: {str(path)!r}")
     bad = f"{str(path)!r} is not a magrod orbit file of a model (magrod homoclinic/multipulse --model)"
-    try:
-        with np.load(path, allow_pickle=False) as d:
-            out = {k: np.asarray(d[k]) for k in MODEL_ORBIT_KEYS}
-    except (KeyError, ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
-        raise ParameterError("from", f"{bad} ({type(exc).__name__}: {' '.join(str(exc).split())[:120]})") from None
+    out = _orbit_arrays(path, MODEL_ORBIT_KEYS, bad)
     text = ("model", "param_names", "state")
     if not all(out[k].dtype.kind == "U" for k in text) or out["model"].shape != ():
         raise ParameterError("from", f"{bad} (no model recorded)")
