@@ -195,23 +195,23 @@ class RegimeSearch(Result):
 
     success: bool
     message: str
-    name: str
-    subs: str | None
-    values: dict
-    degree: int
-    prime: int
-    known: list
-    candidates_found: list
-    kernel_dims: list
-    algebra_dims: list
-    algebra_with_candidates_dims: list
-    certified: bool
-    new_integrals: int
-    symmetries: list
-    stats: dict
-    recheck_points: int
-    wall_time_s: float
-    expectation: str = ""
+    name: str  # the regime's label (its substitution, or a control's name)
+    subs: str | None  # the model substitution searched (grammar of `magrod check --subs`); None: the general rod
+    values: dict  # the seeded random rational value of every model constant after `subs`, as strings
+    degree: int  # the maximum degree D searched
+    prime: int  # the prime p of the modular kernel (divides no denominator of the field)
+    known: list  # names of the known integrals checked exactly to commute with H (C1, C2, C3, H, and I1 if it does)
+    candidates_found: list  # candidate integrals that commute at these values (I2 where it does)
+    kernel_dims: list  # kernel_dims[d] = dim ker L mod p on polynomials of degree <= d, d = 0 ... D
+    algebra_dims: list  # algebra_dims[d] = dimension of the algebra of `known` in degree <= d (rank mod p)
+    algebra_with_candidates_dims: list  # the same for the algebra of `known` and `candidates_found`
+    certified: bool  # kernel_dims == algebra_with_candidates_dims: ker_Q L is that algebra (module docstring)
+    new_integrals: int  # kernel_dims[D] - algebra_dims[D]: dimensions beyond the known algebra
+    symmetries: list  # the independent sign-flip symmetries of X: {"flips": variables, "reversing": bool}
+    stats: dict  # the block decomposition of L: blocks, largest_block [rows, columns], entries
+    recheck_points: int  # (point, monomial) pairs of the independent re-check of L's assembly
+    wall_time_s: float  # seconds taken
+    expectation: str = ""  # for a control: what the search must find there
 
     _repr_fields = ("name", "degree", "kernel_dims", "algebra_dims", "certified")
 
@@ -300,14 +300,14 @@ class FirstIntegralSearch(Result):
 
     success: bool
     message: str
-    degree: int
-    seed: int
-    main: RegimeSearch
-    controls: dict
-    controls_ok: dict
-    statement: str
-    wall_time_s: float
-    notes: list = field(default_factory=list)
+    degree: int  # the maximum degree D searched
+    seed: int  # seed of the random rational parameter values
+    main: RegimeSearch  # the search in the main regime (the paper's rod, or the substitution asked for)
+    controls: dict  # control name -> RegimeSearch: the integrable and non-integrable controls (empty if not run)
+    controls_ok: dict  # control name -> whether the control came out as its expectation states
+    statement: str  # exactly what was proved (or why nothing was), with the certificate
+    wall_time_s: float  # seconds taken
+    notes: list = field(default_factory=list)  # remarks added by the caller (none by default)
 
     _repr_fields = ("degree", "seed", "controls_ok")
 

@@ -311,14 +311,18 @@ class Landscape(Result):
 
     success: bool
     message: str
-    degree: int
-    t_max: float
+    degree: int  # the degree D of the exact first-integral searches
+    t_max: float  # length of the Lyapunov runs behind the "chaotic orbit" evidence
+    #: one dict per line of sec. 1: model, reference, claim, claim_integrable, verdict, agreement ("agrees",
+    #: "disagrees", "not tested", ...), evidence (list of {label, what, detail}), note
     lines: list
+    #: the anisotropic scan: one dict per special (ratio, level) pair: B1, B2, C, ratio, level, integrals (found
+    #: beyond H and the Casimirs), verified (their exact re-checks), certified_otherwise, explanation
     scan: list
-    scan_classes: int
-    scan_grid: list
-    wall_time_s: float
-    notes: list = field(default_factory=list)
+    scan_classes: int  # the number of B1 : B2 : C ratio classes scanned (up to a common factor)
+    scan_grid: list  # the grid of stiffness entries the ratios were drawn from, as strings
+    wall_time_s: float  # seconds taken
+    notes: list = field(default_factory=list)  # remarks added by the caller (none by default)
 
     _repr_fields = ("degree", "scan_classes", "wall_time_s")
 

@@ -196,22 +196,22 @@ class ModelSearch(Result):
 
     success: bool
     message: str
-    model: str
-    values: dict
-    degree: int
-    level: dict
-    prime: int
-    known: list
-    candidates_found: list
-    candidates_lost: list
-    kernel_dims: list
-    algebra_dims: list
-    certified: bool
-    new_integrals: list
-    new_verified: list
-    wall_time_s: float
-    statement: str = ""
-    notes: list = field(default_factory=list)
+    model: str  # the model's name
+    values: dict  # the parameter point searched at (model defaults or seeded random rationals), as strings
+    degree: int  # the maximum degree D searched
+    level: dict  # Casimir name -> value of the special level searched on, as strings (empty: generic levels)
+    prime: int  # the prime p of the modular kernel (divides no denominator of the field)
+    known: list  # names of the known integrals: the Casimirs, H and the literature candidates that commute with H
+    candidates_found: list  # the model's literature candidates that commute with H exactly at these values
+    candidates_lost: list  # the candidates that do not (their bracket with H is not 0)
+    kernel_dims: list  # kernel_dims[d] = dim_p of the integrals of degree <= d (on a level: modulo its ideal)
+    algebra_dims: list  # algebra_dims[d] = dim_p of the algebra of the known and the found integrals, degree <= d
+    certified: bool  # kernel_dims == algebra_dims: every integral of degree <= D lies in that algebra
+    new_integrals: list  # integrals found beyond the known algebra, computed exactly over Q (as strings)
+    new_verified: list  # for each new integral, whether its exact re-check from J and H passed
+    wall_time_s: float  # seconds taken
+    statement: str = ""  # exactly what was proved, at which parameters and on which level
+    notes: list = field(default_factory=list)  # remarks added by the caller (none by default)
 
     _repr_fields = ("model", "degree", "level", "kernel_dims", "algebra_dims", "certified", "new_integrals")
 

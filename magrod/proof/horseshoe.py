@@ -61,9 +61,9 @@ class HorseshoeSettings:
     grid (n_u, n_s) of pieces per set (a dict by set index; default (1, 1)); p_rad: half-width of the level's Newton
     box; lead: the crossing step has length 2 lead."""
 
-    prec: int = 128
-    order: int = 20
-    tol: float = PROOF_STEP_TOL
+    prec: int = 128  # bits of the ball arithmetic (Arb) of every flight and check
+    order: int = 20  # order of the validated Taylor steps
+    tol: float = PROOF_STEP_TOL  # the step tolerance of the sets' flights
     #: the step tolerance of the centres' flights (their enclosures must resolve the sets: periodic.piece_return)
     tol_thin: float = HORSESHOE_CENTRE_TOL
     #: the centres' integrator (section_return.INTEGRATORS): "taylor_model" encloses a return ~1e9 x tighter at the
@@ -72,14 +72,14 @@ class HorseshoeSettings:
     #: the sets' (box) integrator, likewise ("taylor_model": the C^1 remainder as a Taylor model too)
     integrator: str = "taylor"
     m_back: int = 5
-    qu: float = 3.0
+    qu: float = 3.0  # the design margin per link in the exit (unstable) direction
     qs: float = 3.0
     p_rad: Fraction = Fraction(1, 10**6)
-    t1: Fraction = Fraction(1, 64)
+    t1: Fraction = Fraction(1, 64)  # length of a return's first phase (leaving the section, d sin(psi)/dt > 0)
     lead: Fraction = Fraction(1, 256)
-    newton: int = 12
-    n_exc: int = 8
-    s_star: float = 2.431508147212876e-06
+    newton: int = 12  # interval Newton iterations for the crossing time at the section
+    n_exc: int = 8  # returns of the excursion: P^n_exc(x0 + s* e_u) lands on Fix(R) (pbar_theta = 0)
+    s_star: float = 2.431508147212876e-06  # first guess of s* along e_u(x0), refined by bisection (float design)
     pieces: dict | None = None
     #: the chain passes' centre-flight tolerances ("tol" or "thin"); a Newton shift after each but the last.  At
     #: Fig 4(b) (17 returns) the tol-1e-25 chain's end differs from the 1e-32 one by 1.6e-8 in pbar_theta, so its
@@ -89,12 +89,12 @@ class HorseshoeSettings:
     #: l1 < d; covered: mu_u l0 > d + l1), the entry half-widths capped at w_cap l1 (N1 fat enough for N0's image,
     #: whose entry thickness is l0 / mu_u)
     l0_frac: float = 1 / 3
-    l1_frac: float = 1 / 6
-    w_cap: float = 1.0
+    l1_frac: float = 1 / 6  # l1 = l1_frac d: the exit half-length of N1 (and the scale of the chain's sets)
+    w_cap: float = 1.0  # the entry half-widths are capped at w_cap l1
     #: x0's branch of Sigma+ ("0": psi = 0, psi' > 0 as at Fig 4; "pi": psi = pi, psi' < 0, Fig 5's saddle) and the
     #: root of the level it lifts to (index into the ascending roots of Hbar(theta, psi, 0, .) = h; -1 the largest)
     branch: str = "0"
-    root: int = -1
+    root: int = -1  # which root of the level x0 lifts to (index into the ascending roots; -1 the largest)
     #: stop the chain passes early once |pbar_theta(P^(k-1)(c_1))| < stop_frac w_k (0: never; valid only when the
     #: passes share one tolerance, so that the pass that stops is the certificate's: Fig 4(b))
     stop_frac: float = 0.0

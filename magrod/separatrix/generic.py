@@ -78,18 +78,18 @@ class GenericTerm(Result):
 
     success: bool
     message: str
-    m: str
-    gamma: str
-    delta: str
-    a: str
-    b: str
-    S: arb
-    denominator: arb
-    coefficient: arb
-    c1_over_eps: float
-    formula: str
+    m: str  # the rod's parameter m, as the exact rational it was read as
+    gamma: str  # the rod's parameter gamma, exact rational
+    delta: str  # the rod's parameter delta, exact rational
+    a: str  # mu = a eps^2 (eq:condition_unperturbed_1), exact rational
+    b: str  # lambdabar = b eps^2, exact rational; a > 2b
+    S: arb  # the integral S of the a = 2b case, a rigorous ball (enclose_S)
+    denominator: arb  # V'(theta_t) (1 + cos theta_t) at the lambdabar = 0 orbit's turning point theta_t, a ball
+    coefficient: arb  # the derived leading coefficient s1/eps^3 = b sqrt(a - 2b) S / denominator, a ball
+    c1_over_eps: float  # the even coefficient c1/eps = sqrt(a - 2b) (theta_u = theta_t + sqrt(nu) cos psi + ...)
+    formula: str  # the formula of `coefficient`, as text
     claim_status: str  # proved / computer-verified / numerical / conditional (the result's `status` is scipy's)
-    wall_time_s: float
+    wall_time_s: float  # seconds taken
 
     _repr_fields = ("m", "gamma", "delta", "a", "b", "coefficient")
 
@@ -175,12 +175,14 @@ class GenericComparison(Result):
 
     success: bool
     message: str
+    #: one dict per case: case (m, gamma, delta, a, b), derived (float), derived_ball, S, measured (per precision:
+    #: measured_coefficient's dict, C0 the eps^2-extrapolated s1/eps^3), rel_difference (per precision)
     rows: list
-    tolerance: float
-    max_rel_difference: float
-    precisions: tuple
-    wall_time_s: float
-    notes: list = field(default_factory=list)
+    tolerance: float  # the bound asked of |measured/derived - 1|
+    max_rel_difference: float  # the largest |measured/derived - 1| over cases and precisions
+    precisions: tuple  # the precisions measured in ("double", "long_double", "quad")
+    wall_time_s: float  # seconds taken
+    notes: list = field(default_factory=list)  # remarks added by the caller (none by default)
 
     _repr_fields = ("max_rel_difference", "tolerance", "precisions")
 
@@ -260,15 +262,15 @@ class CirclePrediction(Result):
 
     success: bool
     message: str
-    m: float
-    gamma: float
-    delta: float
-    lam: float
-    S: float
-    psi0: float
-    A: float
-    c: float
-    nu_merge: float
+    m: float  # the rod's parameter m
+    gamma: float  # the rod's parameter gamma
+    delta: float  # the rod's parameter delta
+    lam: float  # lambdabar (leading order in lambdabar: small)
+    S: float  # the integral S of the a = 2b case (midpoint of enclose_S's ball)
+    psi0: float  # lambdabar S / tan(theta_t/2): sin psi at the straight rod's turning point, at nu = 0
+    A: float  # 1/(lambdabar tan(theta_t/2)): sin psi = psi0 + A sqrt(nu) sin(phi) near nu = 0
+    c: float  # lambdabar^2 |S|: the spread law b - a - pi = -2 asin(c/sqrt(nu))
+    nu_merge: float  # c^2: the two primaries merge at nu = mu - 2 lambdabar = nu_merge; none below
 
     _repr_fields = ("lam", "psi0", "A", "c", "nu_merge")
 
@@ -278,6 +280,7 @@ class CirclePrediction(Result):
         return -2.0 * math.asin(x) if x <= 1 else math.nan
 
     def primaries_exist(self, nu: float) -> bool:
+        """Whether the two primary symmetric orbits exist at nu = mu - 2 lambdabar (nu >= nu_merge)."""
         return nu >= self.nu_merge
 
 
