@@ -49,7 +49,7 @@ PANELS = {  # (certificate of statement 11, s*, n_exc): the W^u point whose n_ex
     "a": ("fixed_point_fig4a.json", 2.431508147212876e-06, 8),
     "b": ("fixed_point_fig4b.json", -9.871e-7, 14),
     # research/fig4d_horseshoe_design.py: W^u (side +e_u) on Fix(R) at the 35th return from s = 1.157e-7
-    # (fig4_candidates search; horseshoe.fig4d_settings: 36 sets, the closest design to a proof)
+    # (fig4_candidates search; magrod/proof/designs/fig4d.json: 36 sets, the closest design to a proof)
     "d": ("fixed_point_fig4d.json", 1.1573e-07, 35),
 }
 
@@ -125,8 +125,8 @@ def main(panel="b", design_name="fig4b"):
     t0 = time.perf_counter()
     panel = opt("panel", panel, str)
     name, s_guess, n_exc = PANELS[panel]
-    dname = opt("design", design_name, str)  # a named design, or horseshoe.<name>_settings (fig4d: not proved)
-    st = (horseshoe.DESIGNS.get(dname) or getattr(horseshoe, f"{dname}_settings"))()  # the prover's named design; each flag overrides one field
+    dname = opt("design", design_name, str)  # a named design (magrod/proof/designs/NAME.json; fig4d: not proving)
+    st = horseshoe.design(dname)  # the prover's named design; each flag overrides one field
     m_back = opt("m", st.m_back, int)
     qu, qs = opt("qu", st.qu), opt("qs", st.qs)
     l0_frac, l1_frac, w_cap = opt("l0", st.l0_frac), opt("l1", st.l1_frac), opt("wcap", st.w_cap)

@@ -37,7 +37,7 @@ N^5 => C1 (a') -0.736 (C1 too thin: the entry widths pulled back from the excurs
 qs^6 = 2.46 per cycle, one cycle short); m = 1, qs = 1.12: (a') >= 0.103 (hull), d = 4.7e-8 (sets 6x fig 4(b)'s);
 m = 4, qs = 1.15: 93 sets, d = 2.6e-10; qs = 1.2 at m = 1: N^5 => C1 (a') -30.4.
 
-The rigorous run of this design (horseshoe.fig4c_settings, `magrod prove --horseshoe 1.988829300900816 --level 0.9
+The rigorous run of this design (magrod/proof/designs/fig4c.json, `magrod prove --horseshoe 1.988829300900816 --level 0.9
 --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam 0.175 --design fig4c --branch pi --root smallest`) proved it:
 magrod/proof/certificates/horseshoe_fig4c.json, (a') >= 0.120, (b) >= 1.199 (the rigorous margins at most 0.0102
 below the linear ones above), prove 452 s (docs/nonintegrability.md, "Panel (c)").

@@ -22,10 +22,10 @@ N31 => N32, where the rigorous run 8 below fails), (b) >= 0.500 (linear, hull an
 2026-12-03 the design started 12 returns further out (s* = 3.636e-5, n_exc = 23, k = 24: the same float margins;
 runs 2-4 below).  Scratch runs of the same homoclinic orbit (not stored): d = 4.44e-8
 (s* = 1.157e-7, n_exc = 35, m = 2, k = 38): qu = qs = 1.5: (a') >= 0.292, (b) >= 0.500; qu = qs = 1.3: 0.231, 0.300;
-qu = qs = 1.2: 0.167, 0.200 (its prover run failed at the crossing step near theta = pi: horseshoe.fig4d_settings,
+qu = qs = 1.2: 0.167, 0.200 (its prover run failed at the crossing step near theta = pi: magrod/proof/designs/fig4d.json,
 lead); d = 3.64e-5 with qs = 1.5: (a') -0.005 at N0 => N1 (the widths reach only 0.49 d at N1).
 
-The rigorous runs (horseshoe.prove, not a proving design: fig4d_settings is not in horseshoe.DESIGNS; 2 cores):
+The rigorous runs (horseshoe.prove, not a proving design: fig4d.json says "proving": false; 2 cores):
   1. d = 4.44e-8 (38 sets, centre flights at 1e-28, lead 1/256): chain pass 1 failed after 355 s, at the crossing
      step (length 2 lead = 1/128) of a centre flight near theta = pi ("field not evaluable on the trial enclosure":
      the orbit passes within 0.0103 of theta = pi at its 32nd / 33rd returns).
@@ -39,12 +39,12 @@ The rigorous runs (horseshoe.prove, not a proving design: fig4d_settings is not 
   5. (2026-12-03, idle 2 cores unless stated) d = 1.27e-6 (31 sets, s* = 1.157e-7 mu_u^5, n_exc = 30, p_rad
      1/20000, one piece per set): N0 => N0 (a') -0.52, 182 s at load 2.  d = 4.9e-7 (33 sets, N0 in 2 x 2 pieces):
      N0 => N0 (a') 0.274, N0 => N1 0.17, then N1 => N2 (b) failed (the exit edges' images straddle), 353 s at load 3.
-  6. d = 1.157e-7 (36 sets, n_exc = 35, the design fig4d_settings with one piece per set): every link up to
+  6. d = 1.157e-7 (36 sets, n_exc = 35, the design fig4d.json with one piece per set): every link up to
      N29 => N30 closed ((a') >= 0.157, (b) >= 1.38), N30 => N31 (a') -1.165 (the pass near theta = pi), 540 s at
      load 3.
   7. the same with N30, N31 in 4 x 4 pieces, N32 .. N34 in 2 x 2, p_rad 1/20000: N30 => N31 (a') -0.461, the
      pieces' centres (pbar_psi solved about their set's p_c in the wide Newton box) enclosed to +-1.2 of N31's width.
-  8. p_rad 1e-6 (fig4d_settings as stored): N30 => N31 (a') 0.122, N31 => N32 (a') -0.113 (centre offset +-0.069
+  8. p_rad 1e-6 (fig4d.json as stored): N30 => N31 (a') 0.122, N31 => N32 (a') -0.113 (centre offset +-0.069
      in y_s); prove 651 s idle (chain passes 194 s, 76 pieces' flights 455 s): over the 10-minute budget before the
      last links.  Not shipped: no horseshoe is claimed at (d).
 """

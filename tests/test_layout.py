@@ -117,7 +117,6 @@ STATE_SIZES = {9, 14, 81, 126, 135}
 ALLOWED_LITERALS = {
     ("core/systems.py", 9): "_unit_state: the nine components of the straight rod, a placeholder state",
     ("orbits/rod.py", 9): "the 3 x 3 director frame D stacked after the state",
-    ("proof/horseshoe.py", 14): "fig4b_settings: n_exc = 14, the returns of Fig 4(b)'s homoclinic excursion",
 }
 
 

@@ -190,6 +190,28 @@ def test_default_design_is_the_fig4a_certificates(cert):
     assert c["period"] == 6 and "period" not in a and "period" not in b  # period 1 leaves the settings as they were
 
 
+
+def test_designs_are_data_and_give_the_shipped_certificates_settings():
+    """The prover's named designs are data files (magrod/proof/designs/NAME.json: settings and why): each proving
+    design gives exactly the settings its shipped certificate records, and a name that is no design is refused
+    naming `design`.  Seen to fail with fig4c.json's qs changed from 1.15 to 1.2."""
+    import json
+    from importlib import resources
+
+    from magrod.core.errors import ParameterError
+
+    assert set(horseshoe.DESIGNS) == {"fig4a", "fig4b", "fig4c"}
+    assert horseshoe.design_names(proving_only=False) == ["fig4a", "fig4b", "fig4c", "fig4d"]
+    for name in ("fig4b", "fig4c"):
+        cert = json.loads(resources.files("magrod.proof").joinpath("certificates", f"horseshoe_{name}.json")
+                          .read_text())
+        want = {k: v for k, v in cert["settings"].items()}
+        assert horseshoe.DESIGNS[name]().as_json() == want, name
+        doc = json.loads(resources.files("magrod.proof").joinpath("designs", f"{name}.json").read_text())
+        assert doc["proving"] and len(doc["why"]) > 200, name
+    with pytest.raises(ParameterError, match="design"):
+        horseshoe.design("fig9z")
+
 def test_tamper_deleted_link(any_cert):
     c = copy.deepcopy(any_cert)
     del c["links"][3]

@@ -16,8 +16,8 @@ sin psi = 0 on the level Hbar = H (magrod/proof/periodic.py; statement 11), the 
 Fix(R) within 0.02 of THETA (no condition mu > 2 lambdabar: the level need not hold the tilted saddle).
 `magrod prove --horseshoe THETA --level H ...` proves a horseshoe of that section map (positive topological entropy)
 by covering relations along the homoclinic orbit of the saddle near THETA (magrod/proof/horseshoe.py; statement 12;
-2-6 min at Fig 4(a), by the load); `--design fig4b` selects the chain's design for Fig 4(b) (horseshoe.DESIGNS); `--design fig4c
---branch pi --root smallest` the cycle design around Fig 4(c)'s period-6 orbit (horseshoe.fig4c_settings)."""
+2-6 min at Fig 4(a), by the load); `--design fig4b` selects the chain's design for Fig 4(b) (magrod/proof/designs/); `--design fig4c
+--branch pi --root smallest` the cycle design around Fig 4(c)'s period-6 orbit (magrod/proof/designs/fig4c.json)."""
 from __future__ import annotations
 
 from fractions import Fraction
@@ -44,7 +44,7 @@ def add_arguments(p):
     p.add_argument("--design", default="fig4a", metavar="NAME",
                    help="--horseshoe: the named design of the chain (fig4a: the settings of Fig 4(a)'s certificate; "
                         "fig4b: margins 1.5, m = 4 pull-backs, 14 excursion returns; fig4c: the period-6 cycle of Fig 4(c), "
-                        "with --branch pi --root smallest; magrod/proof/horseshoe.DESIGNS)")
+                        "with --branch pi --root smallest; magrod/proof/designs/)")
     p.add_argument("--level", default=None, metavar="H",
                    help="the level Hbar = H of --fixed-point / --horseshoe (exact)")
     p.add_argument("--lam-rad", default="0", metavar="W", dest="lam_rad",

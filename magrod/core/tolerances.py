@@ -99,7 +99,7 @@ PROOF_STEP_TOL = 1e-25
 # 1e-14..2e-13, too wide to resolve the sets N13, N14 (N12 => N13 failed with y_s in +-11.8); at 1e-32 they are
 # ~5e-20 (2.3x the steps).  The pieces' flights stay at PROOF_STEP_TOL.
 HORSESHOE_CENTRE_TOL = 1e-32
-# the same at Fig 4(b) (horseshoe.fig4b_settings, whose sets are >= 7e-11, entry widths times sin(angle) >= 1.5e-11):
+# the same at Fig 4(b) (magrod/proof/designs/fig4b.json, whose sets are >= 7e-11, entry widths times sin(angle) >= 1.5e-11):
 # the return from x0 (T = 5.13) encloses P(x0) to 8e-10 at 1e-25 (152 steps), 2.6e-10 at 1e-26, 3.5e-12 at 1e-27
 # (192), 4.5e-14 at 1e-28 (217), 3.6e-19 at 1e-32 (353 steps); the first run at 1e-25 failed at N9 => N10 (a') with
 # the centre's offset alone y_s in +-0.300.  1e-28 resolves the sets at 0.6x the steps of 1e-32.

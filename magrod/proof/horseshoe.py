@@ -34,6 +34,7 @@ every condition checked for all lambdabar of the interval at once (statement 12 
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from fractions import Fraction
@@ -42,8 +43,7 @@ import numpy as np
 
 from ..core.eigen import fix_phase
 from ..core.errors import ParameterError
-from ..core.tolerances import (FIXED_POINT_SEARCH_TOL, HORSESHOE_CENTRE_TOL, HORSESHOE_CENTRE_TOL_FIG4B,
-                               PROOF_STEP_TOL)
+from ..core.tolerances import FIXED_POINT_SEARCH_TOL, HORSESHOE_CENTRE_TOL, PROOF_STEP_TOL
 from ..generated import validated as gen
 from . import ball, fields, periodic, section_return
 from .search import ProofFailure, ProofResult, run_checked, stored
@@ -120,79 +120,56 @@ class HorseshoeSettings:
                 **({} if self.period == 1 else {"period": self.period, "q_cycle": self.q_cycle})}
 
 
-def fig4b_settings() -> HorseshoeSettings:
-    """The design of the Fig 4(b) certificate (research/fig4b_horseshoe_design.py; docs/nonintegrability.md).
-    mu_u = 3.20 there, so Fig 4(a)'s margins 3 per link cannot close: the entry widths that `sizes` pulls back
-    from N18 grow only by 1 / (qs sigma) = 1.07 per link near x0 (sigma = 1 / mu_u), reaching N1 at 1.0e-4 d,
-    against the entry thickness l0 / mu_u = 0.10 d of P(N0) ((a') float margin -1013), and mu_u l0 < d + l1
-    ((b) -0.6).  Margins 1.5 in both directions let the widths grow by 2.1 per link backwards to the cap 3 l1 =
-    0.45 d at N1; l0 = d / 2 gives (b) (mu_u l0 - d) / l1 = 4.0 at N0 => N1.  Float linear margins: (a') >= 0.33,
-    (b) min |y_u| - 1 >= 0.50 on every link.  At m = 3 the rigorous mean-value form cost (a') 0.012-0.071 on
-    N0 .. N15 but failed N15 => N16, where c_16's frame has 1.3 degrees and l15 / w16 = 6.8; with N15 and N16 cut
-    into 4 pieces along the exit direction it proved (prove 601 s, verify 387 s at load 2-6; N15's return takes
-    1433 steps, 45 % of the certificate).  m = 4 (sets 3.2x smaller) needs only 2 pieces there (that set is N16
-    now): 9471 steps instead of 12880, (a') >= 0.212, (b) >= 1.4997.  The centre flights at HORSESHOE_CENTRE_TOL_FIG4B = 1e-28 (P(x0)
-    enclosed to 4.5e-14; at PROOF_STEP_TOL to 8e-10, which failed N9 => N10) resolve the sets (entry widths times
-    sin(angle) >= 1.5e-11); every pass runs at that tolerance, so the passes stop once the end is on Fix(R)."""
-    return HorseshoeSettings(m_back=4, n_exc=14, s_star=-9.871e-7, qu=1.5, qs=1.5, l0_frac=0.5, l1_frac=0.15,
-                             w_cap=3.0, tol_thin=HORSESHOE_CENTRE_TOL_FIG4B, passes=("thin", "thin", "thin"),
-                             stop_frac=1e-2, pieces={16: (2, 1)})
+def design(name: str) -> HorseshoeSettings:
+    """The prover's named design `name`: magrod/proof/designs/NAME.json holds the settings that differ from
+    HorseshoeSettings' defaults (a tolerance may be named by its constant in magrod.core.tolerances) and, under
+    "why", how they were chosen (the float margins, the failed attempts, the measured costs).  "proving": False marks a
+    design recorded for what it shows (fig4d: the closest to a Fig 4(d) proof, which fails at N31 => N32).
+
+    Examples
+    --------
+    >>> design("fig4b").n_exc, design("fig4c").period
+    (14, 6)
+    """
+    import json
+    from importlib import resources
+
+    from ..core import tolerances
+
+    try:
+        data = json.loads(resources.files(__package__).joinpath("designs", f"{name}.json").read_text())
+    except (FileNotFoundError, TypeError):
+        raise ParameterError("design", f"no horseshoe design {name!r} (magrod/proof/designs: "
+                                       f"{', '.join(design_names(proving_only=False))})") from None
+    kw = {}
+    for k, v in data["settings"].items():
+        if k in ("tol", "tol_thin") and isinstance(v, str):
+            v = getattr(tolerances, v)  # a named tolerance: its rationale lives beside it
+        elif k in ("p_rad", "t1", "lead"):
+            v = Fraction(v)
+        elif k == "passes":
+            v = tuple(v)
+        elif k == "pieces":
+            v = {int(i): tuple(g) for i, g in v.items()}
+        kw[k] = v
+    return HorseshoeSettings(**kw)
 
 
-def fig4d_settings() -> HorseshoeSettings:
-    """The closest design to a Fig 4(d) proof (lambdabar = 93/500, the panel the chaos indicator calls regular;
-    research/fig4d_horseshoe_design.py, .json).  NOT a proving design, hence not in DESIGNS: its prover run fails
-    at N31 => N32 and already takes 651 s on an idle 2-core machine (over the 10-minute budget).  The saddle is weak
-    (mu_u = 1.615, sigma = 1 / mu_u = 0.619) but its homoclinic orbit is benign: W^u (side +e_u) meets Fix(R) at the
-    35th return from s* = 1.157e-7 (theta = 1.8186, the psi = pi branch at the last five centres), the exit-entry
-    angle is 44.5 deg near x0 and >= 34.6 deg along the chain, W^u-W^s angle 36.8 deg at the end.  k = 36 sets at
-    d = dist(x0, c_1) = s* (no pull-back, n_exc = 35).  Margins qu = 1.5 (< mu_u), qs = 1.3 (1 / (qs sigma) = 1.24
-    per link lets the entry widths pulled back from the end reach the cap 7 L); N0 => N1: mu_u l0 > d + l1 with
-    l0 + l1 < d needs l1 < d (mu_u - 1) / (mu_u + 1) = 0.235 d; l0 = 0.8 d, l1 = 0.1 d.
-    Why so small a d: the C^1 enclosure [DP(X)] over a set is wider than DP's variation by a factor that grows with
-    the set, and the mean-value form's excess goes like its size squared relative to the widths: at d = 3.6e-5
-    (24 sets) N0 => N0 (a') failed at -31.5 (float +0.38), at 1.3e-6 (31 sets) at -0.52, at 4.9e-7 (33 sets, N0 in
-    2 x 2 pieces) N1 => N2 (b) failed; at 1.157e-7 with one piece per set every link to N30 closed ((a') >= 0.157,
-    (b) >= 1.38) and N30 => N31 failed (a') at -1.165: the orbit passes within 0.0103 of theta = pi at the 32nd and
-    33rd returns.  With N30, N31 in 4 x 4 pieces (a 3 x 3 grid has non-dyadic centres) and N32 .. N34 in 2 x 2:
-    N30 => N31 closes ((a') 0.122) and N31 => N32 fails at (a') -0.113, the pieces' centres enclosed only to
-    +-0.069 of N32's entry width (y_s) after the return past theta = pi, the mean-value term adding the rest;
-    prove 651 s idle: two chain passes 194 s, the 76 pieces' flights 455 s (one core).  What would close it:
-    centre flights at 1e-28 and N31 in 8 x 8 pieces, i.e. > 15 min -- or a prover that flies the pieces on both
-    cores.
-    lead = 1/1024 (the crossing step of length 1/128 near theta = pi was not validated: "field not evaluable",
-    sin theta); p_rad the default 1e-6 (pbar_psi varies by ~1.6e-7 over N0; with 1/20000 the pieces' centres, whose
-    pbar_psi is solved in a box about their set's p_c, were enclosed after the return to +-1.2 of N31's width).
-    Centre flights at PROOF_STEP_TOL: the second chain pass leaves the end within 1 % of N35's width."""
-    return HorseshoeSettings(m_back=0, n_exc=35, s_star=1.1573e-07, qu=1.5, qs=1.3, l0_frac=0.8,
-                             l1_frac=0.1, w_cap=7.0, tol_thin=PROOF_STEP_TOL, passes=("thin", "thin", "thin"),
-                             stop_frac=1e-2, lead=Fraction(1, 1024),
-                             pieces={30: (4, 4), 31: (4, 4), 32: (2, 2), 33: (2, 2), 34: (2, 2)})
+def design_names(*, proving_only: bool = True) -> list:
+    """The names of the designs in magrod/proof/designs (the proving ones by default)."""
+    import json
+    from importlib import resources
+
+    out = []
+    for f in sorted(resources.files(__package__).joinpath("designs").iterdir(), key=lambda f: f.name):
+        if f.name.endswith(".json") and (not proving_only or json.loads(f.read_text())["proving"]):
+            out.append(f.name[:-5])
+    return out
 
 
-def fig4c_settings() -> HorseshoeSettings:
-    """The design of Fig 4(c) (lambdabar = 7/40; research/fig4c_horseshoe_design.py, .json): P has no
-    hyperbolic fixed point there, so N0 sits on the symmetric period-6 orbit through theta* = 1.98883 (psi = pi,
-    the level's smaller root; x_3 = 2.79951 is its other point on Fix(R)), mu_u(DP^6) = 5.685, per-return stretches
-    of e_u 1.20, 1.40, 1.38, 0.92, 2.75, 0.97.  The cycle N0 => N1 => ... => N5 => N0 with margins q_cycle = 1.2 per
-    link (N5 => N0: 5.685 / 1.2^5 = 2.28); W^u(x0) (side +e_u) meets Fix(R) at the 62nd return from s* = 2.679e-7
-    (theta = 2.79651, W^u-W^s angle 46.5 deg); m = 2 pull-backs by P^6: d = 8.3e-9, 75 excursion sets C_1 .. C_75
-    (N6 .. N80).  Chain margins qu = 1.2, qs = 1.15: the entry widths pulled back from the excursion's squeeze (down
-    to 1.9e-4 d at an exit-entry angle of 0.215 deg) grow by mu_u / qs^6 = 2.46 per cycle and reach 0.37 d at C_1,
-    against the entry thickness 0.26 d of P(N5) there (qs = 1.2 at m = 1: (a') -30).  l0 = 0.6 d, l1 = 0.15 d
-    (disjoint: l0 + l1 < d; P(N5) reaches 2.28 l0 = 1.37 d > d + l1).  Float margins (a') >= 0.123, (b) >= 0.199;
-    loops 6 and 160: h_top >= 0.0152.  Centre flights at HORSESHOE_CENTRE_TOL: the sets' entry widths times
-    sin(angle) go down to ~6e-15.  The validated run (horseshoe_fig4c.json): pass 1 at PROOF_STEP_TOL leaves
-    pbar_theta = -1.1e-8 at C_75, pass 2 (1e-32) -4.8e-15, 1e-3 of C_75's size 1.7e-11, so stop_frac ends the
-    passes there (a third pass, 227 s, changed no margin); (a') >= 0.120 (N59 => N60), (b) >= 1.199; prove 452 s
-    at load ~2 (27281 steps)."""
-    return HorseshoeSettings(period=6, q_cycle=1.2, branch="pi", root=0, m_back=2, n_exc=62,
-                             s_star=2.6789099166974635e-07, qu=1.2, qs=1.15, l0_frac=0.6, l1_frac=0.15, w_cap=3.0,
-                             tol_thin=HORSESHOE_CENTRE_TOL, passes=("tol", "thin", "thin"), stop_frac=1e-2)
-
-
-#: named designs (magrod prove --horseshoe ... --design NAME): "fig4a" is the default HorseshoeSettings()
-DESIGNS = {"fig4a": HorseshoeSettings, "fig4b": fig4b_settings, "fig4c": fig4c_settings}
+#: the proving designs (magrod prove --horseshoe ... --design NAME), each a callable giving its HorseshoeSettings;
+#: "fig4a" is the default HorseshoeSettings()
+DESIGNS = {n: functools.partial(design, n) for n in design_names()}
 
 
 def _q(x) -> str:
