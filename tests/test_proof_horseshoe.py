@@ -113,25 +113,18 @@ def test_cycle_graph():
 
 
 def test_psi_periodic_check():
-    """The generated chart field uses psi only through sin and cos; a source with a bare psi fails the check."""
-    assert hs_kernel._psi_periodic(fields.gen)
+    """The generated chart field is 2 pi-periodic in psi, proved by its exact evaluation with psi known only through
+    sin and cos (identities.psi_periodic); a field that uses psi otherwise -- in arithmetic, or in a comparison that
+    would answer silently -- fails it, and so does the horseshoe verifier's check of that name."""
+    from magrod.proof import identities
 
-    class Fake:
-        pass
-
-    src = ("def chart_rhs(x, p):\n    theta, psi, ptheta, ppsi, = x\n    return [psi]\n"
-           "def chart_jacobian(x, p):\n    return []\n")
-    import types
-
-    mod = types.ModuleType("fake_validated")
-    exec(compile(src, "<fake>", "exec"), mod.__dict__)  # noqa: S102 - a synthetic module for the control
-    orig = fields.inspect.getsource
-    fields.inspect.getsource = lambda m: src if m is mod else orig(m)
-    try:
-        assert not hs_kernel._psi_periodic(mod)
-    finally:
-        fields.inspect.getsource = orig
-    del Fake
+    assert identities.psi_periodic(fields.source(), fields.PARAMS)[0]
+    src = fields.source()
+    for old, new in (("(psi).sin()", "(psi + 0).sin()"), ("    return [\n        ptheta,\n",
+                                                          "    return [\n        ptheta if psi == 0 else ptheta,\n")):
+        assert src.count(old) >= 1, old
+        holds, how = identities.psi_periodic(src.replace(old, new, 1), fields.PARAMS)
+        assert not holds and "not evaluable exactly" in how, (new, how)
 
 
 def test_certificate_claims(any_cert):

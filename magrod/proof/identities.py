@@ -52,6 +52,8 @@ LEVEL_SYMMETRIC = "reversibility Hbar(R x) = Hbar(x)"
 HAMILTONIAN = "Hamiltonian form f = J grad Hbar"
 VARIATIONAL = "variational field chart_jacobian = Df"
 NAMES = (REVERSIBLE, LEVEL_SYMMETRIC, HAMILTONIAN, VARIATIONAL)
+#: the horseshoe's fifth structural fact (its returns at psi = 2 pi are points of Sigma): psi_periodic()
+PSI_PERIODIC = "2 pi-periodic in psi"
 
 _REMEMBERED: dict = {}
 
@@ -63,6 +65,18 @@ class _NotExact(Exception):
 def check(source: str, params: tuple) -> list:
     """The four identities on the generated module's `source` (its text, as digested), with parameter names
     `params` (the module's PARAMS, which must include mu and lam): [(name, holds, how)], in NAMES' order."""
+    return [r for r in _remembered(source, params) if r[0] in NAMES]
+
+
+def psi_periodic(source: str, params: tuple) -> tuple:
+    """(holds, how) of PSI_PERIODIC: the chart field (chart_rhs, chart_jacobian, chart_hamiltonian) evaluated in the
+    exact rational-function field with psi known only through sin psi and cos psi (an _Angle: any other use of the
+    angle -- arithmetic, a comparison, a conversion -- is not representable and fails), so each is a rational
+    function of (sin psi, cos psi) and hence 2 pi-periodic in psi: a proof, not a scan of the source text."""
+    return next((h, how) for n, h, how in _remembered(source, params) if n == PSI_PERIODIC)
+
+
+def _remembered(source: str, params: tuple) -> list:
     key = hashlib.sha256(f"{params}\n{source}".encode()).hexdigest()
     if key not in _REMEMBERED:
         _REMEMBERED[key] = _check(source, tuple(params))
@@ -79,15 +93,19 @@ def _check(source: str, params: tuple) -> list:
                      "psi; pbar_theta, pbar_psi) (the section map is area-preserving: det DP = 1)",
         VARIATIONAL: "every entry of chart_jacobian - D chart_rhs (forward mode) is the zero rational function (the "
                      "C^1 enclosures solve V' = Df V with chart_jacobian)",
+        PSI_PERIODIC: "chart_rhs, chart_jacobian and chart_hamiltonian evaluate exactly with psi known only through "
+                      "sin psi and cos psi: rational functions of them, so 2 pi-periodic in psi (the horseshoe's "
+                      "return at psi = 2 pi is a point of Sigma)",
     }
     exact = "exact identity in Q(t_theta, t_psi, pbar_theta, r, parameters), sin = 2t/(1+t^2), cos = " \
             "(1-t^2)/(1+t^2), pbar_psi = (mu - r^2)/(2 lambdabar)"
     try:
         got = _identities(source, params)
     except _NotExact as err:
-        return [(n, False, f"{how[n]}; the generated field is not evaluable exactly: {err}") for n in NAMES]
+        return [(n, False, f"{how[n]}; the generated field is not evaluable exactly: {err}") for n in (*NAMES,
+                                                                                                        PSI_PERIODIC)]
     out = []
-    for n in NAMES:
+    for n in (*NAMES, PSI_PERIODIC):
         bad = got[n]
         out.append((n, not bad, f"{how[n]}; {exact}" + (f"; nonzero in component(s) {bad}" if bad else "")))
     return out
@@ -135,6 +153,7 @@ def _identities(source: str, params: tuple) -> dict:
             LEVEL_SYMMETRIC: [] if F.zero(HR - H) else ["Hbar"],
             HAMILTONIAN: [CHART_STATE[i] for i in range(4) if not F.zero(f[i] - Jg[i])],
             VARIATIONAL: [f"[{i}, {j}]" for i in range(4) for j in range(4) if not F.zero(Jm[4 * i + j] - cols[j][i])],
+            PSI_PERIODIC: [],  # evaluated at all: psi entered only through sin and cos (_Angle)
         }
     except (TypeError, ZeroDivisionError, AttributeError, ValueError, IndexError) as err:
         raise _NotExact(f"{type(err).__name__}: {str(err)[:120]}") from None
@@ -307,3 +326,10 @@ class _Angle:
 
     def cos(self):
         return self.c if self.dt is None else _Dual(self.c, -self.s * self.dt)
+
+    def _other_use(self, *_):
+        raise TypeError("an angle used other than through sin and cos")
+
+    # a comparison or a truth test would otherwise answer silently (object identity): not covered, so refused
+    __eq__ = __ne__ = __lt__ = __le__ = __gt__ = __ge__ = __bool__ = __float__ = __int__ = __index__ = _other_use
+    __hash__ = None

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import time
 
-from .. import ball, fields
+from .. import ball, fields, identities
 from ..theorem import section_horseshoe_theorem
 # the set and branch-box checks (also run by the child processes of pool.py); the geometric helpers are named here
 # too, as the tests address them through this module
@@ -35,31 +35,11 @@ def verify(cert, module, t0, workers=None) -> VerifyResult:
                         {}, {})
 
 
-def _psi_periodic(module) -> bool:
-    """The generated chart_rhs and chart_jacobian use psi only as (psi).sin() and (psi).cos() (after the state's
-    unpacking and the docstring), so the chart field is 2 pi-periodic in psi."""
-    import re
-
-    src = fields.inspect.getsource(module)
-    for fn in ("chart_rhs", "chart_jacobian"):
-        seg = src[src.index(f"def {fn}("):]
-        seg = seg[: seg.find("\ndef ", 1) if seg.find("\ndef ", 1) > 0 else None]
-        if '"""' in seg:
-            a = seg.index('"""')
-            seg = seg[:a] + seg[seg.index('"""', a + 3) + 3:]
-        seg = seg.replace("(psi).sin()", "").replace("(psi).cos()", "")
-        seg = re.sub(r"theta, psi, ptheta, ppsi, = x", "", seg)
-        if re.search(r"\bpsi\b", seg):
-            return False
-    return True
-
-
 def _horseshoe(cert, p, order, module, claim, workers=None) -> dict:
     check_structure(module, claim)
     claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
           "the certificate's field is the installed derive-generated one")
-    claim("2 pi-periodic in psi", _psi_periodic(module),
-          "the chart field uses psi only through sin psi, cos psi (the return at psi = 2 pi is a point of Sigma)")
+    claim(identities.PSI_PERIODIC, *identities.psi_periodic(fields.source(module), fields.PARAMS))
     sets = [_hs_set(d) for d in cert["sets"]]
     brs = [d.get("branch", "0") for d in cert["sets"]]
     if any(b not in ("0", "pi") for b in brs):
