@@ -110,3 +110,39 @@ def test_a_constant_component_is_evaluated_not_refused():
     assert got[identities.REVERSIBLE][0] and got[identities.LEVEL_SYMMETRIC][0]
     assert not got[identities.HAMILTONIAN][0] and "['theta']" in got[identities.HAMILTONIAN][1]
     assert not got[identities.VARIATIONAL][0] and "[0, 2]" in got[identities.VARIATIONAL][1]
+
+
+def _lift(module=fields.gen) -> dict:
+    return {name: (holds, how) for name, holds, how in identities.lift_check(fields.source(module), fields.PARAMS)}
+
+
+def test_the_installed_lift_has_what_the_homoclinic_flights_rest_on():
+    """f_body(X(q)) = DX f_chart + Omega G X, the body field commuting with the rotation about d3, the events
+    invariant and equal to their chart forms, and the body and lift Jacobians the derivatives they stand for: each an
+    exact identity on the installed module (they replace the derivation's report entry chart_body_lift)."""
+    got = _lift()
+    assert list(got) == list(identities.LIFT_NAMES)
+    assert all(holds for holds, _ in got.values()), {k: v[1] for k, v in got.items() if not v[0]}
+
+
+@pytest.mark.parametrize("function, term, broken", [
+    ("body_rhs", 0, {identities.LIFT_INTERTWINES, identities.BODY_EQUIVARIANT, identities.BODY_DERIVATIVES}),
+    ("lift", 0, {identities.LIFT_INTERTWINES, identities.EVENTS_ON_CHART, identities.BODY_DERIVATIVES}),
+    ("body_events", 3, {identities.EVENTS_ON_CHART, identities.BODY_DERIVATIVES}),
+    ("body_jacobian", 0, {identities.BODY_DERIVATIVES}),
+    ("lift_jacobian", 0, {identities.BODY_DERIVATIVES}),
+])
+def test_a_flipped_sign_in_the_body_module_breaks_the_lift_identity_it_touches(function, term, broken):
+    got = _lift(fields.mutated_module(term, function))
+    assert {k for k, (holds, _) in got.items() if not holds} == broken, {k: v[1][-80:] for k, v in got.items()}
+    assert all("nonzero in" in got[k][1] for k in broken)
+
+
+def test_the_homoclinic_verifier_rejects_a_wrong_lift_at_its_identity():
+    """The chart field untouched (its four identities hold), the body field's sign flipped: the homoclinic
+    certificate is rejected at the lift, before its digest and any flight."""
+    res = verify.verify(_shipped("homoclinic_target.json"), module=fields.mutated_module(0, "body_rhs"))
+    assert not res.ok and res.reason.startswith(f"certificate rejected: {identities.LIFT_INTERTWINES} failed"), \
+        res.reason
+    held = [c["name"] for c in res.checks if c["holds"]]
+    assert set(identities.NAMES) <= set(held)

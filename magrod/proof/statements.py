@@ -114,9 +114,10 @@ STATEMENTS = (
         Step("the same on the λ̄ interval, λ̄ a ball in every enclosure", "computer-verified",
              "magrod prove --lam-rad; magrod prove --verify"),
         Step("the chart field is Hamilton's, R is a reversor, the lift intertwines the flows", "proved",
-             "f = J∇H̄ and f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as "
-             "exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced, "
-             "chart_body_lift"),
+             "f = J∇H̄, f(Rx) = −R f(x) and the lift's intertwining f_body(X) = DX f + Ω G X (with the body field "
+             "commuting with the rotation about d3) checked by the verifier at run time on the certificate's field, "
+             "as exact identities (magrod/proof/identities.py); derived as report keys validated_fields, "
+             "reversor_reduced, chart_body_lift"),
         Step("horseshoes (Devaney 1976) and no analytic second integral on the level (Kozlov 1996)", "proved",
              "cited theorems, every hypothesis checked by the certificate")],
        phrases=(r"one parameter point", r"17/10, 1/25")),
@@ -135,9 +136,10 @@ STATEMENTS = (
        [Step("saddle, eigenpairs, local manifold, flight, crossings, transversality", "computer-verified",
              "magrod prove; magrod prove --verify (complete verifier)"),
         Step("the chart field is Hamilton's, R is a reversor, the lift intertwines the flows", "proved",
-             "f = J∇H̄ and f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as "
-             "exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced, "
-             "chart_body_lift"),
+             "f = J∇H̄, f(Rx) = −R f(x) and the lift's intertwining f_body(X) = DX f + Ω G X (with the body field "
+             "commuting with the rotation about d3) checked by the verifier at run time on the certificate's field, "
+             "as exact identities (magrod/proof/identities.py); derived as report keys validated_fields, "
+             "reversor_reduced, chart_body_lift"),
         Step("horseshoes (Devaney 1976) and no analytic second integral on the level (Kozlov 1996)", "proved",
              "cited theorems, every hypothesis checked by the certificate")],
        phrases=(r"2/5, 3, 3", r"Fig 4\(a\)'s rod", r"Fig 4's rod")),

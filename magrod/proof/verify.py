@@ -22,7 +22,10 @@ verifier's trust base"):
     certificates (fixed point and horseshoe);
   - the field's structure (magrod.proof.identities): reversibility under R, the Hamiltonian form (det DP = 1) and
     chart_jacobian = Df, checked at run time as exact rational-function identities on the field's source before its
-    digest, in every kind (kernel.schema.check_structure);
+    digest, in every kind (kernel.schema.check_structure); the horseshoe's 2 pi-periodicity in psi
+    (identities.psi_periodic); and the homoclinic kind's lift to the body frame (identities.lift_check: the lift
+    intertwines the chart and body flows up to the rotation about d3, the body field commutes with it, the events
+    are invariant chart forms, the body and lift Jacobians are derivatives);
   - the theorem's wording (magrod.proof.theorem), and core.errors for the error type.
 
 Completeness: a certificate is accepted only if what it contains establishes the theorem the verifier prints.  The

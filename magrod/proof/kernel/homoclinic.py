@@ -11,7 +11,7 @@ from fractions import Fraction
 import numpy as np
 from flint import acb, acb_mat, arb, arb_mat
 
-from .. import ball, fields, taylor
+from .. import ball, fields, identities, taylor
 from ..theorem import TARGETS, homoclinic_theorem
 from .schema import CertificateError, VerifyResult, check_structure, checked, frac, inside, recomputed
 
@@ -104,6 +104,9 @@ def _verify(cert, p, st, module, claim):
     targets = _check_statement(cert, p, st, claim)
     _stored_claims(cert, claim)
     check_structure(module, claim)
+    # the flights run in body variables from the lift of the boundary arc: the lift's facts, as exact identities
+    for name, holds, how in identities.lift_check(fields.source(module), fields.PARAMS):
+        claim(name, holds, how)
     claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
           "the certificate's vector field is the installed derive-generated one (SHA-256 of generated/validated.py)")
     lam_hi = p.lam + getattr(p, "lam_rad", 0)
