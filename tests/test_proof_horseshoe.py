@@ -189,7 +189,6 @@ def test_designs_are_data_and_give_the_shipped_certificates_settings():
     design gives exactly the settings its shipped certificate records, and a name that is no design is refused
     naming `design`.  Seen to fail with fig4c.json's qs changed from 1.15 to 1.2."""
     import json
-    from importlib import resources
 
     from magrod.core.errors import ParameterError
 
@@ -498,3 +497,32 @@ def test_taylor_model_certificate_verifies_and_needs_its_integrator(cert):
     assert res.ok and res.theorem == cert["theorem"], res.reason
     del c["settings"]["thin_integrator"]
     assert not verify.verify(c).ok
+
+
+def test_mapped_sets_replay_the_serial_checks_on_dask(cert):
+    """verify(mapper=...) runs the sets wherever the mapper does -- here a Dask cluster (schedule.dask_mapper) --
+    and replays their records in the serial order: a certificate whose N1 steps do not sum
+    to t_a is rejected at the same check, with the same check list, as by workers=1 (N0 re-flown first: the
+    records of an accepted set are replayed too).  verify_many(client=...) gives verify_many(workers=1)'s results,
+    in the given order."""
+    import logging
+
+    from distributed import Client, LocalCluster
+
+    from magrod.proof import schedule
+
+    c = copy.deepcopy(cert)
+    c["flights"][1]["pieces"][0]["steps"]["thin"][1][0] = "1/2"
+    r1 = verify.verify(c, workers=1)
+    assert not r1.ok and "N1 piece 0 thin steps" in r1.reason
+    fp = json.loads(resources.files("magrod.proof").joinpath("certificates", "fixed_point_fig4a.json").read_text())
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None,
+                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+        rd = verify.verify(c, mapper=schedule.dask_mapper(client))
+        c0 = copy.deepcopy(cert)
+        c0["flights"][0]["pieces"][0]["steps"]["thin"][1][0] = "1/2"  # rejected before any flight
+        many = schedule.verify_many([("tampered", c0), ("fixed point", fp)], client=client)
+    assert (rd.ok, rd.reason, rd.checks) == (r1.ok, r1.reason, r1.checks)
+    ref = schedule.verify_many([("tampered", c0), ("fixed point", fp)], workers=1)
+    assert [(r.ok, r.reason, len(r.checks)) for r in many] == [(r.ok, r.reason, len(r.checks)) for r in ref]
+    assert [r.ok for r in many] == [False, True]

@@ -155,7 +155,37 @@ def _verify_one(cert: dict, inner_workers):
     return verify(cert, workers=inner_workers)
 
 
-def verify_many(certs, *, workers: int | None = None, cache_dir=None, progress=None) -> list:
+def dask_mapper(client):
+    """A mapper for verify.verify(mapper=...): the jobs on the Dask cluster of `client` (the certificate scattered
+    once, one task per set, retried nowhere: a failing task is the check's failure), the results yielded in the order
+    of the jobs; closing the iterator early (a rejection) cancels the tasks left."""
+
+    def mapper(fn, jobs):
+        jobs = list(jobs)
+        if not jobs:
+            return
+        shared = {}  # the certificate (every job's first argument) scattered once, not sent per task
+
+        def arg(a):
+            if isinstance(a, dict):
+                key = id(a)
+                if key not in shared:
+                    # in a list: a dict given to scatter is a mapping of keys to data, each scattered alone
+                    shared[key] = client.scatter([a], hash=False)[0]
+                return shared[key]
+            return a
+
+        futs = [client.submit(fn, *map(arg, job), pure=False, retries=0) for job in jobs]
+        try:
+            for f in futs:
+                yield f.result()
+        finally:
+            client.cancel(futs)
+
+    return mapper
+
+
+def verify_many(certs, *, workers: int | None = None, cache_dir=None, progress=None, client=None) -> list:
     """Verify independent certificates; the VerifyResults in the order of `certs`.
 
     Parameters
@@ -169,6 +199,9 @@ def verify_many(certs, *, workers: int | None = None, cache_dir=None, progress=N
         Where verified certificates are remembered (None: nothing remembered, everything verified).
     progress : callable, optional
         progress(done, total, name, cached) in this process after each certificate.
+    client : dask.distributed.Client, optional
+        Verify on that cluster instead of `workers` local processes: each horseshoe's sets as tasks (dask_mapper),
+        every other certificate as one task; the checks are replayed here in each certificate's serial order.
 
     Returns
     -------
@@ -208,6 +241,9 @@ def verify_many(certs, *, workers: int | None = None, cache_dir=None, progress=N
         else:
             todo.append(i)
     todo.sort(key=lambda i: -cost(certs[i][1]))  # the most expensive first; ties keep the given order
+    if client is not None:
+        _on_cluster(client, certs, todo, finished)
+        return results
     if workers == 1 or len(todo) <= 1:
         for i in sorted(todo):
             finished(i, _verify_one(certs[i][1], None if workers > 1 else 1), False)
@@ -226,3 +262,23 @@ def verify_many(certs, *, workers: int | None = None, cache_dir=None, progress=N
                 proc.kill()
         ex.shutdown(wait=ok, cancel_futures=True)
     return results
+
+
+def _on_cluster(client, certs, todo, finished) -> None:
+    """verify_many's certificates on a Dask cluster: a horseshoe verified in a thread of this process with its sets
+    mapped onto the cluster, every other kind as one task; results handed to `finished` as they come."""
+    import concurrent.futures as cf
+
+    from .verify import verify
+
+    mapper = dask_mapper(client)
+    horse = [i for i in todo if certs[i][1].get("kind") == "section_horseshoe"]
+    whole = {client.submit(_verify_one, certs[i][1], 1, pure=False, retries=0): i for i in todo if i not in horse}
+    with cf.ThreadPoolExecutor(max_workers=max(1, min(4, len(horse)))) as th:
+        local = {th.submit(verify, certs[i][1], mapper=mapper): i for i in horse}
+        from distributed import as_completed as dask_completed
+
+        for fut in dask_completed(list(whole)):
+            finished(whole[fut], fut.result(), False)
+        for fut in cf.as_completed(local):
+            finished(local[fut], fut.result(), False)

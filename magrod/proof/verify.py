@@ -56,7 +56,7 @@ __all__ = ["FORMAT", "KINDS", "HOMOCLINIC", "SECTION_FIXED_POINT", "SECTION_HORS
            "VerifyResult", "load", "verify"]
 
 
-def verify(cert: dict, *, module=fields.gen, workers: int | None = None) -> VerifyResult:
+def verify(cert: dict, *, module=fields.gen, workers: int | None = None, mapper=None) -> VerifyResult:
     """Re-check a proof certificate with code separate from the prover.
 
     Parameters
@@ -69,6 +69,10 @@ def verify(cert: dict, *, module=fields.gen, workers: int | None = None) -> Veri
         Kind "section_horseshoe" only: the sets are re-flown in this many spawned processes (default: the CPUs this
         process may use; 1: in this process).  The checks, their order and the result are the same for every
         value (each set's checks are replayed in the serial order; Arb is deterministic).
+    mapper : callable, optional
+        Kind "section_horseshoe": mapper(fn, jobs) runs fn(*job) for each job wherever it likes (a Dask cluster:
+        magrod.proof.schedule.dask_mapper) and yields the results in the order of jobs; the sets are re-flown by it
+        instead of `workers` processes.  Scheduling only: the records are replayed here in the serial order.
 
     Returns
     -------
@@ -100,5 +104,5 @@ def verify(cert: dict, *, module=fields.gen, workers: int | None = None) -> Veri
     if kind == SECTION_FIXED_POINT:
         return fixed_point.verify(cert, module, t0)
     if kind == SECTION_HORSESHOE:
-        return horseshoe.verify(cert, module, t0, workers)
+        return horseshoe.verify(cert, module, t0, workers, mapper)
     return homoclinic.verify(cert, module, t0)

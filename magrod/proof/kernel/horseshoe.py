@@ -18,11 +18,11 @@ from .horseshoe_sets import (_hs_branch_boxes, _hs_cover, _hs_graph, _hs_inv, _h
                              _hs_separated, _hs_separated_moving, _hs_set, _hs_source, _hs_vertices)
 from .schema import VerifyResult, check_structure, checked, frac, section_settings
 
-def verify(cert, module, t0, workers=None) -> VerifyResult:
+def verify(cert, module, t0, workers=None, mapper=None) -> VerifyResult:
     def body(claim):
         p, prec, cap, order = section_settings(cert)
         with ball.workprec(prec, cap):
-            return p, _horseshoe(cert, p, order, module, claim, workers)
+            return p, _horseshoe(cert, p, order, module, claim, workers, mapper)
 
     checks, out, failed = checked(t0, body)
     if failed:
@@ -35,7 +35,7 @@ def verify(cert, module, t0, workers=None) -> VerifyResult:
                         {}, {})
 
 
-def _horseshoe(cert, p, order, module, claim, workers=None) -> dict:
+def _horseshoe(cert, p, order, module, claim, workers=None, mapper=None) -> dict:
     check_structure(module, claim)
     claim("field digest", cert["field_digest"] == fields.source_digest(module) == fields.source_digest(fields.gen),
           "the certificate's field is the installed derive-generated one")
@@ -99,7 +99,9 @@ def _horseshoe(cert, p, order, module, claim, workers=None) -> dict:
     from . import pool  # the sets in child processes (scheduling; the checks are replayed here in the serial order)
 
     w = 1 if module is not fields.gen else min(pool._hs_workers(workers), k)
-    if w <= 1:
+    if mapper is not None and module is fields.gen:
+        pool._hs_sources_mapped(cert, k, mapper, claim)
+    elif w <= 1:
         for i in range(k):
             _hs_source(cert, i, order, module, claim, boxes)
     else:

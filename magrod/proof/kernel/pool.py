@@ -84,6 +84,44 @@ def _hs_worker_main() -> None:
         sys.stdout.flush()
 
 
+def _hs_record_job(cert, i) -> dict:
+    """One set's recorded checks from the certificate alone (the branch boxes recomputed: ~0.02 s): a job a mapper
+    (a Dask cluster, magrod.proof.schedule.dask_mapper) runs anywhere; its record is replayed by _hs_sources_mapped."""
+    boxes, err = _hs_worker_boxes(cert)
+    if err is not None:
+        return {"i": int(i), "recs": [], "err": err}
+    return _hs_record(cert, int(i), boxes)
+
+
+def _hs_sources_mapped(cert, k, mapper, claim) -> None:
+    """_hs_source for i = 0 .. k-1 run by `mapper(fn, jobs)` (an iterator of fn(*job) in the order of jobs, wherever
+    it runs them: scheduling outside this kernel), the records replayed through `claim` in the order of i; on a
+    rejection the iterator is closed (the mapper cancels what is left)."""
+    results = mapper(_hs_record_job, [(cert, i) for i in range(k)])
+    try:
+        for i, r in enumerate(results):
+            _replay(r, i, claim)
+    finally:
+        close = getattr(results, "close", None)
+        if close is not None:
+            close()
+
+
+def _replay(r, i, claim) -> None:
+    """A set's record, replayed as the serial verifier would have made its checks (the same rejection and reason)."""
+    if r["i"] != i:
+        raise RuntimeError(f"worker result for N{r['i']} where N{i} was expected")
+    for name, holds, how in r["recs"]:
+        claim(name, holds, how)
+    if r["err"] is not None:
+        kind, msg, malformed = r["err"]
+        if kind == "InexactBall":
+            raise ball.InexactBall(msg)
+        if malformed:
+            raise CertificateError(f"malformed certificate ({kind}: {msg})")
+        raise RuntimeError(f"horseshoe verifier worker, N{i}: {kind}: {msg}")
+
+
 def _hs_sources_parallel(cert, k, workers, claim) -> None:
     """_hs_source for i = 0 .. k-1 in `workers` child processes (fresh interpreters running _hs_worker_main on
     sets i = w, w + workers, ...: no multiprocessing, so nothing of the caller's __main__ is re-run and no
@@ -111,18 +149,7 @@ def _hs_sources_parallel(cert, k, workers, claim) -> None:
             if not line:
                 raise RuntimeError(f"the horseshoe verifier's worker for N{i} ended without a result "
                                    f"(exit status {procs[i % workers].wait()})")
-            r = json.loads(line)
-            if r["i"] != i:
-                raise RuntimeError(f"worker result for N{r['i']} where N{i} was expected")
-            for name, holds, how in r["recs"]:
-                claim(name, holds, how)
-            if r["err"] is not None:
-                kind, msg, malformed = r["err"]
-                if kind == "InexactBall":
-                    raise ball.InexactBall(msg)
-                if malformed:
-                    raise CertificateError(f"malformed certificate ({kind}: {msg})")
-                raise RuntimeError(f"horseshoe verifier worker, N{i}: {kind}: {msg}")
+            _replay(json.loads(line), i, claim)
     finally:
         for pr in procs:
             if pr.poll() is None:
