@@ -17,7 +17,7 @@ import pytest
 
 from magrod.proof import fields, horseshoe, verify
 from magrod.proof.kernel import horseshoe as hs_kernel
-from helpers import shift_set_along_entry
+from helpers import shift_set_along_entry, verify_cli
 
 CERT = "horseshoe_fig4a.json"
 #: a_interval: Fig 4(a)'s sets moving with lambdabar, for every lambdabar in 27/200 +- 2e-11 (horseshoe.widen)
@@ -499,12 +499,12 @@ def test_taylor_model_certificate_verifies_and_needs_its_integrator(cert):
     assert not verify.verify(c).ok
 
 
-def test_mapped_sets_replay_the_serial_checks_on_dask(cert):
+def test_mapped_sets_replay_the_serial_checks_on_dask(cert, tmp_path, capsys):
     """verify(mapper=...) runs the sets wherever the mapper does -- here a Dask cluster (schedule.dask_mapper) --
     and replays their records in the serial order: a certificate whose N1 steps do not sum
     to t_a is rejected at the same check, with the same check list, as by workers=1 (N0 re-flown first: the
-    records of an accepted set are replayed too).  verify_many(client=...) gives verify_many(workers=1)'s results,
-    in the given order."""
+    records of an accepted set are replayed too), here and through `magrod prove --verify --scheduler`.
+    verify_many(client=...) gives verify_many(workers=1)'s results, in the given order."""
     import logging
 
     from distributed import Client, LocalCluster
@@ -516,13 +516,37 @@ def test_mapped_sets_replay_the_serial_checks_on_dask(cert):
     r1 = verify.verify(c, workers=1)
     assert not r1.ok and "N1 piece 0 thin steps" in r1.reason
     fp = json.loads(resources.files("magrod.proof").joinpath("certificates", "fixed_point_fig4a.json").read_text())
-    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None,
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=True, host="127.0.0.1", dashboard_address=None,
+                      scheduler_kwargs={"dashboard": False, "dashboard_address": ":0"},
                       silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
         rd = verify.verify(c, mapper=schedule.dask_mapper(client))
         c0 = copy.deepcopy(cert)
         c0["flights"][0]["pieces"][0]["steps"]["thin"][1][0] = "1/2"  # rejected before any flight
         many = schedule.verify_many([("tampered", c0), ("fixed point", fp)], client=client)
+        code, out, err = verify_cli(c, tmp_path, capsys, "--scheduler", cluster.scheduler_address, "--json")
+    assert code == 1 and json.loads(out)["reason"] == r1.reason and len(err) == 1, (code, err)
     assert (rd.ok, rd.reason, rd.checks) == (r1.ok, r1.reason, r1.checks)
+    # a worker in this process would share the verifier's python-flint precision (process-wide): refused
+    from magrod.core.errors import ParameterError
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None,
+                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+        with pytest.raises(ParameterError, match="scheduler"):
+            schedule.dask_mapper(client)
     ref = schedule.verify_many([("tampered", c0), ("fixed point", fp)], workers=1)
     assert [(r.ok, r.reason, len(r.checks)) for r in many] == [(r.ok, r.reason, len(r.checks)) for r in ref]
     assert [r.ok for r in many] == [False, True]
+
+
+def test_prove_workers_and_scheduler_apply_to_verify_only(cert, tmp_path, capsys):
+    """--workers and --scheduler size or place the verifier's set flights: given together, or to the prover, exit 2
+    naming the option, one line, nothing written."""
+    from magrod.cli import main
+
+    code, _, err = verify_cli(cert, tmp_path, capsys, "--workers", "2", "--scheduler", "127.0.0.1:1")
+    assert code == 2 and len(err) == 1 and "workers" in err[0], err
+    code = main(["prove", "--horseshoe", "0.383", "--level", "9/10", "--workers", "2", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "workers" in err[0] and not (tmp_path / "o").exists(), err
+    code, _, err = verify_cli(cert, tmp_path, capsys, "--workers", "0")
+    assert code == 2 and len(err) == 1 and "workers" in err[0], err

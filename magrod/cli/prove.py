@@ -23,7 +23,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 from ..core.errors import ParameterError
-from .options import ROOT_INDEX_HELP, integer, out_dir
+from .options import ROOT_INDEX_HELP, add_workers, integer, out_dir
 
 DEFAULTS = {"m": "1.7", "mu": "0.04", "gamma": "1", "delta": "1", "lam": "0.01"}
 
@@ -66,6 +66,10 @@ def add_arguments(p):
                    help="--fixed-point / --horseshoe: the saddle's branch of the section, psi = 0 or pi")
     # --fixed-point / --horseshoe: the root of the level that x0 lifts to (one help text for --root everywhere)
     p.add_argument("--root", default="largest", metavar="I", help=ROOT_INDEX_HELP)
+    add_workers(p, help="--verify: processes re-flying a horseshoe's sets (default: the CPUs this process may use)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="--verify: re-fly a horseshoe's sets on the running Dask scheduler at ADDRESS (tcp://HOST:PORT "
+                        "or HOST:PORT) instead; the checks are replayed here in their serial order")
     p.add_argument("--mutate", default=None, metavar="K",
                    help="control: flip the sign of the K-th term of the generated chart field (must fail)")
 
@@ -73,6 +77,9 @@ def add_arguments(p):
 def run(args) -> dict:
     if args.verify is not None:
         return _verify(args)
+    for opt in ("workers", "scheduler"):
+        if getattr(args, opt) is not None:
+            raise ParameterError(opt, "applies to --verify (the prover's flights run in this process)")
     if args.fixed_point is not None:
         return _fixed_point(args)
     if args.horseshoe is not None:
@@ -283,8 +290,21 @@ def _stage(msg):
 def _verify(args) -> dict:
     from ..proof import load_certificate, verify_certificate
 
+    if args.scheduler is not None and args.workers is not None:
+        raise ParameterError("workers", "sizes the local processes that --scheduler replaces: give one of them")
+    workers = None if args.workers is None else integer("workers", args.workers, minimum=1, maximum=256)
     cert = load_certificate(args.verify)
-    res = verify_certificate(cert)
+    if args.scheduler is None:
+        res = verify_certificate(cert, workers=workers)
+    else:
+        from ..proof.schedule import dask_mapper
+        from ..store.cluster import close_quietly, connect
+
+        client = connect(args.scheduler)
+        try:
+            res = verify_certificate(cert, mapper=dask_mapper(client))
+        finally:
+            close_quietly(client)
     out = {"ok": res.ok, "certificate": str(args.verify), **res.to_dict()}
     if not res.ok:
         out["error"] = res.reason

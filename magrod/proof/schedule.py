@@ -150,15 +150,26 @@ def _child_init(parent_pid: int) -> None:
 
 
 def _verify_one(cert: dict, inner_workers):
+    from .kernel.pool import JOB_LOCK
     from .verify import verify
 
-    return verify(cert, workers=inner_workers)
+    with JOB_LOCK:  # one verification at a time per process: python-flint's precision is process-wide
+        return verify(cert, workers=inner_workers)
 
 
 def dask_mapper(client):
     """A mapper for verify.verify(mapper=...): the jobs on the Dask cluster of `client` (the certificate scattered
     once, one task per set, retried nowhere: a failing task is the check's failure), the results yielded in the order
     of the jobs; closing the iterator early (a rejection) cancels the tasks left."""
+
+    import os
+
+    here = [a for a, w in client.scheduler_info().get("workers", {}).items() if w.get("pid") == os.getpid()]
+    if here:
+        from ..core.errors import ParameterError
+
+        raise ParameterError("scheduler", f"worker {here[0]} runs in this process, whose python-flint precision "
+                                          "the verifier sets: give a cluster of worker processes")
 
     def mapper(fn, jobs):
         jobs = list(jobs)
@@ -265,20 +276,18 @@ def verify_many(certs, *, workers: int | None = None, cache_dir=None, progress=N
 
 
 def _on_cluster(client, certs, todo, finished) -> None:
-    """verify_many's certificates on a Dask cluster: a horseshoe verified in a thread of this process with its sets
-    mapped onto the cluster, every other kind as one task; results handed to `finished` as they come."""
-    import concurrent.futures as cf
-
+    """verify_many's certificates on a Dask cluster: every kind but the horseshoe as one task each, submitted first;
+    then each horseshoe verified in this thread (one at a time: python-flint's precision is process-wide) with its
+    sets mapped onto the cluster; results handed to `finished` in that order."""
     from .verify import verify
 
     mapper = dask_mapper(client)
     horse = [i for i in todo if certs[i][1].get("kind") == "section_horseshoe"]
-    whole = {client.submit(_verify_one, certs[i][1], 1, pure=False, retries=0): i for i in todo if i not in horse}
-    with cf.ThreadPoolExecutor(max_workers=max(1, min(4, len(horse)))) as th:
-        local = {th.submit(verify, certs[i][1], mapper=mapper): i for i in horse}
-        from distributed import as_completed as dask_completed
-
-        for fut in dask_completed(list(whole)):
-            finished(whole[fut], fut.result(), False)
-        for fut in cf.as_completed(local):
-            finished(local[fut], fut.result(), False)
+    whole = [(client.submit(_verify_one, certs[i][1], 1, pure=False, retries=0), i) for i in todo if i not in horse]
+    try:
+        for i in horse:
+            finished(i, verify(certs[i][1], mapper=mapper), False)
+        for fut, i in whole:
+            finished(i, fut.result(), False)
+    finally:
+        client.cancel([f for f, _ in whole])

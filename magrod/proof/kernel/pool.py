@@ -5,6 +5,7 @@ order, so the checks, the first rejection and its reason are the serial verifier
 from __future__ import annotations
 
 import json
+import threading
 from pathlib import Path
 
 from ...core.errors import ParameterError
@@ -23,6 +24,10 @@ def _hs_workers(workers) -> int:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux
         return os.cpu_count() or 1
+
+
+#: serialises the verifier's jobs within a process (python-flint's precision context is process-wide, not per thread)
+JOB_LOCK = threading.Lock()
 
 
 class _Stop(Exception):
@@ -86,11 +91,14 @@ def _hs_worker_main() -> None:
 
 def _hs_record_job(cert, i) -> dict:
     """One set's recorded checks from the certificate alone (the branch boxes recomputed: ~0.02 s): a job a mapper
-    (a Dask cluster, magrod.proof.schedule.dask_mapper) runs anywhere; its record is replayed by _hs_sources_mapped."""
-    boxes, err = _hs_worker_boxes(cert)
-    if err is not None:
-        return {"i": int(i), "recs": [], "err": err}
-    return _hs_record(cert, int(i), boxes)
+    (a Dask cluster, magrod.proof.schedule.dask_mapper) runs anywhere; its record is replayed by _hs_sources_mapped.
+    One job at a time per process: python-flint's working precision is process-wide, so two threads of a worker
+    computing at once could each run at the other's precision (seen: a fixed-point enclosure 100x too wide)."""
+    with JOB_LOCK:
+        boxes, err = _hs_worker_boxes(cert)
+        if err is not None:
+            return {"i": int(i), "recs": [], "err": err}
+        return _hs_record(cert, int(i), boxes)
 
 
 def _hs_sources_mapped(cert, k, mapper, claim) -> None:
