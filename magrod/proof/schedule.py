@@ -164,7 +164,7 @@ def dask_mapper(client):
 
     import os
 
-    here = [a for a, w in client.scheduler_info().get("workers", {}).items() if w.get("pid") == os.getpid()]
+    here = [a for a, pid in client.run(os.getpid).items() if pid == os.getpid()]
     if here:
         from ..core.errors import ParameterError
 
