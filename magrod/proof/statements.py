@@ -294,9 +294,9 @@ STATEMENTS = (
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
              "section_horseshoe)"),
         Step("the chart field is Hamilton's, 2π-periodic in ψ, and R is a reversor", "proved",
-             "f = J∇H̄ and f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as "
-             "exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced; the "
-             "verifier's source check of ψ"),
+             "f = J∇H̄, f(Rx) = −R f(x) and the 2π-periodicity in ψ (the field a rational function of sin ψ, "
+             "cos ψ) checked by the verifier at run time on the certificate's field, as exact identities "
+             "(magrod/proof/identities.py); derived as report keys validated_fields, reversor_reduced"),
         Step("a closed chain of coverings and back-coverings has an orbit for every sequence of loops "
              "(Zgliczyński & Gidea 2004, the covering-chain theorem); N ⇒ M gives R(M)^T ⇐ R(N)^T; the coding of "
              "the visits to N0 is a semiconjugacy onto the block shift", "proved",
@@ -340,9 +340,9 @@ STATEMENTS = (
              "entropy bound", "computer-verified", "magrod prove --horseshoe --branch pi; magrod prove --verify "
              "(kind section_horseshoe)"),
         Step("the chart field is Hamilton's, 2π-periodic in ψ, and R is a reversor", "proved",
-             "f = J∇H̄ and f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as "
-             "exact identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced; the "
-             "verifier's source check of ψ"),
+             "f = J∇H̄, f(Rx) = −R f(x) and the 2π-periodicity in ψ (the field a rational function of sin ψ, "
+             "cos ψ) checked by the verifier at run time on the certificate's field, as exact identities "
+             "(magrod/proof/identities.py); derived as report keys validated_fields, reversor_reduced"),
         Step("the covering-chain theorem, the reversed-chain lemma, the block-shift entropy (statement 12's "
              "argument, unchanged: it never uses the branch of N0)", "proved",
              "cited theorem, hypotheses checked by the certificate; docs/nonintegrability.md")],
