@@ -297,7 +297,7 @@ def _verify(args) -> dict:
     if args.scheduler is None:
         res = verify_certificate(cert, workers=workers)
     else:
-        from ..proof.schedule import dask_mapper
+        from ..proof import dask_mapper
         from ..store.cluster import close_quietly, connect
 
         client = connect(args.scheduler)

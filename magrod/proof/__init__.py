@@ -47,6 +47,8 @@ _API = {
     "verify_certificate": ("verify", "verify"),
     # many certificates: in processes on every core, each verified one remembered (scheduling, not the trust base)
     "verify_certificates": ("schedule", "verify_many"),
+    # a verify_certificate(mapper=...) that re-flies a horseshoe's sets on a Dask cluster
+    "dask_mapper": ("schedule", "dask_mapper"),
     "statement_status": ("statements", "status"),
 }
 

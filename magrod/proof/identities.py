@@ -393,6 +393,7 @@ def _lift_identities(source: str, params: tuple) -> dict:
     if not {"mu", "lam", "m"} <= set(params):
         raise _NotExact(f"the parameters {params} lack m, mu or lam")
     F = _Field(_STATE_VARS + BODY_STATE + params)
+    nb = len(BODY_STATE)  # m, n, e3: three vectors of three
     v = dict(zip(F.names, F.gens))
     pars = [v[k] for k in params]
     R2 = v["r"] * v["r"]
@@ -417,7 +418,7 @@ def _lift_identities(source: str, params: tuple) -> dict:
             return [th, ps] + [x if dx is None else _Dual(x, dx) for x, dx in ((v["ptheta"], d[2]), (ppsi, d[3]))]
 
         def G(x):
-            return [w for i in range(0, 9, 3) for w in (x[i + 1], -x[i], zero)]
+            return [w for i in range(0, nb, 3) for w in (x[i + 1], -x[i], zero)]
 
         def plain(x):
             return x.a if isinstance(x, _Dual) else x
@@ -432,14 +433,14 @@ def _lift_identities(source: str, params: tuple) -> dict:
         omega = (1 - ppsi * ang.c) / (ang.s * ang.s)
         fbX = ns["body_rhs"](X, pars)
         GX = G(X)
-        inter = [BODY_STATE[i] for i in range(9) if not F.zero(fbX[i] - DXf[i] - omega * GX[i])]
+        inter = [BODY_STATE[i] for i in range(nb) if not F.zero(fbX[i] - DXf[i] - omega * GX[i])]
 
         xb = [v[k] for k in BODY_STATE]
         fb = ns["body_rhs"](xb, pars)
         Gx = G(xb)
         dfGx = [tangent(c) for c in ns["body_rhs"]([_Dual(a, b) for a, b in zip(xb, Gx)], pars)]
         Gfb = G(fb)
-        equi = [BODY_STATE[i] for i in range(9) if not F.zero(dfGx[i] - Gfb[i])]
+        equi = [BODY_STATE[i] for i in range(nb) if not F.zero(dfGx[i] - Gfb[i])]
 
         evG = [tangent(c) for c in ns["body_events"]([_Dual(a, b) for a, b in zip(xb, Gx)], pars)]
         evX = ns["body_events"](X, pars)
@@ -450,7 +451,7 @@ def _lift_identities(source: str, params: tuple) -> dict:
         events = ([f"{names[k]} not invariant" for k in range(len(names)) if not F.zero(evG[k])]
                   + [f"{names[k]} on the chart" for k in range(len(names)) if not F.zero(evX[k] - forms[k])])
 
-        units = [[one if i == j else zero for i in range(9)] for j in range(9)]
+        units = [[one if i == j else zero for i in range(nb)] for j in range(nb)]
         Jb = ns["body_jacobian"](xb, pars)
         colb = [[tangent(c) for c in ns["body_rhs"]([_Dual(a, b) for a, b in zip(xb, u)], pars)] for u in units]
         Eg = ns["body_events_gradient"](xb, pars)
@@ -458,10 +459,10 @@ def _lift_identities(source: str, params: tuple) -> dict:
         JX = ns["lift_jacobian"](chart(), pars)
         colX = [[tangent(c) for c in ns["lift"](chart([one if i == j else zero for i in range(4)]), pars)]
                 for j in range(4)]
-        ders = ([f"body_jacobian[{i}, {j}]" for i in range(9) for j in range(9) if not F.zero(Jb[9 * i + j] - colb[j][i])]
-                + [f"body_events_gradient[{k}, {j}]" for k in range(len(names)) for j in range(9)
-                   if not F.zero(Eg[9 * k + j] - cole[j][k])]
-                + [f"lift_jacobian[{i}, {j}]" for i in range(9) for j in range(4) if not F.zero(JX[4 * i + j] - colX[j][i])])
+        ders = ([f"body_jacobian[{i}, {j}]" for i in range(nb) for j in range(nb) if not F.zero(Jb[nb * i + j] - colb[j][i])]
+                + [f"body_events_gradient[{k}, {j}]" for k in range(len(names)) for j in range(nb)
+                   if not F.zero(Eg[nb * k + j] - cole[j][k])]
+                + [f"lift_jacobian[{i}, {j}]" for i in range(nb) for j in range(4) if not F.zero(JX[4 * i + j] - colX[j][i])])
         return {LIFT_INTERTWINES: inter, BODY_EQUIVARIANT: equi, EVENTS_ON_CHART: events, BODY_DERIVATIVES: ders}
     except (TypeError, ZeroDivisionError, AttributeError, ValueError, IndexError) as err:
         raise _NotExact(f"{type(err).__name__}: {str(err)[:120]}") from None

@@ -158,9 +158,33 @@ def _verify_one(cert: dict, inner_workers):
 
 
 def dask_mapper(client):
-    """A mapper for verify.verify(mapper=...): the jobs on the Dask cluster of `client` (the certificate scattered
-    once, one task per set, retried nowhere: a failing task is the check's failure), the results yielded in the order
-    of the jobs; closing the iterator early (a rejection) cancels the tasks left."""
+    """A mapper for verify.verify(mapper=...): a horseshoe's sets re-flown on the Dask cluster of `client`.
+
+    Parameters
+    ----------
+    client : dask.distributed.Client
+        A client of a cluster whose workers are other processes than this one (python-flint's working precision is
+        process-wide; each worker process runs one verifier job at a time).
+
+    Returns
+    -------
+    callable
+        mapper(fn, jobs): one task per job (the certificate scattered once, no retries: a failing task is its check's
+        failure), the results yielded in the order of the jobs; closing the iterator early (a rejection) cancels the
+        tasks left.
+
+    Raises
+    ------
+    ParameterError
+        Naming "scheduler", if a worker runs in this process.
+
+    Examples
+    --------
+    >>> from dask.distributed import Client                             # doctest: +SKIP
+    >>> from magrod.proof import dask_mapper, load_certificate, verify_certificate
+    >>> with Client("tcp://127.0.0.1:8786") as client:                   # doctest: +SKIP
+    ...     res = verify_certificate(load_certificate("horseshoe.json"), mapper=dask_mapper(client))
+    """
 
     import os
 
