@@ -1069,6 +1069,10 @@ def _widen(cert, w, module, check, say) -> dict:
     parsL = fields.parameter_balls(p, w)
     Lam = parsL[fields.LAM]
     fldL = fields.lam_state_field(p, module)
+    if "taylor_model" in (s.get("integrator"), s.get("thin_integrator")):  # Newton's coefficients, as the verifier
+        import dataclasses                                                 # (see _prover_field)
+
+        fld0, fldL = (dataclasses.replace(f, series="newton") for f in (fld0, fldL))
     Dl = Lam - ball.q(p.lam)
     prad = Fraction(s["p_rad"])
     branch = {}
