@@ -562,3 +562,29 @@ def test_prove_workers_and_scheduler_apply_to_verify_only(cert, tmp_path, capsys
     assert code == 2 and len(err) == 1 and "workers" in err[0] and not (tmp_path / "o").exists(), err
     code, _, err = verify_cli(cert, tmp_path, capsys, "--workers", "0")
     assert code == 2 and len(err) == 1 and "workers" in err[0], err
+
+
+def _fig4d():
+    root = Path(__file__).parents[1] / "research"
+    return json.loads((root / "horseshoe_fig4d.json").read_text()), json.loads(
+        (root / "horseshoe_fig4d_verified.json").read_text())
+
+
+def test_fig4d_research_certificate_is_a_certificate_the_verifier_reads():
+    """The Fig 4(d) horseshoe kept in research/ is a well-formed certificate of Fig 4(d)'s rod and level, with the
+    theorem its verification record states; a copy with N0's steps tampered is rejected at that check (before any
+    flight).  Its full verification (282 s on 2 cores) is the slow test below."""
+    cert, rec = _fig4d()
+    assert cert["params"]["lam"] == "93/500" and cert["level"] == "9/10" and rec["ok"] and rec["n_checks"] == 1131
+    assert cert["theorem"] == rec["theorem"] and "x^72 = x^71 + 1" in rec["theorem"]
+    c = copy.deepcopy(cert)
+    c["flights"][0]["pieces"][0]["steps"]["thin"][1][0] = "1/2"
+    assert "N0 piece 0 thin steps" in _rejected(c)
+
+
+@pytest.mark.slow
+def test_fig4d_research_certificate_verifies():
+    """The independent verifier accepts it and prints the recorded theorem (~400 s of CPU)."""
+    cert, rec = _fig4d()
+    res = verify.verify(cert)
+    assert res.ok and res.theorem == rec["theorem"] and len(res.checks) == rec["n_checks"], res.reason
