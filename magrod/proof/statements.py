@@ -206,7 +206,8 @@ STATEMENTS = (
        for the non-perturbative regime. Fig 4's level h = 0.9 does not contain the helical saddle (its H̄ is
        0.8305, 0.7720, 0.7253, 0.6955 at the four λ̄), so the homoclinic orbits of 5a are not about the figure's
        section; a horseshoe of P on Fig 4's own level h = 9/10 is computer-verified at panels (a), (b) and (c)
-       (statement 12), not at (d); on Fig 5's own level h = 4/5 the saddle of P and a horseshoe of P
+       (statement 12); at (d) a horseshoe certificate is accepted by the independent verifier but not yet shipped
+       (research/horseshoe_fig4d.json; docs/nonintegrability.md, panel (d)); on Fig 5's own level h = 4/5 the saddle of P and a horseshoe of P
        are computer-verified at the four panels (statement 13). Numerically (float64) at λ̄ = 0.135 the unstable
        manifold of the section map's symmetric saddle (the fixed point of statement 11; eigenvalue 5.748 of DP,
        33.04 of DP²) meets Fix(R) transversally (W^u and W^s cross at 0.72°): a candidate, not a proof
