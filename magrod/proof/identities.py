@@ -127,13 +127,7 @@ def _identities(source: str, params: tuple) -> dict:
     """{name: [the components where the difference is not zero]}."""
     if not {"mu", "lam"} <= set(params):
         raise _NotExact(f"the parameters {params} lack mu or lam (the radical's parametrisation)")
-    F = _Field(_STATE_VARS + params)
-    v = dict(zip(F.names, F.gens))
-    pars = [v[k] for k in params]
-    R2 = v["r"] * v["r"]
-    F.radicand, F.root = R2, v["r"]
-    ppsi = (v["mu"] - R2) / (2 * v["lam"])
-    ns = _namespace(source, F)
+    F, v, pars, R2, ppsi, ns = _exact_setting(source, params, _STATE_VARS)
     zero, one = F.const(0), F.const(1)
     try:
         for name in ("chart_rhs", "chart_jacobian", "chart_hamiltonian", "CHART_STATE"):
@@ -169,6 +163,16 @@ def _identities(source: str, params: tuple) -> dict:
         }
     except (TypeError, ZeroDivisionError, AttributeError, ValueError, IndexError) as err:
         raise _NotExact(f"{type(err).__name__}: {str(err)[:120]}") from None
+
+
+def _exact_setting(source: str, params: tuple, variables: tuple):
+    """The field Q(variables, params) with the radical sqrt(mu - 2 lambdabar pbar_psi) = r, its generators by name,
+    the parameters, r^2, pbar_psi = (mu - r^2)/(2 lambdabar), and the generated module executed over it."""
+    F = _Field(variables + params)
+    v = dict(zip(F.names, F.gens))
+    R2 = v["r"] * v["r"]
+    F.radicand, F.root = R2, v["r"]
+    return F, v, [v[k] for k in params], R2, (v["mu"] - R2) / (2 * v["lam"]), _namespace(source, F)
 
 
 def _part(x, F):
@@ -392,14 +396,8 @@ def _lift_check(source: str, params: tuple) -> list:
 def _lift_identities(source: str, params: tuple) -> dict:
     if not {"mu", "lam", "m"} <= set(params):
         raise _NotExact(f"the parameters {params} lack m, mu or lam")
-    F = _Field(_STATE_VARS + BODY_STATE + params)
+    F, v, pars, R2, ppsi, ns = _exact_setting(source, params, _STATE_VARS + BODY_STATE)
     nb = len(BODY_STATE)  # m, n, e3: three vectors of three
-    v = dict(zip(F.names, F.gens))
-    pars = [v[k] for k in params]
-    R2 = v["r"] * v["r"]
-    F.radicand, F.root = R2, v["r"]
-    ppsi = (v["mu"] - R2) / (2 * v["lam"])
-    ns = _namespace(source, F)
     zero, one = F.const(0), F.const(1)
     try:
         for name in ("chart_rhs", "lift", "lift_jacobian", "body_rhs", "body_jacobian", "body_events",
