@@ -270,6 +270,15 @@ def console_main() -> None:
     code = main()
     for s in SIGNALS:
         signal.signal(s, signal.SIG_IGN)
+    if _STATE["signals"]:
+        # The run ended on a signal and said so in its one line.  What libraries log while the interpreter tears
+        # down what the signal cut short is not news, and broke that one line: asyncio's "Task was destroyed but
+        # it is pending!" for a Dask client's task, logged when the task is collected at shutdown, or a coroutine's
+        # "never awaited" warning.
+        import logging
+
+        logging.disable(logging.CRITICAL)
+        warnings.simplefilter("ignore")
     sys.exit(code)
 
 
