@@ -193,9 +193,9 @@ def test_designs_are_data_and_give_the_shipped_certificates_settings():
 
     from magrod.core.errors import ParameterError
 
-    assert set(horseshoe.DESIGNS) == {"fig4a", "fig4b", "fig4c"}
+    assert set(horseshoe.DESIGNS) == {"fig4a", "fig4b", "fig4c", "fig4d"}
     assert horseshoe.design_names(proving_only=False) == ["fig4a", "fig4b", "fig4c", "fig4d"]
-    for name in ("fig4b", "fig4c"):
+    for name in ("fig4b", "fig4c", "fig4d"):
         cert = json.loads(resources.files("magrod.proof").joinpath("certificates", f"horseshoe_{name}.json")
                           .read_text())
         want = {k: v for k, v in cert["settings"].items()}
@@ -565,25 +565,29 @@ def test_prove_workers_and_scheduler_apply_to_verify_only(cert, tmp_path, capsys
 
 
 def _fig4d():
-    root = Path(__file__).parents[1] / "research"
-    return json.loads((root / "horseshoe_fig4d.json").read_text()), json.loads(
-        (root / "horseshoe_fig4d_verified.json").read_text())
+    cert = json.loads(resources.files("magrod.proof").joinpath("certificates", "horseshoe_fig4d.json").read_text())
+    rec = json.loads((Path(__file__).parents[1] / "research" / "horseshoe_fig4d_verified.json").read_text())
+    return cert, rec
 
 
-def test_fig4d_research_certificate_is_a_certificate_the_verifier_reads():
-    """The Fig 4(d) horseshoe kept in research/ is a well-formed certificate of Fig 4(d)'s rod and level, with the
-    theorem its verification record states; a copy with N0's steps tampered is rejected at that check (before any
-    flight).  Its full verification (282 s on 2 cores) is the slow test below."""
+def test_fig4d_certificate_is_the_one_the_verifier_accepted():
+    """The shipped Fig 4(d) horseshoe is a well-formed certificate of Fig 4(d)'s rod and level, issued by `magrod
+    prove --design fig4d`, with the theorem and the number of checks of the verification recorded in research/ (of
+    the same certificate issued by research/fig4d_taylor_model.py: field for field equal but its provenance and wall
+    time); a copy with N0's steps tampered is rejected at that check (before any flight).  Its full verification
+    (~400 s of CPU) is the slow test below and the full `magrod reproduce`."""
     cert, rec = _fig4d()
     assert cert["params"]["lam"] == "93/500" and cert["level"] == "9/10" and rec["ok"] and rec["n_checks"] == 1131
     assert cert["theorem"] == rec["theorem"] and "x^72 = x^71 + 1" in rec["theorem"]
+    assert "--design fig4d" in cert["provenance"]["command"]
+    assert horseshoe.DESIGNS["fig4d"]().as_json() == cert["settings"]
     c = copy.deepcopy(cert)
     c["flights"][0]["pieces"][0]["steps"]["thin"][1][0] = "1/2"
     assert "N0 piece 0 thin steps" in _rejected(c)
 
 
 @pytest.mark.slow
-def test_fig4d_research_certificate_verifies():
+def test_fig4d_certificate_verifies():
     """The independent verifier accepts it and prints the recorded theorem (~400 s of CPU)."""
     cert, rec = _fig4d()
     res = verify.verify(cert)

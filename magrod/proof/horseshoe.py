@@ -123,8 +123,9 @@ class HorseshoeSettings:
 def design(name: str) -> HorseshoeSettings:
     """The prover's named design `name`: magrod/proof/designs/NAME.json holds the settings that differ from
     HorseshoeSettings' defaults (a tolerance may be named by its constant in magrod.core.tolerances) and, under
-    "why", how they were chosen (the float margins, the failed attempts, the measured costs).  "proving": False marks a
-    design recorded for what it shows (fig4d: the closest to a Fig 4(d) proof, which fails at N31 => N32).
+    "why", how they were chosen (the float margins, the failed attempts, the measured costs).  "proving": False would
+    mark a design recorded for what it shows (none now: fig4d was one until its centres flew by the Taylor-model
+    integrator and N31 was cut in 8 x 8 pieces).
 
     Examples
     --------

@@ -205,9 +205,9 @@ STATEMENTS = (
        errata), and the chaos indicator classifies Fig 4(a)–(c) chaotic and 4(d) regular: evidence, not a proof,
        for the non-perturbative regime. Fig 4's level h = 0.9 does not contain the helical saddle (its H̄ is
        0.8305, 0.7720, 0.7253, 0.6955 at the four λ̄), so the homoclinic orbits of 5a are not about the figure's
-       section; a horseshoe of P on Fig 4's own level h = 9/10 is computer-verified at panels (a), (b) and (c)
-       (statement 12); at (d) a horseshoe certificate is accepted by the independent verifier but not yet shipped
-       (research/horseshoe_fig4d.json; docs/nonintegrability.md, panel (d)); on Fig 5's own level h = 4/5 the saddle of P and a horseshoe of P
+       section; a horseshoe of P on Fig 4's own level h = 9/10 is computer-verified at every panel (statement
+       12), at (d) too, where the indicator sees no chaos: a thin chaotic layer; on Fig 5's own level h = 4/5 the
+       saddle of P and a horseshoe of P
        are computer-verified at the four panels (statement 13). Numerically (float64) at λ̄ = 0.135 the unstable
        manifold of the section map's symmetric saddle (the fixed point of statement 11; eigenvalue 5.748 of DP,
        33.04 of DP²) meets Fix(R) transversally (W^u and W^s cross at 0.72°): a candidate, not a proof
@@ -253,7 +253,7 @@ STATEMENTS = (
              "preserves dθ∧dp̄θ + dψ∧dp̄ψ; on the level's tangents with dψ = 0 the flow direction adds nothing)",
              "proved", "the argument of magrod/proof/periodic.py (step 5), from report key validated_fields")],
        phrases=(r"fixed point of (the section map )?P", r"section map's (symmetric )?saddle", r"h = 9/10")),
-    _s("12", "a horseshoe of the section map on Fig 4's own level h = 9/10, panels (a), (b) and (c)",
+    _s("12", "a horseshoe of the section map on Fig 4's own level h = 9/10, every panel",
        """At (m, μ, γ, δ) = (17/10, 2/5, 3, 3) and λ̄ = 27/200 (panel (a)) and 63/400 (panel (b)), on Fig 4's own
        level h = 9/10, the section map P of {sin ψ = 0, d sin ψ/dt > 0} has positive topological entropy: a
        compact forward-invariant set Λ with h_top(P|Λ) ≥ log ρ > 0.0882, ρ the largest root of x²⁸ = x²⁷ + 1 (a),
@@ -290,7 +290,13 @@ STATEMENTS = (
        1.988829300900816 --level 0.9 --m 1.7 --mu 0.4 --gamma 3 --delta 3 --lam 0.175 --design fig4c --branch
        pi --root smallest`; prove 450–452 s, verify 83 s with the two-process verifier, 165 s in one; (a′) ≥ 0.120,
        (b) ≥ 1.199).
-       Panel (d) is not proved.""",
+       Panel (d) (λ̄ = 93/500, the panel the chaos indicator calls regular): h_top(P|Λ) ≥ log ρ > 0.0437, ρ the
+       largest root of x⁷² = x⁷¹ + 1, from 37 h-sets along the homoclinic orbit of the weak saddle of statement 11
+       (μ_u = 1.615; W^u meets Fix(R) at the 35th return; N30, N31 in 4 × 4 and 8 × 8 pieces, N32–N34 in 2 × 2,
+       the orbit passing within 0.0103 of θ = π), a thin chaotic layer (horseshoe_fig4d.json, `magrod prove
+       --horseshoe 3.057288 --level 9/10 --m 17/10 --mu 2/5 --gamma 3 --delta 3 --lam 93/500 --design fig4d`;
+       prove 587 s on one core, the centres by the Taylor-model integrator; verify 1131 checks, 282 s on 2 cores;
+       (a′) ≥ 0.0496, (b) ≥ 1.15).""",
        [Step("the covering relations, the symmetry of N0 and Nk, the disjointness, the cover by pieces, the "
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
              "section_horseshoe)"),
@@ -537,11 +543,11 @@ def render_summary() -> str:
             f"involution with m3), and near the perturbative regime, is **{status('7b')}** (7b; 4 rests on the "
             f"formal expansion 3). On Fig 4's own level h = 9/10 the section map has a hyperbolic fixed point (a "
             f"saddle) at panels (a), (b), (d) (**{status('11')}**, 11; at (a) for every λ̄ in 0.135 ± 2.1·10⁻⁵, by 21 "
-            f"boxes of 2·10⁻⁶), and at panels (a), (b) and (c) a horseshoe: "
+            f"boxes of 2·10⁻⁶), and at every panel a horseshoe: "
             f"positive topological entropy of the section map (**{status('12')}**, 12, covering relations along the "
             f"saddle's homoclinic orbit, at (c) around a period-6 orbit of P; at (a) for every λ̄ in 0.135 ± "
-            f"2·10⁻¹¹); at panel (d) chaos there is **{status('10')}** evidence only "
-            f"(10). In sec. 9's regime (λ̄ = 2, γ ≪ 1), on Fig 5's own level h = 4/5 (μ = 2λ̄ = 4, δ = 1/4): a "
+            f"2·10⁻¹¹; at (d), which the chaos indicator calls regular, a thin chaotic layer); the indicator's "
+            f"classification of the panels is **{status('10')}** evidence (10). In sec. 9's regime (λ̄ = 2, γ ≪ 1), on Fig 5's own level h = 4/5 (μ = 2λ̄ = 4, δ = 1/4): a "
             f"saddle of the section map at the four panels' γ and a horseshoe at each (**{status('13')}**, "
             f"13; at γ = 3/20 the saddle for every λ̄ in 2 ± 10⁻⁵, the horseshoe in 2 ± 2·10⁻¹¹). The paper's own "
             f"argument (sec. 7) does not prove it (1)."))
@@ -559,8 +565,8 @@ def render_readme() -> str:
             f"m3; the perturbative regime) is **{status('7b')}**; on Fig 4's own level h = 9/10 a saddle of the section "
             f"map at three of the four panels is **{status('11')}** (at (a) for every λ̄ in 0.135 ± 2.1·10⁻⁵), a "
             f"horseshoe of the section map (positive "
-            f"topological entropy) at panels (a), (b) and (c) is **{status('12')}** (statement 12; at (a) for every λ̄ in "
-            f"0.135 ± 2·10⁻¹¹), on Fig 5's own level h = 4/5 "
+            f"topological entropy) at all four panels is **{status('12')}** (statement 12; at (a) for every λ̄ in "
+            f"0.135 ± 2·10⁻¹¹; at (d), which the chaos indicator calls regular, too), on Fig 5's own level h = 4/5 "
             f"(sec. 9's regime: λ̄ = 2, γ ≪ 1) a saddle of the section map at the four panels and a horseshoe at "
             f"each are **{status('13')}** (statement 13), and the chaos of Figs 4–5 "
             f"elsewhere is **{status('10')}** evidence "
