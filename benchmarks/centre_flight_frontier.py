@@ -49,7 +49,8 @@ import numpy as np
 
 def _setup():
     from magrod.proof import fields
-    from magrod.proof.horseshoe import dyadic, t_approach
+    from magrod.proof.provers.horseshoe_design import dyadic
+    from magrod.proof.provers.section_horseshoe import t_approach
 
     c = json.loads(resources.files("magrod.proof").joinpath("certificates", "fixed_point_fig4b.json").read_text())
     p = fields.ExactParams(**{k: Fraction(v) for k, v in c["params"].items()})

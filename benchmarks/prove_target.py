@@ -16,12 +16,13 @@ from fractions import Fraction
 
 
 def proof(args):
-    from magrod.proof import search, verify
+    from magrod.proof import verify
+    from magrod.proof.provers import transverse_homoclinic
 
-    p = search.validate_params("1.7", "0.04", "1", "1", "0.01")
+    p = transverse_homoclinic.validate_params("1.7", "0.04", "1", "1", "0.01")
     t0 = time.perf_counter()
     stages = []
-    res = search.prove(p, progress=lambda m: stages.append((m, time.perf_counter() - t0)))
+    res = transverse_homoclinic.prove(p, progress=lambda m: stages.append((m, time.perf_counter() - t0)))
     t_prove = time.perf_counter() - t0
     print(f"prove: ok={res.ok} ({res.reason}) in {t_prove:.1f} s; stages: "
           + ", ".join(f"{m} at {t:.1f} s" for m, t in stages))

@@ -3,7 +3,7 @@ side with the shipped certificate in one process, one core (workers=1), in alter
 verification, the steps each replays, and whether the theorems are the same.
 
 The shipped certificate flies its centres by taylor.py at tol_thin 1e-32 and its sets at 1e-25.  The re-proved ones
-(the prover horseshoe.prove with the design "fig4a" and only these settings changed):
+(the prover section_horseshoe.prove with the design "fig4a" and only these settings changed):
   * "thin":     thin_integrator "taylor_model", tol_thin 1e-25 (centres); sets by taylor.py at 1e-25;
   * "thin+box": the sets by taylor_model too (integrator "taylor_model"), at tol 1e-22.
 
@@ -48,14 +48,15 @@ def main():
     ap.add_argument("--out", default=None)
     ap.add_argument("--reps", type=int, default=2)
     args = ap.parse_args()
-    from magrod.proof import fields, horseshoe
+    from magrod.proof import fields
+    from magrod.proof.provers import horseshoe_design, section_horseshoe
 
     old = json.loads(resources.files("magrod.proof").joinpath("certificates", "horseshoe_fig4a.json").read_text())
     if args.prove:
         p = fields.ExactParams(**{k: Fraction(v) for k, v in old["params"].items()})
-        st = horseshoe.HorseshoeSettings(**DESIGNS[args.prove])
+        st = horseshoe_design.HorseshoeSettings(**DESIGNS[args.prove])
         t0, c0 = time.perf_counter(), time.process_time()
-        pr = horseshoe.prove(p, Fraction(old["level"]), Fraction(old["design"]["x0_theta"]), st)
+        pr = section_horseshoe.prove(p, Fraction(old["level"]), Fraction(old["design"]["x0_theta"]), st)
         print({"ok": pr.ok, "reason": pr.reason, "wall_s": round(time.perf_counter() - t0, 1),
                "cpu_s": round(time.process_time() - c0, 1)}, flush=True)
         if pr.ok and args.name:

@@ -2,7 +2,7 @@
 section map's saddle x0 (statement 11).  Measurements, not a proof.
 
 1. DP over a box N = x0 + T([-rho, rho]^2) (T = [e_u, e_s], the float eigenvectors of DP(x0) from the certificate's
-   A): the C^1 flight of N for one full return (the phases of magrod/proof/periodic.py, then the positive crossing),
+   A): the C^1 flight of N for one full return (the phases of magrod/proof/provers/section_fixed_point.py, then the positive crossing),
    M = T^-1 DP T over N, and the cone slope L for which Zgliczynski's cone condition Q(Mv) > Q(v),
    Q(u, s) = u^2 - s^2/L^2, holds for every M in the enclosure (the smallest of a ladder of L).
 2. The thickness budget of the homoclinic arc: a W^u point at distance u from x0 is known to within L u in s.
@@ -21,7 +21,8 @@ from importlib import resources
 import numpy as np
 from flint import arb
 
-from magrod.proof import ball, fields, periodic, taylor
+from magrod.proof import ball, fields, taylor
+from magrod.proof.provers import section_fixed_point
 
 OUT = next((a for a in sys.argv[1:] if not a.startswith("--")), "fig4_homoclinic_budget.json")
 TH, PS, PT, PP = fields.THETA, fields.PSI, fields.PTHETA, fields.PPSI
@@ -29,8 +30,8 @@ TH, PS, PT, PP = fields.THETA, fields.PSI, fields.PTHETA, fields.PPSI
 
 def full_return(p, h, fld, Q, t_a, lead, module=fields.gen):
     """C^1 flight of the chart box Q through one return of P (positive crossing at the end): (crossing, tangents)."""
-    g, dg, base = periodic.chart_section(p, module)
-    first, _ = periodic.phase_guards(p, fld, module)
+    g, dg, base = section_fixed_point.chart_section(p, module)
+    first, _ = section_fixed_point.phase_guards(p, fld, module)
 
     def general(Y):  # no positive crossing: sin psi excludes 0, or d(sin psi)/dt < 0
         s = Y[PS].sin()
@@ -38,7 +39,7 @@ def full_return(p, h, fld, Q, t_a, lead, module=fields.gen):
             return base(Y) + [arb(1)]
         return base(Y) + [-(Y[PS].cos() * fld.f(Y)[PS])]
 
-    S = periodic.initial_box(p, Q[TH], Q[PP])
+    S = section_fixed_point.initial_box(p, Q[TH], Q[PP])
     S.r0 = ball.vec([a - a.mid() for a in Q])
     S.xbar = ball.vec([a.mid() for a in Q])
     tr = taylor.Trajectory()
@@ -50,7 +51,7 @@ def full_return(p, h, fld, Q, t_a, lead, module=fields.gen):
 
 def main():
     cert = json.loads(resources.files("magrod.proof").joinpath("certificates", "fixed_point_fig4a.json").read_text())
-    p, h = periodic.validate(*(cert["params"][k] for k in ("m", "mu", "gamma", "delta", "lam")), cert["level"])
+    p, h = section_fixed_point.validate(*(cert["params"][k] for k in ("m", "mu", "gamma", "delta", "lam")), cert["level"])
     fld = fields.chart_field(p)
     enc = {k: float(Fraction(v["mid"])) for k, v in cert["flights"]["box"]["enclosures"].items()}
     A = np.array([[enc["dth_theta"], enc["dpt_theta"]], [enc["dth_ptheta"], enc["dpt_ptheta"]]])
@@ -78,7 +79,7 @@ def main():
             # pbar_psi over the box by interval Newton (Hbar(theta, 0, pt, .) = h)
             P0 = ball.interval(pc - 1000 * rho, pc + 1000 * rho)
             Hc = fields.gen.chart_hamiltonian([th, arb(0), pt, ball.q(pc)], p.balls())[0]
-            dH = periodic.ham_gradient(p, [th, arb(0), pt, P0])[PP]
+            dH = section_fixed_point.ham_gradient(p, [th, arb(0), pt, P0])[PP]
             N = ball.q(pc) - (Hc - ball.q(h)) / dH
             row = {"rho": float(rho), "level_newton_inside": ball.subset(N, P0)}
             Q = [th, arb(0), pt, N]
@@ -89,7 +90,7 @@ def main():
                 out["rows"].append(row)
                 print(row, flush=True)
                 continue
-            q = periodic.section_quantities(p, fld, cr, periodic.tangents(p, Q))
+            q = section_fixed_point.section_quantities(p, fld, cr, section_fixed_point.tangents(p, Q))
             DPb = arb_mat2([[q["dth_theta"], q["dpt_theta"]], [q["dth_ptheta"], q["dpt_ptheta"]]])
             M = Ti * DPb * Tm
             Mf = [[(float(M[i, j].mid()), float(M[i, j].rad())) for j in range(2)] for i in range(2)]

@@ -1,6 +1,6 @@
 """Fig 4(a) on h = 9/10: the float design of a covering-relation horseshoe (Zgliczynski & Gidea
 2004) along the homoclinic orbit of the saddle x0 of the section map P (statement 11).  Numerical (float64 heyoka,
-reduced chart, tol 1e-15); it chooses the sets that magrod/proof/horseshoe.py then proves, and reports the float
+reduced chart, tol 1e-15); it chooses the sets that magrod/proof/provers/section_horseshoe.py then proves, and reports the float
 margins of the covering conditions per link.  Not a proof.
 
 The sets (section coordinates (theta, pbar_theta) on Sigma+ = {sin psi = 0, d sin psi/dt > 0} of Hbar = 9/10,
@@ -12,7 +12,7 @@ with z_0 = x0 + s* e_u the start of the float homoclinic excursion (W^u of x0 me
 e_u^j the tangent of W^u at c_j (DP pushed forward) and e_s^j that of W^s = R(W^u) (R e_u^k pulled back by DP^-1),
 so that DP maps the frame of N_j onto that of N_{j+1} up to scalings.  c_{k-1} is moved along e_u^{k-1} so that
 P(c_{k-1}) lies on Fix(R) (a one-return Newton step; the u-offset this leaves at the link k-2 -> k-1 is reported).  Sizes: the rule of
-magrod/proof/horseshoe.sizes (margins 3 in (a) and (b)).  At the scale of the proof (dist(x0, c_1) ~ 4e-10 for
+magrod.proof.provers.horseshoe_design.sizes (margins 3 in (a) and (b)).  At the scale of the proof (dist(x0, c_1) ~ 4e-10 for
 m = 5) the float map cannot resolve the sets (its error ~1e-15 against widths ~1e-13): the prover recomputes the
 chain with the validated flights; this script shows the geometry and the linear margins.
 
@@ -33,15 +33,16 @@ from importlib import resources
 
 import numpy as np
 
-from magrod.proof import fields, horseshoe
-from magrod.proof.horseshoe import R2, unit
+from magrod.proof import fields
+from magrod.proof.provers import horseshoe_design
+from magrod.proof.provers.horseshoe_design import R2, unit
 
 OUT = next((a for a in sys.argv[1:] if not a.startswith("--")), "fig4_horseshoe_design.json")
 M_BACK = int(next((a.split("=", 1)[1] for a in sys.argv[1:] if a.startswith("--m=")), 2))
 
 
-class FloatMap(horseshoe.FloatMap):
-    """The prover's float section map (magrod/proof/horseshoe.FloatMap), counting its calls."""
+class FloatMap(horseshoe_design.FloatMap):
+    """The prover's float section map (magrod.proof.provers.horseshoe_design.FloatMap), counting its calls."""
 
     calls = 0
 
@@ -52,8 +53,8 @@ class FloatMap(horseshoe.FloatMap):
 
 def design(P: FloatMap, x0, m=2, s_star=2.431508147212876e-06, n_exc=8):
     """The chain of centres and frames (module docstring): e_u(x0) and the refined s* from the prover's
-    `horseshoe.float_design`; here the centres are the float P^-m(z_0) and its images, with both frames."""
-    fd = horseshoe.float_design(P, x0, 0, s_star, n_exc)
+    `horseshoe_design.float_design`; here the centres are the float P^-m(z_0) and its images, with both frames."""
+    fd = horseshoe_design.float_design(P, x0, 0, s_star, n_exc)
     eu, s = fd["e_u0"], fd["s_star"]
     z = x0 + s * eu
     for _ in range(m):
@@ -138,7 +139,7 @@ def main():
     l0 = dist / 3
     lam = [float(np.linalg.norm(D @ u)) for D, u in zip(d["DP"], d["e_u"][:-1])]
     sig = [float(np.linalg.norm(D @ s)) for D, s in zip(d["DP"], d["e_s"][:-1])]
-    ls, ws = horseshoe.sizes(lam, sig, dist / 6, 3.0, 3.0)
+    ls, ws = horseshoe_design.sizes(lam, sig, dist / 6, 3.0, 3.0)
     l, w, lk = ls, ws, ls[-1]
     sets = sets_of(d, l0, ls, ws)
     k = len(sets) - 1

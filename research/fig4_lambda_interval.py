@@ -1,5 +1,5 @@
 """Statement 11 over a lambdabar interval at Fig 4(a) (h = 9/10): adjacent lambdabar boxes
-[c_i - w, c_i + w], c_i = 27/200 + 2 i w (i = -n .. n), each proved by `periodic.prove` with lambdabar carried as a
+[c_i - w, c_i + w], c_i = 27/200 + 2 i w (i = -n .. n), each proved by `section_fixed_point.prove` with lambdabar carried as a
 state variable (fields.lam_state_field) and re-checked by the complete verifier; their union is
 [27/200 - (2n + 1) w, 27/200 + (2n + 1) w].  Writes each certificate to DIR and a summary (widths, costs).
 
@@ -17,7 +17,8 @@ import time
 from fractions import Fraction
 from pathlib import Path
 
-from magrod.proof import periodic, verify
+from magrod.proof import verify
+from magrod.proof.provers import section_fixed_point
 
 DIR = Path(next(a for a in sys.argv[1:] if not a.startswith("--")))
 W = Fraction(next((a.split("=", 1)[1] for a in sys.argv[1:] if a.startswith("--w=")), "1/1000000"))
@@ -31,9 +32,9 @@ def main():
     t_all = time.perf_counter()
     for i in range(-NB, NB + 1):
         c = Fraction(27, 200) + 2 * i * W
-        p, h = periodic.validate("17/10", "2/5", "3", "3", c, "9/10")
-        st = periodic.FixedPointSettings(lam_rad=W, r=K * W, p_rad=max(Fraction(1, 10**8), 16 * (K + 1) * W))
-        res = periodic.prove(p, h, 0.3830461903149033, st)
+        p, h = section_fixed_point.validate("17/10", "2/5", "3", "3", c, "9/10")
+        st = section_fixed_point.FixedPointSettings(lam_rad=W, r=K * W, p_rad=max(Fraction(1, 10**8), 16 * (K + 1) * W))
+        res = section_fixed_point.prove(p, h, 0.3830461903149033, st)
         row = {"lam_c": f"{c.numerator}/{c.denominator}", "w": str(W), "ok": res.ok, "reason": res.reason,
                "prove_s": round(res.wall_time_s, 1)}
         if res.ok:

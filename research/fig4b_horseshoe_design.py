@@ -1,13 +1,13 @@
 """Fig 4(b) on h = 9/10: the float design of the covering-relation horseshoe of
-magrod/proof/horseshoe.py, with 4-D states (the excursion visits the psi = pi branch of Sigma+ at returns 12-14, which
+magrod/proof/provers/section_horseshoe.py, with 4-D states (the excursion visits the psi = pi branch of Sigma+ at returns 12-14, which
 the 2-D design of research/fig4_horseshoe_design.py cannot follow).  Numerical (float64 heyoka, reduced chart, tol
 1e-15); it chooses the geometry that the prover then proves, and reports per link the linear margins of the covering
 conditions at the proof's own scale.  Not a proof.
 
-The chain is the prover's (horseshoe._prove): c_1 = x0 + t e_u, t = s* mu_u^-m, its k - 1 = n_exc + m images by
+The chain is the prover's (section_horseshoe._prove): c_1 = x0 + t e_u, t = s* mu_u^-m, its k - 1 = n_exc + m images by
 the float map (4-D: each centre keeps its psi branch and its pbar_psi root), c_1 shifted along e_u by float Newton
-steps so that pbar_theta(c_k) = 0, the frames by horseshoe._frame_from (W^u pushed forward, W^s = R e_u^k pulled
-back), the sizes by horseshoe.sizes with the given margins.  For each link N => M (N0 => N0, N0 => N1, Nj => Nj+1):
+steps so that pbar_theta(c_k) = 0, the frames by section_horseshoe._frame_from (W^u pushed forward, W^s = R e_u^k pulled
+back), the sizes by horseshoe_design.sizes with the given margins.  For each link N => M (N0 => N0, N0 => N1, Nj => Nj+1):
 
   linear   G = A_M^-1 DP(c_N) A_N, off = A_M^-1 (P(c_N) - c_M) (at the last link c_M := P(c_N): the float chain's
            end is float noise, ~3e-8 in pbar_theta at m = 3, which the prover's 128-bit Newton passes remove):
@@ -20,7 +20,7 @@ back), the sizes by horseshoe.sizes with the given margins.  For each link N => 
     python research/fig4b_horseshoe_design.py [out.json] [--design=fig4b] [--m=4] [--qu=1.5] [--qs=1.5] [--l0=0.5]
         [--l1=0.15] [--wcap=3] [--panel=b]
 
---design picks the prover's named design (magrod/proof/horseshoe.DESIGNS: fig4b, the default, or fig4a, Fig 4(a)'s
+--design picks the prover's named design (magrod.proof.provers.horseshoe_design.DESIGNS: fig4b, the default, or fig4a, Fig 4(a)'s
 geometry, margins 3); each other flag overrides one of its fields.  Stored runs (2 cores, load ~4, ~10 s each):
 fig4b_horseshoe_design.json (--design=fig4b, m = 4, the shipped certificate's geometry: every link's margins
 positive, (a') >= 0.3297, (b) >= 0.4995), fig4b_horseshoe_design_m3.json (--m=3, the first certificate's geometry:
@@ -40,8 +40,9 @@ from importlib import resources
 import numpy as np
 
 from magrod.chaos.section import solve_p_psi
-from magrod.proof import fields, horseshoe
-from magrod.proof.horseshoe import R2
+from magrod.proof import fields
+from magrod.proof.provers import horseshoe_design, section_horseshoe
+from magrod.proof.provers.horseshoe_design import R2
 
 TH, PS, PT, PP = fields.THETA, fields.PSI, fields.PTHETA, fields.PPSI
 
@@ -62,7 +63,7 @@ class Map4:
     """The float section map on (theta, pbar_theta) of a branch: psi = 0 or pi, pbar_psi the level's root nearest to
     a reference value (the chain's centre's)."""
 
-    def __init__(self, P: horseshoe.FloatMap):
+    def __init__(self, P: horseshoe_design.FloatMap):
         self.P, self.calls = P, 0
 
     def lift(self, z, br, pref):
@@ -126,7 +127,7 @@ def main(panel="b", design_name="fig4b"):
     panel = opt("panel", panel, str)
     name, s_guess, n_exc = PANELS[panel]
     dname = opt("design", design_name, str)  # a named design (magrod/proof/designs/NAME.json; fig4d: not proving)
-    st = horseshoe.design(dname)  # the prover's named design; each flag overrides one field
+    st = horseshoe_design.design(dname)  # the prover's named design; each flag overrides one field
     m_back = opt("m", st.m_back, int)
     qu, qs = opt("qu", st.qu), opt("qs", st.qs)
     l0_frac, l1_frac, w_cap = opt("l0", st.l0_frac), opt("l1", st.l1_frac), opt("wcap", st.w_cap)
@@ -134,21 +135,21 @@ def main(panel="b", design_name="fig4b"):
     cert = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
     ep = fields.ExactParams(*(Fraction(cert["params"][k]) for k in ("m", "mu", "gamma", "delta", "lam")))
     h = Fraction(cert["level"])
-    P = horseshoe.FloatMap(ep, h)
+    P = horseshoe_design.FloatMap(ep, h)
     M = Map4(P)
     th0 = float(Fraction(cert["point"]["theta_c"]))
     x0 = np.array([th0, 0.0])
     x0_4 = P.lift(x0)
-    fd = horseshoe.float_design(P, x0, 0, s_guess, n_exc)
+    fd = horseshoe_design.float_design(P, x0, 0, s_guess, n_exc)
     eu, mu, s = fd["e_u0"], fd["mu_u"], fd["s_star"]
     t, xs, brs, cs, resid = design(M, x0_4, eu, mu, s, m_back, n_exc)
     k = len(cs)
     d = float(np.hypot(cs[0][0] - x0[0], cs[0][1]))
     eps = opt("eps", 1e-9)  # central differences: float error ~1e-15 / eps, curvature ~eps^2
     DPs = [M.jac(c, b, x[PP], eps) for c, b, x in zip(cs[:-1], brs[:-1], xs[:-1])]
-    eus, ess, lam, sig = horseshoe._frame_from(DPs, eu)
+    eus, ess, lam, sig = section_horseshoe._frame_from(DPs, eu)
     L = d * l1_frac
-    ls, ws = horseshoe.sizes(lam, sig, L, qu, qs, w_cap * L)
+    ls, ws = horseshoe_design.sizes(lam, sig, L, qu, qs, w_cap * L)
     l0 = d * l0_frac
     sets = [(x0, np.column_stack([l0 * eu, l0 * (R2 @ eu)]), "0", x0_4[PP])]
     for j in range(k - 1):

@@ -3,7 +3,7 @@ covering-relation horseshoe around a symmetric PERIODIC orbit of the section map
 there).  Numerical (float64 heyoka, reduced chart, tol 1e-15): it chooses the geometry a prover would prove.  Not a
 proof.
 
-  1. The orbit (horseshoe.float_cycle): the fig4_candidates saddle "k = 6, theta = 1.98883, psi = pi" is a
+  1. The orbit (horseshoe_design.float_cycle): the fig4_candidates saddle "k = 6, theta = 1.98883, psi = pi" is a
      symmetric orbit of P of period 6 (k counts returns of P: x0 = 1.98883 and x3 = 2.79951 are its two points on
      Fix(R), the table's second "k = 6" entry is x3), |mu_u(DP^6)| = 5.685 (1.336 per return on average), the
      per-return stretches of the unit frame vectors printed below.
@@ -12,7 +12,7 @@ proof.
   3. The design: cycle sets N0 (symmetric, l0 = l0_frac d), N^1 .. N^(p-1) at x_1 .. x_(p-1) with
      l_(i+1) = lam_i l_i / q, w_(i+1) = q sig_i w_i (w_0 = l_0), so that N^(p-1) => N0 has the margin
      mu_u / q^(p-1) in both directions; the excursion chain C_1 = x0 + t e_u (t = s* mu_u^-m), C_(j+1) = P(C_j),
-     t shifted by float Newton so that C_k lies on Fix(R), sizes by horseshoe.sizes (qu, qs, L = l1_frac d, cap
+     t shifted by float Newton so that C_k lies on Fix(R), sizes by horseshoe_design.sizes (qu, qs, L = l1_frac d, cap
      w_cap L); links N0 => N^1 => ... => N^(p-1) => N0 and N^(p-1) => C_1 => ... => C_k.  Margins per link as in
      research/fig4b_horseshoe_design.py: linear, hull (DP at the four corners and the centre) and sampled.
      On the links C_j => C_(j+1) the target is centred at the float image P(C_j) itself: at the proof's scale
@@ -53,8 +53,9 @@ from fractions import Fraction
 import numpy as np
 
 import fig4_candidates as fc
-from magrod.proof import fields, horseshoe
-from magrod.proof.horseshoe import R2
+from magrod.proof import fields
+from magrod.proof.provers import horseshoe_design, section_horseshoe
+from magrod.proof.provers.horseshoe_design import R2
 
 TH, PS, PT, PP = fields.THETA, fields.PSI, fields.PTHETA, fields.PPSI
 PARAMS = fields.ExactParams.from_values(m=Fraction(17, 10), mu=Fraction(2, 5), gamma=3, delta=3, lam=Fraction(7, 40))
@@ -129,9 +130,9 @@ def main():
     qu, qs = opt("qu", 1.2), opt("qs", 1.15)
     l0_frac, l1_frac, w_cap = opt("l0", 0.6), opt("l1", 0.15), opt("wcap", 3.0)
     eps = opt("eps", 1e-9)
-    P = horseshoe.FloatMap(PARAMS, H, "pi", 0)
-    M = horseshoe.NearMap(P)
-    cyc = horseshoe.float_cycle(P, THETA_GUESS, PERIOD)
+    P = horseshoe_design.FloatMap(PARAMS, H, "pi", 0)
+    M = horseshoe_design.NearMap(P)
+    cyc = horseshoe_design.float_cycle(P, THETA_GUESS, PERIOD)
     p, mu = PERIOD, cyc["mu_u"]
     print("cycle: theta", cyc["theta"], "mu_u(DP^p)", mu, "det - 1", cyc["det"] - 1, "closure", cyc["closure"])
     print("  lam", [round(v, 4) for v in cyc["lam"]], "sig", [round(v, 4) for v in cyc["sig"]])
@@ -159,9 +160,9 @@ def main():
     cs[-1] = np.array([cs[-1][0], 0.0])
     d = t
     DPs = [M.jac(c, b, x[PP], eps) for c, b, x in zip(cs[:-1], brs[:-1], xs[:-1])]
-    eus, ess, lam, sig = horseshoe._frame_from(DPs, eu)
+    eus, ess, lam, sig = section_horseshoe._frame_from(DPs, eu)
     L = d * l1_frac
-    ls, ws = horseshoe.sizes(lam, sig, L, qu, qs, w_cap * L)
+    ls, ws = horseshoe_design.sizes(lam, sig, L, qu, qs, w_cap * L)
     # the cycle sets
     l0 = d * l0_frac
     lc, wc = [l0], [l0]
@@ -185,7 +186,7 @@ def main():
                           if kk not in ("G", "off", "float_offset")}), flush=True)
     mm = {kk: min(r[kk] for r in rows) for kk in ("lin_a", "lin_b", "hull_a", "hull_b", "smp_a", "smp_b")}
     L_B = 2 * (p + k - 1)
-    rho = float(horseshoe.entropy_root_lower_cycle(p, L_B))
+    rho = float(section_horseshoe.entropy_root_lower_cycle(p, L_B))
     out = {"params": {"m": "17/10", "mu": "2/5", "gamma": "3", "delta": "3", "lam": "7/40"}, "h": "9/10",
            "cycle": {kk: (v.tolist() if isinstance(v, np.ndarray) else
                           [x.tolist() if isinstance(x, np.ndarray) else x for x in v] if isinstance(v, list) else v)

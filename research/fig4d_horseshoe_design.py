@@ -1,7 +1,7 @@
 """Fig 4(d) (lambdabar = 93/500, h = 9/10, the panel the paper's indicator calls regular): the
 float search for the homoclinic point of the section saddle x0 of statement 11 (fixed_point_fig4d.json, psi = 0,
 |mu_u(DP)| = 1.615, return time 3.19) and the float design of the covering-relation horseshoe along it
-(magrod/proof/horseshoe.py, design "fig4d").  Numerical (float64 heyoka, reduced chart, tol 1e-15); it chooses the
+(magrod/proof/provers/section_horseshoe.py, design "fig4d").  Numerical (float64 heyoka, reduced chart, tol 1e-15); it chooses the
 geometry that the prover then proves.  Not a proof.
 
   1. W^u(x0) meets Fix(R): research/fig4_candidates.homoclinic_point (fundamental domain s in [1e-7, 1e-7 mu_u]

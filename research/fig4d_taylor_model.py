@@ -35,10 +35,10 @@ def main():
     ap.add_argument("--out", default=None)
     ap.add_argument("--cert", default=None, help="where the certificate goes if the prover issues one")
     args = ap.parse_args()
-    from magrod.proof import horseshoe, periodic
+    from magrod.proof.provers import horseshoe_design, section_fixed_point, section_horseshoe
 
-    st = dataclasses.replace(horseshoe.design("fig4d"), **VARIANTS[args.variant])
-    p, h = periodic.validate("17/10", "2/5", "3", "3", "93/500", "9/10")
+    st = dataclasses.replace(horseshoe_design.design("fig4d"), **VARIANTS[args.variant])
+    p, h = section_fixed_point.validate("17/10", "2/5", "3", "3", "93/500", "9/10")
     links = []
 
     def say(s):
@@ -48,7 +48,7 @@ def main():
             links.append({"from": int(m[1]), "to": int(m[2]), "a_margin": float(m[3]), "b_min_abs_yu": float(m[4])})
 
     t0, c0 = time.perf_counter(), time.process_time()
-    r = horseshoe.prove(p, h, X0_THETA, st, progress=say)
+    r = section_horseshoe.prove(p, h, X0_THETA, st, progress=say)
     out = {"variant": args.variant, "settings": st.as_json(), "ok": r.ok, "reason": r.reason, "links": links,
            "wall_s": round(time.perf_counter() - t0, 1), "cpu_s": round(time.process_time() - c0, 1)}
     print({k: out[k] for k in ("ok", "reason", "cpu_s")})

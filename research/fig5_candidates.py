@@ -13,7 +13,7 @@ For each gamma:
   1. symmetric fixed points of P: starts on Fix(R) = {pbar_theta = 0, psi in {0, pi}} on both branches and every
      root pbar_psi of the level, flown to the first NEGATIVE crossing of sin psi = 0 (the half-way point of a
      symmetric periodic orbit with one positive crossing per period); sign changes of pbar_theta there in theta
-     (a scan of 400 points) are refined by periodic.float_fixed_point (the prover's own search);
+     (a scan of 400 points) are refined by section_fixed_point.float_fixed_point (the prover's own search);
   2. DP(x0) (the prover's FloatMap.jac, central differences 1e-7), trace, det (area preservation: det = 1), the
      return time, and the range of theta along the orbit (the chart is singular at theta = 0, pi);
   3. for each hyperbolic one: the homoclinic points of W^u(x0) on Fix(R): points x0 + s e_u of two fundamental
@@ -37,8 +37,9 @@ import numpy as np
 
 from magrod.chaos.section import solve_p_psi
 from magrod.core import printed, systems
-from magrod.proof import fields, periodic
-from magrod.proof.horseshoe import FloatMap, unit
+from magrod.proof import fields
+from magrod.proof.provers import section_fixed_point
+from magrod.proof.provers.horseshoe_design import FloatMap, unit
 
 from fig4_candidates import bisect_on_fix_r  # research/ is the script's directory (sys.path[0])
 
@@ -163,7 +164,7 @@ def main():
         seen = set()
         for br, ri, lo, hi in fixed_point_brackets(p, rp):
             try:
-                th, x0, x1, tau = periodic.float_fixed_point(p, H, 0.5 * (lo + hi), root=ri, window=0.5 * (hi - lo),
+                th, x0, x1, tau = section_fixed_point.float_fixed_point(p, H, 0.5 * (lo + hi), root=ri, window=0.5 * (hi - lo),
                                                              branch=br)
             except Exception as err:  # noqa: BLE001
                 print("refine failed", br, ri, lo, err)

@@ -2,7 +2,7 @@
 which check fails first beyond it.
 
 For Fig 4(a) (h = 9/10, lambdabar = 27/200, theta* = 0.3830) and Fig 5(a) (h = 4/5, lambdabar = 2, mu = 4, the
-psi = pi branch) and a ladder of half-widths W: `periodic.prove` with lambdabar a fifth state variable (the theta-box
+psi = pi branch) and a ladder of half-widths W: `section_fixed_point.prove` with lambdabar a fifth state variable (the theta-box
 r = K W, K = 20 at 4(a), where theta* moves by ~17 W over the box, K = 2 at 5(a), where it moves by ~1.7 W), the
 outcome, the first check that fails, and the enclosures that decide it (tr DP(x0), the Fix(R) Newton radius and the
 entries b = dpbar_theta/dtheta, c = dtheta/dpbar_theta of the half-map A); then the complete verifier on every box that
@@ -34,7 +34,8 @@ def _f(d) -> list:
 
 
 def main():
-    from magrod.proof import periodic, verify
+    from magrod.proof import verify
+    from magrod.proof.provers import section_fixed_point
 
     ap = argparse.ArgumentParser()
     ap.add_argument("--out", default=None)
@@ -43,11 +44,11 @@ def main():
     rows = []
     t_all = time.perf_counter()
     for panel, pars, guess, root, branch, K, ladder in CASES:
-        p, h = periodic.validate(*pars)
+        p, h = section_fixed_point.validate(*pars)
         for w, shipped in ladder:
             W = Fraction(w)
-            st = periodic.FixedPointSettings(lam_rad=W, r=K * W, p_rad=max(Fraction(1, 10**8), 16 * (K + 1) * W))
-            res = periodic.prove(p, h, guess, st, root=root, branch=branch)
+            st = section_fixed_point.FixedPointSettings(lam_rad=W, r=K * W, p_rad=max(Fraction(1, 10**8), 16 * (K + 1) * W))
+            res = section_fixed_point.prove(p, h, guess, st, root=root, branch=branch)
             row = {"panel": panel, "lam_rad": w, "K": K, "ok": res.ok, "reason": res.reason[:200],
                    "prove_s": round(res.wall_time_s, 1)}
             if res.ok:

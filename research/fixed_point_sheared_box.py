@@ -22,7 +22,8 @@ from importlib import resources
 from flint import arb
 
 from magrod.generated import validated as gen
-from magrod.proof import ball, fields, periodic, section_return as sr, taylor
+from magrod.proof import ball, fields, section_return as sr, taylor
+from magrod.proof.provers import section_fixed_point
 
 
 def main():
@@ -31,7 +32,7 @@ def main():
     W = Fraction(c["settings"]["lam_rad"])
     K = Fraction(sys.argv[1]) if len(sys.argv) > 1 else Fraction(2)
     v = Fraction(sys.argv[2]) if len(sys.argv) > 2 else Fraction("-5.2336")
-    p, h = periodic.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
+    p, h = section_fixed_point.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
     thc, pc = Fraction(c["point"]["theta_c"]), Fraction(c["point"]["p_c"])
     with ball.workprec(128):
         fld = fields.lam_state_field(p)

@@ -1,5 +1,5 @@
 """How wide a lambdabar interval the homoclinic proof of statement 5 carries (lambdabar a parameter ball in every
-enclosure: magrod.proof.search.interval_params / interval_proof_settings; `magrod prove --lam-rad W`).
+enclosure: magrod.proof.provers.transverse_homoclinic.interval_params / interval_proof_settings; `magrod prove --lam-rad W`).
 
 For each half-width W at the target (m, mu, gamma, delta, lambdabar) = (17/10, 1/25, 1, 1, 1/100): prove
 (both targets psi = 0, pi), and record the outcome, the first check that fails, the phase arc the prover settled on,
@@ -22,12 +22,13 @@ WIDTHS = ("1/100000000000000", "1/10000000000000", "3/20000000000000", "1/500000
 
 
 def one(w: str) -> dict:
-    from magrod.proof import search, verify
+    from magrod.proof import verify
+    from magrod.proof.provers import transverse_homoclinic
 
-    p = search.validate_params("1.7", "0.04", "1", "1", "0.01")
-    st = search.interval_proof_settings(Fraction(w))
+    p = transverse_homoclinic.validate_params("1.7", "0.04", "1", "1", "0.01")
+    st = transverse_homoclinic.interval_proof_settings(Fraction(w))
     t0 = time.perf_counter()
-    res = search.prove(p, st)
+    res = transverse_homoclinic.prove(p, st)
     row = {"lam_rad": w, "ok": res.ok, "reason": res.reason[:240], "prove_s": round(time.perf_counter() - t0, 1),
            "saddle_radius": str(st.saddle_radius), "eig_rad": str(st.eig_rad)}
     if res.ok:

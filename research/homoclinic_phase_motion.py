@@ -4,7 +4,7 @@ The proof encloses W^u of the saddle-focus by a boundary circle x = x* + V_u r (
 saddle x*(1/100) and finds, by interval Newton in phi over an arc [phi_c - dphi, phi_c + dphi], the one phi* whose
 orbit crosses Fix(R) at psi = 0 (and at psi = pi).  On a lambdabar interval the Newton image must hold phi*(lambdabar)
 for every lambdabar of it, so its radius is at least |dphi*/dlambdabar| W, whatever the integrator.  Measured here
-in float64 (heyoka, the prover's own float search search._FloatFlow; central differences at lambdabar = 1/100 +- d):
+in float64 (heyoka, the prover's own float search transverse_homoclinic._FloatFlow; central differences at lambdabar = 1/100 +- d):
 
   fixed circle    the circle about x*(1/100) (what the certificate does: its saddle box holds x*(lambdabar));
   moving circle   the circle about x*(lambdabar) (the saddle re-found at each lambdabar; V, r unchanged).
@@ -26,28 +26,30 @@ import numpy as np
 
 
 def phases(lam: Fraction, centre=None):
-    from magrod.proof import ball, fields, saddle, search
+    from magrod.proof import ball, fields, saddle
+    from magrod.proof.provers import transverse_homoclinic
 
-    p = search.validate_params("1.7", "0.04", "1", "1", lam)
+    p = transverse_homoclinic.validate_params("1.7", "0.04", "1", "1", lam)
     fld = fields.chart_field(p)
-    sd = search._float_saddle(p)
+    sd = transverse_homoclinic._float_saddle(p)
     xhat = saddle.refine(fld, [float(v) for v in sd.q])
     J = ball.to_floats(fld.df(xhat).mid())
     w, Vc = np.linalg.eig(J)
     iu = [i for i in range(len(w)) if w[i].real > 0 and w[i].imag > 0]
     is_ = [i for i in range(len(w)) if w[i].real < 0 and w[i].imag > 0]
-    Vf = np.column_stack(search._real_basis(Vc[:, iu[0]]) + search._real_basis(Vc[:, is_[0]]))
+    Vf = np.column_stack(transverse_homoclinic._real_basis(Vc[:, iu[0]]) + transverse_homoclinic._real_basis(Vc[:, is_[0]]))
     return p, xhat, Vf
 
 
 def main(argv=None):
-    from magrod.proof import ball, search
+    from magrod.proof import ball
+    from magrod.proof.provers import transverse_homoclinic
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=None)
     a = ap.parse_args(argv)
     t0 = time.perf_counter()
-    st = search.ProofSettings()
+    st = transverse_homoclinic.ProofSettings()
     lam0 = Fraction(1, 100)
     _, x0, V0 = phases(lam0)
     V = ball.exact_matrix(V0.tolist())
@@ -61,7 +63,7 @@ def main(argv=None):
                 for s in (-1, 1):
                     p, xs, _ = phases(lam0 + s * d)
                     centre = x0 if mode == "fixed" else xs
-                    vals.append(search._FloatFlow(p, centre, V, st.r).phase(val)[0])
+                    vals.append(transverse_homoclinic._FloatFlow(p, centre, V, st.r).phase(val)[0])
                 phi[tgt] = (vals[1] - vals[0]) / (2 * float(d))
             out[mode] = phi
         rows.append(out)

@@ -1,7 +1,7 @@
 """Where a horseshoe certificate's covering margin (a') goes (Fig 5(b)'s thin N8 => N9 margin).
 
 For every link N_i => N_j and piece X of N_i, the image in N_j's coordinates is enclosed by the mean-value form
-(horseshoe.image_in)
+(section_horseshoe.image_in)
     y_s in off_s + G_su [-1, 1] + G_ss [-1, 1],      1 - max |y_s| = (a') margin,
 with off = A_j^-1 (P(c_X) - c_j) the centre's offset, G = A_j^-1 [DP(X)] A_X.  The design maps frame to frame, so
 mid(G_su) ~ 0 and G_ss ~ 1 / qs; what is left of (a') after the linear part 1 - |G_ss| is spent on |off_s| and on
@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 from flint import arb
 
-from magrod.proof import horseshoe
+from magrod.proof.provers import section_horseshoe
 
 ROOT = Path(__file__).resolve().parent.parent
 DEFAULT = ROOT / "magrod" / "proof" / "certificates" / "horseshoe_fig5b.json"
@@ -65,8 +65,8 @@ def decompose(cert: dict) -> list[dict]:
                 e = pr["enclosures"]
                 f = {"Pc": [_ball(x) for x in e["Pc"]], "DP": [[_ball(x) for x in r] for r in e["DP"]]}
                 piece = [Fraction(x) for x in pr["piece"]]
-                _, AX = horseshoe.piece_geometry(*sets[i], piece)
-                off, G = horseshoe.image_in(sets[j], f, AX)
+                _, AX = section_horseshoe.piece_geometry(*sets[i], piece)
+                off, G = section_horseshoe.image_in(sets[j], f, AX)
                 DP = [x for r in f["DP"] for x in r]
                 AXf, Aj = np.array(AX, float), np.array(sets[j][1], float)
                 gss = G[1][1]

@@ -5,7 +5,7 @@ the shipped one, in one process, alternating (CPU and wall per verification, the
     python research/reprove_taylor_model.py fig4b --out /tmp/horseshoe_fig4b_tm.json          # prove
     python research/reprove_taylor_model.py fig4b --compare /tmp/horseshoe_fig4b_tm.json --reps 1
 
-The design is the certificate's named design (magrod.proof.horseshoe.DESIGNS: fig4a, fig4b, fig4c) or, for the
+The design is the certificate's named design (magrod.proof.provers.horseshoe_design.DESIGNS: fig4a, fig4b, fig4c) or, for the
 Fig 5 panels, the design "fig4a" with the certificate's own recorded settings (branch, root, m_back, n_exc, margins,
 passes) and s* from its design record.  Integrators: centres "taylor_model" at tol_thin (default 1e-25), sets
 "taylor_model" at tol (default 1e-22) -- benchmarks/reprove_fig4a_taylor_model.py measured these on Fig 4(a).
@@ -27,10 +27,10 @@ def _shipped(name: str) -> dict:
 
 def settings_for(name: str, cert: dict, tol_thin: float, tol: float):
     """HorseshoeSettings of the shipped certificate `name`, the integrators replaced."""
-    from magrod.proof import horseshoe
+    from magrod.proof.provers import horseshoe_design
 
-    if name in horseshoe.DESIGNS:
-        st = horseshoe.DESIGNS[name]()
+    if name in horseshoe_design.DESIGNS:
+        st = horseshoe_design.DESIGNS[name]()
     else:
         s = cert["settings"]
         kw = {k: s[k] for k in ("m_back", "n_exc", "qu", "qs", "l0_frac", "l1_frac", "w_cap", "branch", "root",
@@ -39,7 +39,7 @@ def settings_for(name: str, cert: dict, tol_thin: float, tol: float):
         kw["s_star"] = float(cert["design"]["s_star"])
         for k in ("p_rad", "t1", "lead"):
             kw[k] = Fraction(s[k])
-        st = horseshoe.HorseshoeSettings(**kw)
+        st = horseshoe_design.HorseshoeSettings(**kw)
     return dataclasses.replace(st, thin_integrator="taylor_model", integrator="taylor_model", tol_thin=tol_thin,
                                tol=tol)
 
@@ -59,14 +59,15 @@ def main():
     ap.add_argument("--workers", type=int, default=1)
     ap.add_argument("--json", help="--compare: write the measurement here")
     args = ap.parse_args()
-    from magrod.proof import fields, horseshoe, verify
+    from magrod.proof import fields, verify
+    from magrod.proof.provers import section_horseshoe
 
     old = _shipped(args.name)
     if args.out:
         p = fields.ExactParams(**{k: Fraction(v) for k, v in old["params"].items()})
         st = settings_for(args.name, old, args.tol_thin, args.tol)
         t0, c0 = time.perf_counter(), time.process_time()
-        pr = horseshoe.prove(p, Fraction(old["level"]), Fraction(old["design"]["x0_theta"]), st,
+        pr = section_horseshoe.prove(p, Fraction(old["level"]), Fraction(old["design"]["x0_theta"]), st,
                              progress=lambda s: print(f"[{time.perf_counter() - t0:7.1f} s] {s}", flush=True))
         print({"ok": pr.ok, "reason": pr.reason, "wall_s": round(time.perf_counter() - t0, 1),
                "cpu_s": round(time.process_time() - c0, 1)}, flush=True)

@@ -33,7 +33,7 @@ from magrod.orbits import multipulse
 from magrod.orbits import periodic as PER
 from magrod.orbits import periodic_multipulse as hp
 from magrod.orbits.equilibrium import straight_rod
-from magrod.proof import search
+from magrod.proof.provers import horseshoe_design, transverse_homoclinic
 from magrod.separatrix import splitting as S
 
 README = RodParams(1.7, 0.4, 3, 3, 0.135)  # the README's library example: the periodic saddle of Fig 4(a)
@@ -194,11 +194,9 @@ def test_saddles_do_not_depend_on_lapack(scrambled_eig, reference_saddles, seed)
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_the_horseshoe_designs_unstable_direction_does_not_see_lapack(scrambled_eig, seed):
-    """horseshoe.unstable_eigen (the float designs' e_u of DP and DP^p) against the closed form of a 2 x 2 saddle
+    """horseshoe_design.unstable_eigen (the float designs' e_u of DP and DP^p) against the closed form of a 2 x 2 saddle
     (mu = tr/2 + sign(tr) sqrt(tr^2/4 - det), e_u parallel to (b, mu - a)), with LAPACK's pairs permuted and signed
     and, separately, multiplied by complex unit phases."""
-    from magrod.proof import horseshoe
-
     D = np.array([[-3.80106855684721, 1.25530845830605], [2.4, -0.55]])
     tr, det = np.trace(D), np.linalg.det(D)
     mu = tr / 2 + math.copysign(math.sqrt(tr * tr / 4 - det), tr)
@@ -206,28 +204,28 @@ def test_the_horseshoe_designs_unstable_direction_does_not_see_lapack(scrambled_
     ref = ref / np.linalg.norm(ref) * math.copysign(1.0, ref[0])
     scrambled_eig(seed)
     for phi in (0.0, 0.5, math.pi / 2, 2.0, math.pi):
-        got_mu, got = horseshoe.unstable_eigen(D) if phi == 0.0 else _phased(horseshoe, D, phi)
+        got_mu, got = horseshoe_design.unstable_eigen(D) if phi == 0.0 else _phased(horseshoe_design, D, phi)
         assert abs(got_mu - mu) <= 1e-13 * abs(mu)
         np.testing.assert_allclose(got, ref, atol=1e-14)
 
 
-def _phased(horseshoe, D, phi):
+def _phased(design, D, phi):
     eig = np.linalg.eig
     try:
         np.linalg.eig = lambda a: (lambda w, V: (w, V * np.exp(1j * phi)))(*eig(a))
-        return horseshoe.unstable_eigen(D)
+        return design.unstable_eigen(D)
     finally:
         np.linalg.eig = eig
 
 
 def test_the_proof_basis_does_not_see_the_phase():
-    """The computer-assisted proof's real basis of the unstable plane (magrod.proof.search._real_basis): the
+    """The computer-assisted proof's real basis of the unstable plane (magrod.proof.provers.transverse_homoclinic._real_basis): the
     same for every unit factor of the eigenvector, sign included, so the certificate is the same everywhere."""
     rng = np.random.default_rng(5)
     v = rng.normal(size=4) + 1j * rng.normal(size=4)
-    ref = search._real_basis(v)
+    ref = transverse_homoclinic._real_basis(v)
     for phi in np.linspace(0, 2 * np.pi, 9):
-        got = search._real_basis(np.exp(1j * phi) * v)
+        got = transverse_homoclinic._real_basis(np.exp(1j * phi) * v)
         np.testing.assert_allclose(got[0], ref[0], atol=1e-14)
         np.testing.assert_allclose(got[1], ref[1], atol=1e-14)
 

@@ -13,7 +13,8 @@ from fractions import Fraction
 import pytest
 
 from magrod.cli import main
-from magrod.proof import ball, fields, search, verify
+from magrod.proof import ball, fields, verify
+from magrod.proof.provers import transverse_homoclinic
 
 TARGET = ("1.7", "0.04", "1", "1", "0.01")  # m, mu, gamma, delta, lam
 ARGS = ["--m", "1.7", "--mu", "0.04", "--gamma", "1", "--delta", "1", "--lam", "0.01"]
@@ -143,8 +144,8 @@ def test_mutated_field_fails_to_prove(tmp_path, capsys):
 
 def test_mutated_body_field_fails_to_prove():
     """A sign flipped in the body field (the flight) instead of the chart field."""
-    p = search.validate_params(*TARGET)
-    res = search.prove(p, search.ProofSettings(targets=("pi",)), module=fields.mutated_module(0, "body_rhs"))
+    p = transverse_homoclinic.validate_params(*TARGET)
+    res = transverse_homoclinic.prove(p, transverse_homoclinic.ProofSettings(targets=("pi",)), module=fields.mutated_module(0, "body_rhs"))
     assert not res.ok and res.certificate is None
     print("\nmutated body field:", res.reason)
 
@@ -152,15 +153,15 @@ def test_mutated_body_field_fails_to_prove():
 @pytest.mark.slow
 def test_gamma_delta_zero_control_fails_to_prove():
     """gamma = delta = 0: inextensible, unshearable, integrable for every lambdabar."""
-    p = search.validate_params("1.7", "0.04", "0", "0", "0.01")
-    res = search.prove(p, search.ProofSettings(targets=("0",)))
+    p = transverse_homoclinic.validate_params("1.7", "0.04", "0", "0", "0.01")
+    res = transverse_homoclinic.prove(p, transverse_homoclinic.ProofSettings(targets=("0",)))
     assert not res.ok and "transversality not established" in res.reason and "contains 0" in res.reason
 
 
 @pytest.mark.slow
 def test_full_target_proof_and_verification(tmp_path):
-    p = search.validate_params(*TARGET)
-    res = search.prove(p)
+    p = transverse_homoclinic.validate_params(*TARGET)
+    res = transverse_homoclinic.prove(p)
     assert res.ok, res.reason
     v = verify.verify(json.loads(json.dumps(res.certificate)))
     assert v.ok, v.reason

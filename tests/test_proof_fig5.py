@@ -15,14 +15,15 @@ from importlib import resources
 
 import pytest
 
-from magrod.proof import fields, horseshoe, periodic, verify
+from magrod.proof import fields, verify
+from magrod.proof.provers import horseshoe_design, section_fixed_point, section_horseshoe
 from magrod.proof.theorem import section_fixed_point_theorem, section_horseshoe_theorem
 from helpers import shift_set_along_entry
 
 PANELS = {"a": "3/20", "b": "41/200", "c": "26/125", "d": "6/25"}  # fig:poincare2's gammas 0.15 .. 0.24
 FIG5 = {"m": "17/10", "mu": "4", "delta": "1/4", "lam": "2"}  # the caption: m = 1.7, delta = 0.25, lam = 2, mu = 4
 HORSESHOES = ["horseshoe_fig5a.json", "horseshoe_fig5b.json", "horseshoe_fig5c.json", "horseshoe_fig5d.json",
-              "horseshoe_fig5a_interval.json"]  # (a)'s sets moving with lambdabar: 2 +- 2e-11 (horseshoe.widen)
+              "horseshoe_fig5a_interval.json"]  # (a)'s sets moving with lambdabar: 2 +- 2e-11 (horseshoe_widen.widen)
 
 
 def _load(name):
@@ -111,10 +112,10 @@ def test_lambda_zero_control_has_no_saddle():
     torus of an integrable twist map) and the prover fails at "hyperbolic" (tr DP in [2.00 +/- 3.3e-3]); no
     sign change within 0.02 of Fig 5(a)'s theta* = 3.012.  Seen to fail (i.e. to prove nothing) in both places;
     ~25 s."""
-    p, h = periodic.validate("17/10", "4", "3/20", "1/4", "0", "4/5")
-    res = periodic.prove(p, h, 3.1076291042978577, root=0, branch="pi")
+    p, h = section_fixed_point.validate("17/10", "4", "3/20", "1/4", "0", "4/5")
+    res = section_fixed_point.prove(p, h, 3.1076291042978577, root=0, branch="pi")
     assert not res.ok and res.certificate is None and "hyperbolic not established" in res.reason, res.reason
-    res = periodic.prove(p, h, 3.0119924258452446, root=0, branch="pi")
+    res = section_fixed_point.prove(p, h, 3.0119924258452446, root=0, branch="pi")
     assert not res.ok and "no sign change" in res.reason, res.reason
 
 
@@ -182,9 +183,9 @@ def test_horseshoe_certificate_verifies(hs):
 @pytest.mark.slow
 def test_horseshoe_mutated_field_control_fails_to_prove():
     """Control: the sign of term 0 of the generated chart field flipped; the prover fails and issues nothing."""
-    p, h = periodic.validate("17/10", "4", "3/20", "1/4", "2", "4/5")
-    st = horseshoe.HorseshoeSettings(branch="pi", root=0, m_back=3, n_exc=12, s_star=1.1709116837165307e-07)
-    res = horseshoe.prove(p, h, 3.0119924258452446, st, module=fields.mutated_module(0))
+    p, h = section_fixed_point.validate("17/10", "4", "3/20", "1/4", "2", "4/5")
+    st = horseshoe_design.HorseshoeSettings(branch="pi", root=0, m_back=3, n_exc=12, s_star=1.1709116837165307e-07)
+    res = section_horseshoe.prove(p, h, 3.0119924258452446, st, module=fields.mutated_module(0))
     assert not res.ok and res.certificate is None, res.reason
 
 

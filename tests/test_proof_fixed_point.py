@@ -1,5 +1,5 @@
 """Statement 11 (issue 27): a symmetric hyperbolic fixed point of the section map sin psi = 0 on Fig 4's level
-h = 9/10 (magrod/proof/periodic.py), its certificate kind "section_fixed_point" and the complete verifier's checks of
+h = 9/10 (magrod/proof/provers/section_fixed_point.py), its certificate kind "section_fixed_point" and the complete verifier's checks of
 it (verify.py).  The shipped certificates verify; every tampering is rejected, most of them before any flight is
 replayed (< 1 s); the shifted-box and mutated-field controls fail; the docs quote the certificates' intervals.
 
@@ -20,7 +20,8 @@ import pytest
 from helpers import assert_rejected, verify_cli
 
 from magrod.cli import main
-from magrod.proof import fields, periodic, theorem, tiling, verify
+from magrod.proof import fields, theorem, tiling, verify
+from magrod.proof.provers import section_fixed_point
 
 ROOT = Path(__file__).resolve().parents[1]
 FIG4A = ["--m", "17/10", "--mu", "2/5", "--gamma", "3", "--delta", "3", "--lam", "27/200"]
@@ -121,8 +122,8 @@ def test_an_unknown_kind_is_bad_input(cert, tmp_path, capsys):
 
 
 def test_the_mutated_field_control_fails_to_prove():
-    p, h = periodic.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
-    res = periodic.prove(p, h, 0.3830461903149033, module=fields.mutated_module(0))
+    p, h = section_fixed_point.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
+    res = section_fixed_point.prove(p, h, 0.3830461903149033, module=fields.mutated_module(0))
     assert not res.ok and res.certificate is None and "not established" in res.reason
 
 
@@ -141,13 +142,13 @@ def test_the_monodromy_formula():
         b, c = rng.normal(size=2)
         with ball.workprec(256):  # exact: d = (1 + bc)/a with a a power of two, so det A = 1 exactly
             ab = [arb(a), arb(b), arb(c), (1 + arb(b) * arb(c)) / a]
-            tr = periodic.trace_DP(*ab)
+            tr = section_fixed_point.trace_DP(*ab)
         A = np.array([[a, b], [c, float(ab[3].mid())]])
         M = R @ np.linalg.inv(A) @ R @ A
         assert abs(float(tr.mid()) - np.trace(M)) < 1e-9 * (1 + abs(np.trace(M)))
         assert abs(np.linalg.det(M) - 1) < 1e-9
     with pytest.raises(ValueError, match="disjoint"):
-        periodic.trace_DP(*(arb(v) for v in (2.0, 0.5, 0.25, 1.0)))  # det 15/8: not a half-map of the flow
+        section_fixed_point.trace_DP(*(arb(v) for v in (2.0, 0.5, 0.25, 1.0)))  # det 15/8: not a half-map of the flow
 
 
 @pytest.mark.parametrize("name", ["fixed_point_fig4a.json", "fixed_point_fig4b.json", "fixed_point_fig4d.json",
@@ -280,12 +281,12 @@ def test_interval_settings_size_the_theta_box_by_the_measured_motion():
     W): at Fig 4(a), W = 1e-6, r = 21 W, which holds the interval Newton image of the shipped box (radius 17.2 W,
     research/fixed_point_interval_limits.json) and is what the shipped certificate used within 5 %; interval_settings'
     fixed r = 8 W does not hold it (the image then leaves Theta: the reason the CLI could not reproduce the box)."""
-    p, h = periodic.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
+    p, h = section_fixed_point.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
     w = Fraction(1, 10**6)
-    st = periodic.interval_settings_for(p, h, 0.383, w)
+    st = section_fixed_point.interval_settings_for(p, h, 0.383, w)
     newton = Fraction(_shipped("a_interval")["newton"]["rad"])
     assert st.lam_rad == w and newton < st.r <= Fraction(21, 20) * Fraction(_shipped("a_interval")["settings"]["r"])
-    assert periodic.interval_settings(w).r < newton
+    assert section_fixed_point.interval_settings(w).r < newton
 
 
 @pytest.mark.slow

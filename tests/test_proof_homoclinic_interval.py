@@ -1,5 +1,5 @@
 """Statement 5 on a lambdabar interval: the homoclinic proof with lambdabar the ball [lam - W, lam + W] in every
-enclosure (fields.IntervalParams, search.interval_params; `magrod prove --lam-rad W`), the shipped certificate
+enclosure (fields.IntervalParams, transverse_homoclinic.interval_params; `magrod prove --lam-rad W`), the shipped certificate
 homoclinic_target_interval.json (W = 1e-13 at the issue-21 target), and its controls: a certificate claiming a wider
 interval than its enclosures carry, or the point's theorem on an interval's data (or the reverse), is rejected; the
 shifted saddle box is rejected; a mutated field and lambdabar = 0 fail to prove; bad --lam-rad is exit 2 naming it.
@@ -17,7 +17,8 @@ import pytest
 from helpers import assert_rejected, verify_cli
 
 from magrod.cli import main
-from magrod.proof import ball, fields, search, theorem
+from magrod.proof import ball, fields, theorem
+from magrod.proof.provers import transverse_homoclinic
 
 ARGS = ["--m", "1.7", "--mu", "0.04", "--gamma", "1", "--delta", "1", "--lam", "0.01"]
 W = Fraction(1, 10**13)
@@ -30,14 +31,14 @@ def shipped():
 
 
 def test_interval_params_enclose_every_lambdabar_of_the_interval():
-    p = search.validate_params("1.7", "0.04", "1", "1", "0.01")
-    q = search.interval_params(p, W)
+    p = transverse_homoclinic.validate_params("1.7", "0.04", "1", "1", "0.01")
+    q = transverse_homoclinic.interval_params(p, W)
     lo, hi = ball.bounds(q.balls()[fields.PARAMS.index("lam")])
     assert lo <= p.lam - W and p.lam + W <= hi and hi - lo < 3 * W  # the interval, rounded outward, not more
     # the other parameters, the float search's centre and the certificate's parameters are the point's
     assert [str(x) for i, x in enumerate(q.balls()) if i != 4] == [str(x) for i, x in enumerate(p.balls()) if i != 4]
     assert q.floats() == p.floats() and q.as_json() == p.as_json()
-    assert search.interval_params(p, 0) is p
+    assert transverse_homoclinic.interval_params(p, 0) is p
 
 
 @pytest.mark.parametrize("w, why", [("-1/10", "must be in [0, 1]"), ("abc", "exact number"),
@@ -78,7 +79,7 @@ def test_a_wider_interval_than_the_enclosures_carry_is_rejected(shipped, tmp_pat
 
 
 def test_an_interval_widened_beyond_its_balls_slack_is_rejected(shipped, tmp_path, capsys):
-    """lam_rad x (1 + 2^-10), the smallest widening the stored balls (search.stored: the prover's enclosures widened
+    """lam_rad x (1 + 2^-10), the smallest widening the stored balls (transverse_homoclinic.stored: the prover's enclosures widened
     by 2^-10 of their radius) do not absorb, with its theorem text: rejected before any flight.  A widening by one
     ulp of the radius verifies, rightly (every enclosure recomputed on the widened interval still lies in its ball:
     research/README.md, "Interval theorems").  Seen to fail: with the eigenvalue's recomputation check skipped in

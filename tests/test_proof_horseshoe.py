@@ -1,4 +1,4 @@
-"""The covering-relation horseshoe of the section map on Fig 4(a)'s level (magrod/proof/horseshoe.py, verify.py kind
+"""The covering-relation horseshoe of the section map on Fig 4(a)'s level (magrod/proof/provers/section_horseshoe.py, verify.py kind
 "section_horseshoe"; docs/nonintegrability.md, statement 12).
 
 The tamper tests change one field of the stored certificate and require the verifier to reject it, each at the check
@@ -16,14 +16,15 @@ from pathlib import Path
 
 import pytest
 
-from magrod.proof import fields, horseshoe, verify
+from magrod.proof import fields, verify
+from magrod.proof.provers import horseshoe_design, horseshoe_widen, section_fixed_point, section_horseshoe
 from magrod.proof.kernel import horseshoe as hs_kernel
 from helpers import shift_set_along_entry, verify_cli
 
 CERT = "horseshoe_fig4a.json"
-#: a_interval: Fig 4(a)'s sets moving with lambdabar, for every lambdabar in 27/200 +- 2e-11 (horseshoe.widen)
+#: a_interval: Fig 4(a)'s sets moving with lambdabar, for every lambdabar in 27/200 +- 2e-11 (horseshoe_widen.widen)
 INTERVAL = "horseshoe_fig4a_interval.json"
-#: c: Fig 4(c)'s horseshoe around the period-6 orbit of P (the cycle N0 => ... => N5 => N0, horseshoe._prove_cycle)
+#: c: Fig 4(c)'s horseshoe around the period-6 orbit of P (the cycle N0 => ... => N5 => N0, section_horseshoe._prove_cycle)
 CYCLE = "horseshoe_fig4c.json"
 CERTS = {"a": CERT, "b": "horseshoe_fig4b.json", "a_interval": INTERVAL, "c": CYCLE}
 
@@ -50,7 +51,7 @@ def _rejected(c, *, module=fields.gen):
 
 def test_cover_check_exact():
     """A product grid covers the square; a missing or an overlapping piece does not (seen to fail: both)."""
-    g = horseshoe.grid_pieces(2, 2)
+    g = section_horseshoe.grid_pieces(2, 2)
     assert hs_kernel._hs_cover(g)
     assert not hs_kernel._hs_cover(g[:-1])
     assert not hs_kernel._hs_cover(g[:-1] + [(Fraction(0), Fraction(0), Fraction(1, 2), Fraction(1, 2))])
@@ -70,7 +71,7 @@ def test_entropy_root():
     import numpy as np
 
     L = 28
-    r = horseshoe.entropy_root_lower(L)
+    r = section_horseshoe.entropy_root_lower(L)
     assert r**L - r ** (L - 1) - 1 < 0
     roots = np.roots([1, -1] + [0] * (L - 2) + [-1])
     big = max(z.real for z in roots if abs(z.imag) < 1e-12)
@@ -84,27 +85,27 @@ def test_entropy_root_cycle():
     import numpy as np
 
     for L in (28, 38):
-        assert horseshoe.entropy_root_lower_cycle(1, L) == horseshoe.entropy_root_lower(L)
+        assert section_horseshoe.entropy_root_lower_cycle(1, L) == section_horseshoe.entropy_root_lower(L)
     p, L = 6, 160
-    r = horseshoe.entropy_root_lower_cycle(p, L)
+    r = section_horseshoe.entropy_root_lower_cycle(p, L)
     assert r**L - r ** (L - p) - 1 < 0
     coef = [0] * (L + 1)
     coef[0], coef[p], coef[L] = 1, -1, -1  # x^L - x^(L-p) - 1, highest power first
     big = max(z.real for z in np.roots(coef) if abs(z.imag) < 1e-9)
     assert 0 < big - float(r) < 1e-10
-    r1 = horseshoe.entropy_root_lower(L)
+    r1 = section_horseshoe.entropy_root_lower(L)
     assert r1**L - r1 ** (L - p) - 1 > 0  # the p = 1 root is larger: it would over-claim at p = 6
     with pytest.raises(ValueError):
-        horseshoe.entropy_root_lower_cycle(L, L)
+        section_horseshoe.entropy_root_lower_cycle(L, L)
 
 
 def test_cycle_graph():
-    """The graph of a period-p certificate: the verifier's required links are the prover's (horseshoe.cycle_links);
+    """The graph of a period-p certificate: the verifier's required links are the prover's (section_horseshoe.cycle_links);
     period 1 is the fixed-point chain; a period leaving fewer than two sets after the cycle is malformed."""
     n = 81
     c = {"settings": {"period": 6}}
     per, want = hs_kernel._hs_graph(c, n)
-    assert per == 6 and want == [list(lk) for lk in horseshoe.cycle_links(6, n)]
+    assert per == 6 and want == [list(lk) for lk in section_horseshoe.cycle_links(6, n)]
     assert want[:7] == [[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 0], [5, 6]] and want[-1] == [79, 80]
     assert len(want) == n  # p - 1 cycle links, the closing one, N(p-1) => Np, and n - 1 - p chain links
     assert hs_kernel._hs_graph({"settings": {}}, 5) == (1, [[0, 0], [0, 1], [1, 2], [2, 3], [3, 4]])
@@ -145,7 +146,7 @@ def test_cycle_certificate_claims():
     """Fig 4(c): the cycle of 6 sets and the chain to N80, loops 6 and 160, the polynomial x^160 = x^154 + 1."""
     c = _load(CYCLE)
     assert c["settings"]["period"] == 6 and len(c["sets"]) == 81 and c["loop_lengths"] == [6, 160]
-    assert [list(lk) for lk in c["links"]] == [list(lk) for lk in horseshoe.cycle_links(6, 81)]
+    assert [list(lk) for lk in c["links"]] == [list(lk) for lk in section_horseshoe.cycle_links(6, 81)]
     assert "N0 => N1 => ... => N5 => N0" in c["theorem"] and "x^160 = x^154 + 1" in c["theorem"]
 
 
@@ -161,7 +162,7 @@ def test_cycle_tamper():
     c["settings"]["period"] = 1
     assert "links" in _rejected(c)
     c = copy.deepcopy(base)
-    r1 = horseshoe.entropy_root_lower(160)
+    r1 = section_horseshoe.entropy_root_lower(160)
     c["entropy"]["rho_lower"] = f"{r1.numerator}/{r1.denominator}"
     assert "entropy bound" in _rejected(c)
     from magrod.proof.theorem import section_horseshoe_theorem
@@ -175,12 +176,12 @@ def test_default_design_is_the_fig4a_certificates(cert):
     """The default settings (design "fig4a") still give every setting the Fig 4(a) certificate records (the settings
     added for Fig 4(b) -- passes, the N0 => N1 geometry, stop_frac -- default to what that run did), and the fig4b
     design changes only the named fields (seen to fail: with the default qs = 1.5 the first assertion fails)."""
-    assert horseshoe.DESIGNS["fig4a"]().as_json().items() >= cert["settings"].items()
-    a, b = horseshoe.HorseshoeSettings().as_json(), horseshoe.DESIGNS["fig4b"]().as_json()
+    assert horseshoe_design.DESIGNS["fig4a"]().as_json().items() >= cert["settings"].items()
+    a, b = horseshoe_design.HorseshoeSettings().as_json(), horseshoe_design.DESIGNS["fig4b"]().as_json()
     changed = {k for k in a.keys() | b.keys() if a.get(k) != b.get(k)}
     assert changed == {"m_back", "n_exc", "qu", "qs", "l0_frac", "l1_frac", "w_cap", "tol_thin", "passes",
                        "stop_frac", "tol", "thin_integrator", "integrator"}  # the last three: the Taylor-model flights
-    c = horseshoe.DESIGNS["fig4c"]().as_json()
+    c = horseshoe_design.DESIGNS["fig4c"]().as_json()
     assert c["period"] == 6 and "period" not in a and "period" not in b  # period 1 leaves the settings as they were
 
 
@@ -193,17 +194,17 @@ def test_designs_are_data_and_give_the_shipped_certificates_settings():
 
     from magrod.core.errors import ParameterError
 
-    assert set(horseshoe.DESIGNS) == {"fig4a", "fig4b", "fig4c", "fig4d"}
-    assert horseshoe.design_names(proving_only=False) == ["fig4a", "fig4b", "fig4c", "fig4d"]
+    assert set(horseshoe_design.DESIGNS) == {"fig4a", "fig4b", "fig4c", "fig4d"}
+    assert horseshoe_design.design_names(proving_only=False) == ["fig4a", "fig4b", "fig4c", "fig4d"]
     for name in ("fig4b", "fig4c", "fig4d"):
         cert = json.loads(resources.files("magrod.proof").joinpath("certificates", f"horseshoe_{name}.json")
                           .read_text())
         want = {k: v for k, v in cert["settings"].items()}
-        assert horseshoe.DESIGNS[name]().as_json() == want, name
+        assert horseshoe_design.DESIGNS[name]().as_json() == want, name
         doc = json.loads(resources.files("magrod.proof").joinpath("designs", f"{name}.json").read_text())
         assert doc["proving"] and len(doc["why"]) > 200, name
     with pytest.raises(ParameterError, match="design"):
-        horseshoe.design("fig9z")
+        horseshoe_design.design("fig9z")
 
 def test_tamper_deleted_link(any_cert):
     c = copy.deepcopy(any_cert)
@@ -304,10 +305,10 @@ def test_mutated_field_control_fails_to_prove(lam, theta, design):
     """Control: with the sign of term 0 of the generated chart field flipped, the prover fails (at the first centre
     flight of the chain, or of the cycle at (c): no crossing where the float map of the true field has one; ~15 s)
     and issues nothing, at panels (a), (b) and (c) with their designs."""
-    from magrod.proof import periodic
+    from magrod.proof.provers import horseshoe_design, section_horseshoe
 
-    p, h = periodic.validate("17/10", "2/5", "3", "3", lam, "9/10")
-    res = horseshoe.prove(p, h, theta, horseshoe.DESIGNS[design](), module=fields.mutated_module(0))
+    p, h = section_fixed_point.validate("17/10", "2/5", "3", "3", lam, "9/10")
+    res = section_horseshoe.prove(p, h, theta, horseshoe_design.DESIGNS[design](), module=fields.mutated_module(0))
     assert not res.ok and res.certificate is None
     assert "flight not validated" in res.reason or "not established" in res.reason, res.reason
 
@@ -319,10 +320,10 @@ def test_lambda_zero_control_proves_nothing(theta, design):
     proves nothing and issues no certificate.  Not a rigorous control of transversality (docs: on h = 9/10 at
     lambdabar = 0 there is no admissible point near the saddles, so the search fails before any set is built); it
     shows that the certificates are not an artefact of the chain's construction."""
-    from magrod.proof import periodic
+    from magrod.proof.provers import horseshoe_design, section_horseshoe
 
-    p, h = periodic.validate("17/10", "2/5", "3", "3", "0", "9/10")
-    res = horseshoe.prove(p, h, theta, horseshoe.DESIGNS[design]())
+    p, h = section_fixed_point.validate("17/10", "2/5", "3", "3", "0", "9/10")
+    res = section_horseshoe.prove(p, h, theta, horseshoe_design.DESIGNS[design]())
     assert not res.ok and res.certificate is None and "no real root pbar_psi" in res.reason, res.reason
 
 
@@ -330,10 +331,10 @@ def test_lambda_zero_control_cycle():
     """lambdabar = 0 with Fig 4(c)'s rod, level and design: there is no symmetric period-6 orbit near theta =
     1.98883 (pbar_theta at the 3rd return has no sign change on the window), so the prover proves nothing and issues
     no certificate (~2 s; not a rigorous control, as at (a), (b))."""
-    from magrod.proof import periodic
+    from magrod.proof.provers import horseshoe_design, section_horseshoe
 
-    p, h = periodic.validate("17/10", "2/5", "3", "3", "0", "9/10")
-    res = horseshoe.prove(p, h, 1.988829300900816, horseshoe.DESIGNS["fig4c"]())
+    p, h = section_fixed_point.validate("17/10", "2/5", "3", "3", "0", "9/10")
+    res = section_horseshoe.prove(p, h, 1.988829300900816, horseshoe_design.DESIGNS["fig4c"]())
     assert not res.ok and res.certificate is None
     assert "no sign change of pbar_theta at return 3" in res.reason, res.reason
 
@@ -351,7 +352,7 @@ def test_text_output_of_a_horseshoe_result():
 
 
 # --------------------------------------------------------------------------------------------------------------
-# the lambdabar interval (horseshoe.widen; statement 12): the sets move with lambdabar
+# the lambdabar interval (horseshoe_widen.widen; statement 12): the sets move with lambdabar
 # --------------------------------------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def interval_cert():
@@ -400,7 +401,7 @@ def test_interval_tamper_wider_theorem(interval_cert):
 def test_swept_disjointness(fn):
     """Two unit squares 1/2 apart: disjoint while the second moves by s dv, |s| <= w, with |dv| w < 1/2, not when it
     can reach the first (prover's and verifier's copies; exact rationals)."""
-    f = horseshoe.disjoint_moving if fn == "prover" else hs_kernel._hs_separated_moving
+    f = horseshoe_widen.disjoint_moving if fn == "prover" else hs_kernel._hs_separated_moving
     sq = [(Fraction(x), Fraction(y)) for x, y in ((1, 1), (1, -1), (-1, -1), (-1, 1))]
     other = [(x + Fraction(5, 2), y) for x, y in sq]
     assert f(sq, other, (0, 0), Fraction(1))
@@ -460,9 +461,9 @@ def test_thin_integrator_is_a_recorded_setting_and_an_unknown_one_is_malformed(c
     """The centres' (and the sets') integrator is recorded only when it is not taylor.py (every shipped certificate's settings stay
     as they were), and a certificate naming an integrator the verifier does not have is malformed (exit 2), not
     re-flown with another (seen to fail: with the name unchecked, "bogus" verifies by taylor.py)."""
-    st = horseshoe.HorseshoeSettings(thin_integrator="taylor_model")
+    st = horseshoe_design.HorseshoeSettings(thin_integrator="taylor_model")
     assert st.as_json()["thin_integrator"] == "taylor_model"
-    assert "thin_integrator" not in horseshoe.HorseshoeSettings().as_json()
+    assert "thin_integrator" not in horseshoe_design.HorseshoeSettings().as_json()
     for key in ("thin_integrator", "integrator"):
         c = copy.deepcopy(cert)
         c["settings"][key] = "bogus"
@@ -575,12 +576,12 @@ def test_fig4d_certificate_is_the_one_the_verifier_accepted():
     prove --design fig4d`, with the theorem and the number of checks of the verification recorded in research/ (of
     the same certificate issued by research/fig4d_taylor_model.py: field for field equal but its provenance and wall
     time); a copy with N0's steps tampered is rejected at that check (before any flight).  Its full verification
-    (~400 s of CPU) is the slow test below and the full `magrod reproduce`."""
+    (~400 s of CPU) is the slow test below and a step of CI's own (.ci/run)."""
     cert, rec = _fig4d()
     assert cert["params"]["lam"] == "93/500" and cert["level"] == "9/10" and rec["ok"] and rec["n_checks"] == 1131
     assert cert["theorem"] == rec["theorem"] and "x^72 = x^71 + 1" in rec["theorem"]
     assert "--design fig4d" in cert["provenance"]["command"]
-    assert horseshoe.DESIGNS["fig4d"]().as_json() == cert["settings"]
+    assert horseshoe_design.DESIGNS["fig4d"]().as_json() == cert["settings"]
     c = copy.deepcopy(cert)
     c["flights"][0]["pieces"][0]["steps"]["thin"][1][0] = "1/2"
     assert "N0 piece 0 thin steps" in _rejected(c)

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from magrod.core.params import RodParams
-from magrod.proof import ball, fields, manifold, saddle, search
+from magrod.proof import ball, fields, manifold, saddle
+from magrod.proof.provers import transverse_homoclinic
 from magrod.separatrix import splitting
 
 TARGET = dict(m="1.7", mu="0.04", gamma=1, delta=1, lam="0.01")
@@ -30,7 +31,7 @@ def setup():
         is_ = next(i for i in range(len(w)) if w[i].real < 0 and w[i].imag > 0)
         guess = [(w[iu], Vc[:, iu]), (w[is_], Vc[:, is_])]
         E = saddle.enclose(fld, xhat, Fraction(1, 10**12), eig_guess=guess, eig_rad=Fraction(1, 10**12))
-        Vf = np.column_stack(search._real_basis(Vc[:, iu]) + search._real_basis(Vc[:, is_]))
+        Vf = np.column_stack(transverse_homoclinic._real_basis(Vc[:, iu]) + transverse_homoclinic._real_basis(Vc[:, is_]))
         out.update(fld=fld, E=E, w=w, Vf=Vf, V=ball.exact_matrix(Vf.tolist()))
     return out
 

@@ -136,7 +136,8 @@ def test_fig4b_centre_return_agrees_with_the_present_integrator():
     import json
     from importlib import resources
 
-    from magrod.proof.horseshoe import dyadic, t_approach
+    from magrod.proof.provers.horseshoe_design import dyadic
+    from magrod.proof.provers.section_horseshoe import t_approach
 
     c = json.loads(resources.files("magrod.proof").joinpath("certificates", "fixed_point_fig4b.json").read_text())
     p = fields.ExactParams(**{k: Fraction(v) for k, v in c["params"].items()})
@@ -194,7 +195,7 @@ def test_rod_c1_enclosures_meet_the_present_integrators():
 def test_taylor_model_and_section_return_import_no_prover():
     """The trust base's fence (docs/nonintegrability.md, "The verifier's trust base"): taylor_model imports from
     magrod only ball, taylor and the tolerances; section_return, which the verifier flies through, adds fields,
-    taylor_model and the generated fields, never a prover (seen to fail: with `from . import search` added to
+    taylor_model and the generated fields, never a prover (seen to fail: with `from .provers import section_horseshoe` added to
     taylor_model the first assertion fails)."""
     import ast
     from pathlib import Path

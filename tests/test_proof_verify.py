@@ -18,7 +18,8 @@ import pytest
 from helpers import assert_rejected, verify_cli
 
 from magrod.cli import main
-from magrod.proof import search, theorem, verify
+from magrod.proof import theorem, verify
+from magrod.proof.provers import transverse_homoclinic
 
 ARGS = ["--m", "1.7", "--mu", "0.04", "--gamma", "1", "--delta", "1", "--lam", "0.01"]
 
@@ -37,7 +38,7 @@ def _by_target(c, t):
 
 
 def test_the_vocabulary_of_targets_is_one():
-    assert set(search.TARGETS) == set(theorem.TARGETS) == {"0", "pi"}
+    assert set(transverse_homoclinic.TARGETS) == set(theorem.TARGETS) == {"0", "pi"}
 
 
 def test_the_valid_certificate_verifies_and_prints_the_generated_theorem(cert, tmp_path, capsys):
@@ -128,8 +129,8 @@ def test_the_trust_base_is_what_the_docs_say():
     """docs/nonintegrability.md, "The verifier's trust base": the checker (verify.py and the kernel package
     magrod/proof/kernel/: the schema and one module per kind) imports from magrod only ball, fields, taylor, theorem,
     section_return (the shared first return to the section), identities (the field's structure, checked at run time)
-    and core.errors; never the provers (search, saddle, manifold, periodic, horseshoe) nor the scheduling (schedule).
-    Seen to fail: with `from .. import periodic` added to kernel/fixed_point.py the assertion names it."""
+    and core.errors; never the provers (provers/, saddle, manifold) nor the scheduling (schedule).
+    Seen to fail: with `from ..provers import section_fixed_point` added to kernel/fixed_point.py the assertion names it."""
     import ast
     from pathlib import Path
 
@@ -163,7 +164,7 @@ def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path,
     def no_prove(*a, **k):
         raise AssertionError("reproduce must not re-prove")
 
-    monkeypatch.setattr(search, "prove", no_prove)
+    monkeypatch.setattr(transverse_homoclinic, "prove", no_prove)
     fig.build(tmp_path, quick=True)
     side = json.loads((tmp_path / "proof.json").read_text())
     assert side["ok"] and side["verified"] and not side["re_proved"], side["reason"]
@@ -171,22 +172,30 @@ def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path,
     shipped = json.loads((tmp_path / "proof_certificate.json").read_text())
     assert shipped["params"] == {"m": "17/10", "mu": "1/25", "gamma": "1/1", "delta": "1/1", "lam": "1/100"}
     # --quick does not verify the horseshoe's certificate (~45 s of CPU) and says so; every reproduction but --quick
-    # does (issue 27: nothing is left to NOT_IN_REPRODUCE)
+    # does
     assert {f"horseshoe_fig{k}.json" for k in ("4a", "4b", "5a", "5b", "5c", "5d")} <= set(side["not_verified_in_quick"])
     assert side["fig4_horseshoe"] == []
     # every shipped certificate of the top directory is verified by the full reproduction (issue 27, Must hold)
     from importlib import resources
+    from pathlib import Path
+
+    from magrod.figures import report
 
     shipped = {p.name for p in resources.files("magrod.proof").joinpath("certificates").iterdir()
                if p.name.endswith(".json")}
     listed = {fig.SHIPPED, fig.TARGET_INTERVAL} | {n for _, n in fig.FIG4} | \
-        {e[1] for e in (*fig.FIG4_SECTION, *fig.FIG4_HORSESHOE)}
+        {e[1] for e in (*fig.FIG4_SECTION, *fig.FIG4_HORSESHOE, *fig.NOT_IN_REPRODUCE)}
     assert fig.TARGET_INTERVAL in side["not_verified_in_quick"] and "target_interval" not in side
     assert shipped == listed, shipped ^ listed
-    assert fig.NOT_IN_REPRODUCE == () and side["not_verified_in_reproduce"] == []
+    # except Fig 4(d)'s horseshoe, whose prove + verify exceeds 10 minutes: verified by its own CI step (.ci/run),
+    # and said so in REPORT
+    assert fig.NOT_IN_REPRODUCE == (("4d", "horseshoe_fig4d.json", "12"),)
+    assert side["not_verified_in_reproduce"] == [{"panel": "4d", "statement": "12",
+                                                  "certificate": "magrod/proof/certificates/horseshoe_fig4d.json"}]
+    assert "magrod prove --verify magrod/proof/certificates/horseshoe_fig4d.json" in \
+        report._proof_skipped(side)[-1]["computed"]
+    assert "horseshoe_fig4d.json" in (Path(__file__).parents[1] / ".ci" / "run").read_text()
     # the REPORT row states the target's own verification time, not the whole figure's (which had read "271 s")
-    from magrod.figures import report
-
     side["wall_time_s"] = side["verify_wall_time_s"] + 1000.0
     (tmp_path / "proof.json").write_text(json.dumps(side))
     row = report._proof(tmp_path, True)[0]["computed"]

@@ -43,8 +43,9 @@ TOPICS = {
 # beside the face, the option classes a topic's functions take (second tier, docs/architecture.md)
 OPTION_CLASSES = {
     "Sections and chaos": ["magrod.chaos.maps.MapSpec"],
-    "Proofs": ["magrod.proof.search.ProofSettings", "magrod.proof.horseshoe.HorseshoeSettings",
-               "magrod.proof.periodic.FixedPointSettings"],
+    "Proofs": ["magrod.proof.provers.transverse_homoclinic.ProofSettings",
+               "magrod.proof.provers.horseshoe_design.HorseshoeSettings",
+               "magrod.proof.provers.section_fixed_point.FixedPointSettings"],
 }
 TOPIC_INTRO = {
     "Systems and parameters": "What is studied: a rod model, its parameter values and the precision.  Every "

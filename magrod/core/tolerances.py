@@ -115,7 +115,7 @@ BOX_TAIL_TOL = 1e-8
 # balls are rigorous whatever is asked; this only decides how hard Arb works): small against |S| >= 1e-5 on the
 # corner next to m_c, and 1e-12 costs little more than 1e-8.
 BOX_CENTRE_ABS_TOL = 1e-12
-# The float search of magrod.proof.periodic (where to look for the section map's symmetric fixed point): heyoka at
+# The float search of magrod.proof.provers.section_fixed_point (where to look for the section map's symmetric fixed point): heyoka at
 # 1e-15 keeps the bisected theta* (and the half-way crossing time) within ~1e-13 of the true ones over the ~3-unit
 # half-orbit, far inside the 1e-10 .. 4e-6 theta-boxes the proof then decides on; a search choice, never a decision.
 FIXED_POINT_SEARCH_TOL = 1e-15

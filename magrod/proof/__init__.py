@@ -7,8 +7,11 @@ Layers (each tested on its own, tests/test_proof_*.py):
   identities.py  the field's reversibility, Hamiltonian form and Jacobian as exact identities (checked by the verifier)
   saddle.py    Krawczyk enclosures of the tilted saddle and its eigenpairs
   manifold.py  the local unstable manifold by cone/slab conditions; its boundary circle with C^1 bounds
-  search.py    the prover: floating-point search + the rigorous steps -> certificate
-  verify.py    the independent checker of a certificate (imports neither search.py nor saddle.py/manifold.py): its
+  provers/     the provers, named by what they prove (floating-point search + the rigorous steps -> certificate):
+               transverse_homoclinic.py (statement 5), section_fixed_point.py (11, 13), section_horseshoe.py (12, 13),
+               with the horseshoe's design (horseshoe_design.py; the named designs are data, designs/*.json) and its
+               widening to a lambdabar interval (horseshoe_widen.py)
+  verify.py    the independent checker of a certificate (imports neither provers/ nor saddle.py/manifold.py): its
                entry, and kernel/ (schema.py, one module per kind: homoclinic.py, fixed_point.py, horseshoe.py; pool.py)
   schedule.py  verifies many certificates in processes and remembers verified ones (outside the trust base)
   tiling.py    the lambdabar interval a chain of interval certificates covers, exactly (a gap is an error)
@@ -23,25 +26,25 @@ _API = {
     "validated_fields": ("fields", "gen"),
     "mutated_fields": ("fields", "mutated_module"),
     # the prover of transverse homoclinic orbits to the tilted saddle
-    "ProofSettings": ("search", "ProofSettings"),
-    "TARGET_ANGLES": ("search", "TARGETS"),
-    "validate_proof_params": ("search", "validate_params"),
-    "prove_homoclinic": ("search", "prove"),
+    "ProofSettings": ("provers.transverse_homoclinic", "ProofSettings"),
+    "TARGET_ANGLES": ("provers.transverse_homoclinic", "TARGETS"),
+    "validate_proof_params": ("provers.transverse_homoclinic", "validate_params"),
+    "prove_homoclinic": ("provers.transverse_homoclinic", "prove"),
     # the same proof for every lambdabar of an interval (lambdabar a ball in every enclosure; statement 5)
-    "interval_proof_params": ("search", "interval_params"),
-    "interval_proof_settings": ("search", "interval_proof_settings"),
+    "interval_proof_params": ("provers.transverse_homoclinic", "interval_params"),
+    "interval_proof_settings": ("provers.transverse_homoclinic", "interval_proof_settings"),
     # the prover of the section map's fixed point (statement 11)
-    "FixedPointSettings": ("periodic", "FixedPointSettings"),
-    "interval_settings": ("periodic", "interval_settings"),
-    "interval_settings_for": ("periodic", "interval_settings_for"),
-    "validate_fixed_point": ("periodic", "validate"),
-    "prove_fixed_point": ("periodic", "prove"),
+    "FixedPointSettings": ("provers.section_fixed_point", "FixedPointSettings"),
+    "interval_settings": ("provers.section_fixed_point", "interval_settings"),
+    "interval_settings_for": ("provers.section_fixed_point", "interval_settings_for"),
+    "validate_fixed_point": ("provers.section_fixed_point", "validate"),
+    "prove_fixed_point": ("provers.section_fixed_point", "prove"),
     # the prover of the section map's horseshoe by covering relations (statement 12)
-    "HorseshoeSettings": ("horseshoe", "HorseshoeSettings"),
-    "prove_horseshoe": ("horseshoe", "prove"),
+    "HorseshoeSettings": ("provers.horseshoe_design", "HorseshoeSettings"),
+    "prove_horseshoe": ("provers.section_horseshoe", "prove"),
     # the same horseshoe for every lambdabar of an interval, its sets moving with lambdabar (statement 12)
-    "widen_horseshoe": ("horseshoe", "widen"),
-    "HORSESHOE_DESIGNS": ("horseshoe", "DESIGNS"),
+    "widen_horseshoe": ("provers.horseshoe_widen", "widen"),
+    "HORSESHOE_DESIGNS": ("provers.horseshoe_design", "DESIGNS"),
     # the independent checker, and the statements' verdicts
     "load_certificate": ("verify", "load"),
     "verify_certificate": ("verify", "verify"),

@@ -1,10 +1,10 @@
 """The validated first return to the section sin psi = 0 in the reduced chart, shared by the provers of
-statements 11 and 12 (periodic.py, horseshoe.py) and by the verifier (verify.py, kind section_horseshoe): the
+statements 11 and 12 (provers/section_fixed_point.py, provers/section_horseshoe.py) and by the verifier (verify.py, kind section_horseshoe): the
 level's pbar_psi by interval Newton, the section's guards, the C^1 flight of a set to its next crossing, the
 section quantities there.  It is part of the verifier's trust base (docs/nonintegrability.md, "The verifier's trust
 base"), like taylor.py: it imports only ball, fields, taylor, taylor_model and the generated fields -- never a prover's search
-(search.py, periodic.py's prove, horseshoe.py), so a verifier that uses it does not use the prover's decisions.
-Moved here from periodic.py unchanged."""
+(provers/: transverse_homoclinic.py, section_fixed_point.py's prove, section_horseshoe.py), so a verifier that uses it does not use the prover's decisions.
+Moved here from the fixed-point prover unchanged."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -186,7 +186,7 @@ def first_return(pars, fld, S: taylor.C1Set, t_a: Fraction, lead: Fraction, *, t
 
 
 # --------------------------------------------------------------------------------------------------------------
-# one return of a section piece (the horseshoe of horseshoe.py; the verifier drives the same flight)
+# one return of a section piece (the horseshoe of provers/section_horseshoe.py; the verifier drives the same flight)
 # --------------------------------------------------------------------------------------------------------------
 def branch_psi(branch: str) -> arb:
     """psi on the section's branch: "0" -> 0, "pi" -> pi (a ball)."""
@@ -213,7 +213,7 @@ class Moving:
     """A lambdabar interval for piece_return's box flight, with the piece moving along it: for every lambdabar in
     `lam` (a ball about the exact lam0) the piece is X(lambdabar) = c + v (lambdabar - lam0) + A [-1, 1]^2 (v exact,
     2 entries: (dtheta, dpbar_theta) per unit lambdabar; the sets of a horseshoe follow their chain's motion, so
-    that the covering conditions hold for a lambdabar interval much wider than the sets: horseshoe.py).  pars: the
+    that the covering conditions hold for a lambdabar interval much wider than the sets: provers/horseshoe_widen.py).  pars: the
     parameters with `lam` in lambdabar's slot (fields.parameter_balls); fld: fields.lam_state_field (lambdabar the
     fifth state, lambdabar' = 0)."""
 

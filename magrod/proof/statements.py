@@ -247,11 +247,11 @@ STATEMENTS = (
              "f(Rx) = −R f(x) checked by the verifier at run time on the certificate's field, as exact "
              "identities (magrod/proof/identities.py); report keys validated_fields, reversor_reduced"),
         Step("an orbit through two points of Fix(R) is periodic, crossings at ±t have one direction, DQ2 = R DQ⁻¹ R "
-             "(reversibility; Devaney 1976)", "proved", "the argument of magrod/proof/periodic.py, hypotheses "
+             "(reversibility; Devaney 1976)", "proved", "the argument of magrod/proof/provers/section_fixed_point.py, hypotheses "
              "checked by the certificate"),
         Step("the half-map A between ψ = 0 and ψ = π has det A = 1, so tr DP(x0) = 2 + 4bc (Hamilton's flow "
              "preserves dθ∧dp̄θ + dψ∧dp̄ψ; on the level's tangents with dψ = 0 the flow direction adds nothing)",
-             "proved", "the argument of magrod/proof/periodic.py (step 5), from report key validated_fields")],
+             "proved", "the argument of magrod/proof/provers/section_fixed_point.py (step 5), from report key validated_fields")],
        phrases=(r"fixed point of (the section map )?P", r"section map's (symmetric )?saddle", r"h = 9/10")),
     _s("12", "a horseshoe of the section map on Fig 4's own level h = 9/10, every panel",
        """At (m, μ, γ, δ) = (17/10, 2/5, 3, 3) and λ̄ = 27/200 (panel (a)) and 63/400 (panel (b)), on Fig 4's own
@@ -295,8 +295,9 @@ STATEMENTS = (
        (μ_u = 1.615; W^u meets Fix(R) at the 35th return; N30, N31 in 4 × 4 and 8 × 8 pieces, N32–N34 in 2 × 2,
        the orbit passing within 0.0103 of θ = π), a thin chaotic layer (horseshoe_fig4d.json, `magrod prove
        --horseshoe 3.057288 --level 9/10 --m 17/10 --mu 2/5 --gamma 3 --delta 3 --lam 93/500 --design fig4d`;
-       prove 587 s on one core, the centres by the Taylor-model integrator; verify 1131 checks, 282 s on 2 cores;
-       (a′) ≥ 0.0496, (b) ≥ 1.15).""",
+       prove 587 s on one core, the centres by the Taylor-model integrator; verify 1131 checks, 282 s on 2 cores,
+       by CI in a step of its own, not by the full `magrod reproduce`, whose REPORT says so; (a′) ≥ 0.0496,
+       (b) ≥ 1.15).""",
        [Step("the covering relations, the symmetry of N0 and Nk, the disjointness, the cover by pieces, the "
              "entropy bound", "computer-verified", "magrod prove --horseshoe; magrod prove --verify (kind "
              "section_horseshoe)"),

@@ -2,7 +2,7 @@
 
 The verifier (verify.py) prints this text, built from the parameters and the targets it has checked, and requires
 the certificate's own "theorem" field to be this text exactly: a certificate cannot state more (or other) than its
-checks establish.  The prover (search.py) writes the same function's output into the certificate it issues.
+checks establish.  The prover (provers/transverse_homoclinic.py) writes the same function's output into the certificate it issues.
 
 The targets are the symmetric points psi = 0 and psi = pi of Fix(R) on Sigma = {pbar_theta = 0}.  Two distinct
 targets give two distinct orbits: a homoclinic orbit that meets Fix(R) twice would be R-symmetric about two points,
@@ -148,7 +148,7 @@ def section_horseshoe_theorem(params: dict, level: str, k: int, loop_length: int
         The sets then move with lambdabar (N_j(lambdabar) = c_j + v_j (lambdabar - lambdabar_0) + A_j [-1, 1]^2).
     period : int
         p > 1: the sets N0 .. Nk are a cycle N0 => N1 => ... => N(p-1) => N0 around a symmetric periodic orbit of
-        period p and the chain N(p-1) => Np => ... => Nk (horseshoe._prove_cycle); L = 2k and rho is the largest
+        period p and the chain N(p-1) => Np => ... => Nk (provers/section_horseshoe.py, _prove_cycle); L = 2k and rho is the largest
         root of x^L = x^(L-p) + 1 (the blocks 1 0^(p-1) and 1 0^(L-1)).  p = 1: the text above, unchanged.
 
     Returns

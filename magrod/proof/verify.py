@@ -2,7 +2,7 @@
 
 It re-runs every rigorous step from the certificate's stored inputs and accepts only if (a) every recomputed
 enclosure lies inside the certificate's ball for it and (b) every claimed inequality holds for the certificate's
-balls.  Separate code from the prover: it imports neither magrod.proof.search nor the prover's saddle / manifold
+balls.  Separate code from the prover: it imports neither magrod.proof.provers.transverse_homoclinic nor the prover's saddle / manifold
 modules; the Krawczyk tests, the cone conditions, the lift of the boundary arc, the phase derivatives and the
 interval Newton step are implemented again here.
 

@@ -1,4 +1,4 @@
-"""Kind "section_fixed_point" (statement 11; the prover is magrod/proof/periodic.py, everything here re-implemented
+"""Kind "section_fixed_point" (statement 11; the prover is magrod/proof/provers/section_fixed_point.py, everything here re-implemented
 from its module docstring): a symmetric hyperbolic fixed point of the section map sin psi = 0 on Hbar = h -- the
 level's interval Newton, the two phase guards, the section derivatives, the Fix(R) Newton step and the monodromy
 trace (det DP = 1 from the Hamiltonian form, which schema.check_structure checks).

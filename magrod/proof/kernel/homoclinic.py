@@ -1,4 +1,4 @@
-"""Kind "homoclinic" (statement 5; the prover is magrod/proof/search.py): transverse symmetric homoclinic orbits of
+"""Kind "homoclinic" (statement 5; the prover is magrod/proof/provers/transverse_homoclinic.py): transverse symmetric homoclinic orbits of
 the tilted saddle-focus.  The saddle's Krawczyk test, the eigenpairs, the cone conditions of the local manifold, the
 lift of the boundary arc, both flights with the certificate's exact steps, the section crossings, the interval Newton
 step in the phase and dtheta_u/dpsi, re-implemented here (the prover's saddle.py and manifold.py are not imported).

@@ -1,4 +1,4 @@
-"""Kind "section_horseshoe" (statement 12; the prover is magrod/proof/horseshoe.py): covering relations of the
+"""Kind "section_horseshoe" (statement 12; the prover is magrod/proof/provers/section_horseshoe.py): covering relations of the
 section map on Hbar = h.  The flights are section_return.piece_return driven with the certificate's exact steps (the
 integrator is shared); the covering conditions, the cover by pieces, the symmetry, the disjointness, the chain's
 completeness and the entropy bound are checked again here, in exact rationals where they are geometric.  Cost

@@ -55,7 +55,7 @@ def _hs_cover(pieces) -> bool:
 
 
 def _hs_lam(cert, p, module=fields.gen):
-    """A lambdabar interval (settings "lam_rad" > 0; horseshoe.widen): (w, pars with lambdabar's ball, the ball,
+    """A lambdabar interval (settings "lam_rad" > 0; the prover's horseshoe_widen.widen): (w, pars with lambdabar's ball, the ball,
     ball - lam, [v_j] exact) -- the sets move, N_j(s) = c_j + v_j (s - lam) + A_j [-1, 1]^2; None for a point."""
     w = frac(cert["settings"].get("lam_rad", "0"))
     if w < 0:
@@ -117,7 +117,7 @@ def _hs_branch_boxes(cert, pars, sets, brs, module, claim=None) -> list:
 
 def _hs_graph(cert, n: int) -> tuple:
     """(period p, the links the certificate must have) for n sets.  p = 1 (no "period" in the settings): N0 => N0,
-    N0 => N1 => ... => N(n-1).  p > 1 (horseshoe._prove_cycle): the cycle N0 => N1 => ... => N(p-1) => N0 and the
+    N0 => N1 => ... => N(n-1).  p > 1 (the prover's _prove_cycle): the cycle N0 => N1 => ... => N(p-1) => N0 and the
     chain N(p-1) => Np => ... => N(n-1) (at least two sets after the cycle, so that Np and N(n-1) differ)."""
     per = int(cert["settings"].get("period", 1))
     if per == 1:

@@ -31,11 +31,11 @@ from fractions import Fraction
 import numpy as np
 from flint import arb
 
-from ..core.errors import ParameterError
-from ..core.tolerances import PROOF_STEP_TOL
-from ..generated import validated as gen
-from . import ball, fields, manifold, saddle, taylor
-from .theorem import homoclinic_theorem
+from ...core.errors import ParameterError
+from ...core.tolerances import PROOF_STEP_TOL
+from ...generated import validated as gen
+from .. import ball, fields, manifold, saddle, taylor
+from ..theorem import homoclinic_theorem
 
 FORMAT = "magrod-proof-certificate/1"
 TARGETS = {"0": 0.0, "pi": math.pi}  # the keys are theorem.TARGETS (a test pins it)
@@ -81,7 +81,7 @@ class ProofFailure(RuntimeError):
 
 
 def run_checked(prec: int, body, *, flights: bool = False, reraise_input: bool = False, stage=None) -> "ProofResult":
-    """The provers' one scaffold (search, periodic, horseshoe.prove and .widen): ``body(check)`` builds the
+    """The provers' one scaffold (transverse_homoclinic, section_fixed_point, section_horseshoe.prove and horseshoe_widen.widen): ``body(check)`` builds the
     certificate at ``prec`` bits, ``check(name, holds, how)`` records every condition and stops at the first that
     fails.  A failed step is a ProofResult with its one-line reason, never an exception: ProofFailure; with
     ``flights`` a flight the validated integrator could not take (taylor's errors); a nan/inf ball, a singular
@@ -159,8 +159,8 @@ def validate_params(m, mu, gamma, delta, lam) -> fields.ExactParams:
 # floating-point search (heyoka via magrod.systems)
 # --------------------------------------------------------------------------------------------------------------
 def _float_saddle(p: fields.ExactParams):
-    from ..core.params import RodParams
-    from ..separatrix import splitting
+    from ...core.params import RodParams
+    from ...separatrix import splitting
 
     rp = RodParams(*p.floats())
     try:
@@ -191,7 +191,7 @@ class _FloatFlow:
     def __init__(self, p, xhat, V, r):
         import heyoka as hy
 
-        from ..core import systems
+        from ...core import systems
 
         self.pars = np.array(p.floats())
         self.xh = np.array([float(v.mid()) for v in xhat])
@@ -370,9 +370,9 @@ def prove(params: fields.ExactParams, settings: ProofSettings | None = None, *, 
 
     Examples
     --------
-    >>> from magrod.proof import search
-    >>> p = search.validate_params("1.7", "0.04", "1", "1", "0.01")
-    >>> res = search.prove(p)  # doctest: +SKIP
+    >>> from magrod.proof.provers import transverse_homoclinic
+    >>> p = transverse_homoclinic.validate_params("1.7", "0.04", "1", "1", "0.01")
+    >>> res = transverse_homoclinic.prove(p)  # doctest: +SKIP
     >>> res.ok, res.certificate["crossings"][0]["dtheta_dpsi"]["mid"][:8]  # doctest: +SKIP
     (True, '-0.00229')
 
@@ -495,7 +495,7 @@ def _orbit_samples(p, xhat, n=6) -> list:
     """A few chart states along a float W^u trajectory (where the structural tests are made)."""
     import heyoka as hy  # noqa: F401 - systems builds the integrator
 
-    from ..core import systems
+    from ...core import systems
 
     x0 = np.array([float(v.mid()) for v in xhat]) + np.array([1e-3, 1e-3, 1e-3, 0.0])
     ta = systems.taylor(systems.system("reduced"), x0, np.array(p.floats()))

@@ -44,13 +44,13 @@ from fractions import Fraction
 import numpy as np
 from flint import arb
 
-from ..core.errors import ParameterError
-from ..core.tolerances import FIXED_POINT_SEARCH_TOL, PROOF_STEP_TOL
-from ..generated import validated as gen
-from . import ball, fields, taylor
-from .search import ProofFailure, ProofResult, run_checked, stored, structural_tests
-from .theorem import section_fixed_point_theorem
-from .section_return import (_mu_lam, branch_psi, chart_section, first_return, ham_gradient, initial_box, level_newton, level_newton_section, phase_guards, piece_return, return_guards, section_quantities, section_set, tangents)  # noqa: F401  (re-exported: the provers' names)
+from ...core.errors import ParameterError
+from ...core.tolerances import FIXED_POINT_SEARCH_TOL, PROOF_STEP_TOL
+from ...generated import validated as gen
+from .. import ball, fields, taylor
+from .transverse_homoclinic import ProofFailure, ProofResult, run_checked, stored, structural_tests
+from ..theorem import section_fixed_point_theorem
+from ..section_return import (_mu_lam, branch_psi, chart_section, first_return, ham_gradient, initial_box, level_newton, level_newton_section, phase_guards, piece_return, return_guards, section_quantities, section_set, tangents)  # noqa: F401  (re-exported: the provers' names)
 
 FORMAT = "magrod-proof-certificate/1"
 KIND = "section_fixed_point"
@@ -153,9 +153,9 @@ def float_fixed_point(p: fields.ExactParams, h: Fraction, theta_guess: float, ro
     `root`), the half-way state and the half-return time."""
     import heyoka as hy
 
-    from ..chaos.section import solve_p_psi
-    from ..core import systems
-    from ..core.params import RodParams
+    from ...chaos.section import solve_p_psi
+    from ...core import systems
+    from ...core.params import RodParams
 
     rp = RodParams(*p.floats())
     v = hy.make_vars(*systems.STATE["reduced"])
@@ -250,7 +250,7 @@ def prove(params: fields.ExactParams, h: Fraction, theta_guess: float, settings:
     Returns
     -------
     ProofResult
-        As search.prove: ok, certificate (kind "section_fixed_point"), reason, checks, wall_time_s.
+        As transverse_homoclinic.prove: ok, certificate (kind "section_fixed_point"), reason, checks, wall_time_s.
 
     Notes
     -----
