@@ -551,16 +551,20 @@ def test_mapped_sets_replay_the_serial_checks_on_dask(cert, tmp_path, capsys):
     assert [r.ok for r in many] == [False, True]
 
 
-def test_prove_workers_and_scheduler_apply_to_verify_only(cert, tmp_path, capsys):
-    """--workers and --scheduler size or place the verifier's set flights: given together, or to the prover, exit 2
-    naming the option, one line, nothing written."""
+def test_prove_workers_and_scheduler_apply_to_the_horseshoe_only(cert, tmp_path, capsys):
+    """--workers and --scheduler size or place a horseshoe's set flights (the verifier's, and the horseshoe prover's
+    pieces): given together, or to another prover, exit 2 naming the option, one line, nothing written."""
     from magrod.cli import main
 
     code, _, err = verify_cli(cert, tmp_path, capsys, "--workers", "2", "--scheduler", "127.0.0.1:1")
     assert code == 2 and len(err) == 1 and "workers" in err[0], err
-    code = main(["prove", "--horseshoe", "0.383", "--level", "9/10", "--workers", "2", "--out", str(tmp_path / "o")])
+    code = main(["prove", "--fixed-point", "0.383", "--level", "9/10", "--workers", "2", "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and "workers" in err[0] and not (tmp_path / "o").exists(), err
+    for extra in (["--workers", "0"], ["--workers", "2", "--scheduler", "127.0.0.1:1"]):
+        code = main(["prove", "--horseshoe", "0.383", "--level", "9/10", *extra, "--out", str(tmp_path / "o")])
+        err = capsys.readouterr().err.strip().splitlines()
+        assert code == 2 and len(err) == 1 and "workers" in err[0] and not (tmp_path / "o").exists(), err
     code, _, err = verify_cli(cert, tmp_path, capsys, "--workers", "0")
     assert code == 2 and len(err) == 1 and "workers" in err[0], err
 
@@ -593,3 +597,77 @@ def test_fig4d_certificate_verifies():
     cert, rec = _fig4d()
     res = verify.verify(cert)
     assert res.ok and res.theorem == rec["theorem"] and len(res.checks) == rec["n_checks"], res.reason
+
+
+def _piece_jobs(cert, sets=(0, 1)):
+    """The prover's flight jobs for the one-piece sets `sets` of a certificate (its own t_a), and the settings."""
+    from magrod.proof.provers import flights, horseshoe_design
+    from magrod.proof.provers.section_horseshoe import _q, set_data
+
+    st = horseshoe_design.DESIGNS["fig4a"]()
+    jobs = []
+    for i in sets:
+        c, A = set_data(cert["sets"][i])
+        jobs.append({"params": cert["params"], "h": cert["level"], "settings": flights.settings_json(st),
+                     "c": [_q(v) for v in c], "A": [[_q(v) for v in row] for row in A], "pc": cert["sets"][i]["p_c"],
+                     "branch": cert["sets"][i].get("branch", "0"), "t_a": cert["flights"][i]["pieces"][0]["t_a"],
+                     "thin": None})
+    return st, jobs
+
+
+def test_the_provers_piece_flights_are_the_same_in_other_processes(cert):
+    """The horseshoe prover's pieces flown by local_mapper (two fresh interpreters, results in the order of the jobs)
+    give the same balls, bit for bit, as in this process through the same exact JSON form (flights.normalised): the
+    certificate does not depend on --workers.  The steps are the shipped certificate's (Fig 4(a), N0 and N1); a
+    tampered job (the piece twice as large) gives other balls, and a flight error travels by name."""
+
+    from magrod.proof import ball, section_return
+    from magrod.proof.provers import flights
+    from magrod.proof.provers.section_horseshoe import _prover_field
+
+    st, jobs = _piece_jobs(cert)
+    got = list(flights.local_mapper(2)(flights.piece_job, jobs))
+    p = fields.ExactParams(**{k: Fraction(v) for k, v in cert["params"].items()})
+
+    def flat(fl):
+        balls = [*fl["Pc"], *fl["DP"][0], *fl["DP"][1], fl["ppsi_box"], fl["gdot_box"], fl["gdot_thin"]]
+        return [ball.mid_rad(x) for x in balls]
+
+    with ball.workprec(st.prec):
+        fld = _prover_field(p, fields.gen, st)
+        for i, (job, r) in enumerate(zip(jobs, got)):
+            here = flights.normalised(section_return.piece_return(
+                p.balls(), Fraction(cert["level"]), fld, [Fraction(v) for v in job["c"]],
+                [[Fraction(v) for v in row] for row in job["A"]], Fraction(job["pc"]), st.p_rad, Fraction(job["t_a"]),
+                st.lead, t1=st.t1, order=st.order, tol=st.tol, tol_thin=st.tol_thin, newton=st.newton,
+                module=fields.gen, integrator=section_return.integrator(st.integrator),
+                thin_integrator=section_return.integrator(st.thin_integrator)))
+            there = flights.decode(r["flight"])
+            assert flat(here) == flat(there) and here["steps"] == there["steps"], i
+            shipped = cert["flights"][i]["pieces"][0]["steps"]
+            assert [[ball.decimal(s) for s in ph] for ph in there["steps"]["box"]] == shipped["box"]
+        bad = dict(jobs[0], A=[[str(2 * Fraction(v)) for v in row] for row in jobs[0]["A"]])
+        other = flights.decode(flights.piece_job(bad)["flight"])
+        assert flat(other) != flat(flights.decode(got[0]["flight"]))
+    broken = dict(jobs[0], t_a="1/1024")  # far too early: the return is not reached by then
+    r = flights.piece_job(broken)
+    assert "err" in r and r["err"][0] in flights.ERRORS
+    with pytest.raises(flights.ERRORS[r["err"][0]]):
+        flights.raise_error(r["err"])
+
+
+@pytest.mark.slow
+def test_prover_gives_the_same_certificate_for_every_number_of_workers():
+    """Fig 4(a)'s horseshoe proved with its pieces flown in this process and in two others: the same certificate but
+    for its wall time (~60 s each), whose theorem is the shipped one's."""
+    from magrod.proof.provers import horseshoe_design, section_fixed_point, section_horseshoe
+
+    old = _load(CERT)
+    p, h = section_fixed_point.validate(*(old["params"][k] for k in ("m", "mu", "gamma", "delta", "lam")), old["level"])
+    got = []
+    for w in (1, 2):
+        r = section_horseshoe.prove(p, h, Fraction(old["design"]["x0_theta"]), horseshoe_design.DESIGNS["fig4a"](),
+                                    workers=w)
+        assert r.ok, r.reason
+        got.append({k: v for k, v in r.certificate.items() if k != "wall_time_s"})
+    assert got[0] == got[1] and got[0]["theorem"] == old["theorem"]

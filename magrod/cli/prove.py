@@ -20,6 +20,8 @@ by covering relations along the homoclinic orbit of the saddle near THETA (magro
 --branch pi --root smallest` the cycle design around Fig 4(c)'s period-6 orbit (magrod/proof/designs/fig4c.json)."""
 from __future__ import annotations
 
+import contextlib
+
 from fractions import Fraction
 
 from ..core.errors import ParameterError
@@ -66,10 +68,11 @@ def add_arguments(p):
                    help="--fixed-point / --horseshoe: the saddle's branch of the section, psi = 0 or pi")
     # --fixed-point / --horseshoe: the root of the level that x0 lifts to (one help text for --root everywhere)
     p.add_argument("--root", default="largest", metavar="I", help=ROOT_INDEX_HELP)
-    add_workers(p, help="--verify: processes re-flying a horseshoe's sets (default: the CPUs this process may use)")
+    add_workers(p, help="--verify: processes re-flying a horseshoe's sets; --horseshoe: processes flying the sets' "
+                        "pieces (default: the CPUs this process may use; the certificate is the same for every value)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="--verify: re-fly a horseshoe's sets on the running Dask scheduler at ADDRESS (tcp://HOST:PORT "
-                        "or HOST:PORT) instead; the checks are replayed here in their serial order")
+                   help="--verify / --horseshoe: fly a horseshoe's sets (pieces) on the running Dask scheduler at "
+                        "ADDRESS (tcp://HOST:PORT or HOST:PORT) instead; the checks are made here in their serial order")
     p.add_argument("--mutate", default=None, metavar="K",
                    help="control: flip the sign of the K-th term of the generated chart field (must fail)")
 
@@ -78,8 +81,10 @@ def run(args) -> dict:
     if args.verify is not None:
         return _verify(args)
     for opt in ("workers", "scheduler"):
-        if getattr(args, opt) is not None:
-            raise ParameterError(opt, "applies to --verify (the prover's flights run in this process)")
+        if getattr(args, opt) is not None and args.horseshoe is None:
+            raise ParameterError(opt, "applies to --verify and --horseshoe (the other provers' flights run in this "
+                                      "process)")
+    _flight_workers(args)  # refused before anything runs or is written
     if args.fixed_point is not None:
         return _fixed_point(args)
     if args.horseshoe is not None:
@@ -206,7 +211,8 @@ def _horseshoe(args) -> dict:
         st = replace(st, passes=passes)
     w = _lam_rad(args)
     say = None if args.quiet else _stage
-    res = prove_horseshoe(p, h, theta, st, module=module, progress=say)
+    with _flight_mapper(args) as (workers, mapper):
+        res = prove_horseshoe(p, h, theta, st, module=module, progress=say, workers=workers, mapper=mapper)
     if res.ok and w:
         from ..proof import widen_horseshoe
 
@@ -287,24 +293,37 @@ def _stage(msg):
     print(f"magrod prove: {msg}", file=sys.stderr, flush=True)
 
 
+def _flight_workers(args):
+    """--workers as an int (None: not given), refused with --scheduler."""
+    if args.scheduler is not None and args.workers is not None:
+        raise ParameterError("workers", "sizes the local processes that --scheduler replaces: give one of them")
+    return None if args.workers is None else integer("workers", args.workers, minimum=1, maximum=256)
+
+
+@contextlib.contextmanager
+def _flight_mapper(args):
+    """(workers, mapper) for a horseshoe's independent flights: `--workers N` local processes, or `--scheduler
+    ADDRESS` a Dask cluster (its client closed on the way out)."""
+    workers = _flight_workers(args)
+    if args.scheduler is None:
+        yield workers, None
+        return
+    from ..proof import dask_mapper
+    from ..store.cluster import close_quietly, connect
+
+    client = connect(args.scheduler)
+    try:
+        yield None, dask_mapper(client)
+    finally:
+        close_quietly(client)
+
+
 def _verify(args) -> dict:
     from ..proof import load_certificate, verify_certificate
 
-    if args.scheduler is not None and args.workers is not None:
-        raise ParameterError("workers", "sizes the local processes that --scheduler replaces: give one of them")
-    workers = None if args.workers is None else integer("workers", args.workers, minimum=1, maximum=256)
-    cert = load_certificate(args.verify)
-    if args.scheduler is None:
-        res = verify_certificate(cert, workers=workers)
-    else:
-        from ..proof import dask_mapper
-        from ..store.cluster import close_quietly, connect
-
-        client = connect(args.scheduler)
-        try:
-            res = verify_certificate(cert, mapper=dask_mapper(client))
-        finally:
-            close_quietly(client)
+    with _flight_mapper(args) as (workers, mapper):
+        cert = load_certificate(args.verify)
+        res = verify_certificate(cert, workers=workers, mapper=mapper)
     out = {"ok": res.ok, "certificate": str(args.verify), **res.to_dict()}
     if not res.ok:
         out["error"] = res.reason

@@ -39,6 +39,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from ...core.errors import ParameterError
 from ...generated import validated as gen
 from .. import ball, fields, section_return
 from ..theorem import section_horseshoe_theorem
@@ -128,7 +129,7 @@ def piece_checks(off, G, piece):
 # the prover
 # --------------------------------------------------------------------------------------------------------------
 def prove(params: fields.ExactParams, h: Fraction, x0_theta: Fraction, settings: HorseshoeSettings | None = None, *,
-          module=gen, progress=None) -> ProofResult:
+          module=gen, progress=None, workers: int | None = None, mapper=None) -> ProofResult:
     """Prove (or fail to prove) the covering-relation horseshoe of the section map (module docstring).
 
     Parameters
@@ -139,8 +140,17 @@ def prove(params: fields.ExactParams, h: Fraction, x0_theta: Fraction, settings:
         x0 = (theta*, psi, pbar_theta = 0) of P (statement 11; psi = 0, or pi with settings.branch = "pi": Fig 5,
         statement 13); N0 is centred at the float theta*.
     settings : HorseshoeSettings, optional
-    module : the generated field module (a mutated copy for controls).
+    module : the generated field module (a mutated copy for controls: its flights stay in this process).
     progress : callable, optional
+        progress(message) at each stage and after each piece's flight.
+    workers : int or None, optional
+        The pieces' flights (one return of each piece of each set, independent of one another) in this many fresh
+        processes on this machine (None, the default: the CPUs this process may use; 1: in this process).  The chain's
+        centre flights are sequential and stay here.  The certificate is the same for every value: the flights are
+        the same Arb computations wherever they run, and their checks are made here in the serial order.
+    mapper : callable, optional
+        mapper(fn, jobs) running the pieces' flights elsewhere (a Dask cluster: magrod.proof.schedule.dask_mapper),
+        instead of `workers`.
 
     Returns
     -------
@@ -149,8 +159,17 @@ def prove(params: fields.ExactParams, h: Fraction, x0_theta: Fraction, settings:
     """
     st = settings or HorseshoeSettings()
     run = _prove if st.period == 1 else _prove_cycle
+    if mapper is None and module is gen:
+        from . import flights
+
+        n = flights.cpus() if workers is None else int(workers)
+        if n < 1:
+            raise ParameterError("workers", f"must be at least 1, got {workers}")
+        mapper = flights.local_mapper(n) if n > 1 else None
+    elif module is not gen:
+        mapper = None  # a control's mutated field is not importable by another process: it flies here
     return run_checked(st.prec, lambda check: run(params, h, x0_theta, st, module, check,
-                                                  progress or (lambda s: None)), flights=True)
+                                                  progress or (lambda s: None), mapper), flights=True)
 
 
 def _frame_from(DPs, e_u1):
@@ -217,21 +236,26 @@ def _branch_boxes(pars, h, sets, p_rad, module, check) -> dict:
     return branch
 
 
-def _fly_sets(sets, n_src, grids, fly, thin_of, branch, check, say):
-    """Every piece of the sources N_0 .. N_(n_src - 1) flown one return (fly: section_return.piece_return with the
-    prover's settings; thin_of[i], when given, is N_i's centre flight already taken, reused for a one-piece set), its
-    level and positive return checked.  Returns the certificate's flight records and images[(i, n)] = (piece,
-    A_X, flight) for _check_links."""
-    flights, images = [], {}
+def _fly_sets(sets, n_src, grids, fly_many, thin_of, branch, check, say):
+    """Every piece of the sources N_0 .. N_(n_src - 1) flown one return (fly_many: section_return.piece_return with
+    the prover's settings, for a list of pieces, in this process or in others; thin_of[i], when given, is N_i's
+    centre flight already taken, reused for a one-piece set), its level and positive return checked in the order of
+    the sets and pieces (the serial order, wherever the flights ran).  Returns the certificate's flight records and
+    images[(i, n)] = (piece, A_X, flight) for _check_links."""
+    plan = []
     for i in range(n_src):
         cN, AN = set_data(sets[i])
         pieces = grid_pieces(*grids[i])
-        recs = []
         for n, pc in enumerate(pieces):
-            say(f"set N{i}: piece {n + 1}/{len(pieces)}")
             cX, AX = piece_geometry(cN, AN, pc)
+            plan.append((i, n, len(pieces), pc, cX, AX))
+    results = fly_many([(cX, AX, Fraction(sets[i]["p_c"]), sets[i]["branch"], thin_of.get(i) if m == 1 else None)
+                        for i, n, m, pc, cX, AX in plan])
+    flights, images, recs = [], {}, []
+    try:
+        for (i, n, m, pc, _cX, AX), fl in zip(plan, results):
+            say(f"set N{i}: piece {n + 1}/{m}")
             ppc = Fraction(sets[i]["p_c"])
-            fl = fly(cX, AX, ppc, sets[i]["branch"], thin=thin_of.get(i) if len(pieces) == 1 else None)
             check(f"N{i} piece {n} level", fl["level_ok"] and ball.subset(fl["ppsi_hull"], branch[i]),
                   "pbar_psi unique in its Newton box over the piece, inside the set's branch box")
             check(f"N{i} piece {n} positive return", ball.positive(fl["gdot_thin"]) and ball.positive(fl["gdot_box"]),
@@ -243,7 +267,13 @@ def _fly_sets(sets, n_src, grids, fly, thin_of, branch, check, say):
                                         "DP": [[stored(v) for v in row] for row in fl["DP"]],
                                         "ppsi_box": stored(fl["ppsi_box"])}})
             images[(i, n)] = (pc, AX, fl)
-        flights.append({"set": i, "grid": list(grids[i]), "pieces": recs})
+            if n == m - 1:
+                flights.append({"set": i, "grid": list(grids[i]), "pieces": recs})
+                recs = []
+    finally:
+        close = getattr(results, "close", None)
+        if close is not None:  # a failed check: the flights not yet taken are cancelled
+            close()
     return flights, images
 
 
@@ -270,19 +300,22 @@ def _symmetric_and_disjoint(sets, check) -> None:
         check(f"N{i} nondegenerate", A[0][0] * A[1][1] - A[0][1] * A[1][0] != 0, "det A != 0")
 
 
-def _fliers(P: FloatMap, pars, h, fld, st: HorseshoeSettings, module, check):
+def _fliers(P: FloatMap, pars, h, fld, st: HorseshoeSettings, module, check, mapper=None, params=None):
     """The provers' validated flights with the settings st: fly(c, A, pc, branch, ...) one return of the set
-    c + A [-1, 1]^2 (section_return.piece_return, t_a from the float return time), pc_of(c) the float level root at c,
-    orbit(c1, pc1, n, tol_thin, name) the centres, pbar_psi, branches ("0": cos psi > 0, "pi": cos psi < 0) and
-    flights of n validated returns from c1 (the centres: the flights' 128-bit midpoints)."""
+    c + A [-1, 1]^2 (section_return.piece_return, t_a from the float return time), fly_many(items) the same for a
+    list of (c, A, pc, branch, thin) (by `mapper` in other processes when given: provers/flights.py), pc_of(c) the
+    float level root at c, orbit(c1, pc1, n, tol_thin, name) the centres, pbar_psi, branches ("0": cos psi > 0, "pi":
+    cos psi < 0) and flights of n validated returns from c1 (the centres: the flights' 128-bit midpoints)."""
     zero = [[Fraction(0), Fraction(0)], [Fraction(0), Fraction(0)]]
 
-    def fly(c, A, pc, br, steps=None, box=True, tol_thin=None, thin=None):
+    def t_approach_of(c, pc, br):
         x4 = np.zeros(4)
         x4[fields.THETA], x4[fields.PTHETA], x4[fields.PPSI] = float(c[0]), float(c[1]), float(pc)
         x4[fields.PSI] = 0.0 if br == "0" else math.pi
-        T = P.full4(x4)[1]
-        t_a = t_approach(T, st.lead)
+        return t_approach(P.full4(x4)[1], st.lead)
+
+    def fly(c, A, pc, br, steps=None, box=True, tol_thin=None, thin=None):
+        t_a = t_approach_of(c, pc, br)
         fl = section_return.piece_return(pars, h, fld, c, A, pc, st.p_rad, t_a, st.lead, t1=st.t1, order=st.order,
                                    tol=st.tol, tol_thin=tol_thin or st.tol_thin, steps=steps, newton=st.newton,
                                    box=box, thin=thin, branch=br, module=module,
@@ -290,6 +323,25 @@ def _fliers(P: FloatMap, pars, h, fld, st: HorseshoeSettings, module, check):
                                    thin_integrator=section_return.integrator(st.thin_integrator))
         fl["t_a"] = t_a
         return fl
+
+    def fly_many(items):
+        from . import flights as fj
+
+        if mapper is None:
+            # the same balls as from another process: each flight's result (and a reused centre flight) passes
+            # through its exact JSON form, whose decoding rounds a radius up by one unit in its last place
+            # (provers/flights.py), so that the certificate does not depend on where the flights ran
+            return (fj.normalised(fly(c, A, pc, br, thin=None if thin is None else fj.normalised(thin)))
+                    for c, A, pc, br, thin in items)
+
+        sj = fj.settings_json(st)
+        jobs, t_as = [], []
+        for c, A, pc, br, thin in items:
+            t_as.append(t_approach_of(c, pc, br))
+            jobs.append({"params": params.as_json(), "h": _q(h), "settings": sj, "c": [_q(v) for v in c],
+                         "A": [[_q(v) for v in row] for row in A], "pc": _q(pc), "branch": br, "t_a": _q(t_as[-1]),
+                         "thin": None if thin is None else fj.encode(thin)})
+        return _decoded(mapper(fj.piece_job, jobs), t_as)
 
     def pc_of(c):
         return dyadic(float(P.lift([float(c[0]), float(c[1])])[fields.PPSI]), 50)
@@ -307,7 +359,25 @@ def _fliers(P: FloatMap, pars, h, fld, st: HorseshoeSettings, module, check):
             brs.append("0" if ball.positive(cp) else "pi")
         return cs, pcs, brs, fls
 
-    return fly, pc_of, orbit
+    return fly, fly_many, pc_of, orbit
+
+
+def _decoded(results, t_as):
+    """The flights of a mapper's results, decoded, each with its t_a; a worker's error re-raised where the serial
+    flight would have raised it; closing this generator closes the mapper's (its flights not yet taken cancelled)."""
+    from . import flights as fj
+
+    try:
+        for r, t_a in zip(results, t_as):
+            if "err" in r:
+                fj.raise_error(r["err"])
+            fl = fj.decode(r["flight"])
+            fl["t_a"] = t_a
+            yield fl
+    finally:
+        close = getattr(results, "close", None)
+        if close is not None:
+            close()
 
 
 def _prover_field(p, module, st: HorseshoeSettings):
@@ -339,7 +409,7 @@ def _chain_sets(cs, pcs, brs, eus, ess, ls, ws) -> list:
     return out
 
 
-def _prove(p, h, x0_theta, st, module, check, say) -> dict:
+def _prove(p, h, x0_theta, st, module, check, say, mapper=None) -> dict:
     pars = p.balls()
     fld = _prover_field(p, module, st)
     P = FloatMap(p, h, st.branch, st.root)
@@ -351,7 +421,7 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     fd = float_design(P, x0, st.m_back, st.s_star, st.n_exc)
     k = st.n_exc + st.m_back + 1  # N_1 at z_-m .. N_k at z_n_exc
 
-    fly, pc_of, orbit = _fliers(P, pars, h, fld, st, module, check)
+    fly, fly_many, pc_of, orbit = _fliers(P, pars, h, fld, st, module, check, mapper, p)
 
     def chain(c1, tol_thin):
         return orbit(c1, pc_of(c1), k - 1, tol_thin, "chain")
@@ -380,7 +450,8 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     grids = {i: (1, 1) for i in range(k)}
     grids.update(st.pieces or {})
     # the chain's flight from c_i is N_i's centre flight (one piece: c_X = c_i)
-    flights, images = _fly_sets(sets, k, grids, fly, {i: fls[i - 1] for i in range(1, k)}, branch, check, say)
+    flights, images = _fly_sets(sets, k, grids, fly_many, {i: fls[i - 1] for i in range(1, k)}, branch, check,
+                                 say)
     link_rec = _check_links(sets, links, grids, images, branch, check, say)
     # symmetry, disjointness, entropy
     _symmetric_and_disjoint(sets, check)
@@ -404,7 +475,7 @@ def _prove(p, h, x0_theta, st, module, check, say) -> dict:
     }
 
 
-def _prove_cycle(p, h, x0_theta, st, module, check, say) -> dict:
+def _prove_cycle(p, h, x0_theta, st, module, check, say, mapper=None) -> dict:
     """The horseshoe around a symmetric period-p orbit of P (st.period = p > 1; module docstring of
     research/fig4c_horseshoe_design.py for the design).  Sets (certificate order): N0 (symmetric, at x0), the
     cycle sets N1 .. N(p-1) at x_1 .. x_(p-1), the excursion sets N(p) .. N(n-1) (C_1 .. C_k, C_1 on W^u(x0) at
@@ -421,7 +492,7 @@ def _prove_cycle(p, h, x0_theta, st, module, check, say) -> dict:
     x0_theta = dyadic(cyc["theta"], 53)
     x0 = np.array([float(x0_theta), 0.0])
 
-    fly, pc_of, orbit = _fliers(P, pars, h, fld, st, module, check)
+    fly, fly_many, pc_of, orbit = _fliers(P, pars, h, fld, st, module, check, mapper, p)
 
     # the cycle: x_0 .. x_(p-1) by validated returns from x0 (x_p = P^p(x0) closes on x0 up to the float theta*)
     say(f"cycle: {per} centre flights (tol {st.tol_thin:g})")
@@ -484,7 +555,7 @@ def _prove_cycle(p, h, x0_theta, st, module, check, say) -> dict:
     grids.update(st.pieces or {})
     thin_of = {i: cfls[i] for i in range(per)}
     thin_of.update({per + j: fls[j] for j in range(k - 1)})  # C_(j+1)'s centre flight is the chain's j-th
-    flights, images = _fly_sets(sets, n - 1, grids, fly, thin_of, branch, check, say)
+    flights, images = _fly_sets(sets, n - 1, grids, fly_many, thin_of, branch, check, say)
     link_rec = _check_links(sets, links, grids, images, branch, check, say)
     _symmetric_and_disjoint(sets, check)
     Lloop = 2 * (n - 1)
