@@ -671,3 +671,34 @@ def test_prover_gives_the_same_certificate_for_every_number_of_workers():
         assert r.ok, r.reason
         got.append({k: v for k, v in r.certificate.items() if k != "wall_time_s"})
     assert got[0] == got[1] and got[0]["theorem"] == old["theorem"]
+
+
+def test_the_widening_flights_are_the_same_in_other_processes(interval_cert):
+    """The lambdabar-interval flights of horseshoe_widen (a piece moving with lambdabar, lambdabar the fifth state)
+    flown by local_mapper give the same balls, bit for bit, as here through flights.normalised, and the shipped
+    interval certificate's own steps (Fig 4(a), N0 and N1 over 27/200 +- 2e-11)."""
+    from magrod.proof import ball
+    from magrod.proof.provers import flights
+    from magrod.proof.provers.horseshoe_widen import _widen_flight
+    from magrod.proof.provers.section_horseshoe import _q, grid_pieces, piece_geometry, set_data
+
+    c = interval_cert
+    jobs = []
+    for i in (0, 1):
+        sd, r = c["sets"][i], c["flights"][i]["pieces"][0]
+        cX, AX = piece_geometry(*set_data(sd), grid_pieces(1, 1)[0])
+        jobs.append({"params": c["params"], "h": c["level"], "settings": c["settings"],
+                     "lam_rad": c["settings"]["lam_rad"], "c": [_q(x) for x in cX],
+                     "A": [[_q(x) for x in row] for row in AX], "pc": r["p_c"], "t_a": r["t_a"],
+                     "thin_steps": r["steps"]["thin"], "branch": sd.get("branch", "0"), "v": sd["v"]})
+    got = list(flights.local_mapper(2)(flights.widen_job, jobs))
+
+    def flat(fl):
+        return [ball.mid_rad(x) for x in [*fl["Pc"], *fl["DP"][0], *fl["DP"][1], *fl["dPds"], fl["ppsi_box"]]]
+
+    with ball.workprec(int(c["settings"]["prec"])):
+        for i, (job, r) in enumerate(zip(jobs, got)):
+            here, there = flights.normalised(_widen_flight(job)), flights.decode(r["flight"])
+            assert flat(here) == flat(there) and here["steps"] == there["steps"], i
+            assert [[ball.decimal(s) for s in ph] for ph in there["steps"]["box"]] == \
+                c["flights"][i]["pieces"][0]["steps"]["box"], i

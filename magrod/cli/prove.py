@@ -68,11 +68,13 @@ def add_arguments(p):
                    help="--fixed-point / --horseshoe: the saddle's branch of the section, psi = 0 or pi")
     # --fixed-point / --horseshoe: the root of the level that x0 lifts to (one help text for --root everywhere)
     p.add_argument("--root", default="largest", metavar="I", help=ROOT_INDEX_HELP)
-    add_workers(p, help="--verify: processes re-flying a horseshoe's sets; --horseshoe: processes flying the sets' "
-                        "pieces (default: the CPUs this process may use; the certificate is the same for every value)")
+    add_workers(p, help="--verify: processes re-flying a horseshoe's sets; --horseshoe, --widen: processes flying the "
+                        "sets' pieces (default: the CPUs this process may use; the certificate is the same for every "
+                        "value)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="--verify / --horseshoe: fly a horseshoe's sets (pieces) on the running Dask scheduler at "
-                        "ADDRESS (tcp://HOST:PORT or HOST:PORT) instead; the checks are made here in their serial order")
+                   help="--verify / --horseshoe / --widen: fly a horseshoe's sets (pieces) on the running Dask "
+                        "scheduler at ADDRESS (tcp://HOST:PORT or HOST:PORT) instead; the checks are made here in "
+                        "their serial order")
     p.add_argument("--mutate", default=None, metavar="K",
                    help="control: flip the sign of the K-th term of the generated chart field (must fail)")
 
@@ -81,9 +83,9 @@ def run(args) -> dict:
     if args.verify is not None:
         return _verify(args)
     for opt in ("workers", "scheduler"):
-        if getattr(args, opt) is not None and args.horseshoe is None:
-            raise ParameterError(opt, "applies to --verify and --horseshoe (the other provers' flights run in this "
-                                      "process)")
+        if getattr(args, opt) is not None and args.horseshoe is None and getattr(args, "widen", None) is None:
+            raise ParameterError(opt, "applies to --verify, --horseshoe and --widen (the other provers' flights run "
+                                      "in this process)")
     _flight_workers(args)  # refused before anything runs or is written
     if args.fixed_point is not None:
         return _fixed_point(args)
@@ -213,10 +215,10 @@ def _horseshoe(args) -> dict:
     say = None if args.quiet else _stage
     with _flight_mapper(args) as (workers, mapper):
         res = prove_horseshoe(p, h, theta, st, module=module, progress=say, workers=workers, mapper=mapper)
-    if res.ok and w:
-        from ..proof import widen_horseshoe
+        if res.ok and w:
+            from ..proof import widen_horseshoe
 
-        res = widen_horseshoe(res.certificate, w, module=module, progress=say)
+            res = widen_horseshoe(res.certificate, w, module=module, progress=say, workers=workers, mapper=mapper)
     return _section_result(res, p, h, dest, lambda c: {"entropy": c["entropy"]}, args)
 
 
@@ -234,7 +236,8 @@ def _widen(args) -> dict:
         raise ParameterError("out", "an output directory is required")
     dest = out_dir("out", args.out)
     p, h = validate_fixed_point(*(cert["params"][k] for k in ("m", "mu", "gamma", "delta", "lam")), cert["level"])
-    res = widen_horseshoe(cert, w, progress=None if args.quiet else _stage)
+    with _flight_mapper(args) as (workers, mapper):
+        res = widen_horseshoe(cert, w, progress=None if args.quiet else _stage, workers=workers, mapper=mapper)
     return _section_result(res, p, h, dest, lambda c: {"entropy": c["entropy"]}, args)
 
 

@@ -44,10 +44,11 @@ FIG4_HORSESHOE = (("4a", "horseshoe_fig4a.json", "12"), ("4b", "horseshoe_fig4b.
                   ("5a", "horseshoe_fig5a.json", "13"), ("5b", "horseshoe_fig5b.json", "13"),
                   ("5c", "horseshoe_fig5c.json", "13"), ("5d", "horseshoe_fig5d.json", "13"),
                   ("5a_interval", "horseshoe_fig5a_interval.json", "13"))  # every lambdabar in 2 +- 2e-11
-# Shipped certificates no reproduction verifies, each with the command that does (REPORT has a row saying so).  Fig 4(d)'s
-# horseshoe (the panel the chaos indicator calls regular: 37 sets, 1131 checks) is the one whose prove + verify exceeds
-# 10 minutes on 2 cores (prove 587 s on one core, verify 282 s on 2 cores, ~400 s of CPU), so it is verified in CI's
-# own step (.ci/run), not inside the full reproduction, whose time it would lengthen by a third.
+# Shipped certificates no reproduction verifies, each with the command that does (REPORT has a row saying so).
+# Fig 4(d)'s horseshoe (the panel the chaos indicator calls regular: 37 sets, 1131 checks) is the one whose prove +
+# verify exceeds 10 minutes on 2 cores (prove 391 s with --workers 2, 587 s on one core; verify 282 s, ~400 s of
+# CPU), so it is verified in CI's own step (.ci/run), not inside the full reproduction, which it would lengthen by
+# a third.
 # (The 21 boxes of magrod/proof/certificates/fig4a_interval/ are one benchmark's tiling, verified by a slow test;
 # reproduce verifies the single box fixed_point_fig4a_interval.json.)
 NOT_IN_REPRODUCE: tuple = (("4d", "horseshoe_fig4d.json", "12"),)

@@ -295,7 +295,7 @@ STATEMENTS = (
        (μ_u = 1.615; W^u meets Fix(R) at the 35th return; N30, N31 in 4 × 4 and 8 × 8 pieces, N32–N34 in 2 × 2,
        the orbit passing within 0.0103 of θ = π), a thin chaotic layer (horseshoe_fig4d.json, `magrod prove
        --horseshoe 3.057288 --level 9/10 --m 17/10 --mu 2/5 --gamma 3 --delta 3 --lam 93/500 --design fig4d`;
-       prove 587 s on one core, the centres by the Taylor-model integrator; verify 1131 checks, 282 s on 2 cores,
+       prove 391 s on 2 cores (587 s on one), the centres by the Taylor-model integrator; verify 1131 checks, 282 s on 2 cores,
        by CI in a step of its own, not by the full `magrod reproduce`, whose REPORT says so; (a′) ≥ 0.0496,
        (b) ≥ 1.15).""",
        [Step("the covering relations, the symmetry of N0 and Nk, the disjointness, the cover by pieces, the "

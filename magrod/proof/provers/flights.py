@@ -126,6 +126,23 @@ def piece_job(job: dict) -> dict:
             return {"err": [name, str(e)]}
 
 
+def widen_job(job: dict) -> dict:
+    """One return of a piece moving with lambdabar (provers/horseshoe_widen.py's _widen_flight) from JSON data ->
+    {"flight": encoded result} or {"err": [class name, message]}; one job at a time per process."""
+    from ..kernel.pool import JOB_LOCK
+    from .horseshoe_widen import _widen_flight
+
+    with JOB_LOCK:
+        try:
+            with ball.workprec(int(job["settings"]["prec"]), int(job["settings"]["series_cap"])):
+                return {"flight": encode(_widen_flight(job))}
+        except Exception as e:  # noqa: BLE001 - handed to the prover, which raises it where the serial run would
+            import numpy as np
+
+            name = "LinAlgError" if isinstance(e, np.linalg.LinAlgError) else type(e).__name__
+            return {"err": [name, str(e)]}
+
+
 class _FlightSettings:
     def __init__(self, **kw):
         self.__dict__.update(kw)

@@ -14,6 +14,7 @@ from .. import ball, fields, section_return
 from ..theorem import section_horseshoe_theorem
 from .horseshoe_design import FloatMap, _q, dyadic_of
 from .section_horseshoe import KIND, _check_links, _hull, _mid_matrix, _vertices, grid_pieces, piece_geometry, set_data
+from . import flights as flights_mod
 from .transverse_homoclinic import ProofResult, run_checked, stored
 
 
@@ -76,7 +77,7 @@ def disjoint_moving(P1, P2, dv, w) -> bool:
     return False
 
 
-def widen(cert: dict, lam_rad, *, module=gen, progress=None) -> ProofResult:
+def widen(cert: dict, lam_rad, *, module=gen, progress=None, workers: int | None = None, mapper=None) -> ProofResult:
     """The point certificate's horseshoe for every lambdabar in [lam - lam_rad, lam + lam_rad] (statement 12 over
     an interval): each set moves with lambdabar, N_j(lambdabar) = c_j + v_j (lambdabar - lam) + A_j [-1, 1]^2
     (v_j: lambda_motion), so that it follows its chain; each piece's box is re-flown over the interval with
@@ -88,6 +89,9 @@ def widen(cert: dict, lam_rad, *, module=gen, progress=None) -> ProofResult:
     the limit is the growth of the 5-D box's derivative enclosures with its lambdabar extent |v| lam_rad
     (docs/nonintegrability.md, statement 12).
 
+    The pieces' flights run in `workers` fresh processes (None, the default: the CPUs this process may use; 1: here)
+    or by `mapper` (a Dask cluster), as section_horseshoe.prove's: the certificate is the same for every value.
+
     Returns a ProofResult whose certificate has settings["lam_rad"] and a "v" per set.  Point certificates of
     period 1 only (lambda_motion follows x0 as a fixed point; a cycle certificate raises ParameterError)."""
     if int(cert.get("settings", {}).get("period", 1)) != 1:
@@ -98,13 +102,61 @@ def widen(cert: dict, lam_rad, *, module=gen, progress=None) -> ProofResult:
         raise ParameterError("lam_rad", f"must be > 0, got {lam_rad}")
     if cert.get("kind") != KIND or Fraction(cert["settings"].get("lam_rad", "0")) != 0:
         raise ParameterError("cert", "must be a point certificate of kind section_horseshoe")
-    return run_checked(int(cert["settings"]["prec"]), lambda check: _widen(cert, w, module, check, say), flights=True)
+    if mapper is None and module is gen:
+        n = flights_mod.cpus() if workers is None else int(workers)
+        if n < 1:
+            raise ParameterError("workers", f"must be at least 1, got {workers}")
+        mapper = flights_mod.local_mapper(n) if n > 1 else None
+    elif module is not gen:
+        mapper = None  # a control's mutated field is not importable by another process: it flies here
+    return run_checked(int(cert["settings"]["prec"]), lambda check: _widen(cert, w, module, check, say, mapper),
+                       flights=True)
 
 
-def _widen(cert, w, module, check, say) -> dict:
-    import copy
-
+def _widen_flight(job: dict, module=gen) -> dict:
+    """One return of a piece moving with lambdabar (section_return.piece_return with `moving`), from the JSON data of
+    a widening job: the certificate's params, level and settings, the interval's radius "lam_rad", the piece "c", "A",
+    its "pc", "t_a", the centre's steps "thin_steps", its set's "branch" and motion "v".  At the working precision."""
     from ..section_return import Moving
+
+    s = job["settings"]
+    p = fields.ExactParams(**{kk: Fraction(job["params"][kk]) for kk in fields.PARAMS})
+    w = Fraction(job["lam_rad"])
+    pars0, fld0 = p.balls(), fields.chart_field(p, module)
+    parsL = fields.parameter_balls(p, w)
+    fldL = fields.lam_state_field(p, module)
+    if "taylor_model" in (s.get("integrator"), s.get("thin_integrator")):  # Newton's coefficients, as the verifier
+        import dataclasses                                                 # (see section_horseshoe._prover_field)
+
+        fld0, fldL = (dataclasses.replace(f, series="newton") for f in (fld0, fldL))
+    mv = Moving(tuple(parsL), fldL, parsL[fields.LAM], p.lam, [Fraction(x) for x in job["v"]])
+    return section_return.piece_return(
+        pars0, Fraction(job["h"]), fld0, [Fraction(x) for x in job["c"]], [[Fraction(x) for x in row]
+                                                                            for row in job["A"]],
+        Fraction(job["pc"]), Fraction(s["p_rad"]), Fraction(job["t_a"]), Fraction(s["lead"]), t1=Fraction(s["t1"]),
+        order=int(s["order"]), tol=float(s["tol"]), steps={"thin": [[Fraction(x) for x in ph]
+                                                                    for ph in job["thin_steps"]]},
+        newton=int(s["newton"]), thin_c1=False, integrator=section_return.integrator(s.get("integrator", "taylor")),
+        thin_integrator=section_return.integrator(s.get("thin_integrator", "taylor")), branch=job["branch"],
+        moving=mv, module=module)
+
+
+def _decoded(results):
+    """A mapper's widening results, decoded (a worker's error re-raised where the serial flight would have raised
+    it); closing this generator closes the mapper's."""
+    try:
+        for r in results:
+            if "err" in r:
+                flights_mod.raise_error(r["err"])
+            yield flights_mod.decode(r["flight"])
+    finally:
+        close = getattr(results, "close", None)
+        if close is not None:
+            close()
+
+
+def _widen(cert, w, module, check, say, mapper=None) -> dict:
+    import copy
 
     s = cert["settings"]
     p = fields.ExactParams(**{kk: Fraction(cert["params"][kk]) for kk in fields.PARAMS})
@@ -121,14 +173,8 @@ def _widen(cert, w, module, check, say) -> dict:
     brs = [sd.get("branch", "0") for sd in sets]
     for name, idx in (("N0", 0), (f"N{k}", k)):
         check(f"{name} moves on Fix(R)", vs[idx][1] == 0, "v's pbar_theta = 0: the set stays symmetric")
-    pars0, fld0 = p.balls(), fields.chart_field(p, module)
     parsL = fields.parameter_balls(p, w)
     Lam = parsL[fields.LAM]
-    fldL = fields.lam_state_field(p, module)
-    if "taylor_model" in (s.get("integrator"), s.get("thin_integrator")):  # Newton's coefficients, as the verifier
-        import dataclasses                                                 # (see _prover_field)
-
-        fld0, fldL = (dataclasses.replace(f, series="newton") for f in (fld0, fldL))
     Dl = Lam - ball.q(p.lam)
     prad = Fraction(s["p_rad"])
     branch = {}
@@ -140,24 +186,27 @@ def _widen(cert, w, module, check, say) -> dict:
         check(f"N{i} branch box", ok, "pbar_psi unique in the branch box over the set's hull swept over lambdabar")
         branch[i] = B
     links = [(0, 0), (0, 1)] + [(j, j + 1) for j in range(1, k)]
-    grids, images, flights = {}, {}, []
+    grids, images, flights, plan = {}, {}, [], []
     for i in range(k):
-        cN, AN = set_data(sets[i])
         grids[i] = tuple(fl_by[i]["grid"])
-        mv = Moving(tuple(parsL), fldL, Lam, p.lam, vs[i])
-        recs = []
         for n, (pc, r) in enumerate(zip(grid_pieces(*grids[i]), fl_by[i]["pieces"])):
+            plan.append((i, n, pc, r))
+    jobs = []
+    for i, _n, pc, r in plan:
+        cX, AX = piece_geometry(*set_data(sets[i]), pc)
+        jobs.append({"params": cert["params"], "h": cert["level"], "settings": s, "lam_rad": _q(w),
+                     "c": [_q(x) for x in cX], "A": [[_q(x) for x in row] for row in AX], "pc": r["p_c"],
+                     "t_a": r["t_a"], "thin_steps": r["steps"]["thin"], "branch": brs[i], "v": sets[i]["v"]})
+    if mapper is None:  # here, through the same exact JSON form as from another process (flights.normalised)
+        results = (flights_mod.normalised(_widen_flight(job, module)) for job in jobs)
+    else:
+        results = _decoded(mapper(flights_mod.widen_job, jobs))
+    recs = []
+    try:
+        for (i, n, pc, r), fl in zip(plan, results):
             check(f"N{i} piece {n} geometry", [Fraction(x) for x in r["piece"]] == list(pc), "the grid's piece")
             say(f"set N{i}: piece {n + 1}/{len(fl_by[i]['pieces'])} over lambdabar")
-            cX, AX = piece_geometry(cN, AN, pc)
-            t_a, ppc = Fraction(r["t_a"]), Fraction(r["p_c"])
-            thin_steps = [[Fraction(x) for x in ph] for ph in r["steps"]["thin"]]
-            fl = section_return.piece_return(pars0, h, fld0, cX, AX, ppc, prad, t_a, Fraction(s["lead"]),
-                                       t1=Fraction(s["t1"]), order=int(s["order"]), tol=float(s["tol"]),
-                                       steps={"thin": thin_steps}, newton=int(s["newton"]), thin_c1=False,
-                                       integrator=section_return.integrator(s.get("integrator", "taylor")),
-                                       thin_integrator=section_return.integrator(s.get("thin_integrator", "taylor")),
-                                       branch=brs[i], moving=mv, module=module)
+            AX = piece_geometry(*set_data(sets[i]), pc)[1]
             check(f"N{i} piece {n} level", fl["level_ok"] and ball.subset(fl["ppsi_hull"], branch[i]),
                   "pbar_psi unique in its Newton box over the moving piece, inside the set's branch box")
             check(f"N{i} piece {n} positive return", ball.positive(fl["gdot_thin"]) and ball.positive(fl["gdot_box"]),
@@ -170,7 +219,13 @@ def _widen(cert, w, module, check, say) -> dict:
                                         "dPds": [stored(v) for v in fl["dPds"]],
                                         "ppsi_box": stored(fl["ppsi_box"])}})
             images[(i, n)] = (pc, AX, fl)
-        flights.append({"set": i, "grid": list(grids[i]), "pieces": recs})
+            if n == len(fl_by[i]["pieces"]) - 1:
+                flights.append({"set": i, "grid": list(grids[i]), "pieces": recs})
+                recs = []
+    finally:
+        close = getattr(results, "close", None)
+        if close is not None:  # a failed check: the flights not yet taken are cancelled
+            close()
 
     def shift(i, j, fl):  # P_s(c_X(s)) - c_M(s) = P(c_X) - c_M + (dPds - v_M)(s - lam)
         vM = [ball.q(x) for x in vs[j]]
