@@ -623,7 +623,6 @@ def test_the_provers_piece_flights_are_the_same_in_other_processes(cert):
 
     from magrod.proof import ball, section_return
     from magrod.proof.provers import flights
-    from magrod.proof.provers.section_horseshoe import _prover_field
 
     st, jobs = _piece_jobs(cert)
     got = list(flights.local_mapper(2)(flights.piece_job, jobs))
@@ -634,7 +633,7 @@ def test_the_provers_piece_flights_are_the_same_in_other_processes(cert):
         return [ball.mid_rad(x) for x in balls]
 
     with ball.workprec(st.prec):
-        fld = _prover_field(p, fields.gen, st)
+        fld = flights.prover_field(p, fields.gen, st)
         for i, (job, r) in enumerate(zip(jobs, got)):
             here = flights.normalised(section_return.piece_return(
                 p.balls(), Fraction(cert["level"]), fld, [Fraction(v) for v in job["c"]],
@@ -674,12 +673,11 @@ def test_prover_gives_the_same_certificate_for_every_number_of_workers():
 
 
 def test_the_widening_flights_are_the_same_in_other_processes(interval_cert):
-    """The lambdabar-interval flights of horseshoe_widen (a piece moving with lambdabar, lambdabar the fifth state)
-    flown by local_mapper give the same balls, bit for bit, as here through flights.normalised, and the shipped
+    """The lambdabar-interval flights of horseshoe_widen (flights.widen_flight: a piece moving with lambdabar,
+    lambdabar the fifth state) flown by local_mapper give the same balls, bit for bit, as here through flights.normalised, and the shipped
     interval certificate's own steps (Fig 4(a), N0 and N1 over 27/200 +- 2e-11)."""
     from magrod.proof import ball
     from magrod.proof.provers import flights
-    from magrod.proof.provers.horseshoe_widen import _widen_flight
     from magrod.proof.provers.section_horseshoe import _q, grid_pieces, piece_geometry, set_data
 
     c = interval_cert
@@ -698,7 +696,7 @@ def test_the_widening_flights_are_the_same_in_other_processes(interval_cert):
 
     with ball.workprec(int(c["settings"]["prec"])):
         for i, (job, r) in enumerate(zip(jobs, got)):
-            here, there = flights.normalised(_widen_flight(job)), flights.decode(r["flight"])
+            here, there = flights.normalised(flights.widen_flight(job)), flights.decode(r["flight"])
             assert flat(here) == flat(there) and here["steps"] == there["steps"], i
             assert [[ball.decimal(s) for s in ph] for ph in there["steps"]["box"]] == \
                 c["flights"][i]["pieces"][0]["steps"]["box"], i

@@ -21,6 +21,7 @@ from flint import arb
 
 from ...core.errors import ParameterError
 from .. import ball, fields, section_return, taylor
+from ..section_return import Moving
 
 # --------------------------------------------------------------------------------------------------------------
 # exact JSON of a flight's result (arb balls, exact rationals, tuples)
@@ -95,12 +96,51 @@ FLIGHT_SETTINGS = ("prec", "order", "tol", "tol_thin", "p_rad", "lead", "t1", "n
                    "thin_integrator")
 
 
+def prover_field(p, module, st):
+    """The chart field the prover flies.  With the Taylor-model integrator its Taylor coefficients come from Newton's
+    iteration on series, as the verifier's do (kernel/horseshoe_sets.py): the Taylor-model remainder is validated
+    on the box's own coefficient balls, and Picard's balls (taylor.py's default, narrower on some boxes) let the
+    prover accept a step that the verifier's replay on Newton's balls rejects (seen: Fig 4(b)'s N1, the variational
+    remainder).  taylor.py's a priori enclosure does not depend on them that way, so its flights keep Picard's."""
+    import dataclasses
+
+    fld = fields.chart_field(p, module)
+    if "taylor_model" in (st.integrator, st.thin_integrator):
+        fld = dataclasses.replace(fld, series="newton")
+    return fld
+
+
+def widen_flight(job: dict, module=fields.gen) -> dict:
+    """One return of a piece moving with lambdabar (section_return.piece_return with `moving`), from the JSON data of
+    a widening job: the certificate's params, level and settings, the interval's radius "lam_rad", the piece "c", "A",
+    its "pc", "t_a", the centre's steps "thin_steps", its set's "branch" and motion "v".  At the working precision."""
+    s = job["settings"]
+    p = fields.ExactParams(**{kk: Fraction(job["params"][kk]) for kk in fields.PARAMS})
+    w = Fraction(job["lam_rad"])
+    pars0, fld0 = p.balls(), fields.chart_field(p, module)
+    parsL = fields.parameter_balls(p, w)
+    fldL = fields.lam_state_field(p, module)
+    if "taylor_model" in (s.get("integrator"), s.get("thin_integrator")):  # Newton's coefficients, as the verifier
+        import dataclasses                                                 # (as prover_field)
+
+        fld0, fldL = (dataclasses.replace(f, series="newton") for f in (fld0, fldL))
+    mv = Moving(tuple(parsL), fldL, parsL[fields.LAM], p.lam, [Fraction(x) for x in job["v"]])
+    return section_return.piece_return(
+        pars0, Fraction(job["h"]), fld0, [Fraction(x) for x in job["c"]], [[Fraction(x) for x in row]
+                                                                            for row in job["A"]],
+        Fraction(job["pc"]), Fraction(s["p_rad"]), Fraction(job["t_a"]), Fraction(s["lead"]), t1=Fraction(s["t1"]),
+        order=int(s["order"]), tol=float(s["tol"]), steps={"thin": [[Fraction(x) for x in ph]
+                                                                    for ph in job["thin_steps"]]},
+        newton=int(s["newton"]), thin_c1=False, integrator=section_return.integrator(s.get("integrator", "taylor")),
+        thin_integrator=section_return.integrator(s.get("thin_integrator", "taylor")), branch=job["branch"],
+        moving=mv, module=module)
+
+
 def piece_job(job: dict) -> dict:
     """One return of a section piece (section_return.piece_return with the prover's settings), from JSON data:
     {"params", "h", "settings", "c", "A", "pc", "branch", "t_a", "thin"} -> {"flight": encoded result} or
     {"err": [class name, message]}.  One job at a time per process: python-flint's precision is process-wide."""
     from ..kernel.pool import JOB_LOCK
-    from .section_horseshoe import _prover_field
 
     with JOB_LOCK:
         s = job["settings"]
@@ -109,7 +149,7 @@ def piece_job(job: dict) -> dict:
             with ball.workprec(int(st.prec), int(s["series_cap"])):
                 p = fields.ExactParams(**{k: Fraction(v) for k, v in job["params"].items()})
                 h = Fraction(job["h"])
-                fld = _prover_field(p, fields.gen, st)
+                fld = prover_field(p, fields.gen, st)
                 thin = decode(job["thin"]) if job["thin"] is not None else None
                 c = [Fraction(v) for v in job["c"]]
                 A = [[Fraction(v) for v in row] for row in job["A"]]
@@ -127,15 +167,14 @@ def piece_job(job: dict) -> dict:
 
 
 def widen_job(job: dict) -> dict:
-    """One return of a piece moving with lambdabar (provers/horseshoe_widen.py's _widen_flight) from JSON data ->
+    """One return of a piece moving with lambdabar (widen_flight) from JSON data ->
     {"flight": encoded result} or {"err": [class name, message]}; one job at a time per process."""
     from ..kernel.pool import JOB_LOCK
-    from .horseshoe_widen import _widen_flight
 
     with JOB_LOCK:
         try:
             with ball.workprec(int(job["settings"]["prec"]), int(job["settings"]["series_cap"])):
-                return {"flight": encode(_widen_flight(job))}
+                return {"flight": encode(widen_flight(job))}
         except Exception as e:  # noqa: BLE001 - handed to the prover, which raises it where the serial run would
             import numpy as np
 

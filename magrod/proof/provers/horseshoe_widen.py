@@ -113,34 +113,6 @@ def widen(cert: dict, lam_rad, *, module=gen, progress=None, workers: int | None
                        flights=True)
 
 
-def _widen_flight(job: dict, module=gen) -> dict:
-    """One return of a piece moving with lambdabar (section_return.piece_return with `moving`), from the JSON data of
-    a widening job: the certificate's params, level and settings, the interval's radius "lam_rad", the piece "c", "A",
-    its "pc", "t_a", the centre's steps "thin_steps", its set's "branch" and motion "v".  At the working precision."""
-    from ..section_return import Moving
-
-    s = job["settings"]
-    p = fields.ExactParams(**{kk: Fraction(job["params"][kk]) for kk in fields.PARAMS})
-    w = Fraction(job["lam_rad"])
-    pars0, fld0 = p.balls(), fields.chart_field(p, module)
-    parsL = fields.parameter_balls(p, w)
-    fldL = fields.lam_state_field(p, module)
-    if "taylor_model" in (s.get("integrator"), s.get("thin_integrator")):  # Newton's coefficients, as the verifier
-        import dataclasses                                                 # (see section_horseshoe._prover_field)
-
-        fld0, fldL = (dataclasses.replace(f, series="newton") for f in (fld0, fldL))
-    mv = Moving(tuple(parsL), fldL, parsL[fields.LAM], p.lam, [Fraction(x) for x in job["v"]])
-    return section_return.piece_return(
-        pars0, Fraction(job["h"]), fld0, [Fraction(x) for x in job["c"]], [[Fraction(x) for x in row]
-                                                                            for row in job["A"]],
-        Fraction(job["pc"]), Fraction(s["p_rad"]), Fraction(job["t_a"]), Fraction(s["lead"]), t1=Fraction(s["t1"]),
-        order=int(s["order"]), tol=float(s["tol"]), steps={"thin": [[Fraction(x) for x in ph]
-                                                                    for ph in job["thin_steps"]]},
-        newton=int(s["newton"]), thin_c1=False, integrator=section_return.integrator(s.get("integrator", "taylor")),
-        thin_integrator=section_return.integrator(s.get("thin_integrator", "taylor")), branch=job["branch"],
-        moving=mv, module=module)
-
-
 def _decoded(results):
     """A mapper's widening results, decoded (a worker's error re-raised where the serial flight would have raised
     it); closing this generator closes the mapper's."""
@@ -198,7 +170,7 @@ def _widen(cert, w, module, check, say, mapper=None) -> dict:
                      "c": [_q(x) for x in cX], "A": [[_q(x) for x in row] for row in AX], "pc": r["p_c"],
                      "t_a": r["t_a"], "thin_steps": r["steps"]["thin"], "branch": brs[i], "v": sets[i]["v"]})
     if mapper is None:  # here, through the same exact JSON form as from another process (flights.normalised)
-        results = (flights_mod.normalised(_widen_flight(job, module)) for job in jobs)
+        results = (flights_mod.normalised(flights_mod.widen_flight(job, module)) for job in jobs)
     else:
         results = _decoded(mapper(flights_mod.widen_job, jobs))
     recs = []

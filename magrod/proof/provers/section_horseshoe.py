@@ -46,6 +46,7 @@ from ..theorem import section_horseshoe_theorem
 from . import section_fixed_point
 from .horseshoe_design import (R2, FloatMap, HorseshoeSettings, _float_s_star, _q, dyadic, dyadic_of, float_cycle,
                                float_design, sizes, unit, unstable_eigen)
+from .flights import prover_field
 from .transverse_homoclinic import ProofResult, run_checked, stored
 
 FORMAT = "magrod-proof-certificate/1"
@@ -380,20 +381,6 @@ def _decoded(results, t_as):
             close()
 
 
-def _prover_field(p, module, st: HorseshoeSettings):
-    """The chart field the prover flies.  With the Taylor-model integrator its Taylor coefficients come from Newton's
-    iteration on series, as the verifier's do (kernel/horseshoe_sets.py): the Taylor-model remainder is validated
-    on the box's own coefficient balls, and Picard's balls (taylor.py's default, narrower on some boxes) let the
-    prover accept a step that the verifier's replay on Newton's balls rejects (seen: Fig 4(b)'s N1, the variational
-    remainder).  taylor.py's a priori enclosure does not depend on them that way, so its flights keep Picard's."""
-    import dataclasses
-
-    fld = fields.chart_field(p, module)
-    if "taylor_model" in (st.integrator, st.thin_integrator):
-        fld = dataclasses.replace(fld, series="newton")
-    return fld
-
-
 def _chain_sets(cs, pcs, brs, eus, ess, ls, ws) -> list:
     """The chain's h-sets (exact dyadic data): N_j = c_j + [l_j e_u^j, w_j e_s^j] [-1, 1]^2 for the inner centres,
     the last one symmetric, c + l [e_u, R e_u] (its centre is on Fix(R))."""
@@ -411,7 +398,7 @@ def _chain_sets(cs, pcs, brs, eus, ess, ls, ws) -> list:
 
 def _prove(p, h, x0_theta, st, module, check, say, mapper=None) -> dict:
     pars = p.balls()
-    fld = _prover_field(p, module, st)
+    fld = prover_field(p, module, st)
     P = FloatMap(p, h, st.branch, st.root)
     say("float search for x0")
     th_f = section_fixed_point.float_fixed_point(p, h, float(x0_theta), root=st.root, branch=st.branch)[0]
@@ -485,7 +472,7 @@ def _prove_cycle(p, h, x0_theta, st, module, check, say, mapper=None) -> dict:
     1 0^(L-1): h_top >= log rho, x^L = x^(L-p) + 1."""
     per = st.period
     pars = p.balls()
-    fld = _prover_field(p, module, st)
+    fld = prover_field(p, module, st)
     P = FloatMap(p, h, st.branch, st.root)
     say(f"float search for the period-{per} orbit")
     cyc = float_cycle(P, float(x0_theta), per)
