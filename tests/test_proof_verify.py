@@ -192,8 +192,9 @@ def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path,
     assert fig.NOT_IN_REPRODUCE == (("4d", "horseshoe_fig4d.json", "12"),)
     assert side["not_verified_in_reproduce"] == [{"panel": "4d", "statement": "12",
                                                   "certificate": "magrod/proof/certificates/horseshoe_fig4d.json"}]
-    assert "magrod prove --verify magrod/proof/certificates/horseshoe_fig4d.json" in \
-        report._proof_skipped(side)[-1]["computed"]
+    row = report._proof_skipped(side)[-1]
+    assert "magrod prove --verify magrod/proof/certificates/horseshoe_fig4d.json" in row["computed"]
+    assert report.verdict_word(row["verdict"]) == "not checked"  # this run did not verify it: never "proved"
     assert "horseshoe_fig4d.json" in (Path(__file__).parents[1] / ".ci" / "run").read_text()
     # the REPORT row states the target's own verification time, not the whole figure's (which had read "271 s")
     side["wall_time_s"] = side["verify_wall_time_s"] + 1000.0

@@ -206,6 +206,20 @@ def cpus() -> int:
         return os.cpu_count() or 1
 
 
+def mapper_for(workers, mapper, module):
+    """The mapper a prover's `workers` / `mapper` arguments ask for: `mapper` itself; else local_mapper(workers)
+    (None: the CPUs this process may use), or None (the flights here) for one worker.  A control's mutated field
+    (module other than the generated one) is not importable by another process: its flights stay here."""
+    if module is not fields.gen:
+        return None
+    if mapper is not None:
+        return mapper
+    n = cpus() if workers is None else int(workers)
+    if n < 1:
+        raise ParameterError("workers", f"must be at least 1, got {workers}")
+    return local_mapper(n) if n > 1 else None
+
+
 def local_mapper(workers: int):
     """A mapper running jobs in `workers` fresh interpreters on this machine (no multiprocessing: nothing of the
     caller's __main__ is re-run and no process-wide state is changed), each fed one job at a time, so that a long

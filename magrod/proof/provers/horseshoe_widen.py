@@ -102,13 +102,7 @@ def widen(cert: dict, lam_rad, *, module=gen, progress=None, workers: int | None
         raise ParameterError("lam_rad", f"must be > 0, got {lam_rad}")
     if cert.get("kind") != KIND or Fraction(cert["settings"].get("lam_rad", "0")) != 0:
         raise ParameterError("cert", "must be a point certificate of kind section_horseshoe")
-    if mapper is None and module is gen:
-        n = flights_mod.cpus() if workers is None else int(workers)
-        if n < 1:
-            raise ParameterError("workers", f"must be at least 1, got {workers}")
-        mapper = flights_mod.local_mapper(n) if n > 1 else None
-    elif module is not gen:
-        mapper = None  # a control's mutated field is not importable by another process: it flies here
+    mapper = flights_mod.mapper_for(workers, mapper, module)
     return run_checked(int(cert["settings"]["prec"]), lambda check: _widen(cert, w, module, check, say, mapper),
                        flights=True)
 

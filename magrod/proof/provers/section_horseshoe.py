@@ -39,7 +39,6 @@ from fractions import Fraction
 
 import numpy as np
 
-from ...core.errors import ParameterError
 from ...generated import validated as gen
 from .. import ball, fields, section_return
 from ..theorem import section_horseshoe_theorem
@@ -160,15 +159,9 @@ def prove(params: fields.ExactParams, h: Fraction, x0_theta: Fraction, settings:
     """
     st = settings or HorseshoeSettings()
     run = _prove if st.period == 1 else _prove_cycle
-    if mapper is None and module is gen:
-        from . import flights
+    from . import flights
 
-        n = flights.cpus() if workers is None else int(workers)
-        if n < 1:
-            raise ParameterError("workers", f"must be at least 1, got {workers}")
-        mapper = flights.local_mapper(n) if n > 1 else None
-    elif module is not gen:
-        mapper = None  # a control's mutated field is not importable by another process: it flies here
+    mapper = flights.mapper_for(workers, mapper, module)
     return run_checked(st.prec, lambda check: run(params, h, x0_theta, st, module, check,
                                                   progress or (lambda s: None), mapper), flights=True)
 
