@@ -1,7 +1,7 @@
 """`magrod prove --m 1.7 --gamma 1 --delta 1 --mu 0.04 --lam 0.01 --out DIR`: a computer-assisted proof that the
 tilted saddle-focus of the reduced chart (mu > 2 lambdabar) has two transverse symmetric homoclinic orbits
-(psi = 0 and psi = pi on Sigma = {pbar_theta = 0}), written as DIR/certificate.json (magrod/proof/provers/transverse_homoclinic.py;
-docs/nonintegrability.md, "Theorem (computer-assisted)").  Parameters are read as exact rationals ("0.04" is
+(psi = 0 and psi = pi on Sigma = {pbar_theta = 0}), written as DIR/certificate.json
+(magrod/proof/provers/transverse_homoclinic.py; docs/nonintegrability.md, "Theorem (computer-assisted)").  Parameters are read as exact rationals ("0.04" is
 1/25).  `magrod prove --verify CERT` re-checks a certificate with the separate verifier (magrod/proof/verify.py)
 and prints the theorem the verifier generated from what it checked.
 
@@ -12,12 +12,14 @@ or unknown target, a theorem text that is not the verified one) is rejected: exi
 it flips the sign of the K-th term of the generated chart field, and the run must fail.
 
 `magrod prove --fixed-point THETA --level H ...` proves instead a symmetric hyperbolic fixed point of the section map
-sin psi = 0 on the level Hbar = H (magrod/proof/provers/section_fixed_point.py; statement 11), the float search looking for theta* on
-Fix(R) within 0.02 of THETA (no condition mu > 2 lambdabar: the level need not hold the tilted saddle).
-`magrod prove --horseshoe THETA --level H ...` proves a horseshoe of that section map (positive topological entropy)
-by covering relations along the homoclinic orbit of the saddle near THETA (magrod/proof/provers/section_horseshoe.py; statement 12;
-2-6 min at Fig 4(a), by the load); `--design fig4b` selects the chain's design for Fig 4(b) (magrod/proof/designs/); `--design fig4c
---branch pi --root smallest` the cycle design around Fig 4(c)'s period-6 orbit (magrod/proof/designs/fig4c.json)."""
+sin psi = 0 on the level Hbar = H (magrod/proof/provers/section_fixed_point.py; statement 11), the float search
+looking for theta* on Fix(R) within 0.02 of THETA (no condition mu > 2 lambdabar: the level need not hold the tilted
+saddle).  `magrod prove --horseshoe THETA --level H ...` proves a horseshoe of that section map (positive topological
+entropy) by covering relations along the homoclinic orbit of the saddle near THETA
+(magrod/proof/provers/section_horseshoe.py; statement 12; 1-2 min at Fig 4(a)); `--design NAME` selects the chain's
+design (magrod/proof/designs/NAME.json: fig4a, fig4b, fig4c -- with `--branch pi --root smallest`, the cycle around
+Fig 4(c)'s period-6 orbit -- and fig4d).  The pieces of its sets fly on every core (`--workers N`) or on a Dask
+cluster (`--scheduler ADDRESS`); the certificate is the same for every choice."""
 from __future__ import annotations
 
 import contextlib
