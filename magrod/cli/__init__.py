@@ -273,13 +273,19 @@ def console_main() -> None:
     if _STATE["signals"]:
         # The run ended on a signal and said so in its one line.  What libraries log while the interpreter tears
         # down what the signal cut short is not news, and broke that one line: asyncio's "Task was destroyed but
-        # it is pending!" for a Dask client's task, logged when the task is collected at shutdown, or a coroutine's
-        # "never awaited" warning.
+        # it is pending!" for a Dask client's task, logged when the task is collected at shutdown, a coroutine's
+        # "never awaited" warning, or the "Exception ignored in: <module 'threading'>" traceback of a process
+        # pool's exit handler writing to the wake-up pipe of a pool the signal already tore down.
         import logging
 
         logging.disable(logging.CRITICAL)
         warnings.simplefilter("ignore")
+        sys.unraisablehook = _ignore_unraisable
     sys.exit(code)
+
+
+def _ignore_unraisable(unraisable) -> None:
+    """sys.unraisablehook once a run has ended on a signal and said so (console_main): nothing more is printed."""
 
 
 def _install_process_settings() -> dict:
