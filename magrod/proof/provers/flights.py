@@ -72,6 +72,29 @@ def normalised(x):
     return decode(encode(x))
 
 
+def decoded(results, t_as=None):
+    """A mapper's flight results, decoded (at the working precision), each with its t_a when t_as is given; a
+    worker's error re-raised where the serial flight would have raised it; closing this generator closes the
+    mapper's (its flights not yet taken are cancelled)."""
+    try:
+        for k, r in enumerate(results):
+            if "err" in r:
+                raise_error(r["err"])
+            fl = decode(r["flight"])
+            if t_as is not None:
+                fl["t_a"] = t_as[k]
+            yield fl
+    finally:
+        close(results)
+
+
+def close(results) -> None:
+    """Close a mapper's (or decoded's) iterator if it can be closed: a failed check cancels the flights left."""
+    stop = getattr(results, "close", None)
+    if stop is not None:
+        stop()
+
+
 # the errors a flight may raise, re-raised in the prover by name (the serial prover's reasons, word for word)
 ERRORS = {"EnclosureError": taylor.EnclosureError, "GuardError": taylor.GuardError,
           "CrossingError": taylor.CrossingError, "InexactBall": ball.InexactBall, "ValueError": ValueError,

@@ -107,20 +107,6 @@ def widen(cert: dict, lam_rad, *, module=gen, progress=None, workers: int | None
                        flights=True)
 
 
-def _decoded(results):
-    """A mapper's widening results, decoded (a worker's error re-raised where the serial flight would have raised
-    it); closing this generator closes the mapper's."""
-    try:
-        for r in results:
-            if "err" in r:
-                flights_mod.raise_error(r["err"])
-            yield flights_mod.decode(r["flight"])
-    finally:
-        close = getattr(results, "close", None)
-        if close is not None:
-            close()
-
-
 def _widen(cert, w, module, check, say, mapper=None) -> dict:
     import copy
 
@@ -166,7 +152,7 @@ def _widen(cert, w, module, check, say, mapper=None) -> dict:
     if mapper is None:  # here, through the same exact JSON form as from another process (flights.normalised)
         results = (flights_mod.normalised(flights_mod.widen_flight(job, module)) for job in jobs)
     else:
-        results = _decoded(mapper(flights_mod.widen_job, jobs))
+        results = flights_mod.decoded(mapper(flights_mod.widen_job, jobs))
     recs = []
     try:
         for (i, n, pc, r), fl in zip(plan, results):
@@ -189,9 +175,7 @@ def _widen(cert, w, module, check, say, mapper=None) -> dict:
                 flights.append({"set": i, "grid": list(grids[i]), "pieces": recs})
                 recs = []
     finally:
-        close = getattr(results, "close", None)
-        if close is not None:  # a failed check: the flights not yet taken are cancelled
-            close()
+        flights_mod.close(results)  # after a failed check: the flights not yet taken are cancelled
 
     def shift(i, j, fl):  # P_s(c_X(s)) - c_M(s) = P(c_X) - c_M + (dPds - v_M)(s - lam)
         vM = [ball.q(x) for x in vs[j]]

@@ -45,6 +45,7 @@ from ..theorem import section_horseshoe_theorem
 from . import section_fixed_point
 from .horseshoe_design import (R2, FloatMap, HorseshoeSettings, _float_s_star, _q, dyadic, dyadic_of, float_cycle,
                                float_design, sizes, unit, unstable_eigen)
+from .flights import close as flights_close
 from .flights import prover_field
 from .transverse_homoclinic import ProofResult, run_checked, stored
 
@@ -265,9 +266,7 @@ def _fly_sets(sets, n_src, grids, fly_many, thin_of, branch, check, say):
                 flights.append({"set": i, "grid": list(grids[i]), "pieces": recs})
                 recs = []
     finally:
-        close = getattr(results, "close", None)
-        if close is not None:  # a failed check: the flights not yet taken are cancelled
-            close()
+        flights_close(results)  # after a failed check: the flights not yet taken are cancelled
     return flights, images
 
 
@@ -335,7 +334,7 @@ def _fliers(P: FloatMap, pars, h, fld, st: HorseshoeSettings, module, check, map
             jobs.append({"params": params.as_json(), "h": _q(h), "settings": sj, "c": [_q(v) for v in c],
                          "A": [[_q(v) for v in row] for row in A], "pc": _q(pc), "branch": br, "t_a": _q(t_as[-1]),
                          "thin": None if thin is None else fj.encode(thin)})
-        return _decoded(mapper(fj.piece_job, jobs), t_as)
+        return fj.decoded(mapper(fj.piece_job, jobs), t_as)
 
     def pc_of(c):
         return dyadic(float(P.lift([float(c[0]), float(c[1])])[fields.PPSI]), 50)
@@ -354,24 +353,6 @@ def _fliers(P: FloatMap, pars, h, fld, st: HorseshoeSettings, module, check, map
         return cs, pcs, brs, fls
 
     return fly, fly_many, pc_of, orbit
-
-
-def _decoded(results, t_as):
-    """The flights of a mapper's results, decoded, each with its t_a; a worker's error re-raised where the serial
-    flight would have raised it; closing this generator closes the mapper's (its flights not yet taken cancelled)."""
-    from . import flights as fj
-
-    try:
-        for r, t_a in zip(results, t_as):
-            if "err" in r:
-                fj.raise_error(r["err"])
-            fl = fj.decode(r["flight"])
-            fl["t_a"] = t_a
-            yield fl
-    finally:
-        close = getattr(results, "close", None)
-        if close is not None:
-            close()
 
 
 def _chain_sets(cs, pcs, brs, eus, ess, ls, ws) -> list:
