@@ -1,13 +1,13 @@
-"""How wide a lambdabar interval the homoclinic proof of statement 5 carries (lambdabar a parameter ball in every
-enclosure: magrod.proof.provers.transverse_homoclinic.interval_params / interval_proof_settings; `magrod prove --lam-rad W`).
+"""How wide a lambdabar interval the homoclinic proof of statement 5 carries (the boundary circle centred on the moving
+saddle, lambdabar a state of the flights: magrod.proof.kernel.homoclinic.moving_arc; `magrod prove --lam-rad W`).
 
 For each half-width W at the target (m, mu, gamma, delta, lambdabar) = (17/10, 1/25, 1, 1, 1/100): prove
 (both targets psi = 0, pi), and record the outcome, the first check that fails, the phase arc the prover settled on,
 the interval Newton radius in the phase and the dtheta_u/dpsi balls; then verify the certificate that proves.  The
 numbers behind statement 5's interval sentence (docs/nonintegrability.md) and behind the shipped
-magrod/proof/certificates/homoclinic_target_interval.json (W = 1e-13).
+magrod/proof/certificates/homoclinic_target_interval.json (W = 1e-9).
 
-    python research/homoclinic_interval.py            # W = 1e-14 .. 1e-12 (~2 min on 2 cores)
+    python research/homoclinic_interval.py            # W = 1e-12 .. 1e-8 (~2 min on 2 cores)
     python research/homoclinic_interval.py --out research/homoclinic_interval.json
 """
 from __future__ import annotations
@@ -18,7 +18,7 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from fractions import Fraction
 
-WIDTHS = ("1/100000000000000", "1/10000000000000", "3/20000000000000", "1/5000000000000", "1/1000000000000")
+WIDTHS = ("1/1000000000000", "1/10000000000", "1/1000000000", "1/500000000", "1/250000000", "1/100000000")
 
 
 def one(w: str) -> dict:

@@ -18,7 +18,7 @@ TARGET = ("1.7", "0.04", "1", "1", "0.01")  # (m, mu, gamma, delta, lambdabar): 
 
 
 SHIPPED = "homoclinic_target.json"
-# statement 5 for every lambdabar in 1/100 +- 1e-13 (lambdabar a ball in every enclosure: transverse_homoclinic.interval_params);
+# statement 5 for every lambdabar in 1/100 +- 1e-9 (the circle about the moving saddle, lambdabar a state of the flights);
 # verified by the full reproduction (~7 s), listed by --quick
 TARGET_INTERVAL = "homoclinic_target_interval.json"
 # Fig 4's rod at the panels' lambdabar where `magrod prove` succeeds: the saddle-focus's own level (statement 5a)

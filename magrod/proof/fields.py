@@ -224,27 +224,62 @@ def lam_state_field(p: ExactParams, module=gen):
     the generated chart_rhs; the other columns are the generated chart_jacobian.  A Lohner set of this field carries
     the lambdabar-interval in its linear part (C r0), as it does the initial box, instead of wrapping it into the
     remainder at every step."""
+    return _lam_state(module.chart_rhs, module.chart_jacobian, len(CHART_STATE), p, "chart+lambdabar")
+
+
+def body_lam_state_field(p: ExactParams, module=gen):
+    """The body field with lambdabar as a tenth state variable (lambdabar' = 0), as lam_state_field is for the chart:
+    x = (m, n, e3, lambdabar); the flights of statement 5 on a lambdabar interval."""
+    return _lam_state(module.body_rhs, module.body_jacobian, len(gen.BODY_STATE), p, "body+lambdabar")
+
+
+def _pars_with(p: ExactParams, lam) -> list:
+    """p's parameter balls with lambdabar's slot holding `lam` (a ball, a series or a _Dual)."""
+    q = list(ExactParams.balls(p))
+    q[LAM] = lam
+    return q
+
+
+def _lam_state(rhs_of, jacobian_of, n, p, name):
     from .taylor import Field
 
-    base = list(p.balls())
-    n = len(CHART_STATE)
-
-    def pars_with(lam):
-        q = list(base)
-        q[LAM] = lam
-        return q
-
     def rhs(x, _p):
-        f = module.chart_rhs(list(x[:n]), pars_with(x[n]))
+        f = rhs_of(list(x[:n]), _pars_with(p, x[n]))
         return list(f) + [0 * x[n]]
 
     def jacobian(x, _p):
-        J = list(module.chart_jacobian(list(x[:n]), pars_with(x[n])))
-        dl = module.chart_rhs([_Dual(v, 0 * v) for v in x[:n]], pars_with(_Dual(x[n], 0 * x[n] + 1)))
+        J = list(jacobian_of(list(x[:n]), _pars_with(p, x[n])))
+        dl = rhs_of([_Dual(v, 0 * v) for v in x[:n]], _pars_with(p, _Dual(x[n], 0 * x[n] + 1)))
         z = 0 * x[n]
         out = []
         for i in range(n):
             out += J[n * i: n * (i + 1)] + [dl[i].b if isinstance(dl[i], _Dual) else z]
         return out + [z] * (n + 1)
 
-    return Field(rhs, jacobian, n + 1, tuple(base), "chart+lambdabar")
+    return Field(rhs, jacobian, n + 1, tuple(ExactParams.balls(p)), name)
+
+
+def lam_state_events(p: ExactParams, x, module=gen) -> dict:
+    """body_events on a state of body_lam_state_field (lambdabar its last entry, in the parameters' slot)."""
+    n = len(gen.BODY_STATE)
+    return dict(zip(BODY_EVENTS, module.body_events(list(x[:n]), _pars_with(p, x[n]))))
+
+
+def lam_state_event_gradient(p: ExactParams, x, name: str, module=gen) -> list:
+    """The gradient of body event `name` in the ten variables (m, n, e3, lambdabar): the generated gradient and
+    d/d lambdabar by forward-mode differentiation (_Dual)."""
+    k, n = EV[name], len(gen.BODY_STATE)
+    g = module.body_events_gradient(list(x[:n]), _pars_with(p, x[n]))
+    d = module.body_events([_Dual(v, 0 * v) for v in x[:n]], _pars_with(p, _Dual(x[n], 0 * x[n] + 1)))[k]
+    return list(g[n * k: n * (k + 1)]) + [d.b if isinstance(d, _Dual) else 0 * x[n]]
+
+
+def lift_lam_derivative(p: ExactParams, q, module=gen) -> list:
+    """d X / d lambdabar of the lift X(q) (9 balls) over the chart box q and p's lambdabar (an interval for
+    IntervalParams), by forward-mode differentiation (_Dual): the lift depends on lambdabar through the radicand
+    mu - 2 lambdabar pbar_psi."""
+    lam = p.balls()[LAM]
+    pars = list(p.balls())
+    pars[LAM] = _Dual(lam, 0 * lam + 1)
+    out = module.lift(list(q), pars)
+    return [v.b if isinstance(v, _Dual) else 0 * lam for v in out]

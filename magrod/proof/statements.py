@@ -97,15 +97,15 @@ STATEMENTS = (
        2-degree-of-freedom Hamiltonian on the chart, saddle-focus, transverse homoclinic orbit) the saddle's energy
        level carries horseshoes (positive topological entropy); with Kozlov's argument (θ > 0 along the orbit, from
        the certificate's guards) no real-analytic integral of the chart system is independent of H̄ on that
-       level. Quantified in λ̄ (m, μ, γ, δ fixed): all of this holds for every λ̄ in [1/100 − 10⁻¹³, 1/100 + 10⁻¹³],
-       by a second certificate whose every enclosure carries λ̄ as the ball of that interval
-       (homoclinic_target_interval.json, `magrod prove --lam-rad 1/10000000000000`: prove 27 s, verify 7 s;
-       dθ_u/dψ ∈ [−0.003823, −0.001095] at ψ = 0 and [0.000381, 0.002213] at ψ = π). 1.5·10⁻¹³ still proves,
-       2·10⁻¹³ does not (`research/homoclinic_interval.py`): λ̄ as a parameter ball is wrapped into every step's
-       remainder, and the interval Newton step in the phase grows ~1.9·10⁸ × the half-width (4.6·10⁻⁵ at 2·10⁻¹³,
-       against the widest arc 3.2·10⁻⁵, whose dθ_u/dψ ball is already ±0.0014 about −0.0025); of that, 2.2·10⁶ ×
-       is the phase's true motion on a boundary circle about the fixed saddle x*(1/100), 7.9 × on one about the
-       moving saddle (`research/homoclinic_phase_motion.py`), so 10⁻¹⁰ needs the moving circle. Beyond that
+       level. Quantified in λ̄ (m, μ, γ, δ fixed): all of this holds for every λ̄ in [1/100 − 10⁻⁹, 1/100 + 10⁻⁹],
+       by a second certificate whose boundary circle is centred on the moving saddle x*(λ̄) (its affine motion
+       x*(λ̄) ∈ K0 + B (λ̄ − 1/100), B ∋ dx*/dλ̄ over the interval, re-checked) and whose flights carry λ̄ as a state
+       (homoclinic_target_interval.json, `magrod prove --lam-rad 1/1000000000`: prove 21 s, verify 7 s;
+       dθ_u/dψ ∈ [−0.002717, −0.001907] at ψ = 0 and [0.000954, 0.001462] at ψ = π). 2·10⁻⁹ still proves,
+       4·10⁻⁹ does not (`research/homoclinic_interval.py`): the interval Newton image in the phase, 5.8·10⁻⁶ at
+       10⁻⁹, grows faster than the half-width beyond it (8.8·10⁻⁵ at 4·10⁻⁹, against the widest arc 3.2·10⁻⁵).
+       About the fixed saddle x*(1/100) the limit was 1.5·10⁻¹³: on that circle the phase itself moves
+       2.2·10⁶ × the half-width, on one about the moving saddle 7.9 × (`research/homoclinic_phase_motion.py`). Beyond that
        interval: hyperbolic equilibria and transverse intersections persist, so all of this holds on an open
        neighbourhood of the parameters, of unquantified size (cited persistence, hypotheses: the checked
        hyperbolicity and transversality, analytic dependence on the parameters).""",
@@ -538,7 +538,7 @@ def render_summary() -> str:
             f"integral independent of H̄ (**{status('5')}**), and the 9-D rod has there no real-analytic integral "
             f"in involution with m3 that is independent of H, m3 and the Casimirs on the component of that level "
             f"which contains the homoclinic orbits "
-            f"(**{status('7')}**, statement 7); the first also for every λ̄ in 1/100 ± 10⁻¹³ (a certificate with λ̄ a "
+            f"(**{status('7')}**, statement 7); the first also for every λ̄ in 1/100 ± 10⁻⁹ (a certificate with λ̄ a "
             f"ball, statement 5), and both hold on an open neighbourhood of that point, of unquantified "
             f"size (cited persistence). Nonintegrability of the 9-D rod against every integral (not only those in "
             f"involution with m3), and near the perturbative regime, is **{status('7b')}** (7b; 4 rests on the "
@@ -557,7 +557,7 @@ def render_summary() -> str:
 def render_readme() -> str:
     """The README bullet on nonintegrability."""
     return _wrap(markdown(f"- Nonintegrability: at one parameter point, (m, μ, γ, δ, λ̄) = (17/10, 1/25, 1, 1, 1/100), and "
-            f"for every λ̄ in 1/100 ± 10⁻¹³ there, two transverse homoclinic orbits of the tilted saddle-focus are **{status('5')}** (`magrod prove`, a "
+            f"for every λ̄ in 1/100 ± 10⁻⁹ there, two transverse homoclinic orbits of the tilted saddle-focus are **{status('5')}** (`magrod prove`, a "
             f"certificate re-checked by a separate, complete verifier), hence horseshoes on that level and no "
             f"real-analytic integral of the reduced system independent of H̄ there, the same at Fig 4's rod (the four panels' λ̄) on the saddle-focus's "
             f"own level (**{status('5a')}**; that level is not the one Fig 4 shows), and for the 9-D rod none in "

@@ -14,7 +14,9 @@ order).  Shared with the prover are only (the trust base; a test fences it, docs
 verifier's trust base"):
   - the generated field (generated/validated.py, whose SHA-256 must match the certificate), through
     magrod.proof.fields, which also builds from it the chart field with lambdabar as a fifth state variable
-    (lambdabar' = 0; fields.lam_state_field) for the certificates on a lambdabar interval;
+    (lambdabar' = 0; fields.lam_state_field) and the body field with lambdabar as a tenth
+    (fields.body_lam_state_field; with the events' and the lift's derivatives in lambdabar) for the certificates on
+    a lambdabar interval;
   - the ball helpers (magrod.proof.ball);
   - the validated integrator (magrod.proof.taylor), which the verifier drives with the certificate's exact step
     sizes;

@@ -2,6 +2,11 @@
 the tilted saddle-focus.  The saddle's Krawczyk test, the eigenpairs, the cone conditions of the local manifold, the
 lift of the boundary arc, both flights with the certificate's exact steps, the section crossings, the interval Newton
 step in the phase and dtheta_u/dpsi, re-implemented here (the prover's saddle.py and manifold.py are not imported).
+
+On a lambdabar interval (settings.lam_rad > 0) the boundary circle is centred on the moving saddle x*(lambdabar),
+whose motion the certificate encloses as K0 + B (lambdabar - lam) (saddle_motion), and the flights carry lambdabar
+as a tenth state (moving_arc, fields.body_lam_state_field): on a circle about the fixed saddle the homoclinic phase
+moves ~2e6 times as far as lambdabar, on this one ~8 times.
 """
 from __future__ import annotations
 
@@ -116,32 +121,139 @@ def _verify(cert, p, st, module, claim):
     xhat, K = _check_saddle(cert, p, st, fld, claim)
     _check_eigen(cert, fld, K, st, claim)
     V, rho_eff, L, r = _check_manifold(cert, fld, xhat, K, claim)
-    fb = fields.body_field(p, module)
-    order = st["order"]
+    if getattr(p, "lam_rad", 0):
+        # on a lambdabar interval the boundary circle is centred on the moving saddle x*(lambdabar) and the flights
+        # carry lambdabar as a state: the phase of the homoclinic point then moves ~7 lam_rad, not ~2e6 lam_rad
+        K0, B = _check_saddle_motion(cert, p, st, module, xhat, K, claim)
+        U = _norm2(ball.column(V.inv() * ball.vec([a - b for a, b in zip(K, xhat)]))[:2])
+        claim("moving circle inside the block", U + r < frac(cert["manifold"]["r_block"]),
+              "|u*(lambdabar)| + r < r_block: the circle about the moving saddle lies in the block, where W^u_loc is "
+              "the graph of an L-Lipschitz function through the saddle")
+        flight = LamStateFlight(p, module, lambda lo, hi: moving_arc(p, V, xhat, K0, B, L, r, lo, hi, module))
+    else:
+        flight = PointFlight(p, module, lambda lo, hi: _lift(p, V, xhat, rho_eff, L, r, lo, hi, module))
     for c in cert["crossings"]:
-        _check_crossing(c, p, fb, xhat, V, rho_eff, L, r, order, module, claim)
+        _check_crossing(c, flight, st["order"], claim)
     return targets
+
+
+class PointFlight:
+    """The flights of a certificate at one lambdabar: the body field, its events and their gradients, and the lift
+    of a boundary arc (lo, hi) -> (C^1 set, body tangent box)."""
+
+    def __init__(self, p, module, lift):
+        self.field, self.lift = fields.body_field(p, module), lift
+        self.events = lambda x: fields.body_events(p, x, module)
+        self.gradient = lambda x, name: fields.body_event_gradient(p, x, name, module)
+
+
+class LamStateFlight(PointFlight):
+    """The flights on a lambdabar interval: the body field with lambdabar as its tenth state
+    (fields.body_lam_state_field), the events evaluated at the state's own lambdabar."""
+
+    def __init__(self, p, module, lift):
+        self.field, self.lift = fields.body_lam_state_field(p, module), lift
+        self.events = lambda x: fields.lam_state_events(p, x, module)
+        self.gradient = lambda x, name: fields.lam_state_event_gradient(p, x, name, module)
+
+
+def krawczyk(fld, xhat, X) -> list:
+    """K(X) = xhat - C F(xhat) + (I - C DF(X)) (X - xhat), C a float inverse of DF(xhat): inside the interior of X
+    means exactly one zero of fld in X, and it lies in K(X)."""
+    n = fld.n
+    Cf = np.linalg.inv(ball.to_floats(fld.df(xhat).mid()))
+    C = arb_mat(n, n, [ball.dyadic(v) for v in Cf.flatten()])
+    I = arb_mat(n, n, [arb(int(i == j)) for i in range(n) for j in range(n)])
+    return ball.column(ball.vec(xhat) - C * ball.vec(fld.f(xhat))
+                       + (I - C * fld.df(X)) * ball.vec([a - b for a, b in zip(X, xhat)]))
+
+
+def saddle_motion(p, module, xhat, K, rad0):
+    """The saddle as an affine function of lambdabar: (K0, B, ok) with x*(lambdabar) in K0 + B (lambdabar - lam)
+    for every lambdabar of p's interval.  K0: the Krawczyk image at the centre lam (ok: inside the box xhat +-
+    rad0, so x*(lam) in K0); B = -DF^-1 dF/dlambdabar over K x [interval] (Arb's solve encloses the solution for
+    every matrix of the ball), which holds dx*/dlambdabar at every lambdabar of the interval since x* stays in K;
+    the mean value theorem, coordinate by coordinate, gives the affine enclosure."""
+    pc = fields.ExactParams(p.m, p.mu, p.gamma, p.delta, p.lam)
+    X0 = [ball.interval(ball.fraction(v) - rad0, ball.fraction(v) + rad0) for v in xhat]
+    K0 = krawczyk(fields.chart_field(pc, module), xhat, X0)
+    ok = all(inside(k, x) for k, x in zip(K0, X0))
+    n = len(xhat)
+    J = fields.lam_state_field(p, module).df(list(K) + [p.balls()[fields.LAM]])
+    A = arb_mat(n, n, [J[i, j] for i in range(n) for j in range(n)])
+    c = arb_mat(n, 1, [J[i, n] for i in range(n)])
+    try:
+        B = ball.column(-A.solve(c))
+    except ZeroDivisionError:  # DF over the box not provably invertible
+        B, ok = [ball.interval(-1, 1) * 10**30] * n, False
+    return K0, B, ok
+
+
+def moving_arc(p, V, xhat, K0, B, L, r, lo, hi, module):
+    """The arc phi in [lo, hi] of the circle of radius r about the moving saddle on W^u_loc(x*(lambdabar)), for
+    every lambdabar of p's interval, lifted to the body frame with lambdabar as a tenth state.
+
+    In the chart y = V^-1 (x - xhat): y*(lambdabar) in y0 + b dl (y0 = V^-1 (K0 - xhat), b = V^-1 B, dl =
+    lambdabar - lam), the point is y*(lambdabar) + (r cos phi, r sin phi, s) with |s| <= L r (W^u_loc is the graph
+    of an L-Lipschitz function through the saddle).  By the mean value theorem over the chart box Q and the
+    interval, X(q, lambdabar) - X(q_c, lam) lies in (DX V)(y - y_c) + dX/dlambdabar dl, whose parts linear in the
+    circle's offsets and in dl form the set's C r0 (exact C), the rest its error ball.  Returns the C^1 set (10
+    states, r0 = the four chart offsets and dl) and the tangent d/dphi at fixed lambdabar (10 balls, last 0)."""
+    W = p.lam_rad
+    Vi = V.inv()
+    dl = ball.interval(-W, W)
+    y0 = ball.column(Vi * ball.vec([a - b for a, b in zip(K0, xhat)]))
+    b = ball.column(Vi * ball.vec(B))
+    Phi = ball.interval(lo, hi)
+    rq, lr = ball.q(r), L * r
+    circ = [rq * Phi.cos(), rq * Phi.sin(), ball.interval(-lr, lr), ball.interval(-lr, lr)]
+    dy = [-rq * Phi.sin(), rq * Phi.cos(), ball.interval(-lr, lr), ball.interval(-lr, lr)]
+    cc = [c.mid() for c in circ]
+    yc = [a.mid() + c for a, c in zip(y0, cc)]
+    Q = ball.column(ball.vec(xhat) + V * ball.vec([a + bb * dl + c for a, bb, c in zip(y0, b, circ)]))
+    qc = ball.column(ball.vec(xhat) + V * ball.vec(yc))
+    JV = fields.lift_jacobian(p, Q, module) * V
+    Jl = ball.vec(fields.lift_lam_derivative(p, Q, module))
+    C0 = JV.mid()
+    cl = (C0 * ball.vec([v.mid() for v in b]) + Jl.mid()).mid()
+    dyb = ball.vec([y - c for y, c in zip(circ, cc)])
+    err = ball.column((JV - C0) * dyb + (JV * ball.vec(b) + Jl - cl) * dl
+                      + JV * ball.vec([a - a.mid() for a in y0]))
+    pc = fields.ExactParams(p.m, p.mu, p.gamma, p.delta, p.lam)
+    n = JV.nrows()
+    S = taylor.initial_set([a + e for a, e in zip(fields.lift(pc, qc, module), err)] + [ball.q(p.lam)], c1=True)
+    S.C = arb_mat(n + 1, 5, [C0[i, j] if j < 4 else cl[i, 0] for i in range(n) for j in range(5)]
+                  + [arb(0)] * 4 + [arb(1)])
+    S.r0 = ball.vec(ball.column(dyb) + [dl])
+    return S, ball.vec(ball.column(JV * ball.vec(dy)) + [arb(0)])
 
 
 def _check_saddle(cert, p, st, fld, claim):
     xhat = [ball.q(frac(v)) for v in cert["saddle"]["xhat"]]
-    n = fld.n
     rad = st["radius"]
     sym = (fields.PSI, fields.PTHETA)
     claim("saddle box R-symmetric", all(ball.fraction(xhat[i]) == 0 for i in sym),
           "the box centre has psi = pbar_theta = 0, so R(box) = box and the unique zero lies on Fix(R)")
     X = [ball.interval(ball.fraction(v) - rad, ball.fraction(v) + rad) for v in xhat]
-    # Krawczyk: K = xhat - C F(xhat) + (I - C DF(X)) (X - xhat), any C
-    Cf = np.linalg.inv(ball.to_floats(fld.df(xhat).mid()))
-    C = arb_mat(n, n, [ball.dyadic(v) for v in Cf.flatten()])
-    I = arb_mat(n, n, [arb(int(i == j)) for i in range(n) for j in range(n)])
-    Kv = ball.vec(xhat) - C * ball.vec(fld.f(xhat)) + (I - C * fld.df(X)) * ball.vec([a - b for a, b in zip(X, xhat)])
-    K = ball.column(Kv)
+    K = krawczyk(fld, xhat, X)
     claim("saddle Krawczyk", all(inside(k, x) for k, x in zip(K, X)),
           "K(X) lies in the interior of the box X: exactly one zero of the chart field in X")
     for i, (k, s) in enumerate(zip(K, cert["saddle"]["K"])):
         recomputed(claim, f"saddle K[{i}]", k, s)
     return xhat, K
+
+
+def _check_saddle_motion(cert, p, st, module, xhat, K, claim):
+    sd = cert["saddle"]
+    K0, B, ok = saddle_motion(p, module, xhat, K, frac(sd["radius0"]))
+    claim("saddle Krawczyk at the centre", ok,
+          "K(X0) lies in the interior of the box X0 = xhat +- radius0 at lambdabar = lam (the zero x*(lam) in K0), "
+          "and DF is invertible over the saddle box and the interval (the slope B of x*(lambdabar))")
+    for i, (k, s) in enumerate(zip(K0, sd["K0"])):
+        recomputed(claim, f"saddle K0[{i}]", k, s)
+    for i, (b, s) in enumerate(zip(B, sd["slope"])):
+        recomputed(claim, f"saddle slope[{i}]", b, s)
+    return [ball.from_json(s) for s in sd["K0"]], [ball.from_json(s) for s in sd["slope"]]
 
 
 def _check_eigen(cert, fld, K, st, claim):
@@ -265,39 +377,39 @@ def _lift(p, V, xhat, rho_eff, L, r, lo, hi, module):
     return S, JV * ball.vec(dy)
 
 
-def _check_crossing(c, p, fb, xhat, V, rho_eff, L, r, order, module, claim):
+def _check_crossing(c, flight, order, claim):
     tgt = c["target"]
     phic, dphi, t_a, h = (frac(c[k]) for k in ("phi_c", "dphi", "t_a", "h_cross"))
     e33 = fields.E33
 
     def g(x):
-        return fields.body_events(p, x, module)["g"]
+        return flight.events(x)["g"]
 
     def dg(x):
-        return fields.body_event_gradient(p, x, "g", module)
+        return flight.gradient(x, "g")
 
     def guard(Y):
-        return [1 - Y[e33], 1 + Y[e33], fields.body_events(p, Y, module)["rad"]]
+        return [1 - Y[e33], 1 + Y[e33], flight.events(Y)["rad"]]
 
     vals = {}
     for kind, lo, hi in (("thin", phic, phic), ("arc", phic - dphi, phic + dphi)):
         steps = [frac(s) for s in c[kind]["steps"]]
         claim(f"psi={tgt} {kind} steps", sum(steps) == t_a and all(s > 0 for s in steps),
               f"the {len(steps)} exact step sizes add up to t_a = {float(t_a):.9g}")
-        S, tangent = _lift(p, V, xhat, rho_eff, L, r, lo, hi, module)
+        S, tangent = flight.lift(lo, hi)
         try:
-            S = taylor.propagate(fb, S, steps=steps, order=order, guard=guard)
-            cr = taylor.cross_section(fb, S, g, dg, h, order, guard=guard)
+            S = taylor.propagate(flight.field, S, steps=steps, order=order, guard=guard)
+            cr = taylor.cross_section(flight.field, S, g, dg, h, order, guard=guard)
         except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
             claim(f"psi={tgt} {kind} flight", False, str(err))
-        ev = fields.body_events(p, cr.x, module)
+        ev = flight.events(cr.x)
         q = {"Gs": ev["Gs"], "Gc": ev["Gc"], "s2": ev["s2"], "gdot": cr.gdot, "tau": cr.tau}
         u = ball.column(cr.W * tangent)
         grad = dg(cr.x)
         gu = sum((a * b for a, b in zip(grad, u)), arb(0))
         gf = sum((a * b for a, b in zip(grad, cr.fx)), arb(0))
         v = [ui - fi * gu / gf for ui, fi in zip(u, cr.fx)]
-        q["dGs"] = sum((a * b for a, b in zip(fields.body_event_gradient(p, cr.x, "Gs", module), v)), arb(0))
+        q["dGs"] = sum((a * b for a, b in zip(flight.gradient(cr.x, "Gs"), v)), arb(0))
         q["de33"] = v[e33]
         stored = c[kind]["enclosures"]
         for k, val in q.items():

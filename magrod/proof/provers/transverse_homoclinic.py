@@ -35,10 +35,14 @@ from ...core.errors import ParameterError
 from ...core.tolerances import PROOF_STEP_TOL
 from ...generated import validated as gen
 from .. import ball, fields, manifold, saddle, taylor
+from ..kernel import homoclinic as homoclinic_kernel
 from ..theorem import homoclinic_theorem
 
 FORMAT = "magrod-proof-certificate/1"
 TARGETS = {"0": 0.0, "pi": math.pi}  # the keys are theorem.TARGETS (a test pins it)
+#: on a lambdabar interval: the Krawczyk box about the saddle at the centre lambdabar (the anchor x*(lam) of its
+#: affine motion, kernel/homoclinic.saddle_motion)
+SADDLE_RADIUS0 = Fraction(1, 10**25)
 
 
 @dataclass
@@ -296,34 +300,35 @@ def lift_arc(p, man: manifold.LocalManifold, phi_lo, phi_hi, module=gen):
     return S, JV * ball.vec(dy)
 
 
-def body_section(p, module=gen):
-    """(g, grad g, guard) for the body flight: g = sin(theta) pbar_theta; guard = (1 - e33, 1 + e33, radicand),
-    positive iff the chart is defined (|e3| = 1 is the Casimir C3, so sin^2 theta = 1 - e33^2)."""
+def body_section(flight):
+    """(g, grad g, guard) for the body flight (kernel/homoclinic.PointFlight or LamStateFlight): g = sin(theta)
+    pbar_theta; guard = (1 - e33, 1 + e33, radicand), positive iff the chart is defined (|e3| = 1 is the Casimir C3,
+    so sin^2 theta = 1 - e33^2)."""
     def g(x):
-        return fields.body_events(p, x, module)["g"]
+        return flight.events(x)["g"]
 
     def dg(x):
-        return fields.body_event_gradient(p, x, "g", module)
+        return flight.gradient(x, "g")
 
     def guard(Y):
         e = Y[fields.E33]
-        return [1 - e, 1 + e, fields.body_events(p, Y, module)["rad"]]
+        return [1 - e, 1 + e, flight.events(Y)["rad"]]
 
     return g, dg, guard
 
 
-def crossing_quantities(p, cr: taylor.CrossingEnclosure, tangent, module=gen) -> dict:
+def crossing_quantities(flight, cr: taylor.CrossingEnclosure, tangent) -> dict:
     """At the crossing of Sigma: Gs, Gc, s2 on the state enclosure, and the phase derivatives along the curve
     c(phi) = crossing point: v = (I - f grad g^T / (grad g . f)) DPhi tangent, dGs = grad Gs . v, de33 = v_e33."""
-    ev = fields.body_events(p, cr.x, module)
+    ev = flight.events(cr.x)
     out = {"Gs": ev["Gs"], "Gc": ev["Gc"], "s2": ev["s2"], "gdot": cr.gdot, "tau": cr.tau}
     if cr.W is not None:
         u = ball.column(cr.W * tangent)
-        grad = fields.body_event_gradient(p, cr.x, "g", module)
+        grad = flight.gradient(cr.x, "g")
         gu = sum((a * b for a, b in zip(grad, u)), arb(0))
         gf = sum((a * b for a, b in zip(grad, cr.fx)), arb(0))
         v = [ui - fi * gu / gf for ui, fi in zip(u, cr.fx)]
-        gs = fields.body_event_gradient(p, cr.x, "Gs", module)
+        gs = flight.gradient(cr.x, "Gs")
         out["dGs"] = sum((a * b for a, b in zip(gs, v)), arb(0))
         out["de33"] = v[fields.E33]
     return out
@@ -430,7 +435,10 @@ def _prove(p, st, module, check, say) -> dict:
     fld = fields.chart_field(p, module)
     say("saddle")
     sd = _float_saddle(p)
-    xhat = saddle.refine(fld, [float(v) for v in sd.q])
+    # refined at the centre lambdabar (an interval's field would stop Newton at its width): the anchor of the
+    # saddle's affine motion on an interval (saddle_motion) needs x*(lam) to ~1e-25
+    xhat = saddle.refine(fields.chart_field(fields.ExactParams(p.m, p.mu, p.gamma, p.delta, p.lam), module),
+                         [float(v) for v in sd.q])
     J = ball.to_floats(fld.df(xhat).mid())
     w, Vc = np.linalg.eig(J)
     iu = [i for i in range(len(w)) if w[i].real > 0 and w[i].imag > 0]
@@ -454,8 +462,23 @@ def _prove(p, st, module, check, say) -> dict:
     for k, v in man.checks.items():
         check(f"manifold_{k}", v, "cone/slab condition of magrod.proof.manifold on the block")
     flow = _FloatFlow(p, E.xhat, V, st.r)
-    g, dg, guard = body_section(p, module)
-    fb = fields.body_field(p, module)
+    motion = None
+    if st.lam_rad:
+        # the circle about the moving saddle, lambdabar a state of the flights (kernel/homoclinic.moving_arc)
+        say("saddle motion")
+        K0, B, ok = homoclinic_kernel.saddle_motion(p, module, E.xhat, E.K, SADDLE_RADIUS0)
+        check("saddle_motion", ok, "Krawczyk at the centre lambdabar and the slope dx*/dlambdabar over the interval")
+        U = man.bounds["U"]
+        check("moving_circle_inside", U + st.r < man.r_block,
+              f"|u*| + r = {float(U + st.r):.6g} < r_block = {float(man.r_block):.6g}")
+        K0, B = [_stored_ball(v) for v in K0], [_stored_ball(v) for v in B]
+        motion = {"radius0": _q(SADDLE_RADIUS0), "K0": [stored(v) for v in K0], "slope": [stored(v) for v in B]}
+        flight = homoclinic_kernel.LamStateFlight(
+            p, module, lambda lo, hi: homoclinic_kernel.moving_arc(p, man.V, man.xhat, K0, B, man.L, man.r, lo, hi,
+                                                                  module))
+    else:
+        flight = homoclinic_kernel.PointFlight(p, module, lambda lo, hi: lift_arc(p, man, lo, hi, module))
+    g, dg, guard = body_section(flight)
     crossings = []
     for tgt in st.targets:
         say(f"psi = {tgt}")
@@ -464,7 +487,7 @@ def _prove(p, st, module, check, say) -> dict:
         t_a = Fraction(math.floor((t_f - float(st.lead)) * 2**20), 2**20)
         dphi = st.dphi
         for attempt in range(4):
-            rec = _flight(p, man, fb, g, dg, guard, phic, dphi, t_a, st, module)
+            rec = _flight(flight, g, dg, guard, phic, dphi, t_a, st)
             ok_newton = rec["newton_inside"]
             if ok_newton or attempt == 3:
                 break
@@ -488,7 +511,13 @@ def _prove(p, st, module, check, say) -> dict:
     digest = fields.source_digest(module)
     check("field_is_derived", digest == fields.source_digest(gen),
           "the vector field is the derive-generated generated/validated.py (SHA-256 of its source)")
-    return _certificate(p, st, E, man, crossings, digest)
+    return _certificate(p, st, E, man, crossings, digest, motion)
+
+
+def _stored_ball(x: arb) -> arb:
+    """x as the verifier will read it back from the certificate (stored, then from_json): the flights must start
+    from the balls the certificate holds, which contain x."""
+    return ball.from_json(stored(x))
 
 
 def _orbit_samples(p, xhat, n=6) -> list:
@@ -506,18 +535,18 @@ def _orbit_samples(p, xhat, n=6) -> list:
     return out
 
 
-def _flight(p, man, fb, g, dg, guard, phic, dphi, t_a, st, module) -> dict:
+def _flight(flight, g, dg, guard, phic, dphi, t_a, st) -> dict:
     """Thin set (phi_c) and arc ([phi_c - dphi, phi_c + dphi]) to the crossing; Newton in phi; d theta/d psi."""
     vals, record = {}, {}
     for kind, lo, hi in (("thin", phic, phic), ("arc", phic - dphi, phic + dphi)):
-        S, tangent = lift_arc(p, man, lo, hi, module)
+        S, tangent = flight.lift(lo, hi)
         tr = taylor.Trajectory()
         try:
-            S = taylor.propagate(fb, S, t_a, order=st.order, tol=st.tol, guard=guard, record=tr)
-            cr = taylor.cross_section(fb, S, g, dg, 2 * st.lead, st.order, guard=guard)
+            S = taylor.propagate(flight.field, S, t_a, order=st.order, tol=st.tol, guard=guard, record=tr)
+            cr = taylor.cross_section(flight.field, S, g, dg, 2 * st.lead, st.order, guard=guard)
         except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
             raise ProofFailure(f"flight ({kind}, phi_c = {float(phic):.9g}) not validated: {err}") from None
-        q = crossing_quantities(p, cr, tangent, module)
+        q = crossing_quantities(flight, cr, tangent)
         vals[kind] = q
         record[kind] = {"steps": [_exact(h) for h in tr.steps], "guard_min": [float(v) for v in tr.guard_min],
                         "max_width": max(tr.widths), "n_steps": len(tr.steps),
@@ -557,7 +586,7 @@ def _cb(z):
     return {"re": stored(z.real), "im": stored(z.imag)}
 
 
-def _certificate(p, st, E, man, crossings, digest) -> dict:
+def _certificate(p, st, E, man, crossings, digest, motion=None) -> dict:
     cb = _cb
 
     return {
@@ -571,7 +600,7 @@ def _certificate(p, st, E, man, crossings, digest) -> dict:
                    "K": [stored(v) for v in E.K],
                    "eig_input_u": _eig_input(E.eig_inputs[0]), "eig_input_s": _eig_input(E.eig_inputs[1]),
                    "lam_u": cb(E.lam_u), "lam_s": cb(E.lam_s),
-                   "v_u": [cb(z) for z in E.v_u], "v_s": [cb(z) for z in E.v_s]},
+                   "v_u": [cb(z) for z in E.v_u], "v_s": [cb(z) for z in E.v_s], **(motion or {})},
         "manifold": {"V": [[_exact(man.V[i, j]) for j in range(man.V.ncols())] for i in range(man.V.nrows())],
                      "r_block": _q(man.r_block), "rho": _q(man.rho), "L": _q(man.L), "r": _q(man.r),
                      "rho_eff": _q(man.rho_eff),
