@@ -228,3 +228,12 @@ def test_a_moved_saddle_slope_is_rejected(shipped, tmp_path, capsys):
         k = bad["saddle"][key][0]
         k["mid"] = ball.decimal(Fraction(k["mid"]) + 4 * Fraction(k["rad"]))
         assert_rejected(bad, tmp_path, capsys, f"saddle {key}[0] recomputed")
+
+
+def test_a_block_too_small_for_the_moving_circle_is_rejected(shipped, tmp_path, capsys):
+    """r_block between r and r + |u*|: the block's own conditions still hold, but the circle about the moving saddle
+    leaves it, where the graph (and the bound |s - s*| <= L r) is not established."""
+    bad = copy.deepcopy(shipped)
+    rb = Fraction(bad["manifold"]["r"]) + Fraction(bad["manifold"]["bounds"]["U"]) / 2
+    bad["manifold"]["r_block"] = f"{rb.numerator}/{rb.denominator}"
+    assert_rejected(bad, tmp_path, capsys, "moving circle inside the block")
