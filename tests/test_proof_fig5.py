@@ -89,13 +89,14 @@ def test_fixed_point_fig5_verifies(key):
 
 
 def test_interval_certificate_states_its_theorem():
-    """fixed_point_fig5a_interval.json: every lambdabar in 2 +- 1e-5 (mu = 4 fixed), psi = pi, its generated theorem;
-    a wider interval in the theorem text is rejected (seen to fail: the theorem check)."""
+    """fixed_point_fig5a_interval.json: every lambdabar in 2 +- 1e-4 (mu = 4 fixed; the box moving with lambdabar),
+    psi = pi, its generated theorem; a wider interval in the theorem text is rejected (seen to fail: the theorem
+    check)."""
     c = _load("fixed_point_fig5a_interval.json")
-    assert c["settings"]["lam_rad"] == "1/100000" and c["point"]["branch"] == "pi"
-    assert c["theorem"] == section_fixed_point_theorem(c["params"], "4/5", "1/100000", "pi")
+    assert c["settings"]["lam_rad"] == "1/10000" and c["point"]["branch"] == "pi"
+    assert c["theorem"] == section_fixed_point_theorem(c["params"], "4/5", "1/10000", "pi", moving=True)
     bad = copy.deepcopy(c)
-    bad["theorem"] = section_fixed_point_theorem(c["params"], "4/5", "1/50000", "pi")
+    bad["theorem"] = section_fixed_point_theorem(c["params"], "4/5", "1/5000", "pi", moving=True)
     assert "theorem" in _rejected(bad)
 
 

@@ -43,7 +43,8 @@ def test_shipped_certificates_state_their_theorem(panel):
     c = _shipped(panel)
     assert c["kind"] == "section_fixed_point" and c["level"] == "9/10"
     assert c["params"] == {"m": "17/10", "mu": "2/5", "gamma": "3/1", "delta": "3/1", "lam": SHIPPED[panel]}
-    assert c["theorem"] == theorem.section_fixed_point_theorem(c["params"], "9/10", c["settings"].get("lam_rad", "0"))
+    assert c["theorem"] == theorem.section_fixed_point_theorem(c["params"], "9/10", c["settings"].get("lam_rad", "0"),
+                                                               moving="v" in c["settings"])
 
 
 def test_the_fig4a_certificate_verifies_and_prints_the_generated_theorem(cert, tmp_path, capsys):
@@ -236,14 +237,37 @@ def test_the_lambda_column_of_the_state_field_is_the_derivative():
 
 
 def test_the_interval_certificate_states_its_theorem_and_rejects_a_wider_interval(tmp_path, capsys):
+    """The shipped box moves with lambdabar (settings.v): its theorem says so, and without v (the fixed box's
+    reading of the same data) the text is another theorem.  Twice the interval, consistently claimed: the level's
+    Newton ball over the moving box is recomputed wider."""
     c = _shipped("a_interval")
-    assert c["settings"]["lam_rad"] == "1/1000000" and c["params"]["lam"] == "27/200"
-    want = theorem.section_fixed_point_theorem(c["params"], "9/10", "1/1000000")
-    assert c["theorem"] == want and "every lambdabar in [134999/1000000, 135001/1000000]" in want
-    bad = copy.deepcopy(c)  # a consistent claim for twice the interval: the level's Newton ball is recomputed wider
-    bad["settings"]["lam_rad"] = "2/1000000"
-    bad["theorem"] = theorem.section_fixed_point_theorem(c["params"], "9/10", "2/1000000")
+    assert c["settings"]["lam_rad"] == "1/100000" and c["params"]["lam"] == "27/200" and "v" in c["settings"]
+    want = theorem.section_fixed_point_theorem(c["params"], "9/10", "1/100000", moving=True)
+    assert c["theorem"] == want and "every lambdabar in [13499/100000, 13501/100000]" in want
+    assert "moves with lambdabar along the certificate's v" in want and "theta - v (lambdabar - lam)" in want
+    bad = copy.deepcopy(c)
+    bad["settings"]["lam_rad"] = "2/100000"
+    bad["theorem"] = theorem.section_fixed_point_theorem(c["params"], "9/10", "2/100000", moving=True)
     assert_rejected(bad, tmp_path, capsys, "level (box) recomputed")
+    bad = copy.deepcopy(c)
+    del bad["settings"]["v"]  # the fixed box's theorem would be claimed from the moving box's data
+    assert_rejected(bad, tmp_path, capsys, "theorem text")
+
+
+def test_the_moving_box_is_checked_where_it_moves(tmp_path, capsys):
+    """Controls of the moving box: its slope v moved by 1/64 (0.3 %; the theorem text does not name v) is
+    rejected, the section derivative along the moving box recomputed elsewhere (by 1/1024 it verifies, and
+    rightly: every enclosure recomputed for that box still lies in its stored ball, so the theorem holds for it
+    too); a moving box claimed at a point (lam_rad 0) is rejected by the settings check."""
+    c = _shipped("a_interval")
+    bad = copy.deepcopy(c)
+    v = Fraction(c["settings"]["v"]) + Fraction(1, 64)
+    bad["settings"]["v"] = f"{v.numerator}/{v.denominator}"
+    assert_rejected(bad, tmp_path, capsys, "box dl_theta recomputed")
+    bad = copy.deepcopy(c)
+    bad["settings"]["lam_rad"] = "0"
+    bad["theorem"] = theorem.section_fixed_point_theorem(c["params"], "9/10", "0", moving=True)
+    assert_rejected(bad, tmp_path, capsys, "settings match the data")
 
 
 def _widened(c, frac):
@@ -252,22 +276,21 @@ def _widened(c, frac):
     bad = copy.deepcopy(c)
     bad["settings"]["lam_rad"] = f"{w.numerator}/{w.denominator}"
     bad["theorem"] = theorem.section_fixed_point_theorem(c["params"], c["level"], bad["settings"]["lam_rad"],
-                                                         c["point"].get("branch", "0"))
+                                                         c["point"].get("branch", "0"), "v" in c["settings"])
     return bad
 
 
 @pytest.mark.parametrize("name", ["fixed_point_fig4a_interval.json", "fixed_point_fig5a_interval.json"])
 def test_an_interval_widened_beyond_its_balls_slack_is_rejected(name, tmp_path, capsys):
-    """The smallest widening the certificate's balls do not absorb is rejected, before any flight: its radius times
-    1 + 2^-10 (the stored balls are the prover's enclosures widened by 2^-10 of their radius, search.stored, so
-    that another python-flint build's last-bit rounding still verifies).  A widening by one ulp of the radius
-    (float64: 1 + 2^-52; Arb's radius: 1 + 2^-30) verifies, and rightly: the verifier recomputes every enclosure
-    on the widened interval and each still lies in its stored ball, so the wider theorem is what it checked
-    (research/README.md, "Section fixed points on a lambdabar box").  Seen to fail: with the level's recomputation
-    check removed from the verifier's _fixed_point (kernel/fixed_point.py) the tampering is still rejected, one check later (thin ptheta
-    recomputed, after the flight)."""
+    """The smallest widening the certificate's balls do not absorb is rejected: its radius times 1 + 2^-10 (the
+    stored balls are the prover's enclosures widened by 2^-10 of their radius, search.stored, so that another
+    python-flint build's last-bit rounding still verifies); for the moving boxes a flight's recomputed enclosure
+    is the first to leave its ball (their level balls over the box have the slack to hold it).  A widening by one
+    ulp of the radius (float64: 1 + 2^-52; Arb's radius: 1 + 2^-30) verifies, and rightly: the verifier recomputes
+    every enclosure on the widened interval and each still lies in its stored ball, so the wider theorem is what
+    it checked (research/README.md, "Section fixed points on a lambdabar box")."""
     c = json.loads(resources.files("magrod.proof").joinpath("certificates", name).read_text())
-    assert_rejected(_widened(c, Fraction(1, 2**10)), tmp_path, capsys, "level (centre) recomputed")
+    assert_rejected(_widened(c, Fraction(1, 2**10)), tmp_path, capsys, "recomputed")
 
 
 @pytest.mark.slow
@@ -277,21 +300,25 @@ def test_the_interval_certificate_verifies():
 
 
 def test_interval_settings_size_the_theta_box_by_the_measured_motion():
-    """`magrod prove --fixed-point --lam-rad W` sizes the theta-box from theta*'s float motion (4 |dtheta*/dlambdabar|
-    W): at Fig 4(a), W = 1e-6, r = 21 W, which holds the interval Newton image of the shipped box (radius 17.2 W,
-    research/fixed_point_interval_limits.json) and is what the shipped certificate used within 5 %; interval_settings'
-    fixed r = 8 W does not hold it (the image then leaves Theta: the reason the CLI could not reproduce the box)."""
+    """The fixed theta-box (`magrod prove --fixed-point --lam-rad W --box fixed`) is sized from theta*'s float motion
+    (4 |dtheta*/dlambdabar| W): at Fig 4(a), W = 1e-6, r = 21 W, which holds the interval Newton image of that box
+    (radius 17.2 W: research/fixed_point_interval_limits.json, K = 20) and is the first interval certificate's
+    r = 20 W within 5 %; interval_settings' fixed r = 8 W does not hold it.  The moving box is sized by K' W about
+    the fixed point moving with the measured slope v (signed, on a 2^-16 grid: exact in binary)."""
     p, h = section_fixed_point.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
     w = Fraction(1, 10**6)
+    rows = json.loads((ROOT / "research" / "fixed_point_interval_limits.json").read_text())["rows"]
+    newton = Fraction(next(r for r in rows if r["panel"] == "4a" and r["lam_rad"] == "1/1000000")["newton_rad"])
     st = section_fixed_point.interval_settings_for(p, h, 0.383, w)
-    newton = Fraction(_shipped("a_interval")["newton"]["rad"])
-    assert st.lam_rad == w and newton < st.r <= Fraction(21, 20) * Fraction(_shipped("a_interval")["settings"]["r"])
+    assert st.lam_rad == w and st.v is None and newton < st.r <= Fraction(21, 20) * 20 * w
     assert section_fixed_point.interval_settings(w).r < newton
+    mv = section_fixed_point.interval_settings_for(p, h, 0.383, w, moving=2)
+    assert mv.r == 2 * w and abs(float(mv.v) + 5.2336) < 1e-3 and (mv.v * 2**16).denominator == 1
 
 
 @pytest.mark.slow
 def test_the_cli_proves_the_shipped_box_and_it_verifies(tmp_path, capsys):
-    assert main(["prove", "--fixed-point", "0.383", "--level", "0.9", *FIG4A, "--lam-rad", "1/1000000", "--out",
+    assert main(["prove", "--fixed-point", "0.383", "--level", "0.9", *FIG4A, "--lam-rad", "1/100000", "--out",
                  str(tmp_path), "--json", "--quiet"]) == 0
     out = json.loads(capsys.readouterr().out)
     c = json.loads(Path(out["certificate"]).read_text())
@@ -306,14 +333,15 @@ def _tiles():
 
 def test_the_interval_tiles_cover_their_union_exactly():
     """research/fig4_lambda_interval.py's 21 certificates: adjacent lambdabar boxes [c - w, c + w] whose union is
-    [134979/1000000, 135021/1000000] = 27/200 +- 2.1e-5 with no gap (tiling.chain_interval, exact rationals), each
-    stating the theorem for its box."""
+    [13479/100000, 13521/100000] = 27/200 +- 2.1e-4 with no gap (tiling.chain_interval, exact rationals), each
+    stating the theorem for its box (moving with lambdabar)."""
     tiles = _tiles()
     for c in tiles:
-        assert c["kind"] == "section_fixed_point" and Fraction(c["settings"]["lam_rad"]) == Fraction(1, 10**6)
-        assert c["theorem"] == theorem.section_fixed_point_theorem(c["params"], c["level"], c["settings"]["lam_rad"])
+        assert c["kind"] == "section_fixed_point" and Fraction(c["settings"]["lam_rad"]) == Fraction(1, 10**5)
+        assert c["theorem"] == theorem.section_fixed_point_theorem(c["params"], c["level"], c["settings"]["lam_rad"],
+                                                                   moving=True)
     assert len(tiles) == 21
-    assert tiling.chain_interval(tiles) == (Fraction(134979, 1000000), Fraction(135021, 1000000))
+    assert tiling.chain_interval(tiles) == (Fraction(13479, 100000), Fraction(13521, 100000))
 
 
 def test_a_tile_dropped_from_the_chain_is_rejected():
@@ -321,9 +349,9 @@ def test_a_tile_dropped_from_the_chain_is_rejected():
     check removed from tiling.chain_interval the union was reported whole); an end box dropped leaves a shorter
     interval, not the stated one; another level's box is another theorem."""
     tiles = sorted(_tiles(), key=lambda c: Fraction(c["params"]["lam"]))
-    with pytest.raises(tiling.ChainError, match=r"gap in lambdabar between 134999/1000000 and 135001/1000000"):
+    with pytest.raises(tiling.ChainError, match=r"gap in lambdabar between 13499/100000 and 13501/100000"):
         tiling.chain_interval(tiles[:10] + tiles[11:])
-    assert tiling.chain_interval(tiles[1:]) == (Fraction(134981, 1000000), Fraction(135021, 1000000))
+    assert tiling.chain_interval(tiles[1:]) == (Fraction(13481, 100000), Fraction(13521, 100000))
     other = copy.deepcopy(tiles[0])
     other["level"] = "8/10"
     with pytest.raises(tiling.ChainError, match="different theorems"):
@@ -336,4 +364,21 @@ def test_a_tile_dropped_from_the_chain_is_rejected():
 
 @pytest.mark.slow
 def test_every_interval_tile_verifies():
-    assert tiling.chain_interval(_tiles(), verify=True) == (Fraction(134979, 1000000), Fraction(135021, 1000000))
+    assert tiling.chain_interval(_tiles(), verify=True) == (Fraction(13479, 100000), Fraction(13521, 100000))
+
+
+def test_the_fixed_box_still_proves_and_verifies(tmp_path, capsys):
+    """`--box fixed` (the first interval certificates' theta_c +- r for every lambdabar, no settings.v): proves at
+    W = 1e-7 and verifies with the theorem that does not say the box moves; the same interval with the moving box
+    states that it moves."""
+    args = ["prove", "--fixed-point", "0.383046", "--level", "9/10", *FIG4A, "--lam-rad", "1/10000000", "--json",
+            "--quiet"]
+    assert main([*args, "--box", "fixed", "--out", str(tmp_path / "f")]) == 0
+    c = json.loads(Path(json.loads(capsys.readouterr().out)["certificate"]).read_text())
+    assert "v" not in c["settings"] and "--box fixed" in c["provenance"]["command"]
+    res = verify.verify(c)
+    assert res.ok and res.theorem == theorem.section_fixed_point_theorem(c["params"], "9/10", "1/10000000")
+    assert "moves with lambdabar" not in res.theorem
+    assert main([*args, "--out", str(tmp_path / "m")]) == 0
+    m = json.loads(Path(json.loads(capsys.readouterr().out)["certificate"]).read_text())
+    assert "v" in m["settings"] and "moves with lambdabar" in m["theorem"]

@@ -54,6 +54,10 @@ def add_arguments(p):
     p.add_argument("--lam-rad", default="0", metavar="W", dest="lam_rad",
                    help="the homoclinic proof, --fixed-point, --horseshoe, --widen: for every lambdabar in [lam - W, "
                         "lam + W] (lambdabar carried as a ball; a horseshoe's sets move with lambdabar)")
+    p.add_argument("--box", default="moving", choices=("moving", "fixed"),
+                   help="--fixed-point with --lam-rad: the theta-box follows the fixed point along lambdabar "
+                        "(moving, theta_c + v (lambdabar - lam) +- K' W; the default, ~10x wider intervals) or is the "
+                        "same for every lambdabar (fixed, the first interval certificates)")
     p.add_argument("--widen", default=None, metavar="CERT",
                    help="re-prove the point horseshoe certificate CERT for every lambdabar in [lam - W, lam + W] "
                         "(--lam-rad W > 0) without re-proving the point (horseshoe_widen.widen)")
@@ -246,7 +250,7 @@ def _widen(args) -> dict:
 #: the options that decide a certificate's content, in the order `provenance` spells them (the output directory,
 #: --quiet / --json and the controls do not)
 _PROVENANCE_OPTIONS = ("fixed_point", "horseshoe", "widen", "level", "m", "mu", "gamma", "delta", "lam", "targets",
-                       "design", "branch", "root", "m_back", "n_exc", "s_star", "passes", "lam_rad")
+                       "design", "branch", "root", "m_back", "n_exc", "s_star", "passes", "lam_rad", "box")
 
 
 def _provenance(args) -> dict:
@@ -263,6 +267,7 @@ def _provenance(args) -> dict:
                                                      and mode != "horseshoe") or \
                 (k in ("branch", "root") and mode not in ("fixed_point", "horseshoe")) or \
                 (k == "lam_rad" and str(v) in ("0", "0/1")) or \
+                (k == "box" and (mode != "fixed_point" or str(getattr(args, "lam_rad", "0")) in ("0", "0/1"))) or \
                 (mode == "widen" and k in ("m", "mu", "gamma", "delta", "lam", "level")):
             continue
         words += [f"--{k.replace('_', '-')}", PurePath(str(v)).name if k == "widen" else str(v)]
@@ -285,11 +290,26 @@ def _fixed_point(args) -> dict:
     p, h, theta, dest, module = _section_inputs(args, "fixed-point")
     w = _lam_rad(args)
     branch = getattr(args, "branch", "0")
-    st = interval_settings_for(p, h, theta, w, root=_root(args), branch=branch) if w else FixedPointSettings()
-    res = prove_fixed_point(p, h, theta, st, root=_root(args), branch=branch, module=module,
-                            progress=None if args.quiet else _stage)
-    return _section_result(res, p, h, dest, lambda c: {"fixed_point": {k: c[k] for k in ("newton", "trace", "mu_u")}},
-                           args)
+    progress = None if args.quiet else _stage
+    if w and getattr(args, "box", "moving") == "moving":
+        from ..proof.provers.section_fixed_point import prove_moving
+
+        res = prove_moving(p, h, theta, w, root=_root(args), branch=branch, module=module, progress=progress)
+    else:
+        st = interval_settings_for(p, h, theta, w, root=_root(args), branch=branch) if w else FixedPointSettings()
+        res = prove_fixed_point(p, h, theta, st, root=_root(args), branch=branch, module=module, progress=progress)
+    return _section_result(res, p, h, dest, lambda c: {"fixed_point": {"newton": _theta_star(c), "trace": c["trace"],
+                                                                        "mu_u": c["mu_u"]}}, args)
+
+
+def _theta_star(c) -> dict:
+    """theta* of a fixed-point certificate over its lambdabar interval: the Newton ball, which a moving box's v
+    moves by v (lambdabar - lam) (radius |v| lam_rad more)."""
+    b, s = c["newton"], c["settings"]
+    if "v" not in s:
+        return b
+    rad = Fraction(b["rad"]) + abs(Fraction(s["v"])) * Fraction(s["lam_rad"])
+    return {"mid": b["mid"], "rad": str(rad)}
 
 
 def _stage(msg):

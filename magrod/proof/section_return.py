@@ -224,6 +224,59 @@ class Moving:
     v: tuple
 
 
+def sheared_fixed_point_set(p, h, thc: Fraction, v: Fraction, s_rad: Fraction, lam_rad: Fraction, pc: Fraction,
+                            prad: Fraction, branch="0", module=gen) -> dict:
+    """The chart set of a section fixed point's box that follows the fixed point along lambdabar (statement 11 on a
+    lambdabar interval): for every lambdabar in [lam - lam_rad, lam + lam_rad] (lam = p.lam, dl = lambdabar - lam)
+    the points theta = thc + v dl + s, s in [-s_rad, s_rad] (s_rad 0: the line s = 0), psi on the branch,
+    pbar_theta = 0, pbar_psi on the level Hbar = h, and lambdabar as the fifth state (fields.lam_state_field).
+
+    pbar_psi: Nb by interval Newton over the hull (unique in [pc - prad, pc + prad] for every point and lambdabar),
+    Nc at (thc, lam); by the mean value theorem pbar_psi(thc + v dl + s, lam + dl) - pbar_psi(thc, lam) =
+    g_theta(xi) (v dl + s) + g_lam(xi) dl, g = -(dHbar/dtheta, dHbar/dlambdabar) / dHbar/dpbar_psi over the hull.
+    So the set is xbar + C r0 with exact C: the s column (1, 0, 0, mid g_theta, 0), the lambdabar column (v, 0, 0,
+    mid g_theta v + mid g_lam, 1), r0 = (s, psi - mid psi, 0, E, dl), E the rest.  Returns {"set": the C^1 set,
+    "Q": the hull (5 balls), "level_ok", "level": Nb, "level_centre": Nc, "tangent_lam": the chart vector (v, 0, 0,
+    g_theta v + g_lam, 1) that contains d/dlambdabar of the box's points at fixed s (for the section derivative
+    along lambdabar: the Newton's centre theta_c + v dl moves with it)}."""
+    ps = branch_psi(branch)
+    pars = fields.parameter_balls(p, lam_rad)
+    pars_c = fields.parameter_balls(p)
+    Lam = pars[fields.LAM]
+    Dl = Lam - ball.q(p.lam)
+    vq, S = ball.q(v), ball.interval(-s_rad, s_rad)
+    if vq.rad() != 0:
+        raise ValueError("v must be a dyadic rational (exact in binary)")
+    th_h = ball.q(thc) + vq * Dl + S
+    Nb, _, okb = level_newton_section(pars, h, th_h, arb(0), pc, prad, module, branch)
+    Nc, _, okc = level_newton_section(pars_c, h, ball.q(thc), arb(0), pc, prad, module, branch)
+    out = {"level_ok": bool(okb and okc), "level": Nb, "level_centre": Nc, "Q": [th_h, ps, arb(0), Nb, Lam]}
+    if not out["level_ok"]:
+        return out
+    Q = [th_h, ps, arb(0), Nb]
+    gH = ham_gradient(pars, Q, module)
+    gth = -gH[TH] / gH[PP]
+    glam = -ham_lam_derivative(pars, Q, module) / gH[PP]
+    gtm, glm = gth.mid(), glam.mid()
+    c_s = gtm.mid()
+    c_l = (gtm * vq + glm).mid()  # exact entries of C; what rounding left goes into E
+    # grouped by the variable each term multiplies, so that the linear parts cancel in the ball arithmetic
+    E = (Nc - Nc.mid()) + (gth - c_s) * S + (gth * vq + glam - c_l) * Dl
+    n = 5
+    C = arb_mat(n, n)
+    for i in range(n):
+        C[i, i] = 1
+    C[PP, TH] = c_s
+    C[TH, 4], C[PP, 4] = vq, c_l
+    xbar = [ball.q(thc), ps.mid(), arb(0), Nc.mid(), ball.q(p.lam)]
+    r0 = ball.vec([S, ps - ps.mid(), arb(0), E, Dl])
+    Sset = taylor.initial_set(xbar, c1=True)
+    Sset.C, Sset.r0 = C, r0
+    out["set"] = Sset
+    out["tangent_lam"] = [vq, arb(0), arb(0), gth * vq + glam, arb(1)]
+    return out
+
+
 def ham_lam_derivative(pars, x, module=gen) -> arb:
     """dHbar/dlambdabar over the box x and lambdabar's ball in pars (a series in the parameter, as ham_gradient)."""
     q = list(pars)

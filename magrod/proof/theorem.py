@@ -90,7 +90,8 @@ def _where(params: dict, w: Fraction, every: str) -> str:
             f"{_rational(str(lam + w))}]")
 
 
-def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0", branch: str = "0") -> str:
+def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0", branch: str = "0",
+                                moving: bool = False) -> str:
     """The statement established by a verified section-fixed-point certificate (kind "section_fixed_point").
 
     Parameters
@@ -103,6 +104,8 @@ def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0", br
         Half-width of the lambdabar interval the certificate carries (exact rational string; "0": the point).
     branch : {"0", "pi"}
         x0's branch of the section: psi = 0 (Fig 4) or psi = pi (Fig 5).
+    moving : bool
+        The certificate's box moves with lambdabar along its v (theta = theta_c + v (lambdabar - lam) + s).
 
     Returns
     -------
@@ -118,11 +121,12 @@ def section_fixed_point_theorem(params: dict, level: str, lam_rad: str = "0", br
     if branch not in ("0", "pi"):
         raise ValueError(f"branch must be '0' or 'pi', got {branch!r}")
     where = _where(params, w, "and every")
-    each = "" if w == 0 else " (for each lambdabar its own x0, unique in the certificate's box)"
+    each = "" if w == 0 else (" (for each lambdabar its own x0, unique in the certificate's box"
+                              + (", which moves with lambdabar along the certificate's v)" if moving else ")"))
     return (f"{where}, on the level Hbar = {_rational(level)} of the reduced "
             f"chart field of Hbar (eq:full_ham_nondim): the section map P of {{sin psi = 0, d(sin psi)/dt > 0}} "
-            f"has a fixed point x0{each} on Fix(R) (psi = {branch}, pbar_theta = 0) with theta in the certificate's Newton "
-            f"ball, whose orbit is R-symmetric and periodic with period twice the certificate's crossing time, "
+            f"has a fixed point x0{each} on Fix(R) (psi = {branch}, pbar_theta = 0) with theta"
+            f"{' - v (lambdabar - lam)' if moving and w else ''} in the certificate's Newton ball, whose orbit is R-symmetric and periodic with period twice the certificate's crossing time, "
             f"and DP(x0) is hyperbolic: det DP(x0) = 1 and |tr DP(x0)| > 2, so its eigenvalues are real, mu and "
             f"1/mu with |mu| > 1 (a saddle of P; docs/nonintegrability.md, statement 11).")
 

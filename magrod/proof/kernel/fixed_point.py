@@ -10,6 +10,7 @@ import time
 from flint import arb
 
 from .. import ball, fields, taylor
+from ..section_return import sheared_fixed_point_set
 from ..theorem import section_fixed_point_theorem
 from .schema import (VerifyResult, check_structure, checked, frac, inside, recomputed, recomputed_meet,
                      section_settings)
@@ -28,7 +29,8 @@ def verify(cert, module, t0) -> VerifyResult:
     return VerifyResult(True, "certificate verified: every enclosure recomputed and every check holds", checks,
                         time.perf_counter() - t0,
                         section_fixed_point_theorem(p.as_json(), cert["level"], cert["settings"].get("lam_rad", "0"),
-                                                    cert["point"].get("branch", "0")),  # the branch _fixed_point flew
+                                                    cert["point"].get("branch", "0"),  # the branch _fixed_point flew
+                                                    "v" in cert["settings"]),
                         {}, vals)
 
 
@@ -56,13 +58,15 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
     if branch not in ("0", "pi"):
         raise ValueError("the point's branch is '0' or 'pi'")
     psi0 = arb(0) if branch == "0" else arb.pi()
-    want = section_fixed_point_theorem(p.as_json(), cert["level"], s.get("lam_rad", "0"), branch)
+    moving = "v" in s  # the box follows the fixed point along lambdabar: theta = theta_c + v (lambdabar - lam) + s
+    want = section_fixed_point_theorem(p.as_json(), cert["level"], s.get("lam_rad", "0"), branch, moving)
     claim("theorem text", cert["theorem"] == want,
           "the certificate's theorem is the one its verified content establishes"
           + ("" if cert["theorem"] == want else f" (expected: {want[:120]}...; states: {str(cert['theorem'])[:120]}...)"))
     claim("settings match the data", hc == 2 * lead and r > 0 and prad > 0 and 0 < t1 < t_a and thc > 0
-          and lam_rad >= 0,
-          "the crossing step is 2 lead; r, p_rad > 0; 0 < t1 < t_a; theta_c > 0; lam_rad >= 0")
+          and lam_rad >= 0 and (lam_rad > 0 or not moving),
+          "the crossing step is 2 lead; r, p_rad > 0; 0 < t1 < t_a; theta_c > 0; lam_rad >= 0; a moving box (v) only "
+          "on a lambdabar interval")
     fl = cert["flights"]
     claim("flights present", isinstance(fl, dict) and set(fl) == {"thin", "box"},
           f"exactly the thin flight (theta_c) and the box flight (Theta); got {sorted(fl) if isinstance(fl, dict) else fl}")
@@ -92,7 +96,16 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
     Theta = ball.interval(thc - r, thc + r)
     Pb = ball.interval(pc - prad, pc + prad)
     levels = {}
-    for key, th in (("box", Theta), ("centre", ball.q(thc))):
+    sheared = {}
+    if moving:  # the box's points theta_c + v dl + s as an exact parallelepiped (section_return)
+        sheared = sheared_fixed_point_set(p, h, thc, frac(s["v"]), r, lam_rad, pc, prad, branch, module)
+        claim("level Newton (box)", sheared["level_ok"],
+              f"a unique pbar_psi with Hbar = h for every point of the moving box and every lambdabar, inside "
+              f"{sheared['level']}, and at (theta_c, lam), inside {sheared['level_centre']}")
+        recomputed(claim, "level (box)", sheared["level"], pt["level_newton"]["box"])
+        recomputed(claim, "level (centre)", sheared["level_centre"], pt["level_newton"]["centre"])
+        levels["centre"] = sheared["level_centre"]
+    for key, th in () if moving else (("box", Theta), ("centre", ball.q(thc))):
         dH = _fp_hamgrad(pars, [th, psi0, arb(0), Pb], module)[PP]
         N = ball.q(pc) - (H([th, psi0, arb(0), ball.q(pc)]) - ball.q(h)) / dH
         claim(f"level Newton ({key})", ball.excludes_zero(dH) and inside(N, Pb),
@@ -121,15 +134,19 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
         return [arb(0), x[PS].cos()] + [arb(0)] * (len(x) - 2)
 
     got = {}
-    for kind, th, pbox in (("thin", ball.q(thc), levels["centre"]), ("box", Theta, levels["box"])):
+    for kind in ("thin", "box"):
         st1 = [frac(v) for v in fl[kind]["steps1"]]
         st2 = [frac(v) for v in fl[kind]["steps2"]]
         claim(f"{kind} steps", sum(st1) == t1 and sum(st1) + sum(st2) == t_a and all(v > 0 for v in st1 + st2),
               f"the exact steps add up to t1 = {float(t1):.6g} (phase 1) and t_a = {float(t_a):.9g} (both phases)")
-        x = [th, psi0, arb(0), pbox] + Lam
-        xc = [v.mid() for v in x]
-        S = taylor.initial_set(xc, c1=True)
-        S.r0 = ball.vec([a - b for a, b in zip(x, xc)])
+        if moving and kind == "box":
+            x, S = sheared["Q"], sheared["set"]
+        else:  # moving: the thin set is the point (theta_c, lam), lambdabar a state at lam
+            th, pbox = (ball.q(thc), levels["centre"]) if kind == "thin" else (Theta, levels["box"])
+            x = [th, psi0, arb(0), pbox] + ([ball.q(p.lam)] if moving else Lam)
+            xc = [v.mid() for v in x]
+            S = taylor.initial_set(xc, c1=True)
+            S.r0 = ball.vec([a - b for a, b in zip(x, xc)])
         try:
             S = taylor.propagate(fld, S, steps=st1, order=order, guard=first)
             S = taylor.propagate(fld, S, steps=st2, order=order, guard=second)
@@ -140,6 +157,8 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
         z = [arb(0)] * len(Lam)
         tang = {"th": [arb(1), arb(0), arb(0), -gH[TH] / gH[PP]] + z,
                 "pt": [arb(0), arb(0), arb(1), -gH[PT] / gH[PP]] + z}
+        if moving and kind == "box":  # along lambdabar with the box (theta_c + v dl + s, s fixed)
+            tang["l"] = sheared["tangent_lam"]
         gg = dg(cr.x)
         gf = sum((a * b for a, b in zip(gg, cr.fx)), arb(0))
         q = {"ptheta": cr.x[PT], "theta": cr.x[TH], "cospsi": cr.x[PS].cos(), "gdot": cr.gdot, "tau": cr.tau}
@@ -154,11 +173,17 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
     thin, bx = got["thin"], got["box"]
     claim("negative crossing", ball.negative(sb["gdot"]),
           "d(sin psi)/dt < 0 over the crossing step: the half-way point on Fix(R), not a return to Sigma+")
-    # 4. Fix(R): one theta* in Theta whose orbit meets pbar_theta = 0 at the crossing
-    N = ball.q(thc) - thin["ptheta"] / bx["dth_ptheta"]
+    # 4. Fix(R): one theta* in Theta whose orbit meets pbar_theta = 0 at the crossing (moving: for each lambdabar,
+    # in theta_c + v dl + [-r, r], the Newton step taken in s about the line's point: the same formula shifted by v dl)
+    if moving:  # pbar_theta(theta_c + v dl, lam + dl) = pbar_theta(theta_c, lam) + (d/dl along the box) dl
+        Fc = thin["ptheta"] + bx["dl_ptheta"] * ball.interval(-lam_rad, lam_rad)
+    else:
+        Fc = thin["ptheta"]
+    N = ball.q(thc) - Fc / bx["dth_ptheta"]
     recomputed(claim, "Fix(R) Newton", N, cert["newton"])
     claim("unique theta*", ball.excludes_zero(sb["dth_ptheta"]) and inside(ball.from_json(cert["newton"]), Theta),
-          "the interval Newton image lies inside Theta: exactly one theta* in Theta, its orbit meets Fix(R)")
+          "the interval Newton image lies inside Theta: exactly one theta* in Theta, its orbit meets Fix(R)"
+          + (" (Theta and the image moving with lambdabar by v (lambdabar - lam))" if moving else ""))
     # 5. hyperbolicity: DP(x0) = R A^-1 R A, tr = 2 (ad + bc) / (ad - bc); det A = 1 (Hamilton's flow: the transition
     # psi = 0 -> pi preserves dtheta ^ dpbar_theta on the level's tangents), so also tr = 2 + 4 bc = 4 ad - 2: the
     # recomputed enclosure is the intersection of the three, decided exactly
@@ -175,6 +200,9 @@ def _fixed_point(cert, p, order, module, claim) -> dict:
         mus.append(ends[0].union(ends[1]))
     recomputed_meet(claim, "mu_u", mus, cert["mu_u"])
     T = ball.q(2 * t_a) + 2 * ball.from_json(fl["box"]["enclosures"]["tau"])
+    theta_star = cert["newton"]
+    if moving:  # theta*(lambdabar) over the interval: the Newton ball moved by v dl
+        theta_star = ball.to_json(ball.from_json(cert["newton"]) + ball.q(frac(s["v"])) * ball.interval(-lam_rad, lam_rad))
     return {k: [ball.decimal(v) for v in ball.json_bounds(x)]
-            for k, x in (("theta*", cert["newton"]), ("tr DP(x0)", cert["trace"]), ("mu_u", cert["mu_u"]),
+            for k, x in (("theta*", theta_star), ("tr DP(x0)", cert["trace"]), ("mu_u", cert["mu_u"]),
                          ("return time T", ball.to_json(T)))}

@@ -50,7 +50,7 @@ from ...generated import validated as gen
 from .. import ball, fields, taylor
 from .transverse_homoclinic import ProofFailure, ProofResult, run_checked, stored, structural_tests
 from ..theorem import section_fixed_point_theorem
-from ..section_return import (_mu_lam, branch_psi, chart_section, first_return, ham_gradient, initial_box, level_newton, level_newton_section, phase_guards, piece_return, return_guards, section_quantities, section_set, tangents)  # noqa: F401  (re-exported: the provers' names)
+from ..section_return import (_mu_lam, branch_psi, chart_section, first_return, ham_gradient, initial_box, level_newton, level_newton_section, phase_guards, piece_return, return_guards, section_quantities, section_set, sheared_fixed_point_set, tangents)  # noqa: F401  (re-exported: the provers' names)
 
 FORMAT = "magrod-proof-certificate/1"
 KIND = "section_fixed_point"
@@ -72,11 +72,15 @@ class FixedPointSettings:
     lead: Fraction = Fraction(1, 256)
     #: half-width of the lambdabar interval carried as a ball through every enclosure (0: the point itself)
     lam_rad: Fraction = Fraction(0)
+    #: on an interval: the box moves with lambdabar, theta = theta_c + v (lambdabar - lam) + [-r, r] (v exact dyadic,
+    #: ~dtheta*/dlambdabar; section_return.sheared_fixed_point_set); None: the box theta_c +- r for every lambdabar
+    v: Fraction | None = None
 
     def as_json(self) -> dict:
         q = _q
         return {"prec": self.prec, "order": self.order, "tol": repr(self.tol), "r": q(self.r), "p_rad": q(self.p_rad),
-                "t1": q(self.t1), "lead": q(self.lead), "lam_rad": q(self.lam_rad), "series_cap": ball.SERIES_CAP}
+                "t1": q(self.t1), "lead": q(self.lead), "lam_rad": q(self.lam_rad), "series_cap": ball.SERIES_CAP,
+                **({} if self.v is None else {"v": q(self.v)})}
 
 
 parameter_balls = fields.parameter_balls  # moved to fields (the verifier uses it and must not import periodic)
@@ -95,12 +99,15 @@ def interval_settings(lam_rad, base: "FixedPointSettings | None" = None) -> "Fix
 
 
 def interval_settings_for(p: fields.ExactParams, h: Fraction, theta_guess: float, lam_rad, *, root: int = -1,
-                          branch: str = "0", base: "FixedPointSettings | None" = None) -> "FixedPointSettings":
+                          branch: str = "0", base: "FixedPointSettings | None" = None,
+                          moving=None) -> "FixedPointSettings":
     """interval_settings with the theta-box sized by theta*'s measured motion: v = dtheta*/dlambdabar by central
     differences of the float search at lambdabar +- lam_rad, and r = max(4 |v| lam_rad, 2 lam_rad) (the interval
     Newton image is ~3.3 |v| lam_rad wide at Fig 4(a): 17.2 lam_rad against |v| = 5.2;
     research/fixed_point_interval_limits.py), p_rad = 16 (r + lam_rad).  What `magrod prove --fixed-point
-    --lam-rad W` uses; a float design choice only (the proof checks the box)."""
+    --lam-rad W` uses; a float design choice only (the proof checks the box).  moving K': the box moves with
+    lambdabar along the measured slope v (signed, rounded to 16 bits) and has half-width r = K' lam_rad about the
+    moving point (FixedPointSettings.v)."""
     from dataclasses import replace
 
     st = base or FixedPointSettings()
@@ -112,6 +119,10 @@ def interval_settings_for(p: fields.ExactParams, h: Fraction, theta_guess: float
         q = fields.ExactParams(p.m, p.mu, p.gamma, p.delta, p.lam + s * w)
         ths.append(float_fixed_point(q, h, theta_guess, root, branch=branch)[0])
     v = abs(ths[1] - ths[0]) / (2 * float(w))
+    if moving:  # the box follows theta*: its slope (signed, 16 bits), and a box of K' w about the moving point
+        vs = Fraction(round((ths[1] - ths[0]) / (2 * float(w)) * 2**16), 2**16)
+        r = max(Fraction(moving) * w, st.r)
+        return replace(st, lam_rad=w, r=r, v=vs, p_rad=max(st.p_rad, 16 * (r + (abs(vs) + 1) * w)))
     r = max(4 * ball.fraction(v) * w, 2 * w, st.r)
     r = Fraction(math.ceil(r / w * 8), 8) * w  # a short rational: K w with K a multiple of 1/8
     return replace(st, lam_rad=w, r=r, p_rad=max(st.p_rad, 16 * (r + w)))
@@ -263,6 +274,35 @@ def prove(params: fields.ExactParams, h: Fraction, theta_guess: float, settings:
                                                      branch))
 
 
+#: the moving box's half-widths K' lam_rad tried by prove_moving, smallest first (a smaller box gives a tighter
+#: trace; the Newton image must fit: ~1.5 lam_rad at Fig 4(a) for lam_rad = 1e-5, 0.12 lam_rad at Fig 5(a), 1e-4)
+MOVING_BOXES = (Fraction(1, 4), Fraction(1), Fraction(2), Fraction(4))
+
+
+def prove_moving(params: fields.ExactParams, h: Fraction, theta_guess: float, lam_rad, *, root: int = -1,
+                 branch: str = "0", module=gen, progress=None) -> ProofResult:
+    """prove() for every lambdabar in [lam - lam_rad, lam + lam_rad] with the theta-box following the fixed point
+    (interval_settings_for(moving=K')), trying the box half-widths K' lam_rad of MOVING_BOXES in turn: the first
+    that proves, or the last failure.  What `magrod prove --fixed-point --lam-rad W` runs (--box moving).
+
+    Examples
+    --------
+    >>> from fractions import Fraction
+    >>> from magrod.proof.provers import section_fixed_point as sfp
+    >>> p, h = sfp.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
+    >>> res = sfp.prove_moving(p, h, 0.383046, Fraction(1, 10**5))  # doctest: +SKIP
+    >>> res.ok, res.certificate["settings"]["v"]  # doctest: +SKIP
+    (True, '-85747/16384')
+    """
+    res = None
+    for k in MOVING_BOXES:
+        st = interval_settings_for(params, h, theta_guess, lam_rad, root=root, branch=branch, moving=k)
+        res = prove(params, h, theta_guess, st, root=root, branch=branch, module=module, progress=progress)
+        if res.ok:
+            return res
+    return res
+
+
 def _prove(p, h, theta_guess, root, st, module, check, progress, branch="0") -> dict:
     say = progress or (lambda s: None)
     say("float search")
@@ -280,21 +320,34 @@ def _prove(p, h, theta_guess, root, st, module, check, progress, branch="0") -> 
         check(name, holds, how)
     say("level")
     Theta = ball.interval(thc - st.r, thc + st.r)
-    if branch == "0":
+    sheared = {}
+    if st.v is not None:
+        if not st.lam_rad:
+            raise ParameterError("v", "a moving box needs a lambdabar interval (lam_rad > 0)")
+        sheared = sheared_fixed_point_set(p, h, thc, st.v, st.r, st.lam_rad, pc, st.p_rad, branch, module)
+        check("level Newton (box)", sheared["level_ok"],
+              f"pbar_psi unique over the moving box and the interval, inside {sheared['level']}")
+        N, Nc = sheared["level"], sheared["level_centre"]
+        ok = okc = True
+    elif branch == "0":
         N, _, ok = level_newton(pars, h, Theta, pc, st.p_rad, module)
         Nc, _, okc = level_newton(pars, h, ball.q(thc), pc, st.p_rad, module)
     else:
         N, _, ok = level_newton_section(pars, h, Theta, arb(0), pc, st.p_rad, module, branch)
         Nc, _, okc = level_newton_section(pars, h, ball.q(thc), arb(0), pc, st.p_rad, module, branch)
-    check("level Newton (box)", ok, f"pbar_psi(theta) unique in the box about {float(pc):.12g}, inside N = {N}")
-    check("level Newton (centre)", okc, f"pbar_psi(theta_c) inside {Nc}")
+    if not sheared:
+        check("level Newton (box)", ok, f"pbar_psi(theta) unique in the box about {float(pc):.12g}, inside N = {N}")
+        check("level Newton (centre)", okc, f"pbar_psi(theta_c) inside {Nc}")
     t_a = Fraction(math.floor((tau_f - float(st.lead)) * 2**20), 2**20)
     g, dg, base = chart_section(pars, module)
     guards = phase_guards(pars, fld, module)
     vals, record = {}, {}
     for kind, theta, pbox in (("thin", ball.q(thc), Nc), ("box", Theta, N)):
         say(f"flight ({kind})")
-        S = initial_box(p, theta, pbox, Lam, psi0)
+        if sheared and kind == "box":
+            S = sheared["set"]
+        else:  # moving: the thin set is the point (theta_c, lam), lambdabar a state at lam
+            S = initial_box(p, theta, pbox, ball.q(p.lam) if sheared else Lam, psi0)
         steps = []
         try:
             tr1, tr2 = taylor.Trajectory(), taylor.Trajectory()
@@ -304,8 +357,14 @@ def _prove(p, h, theta_guess, root, st, module, check, progress, branch="0") -> 
         except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
             raise ProofFailure(f"flight ({kind}) not validated: {err}") from None
         steps = [tr1.steps, tr2.steps]
-        Q = [theta, psi0, arb(0), pbox] + ([] if Lam is None else [Lam])
-        q = section_quantities(p, fld, cr, tangents(pars, Q, module), module)
+        if sheared and kind == "box":
+            Q = sheared["Q"]
+        else:
+            Q = [theta, psi0, arb(0), pbox] + ([ball.q(p.lam)] if sheared else [] if Lam is None else [Lam])
+        tg = tangents(pars, Q, module)
+        if sheared and kind == "box":  # the section derivative along lambdabar, the box moving with it
+            tg["l"] = sheared["tangent_lam"]
+        q = section_quantities(p, fld, cr, tg, module)
         bad = [k for k, v in q.items() if not v.is_finite()]
         check(f"{kind} enclosures finite", not bad, f"the {kind} flight's crossing quantities are finite balls"
               + (f" (not: {', '.join(bad)})" if bad else ""))
@@ -316,7 +375,10 @@ def _prove(p, h, theta_guess, root, st, module, check, progress, branch="0") -> 
     thin, bx = vals["thin"], vals["box"]
     check("negative crossing", ball.negative(bx["gdot"]),
           f"d(sin psi)/dt over the crossing step = {bx['gdot']} < 0 (the half-way point, not a return to Sigma+)")
-    newton = ball.q(thc) - thin["ptheta"] / bx["dth_ptheta"]
+    Fc = thin["ptheta"]
+    if sheared:  # pbar_theta on the line theta_c + v dl: the point's and the derivative along it (mean value)
+        Fc = Fc + bx["dl_ptheta"] * ball.interval(-st.lam_rad, st.lam_rad)
+    newton = ball.q(thc) - Fc / bx["dth_ptheta"]
     lo, hi = ball.bounds(newton)
     check("Fix(R) Newton", ball.excludes_zero(bx["dth_ptheta"]) and thc - st.r < lo and hi < thc + st.r,
           f"theta_c - pbar_theta(theta_c)/F'(Theta) = {newton} inside Theta: one theta* whose orbit meets Fix(R)")
@@ -330,7 +392,7 @@ def _prove(p, h, theta_guess, root, st, module, check, progress, branch="0") -> 
     lam_u = _mu_u(ball.from_json(stored(tr)))  # from the stored trace ball, as the verifier recomputes it
     return {
         "format": FORMAT, "kind": KIND,
-        "theorem": section_fixed_point_theorem(params, _q(h), _q(st.lam_rad), branch),
+        "theorem": section_fixed_point_theorem(params, _q(h), _q(st.lam_rad), branch, st.v is not None),
         "params": params, "level": _q(h), "settings": st.as_json(), "field_digest": digest,
         "point": {"theta_c": _q(thc), "p_c": _q(pc), "t_a": _q(t_a), "h_cross": _q(2 * st.lead),
                   "level_newton": {"box": stored(N), "centre": stored(Nc)},
