@@ -7,7 +7,8 @@ r = K W, K = 20 at 4(a), where theta* moves by ~17 W over the box, K = 2 at 5(a)
 outcome, the first check that fails, and the enclosures that decide it (tr DP(x0), the Fix(R) Newton radius and the
 entries b = dpbar_theta/dtheta, c = dtheta/dpbar_theta of the half-map A); then the complete verifier on every box that
 proves.  Numerical measurements of rigorous widths; the widths behind the shipped certificates
-fixed_point_fig4a_interval.json (W = 1e-6) and fixed_point_fig5a_interval.json (W = 1e-5), which `--write DIR`
+fixed_point_fig4a_interval.json (W = 1e-6) and fixed_point_fig5a_interval.json (W = 1e-5) as first shipped (fixed boxes;
+the shipped ones now move with lambdabar: research/fig4_lambda_interval.py, docs "The moving box"), which `--write DIR`
 writes.
 
     python research/fixed_point_interval_limits.py [--out research/fixed_point_interval_limits.json] [--write DIR]

@@ -1,6 +1,8 @@
 """What a box that follows the fixed point would buy statement 11's lambdabar interval (a measurement; not a proof).
 
-The shipped box (fixed_point_fig4a_interval.json, W = 1e-6) flies Theta x {0} x {0} x N x Lambda: the theta-box
+The first shipped box (fixed_point_fig4a_interval.json as it was, W = 1e-6; here re-proved by `section_fixed_point.prove`
+with the fixed box, `magrod prove --fixed-point --lam-rad 1/1000000 --box fixed`) flies Theta x {0} x {0} x N x
+Lambda: the theta-box
 r = 20 W, independent of lambdabar, and the level's pbar_psi box N, independent of theta.  The half-map A is enclosed
 over all of it, and its entries' radii (b, c) are what limit the box (research/README.md, "Interval theorems").
 Here the same flight (the certificate's exact steps, the same validated integrator) starts instead from the
@@ -17,7 +19,6 @@ from __future__ import annotations
 import json
 import sys
 from fractions import Fraction
-from importlib import resources
 
 from flint import arb
 
@@ -27,8 +28,10 @@ from magrod.proof.provers import section_fixed_point
 
 
 def main():
-    c = json.loads(resources.files("magrod.proof").joinpath("certificates", "fixed_point_fig4a_interval.json")
-                   .read_text())
+    p0, h0 = section_fixed_point.validate("17/10", "2/5", "3", "3", "27/200", "9/10")
+    st0 = section_fixed_point.interval_settings_for(p0, h0, 0.383046, Fraction(1, 10**6))
+    st0 = section_fixed_point.FixedPointSettings(lam_rad=st0.lam_rad, r=20 * st0.lam_rad, p_rad=st0.p_rad)
+    c = section_fixed_point.prove(p0, h0, 0.383046, st0).certificate  # the fixed box of the first certificate
     W = Fraction(c["settings"]["lam_rad"])
     K = Fraction(sys.argv[1]) if len(sys.argv) > 1 else Fraction(2)
     v = Fraction(sys.argv[2]) if len(sys.argv) > 2 else Fraction("-5.2336")
