@@ -56,7 +56,7 @@ def add_arguments(p):
                         "lam + W] (lambdabar carried as a ball; a horseshoe's sets move with lambdabar)")
     p.add_argument("--box", default="moving", choices=("moving", "fixed"),
                    help="--fixed-point with --lam-rad: the theta-box follows the fixed point along lambdabar "
-                        "(moving, theta_c + v (lambdabar - lam) +- K' W; the default, ~10x wider intervals) or is the "
+                        "(moving, theta_c + v (lambdabar - lam) +- K' W: ~10x wider intervals) or is the "
                         "same for every lambdabar (fixed, the first interval certificates)")
     p.add_argument("--widen", default=None, metavar="CERT",
                    help="re-prove the point horseshoe certificate CERT for every lambdabar in [lam - W, lam + W] "
