@@ -455,7 +455,7 @@ def test_mathematics_is_rendered_as_mathematics(site):
     TeX escape leaked into its prose."""
     soup = bs4.BeautifulSoup((site / "theory" / "splitting.html").read_text(), "html.parser")
     assert len(soup.select("span.math")) >= 10
-    for name in ("splitting", "theorems", "proof", "fig4-level", "fig5-level", "remains"):
+    for name in ("splitting", "theorems", "proof", "fig4-level", "fig4-intervals", "fig5-level", "remains"):
         soup = bs4.BeautifulSoup((site / "theory" / f"{name}.html").read_text(), "html.parser")
         art = soup.select_one("article")
         if name == "theorems":

@@ -292,9 +292,9 @@ def _fixed_point(args) -> dict:
     branch = getattr(args, "branch", "0")
     progress = None if args.quiet else _stage
     if w and getattr(args, "box", "moving") == "moving":
-        from ..proof.provers.section_fixed_point import prove_moving
+        from ..proof import prove_fixed_point_moving
 
-        res = prove_moving(p, h, theta, w, root=_root(args), branch=branch, module=module, progress=progress)
+        res = prove_fixed_point_moving(p, h, theta, w, root=_root(args), branch=branch, module=module, progress=progress)
     else:
         st = interval_settings_for(p, h, theta, w, root=_root(args), branch=branch) if w else FixedPointSettings()
         res = prove_fixed_point(p, h, theta, st, root=_root(args), branch=branch, module=module, progress=progress)

@@ -39,6 +39,8 @@ _API = {
     "interval_settings_for": ("provers.section_fixed_point", "interval_settings_for"),
     "validate_fixed_point": ("provers.section_fixed_point", "validate"),
     "prove_fixed_point": ("provers.section_fixed_point", "prove"),
+    # the same for every lambdabar of an interval, the theta-box moving with the fixed point (statements 11, 13)
+    "prove_fixed_point_moving": ("provers.section_fixed_point", "prove_moving"),
     # the prover of the section map's horseshoe by covering relations (statement 12)
     "HorseshoeSettings": ("provers.horseshoe_design", "HorseshoeSettings"),
     "prove_horseshoe": ("provers.section_horseshoe", "prove"),
