@@ -2,7 +2,7 @@
 
 For sets N_i of a shipped horseshoe certificate: the stored enclosure [DP] over the set's first piece (the prover's;
 the verifier recomputes one of the same size) against DP's variation across the set, estimated in float64 by
-central differences of the float section map (horseshoe_design.FloatMap, tol 1e-15, step 1e-7) at the set's centre
+central differences of the float section map (horseshoe_design.FloatMap.jac, tol 1e-15, step 1e-7) at the set's centre
 +- K l along its exit direction (l its half-length; K = 100 lifts the difference above the float noise, ~1e-8,
 assuming D^2 P is constant over K l) and scaled back to +- l.  A measurement, not part of any proof.
 
@@ -36,19 +36,6 @@ def rows_for(name: str, sets) -> list:
     p = fields.ExactParams(**{k: Fraction(v) for k, v in c["params"].items()})
     s = c["settings"]
     fm = FloatMap(p, Fraction(c["level"]), s.get("branch", "0"), int(s.get("root", -1)))
-
-    def P(z):
-        x, _ = fm.full4(fm.lift(z))
-        return np.array([x[fields.THETA], x[fields.PTHETA]])
-
-    def DP(z, e=1e-7):
-        out = np.zeros((2, 2))
-        for j in range(2):
-            d = np.zeros(2)
-            d[j] = e
-            out[:, j] = (P(z + d) - P(z - d)) / (2 * e)
-        return out
-
     flights = {int(f["set"]): f for f in c["flights"]}
     out = []
     for i in sets:
@@ -56,7 +43,7 @@ def rows_for(name: str, sets) -> list:
         cc = np.array([float(v) for v in cc])
         A = np.array([[float(v) for v in r] for r in A])
         l = float(np.linalg.norm(A[:, 0]))
-        var = np.abs(DP(cc + K * A[:, 0]) - DP(cc - K * A[:, 0])).max() / (2 * K)
+        var = np.abs(fm.jac(cc + K * A[:, 0]) - fm.jac(cc - K * A[:, 0])).max() / (2 * K)
         rad = max(float(Fraction(b["rad"])) for row in flights[i]["pieces"][0]["enclosures"]["DP"] for b in row)
         out.append({"certificate": name, "set": i, "l": l, "DP_variation_over_l": var, "DP_enclosure_radius": rad,
                     "ratio": rad / var, "pieces": len(flights[i]["pieces"])})
