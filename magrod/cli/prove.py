@@ -53,7 +53,8 @@ def add_arguments(p):
                    help="the level Hbar = H of --fixed-point / --horseshoe (exact)")
     p.add_argument("--lam-rad", default="0", metavar="W", dest="lam_rad",
                    help="the homoclinic proof, --fixed-point, --horseshoe, --widen: for every lambdabar in [lam - W, "
-                        "lam + W] (lambdabar carried as a ball; a horseshoe's sets move with lambdabar)")
+                        "lam + W] (lambdabar a state of the validated flights; the homoclinic proof's circle, a fixed "
+                        "point's box (--box) and a horseshoe's sets move with lambdabar)")
     p.add_argument("--box", default="moving", choices=("moving", "fixed"),
                    help="--fixed-point with --lam-rad: the theta-box follows the fixed point along lambdabar "
                         "(moving, theta_c + v (lambdabar - lam) +- K' W: ~10x wider intervals) or is the "

@@ -30,7 +30,7 @@ _API = {
     "TARGET_ANGLES": ("provers.transverse_homoclinic", "TARGETS"),
     "validate_proof_params": ("provers.transverse_homoclinic", "validate_params"),
     "prove_homoclinic": ("provers.transverse_homoclinic", "prove"),
-    # the same proof for every lambdabar of an interval (lambdabar a ball in every enclosure; statement 5)
+    # the same proof for every lambdabar of an interval (the circle about the moving saddle; statement 5)
     "interval_proof_params": ("provers.transverse_homoclinic", "interval_params"),
     "interval_proof_settings": ("provers.transverse_homoclinic", "interval_proof_settings"),
     # the prover of the section map's fixed point (statement 11)

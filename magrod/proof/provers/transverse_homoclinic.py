@@ -63,9 +63,10 @@ class ProofSettings:
     eig_rad: Fraction = Fraction(1, 10**12)
     lead: Fraction = Fraction(1, 256)
     targets: tuple = ("0", "pi")  # the targets proved: the crossings psi = 0 and/or psi = pi
-    #: > 0: the proof for every lambdabar in [lam - lam_rad, lam + lam_rad] at once, lambdabar a ball in every
-    #: enclosure (fields.IntervalParams); the saddle and eigenpair boxes must then hold the motion of q* and of its
-    #: eigen-data over the interval (interval_proof_settings)
+    #: > 0: the proof for every lambdabar in [lam - lam_rad, lam + lam_rad] at once: lambdabar a ball in the
+    #: saddle's, eigenpairs' and manifold's enclosures (fields.IntervalParams), whose boxes must then hold the motion
+    #: of q* and of its eigen-data over the interval (interval_proof_settings); the boundary circle centred on the
+    #: moving saddle and lambdabar a state of the flights (kernel/homoclinic.saddle_motion, moving_arc)
     lam_rad: Fraction = Fraction(0)
 
     def as_json(self) -> dict:
