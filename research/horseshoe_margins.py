@@ -12,6 +12,11 @@ output, a diagnosis, not part of any proof.
 
     python research/horseshoe_margins.py [CERT.json] [out.json]
 
+An interval certificate (settings.lam_rad = W, sets moving along v_j) has one more term, the verifier's
+A_j^-1 (dP/ds - v_j) [-W, W] ("lambdabar"): at Fig 4(a)'s W = 2e-11 it is 0.278 of N12 => N13's 0.29 margin, all
+of it from the radius of the box's dP/ds enclosure (2.2e-4, 1.5e-4; the mismatch of its midpoint with v_13 gives
+3.7e-5 of y_s), which is what stops the interval (research/README.md, "dp_enclosure_width.py").
+
 Stored run (horseshoe_margins.json, Fig 5(b), < 1 s; the sums reproduce the certificate's own link_margins to
 <= 7e-4, conservatively): (a') = 0.016 at N8 => N9 is 1 - 0.333 (|G_ss|, the design's 1/qs) - 0.012 (its radius)
 - 0.639 (G_su) - 8.5e-5 (off_s).  On the saddle's returns (N0 .. N9, 634-644 steps) rad([DP]) is proportional to the
@@ -55,6 +60,7 @@ def _abs_hi(x: arb) -> float:
 def decompose(cert: dict) -> list[dict]:
     """One row per (link, piece): the parts of (a') as floats (see the module docstring)."""
     sets = [_set(s) for s in cert["sets"]]
+    w = Fraction(cert["settings"].get("lam_rad", "0"))  # an interval certificate's sets move with lambdabar
     rows = []
     for fl in cert["flights"]:
         i = int(fl["set"])
@@ -67,6 +73,13 @@ def decompose(cert: dict) -> list[dict]:
                 piece = [Fraction(x) for x in pr["piece"]]
                 _, AX = section_horseshoe.piece_geometry(*sets[i], piece)
                 off, G = section_horseshoe.image_in(sets[j], f, AX)
+                lam_s = 0.0
+                if w and "dPds" in e:  # a lambdabar interval: + A_j^-1 (dP/ds - v_j) [-w, w] (the verifier's term)
+                    vj = [Fraction(x) for x in cert["sets"][j]["v"]]
+                    d = [(_ball(e["dPds"][a]) - arb(vj[a].numerator) / arb(vj[a].denominator))
+                         * arb(0, float(w)) for a in range(2)]
+                    Ai = np.linalg.inv(np.array(sets[j][1], float))
+                    lam_s = float(abs(Ai[1][0]) * _abs_hi(d[0]) + abs(Ai[1][1]) * _abs_hi(d[1]))
                 DP = [x for r in f["DP"] for x in r]
                 AXf, Aj = np.array(AX, float), np.array(sets[j][1], float)
                 gss = G[1][1]
@@ -75,8 +88,8 @@ def decompose(cert: dict) -> list[dict]:
                              "dp_rel_rad": max(float(x.rad()) for x in DP) / max(abs(float(x.mid())) for x in DP),
                              "aspect_lX_over_wj": float(np.linalg.norm(AXf[:, 0]) / np.linalg.norm(Aj[:, 1])),
                              "off_s": _abs_hi(off[1]), "G_su": _abs_hi(G[1][0]), "G_ss_mid": float(abs(gss.mid())),
-                             "G_ss_rad": float(gss.rad()),
-                             "a_margin": 1 - _abs_hi(off[1]) - _abs_hi(G[1][0]) - _abs_hi(gss)})
+                             "G_ss_rad": float(gss.rad()), "lam_s": lam_s,
+                             "a_margin": 1 - _abs_hi(off[1]) - _abs_hi(G[1][0]) - _abs_hi(gss) - lam_s})
     return rows
 
 
@@ -93,7 +106,8 @@ def main(argv: list[str]) -> None:
     rows = decompose(cert)
     for r in rows:
         print(f"{r['link']:>10} piece {r['piece']}: (a') {r['a_margin']:.4f} = 1 - |G_ss| {r['G_ss_mid']:.3f} "
-              f"- rad {r['G_ss_rad']:.3f} - G_su {r['G_su']:.3f} - off_s {r['off_s']:.1e}   "
+              f"- rad {r['G_ss_rad']:.3f} - G_su {r['G_su']:.3f} - off_s {r['off_s']:.1e}"
+              + (f" - lambdabar {r['lam_s']:.3f}" if r["lam_s"] else "") + "   "
               f"rad[DP] {r['dp_rad']:.1e} (/|DP| {r['dp_rel_rad']:.1e}), l_X/w_j {r['aspect_lX_over_wj']:.1f}, {r['n_steps']} steps")
     out.write_text(json.dumps({"certificate": path.name, "rows": rows}, indent=1) + "\n")
 
