@@ -1,0 +1,126 @@
+"""A second-order enclosure of DP, prototyped: [DP] over a horseshoe piece from a C^0 Lohner flight of the first
+variational system y = (x, u1, u2), u_k = DPhi t_k (chart field + Df u by forward-mode duals; its Jacobian's D^2f[u]
+block by duals of the generated chart_jacobian), so that DP's dependence on the initial point rides in the set's
+exact linear part instead of accumulating as an interval (research/README.md, "dp_enclosure_width.py").  The
+Taylor-model integrator with adaptive steps at the certificate's tol; the crossing and the section projection as
+the verifier's.  Prints the certificate's C^1 [DP] (re-flown here with taylor.py on its steps) beside it.  A
+measurement, not a proof: no guards, the initial tangents as the prover's balls over the piece's hull.
+
+    python research/dp_second_order_prototype.py [CERT_NAME=horseshoe_fig4a] [SET=12]
+"""
+import json
+import sys
+import time
+from pathlib import Path
+from flint import arb, arb_mat
+from magrod.generated import validated as gen
+from magrod.proof import ball, fields, section_return as sr, taylor
+from magrod.proof.fields import _Dual
+from magrod.proof.kernel.schema import frac
+from magrod.proof.provers.section_horseshoe import set_data
+
+name = sys.argv[1] if len(sys.argv) > 1 else 'horseshoe_fig4a'
+I = int(sys.argv[2]) if len(sys.argv) > 2 else 12
+ROOT = Path(__file__).resolve().parent.parent
+c = json.loads((ROOT / 'magrod' / 'proof' / 'certificates' / f'{name}.json').read_text())
+s = c['settings']
+p = fields.ExactParams(**{k: frac(v) for k, v in c['params'].items()})
+
+
+def ext_field(pars):
+    def rhs(y, _p):
+        x = list(y[:4])
+        out = list(gen.chart_rhs(x, pars))
+        for k in (0, 1):
+            u = y[4 + 4 * k: 8 + 4 * k]
+            d = gen.chart_rhs([_Dual(a, b) for a, b in zip(x, u)], pars)
+            out += [v.b if isinstance(v, _Dual) else 0 * y[0] for v in d]
+        return out
+
+    def jac(y, _p):
+        x = list(y[:4])
+        J = list(gen.chart_jacobian(x, pars))
+        z = 0 * y[0]
+        M = [[z] * 12 for _ in range(12)]
+        for b in range(3):
+            for i in range(4):
+                for j in range(4):
+                    M[4 * b + i][4 * b + j] = J[4 * i + j]
+        for k in (0, 1):
+            u = y[4 + 4 * k: 8 + 4 * k]
+            H = gen.chart_jacobian([_Dual(a, bb) for a, bb in zip(x, u)], pars)
+            for i in range(4):
+                for j in range(4):
+                    h = H[4 * i + j]
+                    M[4 + 4 * k + i][j] = h.b if isinstance(h, _Dual) else z
+        return [e for row in M for e in row]
+
+    return taylor.Field(rhs, jac, 12, pars, "chart+variational")
+
+
+captured = {}  # the piece's C^1 box set, caught where piece_return hands it to first_return
+real_first_return = sr.first_return
+
+
+def grab(pars, fld, S, t_a, lead, **kw):
+    if S.Wbar is not None and 'box' not in captured and S.C.ncols() >= 4 and max(float(S.C[0, j].rad()) for j in range(S.C.ncols())) == 0:
+        captured['box'] = S
+    return real_first_return(pars, fld, S, t_a, lead, **kw)
+
+
+sr.first_return = grab
+with ball.workprec(int(s['prec']), int(s['series_cap'])):
+    cc, A = set_data(c['sets'][I])[:2]
+    fl = {int(f['set']): f for f in c['flights']}[I]
+    r = fl['pieces'][0]
+    yu, ys, hu, hs = (frac(v) for v in r['piece'])
+    cX = [cc[0] + A[0][0] * yu + A[0][1] * ys, cc[1] + A[1][0] * yu + A[1][1] * ys]
+    AX = [[A[0][0] * hu, A[0][1] * hs], [A[1][0] * hu, A[1][1] * hs]]
+    steps = {k: [[frac(x) for x in ph] for ph in r['steps'][k]] for k in ('thin', 'box')}
+    br = c['sets'][I].get('branch', '0')
+    fld4 = fields.chart_field(p)
+    t0 = time.perf_counter()
+    f = sr.piece_return(p.balls(), frac(c['level']), fld4, cX, AX, frac(r['p_c']), frac(s['p_rad']), frac(r['t_a']),
+                        frac(s['lead']), t1=frac(s['t1']), order=int(s['order']), steps=steps, newton=int(s['newton']),
+                        thin_c1=False, branch=br)
+    t_c1 = time.perf_counter() - t0
+    S4 = captured['box']
+    Q = S4.hull()
+    tg = sr.tangents(p.balls(), Q)
+    u0 = tg['th'] + tg['pt']
+    center = [S4.xbar[i, 0] for i in range(4)] + [v.mid() for v in u0]
+    S = taylor.initial_set(center, c1=False)
+    C = arb_mat(12, S4.C.ncols())
+    for i in range(4):
+        for j in range(S4.C.ncols()):
+            C[i, j] = S4.C[i, j]
+    S.C, S.r0 = C, S4.r0
+    err = ball.column(S4.B * S4.r) + [v - v.mid() for v in u0]
+    S.r = ball.vec(err)
+    fld = ext_field(p.balls())
+    t0 = time.perf_counter()
+    allsteps = steps['box'][0] + steps['box'][1]
+    from magrod.proof import taylor_model as tm
+    rec = taylor.Trajectory()
+    S = tm.propagate(fld, S, sum(allsteps), order=int(s["order"]), tol=float(s["tol"]), record=rec)
+    print("extended flight steps", len(rec.steps), "against", len(allsteps))
+    def g(y):
+        return y[1].sin()
+    def dg(y):
+        return [arb(0), y[1].cos()] + [arb(0)] * 10
+    cr = tm.cross_section(fld, S, g, dg, 2 * frac(s["lead"]), int(s["order"]))
+    t_c2 = time.perf_counter() - t0
+    y = cr.x
+    fx = cr.fx[:4]
+    gg = [arb(0), y[1].cos(), arb(0), arb(0)]
+    gf = sum((a * b for a, b in zip(gg, fx)), arb(0))
+    DP = []
+    for k in (0, 1):
+        u = y[4 + 4 * k: 8 + 4 * k]
+        gu = sum((a * b for a, b in zip(gg, u)), arb(0))
+        v = [ui - fi * gu / gf for ui, fi in zip(u, fx)]
+        DP.append((v[0], v[2]))
+    print('C1 [DP] radii', [[f"{float(x.rad()):.2e}" for x in row] for row in f['DP']], f'{t_c1:.1f} s (both flights)')
+    print('C1 [DP] mids ', [[f"{float(x.mid()):.6f}" for x in row] for row in f['DP']])
+    print('C0-variational [DP] radii (columns th, pt)', [[f"{float(x.rad()):.2e}" for x in col] for col in DP], f'{t_c2:.1f} s')
+    print('C0-variational [DP] mids', [[f"{float(x.mid()):.6f}" for x in col] for col in DP])
