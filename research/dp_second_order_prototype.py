@@ -6,7 +6,10 @@ Taylor-model integrator with adaptive steps at the certificate's tol; the crossi
 the verifier's.  Prints the certificate's C^1 [DP] (re-flown here with taylor.py on its steps) beside it.  A
 measurement, not a proof: no guards, the initial tangents as the prover's balls over the piece's hull.
 
-    python research/dp_second_order_prototype.py [CERT_NAME=horseshoe_fig4a] [SET=12]
+    python research/dp_second_order_prototype.py [CERT_NAME=horseshoe_fig4a] [SET=12] [--linear-tangents]
+
+--linear-tangents: the tangents' dependence on the initial point in the set's linear part (the Hessian of Hbar over
+the hull by duals of series), the rest in the remainder.
 """
 import json
 import sys
@@ -19,8 +22,10 @@ from magrod.proof.fields import _Dual
 from magrod.proof.kernel.schema import frac
 from magrod.proof.provers.section_horseshoe import set_data
 
-name = sys.argv[1] if len(sys.argv) > 1 else 'horseshoe_fig4a'
-I = int(sys.argv[2]) if len(sys.argv) > 2 else 12
+ARGS = [a for a in sys.argv[1:] if not a.startswith("--")]
+name = ARGS[0] if ARGS else "horseshoe_fig4a"
+I = int(ARGS[1]) if len(ARGS) > 1 else 12
+LINEAR_TANGENTS = '--linear-tangents' in sys.argv
 ROOT = Path(__file__).resolve().parent.parent
 c = json.loads((ROOT / 'magrod' / 'proof' / 'certificates' / f'{name}.json').read_text())
 s = c['settings']
@@ -87,16 +92,66 @@ with ball.workprec(int(s['prec']), int(s['series_cap'])):
     S4 = captured['box']
     Q = S4.hull()
     tg = sr.tangents(p.balls(), Q)
-    u0 = tg['th'] + tg['pt']
-    center = [S4.xbar[i, 0] for i in range(4)] + [v.mid() for v in u0]
-    S = taylor.initial_set(center, c1=False)
-    C = arb_mat(12, S4.C.ncols())
-    for i in range(4):
-        for j in range(S4.C.ncols()):
-            C[i, j] = S4.C[i, j]
-    S.C, S.r0 = C, S4.r0
-    err = ball.column(S4.B * S4.r) + [v - v.mid() for v in u0]
-    S.r = ball.vec(err)
+    if LINEAR_TANGENTS:  # the tangents' last entry linear in the initial point (the Hessian of Hbar over the hull)
+        from flint import arb_series
+        pars = p.balls()
+
+        def hess(xb):
+            """Hessian of Hbar over the box xb (4 x 4 balls): a series in x_i (first derivative) of duals in x_k."""
+            Hm = [[None] * 4 for _ in range(4)]
+            for i in range(4):
+                for k in range(4):
+                    y = [_Dual(arb_series([v, 1 if j == i else 0], prec=2), arb_series([1 if j == k else 0], prec=2))
+                         for j, v in enumerate(xb)]
+                    h = gen.chart_hamiltonian(y, pars)[0]
+                    b = h.b if isinstance(h, _Dual) else arb_series([0], prec=2)
+                    cs = b.coeffs() if isinstance(b, arb_series) else [b]
+                    Hm[i][k] = cs[1] if len(cs) > 1 else arb(0)
+            return Hm
+
+        xc = [S4.xbar[i, 0] for i in range(4)]
+        gQ = sr.ham_gradient(pars, Q)
+        HQ = hess(Q)
+        PPi, THi, PTi = fields.PPSI, fields.THETA, fields.PTHETA
+        # t_th = (1, 0, 0, -H_th/H_pp), t_pt = (0, 0, 1, -H_pt/H_pp): the gradient of their last entry over Q
+        def grad_ratio(a):
+            return [-(HQ[a][k] * gQ[PPi] - gQ[a] * HQ[PPi][k]) / (gQ[PPi] * gQ[PPi]) for k in range(4)]
+        G = {"th": grad_ratio(THi), "pt": grad_ratio(PTi)}
+        tc = sr.tangents(pars, [ball.q(ball.fraction(v)) for v in xc])  # at the centre
+        dx = [S4.C * S4.r0, S4.B * S4.r]
+        n0 = S4.C.ncols()
+        C = arb_mat(12, n0)
+        for i in range(4):
+            for j in range(n0):
+                C[i, j] = S4.C[i, j]
+        center = xc + [v.mid() for v in tc['th'] + tc['pt']]
+        err = ball.column(S4.B * S4.r) + [v - v.mid() for v in tc['th'] + tc['pt']]
+        for b, key in enumerate(("th", "pt")):
+            row = 4 + 4 * b + PPi
+            Gm = [g.mid() for g in G[key]]
+            # last entry of t(x0) - t(xc) = G(xi) (x0 - xc), x0 - xc = C r0 + B r: G_mid C r0 in C, the rest in r
+            for j in range(n0):
+                C[row, j] = sum((Gm[k] * S4.C[k, j] for k in range(4)), arb(0)).mid()
+            Cr = ball.column(S4.C * S4.r0)
+            Br = ball.column(S4.B * S4.r)
+            lin = sum((C[row, j] * S4.r0[j, 0] for j in range(n0)), arb(0))
+            full = sum((G[key][k] * (Cr[k] + Br[k]) for k in range(4)), arb(0))
+            err[row] = err[row] + (full - lin)
+        S = taylor.initial_set(center, c1=False)
+        S.C, S.r0 = C, S4.r0
+        S.r = ball.vec(err)
+    else:
+        u0 = tg['th'] + tg['pt']
+        center = [S4.xbar[i, 0] for i in range(4)] + [v.mid() for v in u0]
+        S = taylor.initial_set(center, c1=False)
+        C = arb_mat(12, S4.C.ncols())
+        for i in range(4):
+            for j in range(S4.C.ncols()):
+                C[i, j] = S4.C[i, j]
+        S.C, S.r0 = C, S4.r0
+        err = ball.column(S4.B * S4.r) + [v - v.mid() for v in u0]
+        S.r = ball.vec(err)
+    print('initial tangents radii', [f"{float(S.r[i, 0].rad()):.1e}" for i in range(4, 12)])
     fld = ext_field(p.balls())
     t0 = time.perf_counter()
     allsteps = steps['box'][0] + steps['box'][1]
