@@ -6,7 +6,6 @@ a proof (no guards; the initial tangents as balls over the box's hull).
 
     python research/dp_second_order_interval.py [CERT_NAME=horseshoe_fig4a_interval] [SET=12] [W=1/50000000000]
 """
-import json
 import sys
 import time
 from fractions import Fraction as F
@@ -15,15 +14,14 @@ from flint import arb, arb_mat
 from magrod.proof import ball, fields, section_return as sr, taylor, taylor_model as tm
 from magrod.proof.fields import _Dual
 from magrod.proof.kernel.schema import frac
-from magrod.proof.provers.section_horseshoe import set_data
 
-ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from dp_second_order_prototype import capture_box, captured, load, piece  # noqa: E402  (the same harness)
+
 name = sys.argv[1] if len(sys.argv) > 1 else 'horseshoe_fig4a_interval'
 I = int(sys.argv[2]) if len(sys.argv) > 2 else 12
 W = F(sys.argv[3]) if len(sys.argv) > 3 else F(1, 50000000000)
-c = json.loads((ROOT / 'magrod/proof/certificates' / f'{name}.json').read_text())
-s = c['settings']
-p = fields.ExactParams(**{k: frac(v) for k, v in c['params'].items()})
+c, s, p = load(name)
 N = 5
 
 
@@ -62,26 +60,9 @@ def ext_field(base):
     return taylor.Field(rhs, jac, 4 * N, base.pars, "lam+variational")
 
 
-captured = {}  # the piece's C^1 box set, caught where piece_return hands it to first_return
-real = sr.first_return
-
-
-def grab(pars, fld, S, t_a, lead, **kw):
-    if S.Wbar is not None and S.n == 5 and 'box' not in captured:
-        captured['box'] = S
-    return real(pars, fld, S, t_a, lead, **kw)
-
-
-sr.first_return = grab
+capture_box(5)
 with ball.workprec(int(s['prec']), int(s['series_cap'])):
-    cc, A = set_data(c['sets'][I])[:2]
-    fl = {int(f['set']): f for f in c['flights']}[I]
-    r = fl['pieces'][0]
-    yu, ys, hu, hs = (frac(v) for v in r['piece'])
-    cX = [cc[0] + A[0][0] * yu + A[0][1] * ys, cc[1] + A[1][0] * yu + A[1][1] * ys]
-    AX = [[A[0][0] * hu, A[0][1] * hs], [A[1][0] * hu, A[1][1] * hs]]
-    steps = {k: [[frac(x) for x in ph] for ph in r['steps'][k]] for k in ('thin', 'box')}
-    br = c['sets'][I].get('branch', '0')
+    r, cX, AX, steps, br = piece(c, I)
     vI = tuple(frac(x) for x in c['sets'][I]['v'])
     pars = fields.parameter_balls(p, W)
     lamb = pars[fields.LAM]
