@@ -44,6 +44,10 @@ class ExactParams:
     def as_json(self) -> dict:
         return {k: f"{getattr(self, k).numerator}/{getattr(self, k).denominator}" for k in PARAMS}
 
+    def centre(self) -> "ExactParams":
+        """The parameters at the point (an interval's centre lambdabar; itself for a point)."""
+        return ExactParams(self.m, self.mu, self.gamma, self.delta, self.lam)
+
 
 @dataclass(frozen=True)
 class IntervalParams(ExactParams):

@@ -174,7 +174,7 @@ def saddle_motion(p, module, xhat, K, rad0):
     rad0, so x*(lam) in K0); B = -DF^-1 dF/dlambdabar over K x [interval] (Arb's solve encloses the solution for
     every matrix of the ball), which holds dx*/dlambdabar at every lambdabar of the interval since x* stays in K;
     the mean value theorem, coordinate by coordinate, gives the affine enclosure."""
-    pc = fields.ExactParams(p.m, p.mu, p.gamma, p.delta, p.lam)
+    pc = p.centre()
     X0 = [ball.interval(ball.fraction(v) - rad0, ball.fraction(v) + rad0) for v in xhat]
     K0 = krawczyk(fields.chart_field(pc, module), xhat, X0)
     ok = all(inside(k, x) for k, x in zip(K0, X0))
@@ -219,7 +219,7 @@ def moving_arc(p, V, xhat, K0, B, L, r, lo, hi, module):
     dyb = ball.vec([y - c for y, c in zip(circ, cc)])
     err = ball.column((JV - C0) * dyb + (JV * ball.vec(b) + Jl - cl) * dl
                       + JV * ball.vec([a - a.mid() for a in y0]))
-    pc = fields.ExactParams(p.m, p.mu, p.gamma, p.delta, p.lam)
+    pc = p.centre()
     n = JV.nrows()
     S = taylor.initial_set([a + e for a, e in zip(fields.lift(pc, qc, module), err)] + [ball.q(p.lam)], c1=True)
     S.C = arb_mat(n + 1, 5, [C0[i, j] if j < 4 else cl[i, 0] for i in range(n) for j in range(5)]

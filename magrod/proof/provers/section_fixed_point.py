@@ -121,11 +121,20 @@ def interval_settings_for(p: fields.ExactParams, h: Fraction, theta_guess: float
     v = abs(ths[1] - ths[0]) / (2 * float(w))
     if moving:  # the box follows theta*: its slope (signed, 16 bits), and a box of K' w about the moving point
         vs = Fraction(round((ths[1] - ths[0]) / (2 * float(w)) * 2**16), 2**16)
-        r = max(Fraction(moving) * w, st.r)
-        return replace(st, lam_rad=w, r=r, v=vs, p_rad=max(st.p_rad, 16 * (r + (abs(vs) + 1) * w)))
+        return moving_box(replace(st, lam_rad=w, v=vs), moving)
     r = max(4 * ball.fraction(v) * w, 2 * w, st.r)
     r = Fraction(math.ceil(r / w * 8), 8) * w  # a short rational: K w with K a multiple of 1/8
     return replace(st, lam_rad=w, r=r, p_rad=max(st.p_rad, 16 * (r + w)))
+
+
+def moving_box(st: "FixedPointSettings", k) -> "FixedPointSettings":
+    """st (a moving box: lam_rad and v set) with the half-width r = K' lam_rad about the moving point, and the level's
+    Newton box p_rad that holds pbar_psi's motion over it."""
+    from dataclasses import replace
+
+    base = FixedPointSettings()
+    r = max(Fraction(k) * st.lam_rad, base.r)
+    return replace(st, r=r, p_rad=max(base.p_rad, 16 * (r + (abs(st.v) + 1) * st.lam_rad)))
 
 
 def _q(x) -> str:
@@ -295,8 +304,9 @@ def prove_moving(params: fields.ExactParams, h: Fraction, theta_guess: float, la
     (True, '-85747/16384')
     """
     res = None
-    for k in MOVING_BOXES:
-        st = interval_settings_for(params, h, theta_guess, lam_rad, root=root, branch=branch, moving=k)
+    st0 = interval_settings_for(params, h, theta_guess, lam_rad, root=root, branch=branch, moving=MOVING_BOXES[0])
+    for k in MOVING_BOXES:  # the float slope once; only the box's half-width changes
+        st = moving_box(st0, k)
         res = prove(params, h, theta_guess, st, root=root, branch=branch, module=module, progress=progress)
         if res.ok:
             return res

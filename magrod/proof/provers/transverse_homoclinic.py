@@ -438,7 +438,7 @@ def _prove(p, st, module, check, say) -> dict:
     sd = _float_saddle(p)
     # refined at the centre lambdabar (an interval's field would stop Newton at its width): the anchor of the
     # saddle's affine motion on an interval (saddle_motion) needs x*(lam) to ~1e-25
-    xhat = saddle.refine(fields.chart_field(fields.ExactParams(p.m, p.mu, p.gamma, p.delta, p.lam), module),
+    xhat = saddle.refine(fields.chart_field(p.centre(), module),
                          [float(v) for v in sd.q])
     J = ball.to_floats(fld.df(xhat).mid())
     w, Vc = np.linalg.eig(J)
