@@ -173,3 +173,19 @@ def test_panel_objects_and_rodparams_lists():
     b = poincare_sections([P.params, p2], h=P.h, theta0=P.theta0, ptheta0=P.ptheta0, iterates=30)
     np.testing.assert_array_equal(b[0].points, a[0].points)
     assert b[1].params.gamma == 0.21 and b[1].success
+
+
+def test_a_model_of_the_family_runs_on_two_processes(monkeypatch):
+    """Another rod's lanes on two worker processes (batch width forced to 2, so that 6 starts make two processes on
+    every machine; at the machine's own width 8 they were one and the path untested): each worker registers the
+    model's body before its lanes look it up (a fresh process knew only the paper's rod: KeyError on the model's
+    key).  The points are those of one worker."""
+    from magrod.core import systems
+
+    monkeypatch.setenv(systems.BATCH_WIDTH_ENV, "2")
+    two = poincare_sections("kirchhoff", starts=6, iterates=15, workers=2)
+    one = poincare_sections("kirchhoff", starts=6, iterates=15, workers=1)
+    assert len(two) == len(one) == 6
+    for a, b in zip(two, one):
+        assert a.success and b.success
+        assert np.array_equal(a.body_points, b.body_points)

@@ -219,6 +219,11 @@ def _process_task(orbit_type, starts, options, kw) -> list:
     """In a worker process: the orbits of `starts` (section._Orbit, passed as `orbit_type`: this module does not
     import the section module) through the lane loop; their results."""
     orbits = [orbit_type(s, options) for s in starts]
+    # a model other than the paper's rod is known to this process only once its body is registered (model_body):
+    # the parent registered it, a fresh worker has not (the lanes look the body up by key)
+    system = getattr(starts[0], "system", None) if starts else None
+    if system is not None and kw.get("key") != systems.PAPER_KEY:
+        systems.model_body(system)
     _worker(_Queue(orbits), **kw)
     return [o.result for o in orbits]
 
