@@ -16,7 +16,10 @@ C^0, Newton series, 128 bits -- the flight HORSESHOE_CENTRE_TOL_FIG4B was tuned 
      coefficient at L);
   6. the C^1 flight of a Fig 4(a) horseshoe set (horseshoe_fig4a.json, set 0, width ~1e-10) by both integrators,
      the centre C^0 (taylor at the certificate's tol_thin 1e-32, taylor_model at 1e-28) and the box C^1 at 1e-25:
-     CPU, steps, and the widths of P(c) and DP.
+     CPU, steps, and the widths of P(c) and DP;
+  7. where a step's CPU goes (step_cost): the generated field's and Jacobian's share of the box flight (cProfile),
+     their cost per call by series length against one series product, sine and square root, and what sharing
+     sin and cos between the two would save (benchmarks/README.md: every method side by side).
 
 Numerical measurements of a rigorous integrator's enclosure widths (each width is itself rigorous).  What they say:
 the enclosure of a centre after one return is set by the remainder's radius on Y (inflated ~1e11 x at the median
@@ -34,6 +37,7 @@ Jacobian's series evaluations are ~50 % of it by cProfile), not a tighter remain
 reprove_fig4a_taylor_model.py measures a whole certificate (1.6-2.1x).
 
     python benchmarks/centre_flight_frontier.py [--out benchmarks/centre_flight_frontier.json]   # ~2 min, 1 core
+    python benchmarks/centre_flight_frontier.py --smoke      # a tiny span (CI)
 """
 from __future__ import annotations
 
@@ -205,11 +209,95 @@ def remainder_control(tol, rem_tol):
     return {**_fly(20, tol, hook), "rem_tol": rem_tol, **n}
 
 
+def _costs_at(fld, cs, n: int, repeat: int, shared) -> dict:
+    """step_cost's timings (microseconds per call) on the series of length n with coefficients cs."""
+    import timeit
+
+    from flint import arb_series
+
+    def pair(kind):
+        xs = [kind(c, prec=n) for c in cs]
+        fld.rhs(xs, fld.pars)
+        fld.jacobian(xs, fld.pars)
+
+    a, b = arb_series(cs[0], prec=n), arb_series(cs[1], prec=n)
+    fns = {"rhs_us": lambda: fld.rhs([arb_series(c, prec=n) for c in cs], fld.pars),
+           "jac_us": lambda: fld.jacobian([arb_series(c, prec=n) for c in cs], fld.pars),
+           "pair_plain_us": lambda: pair(arb_series), "pair_shared_trig_us": lambda: pair(shared),
+           "product_us": lambda: a * b, "sin_us": lambda: a.sin(), "sqrt_us": lambda: b.sqrt()}
+    t = {name: timeit.timeit(fn, number=repeat) / repeat * 1e6 for name, fn in fns.items()}
+    return {"length": n, **{k: round(v, 2) for k, v in t.items()},
+            "shared_trig_saves": round(1 - t["pair_shared_trig_us"] / t["pair_plain_us"], 3)}
+
+
+def step_cost(lengths=(2, 6, 14, 21, 31), repeat=200, profile=True):
+    """Where a step's CPU goes.  (a) cProfile of the Fig 4(a) set's C^1 box flight (box_flights, taylor_model): the
+    share of the generated field's and Jacobian's evaluations (chart_rhs, chart_jacobian, on Arb series); (b) their
+    cost per call by series length, against one series product, sin, sqrt at the longest length (the step evaluates
+    the Jacobian on series of length L + 1 = 31 twice, the field on series up to 31 four times); (c) what sharing
+    sin and cos would save: the field and its Jacobian evaluated on the same series, plain against a series type
+    whose sin() and cos() come from one sin_cos() (bit for bit the same balls from length 3 on; measured here,
+    not in the trust base)."""
+    import cProfile
+    import pstats
+
+    from flint import arb, arb_series
+
+    from magrod.proof import ball, fields
+
+    class SharedTrig(arb_series):
+        def _sc(self):
+            if "sin_cos_" not in self.__dict__:
+                self.__dict__["sin_cos_"] = arb_series.sin_cos(self)
+            return self.__dict__["sin_cos_"]
+
+        def sin(self):
+            return self._sc()[0]
+
+        def cos(self):
+            return self._sc()[1]
+
+    out = {}
+    if profile:
+        pr = cProfile.Profile()
+        t0 = time.process_time()
+        pr.enable()
+        box_flights("taylor_model")
+        pr.disable()
+        total = time.process_time() - t0
+        st = pstats.Stats(pr).stats
+        gen = {fn[2]: v[3] for fn, v in st.items() if fn[0].endswith("validated.py")}  # cumulative time by function
+        out["profile_box_flight"] = {"cpu_s": round(total, 2), "share": {k: round(v / total, 3) for k, v in gen.items()
+                                                                          if k in ("chart_rhs", "chart_jacobian")}}
+    p = _setup()[0]
+    rng = np.random.default_rng(0)
+    rows = []
+    with ball.workprec(128, 64):
+        fld = fields.chart_field(p)
+        base = [0.75, 0.3, 0.2, 1.13]
+        for n in lengths:
+            cs = [[arb(base[i], 1e-20)] + [arb(float(rng.standard_normal()), 1e-20) for _ in range(n - 1)]
+                  for i in range(4)]
+            rows.append(_costs_at(fld, cs, n, repeat, SharedTrig))
+    out["by_length"] = rows
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=None)
+    ap.add_argument("--smoke", action="store_true", help="a tiny span: one Taylor-model flight and the step's cost "
+                    "at two series lengths, no profile (CI runs every benchmark so)")
     args = ap.parse_args()
     t0 = time.perf_counter()
+    if args.smoke:
+        res = {"taylor_model": [_fly(20, 1e-22, method="taylor_model")],
+               "step_cost": step_cost(lengths=(2, 31), repeat=5, profile=False)}
+        for r in res["taylor_model"] + res["step_cost"]["by_length"]:
+            print(r)
+        if not res["taylor_model"][0]["ok"]:
+            raise SystemExit("centre_flight_frontier --smoke: the Taylor-model flight failed")
+        return
     res = {"machine": platform.processor() or platform.machine(),
            "flight": "one return of Fig 4(b)'s x0 (fixed_point_fig4b.json), C^0, Newton series, 128 bits",
            "inflation": [inflation(1e-25), inflation(1e-32)],
@@ -220,7 +308,8 @@ def main():
                "order_tol": [_fly(o, t, method="taylor_model") for o in (20, 24) for t in (1e-22, 1e-25, 1e-28, 1e-32)],
                "extra": [tm_remainder(1e-25, e) for e in (0, 2, 5, 8, 10, 12)],
                "remainder": [tm_remainder(1e-28)]},
-           "box_flights_fig4a": [box_flights(m) for m in ("taylor", "taylor_model")]}
+           "box_flights_fig4a": [box_flights(m) for m in ("taylor", "taylor_model")],
+           "step_cost": step_cost()}
     res["wall_s"] = round(time.perf_counter() - t0, 1)
     text = json.dumps(res, indent=1)
     if args.out:
@@ -233,6 +322,9 @@ def main():
     for r in res["taylor_model"]["order_tol"] + res["taylor_model"]["extra"] + res["taylor_model"]["remainder"]:
         print(r)
     for r in res["box_flights_fig4a"]:
+        print(r)
+    print(res["step_cost"].get("profile_box_flight"))
+    for r in res["step_cost"]["by_length"]:
         print(r)
 
 

@@ -42,6 +42,8 @@ def main(argv=None) -> int:
     ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "decided_costs.json")
     ap.add_argument("--skip-registry", action="store_true", help="skip the (slow) registry timing")
     ap.add_argument("--magnetic", action="store_true", help="also run Kovacic on the magnetic rod's planar NVE (minutes)")
+    ap.add_argument("--smoke", action="store_true", help="a tiny span: the exponents of one 6-D model and one Kovacic "
+                    "run, nothing written (CI runs every benchmark so)")
     a = ap.parse_args(argv)
     import sympy as sp
 
@@ -50,7 +52,8 @@ def main(argv=None) -> int:
 
     res = {"load_average_start": os.getloadavg()[0]}
     m = models.get("anisotropic")
-    for tag, vals in (("exponents_1:2:3", {"B1": 1, "B2": 2, "C": 3}), ("exponents_1:2:2", {"B1": 1, "B2": 2, "C": 2})):
+    cases = (("exponents_1:2:3", {"B1": 1, "B2": 2, "C": 3}), ("exponents_1:2:2", {"B1": 1, "B2": 2, "C": 2}))
+    for tag, vals in cases[:1] if a.smoke else cases:
         def run(vals=vals):
             X, f, _ = painleve.model_field(m, vals)
             return painleve.analyse_field(f, X)
@@ -58,6 +61,13 @@ def main(argv=None) -> int:
         res[tag] = {"wall_s": w, "cpu_s": c, "balances": sum(len(ch["balances"]) for ch in out["choices"])}
 
     model, vals = MR._symmetric_rod()
+    if a.smoke:  # one Kovacic run on a Heun-type NVE (below), then stop
+        nves = MR.pendulum_nves(model, vals)
+        sub = {MR.h: 0, MR.r: sp.Rational(1, 4)}
+        out, w, c = timed(lambda: MR.galois_of(sp.cancel(nves[1][1].subs(sub)), sp.cancel(nves[1][2].subs(sub))))
+        res["morales_ramis_kovacic_heun"] = {"wall_s": w, "cpu_s": c, "group": out.group}
+        print(json.dumps(res, indent=1))
+        return 0
 
     def conditions():
         nves = MR.pendulum_nves(model, vals)

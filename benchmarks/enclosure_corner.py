@@ -5,7 +5,7 @@ Covers the bounding rectangle of those boxes, then reports which share of the ol
 Writes the result as JSON (argument 1, default enclosure_corner.json).  Not a test: tests/test_enclosure.py checks
 small boxes.
 
-    python benchmarks/enclosure_corner.py [out.json] [--quick] [--budget=N] [--resume=previous.json]
+    python benchmarks/enclosure_corner.py [out.json] [--quick] [--budget=N] [--resume=previous.json] [--smoke]
 """
 import json
 import sys
@@ -17,7 +17,8 @@ from magrod.separatrix.enclosure import BoxResult, box_theorem
 
 HERE = Path(__file__).resolve().parent
 out = next((a for a in sys.argv[1:] if not a.startswith("--")), "enclosure_corner.json")
-quick = "--quick" in sys.argv
+smoke = "--smoke" in sys.argv  # a tiny span (CI runs every benchmark so): --quick's corner, a budget of 2 boxes
+quick = "--quick" in sys.argv or smoke
 
 old = json.loads((HERE / "enclosure_boxes.json").read_text())["undecided"]
 
@@ -50,7 +51,7 @@ CELLS = 4  # the bounding rectangle in 4 x 4 cells, each its own box_theorem run
 # (2.2, 1/4, 1/4), S = -8.0e-5 and the second-order form needs half-widths ~4e-5 (its second-derivative bound is
 # ~2.4e4 there), so boxes at the tip next to (11/5, 1/4) are given up at this width.
 MIN_FRACTION = Fraction(1, 1000)
-BUDGET = int(next((a.split("=")[1] for a in sys.argv if a.startswith("--budget=")), 3600))  # box evaluations in all (~0.8 s each on one core): the cells are run easiest first until it is spent
+BUDGET = int(next((a.split("=")[1] for a in sys.argv if a.startswith("--budget=")), 2 if smoke else 3600))  # box evaluations in all (~0.8 s each on one core): the cells are run easiest first until it is spent
 TIP_LEVELS = 2  # the cell at the tip (m_hi, gamma_lo) is split again into 4 x 4 sub-cells, TIP_LEVELS times
 
 

@@ -22,7 +22,19 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--json", default="benchmarks/reproduce_time.json")
     ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--smoke", action="store_true", help="a tiny span: one figure (--only 2) once, nothing written "
+                    "(CI runs every benchmark so)")
     a = ap.parse_args()
+    if a.smoke:
+        with tempfile.TemporaryDirectory(prefix="magrod-reproduce-time-") as d:
+            t = time.perf_counter()
+            r = subprocess.run([sys.executable, "-m", "magrod.cli", "reproduce", "--quick", "--quiet", "--only", "2",
+                                "--out", d], capture_output=True, text=True)
+            print({"command": "magrod reproduce --quick --only 2", "wall_s": round(time.perf_counter() - t, 1),
+                   "returncode": r.returncode})
+            if r.returncode:
+                raise SystemExit(f"reproduce_time --smoke: exit {r.returncode}: {r.stderr.strip()[-300:]}")
+        return
     runs = []
     for _ in range(a.repeat):
         with tempfile.TemporaryDirectory(prefix="magrod-reproduce-time-") as d:
