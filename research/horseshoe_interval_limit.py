@@ -29,7 +29,6 @@ from pathlib import Path
 
 import heyoka as hy
 import mpmath as mp
-import numpy as np
 from flint import arb
 
 from magrod.core import systems
@@ -43,7 +42,7 @@ mp.mp.dps = 40
 
 
 def q128(x) -> hy.real128:
-    return hy.real128(mp.nstr(mp.mpf(x.numerator) / x.denominator if isinstance(x, F) else mp.mpf(x), 36))
+    return hy.real128(mp.nstr(_mpf(x) if isinstance(x, F) else mp.mpf(x), 36))
 
 
 class QuadMap:
@@ -86,11 +85,14 @@ class QuadMap:
         return [mp.mpf(str(ta.state[fields.THETA])), mp.mpf(str(ta.state[fields.PTHETA]))]
 
 
+def _mpf(x) -> mp.mpf:
+    """An exact rational (Fraction or "p/q") as an mpf."""
+    x = F(x)
+    return mp.mpf(x.numerator) / x.denominator
+
+
 def _set(s):
-    c = [mp.mpf(F(v).numerator) / F(v).denominator for v in s["c"]]
-    A = mp.matrix([[mp.mpf(F(v).numerator) / F(v).denominator for v in r] for r in s["A"]])
-    v = [mp.mpf(F(x).numerator) / F(x).denominator for x in s["v"]]
-    return c, A, v
+    return [_mpf(v) for v in s["c"]], mp.matrix([[_mpf(v) for v in r] for r in s["A"]]), [_mpf(x) for x in s["v"]]
 
 
 def measure(P: QuadMap, n12, n13, W: F) -> dict:
@@ -99,13 +101,13 @@ def measure(P: QuadMap, n12, n13, W: F) -> dict:
     Ai = A13 ** -1
 
     def y(s: F):  # the centre's image in N13's coordinates at s
-        z = [c12[i] + v12[i] * mp.mpf(s.numerator) / s.denominator for i in range(2)]
+        sf = _mpf(s)
+        z = [c12[i] + v12[i] * sf for i in range(2)]
         img = P(z, s)
-        sf = mp.mpf(s.numerator) / s.denominator
         return Ai * mp.matrix([img[i] - c13[i] - v13[i] * sf for i in range(2)])
 
     def G(s: F):  # A13^-1 DP A12 at the moving centre, central differences along A12's columns
-        sf = mp.mpf(s.numerator) / s.denominator
+        sf = _mpf(s)
         z0 = [c12[i] + v12[i] * sf for i in range(2)]
         cols = []
         for k in range(2):
@@ -117,8 +119,8 @@ def measure(P: QuadMap, n12, n13, W: F) -> dict:
 
     y0, yp, ym = y(F(0)), y(W), y(-W)
     h8 = W / 8
-    dy = (y(h8) - y(-h8)) / (mp.mpf(h8.numerator) / h8.denominator * 2)
-    wf = mp.mpf(W.numerator) / W.denominator
+    dy = (y(h8) - y(-h8)) / (2 * _mpf(h8))
+    wf = _mpf(W)
     drift = max(abs(yp[1] - y0[1] - wf * dy[1]), abs(ym[1] - y0[1] + wf * dy[1]))
     G0, Gp, Gm = G(F(0)), G(W), G(-W)
     shear = max(abs(Gp[1, 0] - G0[1, 0]) + abs(Gp[1, 1] - G0[1, 1]), abs(Gm[1, 0] - G0[1, 0]) + abs(Gm[1, 1] - G0[1, 1]))
@@ -150,5 +152,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    np.set_printoptions(precision=3)
     main()
