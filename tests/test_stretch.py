@@ -98,3 +98,39 @@ def test_orbit_stretch_bad_input():
         orbit_stretch(res, dt=0.0)
     with pytest.raises(ParameterError):
         orbit_stretch(res, dt=float("nan"))
+
+
+@pytest.mark.parametrize("t_start", [0.0, 7.0e4])
+def test_taylor_steps_equal_heyokas_continuous_output(t_start):
+    """The sampler evaluates the steps' Taylor polynomials itself (heyoka's continuous output costs ~1.2 ms per
+    propagate call); on the same steps of the body-frame integrator, the samples equal the continuous output's to a
+    few ulps -- also at t ~ 7e4, the length of a Fig 4 run, where h = t - t_start must come from the integrator's
+    double-length time -- and a run that ends on a section event (a truncated last step) is covered to its end."""
+    import heyoka as hy
+
+    from magrod.chaos.section import _StretchSampler
+
+    p = panel_kwargs("4a")["params"]
+    pars = p.array()
+    x0 = systems.euler_to_body(0.1, 0.0, 0.5, 0.9860764939894979, pars)
+    ev = hy.t_event(hy.time - (t_start + 30.3))  # a terminal event: the call ends inside a step
+    ta = hy.taylor_adaptive(systems.system("body"), list(x0), time=t_start, pars=list(pars), t_events=[ev])
+    s = _StretchSampler(0.05, pars)
+    r = ta.propagate_until(t_start + 40.0, callback=s.step, write_tc=True, c_output=True)
+    assert int(r[0]) < 0 and len(s._steps) == r[3] > 20  # stopped by the event, every step recorded
+    co = r[4]
+    hi = np.array([a for a, _, _, _ in s._steps])
+    lo = np.array([b for _, b, _, _ in s._steps])
+    lh = np.array([c for _, _, c, _ in s._steps])
+    from magrod.chaos.section import _TaylorSteps
+
+    steps = _TaylorSteps(hi, lo, lh, np.stack([d for *_, d in s._steps]), co.bounds)
+    t = np.linspace(*co.bounds, 2001)
+    ours, theirs = steps(t), np.array([np.array(co(tt)) for tt in t])  # co returns its own buffer
+    scale = np.max(np.abs(theirs), axis=0)
+    assert np.max(np.abs(ours - theirs) / scale) <= 64 * EPS
+    # the coefficients are the step's at its start: the last (truncated) step's polynomial at h = last_h is the
+    # event's state (at t ~ 7e4 the end time hi + lo is not a double, so this is checked at h, not at t)
+    tc = s._steps[-1][3]
+    end = sum(tc[:, k] * lh[-1] ** k for k in range(tc.shape[1]))
+    assert np.max(np.abs(end - np.asarray(ta.state)) / scale) <= 64 * EPS
