@@ -53,3 +53,49 @@ def test_horseshoe_interval_limit_scales_as_a_smooth_map_must():
     assert b["drift"] / a["drift"] == pytest.approx(25, rel=0.05)
     assert b["shear"] / a["shear"] == pytest.approx(5, rel=0.05)
     assert a["dy_s_ds"] == pytest.approx(b["dy_s_ds"], rel=1e-6)
+
+
+def test_section_second_derivative_against_a_closed_form():
+    """research/horseshoe_second_order.py's P'' = d^2/ds^2 of a section point, by implicit differentiation at the
+    crossing, on a field whose flow has a closed form and whose crossing time moves with s:
+    theta' = lam theta, psi' = 1 + theta^2, pbar_theta' = theta, pbar_psi' = 0, lam' = 0, started at
+    (a + s, 0.1, b, 0, l + s); the section psi = 2 pi.  Reference: the crossing time by findroot and P(s)
+    differentiated twice by mpmath at 40 digits (a second, independent method)."""
+    import mpmath as mp
+    from flint import arb, arb_mat
+
+    sys.path.insert(0, str(RESEARCH))
+    try:
+        import horseshoe_second_order as hso
+    finally:
+        sys.path.remove(str(RESEARCH))
+    mp.mp.dps = 40
+    a, b, l = mp.mpf("0.3"), mp.mpf("-0.2"), mp.mpf("0.7")
+
+    def flow(t, s):
+        th0, lam = a + s, l + s
+        e = mp.exp(lam * t)
+        return [th0 * e, mp.mpf("0.1") + t + th0**2 * (e**2 - 1) / (2 * lam), b + th0 * (e - 1) / lam, 0, lam]
+
+    def tau(s):
+        return mp.findroot(lambda t: flow(t, s)[1] - 2 * mp.pi, 5)
+
+    def P(s):
+        x = flow(tau(s), s)
+        return [x[0], x[2]]
+
+    t0 = tau(0)
+    x = flow(t0, 0)
+    u = [mp.diff(lambda s: flow(t0, s)[i], 0) for i in range(5)]
+    dus = [mp.diff(lambda s: flow(t0, s)[i], 0, 2) for i in range(5)]
+    f = [x[4] * x[0], 1 + x[0] ** 2, x[0], 0, 0]
+    Df = [[x[4], 0, 0, 0, x[0]], [2 * x[0], 0, 0, 0, 0], [1, 0, 0, 0, 0], [0] * 5, [0] * 5]
+
+    def ar(v):
+        return arb(mp.nstr(v, 40))
+
+    P2, _ = hso.section_second_derivative([ar(v) for v in x], [ar(v) for v in u], [ar(v) for v in dus],
+                                          [ar(v) for v in f], arb_mat([[ar(v) for v in row] for row in Df]))
+    want = [mp.diff(lambda s: P(s)[k], 0, 2) for k in (0, 1)]
+    for got, w in zip(P2, want):
+        assert abs(float(got.mid()) - float(w)) <= 1e-12 * abs(float(w)) and abs(float(w)) > 1e-2

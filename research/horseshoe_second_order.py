@@ -1,0 +1,295 @@
+"""The Fig 4(a) interval horseshoe by second-order enclosures in lambdabar: what they cost and how wide they reach,
+measured at the critical link N12 => N13 of horseshoe_fig4a_interval.json (research/README.md).
+
+The interval certificate's enclosures are first order in the swept hull |v| W, and N13's inverse frame multiplies a
+width in a generic direction by ~8e13 (its axes are 3e-3 rad apart), so its lambdabar term grows like W
+(horseshoe_interval_limit.py: 5600x the exact term at W = 2e-11).  The decomposition that takes the lambdabar motion
+out of the first-order enclosures:
+
+  P_s(c(s) + A u) = P(c) + P'(0) s + [P''] s^2 / 2                  the centre curve, second order in s
+                    + ([F_u at s = 0 over the piece] + [F_us over the swept box] s) A u
+
+needs, per piece, P'(0) from a thin C^1 flight at lambdabar_c, [P''] from a C^1 flight of the variational system
+y = (x, lambdabar, u_s) (10 states) along the centre curve, and [F_us] from a C^1 flight of y = (x, lambdabar, u_th,
+u_pt) (15 states) over the swept box; the D^2 F[u] blocks by forward-mode duals of fields.lam_state_field.
+
+  cost   : the three flights timed on N12's piece beside today's 5-state box flight (adaptive steps at the
+           certificate's tol, Taylor-model integrator, to the return time t_a);
+  curve  : the curve term in N13's stable coordinate, y_s(s) in Ai_s (P(c) - c13) + Ai_s (P'(0) - v13) s +
+           Ai_s [P''] s^2 / 2, with [P''] by implicit differentiation at the crossing (section_second_derivative).
+
+A measurement, not a proof (the initial tangents as balls over the hull; no guards in the 10-state flight).
+
+    python research/horseshoe_second_order.py [--out research/horseshoe_second_order.json] [--smoke]
+"""
+import sys
+import time
+from fractions import Fraction as F
+from pathlib import Path
+
+from flint import arb, arb_mat
+
+from magrod.proof import ball, fields, section_return as sr, taylor, taylor_model as tm
+from magrod.proof.fields import _Dual
+from magrod.proof.kernel.schema import frac
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from dp_second_order_prototype import capture_box, captured, load, piece  # noqa: E402  (the same harness)
+
+N = 5  # (theta, psi, pbar_theta, pbar_psi, lambdabar)
+
+
+def section_second_derivative(x, u, dus, f, Df):
+    """P'' = d^2/ds^2 of the section point (theta, pbar_theta) of the crossing of {sin psi = 0} by the one-parameter
+    family x(t, s), from the crossing's x (psi = x[1]), u = d_s x, dus = d_s u, f = f(x) and Df = Df(x) (an
+    arb_mat), all at the crossing (balls over its enclosure; x may carry lambdabar as a state with f = 0 there).
+    Implicit differentiation of sin psi(X(s)) = 0, X(s) = x(tau(s), s), u' = Df u along the flow:
+      X' = u + f tau',  tau' = -u_psi / f_psi,
+      X'' = du/ds + Df X' tau' + f tau'',  du/ds = d_s u + Df u tau',
+      tau'' = -[cos psi (du/ds + Df X' tau')_psi - sin psi X'_psi^2] / (cos psi f_psi).
+    Returns ((X''_theta, X''_pbar_theta), (tau', tau'', X', du/ds, X'', Df X')).  Tested against a field whose
+    section map has a closed form (tests/test_research.py)."""
+    n = len(x)
+    cps, sps = x[1].cos(), x[1].sin()
+    tau1 = -u[1] / f[1]
+    X1 = [u[i] + f[i] * tau1 for i in range(n)]
+    Dfu = ball.column(Df * ball.vec(u))
+    dut = [dus[i] + Dfu[i] * tau1 for i in range(n)]
+    DfX1 = ball.column(Df * ball.vec(X1))
+    tau2 = -(cps * (dut[1] + DfX1[1] * tau1) - sps * X1[1] * X1[1]) / (cps * f[1])
+    X2 = [dut[i] + DfX1[i] * tau1 + f[i] * tau2 for i in range(n)]
+    return (X2[0], X2[2]), (tau1, tau2, X1, dut, X2, DfX1)
+
+
+def variational_field(base, k: int) -> taylor.Field:
+    """y = (x5, u_1 .. u_k), u_j' = DF5(x5) u_j: the lambdabar-state field and k tangents; its Jacobian's D^2 F5[u_j]
+    blocks by duals of the generated Jacobian."""
+    n = N * (k + 1)
+
+    def unwrap(v, z):
+        return v.b if isinstance(v, _Dual) else z
+
+    def rhs(y, _p):
+        x = list(y[:N])
+        out = list(base.rhs(x, None))
+        for j in range(k):
+            u = y[N * (j + 1): N * (j + 2)]
+            out += [unwrap(v, 0 * y[0]) for v in base.rhs([_Dual(a, b) for a, b in zip(x, u)], None)]
+        return out
+
+    def jac(y, _p):
+        x = list(y[:N])
+        J = list(base.jacobian(x, None))
+        z = 0 * y[0]
+        M = [[z] * n for _ in range(n)]
+        for b in range(k + 1):
+            for i in range(N):
+                for jj in range(N):
+                    M[N * b + i][N * b + jj] = J[N * i + jj]
+        for j in range(k):
+            u = y[N * (j + 1): N * (j + 2)]
+            H = base.jacobian([_Dual(a, bb) for a, bb in zip(x, u)], None)
+            for i in range(N):
+                for jj in range(N):
+                    M[N * (j + 1) + i][jj] = unwrap(H[N * i + jj], z)
+        return [e for row in M for e in row]
+
+    return taylor.Field(rhs, jac, n, base.pars, f"lam+{k} tangents")
+
+
+def extended_set(S5, tangents, c1: bool):
+    """The set (x5 of S5, the tangents as balls) with the x5 part's Lohner form kept."""
+    k = len(tangents)
+    n = N * (k + 1)
+    u0 = [v for t in tangents for v in t]
+    center = [S5.xbar[i, 0] for i in range(N)] + [v.mid() for v in u0]
+    S = taylor.initial_set(center, c1=c1)
+    C = arb_mat(n, S5.C.ncols())
+    for i in range(N):
+        for j in range(S5.C.ncols()):
+            C[i, j] = S5.C[i, j]
+    S.C, S.r0 = C, S5.r0
+    S.r = ball.vec(ball.column(S5.B * S5.r) + [v - v.mid() for v in u0])
+    return S
+
+
+def timed_flight(fld, S, t_end, s):
+    rec = taylor.Trajectory()
+    t0 = time.process_time()
+    S = tm.propagate(fld, S, t_end, order=int(s['order']), tol=float(s['tol']), record=rec)
+    return time.process_time() - t0, len(rec.steps), S
+
+
+def cost(W=F(1, 500000000), smoke=False) -> dict:
+    """CPU and steps of today's box flight and of the two variational flights on N12's piece (smoke: to t = 1/8)."""
+    c, s, p = load("horseshoe_fig4a_interval")
+    I = 12
+    capture_box(N)
+    rows = {}
+    with ball.workprec(int(s['prec']), int(s['series_cap'])):
+        r, cX, AX, _steps, br = piece(c, I)
+        vI = tuple(frac(x) for x in c['sets'][I]['v'])
+        pars = fields.parameter_balls(p, W)
+        fld5 = fields.lam_state_field(p)
+        mv = sr.Moving(tuple(pars), fld5, pars[fields.LAM], p.lam, vI)
+        t_end = frac(r['t_a']) if not smoke else F(1, 8)
+        # today's C^1 box flight of the moving piece (5 states), flown once to capture its initial set
+        sr.piece_return(p.balls(), frac(c['level']), fields.chart_field(p), cX, AX, frac(r['p_c']),
+                        frac(s['p_rad']), frac(r['t_a']), frac(s['lead']), t1=frac(s['t1']), order=int(s['order']),
+                        tol=float(s['tol']), newton=int(s['newton']), thin_c1=False, branch=br, moving=mv,
+                        integrator=tm, thin_integrator=tm)
+        S5 = captured['box']
+        Q = S5.hull()
+        tg = sr.tangents(pars, Q)
+        gH = sr.ham_gradient(pars, Q[:4])
+        glam = -sr.ham_lam_derivative(pars, Q[:4]) / gH[fields.PPSI]
+        g0, g1 = -gH[fields.THETA] / gH[fields.PPSI], -gH[fields.PTHETA] / gH[fields.PPSI]
+        vq = [ball.q(x) for x in vI]
+        us = [vq[0], arb(0), vq[1], g0 * vq[0] + g1 * vq[1] + glam, arb(1)]
+        cases = [("C1, 5 states: today's box flight over the swept box", fld5, S5),
+                 ("C1, 10 states (x, lambdabar, u_s): the centre curve's [P'']", variational_field(fld5, 1),
+                  extended_set(S5, [us], True)),
+                 ("C1, 15 states (x, lambdabar, u_th, u_pt): [F_us] over the swept box", variational_field(fld5, 2),
+                  extended_set(S5, [tg['th'], tg['pt']], True))]
+        for name, fld, S in cases:
+            S0 = taylor.C1Set(S.t, S.xbar, S.C, S.r0, S.B, S.r, S.Wbar, S.E)
+            try:
+                cpu, n, _ = timed_flight(fld, S0, t_end, s)
+                rows[name] = {"cpu_s": round(cpu, 2), "steps": n}
+            except (taylor.EnclosureError, taylor.GuardError) as e:
+                rows[name] = {"failed": str(e)[:160]}
+            print(name, rows[name], flush=True)
+    return rows
+
+
+def curve_term(W=F(1, 500000000)):
+    """The centre curve's image to second order in s at Fig 4(a)'s critical link N12 => N13, in N13's stable
+    coordinate y_s: y_s(s) in Ai_s (P(c) - c13) + Ai_s (P'(0) - v13) s + Ai_s [P''] s^2 / 2 for s in [-W, W].
+
+    P'(0): the thin C^1 flight at lambdabar_c (5 states), its section derivative along the curve's tangent.
+    [P'']: the C^1 flight of y = (x, lambdabar, u_s) over the curve {c12 + v12 s} x {lambdabar_c + s} (10 states,
+    the curve's tangent u_s and its s-derivative as balls over the curve), crossed with the 10-state field, and the
+    section map's second derivative by implicit differentiation of sin psi(X(tau(s), s)) = 0:
+      X' = u + f tau',  tau' = -u_psi / f_psi,
+      X'' = du/ds + Df X' tau' + f tau'',  du/ds = d_s u + Df u tau',
+      tau'' = -[cos psi (du/ds + Df X' tau')_psi - sin psi X'_psi^2] / (cos psi f_psi),
+    P'' = (X''_theta, X''_pbar_theta), everything in balls over the crossing's enclosure.  Returns the terms."""
+    from flint import arb_series
+
+    from magrod.proof.kernel.horseshoe_sets import _hs_inv
+    from magrod.proof.provers.section_horseshoe import set_data
+
+    c, s, p = load("horseshoe_fig4a_interval")
+    I, J = 12, 13
+    out = {"W": str(W)}
+    with ball.workprec(int(s['prec']), int(s['series_cap'])):
+        r, cX, AX, _steps, br = piece(c, I)
+        vI = tuple(frac(x) for x in c['sets'][I]['v'])
+        cM, AM = set_data(c['sets'][J])[:2]
+        vM = [frac(x) for x in c['sets'][J]['v']]
+        Ai_s = [ball.q(x) for x in _hs_inv(AM)[1]]
+        pars = fields.parameter_balls(p, W)
+        fld5 = fields.lam_state_field(p)
+        mv = sr.Moving(tuple(pars), fld5, pars[fields.LAM], p.lam, vI)
+        zero = [[F(0), F(0)], [F(0), F(0)]]
+        capture_box(N)
+        captured.clear()
+        t0 = time.process_time()
+        # the curve as a moving piece of zero extent: the thin flight at lambdabar_c gives P(c) (and, with C^1, P'(0)
+        # below); the "box" is the curve's 5-state C^1 set, captured as the initial set of the 10-state flight
+        f = sr.piece_return(p.balls(), frac(c['level']), fields.chart_field(p), cX, zero, frac(r['p_c']),
+                            frac(s['p_rad']), frac(r['t_a']), frac(s['lead']), t1=frac(s['t1']), order=int(s['order']),
+                            tol=float(s['tol']), newton=int(s['newton']), thin_c1=False, branch=br, moving=mv,
+                            integrator=tm, thin_integrator=tm)
+        out["cpu_5state_s"] = round(time.process_time() - t0, 2)
+        S5 = captured['box']
+        Q = S5.hull()
+        gH = sr.ham_gradient(pars, Q[:4])
+        glam = -sr.ham_lam_derivative(pars, Q[:4]) / gH[fields.PPSI]
+        g0, g1 = -gH[fields.THETA] / gH[fields.PPSI], -gH[fields.PTHETA] / gH[fields.PPSI]
+        vq = [ball.q(x) for x in vI]
+        us = [vq[0], arb(0), vq[1], g0 * vq[0] + g1 * vq[1] + glam, arb(1)]
+        # d^2 pbar_psi / ds^2 along the curve: D^2 Hbar[x', x'] + Hbar_ppsi pbar_psi'' = 0 (x' = us)
+        y = [arb_series([Q[i], us[i]], prec=3) for i in range(4)]
+        q = list(pars)
+        q[fields.LAM] = arb_series([pars[fields.LAM], 1], prec=3)
+        Hs = fields.gen.chart_hamiltonian(y, q)[0]
+        d2H = 2 * Hs.coeffs()[2] if len(Hs.coeffs()) > 2 else arb(0)
+        xss = [arb(0), arb(0), arb(0), -d2H / gH[fields.PPSI], arb(0)]
+        # P'(0): the centre at lambdabar_c, C^1, along the tangent at the centre
+        S0 = taylor.initial_set([ball.q(cX[0]), arb(0), ball.q(cX[1]), f["ppsi_centre"], ball.q(p.lam)], c1=True)
+        fl0 = fields.lam_state_field(p)
+        t0 = time.process_time()
+        cr0, _ = sr.first_return(p.balls(), fl0, S0, frac(r['t_a']), frac(s['lead']), t1=frac(s['t1']),
+                                 order=int(s['order']), tol=float(s['tol']), newton=int(s['newton']), integrator=tm)
+        Qc = [ball.q(cX[0]), arb(0), ball.q(cX[1]), f["ppsi_centre"]]
+        gHc = sr.ham_gradient(p.balls(), Qc)
+        glc = -sr.ham_lam_derivative(p.balls(), Qc) / gHc[fields.PPSI]
+        usc = [vq[0], arb(0), vq[1], (-gHc[0] * vq[0] - gHc[2] * vq[1]) / gHc[fields.PPSI] + glc, arb(1)]
+        q0 = sr.section_quantities(None, fl0, cr0, {"s": usc})
+        out["cpu_thin_c1_s"] = round(time.process_time() - t0, 2)
+        Pc = f["Pc"]
+        dP0 = (q0["ds_theta"], q0["ds_ptheta"])
+        # [P''] over the curve: the 10-state C^1 flight
+        fld10 = variational_field(fld5, 1)
+        S10 = extended_set(S5, [us], True)
+        t0 = time.process_time()
+
+        def g(Y):  # sin psi, the section
+            return Y[1].sin()
+
+        def dg(Y):
+            return [arb(0), Y[1].cos()] + [arb(0)] * (len(Y) - 2)
+
+        S10 = tm.propagate(fld10, S10, frac(s['t1']), order=int(s['order']), tol=float(s['tol']))
+        S10 = tm.propagate(fld10, S10, frac(r['t_a']), order=int(s['order']), tol=float(s['tol']))
+        cr = tm.cross_section(fld10, S10, g, dg, 2 * frac(s['lead']), int(s['order']), newton=int(s['newton']))
+        out["cpu_10state_s"] = round(time.process_time() - t0, 2)
+        x5, u = cr.x[:N], cr.x[N:]
+        fx = cr.fx[:N]
+        Df = fld5.df(x5)
+        dY = ball.column(cr.W * ball.vec(us + xss))
+        dus = dY[N:]
+        P2, dbg = section_second_derivative(x5, u, dus, fx, Df)
+        tau1, tau2, X1, dut, X2, DfX1 = dbg
+        if "--debug" in sys.argv:
+            for name, vec in (("x5", x5), ("u", u), ("dus", dus), ("X1", X1), ("dut", dut), ("X2", X2),
+                              ("DfX1", DfX1), ("f", fx)):
+                print(f"  {name}: " + ", ".join(f"{float(v.mid()):.3e}+-{float(v.rad()):.1e}" for v in vec))
+            print(f"  tau1 {tau1}  tau2 {tau2}")
+        ys0 = Ai_s[0] * (Pc[0] - ball.q(cM[0])) + Ai_s[1] * (Pc[1] - ball.q(cM[1]))
+        ys1 = Ai_s[0] * (dP0[0] - ball.q(vM[0])) + Ai_s[1] * (dP0[1] - ball.q(vM[1]))
+        ys2 = Ai_s[0] * P2[0] + Ai_s[1] * P2[1]
+        Wq = ball.q(W)
+        S_ = ball.interval(-W, W)
+        bound = ys0 + ys1 * S_ + ys2 * S_ * S_ / 2
+        out.update({"y_s(0)": str(ys0), "y_s'(0) - v13 term": str(ys1), "[y_s'']": str(ys2),
+                    "y_s'' width": float(ys2.rad()) * 2, "curve term |y_s| <=": float(ball.bounds(abs(bound))[1]),
+                    "second-order term width": float((ys2 * Wq * Wq / 2).rad()) * 2})
+    return out
+
+
+def main(argv=None):
+    import argparse
+    import json
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default=None)
+    ap.add_argument("--smoke", action="store_true", help="the flights' cost to t = 1/8 only (seconds)")
+    a = ap.parse_args(argv)
+    t0 = time.perf_counter()
+    out = {"certificate": "horseshoe_fig4a_interval.json", "link": "N12 => N13", "cost_W": "1/500000000",
+           "cost": cost(smoke=a.smoke)}
+    if not a.smoke:
+        out["curve"] = [curve_term(F(w)) for w in ("1/2000000000", "1/1000000000", "1/500000000")]
+        for row in out["curve"]:
+            print({k: row[k] for k in ("W", "[y_s'']", "curve term |y_s| <=")}, flush=True)
+    out["wall_s"] = round(time.perf_counter() - t0, 1)
+    out["date"] = time.strftime("%Y-%m-%d")
+    if a.out:
+        Path(a.out).write_text(json.dumps(out, indent=1) + "\n")
+    return out
+
+
+if __name__ == "__main__":
+    main()
