@@ -415,6 +415,25 @@ def test_locked_jit_cache_does_not_stall(tmp_path):
     assert wall < 40  # heyoka alone would wait ~60 s for the lock
 
 
+def test_damaged_jit_cache_is_switched_off_with_one_line(tmp_path):
+    """A cache database whose index is out of step with its table (found on a machine whose cache was restored
+    while its write-ahead log was open): heyoka would fail every lookup and compile each integrator; the probe
+    finds it by sqlite's integrity check and runs without the cache, one stderr line naming it, stdout clean."""
+    cache = tmp_path / "cache"
+    assert magrod("poincare", "--panel", "4a", "--iterates", "2", "--json",
+                  env={"HEYOKA_CACHE_DIR": str(cache)}).returncode == 0
+    con = sqlite3.connect(cache / "cache.db")
+    con.execute("PRAGMA writable_schema = ON")  # the index now claims another column than it holds
+    con.execute("UPDATE sqlite_master SET sql = 'CREATE INDEX idx_last_access ON cache(size)' "
+                "WHERE name = 'idx_last_access'")
+    con.commit()
+    con.close()
+    r = magrod("poincare", "--panel", "4a", "--iterates", "2", "--json", env={"HEYOKA_CACHE_DIR": str(cache)})
+    assert r.returncode == 0 and json.loads(r.stdout)["n_points"] == 2
+    line = _one_line(r.stderr)[0]
+    assert "cache" in line and "damaged" in line
+
+
 def test_failed_accuracy_check_is_an_error_and_writes_nothing(tmp_path):
     """A result that does not meet its own accuracy checks (here: a tolerance no run can meet, standing in for a
     damaged integrator) is refused: exit 1, one line, ok false, no files; the run was repeated without the JIT

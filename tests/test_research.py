@@ -86,8 +86,8 @@ def test_section_second_derivative_against_a_closed_form():
 
     t0 = tau(0)
     x = flow(t0, 0)
-    u = [mp.diff(lambda s: flow(t0, s)[i], 0) for i in range(5)]
-    dus = [mp.diff(lambda s: flow(t0, s)[i], 0, 2) for i in range(5)]
+    u = [mp.diff(lambda s, i=i: flow(t0, s)[i], 0) for i in range(5)]
+    dus = [mp.diff(lambda s, i=i: flow(t0, s)[i], 0, 2) for i in range(5)]
     f = [x[4] * x[0], 1 + x[0] ** 2, x[0], 0, 0]
     Df = [[x[4], 0, 0, 0, x[0]], [2 * x[0], 0, 0, 0, 0], [1, 0, 0, 0, 0], [0] * 5, [0] * 5]
 
@@ -96,6 +96,6 @@ def test_section_second_derivative_against_a_closed_form():
 
     P2, _ = hso.section_second_derivative([ar(v) for v in x], [ar(v) for v in u], [ar(v) for v in dus],
                                           [ar(v) for v in f], arb_mat([[ar(v) for v in row] for row in Df]))
-    want = [mp.diff(lambda s: P(s)[k], 0, 2) for k in (0, 1)]
+    want = [mp.diff(lambda s, k=k: P(s)[k], 0, 2) for k in (0, 1)]
     for got, w in zip(P2, want):
         assert abs(float(got.mid()) - float(w)) <= 1e-12 * abs(float(w)) and abs(float(w)) > 1e-2
