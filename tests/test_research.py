@@ -55,12 +55,13 @@ def test_horseshoe_interval_limit_scales_as_a_smooth_map_must():
     assert a["dy_s_ds"] == pytest.approx(b["dy_s_ds"], rel=1e-6)
 
 
-def test_section_second_derivative_against_a_closed_form():
-    """research/horseshoe_second_order.py's P'' = d^2/ds^2 of a section point, by implicit differentiation at the
-    crossing, on a field whose flow has a closed form and whose crossing time moves with s:
-    theta' = lam theta, psi' = 1 + theta^2, pbar_theta' = theta, pbar_psi' = 0, lam' = 0, started at
-    (a + s, 0.1, b, 0, l + s); the section psi = 2 pi.  Reference: the crossing time by findroot and P(s)
-    differentiated twice by mpmath at 40 digits (a second, independent method)."""
+@pytest.mark.parametrize("mixed", [False, True])
+def test_section_second_derivative_against_a_closed_form(mixed):
+    """research/horseshoe_second_order.py's second derivative of a section point, d^2/ds^2 and the mixed d^2/da ds,
+    by implicit differentiation at the crossing, on a field whose flow has a closed form and whose crossing time
+    moves with both parameters: theta' = lam theta, psi' = 1 + theta^2, pbar_theta' = theta, pbar_psi' = 0,
+    lam' = 0, started at (a0 + a + s, 0.1, b + 2 a, 0, l + s); the section psi = 2 pi.  Reference: the crossing time
+    by findroot and P(a, s) differentiated by mpmath at 40 digits (a second, independent method)."""
     import mpmath as mp
     from flint import arb, arb_mat
 
@@ -70,24 +71,28 @@ def test_section_second_derivative_against_a_closed_form():
     finally:
         sys.path.remove(str(RESEARCH))
     mp.mp.dps = 40
-    a, b, l = mp.mpf("0.3"), mp.mpf("-0.2"), mp.mpf("0.7")
+    a0, b, l = mp.mpf("0.3"), mp.mpf("-0.2"), mp.mpf("0.7")
 
-    def flow(t, s):
-        th0, lam = a + s, l + s
+    def flow(t, a, s):
+        th0, lam = a0 + a + s, l + s
         e = mp.exp(lam * t)
-        return [th0 * e, mp.mpf("0.1") + t + th0**2 * (e**2 - 1) / (2 * lam), b + th0 * (e - 1) / lam, 0, lam]
+        return [th0 * e, mp.mpf("0.1") + t + th0**2 * (e**2 - 1) / (2 * lam), b + 2 * a + th0 * (e - 1) / lam, 0, lam]
 
-    def tau(s):
-        return mp.findroot(lambda t: flow(t, s)[1] - 2 * mp.pi, 5)
-
-    def P(s):
-        x = flow(tau(s), s)
+    def P(a, s):
+        t = mp.findroot(lambda t: flow(t, a, s)[1] - 2 * mp.pi, 5)
+        x = flow(t, a, s)
         return [x[0], x[2]]
 
-    t0 = tau(0)
-    x = flow(t0, 0)
-    u = [mp.diff(lambda s, i=i: flow(t0, s)[i], 0) for i in range(5)]
-    dus = [mp.diff(lambda s, i=i: flow(t0, s)[i], 0, 2) for i in range(5)]
+    t0 = mp.findroot(lambda t: flow(t, 0, 0)[1] - 2 * mp.pi, 5)
+    x = flow(t0, 0, 0)
+    u = [mp.diff(lambda s, i=i: flow(t0, 0, s)[i], 0) for i in range(5)]
+    ua = [mp.diff(lambda a, i=i: flow(t0, a, 0)[i], 0) for i in range(5)] if mixed else None
+    if mixed:
+        dus = [mp.diff(lambda a, s, i=i: flow(t0, a, s)[i], (0, 0), (1, 1)) for i in range(5)]
+        want = [mp.diff(lambda a, s, k=k: P(a, s)[k], (0, 0), (1, 1)) for k in (0, 1)]
+    else:
+        dus = [mp.diff(lambda s, i=i: flow(t0, 0, s)[i], 0, 2) for i in range(5)]
+        want = [mp.diff(lambda s, k=k: P(0, s)[k], 0, 2) for k in (0, 1)]
     f = [x[4] * x[0], 1 + x[0] ** 2, x[0], 0, 0]
     Df = [[x[4], 0, 0, 0, x[0]], [2 * x[0], 0, 0, 0, 0], [1, 0, 0, 0, 0], [0] * 5, [0] * 5]
 
@@ -95,7 +100,7 @@ def test_section_second_derivative_against_a_closed_form():
         return arb(mp.nstr(v, 40))
 
     P2, _ = hso.section_second_derivative([ar(v) for v in x], [ar(v) for v in u], [ar(v) for v in dus],
-                                          [ar(v) for v in f], arb_mat([[ar(v) for v in row] for row in Df]))
-    want = [mp.diff(lambda s, k=k: P(s)[k], 0, 2) for k in (0, 1)]
+                                          [ar(v) for v in f], arb_mat([[ar(v) for v in row] for row in Df]),
+                                          ua=None if ua is None else [ar(v) for v in ua])
     for got, w in zip(P2, want):
         assert abs(float(got.mid()) - float(w)) <= 1e-12 * abs(float(w)) and abs(float(w)) > 1e-2
