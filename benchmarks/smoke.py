@@ -41,6 +41,7 @@ SMOKE = {
     "decided_costs": [],
     "reproduce_time": [],
     "reprove_fig4a_taylor_model": [],
+    "stretch_sampler": [],
 }
 
 # script -> why it has no smoke run here (the proofs' design and search scripts are in research/, research/README.md)
