@@ -12,52 +12,17 @@ from fractions import Fraction as F
 from pathlib import Path
 from flint import arb, arb_mat
 from magrod.proof import ball, fields, section_return as sr, taylor, taylor_model as tm
-from magrod.proof.fields import _Dual
 from magrod.proof.kernel.schema import frac
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from dp_second_order_prototype import capture_box, captured, load, piece  # noqa: E402  (the same harness)
+from horseshoe_second_order import moving_column, variational_field  # noqa: E402
 
 name = sys.argv[1] if len(sys.argv) > 1 else 'horseshoe_fig4a_interval'
 I = int(sys.argv[2]) if len(sys.argv) > 2 else 12
 W = F(sys.argv[3]) if len(sys.argv) > 3 else F(1, 50000000000)
 c, s, p = load(name)
 N = 5
-
-
-def unwrap(v, z):
-    return v.b if isinstance(v, _Dual) else z
-
-
-def ext_field(base):
-    def rhs(y, _p):
-        x = list(y[:N])
-        out = list(base.rhs(x, None))
-        for k in range(3):
-            u = y[N + N * k: 2 * N + N * k]
-            d = base.rhs([_Dual(a, b) for a, b in zip(x, u)], None)
-            out += [unwrap(v, 0 * y[0]) for v in d]
-        return out
-
-    def jac(y, _p):
-        x = list(y[:N])
-        J = list(base.jacobian(x, None))
-        z = 0 * y[0]
-        n = 4 * N
-        M = [[z] * n for _ in range(n)]
-        for b in range(4):
-            for i in range(N):
-                for j in range(N):
-                    M[N * b + i][N * b + j] = J[N * i + j]
-        for k in range(3):
-            u = y[N + N * k: 2 * N + N * k]
-            H = base.jacobian([_Dual(a, bb) for a, bb in zip(x, u)], None)
-            for i in range(N):
-                for j in range(N):
-                    M[N + N * k + i][j] = unwrap(H[N * i + j], z)
-        return [e for row in M for e in row]
-
-    return taylor.Field(rhs, jac, 4 * N, base.pars, "lam+variational")
 
 
 capture_box(5)
@@ -81,11 +46,7 @@ with ball.workprec(int(s['prec']), int(s['series_cap'])):
     S5 = captured['box']
     Q = S5.hull()
     tg = sr.tangents(pars, Q)
-    gH = sr.ham_gradient(pars, Q[:4])
-    glam = -sr.ham_lam_derivative(pars, Q[:4]) / gH[fields.PPSI]
-    g0, g1 = -gH[fields.THETA] / gH[fields.PPSI], -gH[fields.PTHETA] / gH[fields.PPSI]
-    vq = [ball.q(x) for x in vI]
-    us = [vq[0], arb(0), vq[1], g0 * vq[0] + g1 * vq[1] + glam, arb(1)]
+    us = moving_column(pars, Q, vI)[3]
     u0 = tg['th'] + tg['pt'] + us
     center = [S5.xbar[i, 0] for i in range(N)] + [v.mid() for v in u0]
     S = taylor.initial_set(center, c1=False)
@@ -95,7 +56,7 @@ with ball.workprec(int(s['prec']), int(s['series_cap'])):
             C[i, j] = S5.C[i, j]
     S.C, S.r0 = C, S5.r0
     S.r = ball.vec(ball.column(S5.B * S5.r) + [v - v.mid() for v in u0])
-    fld = ext_field(fld5)
+    fld = variational_field(fld5, 3)  # (x5, u_th, u_pt, u_s)
     t0 = time.perf_counter()
     t_end = frac(r['t_a'])
     rec = taylor.Trajectory()

@@ -69,6 +69,17 @@ def section_second_derivative(x, u, dus, f, Df, ua=None):
     return (Xas[0], Xas[2]), (tau_s, tau_as, Xs, Xas)
 
 
+def moving_column(pars, Q, v):
+    """The swept box's lambdabar column over the hull Q (5 balls): (gH = grad Hbar, g = -(Hbar_theta, Hbar_pt) /
+    Hbar_ppsi, g_lam = -Hbar_lam / Hbar_ppsi, col = (v_theta, 0, v_pt, g . v + g_lam, 1)) -- the chart direction in
+    which the piece moves with lambdabar on the level (pbar_psi's row by the implicit function theorem)."""
+    gH = sr.ham_gradient(pars, Q[:4])
+    glam = -sr.ham_lam_derivative(pars, Q[:4]) / gH[fields.PPSI]
+    g = [-gH[fields.THETA] / gH[fields.PPSI], -gH[fields.PTHETA] / gH[fields.PPSI]]
+    vq = [ball.q(x) for x in v]
+    return gH, g, glam, [vq[0], arb(0), vq[1], g[0] * vq[0] + g[1] * vq[1] + glam, arb(1)]
+
+
 def variational_field(base, k: int) -> taylor.Field:
     """y = (x5, u_1 .. u_k), u_j' = DF5(x5) u_j: the lambdabar-state field and k tangents; its Jacobian's D^2 F5[u_j]
     blocks by duals of the generated Jacobian."""
@@ -149,11 +160,7 @@ def cost(W=F(1, 500000000), smoke=False) -> dict:
         S5 = captured['box']
         Q = S5.hull()
         tg = sr.tangents(pars, Q)
-        gH = sr.ham_gradient(pars, Q[:4])
-        glam = -sr.ham_lam_derivative(pars, Q[:4]) / gH[fields.PPSI]
-        g0, g1 = -gH[fields.THETA] / gH[fields.PPSI], -gH[fields.PTHETA] / gH[fields.PPSI]
-        vq = [ball.q(x) for x in vI]
-        us = [vq[0], arb(0), vq[1], g0 * vq[0] + g1 * vq[1] + glam, arb(1)]
+        us = moving_column(pars, Q, vI)[3]
         cases = [("C1, 5 states: today's box flight over the swept box", fld5, S5),
                  ("C1, 10 states (x, lambdabar, u_s): the centre curve's [P'']", variational_field(fld5, 1),
                   extended_set(S5, [us], True)),
@@ -211,11 +218,8 @@ def curve_term(W=F(1, 500000000), I=12, J=13):
         out["cpu_5state_s"] = round(time.process_time() - t0, 2)
         S5 = captured['box']
         Q = S5.hull()
-        gH = sr.ham_gradient(pars, Q[:4])
-        glam = -sr.ham_lam_derivative(pars, Q[:4]) / gH[fields.PPSI]
-        g0, g1 = -gH[fields.THETA] / gH[fields.PPSI], -gH[fields.PTHETA] / gH[fields.PPSI]
+        gH, _g, _glam, us = moving_column(pars, Q, vI)
         vq = [ball.q(x) for x in vI]
-        us = [vq[0], arb(0), vq[1], g0 * vq[0] + g1 * vq[1] + glam, arb(1)]
         # d^2 pbar_psi / ds^2 along the curve: D^2 Hbar[x', x'] + Hbar_ppsi pbar_psi'' = 0 (x' = us)
         y = [arb_series([Q[i], us[i]], prec=3) for i in range(4)]
         q = list(pars)
@@ -362,12 +366,8 @@ def spread_term(W=F(1, 500000000), I=12, J=13):
                         thin_integrator=tm)
         S5 = captured['box']
         Q = S5.hull()
-        gH = sr.ham_gradient(pars, Q[:4])
+        gH, _g, _glam, col = moving_column(pars, Q, vI)
         Hp = gH[fields.PPSI]
-        glam = -sr.ham_lam_derivative(pars, Q[:4]) / Hp
-        g = [-gH[fields.THETA] / Hp, -gH[fields.PTHETA] / Hp]
-        vq = [ball.q(x) for x in vI]
-        col = [vq[0], arb(0), vq[1], g[0] * vq[0] + g[1] * vq[1] + glam, arb(1)]
         tg = sr.tangents(pars, Q)
         e_pp = [arb(0), arb(0), arb(0), arb(1), arb(0)]
         dts = []
@@ -433,11 +433,13 @@ def link_estimate(args) -> dict:
 
 def chain(W=F(1, 500000000), K=4, workers=2) -> list:
     """link_estimate for every link of the Fig 4(a) chain (N0 => N0, N0 => N1, ..., N13 => N14), in processes."""
+    import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
     c, _s, _p = load("horseshoe_fig4a_interval")
     links = [(int(a), int(b)) for a, b in c["links"]]
-    with ProcessPoolExecutor(workers) as ex:
+    # spawned, not forked (as magrod's own pools): a forked child shares the parent's open libraries' state
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as ex:
         return list(ex.map(link_estimate, [(W, K, a, b) for a, b in links]))
 
 
