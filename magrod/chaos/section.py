@@ -1644,7 +1644,8 @@ class _StretchSampler:
     body image of the sample (systems.euler_to_body).
 
     Why not heyoka's continuous output (propagate_until(..., c_output=True)): building it costs ~1.2 ms per call, and
-    the section loop calls propagate_until once per crossing -- 12.5 of a Fig 4 panel's 13.4 s.  Instead `step`
+    the section loop calls propagate_until once per crossing -- a Fig 4 panel took 16.9 CPU-s, 3.4 now
+    (benchmarks/stretch_sampler.py).  Instead `step`
     (propagate_until's step callback, write_tc=True) keeps each step's Taylor coefficients and `flush` evaluates
     them at the sample times after the call, as the continuous output would: Horner's scheme in h = t - t_start,
     with t_start from the integrator's double-length time (ta.dtime), so that h is exact at t ~ 1e5 too.  The

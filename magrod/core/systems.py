@@ -78,8 +78,8 @@ def _probe_once() -> None:
 def configure_jit_cache() -> str | None:
     """heyoka waits up to a minute on a locked cache database and logs cache trouble to *stdout* (which would
     break the CLI's --json).  So the disk cache is probed once per process, at the first build (creatable,
-    writable, >= 64 MB free, database not locked and not damaged, each answered within ~0.5 s); if the probe fails the disk cache
-    is switched off with one MagrodWarning (builds then compile, ~1 s each, instead of loading).  heyoka's logger
+    writable, >= 64 MB free, database not locked and not damaged, each answered within ~0.5 s); if the probe fails
+    the disk cache is switched off with one MagrodWarning (builds then compile, ~1 s each, instead of loading).  heyoka's logger
     is limited to critical messages only when the CLI asked for it (environment variable MAGROD_QUIET_HEYOKA): a
     library does not reconfigure its host's loggers.  Returns the reason the cache was switched off, or None."""
     if os.environ.get(QUIET_ENV):
@@ -105,9 +105,9 @@ def configure_jit_cache() -> str | None:
             try:
                 con.execute("BEGIN IMMEDIATE")
                 con.rollback()
-                # a damaged database (an index out of step with its table, as a cache copied or restored while
-                # its write-ahead log was open leaves it) fails every lookup: heyoka then compiles each integrator
-                # and logs an error per build.  integrity_check stops at the first error (~0.05 s for 140 MB)
+                # a damaged database (found on a development machine: an index out of step with its table, cause
+                # not identified) fails every lookup: heyoka then compiles each integrator and logs an error per
+                # build.  integrity_check stops at the first error (~0.05 s for a healthy 140 MB cache)
                 bad = con.execute("PRAGMA integrity_check(1)").fetchone()[0]
                 if bad != "ok":
                     raise sqlite3.DatabaseError(f"damaged: {bad}; delete it to rebuild")
