@@ -262,6 +262,7 @@ def curve_term(W=F(1, 500000000), I=12, J=13):
         dY = ball.column(cr.W * ball.vec(us + xss))
         dus = dY[N:]
         P2, (tau1, tau2, X1, X2) = section_second_derivative(x5, u, dus, fx, Df)
+        out["P2_raw"] = [v.str(20) for v in P2]
         if "--debug" in sys.argv:
             for name, vec in (("x5", x5), ("u", u), ("dus", dus), ("X1", X1), ("X2", X2), ("f", fx)):
                 print(f"  {name}: " + ", ".join(f"{float(v.mid()):.3e}+-{float(v.rad()):.1e}" for v in vec))
@@ -298,7 +299,7 @@ def curve_nodes_term(W=F(1, 500000000), K=4, P2=None, I=12, J=13):
         vM = [frac(x) for x in c['sets'][J]['v']]
         Ai_s = [ball.q(x) for x in _hs_inv(AM)[1]]
         zero = [[F(0), F(0)], [F(0), F(0)]]
-        ys, cpu = [], 0.0
+        ys, cpu, raw = [], 0.0, []
         for k in range(K + 1):
             sk = -W + 2 * W * k / K
             pk = replace(p, lam=p.lam + sk)
@@ -316,10 +317,11 @@ def curve_nodes_term(W=F(1, 500000000), K=4, P2=None, I=12, J=13):
             cpu += time.process_time() - t0
             d = [f["Pc"][m] - ball.q(cM[m]) - ball.q(vM[m] * sk) for m in (0, 1)]
             ys.append(Ai_s[0] * d[0] + Ai_s[1] * d[1])
+            raw.append([v.str(40) for v in f["Pc"]])
         h = 2 * W / K
         err = abs(arb(P2)) * ball.q(h * h / 8)
         node = max(float(ball.bounds(abs(y))[1]) for y in ys)
-    return {"W": str(W), "K": K, "nodes |y_s| <=": node, "interpolation error <=": float(ball.bounds(err)[1]),
+    return {"W": str(W), "K": K, "nodes_raw": raw, "nodes |y_s| <=": node, "interpolation error <=": float(ball.bounds(err)[1]),
             "curve term |y_s| <=": node + float(ball.bounds(err)[1]), "cpu_nodes_s": round(cpu, 2),
             "y_s at nodes": [str(y) for y in ys]}
 
@@ -396,6 +398,8 @@ def spread_term(W=F(1, 500000000), I=12, J=13):
         us, w = dY[:N], (dY[N:2 * N], dY[2 * N:])
         ua = (cr.x[N:2 * N], cr.x[2 * N:])
         Fas = [section_second_derivative(x5, us, w[k], fx, Df, ua=ua[k])[0] for k in (0, 1)]  # (d theta', d pt')
+        out["Fas_raw"] = [[v.str(20) for v in Fa] for Fa in Fas]
+        out["swept"] = {"gdot": cr.gdot.str(10), "cospsi": x5[1].cos().str(10)}
         # d_s of F_u A's columns (A = the piece's frame in (theta, pbar_theta)), in N13's stable coordinate
         shear = arb(0)
         rows = []
@@ -409,6 +413,102 @@ def spread_term(W=F(1, 500000000), I=12, J=13):
         out.update({"d_s G_s-row (y_s per unit s)": rows, "shear term |y_s| <=": float(ball.bounds(shear * Wq)[1]),
                     "exact shear (quad, ~3e5 W)": 3e5 * float(W)})
     return out
+
+
+def source_enclosures(args) -> dict:
+    """Every enclosure the second-order check of N_I's piece reads, at W with K nodes (strings of balls):
+    the node images P(c(s_k), s_k), [P''] over the curve, DP over the piece at lambdabar_c (the point box flight)
+    and [F_as] over the swept box (a = theta, pbar_theta)."""
+    W, K, I = args
+    c, s, p = load("horseshoe_fig4a_interval")
+    J = I + 1 if I + 1 < len(c["sets"]) else 0  # any target: only the raw enclosures are kept
+    cv = curve_term(W, I, J)
+    nd = curve_nodes_term(W, K, cv["[y_s'']"], I, J)
+    sp = spread_term(W, I, J)
+    with ball.workprec(int(s['prec']), int(s['series_cap'])):
+        r, cX, AX, _steps, br = piece(c, I)
+        t0 = time.process_time()
+        f = sr.piece_return(p.balls(), frac(c['level']), fields.chart_field(p), cX, AX, frac(r['p_c']),
+                            frac(s['p_rad']), frac(r['t_a']), frac(s['lead']), t1=frac(s['t1']), order=int(s['order']),
+                            tol=float(s['tol']), newton=int(s['newton']), thin_c1=False, branch=br, integrator=tm,
+                            thin_integrator=tm)
+        cpu_box = time.process_time() - t0
+        DP = [[v.str(20) for v in row] for row in f["DP"]]
+    return {"set": I, "nodes": nd["nodes_raw"], "P2": cv["P2_raw"], "DP": DP, "Fas": sp["Fas_raw"],
+            "cpu_s": round(cv["cpu_10state_s"] + nd["cpu_nodes_s"] + sp["cpu_15state_s"] + cpu_box, 1)}
+
+
+def link_check(enc: dict, J: int, W, K: int) -> dict:
+    """The covering conditions of N_I => N_J for every lambdabar in [lam_c - W, lam_c + W], from the source's
+    enclosures (source_enclosures), sub-interval by sub-interval, in N_J's moving coordinates y = A_J^-1 (P - c_J -
+    v_J s): on [s_k, s_k+1] the centre curve is the linear interpolant of the node images plus [P''] [-h^2/8, 0]
+    (affine in s, so its range is the hull at the two nodes), the piece adds (DP_0 + [F_us] [s_k, s_k+1]) A_X U.
+    (a): |y_s| < 1 over the piece; (b): the exit edges' y_u beyond +-1 on opposite sides.  Returns the smallest
+    (a) margin and (b) |y_u| over the sub-intervals."""
+    from magrod.proof.kernel.horseshoe_sets import _hs_inv
+    from magrod.proof.provers.section_horseshoe import set_data
+
+    c, s, p = load("horseshoe_fig4a_interval")
+    I = enc["set"]
+    with ball.workprec(int(s['prec']), int(s['series_cap'])):
+        _r, _cX, AX, _steps, _br = piece(c, I)
+        cM, AM = set_data(c['sets'][J])[:2]
+        vM = [frac(x) for x in c['sets'][J]['v']]
+        Ai = [[ball.q(x) for x in row] for row in _hs_inv(AM)]
+        nodes = [[arb(v) for v in P] for P in enc["nodes"]]
+        P2 = [arb(v) for v in enc["P2"]]
+        DP = [[arb(v) for v in row] for row in enc["DP"]]
+        Fas = [[arb(v) for v in Fa] for Fa in enc["Fas"]]
+        U = ball.interval(-1, 1)
+        h = 2 * W / K
+        a_min, b_min = 2.0, float("inf")
+        for k in range(K):
+            sk = [-W + 2 * W * m / K for m in (k, k + 1)]
+            ends = []
+            for m, sv in zip((k, k + 1), sk):
+                d = [nodes[m][a] - ball.q(cM[a]) - ball.q(vM[a] * sv) for a in (0, 1)]
+                ends.append([Ai[b][0] * d[0] + Ai[b][1] * d[1] for b in (0, 1)])
+            e = [x * ball.interval(-h * h / 8, 0) for x in P2]
+            Ae = [Ai[b][0] * e[0] + Ai[b][1] * e[1] for b in (0, 1)]
+            off = [ball.hull(ends[0][b], ends[1][b]) + Ae[b] for b in (0, 1)]
+            S = ball.interval(sk[0], sk[1])
+            # F_u over the piece for s in the sub-interval, applied to A_X's columns, in N_J's coordinates
+            M = [[DP[a][t] + (Fas[t][a]) * S for t in (0, 1)] for a in (0, 1)]  # M[a][t] = d P_a / d x_t
+            DA = [[M[a][0] * ball.q(AX[0][col]) + M[a][1] * ball.q(AX[1][col]) for col in (0, 1)] for a in (0, 1)]
+            G = [[Ai[b][0] * DA[0][col] + Ai[b][1] * DA[1][col] for col in (0, 1)] for b in (0, 1)]
+            ys = off[1] + G[1][0] * U + G[1][1] * U
+            lo, hi = ball.bounds(ys)
+            a_min = min(a_min, 1 - max(abs(lo), abs(hi)))
+            right = off[0] + G[0][0] + G[0][1] * U
+            left = off[0] - G[0][0] + G[0][1] * U
+            rl, rh = ball.bounds(right)
+            ll, lh = ball.bounds(left)
+            if rl > 1 and lh < -1:
+                b_min = min(b_min, rl, -lh)
+            elif rh < -1 and ll > 1:
+                b_min = min(b_min, -rh, ll)
+            else:
+                b_min = min(b_min, 0.0)
+    return {"link": f"N{I} => N{J}", "a_margin": round(float(a_min), 4), "b_min_abs_yu": round(float(b_min), 3)}
+
+
+def chain_check(W=F(1, 2**29), K=4, workers=2) -> list:
+    """source_enclosures for every set (in spawned processes), then link_check for every link of the chain."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    c, _s, _p = load("horseshoe_fig4a_interval")
+    links = [(int(a), int(b)) for a, b in c["links"]]
+    sources = sorted({a for a, _ in links})
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as ex:
+        encs = {e["set"]: e for e in ex.map(source_enclosures, [(W, K, i) for i in sources])}
+    rows = []
+    for a, b in links:
+        row = link_check(encs[a], b, W, K)
+        row["cpu_s"] = encs[a]["cpu_s"]
+        rows.append(row)
+        print(row, flush=True)
+    return rows
 
 
 def link_estimate(args) -> dict:
@@ -451,8 +551,19 @@ def main(argv=None):
     ap.add_argument("--out", default=None)
     ap.add_argument("--smoke", action="store_true", help="the flights' cost to t = 1/8 only (seconds)")
     ap.add_argument("--chain", action="store_true", help="every link of the chain at W = 2e-9, K = 4 (~5 min)")
+    ap.add_argument("--check", action="store_true", help="the covering conditions of every link at --W, --K, sub-interval"
+                    " by sub-interval (~5 min)")
+    ap.add_argument("--W", default="1/536870912", help="the interval's radius for --check (dyadic; default 2^-29)")
+    ap.add_argument("--K", type=int, default=4, help="the number of sub-intervals for --check (default 4)")
     a = ap.parse_args(argv)
     t0 = time.perf_counter()
+    if a.check:
+        rows = chain_check(F(a.W), a.K)
+        out = {"certificate": "horseshoe_fig4a_interval.json", "W": a.W, "K": a.K, "links": rows,
+               "wall_s": round(time.perf_counter() - t0, 1), "date": time.strftime("%Y-%m-%d")}
+        if a.out:
+            Path(a.out).write_text(json.dumps(out, indent=1) + "\n")
+        return out
     if a.chain:
         rows = chain()
         for row in rows:
