@@ -261,18 +261,14 @@ def curve_term(W=F(1, 500000000), I=12, J=13):
         Df = fld5.df(x5)
         dY = ball.column(cr.W * ball.vec(us + xss))
         dus = dY[N:]
-        P2, (tau1, tau2, X1, X2) = section_second_derivative(x5, u, dus, fx, Df)
+        P2 = section_second_derivative(x5, u, dus, fx, Df)[0]
         out["P2_raw"] = [v.str(20) for v in P2]
-        if "--debug" in sys.argv:
-            for name, vec in (("x5", x5), ("u", u), ("dus", dus), ("X1", X1), ("X2", X2), ("f", fx)):
-                print(f"  {name}: " + ", ".join(f"{float(v.mid()):.3e}+-{float(v.rad()):.1e}" for v in vec))
-            print(f"  tau1 {tau1}  tau2 {tau2}")
         ys0 = Ai_s[0] * (Pc[0] - ball.q(cM[0])) + Ai_s[1] * (Pc[1] - ball.q(cM[1]))
         ys1 = Ai_s[0] * (dP0[0] - ball.q(vM[0])) + Ai_s[1] * (dP0[1] - ball.q(vM[1]))
         ys2 = Ai_s[0] * P2[0] + Ai_s[1] * P2[1]
         Wq = ball.q(W)
         S_ = ball.interval(-W, W)
-        bound = ys0 + ys1 * S_ + ys2 * S_ * S_ / 2
+        bound = ys0 + ys1 * S_ + ys2 * S_ * S_ / 2  # s^2 as S_ * S_: a (loose) enclosure of [0, W^2]
         out.update({"y_s(0)": str(ys0), "y_s'(0) - v13 term": str(ys1), "[y_s'']": str(ys2),
                     "y_s'' width": float(ys2.rad()) * 2, "curve term |y_s| <=": float(ball.bounds(abs(bound))[1]),
                     "second-order term width": float((ys2 * Wq * Wq / 2).rad()) * 2})
