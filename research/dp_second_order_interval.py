@@ -16,7 +16,7 @@ from magrod.proof.kernel.schema import frac
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from dp_second_order_prototype import capture_box, captured, load, piece  # noqa: E402  (the same harness)
-from horseshoe_second_order import moving_column, variational_field  # noqa: E402
+from magrod.proof.variational import moving_column, variational_field  # noqa: E402
 
 name = sys.argv[1] if len(sys.argv) > 1 else 'horseshoe_fig4a_interval'
 I = int(sys.argv[2]) if len(sys.argv) > 2 else 12

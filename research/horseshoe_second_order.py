@@ -31,105 +31,17 @@ import time
 from fractions import Fraction as F
 from pathlib import Path
 
-from flint import arb, arb_mat
+from flint import arb
 
 from magrod.proof import ball, fields, section_return as sr, taylor, taylor_model as tm
-from magrod.proof.fields import _Dual
+from magrod.proof.variational import (N, d2H, extended_set, moving_column, section_second_derivative,  # noqa: F401
+                                     variational_field)
 from magrod.proof.kernel.schema import frac
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from dp_second_order_prototype import capture_box, captured, load, piece  # noqa: E402  (the same harness)
 
-N = 5  # (theta, psi, pbar_theta, pbar_psi, lambdabar)
 ROOT = Path(__file__).resolve().parent.parent
-
-
-def section_second_derivative(x, u, dus, f, Df, ua=None):
-    """The second derivative of the section point (theta, pbar_theta) of the crossing of {sin psi = 0} by a family
-    x(t; a, s): d^2/ds^2 (ua None: a = s) or the mixed d^2/da ds, from the crossing's x (psi = x[1]), u = d_s x, ua =
-    d_a x, dus = d_s d_a x (d_s^2 x when ua is None), f = f(x) and Df = Df(x) (an arb_mat), all at the crossing
-    (balls over its enclosure; x may carry lambdabar as a state with f = 0 there).  Implicit differentiation of
-    sin psi(X(a, s)) = 0, X = x(tau(a, s); a, s), d_t u = Df u along the flow:
-      X_s = u + f tau_s,  tau_s = -u_psi / f_psi  (and X_a, tau_a alike),
-      X_as = (d_s ua + Df ua tau_s) + Df X_s tau_a + f tau_as,
-      tau_as = -[cos psi (d_s ua + Df ua tau_s + Df X_s tau_a)_psi - sin psi (X_s)_psi (X_a)_psi] / (cos psi f_psi).
-    Returns ((X_as's theta, X_as's pbar_theta), (tau_s, tau_as, X_s, X_as)).  Tested against a field whose section
-    map has a closed form (tests/test_research.py)."""
-    n = len(x)
-    ua = u if ua is None else ua
-    cps, sps = x[1].cos(), x[1].sin()
-    tau_s, tau_a = -u[1] / f[1], -ua[1] / f[1]
-    Xs = [u[i] + f[i] * tau_s for i in range(n)]
-    Xa = [ua[i] + f[i] * tau_a for i in range(n)]
-    Dfua = ball.column(Df * ball.vec(ua))
-    DfXs = ball.column(Df * ball.vec(Xs))
-    d = [dus[i] + Dfua[i] * tau_s + DfXs[i] * tau_a for i in range(n)]
-    tau_as = -(cps * d[1] - sps * Xs[1] * Xa[1]) / (cps * f[1])
-    Xas = [d[i] + f[i] * tau_as for i in range(n)]
-    return (Xas[0], Xas[2]), (tau_s, tau_as, Xs, Xas)
-
-
-def moving_column(pars, Q, v):
-    """The swept box's lambdabar column over the hull Q (5 balls): (gH = grad Hbar, g = -(Hbar_theta, Hbar_pt) /
-    Hbar_ppsi, g_lam = -Hbar_lam / Hbar_ppsi, col = (v_theta, 0, v_pt, g . v + g_lam, 1)) -- the chart direction in
-    which the piece moves with lambdabar on the level (pbar_psi's row by the implicit function theorem)."""
-    gH = sr.ham_gradient(pars, Q[:4])
-    glam = -sr.ham_lam_derivative(pars, Q[:4]) / gH[fields.PPSI]
-    g = [-gH[fields.THETA] / gH[fields.PPSI], -gH[fields.PTHETA] / gH[fields.PPSI]]
-    vq = [ball.q(x) for x in v]
-    return gH, g, glam, [vq[0], arb(0), vq[1], g[0] * vq[0] + g[1] * vq[1] + glam, arb(1)]
-
-
-def variational_field(base, k: int) -> taylor.Field:
-    """y = (x5, u_1 .. u_k), u_j' = DF5(x5) u_j: the lambdabar-state field and k tangents; its Jacobian's D^2 F5[u_j]
-    blocks by duals of the generated Jacobian."""
-    n = N * (k + 1)
-
-    def unwrap(v, z):
-        return v.b if isinstance(v, _Dual) else z
-
-    def rhs(y, _p):
-        x = list(y[:N])
-        out = list(base.rhs(x, None))
-        for j in range(k):
-            u = y[N * (j + 1): N * (j + 2)]
-            out += [unwrap(v, 0 * y[0]) for v in base.rhs([_Dual(a, b) for a, b in zip(x, u)], None)]
-        return out
-
-    def jac(y, _p):
-        x = list(y[:N])
-        J = list(base.jacobian(x, None))
-        z = 0 * y[0]
-        M = [[z] * n for _ in range(n)]
-        for b in range(k + 1):
-            for i in range(N):
-                for jj in range(N):
-                    M[N * b + i][N * b + jj] = J[N * i + jj]
-        for j in range(k):
-            u = y[N * (j + 1): N * (j + 2)]
-            H = base.jacobian([_Dual(a, bb) for a, bb in zip(x, u)], None)
-            for i in range(N):
-                for jj in range(N):
-                    M[N * (j + 1) + i][jj] = unwrap(H[N * i + jj], z)
-        return [e for row in M for e in row]
-
-    return taylor.Field(rhs, jac, n, base.pars, f"lam+{k} tangents")
-
-
-def extended_set(S5, tangents, c1: bool):
-    """The set (x5 of S5, the tangents as balls) with the x5 part's Lohner form kept."""
-    k = len(tangents)
-    n = N * (k + 1)
-    u0 = [v for t in tangents for v in t]
-    center = [S5.xbar[i, 0] for i in range(N)] + [v.mid() for v in u0]
-    S = taylor.initial_set(center, c1=c1)
-    C = arb_mat(n, S5.C.ncols())
-    for i in range(N):
-        for j in range(S5.C.ncols()):
-            C[i, j] = S5.C[i, j]
-    S.C, S.r0 = C, S5.r0
-    S.r = ball.vec(ball.column(S5.B * S5.r) + [v - v.mid() for v in u0])
-    return S
 
 
 def timed_flight(fld, S, t_end, s):
@@ -322,21 +234,6 @@ def curve_nodes_term(W=F(1, 500000000), K=4, P2=None, I=12, J=13):
             "y_s at nodes": [str(y) for y in ys]}
 
 
-def _d2H(pars, x, d1, d2):
-    """D^2 Hbar[d1, d2] over the box x (4 chart balls; d1, d2 chart vectors with lambdabar as a fifth entry), by
-    polarization of the univariate second derivatives along d1 + d2 and d1 - d2 (Arb series of length 3)."""
-    from flint import arb_series
-
-    def q(d):
-        y = [arb_series([x[i], d[i]], prec=3) for i in range(4)]
-        pp = list(pars)
-        pp[fields.LAM] = arb_series([pars[fields.LAM], d[4]], prec=3)
-        cs = fields.gen.chart_hamiltonian(y, pp)[0].coeffs()
-        return 2 * cs[2] if len(cs) > 2 else arb(0)
-
-    return (q([a + b for a, b in zip(d1, d2)]) - q([a - b for a, b in zip(d1, d2)])) / 4
-
-
 def spread_term(W=F(1, 500000000), I=12, J=13):
     """The piece's own extent, second order: the shear term Ai_s [d_s (F_u A)] u s of N12's piece in N13's stable
     coordinate, [F_us] from the C^1 flight of y = (x, lambdabar, u_th, u_pt) (15 states) over the swept box and the
@@ -372,7 +269,7 @@ def spread_term(W=F(1, 500000000), I=12, J=13):
         for a, ea in ((fields.THETA, [arb(1), arb(0), arb(0), arb(0), arb(0)]),
                       (fields.PTHETA, [arb(0), arb(0), arb(1), arb(0), arb(0)])):
             # d_s g_a = -(D^2H[e_a, col] Hp - H_a D^2H[e_ppsi, col]) / Hp^2
-            dg = -(_d2H(pars, Q[:4], ea, col) * Hp - gH[a] * _d2H(pars, Q[:4], e_pp, col)) / (Hp * Hp)
+            dg = -(d2H(pars, Q[:4], ea, col) * Hp - gH[a] * d2H(pars, Q[:4], e_pp, col)) / (Hp * Hp)
             dts.append([arb(0), arb(0), arb(0), dg, arb(0)])
         fld15 = variational_field(fld5, 2)
         S15 = extended_set(S5, [tg['th'], tg['pt']], True)
