@@ -46,12 +46,13 @@ def section_second_derivative(x, u, dus, f, Df, ua=None):
     return (Xas[0], Xas[2]), (tau_s, tau_as, Xs, Xas)
 
 
-def moving_column(pars, Q, v):
+def moving_column(pars, Q, v, module=gen):
     """The swept box's lambdabar column over the hull Q (5 balls): (gH = grad Hbar, g = -(Hbar_theta, Hbar_pt) /
     Hbar_ppsi, g_lam = -Hbar_lam / Hbar_ppsi, col = (v_theta, 0, v_pt, g . v + g_lam, 1)) -- the chart direction in
-    which the piece moves with lambdabar on the level (pbar_psi's row by the implicit function theorem)."""
-    gH = sr.ham_gradient(pars, Q[:4])
-    glam = -sr.ham_lam_derivative(pars, Q[:4]) / gH[fields.PPSI]
+    which the piece moves with lambdabar on the level (pbar_psi's row by the implicit function theorem); module: the
+    generated field's module (fields.gen, or a model's), as section_return's functions take it."""
+    gH = sr.ham_gradient(pars, Q[:4], module)
+    glam = -sr.ham_lam_derivative(pars, Q[:4], module) / gH[fields.PPSI]
     g = [-gH[fields.THETA] / gH[fields.PPSI], -gH[fields.PTHETA] / gH[fields.PPSI]]
     vq = [ball.q(x) for x in v]
     return gH, g, glam, [vq[0], arb(0), vq[1], g[0] * vq[0] + g[1] * vq[1] + glam, arb(1)]
