@@ -128,8 +128,8 @@ def test_verify_api_returns_the_generated_theorem(cert):
 def test_the_trust_base_is_what_the_docs_say():
     """docs/nonintegrability.md, "The verifier's trust base": the checker (verify.py and the kernel package
     magrod/proof/kernel/: the schema and one module per kind) imports from magrod only ball, fields, taylor, theorem,
-    section_return (the shared first return to the section), identities (the field's structure, checked at run time)
-    and core.errors; never the provers (provers/, saddle, manifold) nor the scheduling (schedule).
+    section_return (the shared first return to the section), variational (the second-order enclosures of a horseshoe
+    on a lambdabar interval), identities (the field's structure, checked at run time) and core.errors; never the provers (provers/, saddle, manifold) nor the scheduling (schedule).
     Seen to fail: with `from ..provers import section_fixed_point` added to kernel/fixed_point.py the assertion names it."""
     import ast
     from pathlib import Path
@@ -149,11 +149,12 @@ def test_the_trust_base_is_what_the_docs_say():
                 got |= {a.name for a in node.names if a.name.startswith("magrod")}
     outside = {m for m in got if not m.startswith("magrod.proof.kernel")}
     assert outside == {f"magrod.proof.{m}" for m in ("ball", "fields", "identities", "taylor", "theorem",
-                                                     "section_return")} | {"magrod.core.errors"}, outside
+                                                     "section_return", "variational")} | {"magrod.core.errors"}, outside
     inside = {m for m in got if m.startswith("magrod.proof.kernel")}
     assert inside <= {"magrod.proof.kernel"} | {f"magrod.proof.kernel.{m}" for m in ("schema", "homoclinic",
                                                                                       "fixed_point", "horseshoe",
-                                                                                      "horseshoe_sets", "pool")}, inside
+                                                                                      "horseshoe_sets", "horseshoe_lam2",
+                                                                                      "pool")}, inside
 
 
 def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path, monkeypatch):
@@ -189,13 +190,18 @@ def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path,
     assert shipped == listed, shipped ^ listed
     # except Fig 4(d)'s horseshoe, whose prove + verify exceeds 10 minutes: verified by its own CI step (.ci/run),
     # and said so in REPORT
-    assert fig.NOT_IN_REPRODUCE == (("4d", "horseshoe_fig4d.json", "12"),)
-    assert side["not_verified_in_reproduce"] == [{"panel": "4d", "statement": "12",
-                                                  "certificate": "magrod/proof/certificates/horseshoe_fig4d.json"}]
-    row = report._proof_skipped(side)[-1]
-    assert "magrod prove --verify magrod/proof/certificates/horseshoe_fig4d.json" in row["computed"]
-    assert report.verdict_word(row["verdict"]) == "not checked"  # this run did not verify it: never "proved"
-    assert "horseshoe_fig4d.json" in (Path(__file__).parents[1] / ".ci" / "run").read_text()
+    # and Fig 4(a)'s horseshoe on the 2^-28 interval (~6 min of CPU)
+    assert fig.NOT_IN_REPRODUCE == (("4d", "horseshoe_fig4d.json", "12"),
+                                    ("4a_interval_wide", "horseshoe_fig4a_interval_wide.json", "12"))
+    names = [e[1] for e in fig.NOT_IN_REPRODUCE]
+    assert side["not_verified_in_reproduce"] == [{"panel": k, "statement": "12",
+                                                  "certificate": f"magrod/proof/certificates/{n}"}
+                                                 for k, n, _ in fig.NOT_IN_REPRODUCE]
+    rows = report._proof_skipped(side)[-2:]
+    for row, name in zip(rows, names):
+        assert f"magrod prove --verify magrod/proof/certificates/{name}" in row["computed"]
+        assert report.verdict_word(row["verdict"]) == "not checked"  # this run did not verify it: never "proved"
+        assert name in (Path(__file__).parents[1] / ".ci" / "run").read_text()
     # the REPORT row states the target's own verification time, not the whole figure's (which had read "271 s")
     side["wall_time_s"] = side["verify_wall_time_s"] + 1000.0
     (tmp_path / "proof.json").write_text(json.dumps(side))

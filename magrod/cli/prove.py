@@ -62,6 +62,12 @@ def add_arguments(p):
     p.add_argument("--widen", default=None, metavar="CERT",
                    help="re-prove the point horseshoe certificate CERT for every lambdabar in [lam - W, lam + W] "
                         "(--lam-rad W > 0) without re-proving the point (horseshoe_widen.widen)")
+    p.add_argument("--lam-order", default=1, type=int, choices=(1, 2), metavar="ORDER", dest="lam_order",
+                   help="--widen, --horseshoe with --lam-rad: how the sets' motion over the interval is enclosed: 1 (one flight of each piece "
+                        "swept over the interval) or 2 (nodes and second derivatives, sub-interval by sub-interval: "
+                        "~100x wider intervals, ~35 s of CPU per piece; kernel/horseshoe_lam2.py)")
+    p.add_argument("--lam-nodes", default=8, type=int, metavar="K", dest="lam_nodes",
+                   help="--widen with --lam-order 2: the number of equal sub-intervals (even, 2 .. 64; default 8)")
     p.add_argument("--m-back", default=None, metavar="M", dest="m_back",
                    help="--horseshoe: pull-backs of the homoclinic point (HorseshoeSettings.m_back; default 5)")
     p.add_argument("--n-exc", default=None, metavar="N", dest="n_exc",
@@ -93,6 +99,11 @@ def run(args) -> dict:
         if getattr(args, opt) is not None and args.horseshoe is None and getattr(args, "widen", None) is None:
             raise ParameterError(opt, "applies to --verify, --horseshoe and --widen (the other provers' flights run "
                                       "in this process)")
+    if (getattr(args, "lam_order", 1) != 1 or getattr(args, "lam_nodes", 8) != 8) and args.horseshoe is None \
+            and getattr(args, "widen", None) is None:
+        raise ParameterError("lam_order", "--lam-order and --lam-nodes apply to --widen and --horseshoe with --lam-rad")
+    if getattr(args, "lam_order", 1) == 2 and (args.lam_nodes < 2 or args.lam_nodes % 2 or args.lam_nodes > 64):
+        raise ParameterError("lam_nodes", f"must be an even integer in 2 .. 64, got {args.lam_nodes}")
     _flight_workers(args)  # refused before anything runs or is written
     if args.fixed_point is not None:
         return _fixed_point(args)
@@ -225,7 +236,8 @@ def _horseshoe(args) -> dict:
         if res.ok and w:
             from ..proof import widen_horseshoe
 
-            res = widen_horseshoe(res.certificate, w, module=module, progress=say, workers=workers, mapper=mapper)
+            res = widen_horseshoe(res.certificate, w, module=module, progress=say, workers=workers, mapper=mapper,
+                                  order=args.lam_order, nodes=args.lam_nodes)
     return _section_result(res, p, h, dest, lambda c: {"entropy": c["entropy"]}, args)
 
 
@@ -244,14 +256,16 @@ def _widen(args) -> dict:
     dest = out_dir("out", args.out)
     p, h = validate_fixed_point(*(cert["params"][k] for k in ("m", "mu", "gamma", "delta", "lam")), cert["level"])
     with _flight_mapper(args) as (workers, mapper):
-        res = widen_horseshoe(cert, w, progress=None if args.quiet else _stage, workers=workers, mapper=mapper)
+        res = widen_horseshoe(cert, w, progress=None if args.quiet else _stage, workers=workers, mapper=mapper,
+                              order=args.lam_order, nodes=args.lam_nodes)
     return _section_result(res, p, h, dest, lambda c: {"entropy": c["entropy"]}, args)
 
 
 #: the options that decide a certificate's content, in the order `provenance` spells them (the output directory,
 #: --quiet / --json and the controls do not)
 _PROVENANCE_OPTIONS = ("fixed_point", "horseshoe", "widen", "level", "m", "mu", "gamma", "delta", "lam", "targets",
-                       "design", "branch", "root", "m_back", "n_exc", "s_star", "passes", "lam_rad", "box")
+                       "design", "branch", "root", "m_back", "n_exc", "s_star", "passes", "lam_rad", "box",
+                       "lam_order", "lam_nodes")
 
 
 def _provenance(args) -> dict:
@@ -269,7 +283,8 @@ def _provenance(args) -> dict:
                 (k in ("branch", "root") and mode not in ("fixed_point", "horseshoe")) or \
                 (k == "lam_rad" and str(v) in ("0", "0/1")) or \
                 (k == "box" and (mode != "fixed_point" or str(getattr(args, "lam_rad", "0")) in ("0", "0/1"))) or \
-                (mode == "widen" and k in ("m", "mu", "gamma", "delta", "lam", "level")):
+                (mode == "widen" and k in ("m", "mu", "gamma", "delta", "lam", "level")) or \
+                (k in ("lam_order", "lam_nodes") and (mode not in ("widen", "horseshoe") or getattr(args, "lam_order", 1) == 1)):
             continue
         words += [f"--{k.replace('_', '-')}", PurePath(str(v)).name if k == "widen" else str(v)]
     return {"command": shlex.join(words), "recorded": "by magrod prove"}

@@ -287,34 +287,17 @@ def ham_lam_derivative(pars, x, module=gen) -> arb:
     return cs[1] if len(cs) > 1 else arb(0)
 
 
-def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction, lead: Fraction, *,
-                 t1=Fraction(1, 64), order=20, tol=PROOF_STEP_TOL, tol_thin=None, steps=None, newton=12, box=True,
-                 thin=None, thin_c1=True, branch="0", moving: Moving | None = None, module=gen,
-                 integrator=taylor, thin_integrator=None) -> dict:
-    """One return of P for the section piece X = c + A [-1, 1]^2 (c exact (theta, pbar_theta), A exact 2 x 2) on
-    the level Hbar = h, pbar_psi the root in [pc - prad, pc + prad].
-
-    Two validated flights (first_return): the centre c (its pbar_psi by interval Newton at c) and the piece as the
-    chart parallelepiped xbar + C r0, C = [[A, 0], [g A, e_ppsi]] in the rows (theta, psi, pbar_theta, pbar_psi),
-    r0 = ([-1, 1], [-1, 1], 0, E): g = mid of grad pbar_psi(theta, pbar_theta) = -(dHbar/dtheta, dHbar/dpbar_theta)
-    / dHbar/dpbar_psi over the hull, E the mean-value remainder (the root is unique in the Newton box over the hull,
-    so pbar_psi(c + A v) = pbar_psi(c) + grad(xi) A v).  Returns the balls: "Pc" = (theta, pbar_theta) of P(c),
-    "DP" = [[dtheta'/dtheta, dtheta'/dpbar_theta], [dpbar_theta'/dtheta, dpbar_theta'/dpbar_theta]] over X, the
-    crossings' "gdot" and "cospsi" (thin and box), "ppsi_box" (pbar_psi at the box crossing), the Newton results
-    ("level_ok"), and the steps taken (box False: the centre's flight only, with "DPc" its DP; thin: a previous
-    result of this function at the same centre and p_c whose centre flight is reused).  tol_thin: the step
-    tolerance of the centre's flight (default tol): the centre's enclosure must resolve sets of ~1e-13, and the
-    Lagrange remainders on the a priori enclosures dominate it (1e-25: widths 1e-14 .. 2e-13 after one return;
-    1e-32: 5e-20, 2.3x the steps).  thin_c1 False: the centre flies as a C^0 set (no "DPc"; the verifier, which
-    reads DP from the box only): the same state enclosures whenever the C^1 flight's a priori enclosure validates at
-    its first trial (taylor.step_data; the C^0 test is a subset of the C^1 one), at ~3/4 of the cost.  moving (a
-    Moving): the box flies over every lambdabar of moving.lam with the piece moving along v (its chart set xbar +
-    C r0 gains the column (v, grad pbar_psi . (v, 1), 1) and the row lambdabar; the centre flies at lam0, with pars
-    and fld, as without it), and the result has "dPds": the derivative of s -> P_s(c + v (s - lam0)) over the box
-    (the section derivative along that column), so that P_s(X(s)) lies in Pc + DP A [-1, 1]^2 + dPds (s - lam0)
-    for every s in lam.  integrator: taylor (default) or taylor_model, for both flights (first_return);
-    thin_integrator: the centre's, if other.  Flight failures raise taylor's errors; the caller checks the signs."""
+def piece_sets(pars, h, fld, c, A, pc: Fraction, prad: Fraction, *, box=True, thin_c1=True, branch="0",
+               moving: Moving | None = None, module=gen) -> dict:
+    """The initial sets of piece_return's two flights, without flying them (the arguments as piece_return's): the
+    level's Newton results ("level_ok", "ppsi_centre", "ppsi_hull"); when the level holds also the centre's chart
+    set "thin_set", the piece's exact parallelepiped "box_set" (None for box False), its hull "Q" (5 balls with
+    lambdabar when moving), the parameters and field of the box flight ("pars_b", "fld_b"), grad pbar_psi over the
+    hull ("grad", with "glam" = d pbar_psi / d lambdabar when moving), and the box's exact lambdabar column
+    "col_s" (None unless moving).  Also the set a flight of the piece's variational system starts from
+    (kernel/horseshoe_lam2.py)."""
     out = {}
+    glam = vq = None
     cq = [ball.q(v) for v in c]
     ps = branch_psi(branch)
     Nc, _, okc = level_newton_section(pars, h, cq[0], cq[1], pc, prad, module, branch)
@@ -369,6 +352,47 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
     r0 = ball.vec(r0)
     thin_set = taylor.initial_set([cq[0], ps, cq[1], Nc], c1=thin_c1)
     box_set = section_set(pars_b, None, None, None, C2=(xbar, C, r0)) if box else None
+    out.update(cq=cq, psi=ps, Nc=Nc, Q=Q + xl, pars_b=pars_b, fld_b=fld_b, grad=grad, glam=glam, vq=vq,
+               col_s=col_s, thin_set=thin_set, box_set=box_set)
+    return out
+
+
+def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction, lead: Fraction, *,
+                 t1=Fraction(1, 64), order=20, tol=PROOF_STEP_TOL, tol_thin=None, steps=None, newton=12, box=True,
+                 thin=None, thin_c1=True, branch="0", moving: Moving | None = None, module=gen,
+                 integrator=taylor, thin_integrator=None) -> dict:
+    """One return of P for the section piece X = c + A [-1, 1]^2 (c exact (theta, pbar_theta), A exact 2 x 2) on
+    the level Hbar = h, pbar_psi the root in [pc - prad, pc + prad].
+
+    Two validated flights (first_return): the centre c (its pbar_psi by interval Newton at c) and the piece as the
+    chart parallelepiped xbar + C r0, C = [[A, 0], [g A, e_ppsi]] in the rows (theta, psi, pbar_theta, pbar_psi),
+    r0 = ([-1, 1], [-1, 1], 0, E): g = mid of grad pbar_psi(theta, pbar_theta) = -(dHbar/dtheta, dHbar/dpbar_theta)
+    / dHbar/dpbar_psi over the hull, E the mean-value remainder (the root is unique in the Newton box over the hull,
+    so pbar_psi(c + A v) = pbar_psi(c) + grad(xi) A v).  Returns the balls: "Pc" = (theta, pbar_theta) of P(c),
+    "DP" = [[dtheta'/dtheta, dtheta'/dpbar_theta], [dpbar_theta'/dtheta, dpbar_theta'/dpbar_theta]] over X, the
+    crossings' "gdot" and "cospsi" (thin and box), "ppsi_box" (pbar_psi at the box crossing), the Newton results
+    ("level_ok"), and the steps taken (box False: the centre's flight only, with "DPc" its DP; thin: a previous
+    result of this function at the same centre and p_c whose centre flight is reused).  tol_thin: the step
+    tolerance of the centre's flight (default tol): the centre's enclosure must resolve sets of ~1e-13, and the
+    Lagrange remainders on the a priori enclosures dominate it (1e-25: widths 1e-14 .. 2e-13 after one return;
+    1e-32: 5e-20, 2.3x the steps).  thin_c1 False: the centre flies as a C^0 set (no "DPc"; the verifier, which
+    reads DP from the box only): the same state enclosures whenever the C^1 flight's a priori enclosure validates at
+    its first trial (taylor.step_data; the C^0 test is a subset of the C^1 one), at ~3/4 of the cost.  moving (a
+    Moving): the box flies over every lambdabar of moving.lam with the piece moving along v (its chart set xbar +
+    C r0 gains the column (v, grad pbar_psi . (v, 1), 1) and the row lambdabar; the centre flies at lam0, with pars
+    and fld, as without it), and the result has "dPds": the derivative of s -> P_s(c + v (s - lam0)) over the box
+    (the section derivative along that column), so that P_s(X(s)) lies in Pc + DP A [-1, 1]^2 + dPds (s - lam0)
+    for every s in lam.  integrator: taylor (default) or taylor_model, for both flights (first_return);
+    thin_integrator: the centre's, if other.  Flight failures raise taylor's errors; the caller checks the signs."""
+    out = piece_sets(pars, h, fld, c, A, pc, prad, box=box, thin_c1=thin_c1, branch=branch, moving=moving,
+                     module=module)
+    if not out["level_ok"]:
+        return out
+    ps_ = out
+    out = {"level_ok": True, "ppsi_centre": ps_["ppsi_centre"], "ppsi_hull": ps_["ppsi_hull"]}
+    cq, ps, Nc, Qx, pars_b, fld_b = (ps_[k] for k in ("cq", "psi", "Nc", "Q", "pars_b", "fld_b"))
+    grad, glam, vq, col_s = ps_["grad"], ps_["glam"], ps_["vq"], ps_["col_s"]
+    thin_set, box_set = ps_["thin_set"], ps_["box_set"]
     steps_out = {}
     if thin is not None:
         for key in ("Pc", "ppsi_thin", "DPc", "gdot_thin", "cospsi_thin"):
@@ -384,7 +408,7 @@ def piece_return(pars, h, fld, c, A, pc: Fraction, prad: Fraction, t_a: Fraction
                                 module=module,
                                 integrator=(thin_integrator or integrator) if kind == "thin" else integrator)
         steps_out[kind] = used
-        Qk = [cq[0], ps, cq[1], Nc] if kind == "thin" else Q + xl
+        Qk = [cq[0], ps, cq[1], Nc] if kind == "thin" else Qx
         tg = tangents(pk, Qk, module)
         if kind == "box" and col_s is not None:
             # the exact column of C along lambdabar, with pbar_psi's row the enclosure of its derivative

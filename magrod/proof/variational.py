@@ -9,7 +9,8 @@ shipped interval; docs/nonintegrability.md, statement 12).
   section_second_derivative   d^2/ds^2 or d^2/da ds of a section point, by implicit differentiation at the crossing;
   moving_column, d2H          the moving set's lambdabar column and D^2 Hbar[d1, d2] over a box.
 
-Not yet read by the verifier's kernel (the certificate kind that will is the next step; research/README.md)."""
+The verifier's kernel reads them for a horseshoe certificate on a lambdabar interval to second order
+(kernel/horseshoe_lam2.py), so this module is part of the verifier's trust base."""
 from __future__ import annotations
 
 from flint import arb, arb_mat, arb_series
@@ -60,7 +61,7 @@ def moving_column(pars, Q, v, module=gen):
 
 def variational_field(base, k: int) -> taylor.Field:
     """y = (x5, u_1 .. u_k), u_j' = DF5(x5) u_j: the lambdabar-state field and k tangents; its Jacobian's D^2 F5[u_j]
-    blocks by duals of the generated Jacobian."""
+    blocks by duals of the generated Jacobian.  Its Taylor coefficients come the way the base's do (base.series)."""
     n = N * (k + 1)
 
     def unwrap(v, z):
@@ -91,7 +92,7 @@ def variational_field(base, k: int) -> taylor.Field:
                     M[N * (j + 1) + i][jj] = unwrap(H[N * i + jj], z)
         return [e for row in M for e in row]
 
-    return taylor.Field(rhs, jac, n, base.pars, f"lam+{k} tangents")
+    return taylor.Field(rhs, jac, n, base.pars, f"lam+{k} tangents", series=base.series)
 
 
 def extended_set(S5, tangents, c1: bool):

@@ -9,8 +9,9 @@ interval Newton step are implemented again here.
 The checker is this module (the entry: the certificate's kind, then its module) and the kernel package
 magrod/proof/kernel/: schema.py (the format, the kinds, the result, reading a certificate, the checks every kind
 shares), one module per kind -- homoclinic.py (statement 5), fixed_point.py (statement 11), horseshoe.py
-(statement 12) -- and pool.py (the horseshoe's sets in child processes, their checks replayed here in the serial
-order).  Shared with the prover are only (the trust base; a test fences it, docs/nonintegrability.md, "The
+(statement 12; with horseshoe_sets.py, the checks of one set, and horseshoe_lam2.py, a set's checks on a lambdabar
+interval to second order) -- and pool.py (the horseshoe's sets in child processes, their checks replayed here in
+the serial order).  Shared with the prover are only (the trust base; a test fences it, docs/nonintegrability.md, "The
 verifier's trust base"):
   - the generated field (generated/validated.py, whose SHA-256 must match the certificate), through
     magrod.proof.fields, which also builds from it the chart field with lambdabar as a fifth state variable
@@ -22,6 +23,8 @@ verifier's trust base"):
     sizes;
   - the validated first return to the section sin psi = 0 (magrod.proof.section_return), for the section
     certificates (fixed point and horseshoe);
+  - the variational systems of the lambdabar-state field and the section map's second derivatives at a crossing
+    (magrod.proof.variational), for a horseshoe certificate on a lambdabar interval to second order;
   - the field's structure (magrod.proof.identities): reversibility under R, the Hamiltonian form (det DP = 1) and
     chart_jacobian = Df, checked at run time as exact rational-function identities on the field's source before its
     digest, in every kind (kernel.schema.check_structure); the horseshoe's 2 pi-periodicity in psi

@@ -15,7 +15,7 @@ from ..theorem import section_horseshoe_theorem
 # the set and branch-box checks (also run by the child processes of pool.py); the geometric helpers are named here
 # too, as the tests address them through this module
 from .horseshoe_sets import (_hs_branch_boxes, _hs_cover, _hs_graph, _hs_inv, _hs_lam,  # noqa: F401
-                             _hs_separated, _hs_separated_moving, _hs_set, _hs_source, _hs_vertices)
+                             _hs_separated, _hs_separated_moving, _hs_set, _hs_source, _hs_vertices, lam_order)
 from .schema import VerifyResult, check_structure, checked, frac, section_settings
 
 def verify(cert, module, t0, workers=None, mapper=None) -> VerifyResult:
@@ -53,6 +53,10 @@ def _horseshoe(cert, p, order, module, claim, workers=None, mapper=None) -> dict
     for i, (_c, A) in enumerate(sets):
         claim(f"N{i} nondegenerate", A[0][0] * A[1][1] - A[0][1] * A[1][0] != 0, "det A != 0")
     lm = _hs_lam(cert, p, module)
+    if lam_order(cert) == 2:
+        from .horseshoe_lam2 import lam2_settings
+
+        lam2_settings(cert)  # W > 0 and an even K in range, before any flight
     for i in (0, k):
         c, A = sets[i]
         claim(f"N{i} symmetric", c[1] == 0 and A[0][1] == A[0][0] and A[1][1] == -A[1][0] and

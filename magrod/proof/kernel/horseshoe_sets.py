@@ -72,6 +72,18 @@ def _hs_lam(cert, p, module=fields.gen):
     return w, pars, lam, lam - ball.q(p.lam), vs
 
 
+def lam_order(cert) -> int:
+    """How a lambdabar-interval certificate encloses the motion: 1 (absent; one flight of each piece swept over the
+    interval, the image first order in lambdabar) or 2 (kernel/horseshoe_lam2.py: nodes, the centre curve's second
+    derivative and the mixed one, sub-interval by sub-interval); 2 needs lam_rad > 0."""
+    o = cert["settings"].get("lam_order", 1)
+    if o not in (1, 2) or isinstance(o, bool):
+        raise ValueError(f"lam_order must be 1 or 2, got {o!r}")
+    if o == 2 and frac(cert["settings"].get("lam_rad", "0")) <= 0:
+        raise ValueError("lam_order 2 needs lam_rad > 0")
+    return o
+
+
 def _hs_separated_moving(P1, P2, dv, w) -> bool:
     """P1 and P2 + s dv disjoint for every s in [-w, w]: a separating axis (edge normals, the normal of dv) between
     P1 and the vertices of P2 at s = -w and s = w (convex hull of the swept set)."""
@@ -134,6 +146,10 @@ def _hs_source(cert, i, order, module, claim, branch) -> None:
     boxes, so the sets can be checked in separate processes (_hs_sources_parallel) with the same checks."""
     from .. import section_return
 
+    if lam_order(cert) == 2:  # the sub-interval checks of a second-order interval certificate
+        from . import horseshoe_lam2
+
+        return horseshoe_lam2.source(cert, i, module, claim, branch)
     s = cert["settings"]
     h = frac(cert["level"])
     prad, t1, lead = (frac(s[kk]) for kk in ("p_rad", "t1", "lead"))

@@ -159,6 +159,58 @@ def widen_flight(job: dict, module=fields.gen) -> dict:
         moving=mv, module=module)
 
 
+def node_level_centre(p, h, c, pc: Fraction, prad: Fraction, branch: str, module=fields.gen) -> Fraction:
+    """The level's root pbar_psi at the section point c (theta, pbar_theta) and the parameters p, to the working
+    precision, as a dyadic: interval Newton's midpoint iterated from pc (a node's Newton centre; the verifier's
+    Newton step from it then encloses the root to ~the working precision, where pc's neighbour's would leave
+    ~|pc - root|^2 of width)."""
+    for _ in range(4):
+        pc = ball.fraction(section_return.level_newton_section(p.balls(), h, ball.q(c[0]), ball.q(c[1]), pc, prad,
+                                                               module, branch)[0].mid())
+    return pc
+
+
+def widen2_flight(job: dict, module=fields.gen) -> dict:
+    """The second-order flights of one piece over the interval (kernel/horseshoe_lam2.fly_piece, adaptive steps),
+    from the JSON data of a widening job as widen_flight's plus "lam_nodes"; the nodes' Newton centres first
+    (node_level_centre).  Returns fly_piece's result with "nodes_p_c"."""
+    from ..kernel import horseshoe_lam2 as lam2
+
+    s = job["settings"]
+    p = fields.ExactParams(**{kk: Fraction(job["params"][kk]) for kk in fields.PARAMS})
+    h, W, K = Fraction(job["h"]), Fraction(job["lam_rad"]), int(job["lam_nodes"])
+    c = [Fraction(x) for x in job["c"]]
+    A = [[Fraction(x) for x in row] for row in job["A"]]
+    v = [Fraction(x) for x in job["v"]]
+    pc = Fraction(job["pc"])
+    npc = []
+    for k, sv in enumerate(lam2.nodes(W, K)):
+        if k == K // 2:
+            npc.append(pc)  # the point piece's centre at lam, as its thin flight had it
+            continue
+        pk = fields.ExactParams(**{**{kk: getattr(p, kk) for kk in fields.PARAMS}, "lam": p.lam + sv})
+        npc.append(node_level_centre(pk, h, [c[0] + v[0] * sv, c[1] + v[1] * sv], pc, Fraction(s["p_rad"]),
+                                     job["branch"], module))
+    out = lam2.fly_piece(p, h, s, c, A, v, W, K, pc, npc, Fraction(job["t_a"]), job["branch"], module)
+    out["nodes_p_c"] = npc
+    return out
+
+
+def widen2_job(job: dict) -> dict:
+    """widen2_flight from JSON data -> {"flight": encoded result} or {"err": [class name, message]}."""
+    from ..kernel.pool import JOB_LOCK
+
+    with JOB_LOCK:
+        try:
+            with ball.workprec(int(job["settings"]["prec"]), int(job["settings"]["series_cap"])):
+                return {"flight": encode(widen2_flight(job))}
+        except Exception as e:  # noqa: BLE001 - handed to the prover, which raises it where the serial run would
+            import numpy as np
+
+            name = "LinAlgError" if isinstance(e, np.linalg.LinAlgError) else type(e).__name__
+            return {"err": [name, str(e)]}
+
+
 def piece_job(job: dict) -> dict:
     """One return of a section piece (section_return.piece_return with the prover's settings), from JSON data:
     {"params", "h", "settings", "c", "A", "pc", "branch", "t_a", "thin"} -> {"flight": encoded result} or
