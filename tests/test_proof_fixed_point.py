@@ -188,7 +188,18 @@ CERTS = Path(__file__).resolve().parents[1] / "magrod" / "proof" / "certificates
                                         (["--widen", str(CERTS / "fixed_point_fig4a.json"), "--lam-rad", "1e-11"],
                                          "widen"),
                                         (["--widen", str(CERTS / "horseshoe_fig4a_interval.json"), "--lam-rad",
-                                          "1e-11"], "widen")])
+                                          "1e-11"], "widen"),
+                                        # second order: an order 1 or 2, an even K in 2 .. 64, a dyadic radius
+                                        (["--widen", str(CERTS / "horseshoe_fig4a.json"), "--lam-rad", "1/134217728",
+                                          "--lam-order", "3"], "lam_order"),
+                                        (["--widen", str(CERTS / "horseshoe_fig4a.json"), "--lam-rad", "1/134217728",
+                                          "--lam-order", "2", "--lam-nodes", "7"], "lam_nodes"),
+                                        (["--widen", str(CERTS / "horseshoe_fig4a.json"), "--lam-rad", "1/134217728",
+                                          "--lam-nodes", "x"], "lam_nodes"),
+                                        (["--widen", str(CERTS / "horseshoe_fig4a.json"), "--lam-rad", "1/100000000",
+                                          "--lam-order", "2"], "lam_rad"),
+                                        (["--fixed-point", "0.383", "--level", "0.9", "--lam-order", "2"],
+                                         "lam_order")])
 def test_bad_input_is_exit_2_naming_the_parameter(args, name, tmp_path, capsys):
     out = tmp_path / "never"
     code = main(["prove", *FIG4A, *args, "--out", str(out), "--quiet", "--json"])

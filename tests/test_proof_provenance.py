@@ -69,6 +69,11 @@ def test_the_cli_writes_the_options_that_decide_the_content():
                                        "--out", "x"])
     assert _options(prove_cli._provenance(widen)["command"]) == {"widen": "horseshoe_fig4a.json",
                                                                  "lam-rad": "1/50000000000"}
+    wide = build_parser().parse_args(["prove", "--widen", "horseshoe_fig4a.json", "--lam-rad", "1/134217728",
+                                      "--lam-order", "2", "--lam-nodes", "32", "--out", "x"])
+    assert _options(prove_cli._provenance(wide)["command"]) == {"widen": "horseshoe_fig4a.json",
+                                                                "lam-rad": "1/134217728", "lam-order": "2",
+                                                                "lam-nodes": "32"}
 
 
 def test_the_verifier_ignores_provenance_but_not_its_form():

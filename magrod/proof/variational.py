@@ -1,7 +1,7 @@
 """Second-order enclosures in lambdabar for the section map's horseshoes on wide lambdabar intervals: the variational
 system of the lambdabar-state field flown as a set, and the section map's second derivatives at a crossing
-(research/horseshoe_second_order.py measures with them that the Fig 4(a) horseshoe holds on every link at 186x the
-shipped interval; docs/nonintegrability.md, statement 12).
+(the kernel's horseshoe_lam2.py checks Fig 4(a)'s horseshoe with them on 27/200 +- 2^-27, 372x the first-order
+interval; research/horseshoe_second_order.py measured the route first; docs/nonintegrability.md, statement 12).
 
   variational_field(base, k)  y = (x, lambdabar, u_1 .. u_k), u_j' = DF(x) u_j, its Jacobian's D^2 F[u_j] blocks by
                               forward-mode duals (fields._Dual) of the generated Jacobian;

@@ -96,8 +96,8 @@ def widen(cert: dict, lam_rad, *, module=gen, progress=None, workers: int | None
     order 2 (settings "lam_order": 2, "lam_nodes": nodes): the second-order enclosures of kernel/horseshoe_lam2.py
     instead, sub-interval by sub-interval (`nodes` equal sub-intervals, an even number): each piece's centre curve
     by thin flights at the nodes and its second derivative, the piece's extent by DP at lam and the mixed second
-    derivative over the swept box.  That reaches ~100x wider intervals (Fig 4(a): 2^-28 against 2e-11) at ~35 s of
-    CPU per piece.
+    derivative over the swept box.  That reaches ~370x wider intervals (Fig 4(a): 2^-27 against 2e-11 with 32
+    sub-intervals) at ~50 s of CPU per piece.
 
     Returns a ProofResult whose certificate has settings["lam_rad"] and a "v" per set.  Point certificates of
     period 1 only (lambda_motion follows x0 as a fixed point; a cycle certificate raises ParameterError)."""
