@@ -65,10 +65,11 @@ def add_arguments(p):
     p.add_argument("--lam-order", default=1, type=int, choices=(1, 2), metavar="ORDER", dest="lam_order",
                    help="--widen, --horseshoe with --lam-rad: how the sets' motion over the interval is enclosed: "
                         "1 (one flight of each piece swept over the interval) or 2 (nodes and second derivatives, "
-                        "sub-interval by sub-interval: ~370x wider at Fig 4(a), ~50 s of CPU per piece at 32 "
+                        "sub-interval by sub-interval: ~370x wider at Fig 4(a), 25-50 s of CPU per piece at 8-32 "
                         "sub-intervals; kernel/horseshoe_lam2.py)")
     p.add_argument("--lam-nodes", default=8, type=int, metavar="K", dest="lam_nodes",
-                   help="--lam-order 2: the number of equal sub-intervals (even, 2 .. 64; default 8)")
+                   help="--lam-order 2: the number of equal sub-intervals each piece starts with (even, 2 .. 64); "
+                        "the prover doubles it, up to 64, for the sets whose links keep an (a') margin below 1/4")
     p.add_argument("--m-back", default=None, metavar="M", dest="m_back",
                    help="--horseshoe: pull-backs of the homoclinic point (HorseshoeSettings.m_back; default 5)")
     p.add_argument("--n-exc", default=None, metavar="N", dest="n_exc",

@@ -8,7 +8,8 @@ of the piece X(s) = c_X + v s + A_X u (s = lambdabar - lam, |s| <= W, u in [-1, 
 
     P_s(X(s)) = gamma(s) + M(u, s) A_X u,    gamma(s) = P_s(c_X + v s)            (the centre curve)
 
-and enclosed per sub-interval S_k = [s_k, s_k+1] of K equal ones (s_k = -W + 2 W k / K, exact):
+and enclosed per sub-interval S_k = [s_k, s_k+1] of K equal ones (s_k = -W + 2 W k / K, exact; K is the piece's
+"lam_nodes", else the settings'; the prover doubles it where a link needs it):
   * the curve: gamma at the K + 1 nodes by thin flights at lambdabar = lam + s_k (exact); between nodes gamma(s) =
     its linear interpolant + gamma''(xi) (s - s_k)(s - s_k+1) / 2, in [P''] [-h^2 / 8, 0] (h = 2 W / K) per
     component, [P''] over the whole curve from the C^1 flight of the 10-state variational system (x, lambdabar,
@@ -54,12 +55,16 @@ def lam2_settings(cert) -> tuple:
     centre at lambdabar = lam)."""
     s = cert["settings"]
     W = frac(s.get("lam_rad", "0"))
-    K = s.get("lam_nodes")
     if W <= 0 or W.denominator & (W.denominator - 1):
         raise ValueError(f"lam_order 2 needs lam_rad > 0 and dyadic (its nodes' points exact), got {W}")
+    return W, sub_intervals(s.get("lam_nodes"))
+
+
+def sub_intervals(K) -> int:
+    """K, the number of sub-intervals (settings "lam_nodes", or a piece's own): an even integer in 2 .. 64."""
     if not isinstance(K, int) or isinstance(K, bool) or K < 2 or K % 2 or K > 64:
         raise ValueError(f"lam_nodes must be an even integer in 2 .. 64, got {K!r}")
-    return W, K
+    return K
 
 
 def _fields(p, s, module):
@@ -71,12 +76,15 @@ def _fields(p, s, module):
     return f0, fl
 
 
-def fly_piece(p, h, s, cX, AX, v, W, K, p_c, nodes_pc, t_a, branch, module=fields.gen, steps=None) -> dict:
+def fly_piece(p, h, s, cX, AX, v, W, K, p_c, nodes_pc, t_a, branch, module=fields.gen, steps=None,
+              node_tol=None) -> dict:
     """The flights of one piece X(s) = c_X + v s + A_X [-1, 1]^2 over |s| <= W (module docstring) and the enclosures
     the checks read, at the working precision.  p: the exact parameters at lam; s: the certificate's settings; p_c:
     the level's Newton centre over the piece, nodes_pc[k] at node k; steps: None (adaptive at the settings'
     tolerances; the prover) or {"nodes": [[phase 1, phase 2]] * (K + 1), "box", "curve", "swept": [phase 1, phase 2]}
-    (exact steps; the verifier).  Returns {"nodes": [{"Pc", "gdot", "cospsi", "ppsi", "level_ok"}], "box": {"DP", "gdot",
+    (exact steps; the verifier); node_tol: the adaptive step tolerance of the nodes other than the middle one
+    (default the settings' tol_thin; the prover passes tol: their images need ~1e-20, not the centre's ~1e-25).
+    Returns {"nodes": [{"Pc", "gdot", "cospsi", "ppsi", "level_ok"}], "box": {"DP", "gdot",
     "cospsi", "level_ok"}, "curve": {"P2", "gdot", "ppsi_hull", "level_ok"}, "swept": {"Fas", "gdot", "cospsi", "ppsi",
     "ppsi_hull", "level_ok"}, "steps"}; a flight whose level fails stops there ("level_ok" False).  Raises taylor's
     errors when a flight fails."""
@@ -103,7 +111,8 @@ def fly_piece(p, h, s, cX, AX, v, W, K, p_c, nodes_pc, t_a, branch, module=field
         want = None if steps is None else {"thin": st["nodes"][k], **({"box": st["box"]} if mid else {})}
         f = section_return.piece_return(
             pk.balls(), h, fk, [cX[0] + v[0] * sv, cX[1] + v[1] * sv], AX if mid else zero, nodes_pc[k], prad, t_a,
-            lead, t1=t1, order=order, tol=tol, tol_thin=tol_thin, steps=want, newton=newton, box=mid,
+            lead, t1=t1, order=order, tol=tol, tol_thin=tol_thin if mid or node_tol is None else node_tol,
+            steps=want, newton=newton, box=mid,
             thin_c1=False, branch=branch, module=module, integrator=integ, thin_integrator=thin_integ)
         if not f["level_ok"]:
             out["nodes"].append({"level_ok": False})
@@ -168,8 +177,9 @@ def fly_piece(p, h, s, cX, AX, v, W, K, p_c, nodes_pc, t_a, branch, module=field
 
 
 def piece_data(cert, i, n) -> dict:
-    """Piece n of set N_i as fly_piece reads it from a second-order certificate: its frame (c_X, A_X), p_c, the
-    nodes' p_c, t_a, and the exact steps."""
+    """Piece n of set N_i as fly_piece reads it from a second-order certificate: its frame (c_X, A_X), its number
+    of sub-intervals K (the piece's "lam_nodes", else the settings'), p_c, the nodes' p_c, t_a, and the exact
+    steps."""
     c, A = _hs_set(cert["sets"][i])
     r = {int(f["set"]): f for f in cert["flights"]}[i]["pieces"][n]
     yu, ys, hu, hs = (frac(x) for x in r["piece"])
@@ -179,6 +189,7 @@ def piece_data(cert, i, n) -> dict:
     steps = {"nodes": [[[frac(x) for x in ph] for ph in nd] for nd in st["nodes"]],
              **{kk: [[frac(x) for x in ph] for ph in st[kk]] for kk in KINDS}}
     return {"piece": (yu, ys, hu, hs), "cX": cX, "AX": AX, "p_c": frac(r["p_c"]),
+            "K": sub_intervals(r.get("lam_nodes", cert["settings"].get("lam_nodes"))),
             "nodes_pc": [frac(x) for x in r["nodes_p_c"]], "t_a": frac(r["t_a"]), "steps": steps}
 
 
@@ -186,7 +197,7 @@ def source(cert, i, module, claim, branch) -> None:
     """The checks of set N_i as a source on a second-order certificate, in the verifier's order: its pieces re-flown
     with the certificate's steps (steps, level, positive return), then every link N_i => N_j (link_checks)."""
     s = cert["settings"]
-    W, K = lam2_settings(cert)
+    W, _K = lam2_settings(cert)
     h = frac(cert["level"])
     t1 = frac(s["t1"])
     p = fields.ExactParams(**{kk: frac(cert["params"][kk]) for kk in fields.PARAMS})
@@ -197,9 +208,10 @@ def source(cert, i, module, claim, branch) -> None:
     images = []
     for n in range(len(fl["pieces"])):
         d = piece_data(cert, i, n)
-        st, t_a = d["steps"], d["t_a"]
+        st, t_a, K = d["steps"], d["t_a"], d["K"]
         claim(f"N{i} piece {n} nodes", len(st["nodes"]) == K + 1 == len(d["nodes_pc"]) and
-              d["nodes_pc"][K // 2] == d["p_c"], f"K + 1 = {K + 1} nodes, the middle one at the piece's p_c")
+              d["nodes_pc"][K // 2] == d["p_c"], f"K + 1 = {K + 1} nodes (K = {K} sub-intervals), the middle one at "
+              "the piece's p_c")
         for kk, phs in [(f"node {k}", ph) for k, ph in enumerate(st["nodes"])] + [(kk, st[kk]) for kk in KINDS]:
             claim(f"N{i} piece {n} {kk} steps", len(phs) == 2 and sum(phs[0]) == t1 and sum(phs[0]) + sum(phs[1])
                   == t_a and all(x > 0 for ph in phs for x in ph),
@@ -209,10 +221,10 @@ def source(cert, i, module, claim, branch) -> None:
         except (taylor.EnclosureError, taylor.GuardError, taylor.CrossingError) as err:
             claim(f"N{i} piece {n} flight", False, str(err)[:200])
         check_piece(i, n, f, branch, claim)
-        images.append((d["piece"], d["AX"], f))
+        images.append((d["piece"], d["AX"], f, K))
     for src, j in _hs_graph(cert, len(sets))[1]:
         if src == i:
-            link_checks(i, j, images, sets[j], _hs_lam(cert, p, module)[4][j], W, K, brs[j], branch[j], claim)
+            link_checks(i, j, images, sets[j], _hs_lam(cert, p, module)[4][j], W, brs[j], branch[j], claim)
 
 
 def check_piece(i, n, f, branch, claim) -> None:
@@ -231,19 +243,19 @@ def check_piece(i, n, f, branch, claim) -> None:
                                                                                 else ""))
 
 
-def link_checks(i, j, images, setM, vM, W, K, brM, branchM, claim) -> dict:
+def link_checks(i, j, images, setM, vM, W, brM, branchM, claim) -> dict:
     """The covering conditions of N_i => N_j for every lambdabar in [lam - W, lam + W] (module docstring), on each of
-    the K sub-intervals, in N_j's moving coordinates.  images: [(piece (yu, ys, hu, hs), A_X, fly_piece's result)].
+    the K sub-intervals of each piece, in N_j's moving coordinates.  images: [(piece (yu, ys, hu, hs), A_X,
+    fly_piece's result, K)].
     Returns the smallest (a) margin 1 - |y_s| and the smallest |y_u| of the exit edges' images."""
     cM, AM = setM
     Ai = [[ball.q(x) for x in row] for row in _hs_inv(AM)]
     U = ball.interval(-1, 1)
-    sk = nodes(W, K)
-    h = 2 * W / K
     vq = [ball.q(x) for x in vM]
     a_min, b_min = None, None
     right, left = [], []  # the exit edges' y_u, per piece and sub-interval
-    for n, (pc, AX, f) in enumerate(images):
+    for n, (pc, AX, f, K) in enumerate(images):
+        sk, h = nodes(W, K), 2 * W / K
         ok_psi = all((ball.positive(r["cospsi"]) if brM == "0" else ball.negative(r["cospsi"]))
                      for r in f["nodes"] + [f["box"], f["swept"]])
         claim(f"N{i} => N{j} piece {n} psi branch", ok_psi,
@@ -273,17 +285,19 @@ def link_checks(i, j, images, setM, vM, W, K, brM, branchM, claim) -> dict:
             if pc[0] - pc[2] == -1:
                 left.append(off[0] - G[0][0] + G[0][1] * U)
         claim(f"N{i} => N{j} piece {n} (a)", a_ok,
-              f"on each of the {K} sub-intervals the image lies in |y_s| < 1, so it never meets M's entry edges and "
+              f"on each of its {K} sub-intervals the image lies in |y_s| < 1, so it never meets M's entry edges and "
               f"the straight-line homotopy to (a y_u, 0) keeps |y_s| < 1")
         if lands:
             # where the image can land in M, its pbar_psi is M's root: inside M's branch box
             claim(f"N{i} => N{j} piece {n} branch", ball.subset(f["swept"]["ppsi"], branchM),
                   "the image's pbar_psi lies in M's branch box (the level's root unique there over M)")
     claim(f"N{i} => N{j} exit edges", bool(right) and bool(left), "pieces on both exit edges")
+    if not (right and left):  # (a claim that does not stop: the prover's trial of its sub-intervals)
+        return {"from": i, "to": j, "a_margin": float(a_min), "b_min_abs_yu": 0.0}
     o = 1 if ball.bounds(right[0])[0] > 1 else -1
     okb = all(ball.bounds(e)[0] > 1 if o == 1 else ball.bounds(e)[1] < -1 for e in right) and \
         all(ball.bounds(e)[1] < -1 if o == 1 else ball.bounds(e)[0] > 1 for e in left)
     b_min = min(min(abs(x) for x in ball.bounds(e)) for e in right + left)
-    claim(f"N{i} => N{j} (b)", okb, f"on each of the {K} sub-intervals the images of the exit edges lie beyond M's "
+    claim(f"N{i} => N{j} (b)", okb, "on each sub-interval the images of the exit edges lie beyond M's "
           "exit edges, on opposite sides")
     return {"from": i, "to": j, "a_margin": float(a_min), "b_min_abs_yu": float(b_min)}

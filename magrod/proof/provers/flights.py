@@ -191,24 +191,35 @@ def widen2_flight(job: dict, module=fields.gen) -> dict:
         pk = fields.ExactParams(**{**{kk: getattr(p, kk) for kk in fields.PARAMS}, "lam": p.lam + sv})
         npc.append(node_level_centre(pk, h, [c[0] + v[0] * sv, c[1] + v[1] * sv], pc, Fraction(s["p_rad"]),
                                      job["branch"], module))
-    out = lam2.fly_piece(p, h, s, c, A, v, W, K, pc, npc, Fraction(job["t_a"]), job["branch"], module)
+    out = lam2.fly_piece(p, h, s, c, A, v, W, K, pc, npc, Fraction(job["t_a"]), job["branch"], module,
+                         node_tol=float(s["tol"]))
     out["nodes_p_c"] = npc
     return out
 
 
 def widen2_job(job: dict) -> dict:
     """widen2_flight from JSON data -> {"flight": encoded result} or {"err": [class name, message]}."""
+    return _flight_job(widen2_flight, job)
+
+
+def _flight_job(flight, job: dict) -> dict:
+    """flight(job) at the job's working precision -> {"flight": encoded result} or {"err": [class name, message]};
+    one job at a time per process (python-flint's precision is process-wide)."""
     from ..kernel.pool import JOB_LOCK
 
     with JOB_LOCK:
         try:
             with ball.workprec(int(job["settings"]["prec"]), int(job["settings"]["series_cap"])):
-                return {"flight": encode(widen2_flight(job))}
+                return {"flight": encode(flight(job))}
         except Exception as e:  # noqa: BLE001 - handed to the prover, which raises it where the serial run would
-            import numpy as np
+            return {"err": _error(e)}
 
-            name = "LinAlgError" if isinstance(e, np.linalg.LinAlgError) else type(e).__name__
-            return {"err": [name, str(e)]}
+
+def _error(e) -> list:
+    """A worker's exception as [class name, message] (raise_error re-raises it)."""
+    import numpy as np
+
+    return ["LinAlgError" if isinstance(e, np.linalg.LinAlgError) else type(e).__name__, str(e)]
 
 
 def piece_job(job: dict) -> dict:
@@ -235,26 +246,13 @@ def piece_job(job: dict) -> dict:
                     thin_integrator=section_return.integrator(st.thin_integrator))
                 return {"flight": encode(fl)}
         except Exception as e:  # noqa: BLE001 - handed to the prover, which raises it where the serial run would
-            import numpy as np
-
-            name = "LinAlgError" if isinstance(e, np.linalg.LinAlgError) else type(e).__name__
-            return {"err": [name, str(e)]}
+            return {"err": _error(e)}
 
 
 def widen_job(job: dict) -> dict:
     """One return of a piece moving with lambdabar (widen_flight) from JSON data ->
     {"flight": encoded result} or {"err": [class name, message]}; one job at a time per process."""
-    from ..kernel.pool import JOB_LOCK
-
-    with JOB_LOCK:
-        try:
-            with ball.workprec(int(job["settings"]["prec"]), int(job["settings"]["series_cap"])):
-                return {"flight": encode(widen_flight(job))}
-        except Exception as e:  # noqa: BLE001 - handed to the prover, which raises it where the serial run would
-            import numpy as np
-
-            name = "LinAlgError" if isinstance(e, np.linalg.LinAlgError) else type(e).__name__
-            return {"err": [name, str(e)]}
+    return _flight_job(widen_flight, job)
 
 
 class _FlightSettings:

@@ -96,8 +96,9 @@ def widen(cert: dict, lam_rad, *, module=gen, progress=None, workers: int | None
     order 2 (settings "lam_order": 2, "lam_nodes": nodes): the second-order enclosures of kernel/horseshoe_lam2.py
     instead, sub-interval by sub-interval (`nodes` equal sub-intervals, an even number): each piece's centre curve
     by thin flights at the nodes and its second derivative, the piece's extent by DP at lam and the mixed second
-    derivative over the swept box.  That reaches ~370x wider intervals (Fig 4(a): 2^-27 against 2e-11 with 32
-    sub-intervals) at ~50 s of CPU per piece.
+    derivative over the swept box; a set whose link keeps an (a') margin below REFINE_MARGIN is flown again with
+    twice the sub-intervals, up to 64.  That reaches ~370x wider intervals (Fig 4(a): 2^-27 against 2e-11; 8
+    sub-intervals, 16 at N11, 32 at N12) at 25-50 s of CPU per piece.
 
     Returns a ProofResult whose certificate has settings["lam_rad"] and a "v" per set.  Point certificates of
     period 1 only (lambda_motion follows x0 as a fixed point; a cycle certificate raises ParameterError)."""
@@ -241,55 +242,91 @@ def _fly_first_order(cert, sets, brs, branch, plan, grids, Dl, links, module, ch
     return flights, link_rec
 
 
-def _fly_second_order(cert, sets, brs, branch, plan, grids, w, K, links, module, check, say, mapper):
+def _fly_second_order(cert, sets, brs, branch, plan, grids, w, K0, links, module, check, say, mapper):
     """Each piece's second-order flights (kernel/horseshoe_lam2.fly_piece, adaptive, with the nodes' Newton
     centres: flights.widen2_flight) and the kernel's own checks of the pieces and of every link, sub-interval by
-    sub-interval: (flight records, link records)."""
+    sub-interval: (flight records, link records).  Each piece starts with K0 sub-intervals; where a link's (a')
+    margin is below REFINE_MARGIN (or a condition fails) its source's pieces are flown again with twice as many,
+    up to 64, so that the nodes (about half of a piece's cost at K = 32) are spent where the curve needs them."""
     from ..kernel import horseshoe_lam2 as lam2
 
     s = cert["settings"]
     fl_by = {int(f["set"]): f for f in cert["flights"]}
-    jobs = []
-    for i, _n, pc, r in plan:
-        cX, AX = piece_geometry(*set_data(sets[i]), pc)
-        jobs.append({"params": cert["params"], "h": cert["level"], "settings": s, "lam_rad": _q(w), "lam_nodes": K,
-                     "c": [_q(x) for x in cX], "A": [[_q(x) for x in row] for row in AX], "pc": r["p_c"],
-                     "t_a": r["t_a"], "branch": brs[i], "v": sets[i]["v"]})
-    if mapper is None:  # here, through the same exact JSON form as from another process (flights.normalised)
-        results = (flights_mod.normalised(flights_mod.widen2_flight(job, module)) for job in jobs)
-    else:
-        results = flights_mod.decoded(mapper(flights_mod.widen2_job, jobs))
-    images, flights, recs = {}, [], []
-    try:
-        for (i, n, pc, r), fl in zip(plan, results):
-            check(f"N{i} piece {n} geometry", [Fraction(x) for x in r["piece"]] == list(pc), "the grid's piece")
-            say(f"set N{i}: piece {n + 1}/{len(fl_by[i]['pieces'])}, second order over lambdabar")
-            AX = piece_geometry(*set_data(sets[i]), pc)[1]
-            lam2.check_piece(i, n, fl, branch, check)
-            st = fl["steps"]
-            recs.append({"piece": r["piece"], "p_c": r["p_c"], "t_a": r["t_a"],
-                         "nodes_p_c": [_q(x) for x in fl["nodes_p_c"]],
-                         "steps": {"nodes": [[[ball.decimal(x) for x in ph] for ph in nd] for nd in st["nodes"]],
-                                   **{kk: [[ball.decimal(x) for x in ph] for ph in st[kk]] for kk in lam2.KINDS}},
-                         "n_steps": sum(len(ph) for nd in st["nodes"] for ph in nd)
-                         + sum(len(ph) for kk in lam2.KINDS for ph in st[kk]),
-                         "enclosures": {"nodes_Pc": [[stored(v) for v in nd["Pc"]] for nd in fl["nodes"]],
-                                        "DP": [[stored(v) for v in row] for row in fl["box"]["DP"]],
-                                        "P2": [stored(v) for v in fl["curve"]["P2"]],
-                                        "Fas": [[stored(v) for v in row] for row in fl["swept"]["Fas"]]}})
-            images[(i, n)] = (pc, AX, fl)
-            if n == len(fl_by[i]["pieces"]) - 1:
-                flights.append({"set": i, "grid": list(grids[i]), "pieces": recs})
-                recs = []
-    finally:
-        flights_mod.close(results)  # after a failed check: the flights not yet taken are cancelled
     W = Fraction(w)
+
+    def job(i, pc, r, K):
+        cX, AX = piece_geometry(*set_data(sets[i]), pc)
+        return {"params": cert["params"], "h": cert["level"], "settings": s, "lam_rad": _q(w), "lam_nodes": K,
+                "c": [_q(x) for x in cX], "A": [[_q(x) for x in row] for row in AX], "pc": r["p_c"],
+                "t_a": r["t_a"], "branch": brs[i], "v": sets[i]["v"]}
+
+    def fly(todo):  # [(plan index, K)] -> {plan index: flight}, in the order given, wherever the mapper runs them
+        jobs = [job(plan[x][0], plan[x][2], plan[x][3], K) for x, K in todo]
+        if mapper is None:  # here, through the same exact JSON form as from another process (flights.normalised)
+            results = (flights_mod.normalised(flights_mod.widen2_flight(jb, module)) for jb in jobs)
+        else:
+            results = flights_mod.decoded(mapper(flights_mod.widen2_job, jobs))
+        out = {}
+        try:
+            for m, ((x, K), fl) in enumerate(zip(todo, results)):
+                out[x] = fl
+                say(f"set N{plan[x][0]}: piece {plan[x][1] + 1} over lambdabar, {K} sub-intervals "
+                    f"({m + 1}/{len(todo)})")
+            return out
+        finally:
+            flights_mod.close(results)
+
+    Ks = {x: K0 for x in range(len(plan))}
+    flown = fly(list(Ks.items()))
+    sources = {i: [x for x, (ii, *_rest) in enumerate(plan) if ii == i] for i in {p[0] for p in plan}}
+    while True:
+        refine = set()
+        for i, j in links:
+            imgs = [(plan[x][2], piece_geometry(*set_data(sets[i]), plan[x][2])[1], flown[x], Ks[x])
+                    for x in sources[i]]
+            bad = []
+            rec = lam2.link_checks(i, j, imgs, set_data(sets[j])[:2], [Fraction(x) for x in sets[j]["v"]], W,
+                                   brs[j], branch[j],
+                                   lambda name, holds, how, bad=bad: bad.append(name) if not holds else None)
+            if (bad or rec["a_margin"] < REFINE_MARGIN) and all(Ks[x] < 64 for x in sources[i]):
+                refine |= set(sources[i])
+        if not refine:
+            break
+        for x in refine:
+            Ks[x] *= 2
+        say(f"sets {sorted({plan[x][0] for x in refine})}: {sorted({Ks[x] for x in refine})} sub-intervals")
+        flown.update(fly(sorted((x, Ks[x]) for x in refine)))
+    images, flights, recs = {}, [], []
+    for x, (i, n, pc, r) in enumerate(plan):
+        fl = flown[x]
+        check(f"N{i} piece {n} geometry", [Fraction(v) for v in r["piece"]] == list(pc), "the grid's piece")
+        AX = piece_geometry(*set_data(sets[i]), pc)[1]
+        lam2.check_piece(i, n, fl, branch, check)
+        st = fl["steps"]
+        recs.append({"piece": r["piece"], "p_c": r["p_c"], "t_a": r["t_a"], "lam_nodes": Ks[x],
+                     "nodes_p_c": [_q(v) for v in fl["nodes_p_c"]],
+                     "steps": {"nodes": [[[ball.decimal(v) for v in ph] for ph in nd] for nd in st["nodes"]],
+                               **{kk: [[ball.decimal(v) for v in ph] for ph in st[kk]] for kk in lam2.KINDS}},
+                     "n_steps": sum(len(ph) for nd in st["nodes"] for ph in nd)
+                     + sum(len(ph) for kk in lam2.KINDS for ph in st[kk]),
+                     "enclosures": {"nodes_Pc": [[stored(v) for v in nd["Pc"]] for nd in fl["nodes"]],
+                                    "DP": [[stored(v) for v in row] for row in fl["box"]["DP"]],
+                                    "P2": [stored(v) for v in fl["curve"]["P2"]],
+                                    "Fas": [[stored(v) for v in row] for row in fl["swept"]["Fas"]]}})
+        images[x] = (pc, AX, fl, Ks[x])
+        if n == len(fl_by[i]["pieces"]) - 1:
+            flights.append({"set": i, "grid": list(grids[i]), "pieces": recs})
+            recs = []
     link_rec = []
     for i, j in links:
-        pieces = [images[(i, n)] for n in range(len(fl_by[i]["pieces"]))]
-        rec = lam2.link_checks(i, j, pieces, set_data(sets[j])[:2], [Fraction(x) for x in sets[j]["v"]], W, K,
-                               brs[j], branch[j], check)
+        rec = lam2.link_checks(i, j, [images[x] for x in sources[i]], set_data(sets[j])[:2],
+                               [Fraction(v) for v in sets[j]["v"]], W, brs[j], branch[j], check)
         link_rec.append(rec)
         say(f"N{i} => N{j}: (a) margin {rec['a_margin']:.3g}, (b) min |y_u| {rec['b_min_abs_yu']:.3g} "
-            f"on each of {K} sub-intervals")
+            f"with {sorted({Ks[x] for x in sources[i]})} sub-intervals")
     return flights, link_rec
+
+
+#: a link whose (a') margin on the prover's flights is below this has its source's pieces flown again with twice the
+#: sub-intervals (horseshoe_widen._fly_second_order)
+REFINE_MARGIN = 0.25
