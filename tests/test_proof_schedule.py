@@ -70,6 +70,20 @@ def test_a_verified_certificate_is_remembered_and_a_changed_one_is_not(tmp_path,
     assert fake == ["a", "b", "a", "a", "a", "b"]
 
 
+def test_a_remembered_result_keeps_its_wall_time_exactly(tmp_path, monkeypatch):
+    """The proof figure rounds a verification's wall time to 0.1 s for its sidecar; a remembered result must give the
+    same rounding as the fresh one.  Seen to fail when the record kept to_dict's 3-decimal rounding: 7.1496 s was
+    7.1 fresh and 7.15 -> 7.2 remembered (test_reproduce's re-run read 7.2 against 7.1)."""
+    def one(cert, inner):
+        return verify.VerifyResult(True, "verified", [], 7.1496, "theorem", {}, {})
+
+    monkeypatch.setattr(schedule, "_verify_one", one)
+    certs = [("a", {"name": "a"})]
+    fresh = schedule.verify_many(certs, workers=1, cache_dir=tmp_path)[0]
+    again = schedule.verify_many(certs, workers=1, cache_dir=tmp_path)[0]
+    assert again.wall_time_s == fresh.wall_time_s and round(again.wall_time_s, 1) == 7.1
+
+
 def test_a_rejected_certificate_is_never_remembered(tmp_path, fake):
     bad = [("bad", {"name": "bad", "good": False})]
     assert not schedule.verify_many(bad, workers=1, cache_dir=tmp_path)[0].ok

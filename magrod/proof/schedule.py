@@ -113,7 +113,10 @@ def _remember(cache_dir: Path, cert: dict, base: str, res) -> None:
     with record_writes():  # a remembered verification is not an output of the figure that asked for it
         atomic_write_json(cache_dir / f"{_key(cert, base)}.json",
                           {"format": CACHE_FORMAT, "certificate_sha256": certificate_digest(cert),
-                           "trust_base_sha256": base, "result": res.to_dict()})
+                           "trust_base_sha256": base,
+                           # the wall time unrounded (to_dict keeps 3 decimals): a remembered result then rounds for
+                           # the sidecar exactly as the fresh one did
+                           "result": {**res.to_dict(), "wall_time_s": res.wall_time_s}})
 
 
 def cost(cert: dict) -> float:

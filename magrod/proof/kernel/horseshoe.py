@@ -16,6 +16,7 @@ from ..theorem import section_horseshoe_theorem
 # too, as the tests address them through this module
 from .horseshoe_sets import (_hs_branch_boxes, _hs_cover, _hs_graph, _hs_inv, _hs_lam,  # noqa: F401
                              _hs_separated, _hs_separated_moving, _hs_set, _hs_source, _hs_vertices, lam_order)
+from .horseshoe_lam2 import set_source
 from .schema import VerifyResult, check_structure, checked, frac, section_settings
 
 def verify(cert, module, t0, workers=None, mapper=None) -> VerifyResult:
@@ -107,7 +108,7 @@ def _horseshoe(cert, p, order, module, claim, workers=None, mapper=None) -> dict
         pool._hs_sources_mapped(cert, k, mapper, claim)
     elif w <= 1:
         for i in range(k):
-            _hs_source(cert, i, order, module, claim, boxes)
+            set_source(cert, i, order, module, claim, boxes)
     else:
         pool._hs_sources_parallel(cert, k, w, claim)
     return {"k": k, "L": L, "rho": cert["entropy"]["rho_lower"], "lam_rad": w_txt, "period": per}

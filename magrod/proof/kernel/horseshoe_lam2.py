@@ -36,7 +36,7 @@ from fractions import Fraction
 from flint import arb
 
 from .. import ball, fields, section_return, taylor, variational
-from .horseshoe_sets import _hs_graph, _hs_inv, _hs_lam, _hs_set
+from .horseshoe_sets import _hs_graph, _hs_inv, _hs_lam, _hs_set, _hs_source, lam_order
 from .schema import frac
 
 N = variational.N
@@ -191,6 +191,14 @@ def piece_data(cert, i, n) -> dict:
     return {"piece": (yu, ys, hu, hs), "cX": cX, "AX": AX, "p_c": frac(r["p_c"]),
             "K": sub_intervals(r.get("lam_nodes", cert["settings"].get("lam_nodes"))),
             "nodes_pc": [frac(x) for x in r["nodes_p_c"]], "t_a": frac(r["t_a"]), "steps": steps}
+
+
+def set_source(cert, i, order, module, claim, branch) -> None:
+    """The checks of set N_i as a source, whatever the certificate: second order in lambdabar (source, here) or not
+    (horseshoe_sets._hs_source); the serial verifier and the child processes of pool.py both call this."""
+    if lam_order(cert) == 2:
+        return source(cert, i, module, claim, branch)
+    return _hs_source(cert, i, order, module, claim, branch)
 
 
 def source(cert, i, module, claim, branch) -> None:

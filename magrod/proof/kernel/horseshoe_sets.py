@@ -141,15 +141,12 @@ def _hs_graph(cert, n: int) -> tuple:
 
 
 def _hs_source(cert, i, order, module, claim, branch) -> None:
-    """The checks of set N_i as a source, in the verifier's order: its pieces re-flown (steps, flight, level,
+    """The checks of set N_i as a source (a point or first-order interval certificate; horseshoe_lam2.set_source
+    chooses), in the verifier's order: its pieces re-flown (steps, flight, level,
     positive return), then every link N_i => N_j of the chain.  Depends only on the certificate, i and the branch
     boxes, so the sets can be checked in separate processes (_hs_sources_parallel) with the same checks."""
     from .. import section_return
 
-    if lam_order(cert) == 2:  # the sub-interval checks of a second-order interval certificate
-        from . import horseshoe_lam2
-
-        return horseshoe_lam2.source(cert, i, module, claim, branch)
     s = cert["settings"]
     h = frac(cert["level"])
     prad, t1, lead = (frac(s[kk]) for kk in ("p_rad", "t1", "lead"))

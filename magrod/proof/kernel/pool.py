@@ -1,5 +1,5 @@
 """The horseshoe verifier's sets, checked in child processes: scheduling only.  Each set's checks
-(horseshoe_sets._hs_source) are recorded in a fresh interpreter and replayed through the parent's `claim` in the serial
+(horseshoe_lam2.set_source) are recorded in a fresh interpreter and replayed through the parent's `claim` in the serial
 order, so the checks, the first rejection and its reason are the serial verifier's whatever ran them.
 """
 from __future__ import annotations
@@ -10,7 +10,8 @@ from pathlib import Path
 
 from ...core.errors import ParameterError
 from .. import ball, fields
-from .horseshoe_sets import _hs_branch_boxes, _hs_set, _hs_source
+from .horseshoe_lam2 import set_source
+from .horseshoe_sets import _hs_branch_boxes, _hs_set
 from .schema import CertificateError, frac
 
 
@@ -38,7 +39,7 @@ _MALFORMED = (KeyError, TypeError, ValueError, IndexError, ZeroDivisionError, At
 
 
 def _hs_record(cert, i, boxes: list) -> dict:
-    """One set's checks (_hs_source, with the branch boxes of every set), recorded: {"i", "recs": [(name, holds,
+    """One set's checks (set_source, with the branch boxes of every set), recorded: {"i", "recs": [(name, holds,
     how)], "err": None or [type name, message, malformed?]}; the recording stops at the first check that fails (as
     the serial verifier does)."""
     recs = []
@@ -52,7 +53,7 @@ def _hs_record(cert, i, boxes: list) -> dict:
     try:
         s = cert["settings"]
         with ball.workprec(int(s["prec"]), int(s["series_cap"])):
-            _hs_source(cert, i, int(s["order"]), fields.gen, rec, boxes)
+            set_source(cert, i, int(s["order"]), fields.gen, rec, boxes)
     except _Stop:
         pass
     except Exception as e:  # noqa: BLE001 - handed to the parent, which raises it where the serial run would

@@ -278,7 +278,7 @@ def _fly_second_order(cert, sets, brs, branch, plan, grids, w, K0, links, module
 
     Ks = {x: K0 for x in range(len(plan))}
     flown = fly(list(Ks.items()))
-    sources = {i: [x for x, (ii, *_rest) in enumerate(plan) if ii == i] for i in {p[0] for p in plan}}
+    sources = {i: [x for x, (ii, *_rest) in enumerate(plan) if ii == i] for i in {row[0] for row in plan}}
     while True:
         refine = set()
         for i, j in links:
