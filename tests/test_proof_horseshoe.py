@@ -26,7 +26,7 @@ CERT = "horseshoe_fig4a.json"
 INTERVAL = "horseshoe_fig4a_interval.json"
 #: c: Fig 4(c)'s horseshoe around the period-6 orbit of P (the cycle N0 => ... => N5 => N0, section_horseshoe._prove_cycle)
 CYCLE = "horseshoe_fig4c.json"
-#: a_wide: the same sets on 27/200 +- 2^-27, second order in lambdabar (kernel/horseshoe_lam2.py)
+#: a_wide: the same sets on 27/200 +- 43/2^32 (1.0012e-8), second order in lambdabar (kernel/horseshoe_lam2.py)
 CERTS = {"a": CERT, "b": "horseshoe_fig4b.json", "a_interval": INTERVAL, "c": CYCLE,
          "a_wide": "horseshoe_fig4a_interval_wide.json"}
 

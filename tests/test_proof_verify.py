@@ -190,7 +190,7 @@ def test_reproduce_verifies_the_shipped_certificate_without_re_proving(tmp_path,
     assert shipped == listed, shipped ^ listed
     # except Fig 4(d)'s horseshoe, whose prove + verify exceeds 10 minutes: verified by its own CI step (.ci/run),
     # and said so in REPORT
-    # and Fig 4(a)'s horseshoe on 27/200 +- 2^-27 (~6 min of CPU)
+    # and Fig 4(a)'s horseshoe on 27/200 +- 43/2^32 (~6 min of CPU)
     assert fig.NOT_IN_REPRODUCE == (("4d", "horseshoe_fig4d.json", "12"),
                                     ("4a_interval_wide", "horseshoe_fig4a_interval_wide.json", "12"))
     names = [e[1] for e in fig.NOT_IN_REPRODUCE]

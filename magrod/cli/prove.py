@@ -65,7 +65,7 @@ def add_arguments(p):
     p.add_argument("--lam-order", default=1, type=int, choices=(1, 2), metavar="ORDER", dest="lam_order",
                    help="--widen, --horseshoe with --lam-rad: how the sets' motion over the interval is enclosed: "
                         "1 (one flight of each piece swept over the interval) or 2 (nodes and second derivatives, "
-                        "sub-interval by sub-interval: ~370x wider at Fig 4(a), 25-50 s of CPU per piece at 8-32 "
+                        "sub-interval by sub-interval: ~500x wider at Fig 4(a), 25-75 s of CPU per piece at 8-64 "
                         "sub-intervals; kernel/horseshoe_lam2.py)")
     p.add_argument("--lam-nodes", default=8, type=int, metavar="K", dest="lam_nodes",
                    help="--lam-order 2: the number of equal sub-intervals each piece starts with (even, 2 .. 64); "

@@ -280,17 +280,17 @@ STATEMENTS = (
        441 s at load ~3, 188 s for half the width at load ~2; verify 168 s wall at load ~3). Held fixed, the sets
        hold only for |λ̄ − 27/200| ≲ 10⁻¹⁶; moving, the limit is N12 ⇒ N13 ((a′) margin 0.54 at 10⁻¹¹, 0.27 at
        2·10⁻¹¹, −5.2 at 10⁻¹⁰): the 5-D box's derivative enclosures grow with its λ̄ extent. Second order in λ̄,
-       the same sets and motions hold for every λ̄ in 27/200 ± 2⁻²⁷ (≈ 7.45·10⁻⁹, 372× wider;
-       horseshoe_fig4a_interval_wide.json, `magrod prove --widen horseshoe_fig4a.json --lam-rad 1/134217728
+       the same sets and motions hold for every λ̄ in 27/200 ± 43/2³² (≈ 1.0012·10⁻⁸, 500× wider;
+       horseshoe_fig4a_interval_wide.json, `magrod prove --widen horseshoe_fig4a.json --lam-rad 43/4294967296
        --lam-order 2 --lam-nodes 8`): each piece's image is its centre curve, enclosed by thin flights at K + 1
        nodes and, between them, the interpolation error [P″] h²/8 ([P″] from a C¹ flight of the 10-state
        variational system along the curve and the section map's second derivative), plus the piece's extent,
        DP at 27/200 over the piece and [F_us] (λ̄ − 27/200) over the swept box (a C¹ flight of the 15-state
        variational system and the mixed second derivative), checked on each of K sub-intervals
-       (kernel/horseshoe_lam2.py; K = 8, and 16 at N11, 32 at N12, where the prover doubled it); (a′) ≥ 0.331,
-       (b) ≥ 2.96; prove 306 s on 2 cores; verified by CI in a step of its own, not by the full `magrod
-       reproduce`, whose REPORT says so. Beyond ~10⁻⁸ the linear motion's own drift takes the margin (new sets, or sets moving
-       nonlinearly).
+       (kernel/horseshoe_lam2.py; K = 8, and 16 at N10 and N11, 64 at N12, where the prover doubled it);
+       (a′) ≥ 0.180, (b) ≥ 2.94; prove 395 s on 2 cores; verified by CI in a step of its own, not by the full `magrod
+       reproduce`, whose REPORT says so. Beyond ~10⁻⁸ the linear motion's own drift takes the margin (0.29 of
+       N13's width there; new sets, or sets moving nonlinearly).
        Panel (c) (λ̄ = 7/40, no hyperbolic fixed point of P): h_top(P|Λ) ≥ log ρ > 0.0152, ρ the largest root of
        x¹⁶⁰ = x¹⁵⁴ + 1, from 81 h-sets (half-sizes 1.2·10⁻⁸ … 1.6·10⁻¹², all on the ψ = π branch): a cycle N0 ⇒ N1
        ⇒ … ⇒ N5 ⇒ N0 of sets at the six points of a symmetric period-6 orbit of P (θ = 1.98883 on Fix(R); float

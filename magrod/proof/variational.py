@@ -1,6 +1,6 @@
 """Second-order enclosures in lambdabar for the section map's horseshoes on wide lambdabar intervals: the variational
 system of the lambdabar-state field flown as a set, and the section map's second derivatives at a crossing
-(the kernel's horseshoe_lam2.py checks Fig 4(a)'s horseshoe with them on 27/200 +- 2^-27, 372x the first-order
+(the kernel's horseshoe_lam2.py checks Fig 4(a)'s horseshoe with them on 27/200 +- 43/2^32 (1.0012e-8), 500x the first-order
 interval; research/horseshoe_second_order.py measured the route first; docs/nonintegrability.md, statement 12).
 
   variational_field(base, k)  y = (x, lambdabar, u_1 .. u_k), u_j' = DF(x) u_j, its Jacobian's D^2 F[u_j] blocks by

@@ -97,8 +97,8 @@ def widen(cert: dict, lam_rad, *, module=gen, progress=None, workers: int | None
     instead, sub-interval by sub-interval (`nodes` equal sub-intervals, an even number): each piece's centre curve
     by thin flights at the nodes and its second derivative, the piece's extent by DP at lam and the mixed second
     derivative over the swept box; a set whose link keeps an (a') margin below REFINE_MARGIN is flown again with
-    twice the sub-intervals, up to 64.  That reaches ~370x wider intervals (Fig 4(a): 2^-27 against 2e-11; 8
-    sub-intervals, 16 at N11, 32 at N12) at 25-50 s of CPU per piece.
+    twice the sub-intervals, up to 64.  That reaches ~500x wider intervals (Fig 4(a): 1.0012e-8 against 2e-11; 8
+    sub-intervals, 16 at N10 and N11, 64 at N12) at 25-75 s of CPU per piece.
 
     Returns a ProofResult whose certificate has settings["lam_rad"] and a "v" per set.  Point certificates of
     period 1 only (lambda_motion follows x0 as a fixed point; a cycle certificate raises ParameterError)."""
