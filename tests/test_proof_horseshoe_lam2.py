@@ -5,7 +5,7 @@ The structural tampering (a deleted link, an asymmetric end set, a raised entrop
 covered for this certificate by tests/test_proof_horseshoe.py's tests over every horseshoe certificate.  Here: what
 this certificate claims against the first-order interval certificate, the second-order data's own tampering
 (decided before any flight, so fast), and the covering check of the critical link N12 => N13 on N12's piece
-re-flown with the certificate's steps (~35 s), which holds as stored and fails when its inputs are mutated.  The
+re-flown with the certificate's steps (~55 s), which holds as stored and fails when its inputs are mutated.  The
 complete verification (~6 min of CPU) is CI's own step (.ci/run) and a slow test.
 """
 from __future__ import annotations
