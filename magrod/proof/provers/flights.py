@@ -174,6 +174,8 @@ def widen2_flight(job: dict, module=fields.gen) -> dict:
     """The second-order flights of one piece over the interval (kernel/horseshoe_lam2.fly_piece, adaptive steps),
     from the JSON data of a widening job as widen_flight's plus "lam_nodes"; the nodes' Newton centres first
     (node_level_centre).  Returns fly_piece's result with "nodes_p_c"."""
+    import dataclasses
+
     from ..kernel import horseshoe_lam2 as lam2
 
     s = job["settings"]
@@ -188,7 +190,7 @@ def widen2_flight(job: dict, module=fields.gen) -> dict:
         if k == K // 2:
             npc.append(pc)  # the point piece's centre at lam, as its thin flight had it
             continue
-        pk = fields.ExactParams(**{**{kk: getattr(p, kk) for kk in fields.PARAMS}, "lam": p.lam + sv})
+        pk = dataclasses.replace(p, lam=p.lam + sv)  # the node's parameters, as the kernel's fly_piece makes them
         npc.append(node_level_centre(pk, h, [c[0] + v[0] * sv, c[1] + v[1] * sv], pc, Fraction(s["p_rad"]),
                                      job["branch"], module))
     out = lam2.fly_piece(p, h, s, c, A, v, W, K, pc, npc, Fraction(job["t_a"]), job["branch"], module,
